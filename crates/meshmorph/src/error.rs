@@ -1,0 +1,124 @@
+//! The library's error type.
+
+use std::path::PathBuf;
+
+/// Every way a meshmorph call can fail on bad input.
+///
+/// Messages say what was wrong and where (file, line, vertex or triangle
+/// index, all 0-based unless the message says otherwise). Functions that read
+/// files fill in the path; functions on in-memory meshes leave it to the
+/// caller to say which mesh was meant (the CLI adds the file name).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// The operating system refused a read or write.
+    #[error("`{}`: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the operating system said.
+        #[source]
+        source: std::io::Error,
+    },
+
+    /// A file did not parse.
+    #[error("`{}`{}: {message}", path.display(), line.map(|l| format!(", line {l}")).unwrap_or_default())]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line number, when the format has lines.
+        line: Option<usize>,
+        /// What was wrong.
+        message: String,
+    },
+
+    /// A file whose extension names no format meshmorph knows.
+    #[error("`{}`: unknown mesh format (expected .obj, .off or .ply)", path.display())]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
+
+    /// A mesh that breaks an invariant (bad index, NaN coordinate, empty mesh,
+    /// 3D coordinates where 2D ones were expected, ...).
+    #[error("{0}")]
+    InvalidMesh(String),
+
+    /// Two meshes that must share connectivity do not.
+    #[error("{0}")]
+    Mismatch(String),
+
+    /// Triangles of zero (or numerically zero) area where the method needs a
+    /// proper frame.
+    #[error("{count} degenerate (zero-area) triangle{} in the {mesh}: {}", plural(*count), list(first, *count))]
+    DegenerateTriangles {
+        /// Which mesh ("source", "target reference", ...).
+        mesh: String,
+        /// How many.
+        count: usize,
+        /// The first few triangle indices.
+        first: Vec<usize>,
+    },
+
+    /// Triangles whose orientation is reversed between two meshes.
+    #[error("{count} triangle{} reversed between source and target: {} (set `allow_flips`, or pass --allow-flips on the command line, to go on anyway)", plural(*count), list(first, *count))]
+    FlippedTriangles {
+        /// How many.
+        count: usize,
+        /// The first few triangle indices.
+        first: Vec<usize>,
+    },
+
+    /// A bad option or argument value.
+    #[error("{0}")]
+    InvalidArgument(String),
+
+    /// The linear solver could not factor its matrix (it was not positive
+    /// definite: usually a sign of a disconnected or degenerate input).
+    #[error("linear solver: {0}")]
+    Solver(String),
+}
+
+/// Short for `Result<T, meshmorph::Error>`.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// How many indices an error message lists before "...".
+pub(crate) const LIST_LIMIT: usize = 5;
+
+fn plural(n: usize) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
+/// "triangles 3, 9, 12, ..." for the first few of `count` triangle indices.
+pub(crate) fn list(items: &[usize], count: usize) -> String {
+    let mut s = String::from(if count == 1 { "triangle" } else { "triangles" });
+    for (i, t) in items.iter().enumerate() {
+        s.push_str(if i == 0 { " " } else { ", " });
+        s.push_str(&t.to_string());
+    }
+    if count > items.len() {
+        s.push_str(", ...");
+    }
+    s
+}
+
+impl Error {
+    pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Error::Io {
+            path: path.into(),
+            source,
+        }
+    }
+
+    pub(crate) fn parse(path: impl Into<PathBuf>, line: Option<usize>, message: impl Into<String>) -> Self {
+        Error::Parse {
+            path: path.into(),
+            line,
+            message: message.into(),
+        }
+    }
+}

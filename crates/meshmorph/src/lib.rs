@@ -1,0 +1,29 @@
+//! # meshmorph
+//!
+//! Gradient-domain shape animation on triangle meshes:
+//!
+//! - [`Interpolator`]: as-rigid-as-possible shape interpolation of planar
+//!   meshes (Alexa, Cohen-Or and Levin, SIGGRAPH 2000) with rotation
+//!   consistency and a system factored once (Baxter, Barla and Anjyo,
+//!   NPAR 2008).
+//! - mesh reading and writing ([`io`]), pictures ([`render`]).
+//!
+//! Positions are plain `[f64; D]` arrays and triangles `[u32; 3]` index
+//! triples; the sparse linear algebra stays behind the [`solve`] module.
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod geometry;
+pub mod interpolate;
+pub mod io;
+pub mod mesh;
+pub mod polar;
+pub mod render;
+pub mod rotation;
+pub mod solve;
+pub mod topology;
+
+pub use error::{Error, Result};
+pub use interpolate::{Interpolator, InterpolatorOptions, StretchMode};
+pub use mesh::{Mesh, Mesh2, Mesh3};

@@ -1,0 +1,229 @@
+//! The triangle mesh type shared by every algorithm.
+
+use crate::error::{Error, Result};
+
+/// A triangle mesh with `D`-dimensional vertex positions (`D` is 2 or 3).
+///
+/// Construction validates the mesh: it has at least one triangle, every
+/// coordinate is finite, every index is in range and no triangle repeats a
+/// vertex. Every algorithm may rely on these invariants. Triangles are
+/// counter-clockwise when seen from the side their normal points to.
+///
+/// Vertices that no triangle uses are allowed (OBJ files often have them);
+/// the algorithms move them along with the nearest sensible rule (see each
+/// algorithm's documentation).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mesh<const D: usize> {
+    positions: Vec<[f64; D]>,
+    triangles: Vec<[u32; 3]>,
+}
+
+/// A planar mesh: `#V × 2` positions.
+pub type Mesh2 = Mesh<2>;
+/// A mesh in space: `#V × 3` positions.
+pub type Mesh3 = Mesh<3>;
+
+impl<const D: usize> Mesh<D> {
+    /// Builds a mesh from `#V × D` positions and `#T × 3` vertex indices.
+    ///
+    /// # Errors
+    /// [`Error::InvalidMesh`] naming the first offending vertex or triangle
+    /// when the mesh is empty, a coordinate is NaN or infinite, an index is
+    /// out of range or a triangle repeats a vertex.
+    pub fn new(positions: Vec<[f64; D]>, triangles: Vec<[u32; 3]>) -> Result<Self> {
+        if triangles.is_empty() {
+            return Err(Error::InvalidMesh("the mesh has no triangles".into()));
+        }
+        check_finite(&positions)?;
+        check_indices(positions.len(), &triangles)?;
+        Ok(Self { positions, triangles })
+    }
+
+    /// `#V × D` vertex positions.
+    pub fn positions(&self) -> &[[f64; D]] {
+        &self.positions
+    }
+
+    /// `#T × 3` vertex indices.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
+    /// Number of vertices.
+    pub fn num_vertices(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of triangles.
+    pub fn num_triangles(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// The same connectivity with new positions.
+    ///
+    /// # Errors
+    /// [`Error::InvalidMesh`] if the count differs or a coordinate is not finite.
+    pub fn with_positions(&self, positions: Vec<[f64; D]>) -> Result<Self> {
+        if positions.len() != self.positions.len() {
+            return Err(Error::InvalidMesh(format!(
+                "{} positions given for a mesh of {} vertices",
+                positions.len(),
+                self.positions.len()
+            )));
+        }
+        check_finite(&positions)?;
+        Ok(Self {
+            positions,
+            triangles: self.triangles.clone(),
+        })
+    }
+
+    /// Takes the mesh apart into positions and triangles.
+    pub fn into_parts(self) -> (Vec<[f64; D]>, Vec<[u32; 3]>) {
+        (self.positions, self.triangles)
+    }
+
+    /// Length of the diagonal of the axis-aligned bounding box of all vertices.
+    pub fn bounding_box_diagonal(&self) -> f64 {
+        bounding_box_diagonal(&self.positions)
+    }
+
+    /// The vertices of triangle `t`.
+    #[inline]
+    pub fn corners(&self, t: usize) -> [[f64; D]; 3] {
+        let [a, b, c] = self.triangles[t];
+        [
+            self.positions[a as usize],
+            self.positions[b as usize],
+            self.positions[c as usize],
+        ]
+    }
+}
+
+impl Mesh3 {
+    /// The planar mesh, if every z coordinate is exactly 0.
+    ///
+    /// # Errors
+    /// [`Error::InvalidMesh`] naming the first vertex with a non-zero z.
+    pub fn to_2d(&self) -> Result<Mesh2> {
+        if let Some(v) = self.positions.iter().position(|p| p[2] != 0.0) {
+            return Err(Error::InvalidMesh(format!(
+                "vertex {v} has z = {} but a planar mesh (every z = 0) is required",
+                self.positions[v][2]
+            )));
+        }
+        Ok(Mesh2 {
+            positions: self.positions.iter().map(|p| [p[0], p[1]]).collect(),
+            triangles: self.triangles.clone(),
+        })
+    }
+
+    /// Twice the area vector (cross product of two edges) of each triangle.
+    pub fn triangle_normals_unnormalized(&self) -> Vec<[f64; 3]> {
+        (0..self.triangles.len())
+            .map(|t| {
+                let [a, b, c] = self.corners(t);
+                crate::geometry::cross(crate::geometry::sub(b, a), crate::geometry::sub(c, a))
+            })
+            .collect()
+    }
+}
+
+impl Mesh2 {
+    /// The same mesh in the plane z = 0.
+    pub fn to_3d(&self) -> Mesh3 {
+        Mesh3 {
+            positions: self.positions.iter().map(|p| [p[0], p[1], 0.0]).collect(),
+            triangles: self.triangles.clone(),
+        }
+    }
+
+    /// Signed area of each triangle: positive when counter-clockwise.
+    pub fn signed_areas(&self) -> Vec<f64> {
+        signed_areas(&self.positions, &self.triangles)
+    }
+}
+
+/// Signed area of each triangle of a planar mesh: positive when counter-clockwise.
+pub fn signed_areas(positions: &[[f64; 2]], triangles: &[[u32; 3]]) -> Vec<f64> {
+    triangles
+        .iter()
+        .map(|&[a, b, c]| {
+            crate::geometry::signed_area2(positions[a as usize], positions[b as usize], positions[c as usize])
+        })
+        .collect()
+}
+
+/// Length of the diagonal of the axis-aligned bounding box of `points`
+/// (0 for an empty slice).
+pub fn bounding_box_diagonal<const D: usize>(points: &[[f64; D]]) -> f64 {
+    let mut lo = [f64::INFINITY; D];
+    let mut hi = [f64::NEG_INFINITY; D];
+    for p in points {
+        for k in 0..D {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    if points.is_empty() {
+        return 0.0;
+    }
+    (0..D).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
+}
+
+fn check_finite<const D: usize>(positions: &[[f64; D]]) -> Result<()> {
+    match positions.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
+        Some(v) => Err(Error::InvalidMesh(format!(
+            "vertex {v} has a coordinate that is not a finite number: {:?}",
+            positions[v]
+        ))),
+        None => Ok(()),
+    }
+}
+
+fn check_indices(num_vertices: usize, triangles: &[[u32; 3]]) -> Result<()> {
+    for (t, tri) in triangles.iter().enumerate() {
+        if let Some(&i) = tri.iter().find(|&&i| i as usize >= num_vertices) {
+            return Err(Error::InvalidMesh(format!(
+                "triangle {t} uses vertex {i} but the mesh has {num_vertices} vertices"
+            )));
+        }
+        if tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] {
+            return Err(Error::InvalidMesh(format!(
+                "triangle {t} repeats a vertex: {tri:?}"
+            )));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_bad_meshes() {
+        let p = vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+        assert!(Mesh2::new(p.clone(), vec![[0, 1, 2]]).is_ok());
+        let e = Mesh2::new(p.clone(), vec![]).unwrap_err().to_string();
+        assert!(e.contains("no triangles"), "{e}");
+        let e = Mesh2::new(p.clone(), vec![[0, 1, 3]]).unwrap_err().to_string();
+        assert!(e.contains("triangle 0 uses vertex 3"), "{e}");
+        let e = Mesh2::new(p.clone(), vec![[0, 1, 2], [1, 1, 2]]).unwrap_err().to_string();
+        assert!(e.contains("triangle 1 repeats"), "{e}");
+        let mut q = p.clone();
+        q[2][1] = f64::NAN;
+        let e = Mesh2::new(q, vec![[0, 1, 2]]).unwrap_err().to_string();
+        assert!(e.contains("vertex 2"), "{e}");
+    }
+
+    #[test]
+    fn planar_round_trip() {
+        let m = Mesh3::new(vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![[0, 1, 2]]).unwrap();
+        let m2 = m.to_2d().unwrap();
+        assert_eq!(m2.to_3d(), m);
+        assert_eq!(m2.signed_areas(), vec![0.5]);
+        let lifted = m.with_positions(vec![[0.0, 0.0, 0.0], [1.0, 0.0, 1.0], [0.0, 1.0, 0.0]]).unwrap();
+        assert!(lifted.to_2d().unwrap_err().to_string().contains("vertex 1"));
+    }
+}

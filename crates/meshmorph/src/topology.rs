@@ -1,0 +1,189 @@
+//! Connectivity: the edges of a triangle list, triangle adjacency across
+//! edges, connected components.
+//!
+//! Everything here works on plain `#T × 3` index lists and is robust to
+//! boundaries and non-manifold edges (an edge shared by three or more
+//! triangles makes all of them neighbours of one another).
+
+/// An undirected edge `v[0] < v[1]` and the triangles that contain it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Edge {
+    /// The two vertices, smaller index first.
+    pub vertices: [u32; 2],
+    /// The triangles containing the edge: one on a boundary, two inside a
+    /// manifold surface, more at a non-manifold edge.
+    pub triangles: Vec<u32>,
+}
+
+/// All undirected edges of `triangles`, sorted by vertex pair.
+pub fn edges(triangles: &[[u32; 3]]) -> Vec<Edge> {
+    let mut half: Vec<([u32; 2], u32)> = Vec::with_capacity(3 * triangles.len());
+    for (t, tri) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            half.push(([a.min(b), a.max(b)], t as u32));
+        }
+    }
+    half.sort_unstable();
+    let mut out: Vec<Edge> = Vec::with_capacity(half.len() / 2 + 1);
+    for (v, t) in half {
+        match out.last_mut() {
+            Some(e) if e.vertices == v => {
+                if e.triangles.last() != Some(&t) {
+                    e.triangles.push(t)
+                }
+            }
+            _ => out.push(Edge {
+                vertices: v,
+                triangles: vec![t],
+            }),
+        }
+    }
+    out
+}
+
+/// Triangle adjacency in compressed form: the neighbours of triangle `t` are
+/// `neighbors[offsets[t]..offsets[t + 1]]`, every triangle sharing an edge
+/// with `t`, in increasing order, without repeats.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TriangleAdjacency {
+    /// `#T + 1` offsets into `neighbors`.
+    pub offsets: Vec<usize>,
+    /// Concatenated neighbour lists.
+    pub neighbors: Vec<u32>,
+}
+
+impl TriangleAdjacency {
+    /// Builds the adjacency from the edges of `triangles`.
+    pub fn new(triangles: &[[u32; 3]]) -> Self {
+        Self::from_edges(triangles.len(), &edges(triangles))
+    }
+
+    /// Builds the adjacency of `num_triangles` triangles from their edges.
+    pub fn from_edges(num_triangles: usize, edges: &[Edge]) -> Self {
+        let mut lists: Vec<Vec<u32>> = vec![Vec::new(); num_triangles];
+        for e in edges {
+            for &a in &e.triangles {
+                for &b in &e.triangles {
+                    if a != b {
+                        lists[a as usize].push(b);
+                    }
+                }
+            }
+        }
+        let mut offsets = Vec::with_capacity(num_triangles + 1);
+        let mut neighbors = Vec::new();
+        offsets.push(0);
+        for mut l in lists {
+            l.sort_unstable();
+            l.dedup();
+            neighbors.extend_from_slice(&l);
+            offsets.push(neighbors.len());
+        }
+        Self { offsets, neighbors }
+    }
+
+    /// The neighbours of triangle `t`.
+    #[inline]
+    pub fn of(&self, t: usize) -> &[u32] {
+        &self.neighbors[self.offsets[t]..self.offsets[t + 1]]
+    }
+
+    /// Number of triangles.
+    pub fn len(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// True when there are no triangles.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// Connected components of a mesh, where two triangles are connected when
+/// they share a vertex.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Components {
+    /// Component of each vertex; `None` for a vertex no triangle uses.
+    pub of_vertex: Vec<Option<u32>>,
+    /// Component of each triangle.
+    pub of_triangle: Vec<u32>,
+    /// Number of components.
+    pub count: usize,
+}
+
+/// Connected components of `triangles` over `num_vertices` vertices,
+/// numbered in order of their first triangle.
+pub fn connected_components(num_vertices: usize, triangles: &[[u32; 3]]) -> Components {
+    let mut parent: Vec<u32> = (0..num_vertices as u32).collect();
+    fn find(parent: &mut [u32], mut x: u32) -> u32 {
+        while parent[x as usize] != x {
+            let p = parent[x as usize];
+            parent[x as usize] = parent[p as usize];
+            x = p;
+        }
+        x
+    }
+    for tri in triangles {
+        let r0 = find(&mut parent, tri[0]);
+        for &v in &tri[1..] {
+            let r = find(&mut parent, v);
+            if r != r0 {
+                // Union by index keeps the loop simple; path halving keeps it fast.
+                let (lo, hi) = (r.min(r0), r.max(r0));
+                parent[hi as usize] = lo;
+            }
+        }
+    }
+    let mut label: Vec<Option<u32>> = vec![None; num_vertices];
+    let mut of_triangle = Vec::with_capacity(triangles.len());
+    let mut count = 0u32;
+    for tri in triangles {
+        let r = find(&mut parent, tri[0]) as usize;
+        let c = *label[r].get_or_insert_with(|| {
+            count += 1;
+            count - 1
+        });
+        of_triangle.push(c);
+    }
+    let mut of_vertex = vec![None; num_vertices];
+    for (tri, &c) in triangles.iter().zip(&of_triangle) {
+        for &v in tri {
+            of_vertex[v as usize] = Some(c);
+        }
+    }
+    Components {
+        of_vertex,
+        of_triangle,
+        count: count as usize,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn edges_and_adjacency_with_boundary_and_nonmanifold_edge() {
+        // Three triangles on edge (0, 1), plus one triangle hanging off (1, 2).
+        let tris = [[0, 1, 2], [1, 0, 3], [0, 1, 4], [2, 1, 5]];
+        let e = edges(&tris);
+        let e01 = e.iter().find(|e| e.vertices == [0, 1]).unwrap();
+        assert_eq!(e01.triangles, vec![0, 1, 2]);
+        assert_eq!(e.iter().filter(|e| e.triangles.len() == 1).count(), 8);
+        let adj = TriangleAdjacency::new(&tris);
+        assert_eq!(adj.of(0), &[1, 2, 3]);
+        assert_eq!(adj.of(1), &[0, 2]);
+        assert_eq!(adj.of(3), &[0]);
+    }
+
+    #[test]
+    fn components() {
+        let tris = [[0, 1, 2], [5, 6, 7], [2, 3, 0], [7, 8, 5]];
+        let c = connected_components(10, &tris);
+        assert_eq!(c.count, 2);
+        assert_eq!(c.of_triangle, vec![0, 1, 0, 1]);
+        assert_eq!(c.of_vertex[4], None);
+        assert_eq!(c.of_vertex[8], Some(1));
+    }
+}
