@@ -1,1 +1,48 @@
-fn main() {}
+//! `meshmorph`: gradient-domain shape animation from the command line.
+//!
+//! A thin layer over the `meshmorph` library: each subcommand parses its
+//! arguments, reads files, reports progress and calls the library.
+
+mod demo;
+mod interpolate;
+mod output;
+mod progress;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Gradient-domain shape animation on triangle meshes.
+///
+/// As-rigid-as-possible shape interpolation (Alexa, Cohen-Or, Levin 2000;
+/// Baxter, Barla, Anjyo 2008) and, in later subcommands, deformation
+/// transfer (Sumner, Popovic 2004).
+#[derive(Debug, Parser)]
+#[command(name = "meshmorph", version, about, long_about = None, propagate_version = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Interpolate between two planar meshes with the same triangles.
+    Interpolate(interpolate::Args),
+    /// Run on built-in procedural shapes and write frames and pictures.
+    Demo(demo::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Interpolate(args) => interpolate::run(&args),
+        Command::Demo(args) => demo::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -21,6 +21,7 @@ pub mod mesh;
 pub mod polar;
 pub mod render;
 pub mod rotation;
+pub mod shapes;
 pub mod solve;
 pub mod topology;
 

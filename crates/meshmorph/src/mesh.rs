@@ -36,7 +36,10 @@ impl<const D: usize> Mesh<D> {
         }
         check_finite(&positions)?;
         check_indices(positions.len(), &triangles)?;
-        Ok(Self { positions, triangles })
+        Ok(Self {
+            positions,
+            triangles,
+        })
     }
 
     /// `#V × D` vertex positions.
@@ -149,7 +152,11 @@ pub fn signed_areas(positions: &[[f64; 2]], triangles: &[[u32; 3]]) -> Vec<f64> 
     triangles
         .iter()
         .map(|&[a, b, c]| {
-            crate::geometry::signed_area2(positions[a as usize], positions[b as usize], positions[c as usize])
+            crate::geometry::signed_area2(
+                positions[a as usize],
+                positions[b as usize],
+                positions[c as usize],
+            )
         })
         .collect()
 }
@@ -172,7 +179,10 @@ pub fn bounding_box_diagonal<const D: usize>(points: &[[f64; D]]) -> f64 {
 }
 
 fn check_finite<const D: usize>(positions: &[[f64; D]]) -> Result<()> {
-    match positions.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
+    match positions
+        .iter()
+        .position(|p| p.iter().any(|x| !x.is_finite()))
+    {
         Some(v) => Err(Error::InvalidMesh(format!(
             "vertex {v} has a coordinate that is not a finite number: {:?}",
             positions[v]
@@ -207,9 +217,13 @@ mod tests {
         assert!(Mesh2::new(p.clone(), vec![[0, 1, 2]]).is_ok());
         let e = Mesh2::new(p.clone(), vec![]).unwrap_err().to_string();
         assert!(e.contains("no triangles"), "{e}");
-        let e = Mesh2::new(p.clone(), vec![[0, 1, 3]]).unwrap_err().to_string();
+        let e = Mesh2::new(p.clone(), vec![[0, 1, 3]])
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("triangle 0 uses vertex 3"), "{e}");
-        let e = Mesh2::new(p.clone(), vec![[0, 1, 2], [1, 1, 2]]).unwrap_err().to_string();
+        let e = Mesh2::new(p.clone(), vec![[0, 1, 2], [1, 1, 2]])
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("triangle 1 repeats"), "{e}");
         let mut q = p.clone();
         q[2][1] = f64::NAN;
@@ -219,11 +233,17 @@ mod tests {
 
     #[test]
     fn planar_round_trip() {
-        let m = Mesh3::new(vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![[0, 1, 2]]).unwrap();
+        let m = Mesh3::new(
+            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            vec![[0, 1, 2]],
+        )
+        .unwrap();
         let m2 = m.to_2d().unwrap();
         assert_eq!(m2.to_3d(), m);
         assert_eq!(m2.signed_areas(), vec![0.5]);
-        let lifted = m.with_positions(vec![[0.0, 0.0, 0.0], [1.0, 0.0, 1.0], [0.0, 1.0, 0.0]]).unwrap();
+        let lifted = m
+            .with_positions(vec![[0.0, 0.0, 0.0], [1.0, 0.0, 1.0], [0.0, 1.0, 0.0]])
+            .unwrap();
         assert!(lifted.to_2d().unwrap_err().to_string().contains("vertex 1"));
     }
 }

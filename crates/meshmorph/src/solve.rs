@@ -1,1 +1,558 @@
-//! solve
+//! Sparse symmetric positive definite systems: assembly, elimination of
+//! pinned unknowns, one Cholesky factorization, many solves.
+//!
+//! Every algorithm in meshmorph ends in a least-squares problem whose normal
+//! matrix does not change from frame to frame (or pose to pose). This module
+//! owns that pattern and keeps faer behind it (faer's API moves between minor
+//! releases):
+//!
+//! 1. accumulate the upper triangle of the normal matrix with
+//!    [`SymmetricBuilder`];
+//! 2. [`PinnedSystem::new`] removes the pinned unknowns (their columns move
+//!    to the right-hand side, so the matrix stays symmetric positive definite,
+//!    as in libigl's `min_quad_with_fixed`) and factors the rest once;
+//! 3. [`PinnedSystem::solve`] back-substitutes any number of right-hand sides,
+//!    each with a caller-owned [`Workspace`] so frames can run on several
+//!    threads.
+//!
+//! # Performance
+//! Solves always run with `Par::Seq`: faer's supernodal solve with a parallel
+//! `Par` and several right-hand-side columns is about 30 times slower on small
+//! machines. Parallelism comes from solving independent frames at once.
+
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    SymmetricOrdering,
+};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side};
+
+use crate::error::{Error, Result};
+
+/// Which Cholesky variant to use.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum FactorKind {
+    /// Simplicial below [`FactorKind::SIMPLICIAL_LIMIT`] unknowns, supernodal above.
+    #[default]
+    Auto,
+    /// Column-by-column factor: slower to factor, about twice as fast to solve.
+    /// Pays back after about 20 solves.
+    Simplicial,
+    /// Blocked factor: fast to factor large systems, slower solves.
+    Supernodal,
+}
+
+impl FactorKind {
+    /// Systems up to this many unknowns get the simplicial factor under
+    /// [`FactorKind::Auto`]: their factorization is cheap either way and
+    /// the faster solve wins over many frames.
+    pub const SIMPLICIAL_LIMIT: usize = 150_000;
+}
+
+/// The upper triangle of a symmetric sparse matrix in compressed-column form,
+/// rows sorted within each column, duplicates summed.
+#[derive(Clone, Debug)]
+pub struct SymmetricMatrix {
+    n: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl SymmetricMatrix {
+    /// Dimension.
+    pub fn dim(&self) -> usize {
+        self.n
+    }
+
+    /// Stored entries (upper triangle).
+    pub fn nnz(&self) -> usize {
+        self.values.len()
+    }
+
+    /// `y = A x` for the full symmetric matrix.
+    pub fn mul_vec(&self, x: &[f64]) -> Vec<f64> {
+        let mut y = vec![0.0; self.n];
+        for j in 0..self.n {
+            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                let (i, v) = (self.row_idx[p], self.values[p]);
+                y[i] += v * x[j];
+                if i != j {
+                    y[j] += v * x[i];
+                }
+            }
+        }
+        y
+    }
+
+    /// Entry `(i, j)` (0 when not stored).
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        let (i, j) = (i.min(j), i.max(j));
+        let rows = &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]];
+        match rows.binary_search(&i) {
+            Ok(p) => self.values[self.col_ptr[j] + p],
+            Err(_) => 0.0,
+        }
+    }
+
+    fn as_faer(&self) -> SparseColMatRef<'_, usize, f64> {
+        SparseColMatRef::new(
+            SymbolicSparseColMatRef::new_checked(
+                self.n,
+                self.n,
+                &self.col_ptr,
+                None,
+                &self.row_idx,
+            ),
+            &self.values,
+        )
+    }
+}
+
+/// Accumulates entries of a symmetric matrix; each `(i, j)` pair is stored
+/// once in the upper triangle, so adding `(i, j)` and `(j, i)` adds twice.
+#[derive(Clone, Debug)]
+pub struct SymmetricBuilder {
+    n: usize,
+    entries: Vec<(u32, u32, f64)>,
+}
+
+impl SymmetricBuilder {
+    /// An `n × n` zero matrix; `capacity` entries are reserved.
+    pub fn new(n: usize, capacity: usize) -> Self {
+        assert!(n < u32::MAX as usize, "matrix too large");
+        Self {
+            n,
+            entries: Vec::with_capacity(capacity),
+        }
+    }
+
+    /// Adds `v` to the symmetric pair of entries `(i, j)` and `(j, i)`
+    /// (to the diagonal once when `i == j`).
+    #[inline]
+    #[track_caller]
+    pub fn add(&mut self, i: usize, j: usize, v: f64) {
+        debug_assert!(i < self.n && j < self.n);
+        let (r, c) = (i.min(j), i.max(j));
+        self.entries.push((c as u32, r as u32, v));
+    }
+
+    /// Adds `weight · aᵀa` for the sparse row `a` given as `(column, value)`
+    /// pairs (a column may appear more than once; its values add up).
+    pub fn add_row_outer(&mut self, row: &[(usize, f64)], weight: f64) {
+        for (k, &(i, a)) in row.iter().enumerate() {
+            self.add(i, i, weight * a * a);
+            for &(j, b) in &row[k + 1..] {
+                // An off-diagonal pair stands for both (i, j) and (j, i); on
+                // the diagonal (a repeated column) it must count twice.
+                let factor = if i == j { 2.0 } else { 1.0 };
+                self.add(i, j, factor * weight * a * b);
+            }
+        }
+    }
+
+    /// Compresses into a [`SymmetricMatrix`], summing duplicates.
+    pub fn build(mut self) -> SymmetricMatrix {
+        self.entries.sort_unstable_by_key(|e| (e.0, e.1));
+        let mut col_ptr = vec![0usize; self.n + 1];
+        let mut row_idx = Vec::with_capacity(self.entries.len() / 2);
+        let mut values: Vec<f64> = Vec::with_capacity(self.entries.len() / 2);
+        let mut last: Option<(u32, u32)> = None;
+        for (c, r, v) in self.entries {
+            if last == Some((c, r)) {
+                *values.last_mut().unwrap() += v;
+            } else {
+                row_idx.push(r as usize);
+                values.push(v);
+                col_ptr[c as usize + 1] += 1;
+                last = Some((c, r));
+            }
+        }
+        for j in 0..self.n {
+            col_ptr[j + 1] += col_ptr[j];
+        }
+        SymmetricMatrix {
+            n: self.n,
+            col_ptr,
+            row_idx,
+            values,
+        }
+    }
+}
+
+/// A Cholesky factorization `A = L Lᵀ` (with a fill-reducing ordering).
+#[derive(Debug)]
+pub struct Cholesky {
+    symbolic: SymbolicCholesky<usize>,
+    l_values: Vec<f64>,
+}
+
+impl Cholesky {
+    /// Factors the symmetric positive definite `matrix`.
+    ///
+    /// # Errors
+    /// [`Error::Solver`] when the matrix is not numerically positive definite.
+    pub fn new(matrix: &SymmetricMatrix, kind: FactorKind) -> Result<Self> {
+        let threshold = match kind {
+            FactorKind::Simplicial => SupernodalThreshold::FORCE_SIMPLICIAL,
+            FactorKind::Supernodal => SupernodalThreshold::FORCE_SUPERNODAL,
+            FactorKind::Auto if matrix.n <= FactorKind::SIMPLICIAL_LIMIT => {
+                SupernodalThreshold::FORCE_SIMPLICIAL
+            }
+            FactorKind::Auto => SupernodalThreshold::FORCE_SUPERNODAL,
+        };
+        let a = matrix.as_faer();
+        let symbolic = factorize_symbolic_cholesky(
+            a.symbolic(),
+            Side::Upper,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: threshold,
+                ..Default::default()
+            },
+        )
+        .map_err(|e| Error::Solver(format!("symbolic factorization failed: {e:?}")))?;
+        let mut this = Self {
+            l_values: vec![0.0; symbolic.len_val()],
+            symbolic,
+        };
+        this.refactor(matrix)?;
+        Ok(this)
+    }
+
+    /// Factors a new matrix with the same sparsity pattern as the one given
+    /// to [`Cholesky::new`], reusing the ordering and symbolic analysis.
+    ///
+    /// # Errors
+    /// [`Error::Solver`] when the matrix is not numerically positive definite.
+    pub fn refactor(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
+        let a = matrix.as_faer();
+        let par = Par::Seq;
+        let req = self
+            .symbolic
+            .factorize_numeric_llt_scratch::<f64>(par, Default::default());
+        let mut mem = MemBuffer::new(req);
+        self.symbolic
+            .factorize_numeric_llt(
+                &mut self.l_values,
+                a,
+                Side::Upper,
+                LltRegularization::default(),
+                par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|_| {
+                Error::Solver(
+                    "the matrix is not positive definite (a disconnected part with nothing \
+                     to hold it, or degenerate triangles)"
+                        .into(),
+                )
+            })?;
+        Ok(())
+    }
+
+    /// Dimension.
+    pub fn dim(&self) -> usize {
+        self.symbolic.nrows()
+    }
+
+    /// Scratch space needed to solve `ncols` right-hand sides at once.
+    pub fn solve_scratch(&self, ncols: usize) -> StackReq {
+        self.symbolic.solve_in_place_scratch::<f64>(ncols, Par::Seq)
+    }
+
+    /// Overwrites the column-major `dim × ncols` block `rhs` with `A⁻¹ rhs`.
+    ///
+    /// # Panics
+    /// If `rhs.len() != dim * ncols` or `stack` is smaller than
+    /// [`Cholesky::solve_scratch`] asks.
+    #[track_caller]
+    pub fn solve_in_place(&self, rhs: &mut [f64], ncols: usize, stack: &mut MemStack) {
+        let n = self.dim();
+        assert_eq!(rhs.len(), n * ncols, "right-hand side has the wrong size");
+        let rhs = MatMut::from_column_major_slice_mut(rhs, n, ncols);
+        LltRef::new(&self.symbolic, &self.l_values).solve_in_place_with_conj(
+            Conj::No,
+            rhs,
+            Par::Seq,
+            stack,
+        );
+    }
+}
+
+/// Per-thread scratch for [`PinnedSystem::solve`].
+pub struct Workspace {
+    mem: MemBuffer,
+    reduced: Vec<f64>,
+    ncols: usize,
+}
+
+impl std::fmt::Debug for Workspace {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Workspace")
+            .field("ncols", &self.ncols)
+            .finish_non_exhaustive()
+    }
+}
+
+/// `A x = b` with some unknowns held at given values, the rest factored once.
+///
+/// The pinned unknowns are eliminated: with `f` the free and `p` the pinned
+/// indices, `A_ff x_f = b_f - A_fp x_p`, where `A_ff` is factored in
+/// [`PinnedSystem::new`].
+#[derive(Debug)]
+pub struct PinnedSystem {
+    n: usize,
+    /// Free index in the reduced system of each unknown, or `u32::MAX` if pinned.
+    reduced_of: Vec<u32>,
+    free: Vec<u32>,
+    pinned: Vec<u32>,
+    /// `A_fp` in compressed-column form over the pinned columns:
+    /// `(reduced row, value)` pairs, columns delimited by `coupling_ptr`.
+    coupling_ptr: Vec<usize>,
+    coupling: Vec<(u32, f64)>,
+    cholesky: Cholesky,
+}
+
+impl PinnedSystem {
+    /// Eliminates the `pinned` unknowns (any order, no repeats) from `matrix`
+    /// and factors what remains.
+    ///
+    /// # Errors
+    /// [`Error::Solver`] when the reduced matrix is not positive definite,
+    /// [`Error::InvalidArgument`] when a pinned index is out of range or repeated.
+    pub fn new(matrix: &SymmetricMatrix, pinned: &[usize], kind: FactorKind) -> Result<Self> {
+        let n = matrix.n;
+        let mut reduced_of = vec![0u32; n];
+        for &p in pinned {
+            if p >= n || reduced_of[p] == u32::MAX {
+                return Err(Error::InvalidArgument(format!(
+                    "pinned unknown {p} is out of range or repeated"
+                )));
+            }
+            reduced_of[p] = u32::MAX;
+        }
+        let mut free = Vec::with_capacity(n - pinned.len());
+        for (i, r) in reduced_of.iter_mut().enumerate() {
+            if *r != u32::MAX {
+                *r = free.len() as u32;
+                free.push(i as u32);
+            }
+        }
+        let mut pinned_col = vec![u32::MAX; n];
+        for (k, &p) in pinned.iter().enumerate() {
+            pinned_col[p] = k as u32;
+        }
+        let mut reduced = SymmetricBuilder::new(free.len(), matrix.nnz());
+        let mut coupling_entries: Vec<(u32, u32, f64)> = Vec::new();
+        for j in 0..n {
+            for p in matrix.col_ptr[j]..matrix.col_ptr[j + 1] {
+                let (i, v) = (matrix.row_idx[p], matrix.values[p]);
+                match (reduced_of[i], reduced_of[j]) {
+                    (u32::MAX, u32::MAX) => {}
+                    (u32::MAX, rj) => coupling_entries.push((pinned_col[i], rj, v)),
+                    (ri, u32::MAX) => coupling_entries.push((pinned_col[j], ri, v)),
+                    (ri, rj) => reduced.add(ri as usize, rj as usize, v),
+                }
+            }
+        }
+        coupling_entries.sort_unstable_by_key(|e| (e.0, e.1));
+        let mut coupling_ptr = vec![0usize; pinned.len() + 1];
+        for e in &coupling_entries {
+            coupling_ptr[e.0 as usize + 1] += 1;
+        }
+        for k in 0..pinned.len() {
+            coupling_ptr[k + 1] += coupling_ptr[k];
+        }
+        let coupling = coupling_entries
+            .into_iter()
+            .map(|(_, r, v)| (r, v))
+            .collect();
+        let cholesky = Cholesky::new(&reduced.build(), kind)?;
+        Ok(Self {
+            n,
+            reduced_of,
+            free,
+            pinned: pinned.iter().map(|&p| p as u32).collect(),
+            coupling_ptr,
+            coupling,
+            cholesky,
+        })
+    }
+
+    /// Number of unknowns, pinned ones included.
+    pub fn dim(&self) -> usize {
+        self.n
+    }
+
+    /// The pinned unknowns, in the order given to [`PinnedSystem::new`].
+    pub fn pinned(&self) -> impl ExactSizeIterator<Item = usize> + '_ {
+        self.pinned.iter().map(|&p| p as usize)
+    }
+
+    /// Scratch for solving `ncols` right-hand sides at once; one per thread.
+    pub fn workspace(&self, ncols: usize) -> Workspace {
+        Workspace {
+            mem: MemBuffer::new(self.cholesky.solve_scratch(ncols)),
+            reduced: vec![0.0; self.free.len() * ncols],
+            ncols,
+        }
+    }
+
+    /// Solves for `ncols` right-hand sides at once.
+    ///
+    /// `b` and `x` are column-major `dim × ncols`; `pinned_values` is
+    /// column-major `#pinned × ncols`, or `None` for all zeros. On return `x`
+    /// holds the solution with the pinned unknowns at their values (the rows
+    /// of `b` at pinned unknowns are ignored).
+    ///
+    /// # Panics
+    /// If a slice has the wrong length or `ws` was made for another `ncols`.
+    #[track_caller]
+    pub fn solve(
+        &self,
+        b: &[f64],
+        pinned_values: Option<&[f64]>,
+        x: &mut [f64],
+        ws: &mut Workspace,
+    ) {
+        let (n, m, k) = (self.n, self.free.len(), ws.ncols);
+        assert!(
+            b.len() == n * k && x.len() == n * k,
+            "right-hand side has the wrong size"
+        );
+        let np = self.pinned.len();
+        for c in 0..k {
+            let (bc, rc) = (&b[c * n..(c + 1) * n], &mut ws.reduced[c * m..(c + 1) * m]);
+            for (r, &i) in rc.iter_mut().zip(&self.free) {
+                *r = bc[i as usize];
+            }
+            if let Some(values) = pinned_values {
+                assert_eq!(values.len(), np * k, "pinned values have the wrong size");
+                for q in 0..np {
+                    let xp = values[c * np + q];
+                    if xp != 0.0 {
+                        for &(r, a) in
+                            &self.coupling[self.coupling_ptr[q]..self.coupling_ptr[q + 1]]
+                        {
+                            rc[r as usize] -= a * xp;
+                        }
+                    }
+                }
+            }
+        }
+        self.cholesky
+            .solve_in_place(&mut ws.reduced, k, MemStack::new(&mut ws.mem));
+        for c in 0..k {
+            let (xc, rc) = (&mut x[c * n..(c + 1) * n], &ws.reduced[c * m..(c + 1) * m]);
+            for (&i, &r) in self.free.iter().zip(rc) {
+                xc[i as usize] = r;
+            }
+            for (q, &p) in self.pinned.iter().enumerate() {
+                xc[p as usize] = pinned_values.map_or(0.0, |v| v[c * np + q]);
+            }
+        }
+    }
+
+    /// Reduced index of unknown `i`, `None` if it is pinned.
+    pub fn reduced_index(&self, i: usize) -> Option<usize> {
+        match self.reduced_of[i] {
+            u32::MAX => None,
+            r => Some(r as usize),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Path-graph Laplacian plus `shift` on the diagonal.
+    fn path_laplacian(n: usize, shift: f64) -> SymmetricMatrix {
+        let mut b = SymmetricBuilder::new(n, 3 * n);
+        for i in 0..n - 1 {
+            b.add(i, i, 1.0);
+            b.add(i + 1, i + 1, 1.0);
+            b.add(i, i + 1, -1.0);
+        }
+        for i in 0..n {
+            b.add(i, i, shift);
+        }
+        b.build()
+    }
+
+    #[test]
+    fn builder_sums_duplicates_and_is_symmetric() {
+        let mut b = SymmetricBuilder::new(3, 8);
+        b.add(0, 1, 2.0);
+        b.add(1, 0, 3.0);
+        b.add(2, 2, 1.0);
+        b.add(2, 2, 1.5);
+        let m = b.build();
+        assert_eq!(m.get(0, 1), 5.0);
+        assert_eq!(m.get(1, 0), 5.0);
+        assert_eq!(m.get(2, 2), 2.5);
+        assert_eq!(m.get(0, 2), 0.0);
+        assert_eq!(m.mul_vec(&[1.0, 1.0, 1.0]), vec![5.0, 5.0, 2.5]);
+    }
+
+    #[test]
+    fn solves_match_the_matrix_for_both_factor_kinds() {
+        let n = 200;
+        let m = path_laplacian(n, 0.01);
+        let x_true: Vec<f64> = (0..2 * n).map(|i| (i as f64 * 0.37).sin()).collect();
+        let mut b = m.mul_vec(&x_true[..n]);
+        b.extend(m.mul_vec(&x_true[n..]));
+        for kind in [
+            FactorKind::Simplicial,
+            FactorKind::Supernodal,
+            FactorKind::Auto,
+        ] {
+            let s = PinnedSystem::new(&m, &[], kind).unwrap();
+            let mut ws = s.workspace(2);
+            let mut x = vec![0.0; 2 * n];
+            s.solve(&b, None, &mut x, &mut ws);
+            let err = x
+                .iter()
+                .zip(&x_true)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(err < 1e-9, "{kind:?}: {err}");
+        }
+    }
+
+    #[test]
+    fn pinned_unknowns_are_eliminated() {
+        // A singular Laplacian becomes definite once one unknown is pinned;
+        // with both ends pinned the solution of L x = 0 is the straight line.
+        let n = 11;
+        let m = path_laplacian(n, 0.0);
+        assert!(Cholesky::new(&m, FactorKind::Simplicial).is_err());
+        let s = PinnedSystem::new(&m, &[n - 1, 0], FactorKind::Auto).unwrap();
+        let mut ws = s.workspace(1);
+        let mut x = vec![0.0; n];
+        s.solve(&vec![0.0; n], Some(&[10.0, 0.0]), &mut x, &mut ws);
+        for (i, xi) in x.iter().enumerate() {
+            assert!((xi - i as f64).abs() < 1e-12, "{x:?}");
+        }
+        assert_eq!(s.reduced_index(0), None);
+        assert_eq!(s.reduced_index(1), Some(0));
+        assert!(PinnedSystem::new(&m, &[3, 3], FactorKind::Auto).is_err());
+    }
+
+    #[test]
+    fn row_outer_products_match_dense() {
+        let mut b = SymmetricBuilder::new(3, 16);
+        b.add_row_outer(&[(0, 1.0), (2, -2.0), (0, 0.5)], 2.0);
+        let m = b.build();
+        // a = (1.5, 0, -2): 2 a aᵀ
+        assert!((m.get(0, 0) - 4.5).abs() < 1e-15);
+        assert!((m.get(0, 2) + 6.0).abs() < 1e-15);
+        assert!((m.get(2, 2) - 8.0).abs() < 1e-15);
+    }
+}

@@ -170,7 +170,7 @@ mod tests {
         let e = edges(&tris);
         let e01 = e.iter().find(|e| e.vertices == [0, 1]).unwrap();
         assert_eq!(e01.triangles, vec![0, 1, 2]);
-        assert_eq!(e.iter().filter(|e| e.triangles.len() == 1).count(), 8);
+        assert_eq!(e.iter().filter(|e| e.triangles.len() == 1).count(), 7);
         let adj = TriangleAdjacency::new(&tris);
         assert_eq!(adj.of(0), &[1, 2, 3]);
         assert_eq!(adj.of(1), &[0, 2]);

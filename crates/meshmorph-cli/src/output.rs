@@ -1,0 +1,70 @@
+//! What every subcommand shares: output paths, formats, reports.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use meshmorph::io::Format;
+
+/// `--format` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum FormatArg {
+    /// Wavefront OBJ.
+    Obj,
+    /// Object File Format.
+    Off,
+    /// Stanford PLY (binary).
+    Ply,
+}
+
+impl From<FormatArg> for Format {
+    fn from(f: FormatArg) -> Self {
+        match f {
+            FormatArg::Obj => Format::Obj,
+            FormatArg::Off => Format::Off,
+            FormatArg::Ply => Format::Ply,
+        }
+    }
+}
+
+/// The format asked for, else the one of `like`'s extension.
+pub fn format_or_like(asked: Option<FormatArg>, like: &Path) -> Result<Format> {
+    match asked {
+        Some(f) => Ok(f.into()),
+        None => Format::from_path(like).map_err(Into::into),
+    }
+}
+
+/// Creates `dir` (and its parents) if missing.
+pub fn make_dir(dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("creating output directory `{}`", dir.display()))
+}
+
+/// `dir/frame_0007.ext`, with enough digits for `count` frames (at least 4).
+pub fn frame_path(dir: &Path, index: usize, count: usize, ext: &str) -> PathBuf {
+    let digits = (count.max(2) - 1).to_string().len().max(4);
+    dir.join(format!("frame_{index:0digits$}.{ext}"))
+}
+
+/// Reads a mesh, saying which file and what role on failure.
+pub fn read_mesh(path: &Path, role: &str) -> Result<meshmorph::Mesh3> {
+    meshmorph::io::read_mesh(path).with_context(|| format!("reading {role} `{}`", path.display()))
+}
+
+/// Reads a planar mesh (every z = 0).
+pub fn read_mesh_2d(path: &Path, role: &str) -> Result<meshmorph::Mesh2> {
+    read_mesh(path, role)?
+        .to_2d()
+        .with_context(|| format!("{role} `{}` is not planar", path.display()))
+}
+
+/// Seconds as a short human string.
+pub fn human_seconds(s: f64) -> String {
+    if s >= 1.0 {
+        format!("{s:.2} s")
+    } else if s >= 1e-3 {
+        format!("{:.2} ms", s * 1e3)
+    } else {
+        format!("{:.1} µs", s * 1e6)
+    }
+}

@@ -1,0 +1,189 @@
+//! Procedural meshes for demos, tests and benchmarks: no files needed.
+
+use crate::geometry::{add, scale};
+use crate::mesh::{Mesh2, Mesh3};
+
+/// A `length × width` rectangle with its lower-left corner at the origin,
+/// split into `nx × ny` cells of two counter-clockwise triangles each
+/// (`2 nx ny` triangles, `(nx + 1)(ny + 1)` vertices, row by row).
+///
+/// # Panics
+/// If `nx` or `ny` is 0 or the sizes are not positive.
+pub fn strip(length: f64, width: f64, nx: usize, ny: usize) -> Mesh2 {
+    assert!(
+        nx > 0 && ny > 0 && length > 0.0 && width > 0.0,
+        "empty strip"
+    );
+    let mut positions = Vec::with_capacity((nx + 1) * (ny + 1));
+    for j in 0..=ny {
+        for i in 0..=nx {
+            positions.push([length * i as f64 / nx as f64, width * j as f64 / ny as f64]);
+        }
+    }
+    let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+    let mut triangles = Vec::with_capacity(2 * nx * ny);
+    for j in 0..ny {
+        for i in 0..nx {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            // Alternate the diagonal so the mesh has no preferred direction.
+            if (i + j) % 2 == 0 {
+                triangles.push([a, b, c]);
+                triangles.push([a, c, d]);
+            } else {
+                triangles.push([a, b, d]);
+                triangles.push([b, c, d]);
+            }
+        }
+    }
+    Mesh2::new(positions, triangles).expect("a strip is a valid mesh")
+}
+
+/// Bends a strip made by [`strip`] (`x` along its length from 0 to `length`,
+/// `y` across it) into an Euler spiral: the centre line's tangent turns by
+/// `total_angle · (x / length)²` radians, so the strip curls ever tighter
+/// and, for angles beyond a full turn, winds into a spiral without
+/// overlapping itself. Lengths along the centre line are kept.
+pub fn curl(strip: &Mesh2, total_angle: f64) -> Mesh2 {
+    let p = strip.positions();
+    let length = p.iter().map(|q| q[0]).fold(0.0, f64::max);
+    let width = p.iter().map(|q| q[1]).fold(0.0, f64::max);
+    let steps = 4096;
+    let ds = length / steps as f64;
+    let turn = |s: f64| total_angle * (s / length).powi(2);
+    // Centre line by the midpoint rule, sampled at `steps + 1` points.
+    let mut centre = Vec::with_capacity(steps + 1);
+    let mut c = [0.0, 0.0];
+    centre.push(c);
+    for k in 0..steps {
+        let phi = turn((k as f64 + 0.5) * ds);
+        c = add(c, [ds * phi.cos(), ds * phi.sin()]);
+        centre.push(c);
+    }
+    let positions = p
+        .iter()
+        .map(|&[x, y]| {
+            let u = (x / ds).clamp(0.0, steps as f64);
+            let k = (u.floor() as usize).min(steps - 1);
+            let f = u - k as f64;
+            let on = add(scale(centre[k], 1.0 - f), scale(centre[k + 1], f));
+            let phi = turn(x);
+            add(on, scale([-phi.sin(), phi.cos()], y - 0.5 * width))
+        })
+        .collect();
+    strip
+        .with_positions(positions)
+        .expect("bending keeps coordinates finite")
+}
+
+/// Rotates a planar mesh by `angle` radians about `centre` and translates it.
+pub fn rigid_motion(mesh: &Mesh2, angle: f64, centre: [f64; 2], translation: [f64; 2]) -> Mesh2 {
+    let (s, c) = angle.sin_cos();
+    let positions = mesh
+        .positions()
+        .iter()
+        .map(|p| {
+            let (x, y) = (p[0] - centre[0], p[1] - centre[1]);
+            [
+                c * x - s * y + centre[0] + translation[0],
+                s * x + c * y + centre[1] + translation[1],
+            ]
+        })
+        .collect();
+    mesh.with_positions(positions)
+        .expect("a rigid motion keeps coordinates finite")
+}
+
+/// A closed tube (a cylinder with capped ends) of the given `radius` along
+/// the x axis from 0 to `length`: `rings` rings of `segments` vertices, plus
+/// one centre vertex per cap. Triangles face outwards.
+///
+/// # Panics
+/// If `rings < 2` or `segments < 3`.
+pub fn tube(length: f64, radius: f64, rings: usize, segments: usize) -> Mesh3 {
+    assert!(rings >= 2 && segments >= 3, "tube too coarse");
+    let mut positions = Vec::with_capacity(rings * segments + 2);
+    for r in 0..rings {
+        let x = length * r as f64 / (rings - 1) as f64;
+        for s in 0..segments {
+            let a = std::f64::consts::TAU * s as f64 / segments as f64;
+            positions.push([x, radius * a.cos(), radius * a.sin()]);
+        }
+    }
+    let id = |r: usize, s: usize| (r * segments + s % segments) as u32;
+    let mut triangles = Vec::with_capacity(2 * rings * segments);
+    for r in 0..rings - 1 {
+        for s in 0..segments {
+            let (a, b, c, d) = (id(r, s), id(r, s + 1), id(r + 1, s + 1), id(r + 1, s));
+            triangles.push([a, b, c]);
+            triangles.push([a, c, d]);
+        }
+    }
+    let start = positions.len() as u32;
+    positions.push([0.0, 0.0, 0.0]);
+    positions.push([length, 0.0, 0.0]);
+    for s in 0..segments {
+        triangles.push([start, id(0, s + 1), id(0, s)]);
+        triangles.push([start + 1, id(rings - 1, s), id(rings - 1, s + 1)]);
+    }
+    Mesh3::new(positions, triangles).expect("a tube is a valid mesh")
+}
+
+/// Bends a mesh lying along the x axis from 0 to `length` in the x-y plane:
+/// the point at `x` turns about the z axis by `angle · (x / length)`,
+/// following a circular arc, so a straight tube becomes a bent one with
+/// lengths along its axis kept.
+pub fn bend(mesh: &Mesh3, length: f64, angle: f64) -> Mesh3 {
+    if angle == 0.0 {
+        return mesh.clone();
+    }
+    let radius = length / angle;
+    let positions = mesh
+        .positions()
+        .iter()
+        .map(|&[x, y, z]| {
+            let phi = angle * (x / length);
+            let r = radius - y;
+            [r * phi.sin(), radius - r * phi.cos(), z]
+        })
+        .collect();
+    mesh.with_positions(positions)
+        .expect("bending keeps coordinates finite")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strip_counts_and_orientation() {
+        let m = strip(4.0, 1.0, 8, 2);
+        assert_eq!(m.num_vertices(), 27);
+        assert_eq!(m.num_triangles(), 32);
+        assert!(m
+            .signed_areas()
+            .iter()
+            .all(|&a| (a - 4.0 / 32.0).abs() < 1e-12));
+    }
+
+    #[test]
+    fn curl_keeps_the_centre_line_length_and_orientation() {
+        let m = strip(10.0, 0.4, 100, 4);
+        let c = curl(&m, 3.0 * std::f64::consts::PI);
+        assert!(c.signed_areas().iter().all(|&a| a > 0.0));
+        // Vertices on the centre line (row 2) stay 0.1 apart.
+        let row: Vec<[f64; 2]> = c.positions()[2 * 101..3 * 101].to_vec();
+        for w in row.windows(2) {
+            let d = ((w[1][0] - w[0][0]).powi(2) + (w[1][1] - w[0][1]).powi(2)).sqrt();
+            assert!((d - 0.1).abs() < 1e-3, "{d}");
+        }
+    }
+
+    #[test]
+    fn tube_is_closed_and_bends() {
+        let t = tube(4.0, 0.5, 9, 12);
+        let e = crate::topology::edges(t.triangles());
+        assert!(e.iter().all(|e| e.triangles.len() == 2));
+        let b = bend(&t, 4.0, std::f64::consts::FRAC_PI_2);
+        assert_eq!(b.num_vertices(), t.num_vertices());
+    }
+}
