@@ -6,6 +6,9 @@
 //!   meshes (Alexa, Cohen-Or and Levin, SIGGRAPH 2000) with rotation
 //!   consistency and a system factored once (Baxter, Barla and Anjyo,
 //!   NPAR 2008).
+//! - [`correspond`] and [`Transfer`]: deformation transfer (Sumner and
+//!   Popović, SIGGRAPH 2004): a triangle correspondence from a few marker
+//!   vertex pairs, then any number of source poses carried over to a target.
 //! - mesh reading and writing ([`io`]), pictures ([`render`]).
 //!
 //! Positions are plain `[f64; D]` arrays and triangles `[u32; 3]` index
@@ -13,10 +16,15 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod closest;
+pub mod correspond;
+pub mod correspondence;
 pub mod error;
+pub mod frames;
 pub mod geometry;
 pub mod interpolate;
 pub mod io;
+pub mod markers;
 pub mod mesh;
 pub mod polar;
 pub mod render;
@@ -24,7 +32,12 @@ pub mod rotation;
 pub mod shapes;
 pub mod solve;
 pub mod topology;
+pub mod transfer;
 
+pub use correspond::{correspond, CorrespondOptions, CorrespondResult};
+pub use correspondence::Correspondence;
 pub use error::{Error, Result};
 pub use interpolate::{Interpolator, InterpolatorOptions, StretchMode};
+pub use markers::Markers;
 pub use mesh::{Mesh, Mesh2, Mesh3};
+pub use transfer::{Transfer, TransferOptions};

@@ -89,6 +89,26 @@ impl SymmetricMatrix {
         y
     }
 
+    /// Adds `diagonal[i]` to each diagonal entry `(i, i)`.
+    ///
+    /// # Panics
+    /// If a non-zero value goes to a diagonal entry that is not stored
+    /// (store explicit zeros on the diagonal when building).
+    #[track_caller]
+    pub fn add_to_diagonal(&mut self, diagonal: &[f64]) {
+        assert_eq!(diagonal.len(), self.n, "one value per row");
+        for (j, &d) in diagonal.iter().enumerate() {
+            if d != 0.0 {
+                let end = self.col_ptr[j + 1];
+                assert!(
+                    end > self.col_ptr[j] && self.row_idx[end - 1] == j,
+                    "diagonal entry {j} is not stored"
+                );
+                self.values[end - 1] += d;
+            }
+        }
+    }
+
     /// Entry `(i, j)` (0 when not stored).
     pub fn get(&self, i: usize, j: usize) -> f64 {
         let (i, j) = (i.min(j), i.max(j));
@@ -151,6 +171,21 @@ impl SymmetricBuilder {
                 // the diagonal (a repeated column) it must count twice.
                 let factor = if i == j { 2.0 } else { 1.0 };
                 self.add(i, j, factor * weight * a * b);
+            }
+        }
+    }
+
+    /// Adds `weight · Σ_j c_j c_jᵀ` where `c_j` is column `j` of the
+    /// `idx.len() × 3` coefficient block `coef` over the unknowns `idx` (an
+    /// unknown may appear more than once). This is the normal-matrix block of
+    /// three rows `Σ_k coef[k][j] x[idx[k]]`, j = 0, 1, 2, as deformation
+    /// gradients give.
+    pub fn add_gram(&mut self, idx: &[usize], coef: &[[f64; 3]], weight: f64) {
+        for p in 0..idx.len() {
+            for q in p..idx.len() {
+                let g: f64 = (0..3).map(|j| coef[p][j] * coef[q][j]).sum::<f64>() * weight;
+                let factor = if p != q && idx[p] == idx[q] { 2.0 } else { 1.0 };
+                self.add(idx[p], idx[q], factor * g);
             }
         }
     }

@@ -1,0 +1,319 @@
+//! Triangle correspondence between a source and a target mesh from a few
+//! marker vertex pairs (Sumner and Popović 2004, section 5).
+//!
+//! 1. The source reference is deformed onto the target reference by
+//!    minimising `w_S E_S + w_I E_I + w_C E_C` over its vertices and fourth
+//!    vertices, markers held at their target positions: `E_S` asks
+//!    neighbouring triangles to deform alike, `E_I` asks every deformation
+//!    gradient to stay near the identity and `E_C` pulls every vertex to the
+//!    closest compatible point of the target. A first round runs without
+//!    `E_C`; then `w_C` grows round by round, closest points found afresh.
+//! 2. Triangles of the deformed source and of the target are paired with the
+//!    closest compatible triangle of the other mesh (centroids within a
+//!    threshold, normals less than 90° apart), in both directions.
+#![allow(non_snake_case)]
+
+use rayon::prelude::*;
+
+use crate::closest::{unit_normal, vertex_normals, CentroidIndex, SurfaceIndex};
+use crate::correspondence::Correspondence;
+use crate::error::{Error, Result};
+use crate::frames::{frame, gradient_operator, inverse3};
+use crate::geometry::centroid;
+use crate::markers::Markers;
+use crate::mesh::Mesh3;
+use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder};
+use crate::topology::{connected_components, edges};
+
+/// Options of [`correspond`]; the defaults follow the paper.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct CorrespondOptions {
+    /// `w_S`, weight of the smoothness term. Default 1.
+    pub smoothness_weight: f64,
+    /// `w_I`, weight of the identity term. Default 0.001.
+    pub identity_weight: f64,
+    /// `w_C` of each closest-point round, in order (a first round without
+    /// closest points always runs before them). Default `[1, 1667.33,
+    /// 3333.67, 5000]`: from 1 to 5000 in four steps.
+    pub closest_weights: Vec<f64>,
+    /// Largest distance to a closest point, as a fraction of the target's
+    /// bounding-box diagonal; farther vertices are not pulled. Default 0.1.
+    pub closest_cutoff: f64,
+    /// Largest centroid distance of a matched triangle pair, as a fraction of
+    /// the target's bounding-box diagonal. Default 0.05.
+    pub match_threshold: f64,
+}
+
+impl Default for CorrespondOptions {
+    fn default() -> Self {
+        Self {
+            smoothness_weight: 1.0,
+            identity_weight: 0.001,
+            closest_weights: (0..4)
+                .map(|k| 1.0 + (5000.0 - 1.0) * k as f64 / 3.0)
+                .collect(),
+            closest_cutoff: 0.1,
+            match_threshold: 0.05,
+        }
+    }
+}
+
+impl CorrespondOptions {
+    /// Sets [`CorrespondOptions::closest_weights`].
+    pub fn with_closest_weights(mut self, weights: Vec<f64>) -> Self {
+        self.closest_weights = weights;
+        self
+    }
+    /// Sets [`CorrespondOptions::closest_cutoff`].
+    pub fn with_closest_cutoff(mut self, fraction: f64) -> Self {
+        self.closest_cutoff = fraction;
+        self
+    }
+    /// Sets [`CorrespondOptions::match_threshold`].
+    pub fn with_match_threshold(mut self, fraction: f64) -> Self {
+        self.match_threshold = fraction;
+        self
+    }
+    /// Sets the smoothness and identity weights.
+    pub fn with_weights(mut self, smoothness: f64, identity: f64) -> Self {
+        self.smoothness_weight = smoothness;
+        self.identity_weight = identity;
+        self
+    }
+}
+
+/// What [`correspond`] found.
+#[derive(Clone, Debug)]
+pub struct CorrespondResult {
+    /// The triangle map.
+    pub correspondence: Correspondence,
+    /// The source reference deformed onto the target reference.
+    pub deformed_source: Mesh3,
+}
+
+/// The fewest markers [`correspond`] accepts: fewer cannot fix an orientation.
+pub const MIN_MARKERS: usize = 3;
+
+/// Computes the triangle correspondence between `source` and `target` from
+/// `markers`. `progress` is called with the number of steps done out of
+/// [`correspond_steps`].
+///
+/// # Errors
+/// - [`Error::InvalidArgument`] for bad markers (out of range, repeated, a
+///   source vertex with two targets), fewer than [`MIN_MARKERS`], or a
+///   connected part of the source without a marker;
+/// - [`Error::DegenerateTriangles`] for zero-area triangles in either mesh;
+/// - [`Error::Solver`] if a system cannot be factored.
+pub fn correspond(
+    source: &Mesh3,
+    target: &Mesh3,
+    markers: &Markers,
+    options: &CorrespondOptions,
+    progress: &mut dyn FnMut(usize),
+) -> Result<CorrespondResult> {
+    markers.validate(source.num_vertices(), target.num_vertices())?;
+    if markers.pairs().len() < MIN_MARKERS {
+        return Err(Error::InvalidArgument(format!(
+            "{} marker pair{} given: correspondence needs at least {MIN_MARKERS}",
+            markers.pairs().len(),
+            if markers.pairs().len() == 1 { "" } else { "s" }
+        )));
+    }
+    check_degenerate(source, "source reference")?;
+    check_degenerate(target, "target reference")?;
+    let components = connected_components(source.num_vertices(), source.triangles());
+    let mut held = vec![false; components.count];
+    for &[s, _] in markers.pairs() {
+        if let Some(c) = components.of_vertex[s as usize] {
+            held[c as usize] = true;
+        }
+    }
+    if let Some(c) = held.iter().position(|h| !h) {
+        let t = components
+            .of_triangle
+            .iter()
+            .position(|&x| x as usize == c)
+            .unwrap_or(0);
+        return Err(Error::InvalidArgument(format!(
+            "part {c} of the source reference (the connected triangles around triangle {t}) has no \
+             marker: every connected part needs at least one"
+        )));
+    }
+
+    let deformed = deform(source, target, markers, options, progress)?;
+    let deformed_source = source.with_positions(deformed)?;
+    let threshold = options.match_threshold * target.bounding_box_diagonal();
+    let correspondence = match_triangles(&deformed_source, target, threshold);
+    progress(correspond_steps(options));
+    Ok(CorrespondResult {
+        correspondence,
+        deformed_source,
+    })
+}
+
+/// Number of steps [`correspond`] reports: each deformation round, then matching.
+pub fn correspond_steps(options: &CorrespondOptions) -> usize {
+    options.closest_weights.len() + 2
+}
+
+pub(crate) fn check_degenerate(mesh: &Mesh3, name: &str) -> Result<()> {
+    let tiny = 1e-14 * mesh.bounding_box_diagonal().powi(2);
+    let bad: Vec<usize> = mesh
+        .triangle_normals_unnormalized()
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| crate::geometry::norm(**n) <= tiny)
+        .map(|(t, _)| t)
+        .collect();
+    if bad.is_empty() {
+        return Ok(());
+    }
+    Err(Error::DegenerateTriangles {
+        mesh: name.into(),
+        count: bad.len(),
+        first: bad.into_iter().take(crate::error::LIST_LIMIT).collect(),
+    })
+}
+
+/// Deforms the source onto the target; returns the deformed vertex positions.
+fn deform(
+    source: &Mesh3,
+    target: &Mesh3,
+    markers: &Markers,
+    options: &CorrespondOptions,
+    progress: &mut dyn FnMut(usize),
+) -> Result<Vec<[f64; 3]>> {
+    let (n, tris) = (source.num_vertices(), source.triangles());
+    let m = n + tris.len();
+    let G: Vec<[[f64; 3]; 4]> = (0..tris.len())
+        .map(|t| {
+            let V_inv =
+                inverse3(frame(source.corners(t))).expect("degenerate triangles were refused");
+            gradient_operator(V_inv)
+        })
+        .collect();
+    let unknowns = |t: usize| {
+        let [a, b, c] = tris[t];
+        [a as usize, b as usize, c as usize, n + t]
+    };
+
+    let mut base = SymmetricBuilder::new(m, 40 * tris.len());
+    for v in 0..m {
+        base.add(v, v, 0.0);
+    }
+    for e in edges(tris) {
+        for (k, &a) in e.triangles.iter().enumerate() {
+            for &b in &e.triangles[k + 1..] {
+                let (a, b) = (a as usize, b as usize);
+                let idx: Vec<usize> = unknowns(a).into_iter().chain(unknowns(b)).collect();
+                let coef: Vec<[f64; 3]> = G[a]
+                    .iter()
+                    .copied()
+                    .chain(G[b].iter().map(|r| r.map(|x| -x)))
+                    .collect();
+                base.add_gram(&idx, &coef, options.smoothness_weight);
+            }
+        }
+    }
+    for t in 0..tris.len() {
+        base.add_gram(&unknowns(t), &G[t], options.identity_weight);
+    }
+    let base = base.build();
+
+    // Identity term right-hand side: Σ_T w_I G_T I[i, :]ᵀ for coordinate i.
+    let mut rhs_identity = vec![0.0; 3 * m];
+    for t in 0..tris.len() {
+        for (k, u) in unknowns(t).into_iter().enumerate() {
+            for i in 0..3 {
+                rhs_identity[i * m + u] += options.identity_weight * G[t][k][i];
+            }
+        }
+    }
+    let pinned: Vec<usize> = markers.pairs().iter().map(|p| p[0] as usize).collect();
+    let np = pinned.len();
+    let mut pinned_values = vec![0.0; 3 * np];
+    for (q, &[_, t]) in markers.pairs().iter().enumerate() {
+        for i in 0..3 {
+            pinned_values[i * np + q] = target.positions()[t as usize][i];
+        }
+    }
+
+    let surface = SurfaceIndex::new(target.positions(), target.triangles());
+    let cutoff = options.closest_cutoff * target.bounding_box_diagonal();
+    let mut x = vec![0.0; 3 * m];
+    let mut positions: Vec<[f64; 3]> = source.positions().to_vec();
+    let rounds = std::iter::once(0.0).chain(options.closest_weights.iter().copied());
+    for (round, w_c) in rounds.enumerate() {
+        let mut rhs = rhs_identity.clone();
+        let matrix = if w_c > 0.0 {
+            let normals = vertex_normals(&positions, tris);
+            let targets: Vec<Option<[f64; 3]>> = (0..n)
+                .into_par_iter()
+                .map(|v| {
+                    surface
+                        .closest_compatible(positions[v], normals[v], cutoff)
+                        .map(|c| c.point)
+                })
+                .collect();
+            let mut diagonal = vec![0.0; m];
+            for (v, c) in targets.iter().enumerate() {
+                if let Some(c) = c {
+                    diagonal[v] = w_c;
+                    for i in 0..3 {
+                        rhs[i * m + v] += w_c * c[i];
+                    }
+                }
+            }
+            let mut matrix = base.clone();
+            matrix.add_to_diagonal(&diagonal);
+            matrix
+        } else {
+            base.clone()
+        };
+        let system = PinnedSystem::new(&matrix, &pinned, FactorKind::Auto)?;
+        let mut ws = system.workspace(3);
+        system.solve(&rhs, Some(&pinned_values), &mut x, &mut ws);
+        positions = (0..n).map(|v| [x[v], x[m + v], x[2 * m + v]]).collect();
+        if positions.iter().flatten().any(|c| !c.is_finite()) {
+            return Err(Error::Solver(
+                "the deformation produced non-finite positions".into(),
+            ));
+        }
+        progress(round + 1);
+    }
+    Ok(positions)
+}
+
+/// Pairs each triangle of `source` with the nearest compatible triangle of
+/// `target` (centroids within `threshold`, normals less than 90° apart) and
+/// each triangle of `target` with the nearest compatible one of `source`.
+/// The union of both, sorted, is the map.
+pub fn match_triangles(source: &Mesh3, target: &Mesh3, threshold: f64) -> Correspondence {
+    let query = |from: &Mesh3, to: &Mesh3| -> Vec<Option<u32>> {
+        let index = CentroidIndex::new(to.positions(), to.triangles());
+        (0..from.num_triangles())
+            .into_par_iter()
+            .map(|t| {
+                let p = from.corners(t);
+                index.nearest_compatible(centroid(p), unit_normal(p), threshold)
+            })
+            .collect()
+    };
+    let forward = query(source, target);
+    let backward = query(target, source);
+    let mut pairs: Vec<[u32; 2]> = forward
+        .iter()
+        .enumerate()
+        .filter_map(|(s, t)| t.map(|t| [s as u32, t]))
+        .chain(
+            backward
+                .iter()
+                .enumerate()
+                .filter_map(|(t, s)| s.map(|s| [s, t as u32])),
+        )
+        .collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    Correspondence::new(pairs, source, target)
+}

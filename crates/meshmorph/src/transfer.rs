@@ -1,0 +1,520 @@
+//! Deformation transfer (Sumner and Popović, "Deformation transfer for
+//! triangle meshes", SIGGRAPH 2004, section 4).
+//!
+//! For a source pose `S_k`, every source triangle's deformation gradient
+//! `Q_s = Ṽ_s V_s⁻¹` (relative to the source reference) is copied to the
+//! target triangles it is paired with: the target's vertices and fourth
+//! vertices minimise `Σ_(s,t) ‖T_t(x) − Q_s‖²_F`. The normal matrix depends
+//! only on the target reference and the pairs, so [`Transfer::new`] factors
+//! it once and [`Transfer::apply`] is a right-hand side and a
+//! back-substitution.
+//!
+//! Target triangles in no pair take the deformation of their neighbours
+//! (a smoothness term across their edges, and a faint pull towards their
+//! rest shape so that a part with no pair at all stays where it is).
+//!
+//! The energy does not see translations. Each connected part of the target
+//! is placed so that its centroid moves as the centroid of the source
+//! triangles paired with it does: the output does not drift. Pinned target
+//! vertices ([`TransferOptions::pins`]) replace that placement for the parts
+//! they are in.
+#![allow(non_snake_case)]
+
+use rayon::prelude::*;
+
+use crate::correspond::check_degenerate;
+use crate::correspondence::Correspondence;
+use crate::error::{Error, Result};
+use crate::frames::{deformation_gradient, frame, gradient_operator, inverse3, Mat3};
+use crate::geometry::centroid;
+use crate::mesh::Mesh3;
+use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder, Workspace};
+use crate::topology::{connected_components, edges};
+
+/// Options of [`Transfer::new`].
+#[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub struct TransferOptions {
+    /// Target vertices held at the given positions in every pose. The parts
+    /// of the target that hold a pinned vertex are not moved by the centroid
+    /// rule. Default: none.
+    pub pins: Vec<(u32, [f64; 3])>,
+    /// Which Cholesky variant factors the system. Default [`FactorKind::Auto`].
+    pub factor: FactorKind,
+}
+
+impl TransferOptions {
+    /// Sets [`TransferOptions::pins`].
+    pub fn with_pins(mut self, pins: Vec<(u32, [f64; 3])>) -> Self {
+        self.pins = pins;
+        self
+    }
+}
+
+/// Weight pulling unpaired target triangles towards their rest shape,
+/// relative to the weight 1 of a pair and of a smoothness term.
+const UNPAIRED_REST_WEIGHT: f64 = 1e-6;
+
+/// Deformation transfer from one source reference to one target reference,
+/// factored once; see the [module documentation](self).
+#[derive(Debug)]
+pub struct Transfer {
+    source_vertices: usize,
+    source_triangles: Vec<[u32; 3]>,
+    /// `V⁻¹` of every source reference triangle.
+    source_frames_inv: Vec<Mat3>,
+    target_vertices: usize,
+    target_triangles: Vec<[u32; 3]>,
+    /// `G = D V⁻¹` of every target reference triangle.
+    target_gradients: Vec<[[f64; 3]; 4]>,
+    /// Source triangles paired with each target triangle, compressed rows.
+    paired_ptr: Vec<usize>,
+    paired: Vec<u32>,
+    /// Constant part of the right-hand side (rest pull of unpaired triangles).
+    rhs_rest: Vec<f64>,
+    system: PinnedSystem,
+    /// Column-major `#pinned × 3` values.
+    pinned_values: Vec<f64>,
+    placements: Vec<Placement>,
+    /// Part of each target vertex, `u32::MAX` if it is not moved by a placement.
+    vertex_part: Vec<u32>,
+    /// Area weight of each target vertex.
+    vertex_weight: Vec<f64>,
+}
+
+/// How one connected part of the target is placed.
+#[derive(Clone, Debug)]
+struct Placement {
+    /// `(source triangle, weight)` whose weighted centroid the part follows.
+    follow: Vec<(u32, f64)>,
+    /// That weighted centroid in the source reference.
+    source_rest: [f64; 3],
+    /// The part's own area-weighted centroid in the target reference.
+    target_rest: [f64; 3],
+    total_weight: f64,
+}
+
+/// Per-thread scratch for [`Transfer::apply_into`].
+#[derive(Debug)]
+pub struct PoseWorkspace {
+    solve: Workspace,
+    gradients: Vec<Mat3>,
+    rhs: Vec<f64>,
+    x: Vec<f64>,
+}
+
+impl Transfer {
+    /// Prepares the transfer from poses of `source_ref` to `target_ref`
+    /// through `correspondence`.
+    ///
+    /// # Errors
+    /// - [`Error::Mismatch`] if the correspondence was made for other meshes;
+    /// - [`Error::DegenerateTriangles`] for zero-area triangles in either mesh;
+    /// - [`Error::InvalidArgument`] for a pin out of range or repeated;
+    /// - [`Error::Solver`] if the system cannot be factored.
+    pub fn new(
+        source_ref: &Mesh3,
+        target_ref: &Mesh3,
+        correspondence: &Correspondence,
+        options: &TransferOptions,
+    ) -> Result<Self> {
+        correspondence.check_fits(source_ref, target_ref)?;
+        check_degenerate(source_ref, "source reference")?;
+        check_degenerate(target_ref, "target reference")?;
+        let (n, tris) = (target_ref.num_vertices(), target_ref.triangles());
+        let m = n + tris.len();
+        let source_frames_inv: Vec<Mat3> = (0..source_ref.num_triangles())
+            .map(|t| {
+                inverse3(frame(source_ref.corners(t))).expect("degenerate triangles were refused")
+            })
+            .collect();
+        let target_gradients: Vec<[[f64; 3]; 4]> = (0..tris.len())
+            .map(|t| {
+                gradient_operator(
+                    inverse3(frame(target_ref.corners(t)))
+                        .expect("degenerate triangles were refused"),
+                )
+            })
+            .collect();
+        let unknowns = |t: usize| {
+            let [a, b, c] = tris[t];
+            [a as usize, b as usize, c as usize, n + t]
+        };
+
+        // Pairs grouped by target triangle.
+        let mut paired_ptr = vec![0usize; tris.len() + 1];
+        for p in correspondence.pairs() {
+            paired_ptr[p[1] as usize + 1] += 1;
+        }
+        for t in 0..tris.len() {
+            paired_ptr[t + 1] += paired_ptr[t];
+        }
+        let mut fill = paired_ptr.clone();
+        let mut paired = vec![0u32; correspondence.pairs().len()];
+        for p in correspondence.pairs() {
+            paired[fill[p[1] as usize]] = p[0];
+            fill[p[1] as usize] += 1;
+        }
+        let count = |t: usize| paired_ptr[t + 1] - paired_ptr[t];
+
+        let mut builder = SymmetricBuilder::new(m, 12 * tris.len());
+        let mut rhs_rest = vec![0.0; 3 * m];
+        for t in 0..tris.len() {
+            let G = &target_gradients[t];
+            if count(t) > 0 {
+                builder.add_gram(&unknowns(t), G, count(t) as f64);
+            } else {
+                builder.add_gram(&unknowns(t), G, UNPAIRED_REST_WEIGHT);
+                for (k, u) in unknowns(t).into_iter().enumerate() {
+                    for i in 0..3 {
+                        rhs_rest[i * m + u] += UNPAIRED_REST_WEIGHT * G[k][i];
+                    }
+                }
+            }
+        }
+        for e in edges(tris) {
+            for (k, &a) in e.triangles.iter().enumerate() {
+                for &b in &e.triangles[k + 1..] {
+                    let (a, b) = (a as usize, b as usize);
+                    if count(a) == 0 || count(b) == 0 {
+                        let idx: Vec<usize> = unknowns(a).into_iter().chain(unknowns(b)).collect();
+                        let coef: Vec<[f64; 3]> = target_gradients[a]
+                            .iter()
+                            .copied()
+                            .chain(target_gradients[b].iter().map(|r| r.map(|x| -x)))
+                            .collect();
+                        builder.add_gram(&idx, &coef, 1.0);
+                    }
+                }
+            }
+        }
+
+        // Translation: pins, else one held vertex per part, moved afterwards.
+        let components = connected_components(n, tris);
+        let mut pinned: Vec<usize> = Vec::new();
+        let mut values: Vec<[f64; 3]> = Vec::new();
+        let mut pinned_part = vec![false; components.count];
+        let mut is_pinned = vec![false; n];
+        for &(v, p) in &options.pins {
+            let v = v as usize;
+            if v >= n || is_pinned[v] {
+                return Err(Error::InvalidArgument(format!(
+                    "pinned target vertex {v} is out of range (the target has {n} vertices) or repeated"
+                )));
+            }
+            if p.iter().any(|c| !c.is_finite()) {
+                return Err(Error::InvalidArgument(format!(
+                    "pinned target vertex {v} has a non-finite position"
+                )));
+            }
+            is_pinned[v] = true;
+            pinned.push(v);
+            values.push(p);
+            if let Some(c) = components.of_vertex[v] {
+                pinned_part[c as usize] = true;
+            }
+        }
+        let mut anchored = pinned_part.clone();
+        for (v, c) in components.of_vertex.iter().enumerate() {
+            let hold = match c {
+                Some(c) => !std::mem::replace(&mut anchored[*c as usize], true),
+                None => !is_pinned[v],
+            };
+            if hold {
+                pinned.push(v);
+                values.push(target_ref.positions()[v]);
+            }
+        }
+        let system = PinnedSystem::new(&builder.build(), &pinned, options.factor)?;
+        let np = pinned.len();
+        let mut pinned_values = vec![0.0; 3 * np];
+        for (q, p) in values.iter().enumerate() {
+            for i in 0..3 {
+                pinned_values[i * np + q] = p[i];
+            }
+        }
+
+        // Placement of each part not held by a pin.
+        let source_areas: Vec<f64> = source_ref
+            .triangle_normals_unnormalized()
+            .iter()
+            .map(|nrm| 0.5 * crate::geometry::norm(*nrm))
+            .collect();
+        let target_areas: Vec<f64> = target_ref
+            .triangle_normals_unnormalized()
+            .iter()
+            .map(|nrm| 0.5 * crate::geometry::norm(*nrm))
+            .collect();
+        let mut vertex_weight = vec![0.0; n];
+        for (tri, a) in tris.iter().zip(&target_areas) {
+            for &v in tri {
+                vertex_weight[v as usize] += a / 3.0;
+            }
+        }
+        let mut placements: Vec<Placement> = Vec::new();
+        let mut part_slot = vec![u32::MAX; components.count];
+        for c in 0..components.count {
+            if !pinned_part[c] {
+                part_slot[c] = placements.len() as u32;
+                placements.push(Placement {
+                    follow: Vec::new(),
+                    source_rest: [0.0; 3],
+                    target_rest: [0.0; 3],
+                    total_weight: 0.0,
+                });
+            }
+        }
+        for p in correspondence.pairs() {
+            let slot = part_slot[components.of_triangle[p[1] as usize] as usize];
+            if slot != u32::MAX {
+                placements[slot as usize]
+                    .follow
+                    .push((p[0], source_areas[p[0] as usize]));
+            }
+        }
+        for pl in &mut placements {
+            pl.follow.sort_unstable_by_key(|f| f.0);
+            pl.follow.dedup_by(|a, b| {
+                if a.0 == b.0 {
+                    b.1 += a.1;
+                    true
+                } else {
+                    false
+                }
+            });
+            pl.source_rest =
+                weighted_centroid(source_ref.positions(), source_ref.triangles(), &pl.follow);
+        }
+        let vertex_part: Vec<u32> = components
+            .of_vertex
+            .iter()
+            .map(|c| c.map_or(u32::MAX, |c| part_slot[c as usize]))
+            .collect();
+        let mut weights = vec![0.0; placements.len()];
+        for v in 0..n {
+            if vertex_part[v] != u32::MAX {
+                let pl = &mut placements[vertex_part[v] as usize];
+                for i in 0..3 {
+                    pl.target_rest[i] += vertex_weight[v] * target_ref.positions()[v][i];
+                }
+                weights[vertex_part[v] as usize] += vertex_weight[v];
+            }
+        }
+        for (pl, w) in placements.iter_mut().zip(weights) {
+            pl.total_weight = w;
+            pl.target_rest = pl.target_rest.map(|x| x / w);
+        }
+
+        Ok(Self {
+            source_vertices: source_ref.num_vertices(),
+            source_triangles: source_ref.triangles().to_vec(),
+            source_frames_inv,
+            target_vertices: n,
+            target_triangles: tris.to_vec(),
+            target_gradients,
+            paired_ptr,
+            paired,
+            rhs_rest,
+            system,
+            pinned_values,
+            placements,
+            vertex_part,
+            vertex_weight,
+        })
+    }
+
+    /// The target's triangles, shared by every output.
+    pub fn target_triangles(&self) -> &[[u32; 3]] {
+        &self.target_triangles
+    }
+
+    /// Scratch for [`Transfer::apply_into`]; one per thread.
+    pub fn workspace(&self) -> PoseWorkspace {
+        let m = self.target_vertices + self.target_triangles.len();
+        PoseWorkspace {
+            solve: self.system.workspace(3),
+            gradients: vec![[[0.0; 3]; 3]; self.source_triangles.len()],
+            rhs: vec![0.0; 3 * m],
+            x: vec![0.0; 3 * m],
+        }
+    }
+
+    /// Checks that `pose` is a pose of the source reference.
+    ///
+    /// # Errors
+    /// [`Error::Mismatch`] naming what differs.
+    pub fn check_pose(&self, pose: &Mesh3) -> Result<()> {
+        if pose.num_vertices() != self.source_vertices {
+            return Err(Error::Mismatch(format!(
+                "the pose has {} vertices but the source reference has {}",
+                pose.num_vertices(),
+                self.source_vertices
+            )));
+        }
+        if pose.num_triangles() != self.source_triangles.len() {
+            return Err(Error::Mismatch(format!(
+                "the pose has {} triangles but the source reference has {}",
+                pose.num_triangles(),
+                self.source_triangles.len()
+            )));
+        }
+        if let Some(t) = (0..self.source_triangles.len())
+            .find(|&t| pose.triangles()[t] != self.source_triangles[t])
+        {
+            return Err(Error::Mismatch(format!(
+                "triangle {t} of the pose is {:?} but {:?} in the source reference",
+                pose.triangles()[t],
+                self.source_triangles[t]
+            )));
+        }
+        Ok(())
+    }
+
+    /// The target's vertex positions in `pose`.
+    ///
+    /// # Errors
+    /// [`Error::Mismatch`] if `pose` does not have the source's connectivity.
+    pub fn apply(&self, pose: &Mesh3) -> Result<Vec<[f64; 3]>> {
+        self.check_pose(pose)?;
+        let mut out = vec![[0.0; 3]; self.target_vertices];
+        self.apply_into(pose.positions(), &mut out, &mut self.workspace());
+        Ok(out)
+    }
+
+    /// [`Transfer::apply`] on many poses, in parallel.
+    ///
+    /// # Errors
+    /// [`Error::Mismatch`] naming the first pose (by index) that does not fit.
+    pub fn apply_all(&self, poses: &[Mesh3]) -> Result<Vec<Vec<[f64; 3]>>> {
+        for (k, p) in poses.iter().enumerate() {
+            self.check_pose(p)
+                .map_err(|e| Error::Mismatch(format!("pose {k}: {e}")))?;
+        }
+        Ok(poses
+            .par_iter()
+            .map_init(
+                || self.workspace(),
+                |ws, pose| {
+                    let mut out = vec![[0.0; 3]; self.target_vertices];
+                    self.apply_into(pose.positions(), &mut out, ws);
+                    out
+                },
+            )
+            .collect())
+    }
+
+    /// The transfer of source pose vertex positions `pose` into `out`.
+    ///
+    /// # Panics
+    /// If `pose` or `out` has the wrong length (use [`Transfer::check_pose`]
+    /// on untrusted poses first).
+    #[track_caller]
+    pub fn apply_into(&self, pose: &[[f64; 3]], out: &mut [[f64; 3]], ws: &mut PoseWorkspace) {
+        assert_eq!(
+            pose.len(),
+            self.source_vertices,
+            "pose has the wrong number of vertices"
+        );
+        assert_eq!(
+            out.len(),
+            self.target_vertices,
+            "output has the wrong number of vertices"
+        );
+        let n = self.target_vertices;
+        let m = n + self.target_triangles.len();
+        for ((Q, tri), V_inv) in ws
+            .gradients
+            .iter_mut()
+            .zip(&self.source_triangles)
+            .zip(&self.source_frames_inv)
+        {
+            *Q = deformation_gradient(*V_inv, tri.map(|v| pose[v as usize]));
+        }
+        ws.rhs.copy_from_slice(&self.rhs_rest);
+        for (t, tri) in self.target_triangles.iter().enumerate() {
+            let sources = &self.paired[self.paired_ptr[t]..self.paired_ptr[t + 1]];
+            if sources.is_empty() {
+                continue;
+            }
+            let mut sum = [[0.0; 3]; 3];
+            for &s in sources {
+                let Q = &ws.gradients[s as usize];
+                for i in 0..3 {
+                    for j in 0..3 {
+                        sum[i][j] += Q[i][j];
+                    }
+                }
+            }
+            let G = &self.target_gradients[t];
+            let idx = [tri[0] as usize, tri[1] as usize, tri[2] as usize, n + t];
+            for (k, &u) in idx.iter().enumerate() {
+                for i in 0..3 {
+                    ws.rhs[i * m + u] +=
+                        G[k][0] * sum[i][0] + G[k][1] * sum[i][1] + G[k][2] * sum[i][2];
+                }
+            }
+        }
+        self.system
+            .solve(&ws.rhs, Some(&self.pinned_values), &mut ws.x, &mut ws.solve);
+        for (v, o) in out.iter_mut().enumerate() {
+            *o = [ws.x[v], ws.x[m + v], ws.x[2 * m + v]];
+        }
+        self.place(pose, out);
+    }
+
+    /// Moves each unpinned part so its centroid follows its source triangles.
+    fn place(&self, pose: &[[f64; 3]], out: &mut [[f64; 3]]) {
+        let mut now = vec![[0.0; 3]; self.placements.len()];
+        for (v, p) in out.iter().enumerate() {
+            let c = self.vertex_part[v];
+            if c != u32::MAX {
+                for i in 0..3 {
+                    now[c as usize][i] += self.vertex_weight[v] * p[i];
+                }
+            }
+        }
+        let shifts: Vec<[f64; 3]> = self
+            .placements
+            .iter()
+            .zip(&now)
+            .map(|(pl, now)| {
+                let moved = if pl.follow.is_empty() {
+                    [0.0; 3]
+                } else {
+                    let c = weighted_centroid(pose, &self.source_triangles, &pl.follow);
+                    std::array::from_fn(|i| c[i] - pl.source_rest[i])
+                };
+                std::array::from_fn(|i| pl.target_rest[i] + moved[i] - now[i] / pl.total_weight)
+            })
+            .collect();
+        for (v, p) in out.iter_mut().enumerate() {
+            let c = self.vertex_part[v];
+            if c != u32::MAX {
+                for i in 0..3 {
+                    p[i] += shifts[c as usize][i];
+                }
+            }
+        }
+    }
+}
+
+fn weighted_centroid(
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    follow: &[(u32, f64)],
+) -> [f64; 3] {
+    let mut c = [0.0; 3];
+    let mut w = 0.0;
+    for &(t, wt) in follow {
+        let p = centroid(triangles[t as usize].map(|v| positions[v as usize]));
+        for i in 0..3 {
+            c[i] += wt * p[i];
+        }
+        w += wt;
+    }
+    if w > 0.0 {
+        c.map(|x| x / w)
+    } else {
+        c
+    }
+}
