@@ -51,6 +51,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         c.unmatched_target()
     );
 
+    if let Ok(d) = std::env::var("OUT") {
+        io::write_mesh(
+            &Path::new(&d).join("deformed-horse.obj"),
+            &result.deformed_source,
+            io::Format::Obj,
+        )?;
+    }
     let t = Instant::now();
     let transfer = Transfer::new(&horse, &camel, c, &TransferOptions::default())?;
     println!("transfer setup: {:.3} s", t.elapsed().as_secs_f64());
@@ -65,12 +72,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         transfer.apply_into(pose.positions(), &mut out, &mut ws);
         let solve = t.elapsed().as_secs_f64();
         let score = rms_centred(&out, reference.positions()) / diag;
-        println!("pose {k:02}: score {score:.4}  solve {:.2} ms", solve * 1e3);
+        println!("pose {k:02}: score {score:.5}  solve {:.2} ms", solve * 1e3);
+        if let Ok(d) = std::env::var("OUT") {
+            io::write_positions(
+                &Path::new(&d).join(format!("camel-{k:02}.obj")),
+                &out,
+                camel.triangles(),
+                io::Format::Obj,
+            )?;
+        }
         scores.push(score);
     }
     let mean = scores.iter().sum::<f64>() / scores.len() as f64;
     let worst = scores.iter().cloned().fold(0.0, f64::max);
-    println!("mean {mean:.4} worst {worst:.4}");
+    println!("mean {mean:.5} worst {worst:.5}");
     let _ = write_if_asked(&camel, &transfer);
     Ok(())
 }

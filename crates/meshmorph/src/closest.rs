@@ -225,9 +225,10 @@ mod tests {
     #[test]
     fn closest_point_regions() {
         let t = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-        assert_eq!(
-            closest_point_on_triangle([0.2, 0.2, 1.0], t),
-            [0.2, 0.2, 0.0]
+        let inside = closest_point_on_triangle([0.2, 0.2, 1.0], t);
+        assert!(
+            (0..3).all(|i| (inside[i] - [0.2, 0.2, 0.0][i]).abs() < 1e-15),
+            "{inside:?}"
         );
         assert_eq!(
             closest_point_on_triangle([-1.0, -1.0, 0.0], t),

@@ -38,10 +38,12 @@ pub struct CorrespondOptions {
     /// 3333.67, 5000]`: from 1 to 5000 in four steps.
     pub closest_weights: Vec<f64>,
     /// Largest distance to a closest point, as a fraction of the target's
-    /// bounding-box diagonal; farther vertices are not pulled. Default 0.1.
+    /// bounding-box diagonal; farther vertices are not pulled. Default 0.02.
     pub closest_cutoff: f64,
     /// Largest centroid distance of a matched triangle pair, as a fraction of
-    /// the target's bounding-box diagonal. Default 0.05.
+    /// the target's bounding-box diagonal. Default 0.01: pairs farther apart
+    /// than that are more often wrong than right, and a target triangle left
+    /// without a pair takes its neighbours' deformation in the transfer.
     pub match_threshold: f64,
 }
 
@@ -53,8 +55,8 @@ impl Default for CorrespondOptions {
             closest_weights: (0..4)
                 .map(|k| 1.0 + (5000.0 - 1.0) * k as f64 / 3.0)
                 .collect(),
-            closest_cutoff: 0.1,
-            match_threshold: 0.05,
+            closest_cutoff: 0.02,
+            match_threshold: 0.01,
         }
     }
 }
@@ -198,6 +200,21 @@ fn deform(
         [a as usize, b as usize, c as usize, n + t]
     };
 
+    // Every term counts in proportion to the area it covers (normalised by
+    // the mean area), so the energy does not depend on the tessellation.
+    let areas = crate::transfer::triangle_areas(source);
+    let mean_area = areas.iter().sum::<f64>() / areas.len() as f64;
+    let aw = |t: usize| areas[t] / mean_area;
+    // The closest-point term weighs each vertex by its share of the area,
+    // normalised to a mean of 1 over the vertices.
+    let mut vertex_weight = vec![0.0; n];
+    for (t, tri) in tris.iter().enumerate() {
+        for &v in tri {
+            vertex_weight[v as usize] += aw(t) / 3.0;
+        }
+    }
+    let mean_weight = vertex_weight.iter().sum::<f64>() / n as f64;
+    vertex_weight.iter_mut().for_each(|w| *w /= mean_weight);
     let mut base = SymmetricBuilder::new(m, 40 * tris.len());
     for v in 0..m {
         base.add(v, v, 0.0);
@@ -212,12 +229,16 @@ fn deform(
                     .copied()
                     .chain(G[b].iter().map(|r| r.map(|x| -x)))
                     .collect();
-                base.add_gram(&idx, &coef, options.smoothness_weight);
+                base.add_gram(
+                    &idx,
+                    &coef,
+                    options.smoothness_weight * 0.5 * (aw(a) + aw(b)),
+                );
             }
         }
     }
     for t in 0..tris.len() {
-        base.add_gram(&unknowns(t), &G[t], options.identity_weight);
+        base.add_gram(&unknowns(t), &G[t], options.identity_weight * aw(t));
     }
     let base = base.build();
 
@@ -226,7 +247,7 @@ fn deform(
     for t in 0..tris.len() {
         for (k, u) in unknowns(t).into_iter().enumerate() {
             for i in 0..3 {
-                rhs_identity[i * m + u] += options.identity_weight * G[t][k][i];
+                rhs_identity[i * m + u] += options.identity_weight * aw(t) * G[t][k][i];
             }
         }
     }
@@ -259,9 +280,10 @@ fn deform(
             let mut diagonal = vec![0.0; m];
             for (v, c) in targets.iter().enumerate() {
                 if let Some(c) = c {
-                    diagonal[v] = w_c;
+                    let w = w_c * vertex_weight[v];
+                    diagonal[v] = w;
                     for i in 0..3 {
-                        rhs[i * m + v] += w_c * c[i];
+                        rhs[i * m + v] += w * c[i];
                     }
                 }
             }

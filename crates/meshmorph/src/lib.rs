@@ -15,6 +15,8 @@
 //! triples; the sparse linear algebra stays behind the [`solve`] module.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
+// Numeric kernels index small fixed-size arrays by position, as the papers do.
+#![allow(clippy::needless_range_loop)]
 
 pub mod closest;
 pub mod correspond;

@@ -1,1 +1,511 @@
 //! Reading and writing meshes: OBJ, OFF and PLY.
+//!
+//! - [`read_mesh`] / [`read_mesh_as`] / [`parse_mesh`] read a triangle mesh
+//!   (polygons are triangulated, see below); every error names the file and,
+//!   for text formats, the 1-based line.
+//! - [`write_mesh`] / [`write_positions`] write a mesh in any of the three
+//!   formats (planar meshes get z = 0), atomically through [`write_atomic`],
+//!   which other modules also use for their own outputs.
+//!
+//! Reading accepts:
+//!
+//! - **OBJ**: `v x y [z] [w]` (z defaults to 0), faces `f a`, `f a/b`,
+//!   `f a/b/c`, `f a//c` with absolute (1-based) or relative (negative)
+//!   indices, `#` comments, CRLF line ends; every other statement (`vt`, `vn`,
+//!   `g`, `o`, `s`, `usemtl`, `mtllib`, `l`, ...) is ignored.
+//! - **OFF**: the `OFF` keyword (also `COFF`, `NOFF`, `STOFF`, counts on the
+//!   same line, or no keyword at all), `nV nF [nE]`, vertex lines (values past
+//!   x y z, such as colours, are ignored), face lines `n i0 ... i(n-1)`
+//!   (trailing colour values are ignored).
+//! - **PLY**: `ascii`, `binary_little_endian` and `binary_big_endian`; element
+//!   `vertex` with scalar properties `x`, `y` and optionally `z` of any type,
+//!   element `face` with a list property `vertex_indices` or `vertex_index`;
+//!   every other element and property is skipped.
+//!
+//! Polygons with more than three vertices are triangulated by ear clipping in
+//! the polygon's best-fit plane, keeping the polygon's orientation (a convex
+//! quad is split along its shorter diagonal).
+//!
+//! Writing produces `v x y z` / `f a b c` OBJ, standard OFF, and
+//! `binary_little_endian` PLY with `double` coordinates. Coordinates are
+//! written with the shortest representation that reads back to the same
+//! `f64`, so reading a written mesh gives back exactly the same mesh.
+
+mod atomic;
+mod obj;
+mod off;
+mod ply;
+mod triangulate;
+
+pub use atomic::write_atomic;
+
+use std::fmt;
+use std::io::Write;
+use std::path::Path;
+use std::str::FromStr;
+
+use crate::error::{Error, Result};
+use crate::mesh::{Mesh, Mesh3};
+
+/// A mesh file format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Wavefront OBJ (`.obj`).
+    Obj,
+    /// Object File Format (`.off`).
+    Off,
+    /// Stanford polygon format (`.ply`).
+    Ply,
+}
+
+impl Format {
+    /// Every format, in the order error messages list them.
+    const ALL: [Format; 3] = [Format::Obj, Format::Off, Format::Ply];
+
+    /// The format a file name's extension names (case-insensitive:
+    /// `mesh.OBJ` is OBJ).
+    ///
+    /// # Errors
+    /// [`Error::UnknownFormat`] when the path has no extension or one that
+    /// is not `obj`, `off` or `ply`.
+    pub fn from_path(path: &Path) -> Result<Format> {
+        path.extension()
+            .and_then(|e| e.to_str())
+            .and_then(|e| {
+                Format::ALL
+                    .into_iter()
+                    .find(|f| f.extension().eq_ignore_ascii_case(e))
+            })
+            .ok_or_else(|| Error::UnknownFormat {
+                path: path.to_path_buf(),
+            })
+    }
+
+    /// The usual file name extension, lower case and without the dot
+    /// (`"obj"`, `"off"` or `"ply"`).
+    pub fn extension(self) -> &'static str {
+        match self {
+            Format::Obj => "obj",
+            Format::Off => "off",
+            Format::Ply => "ply",
+        }
+    }
+}
+
+impl fmt::Display for Format {
+    /// The extension: `obj`, `off` or `ply`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.extension())
+    }
+}
+
+impl FromStr for Format {
+    type Err = Error;
+
+    /// Parses `obj`, `off` or `ply` (case-insensitive, an optional leading
+    /// dot is allowed).
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] listing the choices.
+    fn from_str(s: &str) -> Result<Format> {
+        let name = s.strip_prefix('.').unwrap_or(s);
+        Format::ALL
+            .into_iter()
+            .find(|f| f.extension().eq_ignore_ascii_case(name))
+            .ok_or_else(|| {
+                Error::InvalidArgument(format!(
+                    "unknown mesh format `{s}`: expected one of obj, off, ply"
+                ))
+            })
+    }
+}
+
+/// Reads a triangle mesh, choosing the format by the file's extension.
+///
+/// # Errors
+/// [`Error::UnknownFormat`] for an unknown extension, [`Error::Io`] when the
+/// file cannot be read, [`Error::Parse`] naming the file (and the line, for
+/// text formats) when its contents are not a valid mesh.
+pub fn read_mesh(path: &Path) -> Result<Mesh3> {
+    read_mesh_as(path, Format::from_path(path)?)
+}
+
+/// Reads a triangle mesh in the given format, whatever the file's extension.
+///
+/// # Errors
+/// [`Error::Io`] when the file cannot be read, [`Error::Parse`] naming the
+/// file (and the line, for text formats) when its contents are not a valid
+/// mesh.
+pub fn read_mesh_as(path: &Path, format: Format) -> Result<Mesh3> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    parse_mesh(&bytes, format, path)
+}
+
+/// Parses a triangle mesh from a file's contents; `path_for_messages` only
+/// names the source in error messages.
+///
+/// Polygons are triangulated (see the [module documentation](self)).
+///
+/// # Errors
+/// [`Error::Parse`] naming `path_for_messages` and, for text formats, the
+/// 1-based line: a number that does not parse, a coordinate that is NaN or
+/// infinite, a face with fewer than three vertices, a vertex index out of
+/// range, a face that repeats a vertex, a truncated file, a file without
+/// triangles, ...
+pub fn parse_mesh(bytes: &[u8], format: Format, path_for_messages: &Path) -> Result<Mesh3> {
+    match format {
+        Format::Obj => obj::parse(bytes, path_for_messages),
+        Format::Off => off::parse(bytes, path_for_messages),
+        Format::Ply => ply::parse(bytes, path_for_messages),
+    }
+}
+
+/// Writes a mesh atomically (see [`write_atomic`]); a planar mesh (`D = 2`)
+/// is written with z = 0.
+///
+/// # Errors
+/// [`Error::Io`] naming the file when it cannot be written; no file (and no
+/// temporary file) is left behind then.
+pub fn write_mesh<const D: usize>(path: &Path, mesh: &Mesh<D>, format: Format) -> Result<()> {
+    write_positions(path, mesh.positions(), mesh.triangles(), format)
+}
+
+/// Writes positions and triangles as a mesh file, atomically (see
+/// [`write_atomic`]), without building a [`Mesh`]: the per-frame output path
+/// of the animation commands. Positions with `D < 3` are padded with zeros.
+///
+/// The input is checked (finite coordinates, indices in range) so that the
+/// file written can always be read back.
+///
+/// # Errors
+/// [`Error::InvalidArgument`] when `D > 3`; [`Error::InvalidMesh`] naming the
+/// file and the first offending vertex or triangle when a coordinate is not
+/// finite or an index is out of range; [`Error::Io`] naming the file when it
+/// cannot be written. Nothing is left at `path` when an error occurs.
+pub fn write_positions<const D: usize>(
+    path: &Path,
+    positions: &[[f64; D]],
+    triangles: &[[u32; 3]],
+    format: Format,
+) -> Result<()> {
+    check_writable(path, positions, triangles)?;
+    write_atomic(path, |w| match format {
+        Format::Obj => obj::write(w, positions, triangles),
+        Format::Off => off::write(w, positions, triangles),
+        Format::Ply => ply::write(w, positions, triangles),
+    })
+}
+
+/// Refuses what could not be read back: `D > 3`, non-finite coordinates,
+/// out-of-range indices.
+fn check_writable<const D: usize>(
+    path: &Path,
+    positions: &[[f64; D]],
+    triangles: &[[u32; 3]],
+) -> Result<()> {
+    if D > 3 {
+        return Err(Error::InvalidArgument(format!(
+            "cannot write `{}`: mesh files hold at most 3 coordinates per vertex, not {D}",
+            path.display()
+        )));
+    }
+    if let Some(v) = positions
+        .iter()
+        .position(|p| p.iter().any(|x| !x.is_finite()))
+    {
+        return Err(Error::InvalidMesh(format!(
+            "cannot write `{}`: vertex {v} has a coordinate that is not a finite number: {:?}",
+            path.display(),
+            positions[v]
+        )));
+    }
+    let n = positions.len();
+    if let Some(t) = triangles
+        .iter()
+        .position(|tri| tri.iter().any(|&i| i as usize >= n))
+    {
+        return Err(Error::InvalidMesh(format!(
+            "cannot write `{}`: triangle {t} {:?} uses a vertex index out of range (the mesh has {n} vertices)",
+            path.display(),
+            triangles[t]
+        )));
+    }
+    Ok(())
+}
+
+/// Builds the mesh at the end of every reader, so that an invariant the
+/// reader did not check itself still gives a message naming the file.
+fn finish(path: &Path, positions: Vec<[f64; 3]>, triangles: Vec<[u32; 3]>) -> Result<Mesh3> {
+    if triangles.is_empty() {
+        return Err(Error::parse(
+            path,
+            None,
+            format!(
+                "no triangles: the file has {} vertices and no faces",
+                positions.len()
+            ),
+        ));
+    }
+    Mesh3::new(positions, triangles).map_err(|e| match e {
+        Error::InvalidMesh(msg) => Error::parse(path, None, msg),
+        other => other,
+    })
+}
+
+/// `x y z` of a position with `D <= 3` coordinates, zero-padded.
+#[inline]
+fn xyz<const D: usize>(p: &[f64; D]) -> [f64; 3] {
+    std::array::from_fn(|k| if k < D { p[k] } else { 0.0 })
+}
+
+/// Appends the shortest decimal representation of `x` (finite) that parses
+/// back to exactly `x`: `0.1`, `1e-7`, `2.5e+20`, and integers without `.0`.
+///
+/// `zmij` is about five times faster than `{}` formatting, which matters for
+/// per-frame output.
+#[inline]
+fn push_f64(buf: &mut Vec<u8>, x: f64) {
+    let mut digits = zmij::Buffer::new();
+    let s = digits.format_finite(x);
+    buf.extend_from_slice(s.strip_suffix(".0").unwrap_or(s).as_bytes());
+}
+
+/// Appends the decimal representation of `n`.
+#[inline]
+fn push_uint(buf: &mut Vec<u8>, n: u64) {
+    /// "00", "01", ..., "99".
+    const PAIRS: [u8; 200] = {
+        let mut pairs = [0u8; 200];
+        let mut i = 0;
+        while i < 100 {
+            pairs[2 * i] = b'0' + (i / 10) as u8;
+            pairs[2 * i + 1] = b'0' + (i % 10) as u8;
+            i += 1;
+        }
+        pairs
+    };
+    let mut digits = [0u8; 20];
+    let mut i = digits.len();
+    // 32-bit division is faster, and indices fit.
+    let mut small = match u32::try_from(n) {
+        Ok(small) => small,
+        Err(_) => {
+            let mut big = n;
+            while big > u64::from(u32::MAX) {
+                i -= 1;
+                digits[i] = b'0' + (big % 10) as u8;
+                big /= 10;
+            }
+            big as u32
+        }
+    };
+    while small >= 100 {
+        let r = (small % 100) as usize * 2;
+        small /= 100;
+        i -= 2;
+        digits[i..i + 2].copy_from_slice(&PAIRS[r..r + 2]);
+    }
+    if small >= 10 {
+        let r = small as usize * 2;
+        i -= 2;
+        digits[i..i + 2].copy_from_slice(&PAIRS[r..r + 2]);
+    } else {
+        i -= 1;
+        digits[i] = b'0' + small as u8;
+    }
+    buf.extend_from_slice(&digits[i..]);
+}
+
+/// Size at which writers hand their buffer on.
+const CHUNK: usize = 1 << 16;
+
+/// Writes `format(item)` for every item, in order, through a reused
+/// buffer handed on every [`CHUNK`] bytes.
+///
+/// (Formatting chunks in parallel was measured: no faster on two cores busy
+/// with other work, so output stays sequential.)
+fn write_formatted<T>(
+    w: &mut dyn Write,
+    items: &[T],
+    format: impl Fn(&mut Vec<u8>, &T),
+) -> std::io::Result<()> {
+    let mut buf = Vec::with_capacity(CHUNK + 1024);
+    for item in items {
+        format(&mut buf, item);
+        if buf.len() >= CHUNK {
+            w.write_all(&buf)?;
+            buf.clear();
+        }
+    }
+    w.write_all(&buf)
+}
+
+/// Lines of a text file as `(1-based number, bytes without the line end)`;
+/// a final line without a line end counts, a `\r` before the `\n` is dropped
+/// and a UTF-8 byte order mark at the start is skipped.
+#[derive(Clone)]
+struct Lines<'a> {
+    rest: &'a [u8],
+    number: usize,
+}
+
+impl<'a> Lines<'a> {
+    fn new(bytes: &'a [u8]) -> Self {
+        Lines {
+            rest: bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes),
+            number: 0,
+        }
+    }
+
+    /// The number of the line returned last (0 before the first).
+    fn number(&self) -> usize {
+        self.number
+    }
+}
+
+impl<'a> Iterator for Lines<'a> {
+    type Item = (usize, &'a [u8]);
+
+    #[inline]
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.rest.is_empty() {
+            return None;
+        }
+        let (line, rest) = match self.rest.iter().position(|&b| b == b'\n') {
+            Some(i) => (&self.rest[..i], &self.rest[i + 1..]),
+            None => (self.rest, &self.rest[..0]),
+        };
+        self.rest = rest;
+        self.number += 1;
+        Some((self.number, line.strip_suffix(b"\r").unwrap_or(line)))
+    }
+}
+
+/// The line up to a `#` comment.
+#[inline]
+fn strip_comment(line: &[u8]) -> &[u8] {
+    match line.iter().position(|&b| b == b'#') {
+        Some(i) => &line[..i],
+        None => line,
+    }
+}
+
+/// Whitespace-separated tokens of a line.
+#[inline]
+fn tokens(line: &[u8]) -> impl Iterator<Item = &[u8]> {
+    line.split(|b| b.is_ascii_whitespace())
+        .filter(|t| !t.is_empty())
+}
+
+/// A token as a number (anything `str::parse::<f64>` accepts, including
+/// `nan` and `inf`: callers check finiteness where it matters).
+#[inline]
+fn parse_f64(token: &[u8]) -> Option<f64> {
+    std::str::from_utf8(token).ok()?.parse().ok()
+}
+
+/// A token as an integer (optional sign, decimal digits only).
+#[inline]
+fn parse_i64(token: &[u8]) -> Option<i64> {
+    let (negative, digits) = match token.first()? {
+        b'-' => (true, &token[1..]),
+        b'+' => (false, &token[1..]),
+        _ => (false, token),
+    };
+    if digits.is_empty() {
+        return None;
+    }
+    let mut n: i64 = 0;
+    for &d in digits {
+        if !d.is_ascii_digit() {
+            return None;
+        }
+        n = n.checked_mul(10)?.checked_add(i64::from(d - b'0'))?;
+    }
+    Some(if negative { -n } else { n })
+}
+
+/// A token for an error message: lossily decoded, shortened if long.
+fn show(token: &[u8]) -> String {
+    const MAX: usize = 40;
+    let s = String::from_utf8_lossy(&token[..token.len().min(MAX)]).into_owned();
+    if token.len() > MAX {
+        s + "..."
+    } else {
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lines_strip_line_ends() {
+        let got: Vec<_> = Lines::new(b"\xEF\xBB\xBFa\r\n\nb c\nd").collect();
+        assert_eq!(
+            got,
+            vec![
+                (1, &b"a"[..]),
+                (2, &b""[..]),
+                (3, &b"b c"[..]),
+                (4, &b"d"[..])
+            ]
+        );
+    }
+
+    #[test]
+    fn integers_and_numbers() {
+        assert_eq!(parse_i64(b"-12"), Some(-12));
+        assert_eq!(parse_i64(b"+7"), Some(7));
+        assert_eq!(parse_i64(b"-"), None);
+        assert_eq!(parse_i64(b"1x"), None);
+        assert_eq!(parse_i64(b"99999999999999999999999"), None);
+        assert_eq!(parse_f64(b"1e-3"), Some(1e-3));
+        let mut buf = Vec::new();
+        assert_eq!(parse_f64(b"\xff"), None);
+        for x in [
+            0.0,
+            -0.0,
+            1.0,
+            0.1,
+            1e-7,
+            2.5e20,
+            5e-324,
+            f64::MAX,
+            -123.456,
+        ] {
+            buf.clear();
+            push_f64(&mut buf, x);
+            let s = std::str::from_utf8(&buf).unwrap();
+            assert_eq!(s.parse::<f64>().unwrap().to_bits(), x.to_bits(), "{s}");
+            assert!(!s.ends_with(".0"), "{s}");
+        }
+        for n in [0, 7, 10, 4_294_967_295, u64::MAX] {
+            buf.clear();
+            push_uint(&mut buf, n);
+            assert_eq!(buf, n.to_string().into_bytes());
+        }
+    }
+
+    #[test]
+    fn formats() {
+        assert_eq!(
+            Format::from_path(Path::new("a/b.OBJ")).unwrap(),
+            Format::Obj
+        );
+        assert_eq!(Format::from_path(Path::new("b.ply")).unwrap(), Format::Ply);
+        assert!(matches!(
+            Format::from_path(Path::new("b.stl")),
+            Err(Error::UnknownFormat { .. })
+        ));
+        assert!(matches!(
+            Format::from_path(Path::new("off")),
+            Err(Error::UnknownFormat { .. })
+        ));
+        assert_eq!("OFF".parse::<Format>().unwrap(), Format::Off);
+        let e = "stl".parse::<Format>().unwrap_err().to_string();
+        assert!(e.contains("obj, off, ply"), "{e}");
+        assert_eq!(Format::Ply.to_string(), "ply");
+    }
+}

@@ -1,0 +1,58 @@
+//! Atomic file output: write a temporary file next to the target, then
+//! rename it over the target.
+
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use crate::error::{Error, Result};
+
+/// Writes a file atomically: `f` writes into a buffered temporary file in
+/// the same directory as `path`, which is flushed and then renamed to `path`.
+///
+/// Readers of `path` see either the old file or the complete new one, never
+/// a partial one. When anything fails (creating the temporary file, `f`
+/// returning an error, flushing, renaming) the temporary file is removed and
+/// `path` is left as it was: no file appears there. The new file gets the
+/// usual permissions for a new file (`0o666` minus the umask on Unix).
+///
+/// The data is not `fsync`ed: atomicity is guaranteed against other
+/// processes and failed writes, durability across a power loss is not.
+///
+/// The mesh writers and the other modules' outputs (SVG, GIF, JSON) all go
+/// through this function.
+///
+/// # Errors
+/// [`Error::Io`] naming `path` with the operating system's (or `f`'s) error.
+///
+/// # Example
+/// ```no_run
+/// use std::io::Write;
+/// meshmorph::io::write_atomic("out.txt".as_ref(), |w| writeln!(w, "hello"))?;
+/// # Ok::<(), meshmorph::Error>(())
+/// ```
+pub fn write_atomic(
+    path: &Path,
+    f: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let err = |e| Error::io(path, e);
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".meshmorph-").suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt as _;
+        // The default 0o600 of temporary files would stick to the output;
+        // the umask still applies to this.
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let temp = builder.tempfile_in(dir).map_err(err)?;
+    // From here on, dropping `temp` (on any early return) removes the file.
+    let mut writer = BufWriter::with_capacity(1 << 16, temp);
+    f(&mut writer).map_err(err)?;
+    let temp = writer.into_inner().map_err(|e| err(e.into_error()))?;
+    temp.persist(path).map_err(|e| err(e.error))?;
+    Ok(())
+}

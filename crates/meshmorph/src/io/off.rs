@@ -1,0 +1,222 @@
+//! Object File Format (OFF), text variant.
+
+use std::io::Write;
+use std::path::Path;
+
+use super::triangulate::{repeated_index, Polygons};
+use super::{
+    finish, parse_f64, parse_i64, push_f64, push_uint, show, strip_comment, tokens,
+    write_formatted, xyz, Lines,
+};
+use crate::error::{Error, Result};
+use crate::mesh::Mesh3;
+
+/// Parses an OFF file's contents (see the [module documentation](super)).
+pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
+    let err = |line: usize, msg: String| Error::parse(path, Some(line), msg);
+    // Non-blank lines without comments.
+    let mut lines = Lines::new(bytes)
+        .map(|(n, l)| (n, strip_comment(l)))
+        .filter(|(_, l)| tokens(l).next().is_some());
+
+    let Some((first_no, first)) = lines.next() else {
+        return Err(Error::parse(path, None, "no triangles: the file is empty"));
+    };
+    let mut first_tokens = tokens(first);
+    let keyword = first_tokens.next().unwrap_or_default();
+    let mut counts: Vec<&[u8]> = Vec::new();
+    let mut counts_line = first_no;
+    if let Some(at) = keyword.windows(3).position(|w| w == b"OFF") {
+        let (prefix, suffix) = (&keyword[..at], &keyword[at + 3..]);
+        if !prefix.iter().all(|b| b"CNST".contains(b)) {
+            return Err(err(
+                first_no,
+                format!(
+                    "`{}` files are not supported (only 3D OFF is)",
+                    show(keyword)
+                ),
+            ));
+        }
+        if !suffix.is_empty() {
+            if !suffix.iter().all(u8::is_ascii_digit) {
+                return Err(err(
+                    first_no,
+                    format!("unexpected header keyword `{}`", show(keyword)),
+                ));
+            }
+            counts.push(suffix); // "OFF8 6 0"
+        }
+        counts.extend(first_tokens);
+        if counts.first() == Some(&&b"BINARY"[..]) {
+            return Err(err(first_no, "binary OFF files are not supported".into()));
+        }
+        if counts.is_empty() {
+            let Some((n, l)) = lines.next() else {
+                return Err(err(
+                    first_no,
+                    "the file ends after the `OFF` keyword: no counts `nV nF nE`".into(),
+                ));
+            };
+            counts_line = n;
+            counts.extend(tokens(l));
+        }
+    } else if parse_i64(keyword).is_some() {
+        // No keyword: the first line holds the counts.
+        counts.push(keyword);
+        counts.extend(first_tokens);
+    } else {
+        return Err(err(
+            first_no,
+            format!("expected the `OFF` keyword, found `{}`", show(keyword)),
+        ));
+    }
+
+    let count = |tok: &[u8], what: &str| {
+        parse_i64(tok)
+            .and_then(|n| usize::try_from(n).ok())
+            .ok_or_else(|| {
+                err(
+                    counts_line,
+                    format!(
+                        "the {what} count `{}` is not a non-negative integer",
+                        show(tok)
+                    ),
+                )
+            })
+    };
+    if !(2..=3).contains(&counts.len()) {
+        return Err(err(
+            counts_line,
+            format!(
+                "expected the counts `nV nF nE`, found {} values",
+                counts.len()
+            ),
+        ));
+    }
+    let num_vertices = count(counts[0], "vertex")?;
+    let num_faces = count(counts[1], "face")?;
+    if let Some(e) = counts.get(2) {
+        count(e, "edge")?;
+    }
+
+    // Never trust the counts for more memory than the file could fill.
+    let mut positions: Vec<[f64; 3]> = Vec::with_capacity(num_vertices.min(bytes.len() / 6));
+    for v in 0..num_vertices {
+        let Some((line_no, line)) = lines.next() else {
+            return Err(Error::parse(
+                path,
+                None,
+                format!("the file ends after {v} of the {num_vertices} vertices announced on line {counts_line}"),
+            ));
+        };
+        let mut p = [0.0; 3];
+        let mut toks = tokens(line);
+        for (k, slot) in p.iter_mut().enumerate() {
+            let Some(tok) = toks.next() else {
+                return Err(err(
+                    line_no,
+                    format!("vertex {v} has {k} coordinates, expected 3 (x y z)"),
+                ));
+            };
+            let x = parse_f64(tok)
+                .ok_or_else(|| err(line_no, format!("`{}` is not a number", show(tok))))?;
+            if !x.is_finite() {
+                return Err(err(
+                    line_no,
+                    format!(
+                        "vertex {v} has a coordinate that is not a finite number: `{}`",
+                        show(tok)
+                    ),
+                ));
+            }
+            *slot = x;
+        }
+        // Anything further (colour, normal) is ignored.
+        positions.push(p);
+    }
+
+    let mut faces = Polygons::with_capacity(num_faces.min(bytes.len() / 8));
+    let mut face: Vec<u32> = Vec::new();
+    for f in 0..num_faces {
+        let Some((line_no, line)) = lines.next() else {
+            return Err(Error::parse(
+                path,
+                None,
+                format!("the file ends after {f} of the {num_faces} faces announced on line {counts_line}"),
+            ));
+        };
+        let mut toks = tokens(line);
+        let size_tok = toks.next().unwrap_or_default();
+        let size = parse_i64(size_tok).ok_or_else(|| {
+            err(
+                line_no,
+                format!("`{}` is not a vertex count", show(size_tok)),
+            )
+        })?;
+        if size < 3 {
+            return Err(err(
+                line_no,
+                format!("face {f} has {size} vertices, a face needs at least 3"),
+            ));
+        }
+        face.clear();
+        for k in 0..size {
+            let Some(tok) = toks.next() else {
+                return Err(err(
+                    line_no,
+                    format!("face {f} announces {size} vertices but lists {k}"),
+                ));
+            };
+            let index = parse_i64(tok)
+                .ok_or_else(|| err(line_no, format!("`{}` is not a vertex index", show(tok))))?;
+            match u32::try_from(index) {
+                Ok(i) if (i as usize) < num_vertices => face.push(i),
+                _ => {
+                    return Err(err(
+                        line_no,
+                        format!(
+                            "face {f}: vertex index {index} is out of range: the file has {num_vertices} vertices (indices start at 0)"
+                        ),
+                    ))
+                }
+            }
+        }
+        // Anything further (a colour) is ignored.
+        if let Some(i) = repeated_index(&face) {
+            return Err(err(
+                line_no,
+                format!("face {f} uses vertex {i} more than once"),
+            ));
+        }
+        faces.push(&face, line_no);
+    }
+
+    let triangles = faces.triangulate(&positions);
+    finish(path, positions, triangles)
+}
+
+/// Writes `OFF`, the counts, `x y z` lines and `3 a b c` lines (0-based).
+pub(super) fn write<const D: usize>(
+    w: &mut dyn Write,
+    positions: &[[f64; D]],
+    triangles: &[[u32; 3]],
+) -> std::io::Result<()> {
+    writeln!(w, "OFF\n{} {} 0", positions.len(), triangles.len())?;
+    write_formatted(w, positions, |buf, p| {
+        let [x, y, z] = xyz(p);
+        push_f64(buf, x);
+        buf.push(b' ');
+        push_f64(buf, y);
+        buf.push(b' ');
+        push_f64(buf, z);
+        buf.push(b'\n');
+    })?;
+    write_formatted(w, triangles, |buf, t| {
+        buf.push(b'3');
+        for &i in t {
+            buf.push(b' ');
+            push_uint(buf, u64::from(i));
+        }
+        buf.push(b'\n');
+    })
+}

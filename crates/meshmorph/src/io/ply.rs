@@ -1,0 +1,581 @@
+//! Stanford PLY: ascii, binary little endian and binary big endian.
+//!
+//! A small parser of its own rather than a PLY library: it gives messages
+//! with the file name, the line (ascii) or byte offset (binary) and the
+//! element, skips what it does not need, never allocates more than the file
+//! could fill and never panics on malformed input.
+
+use std::io::Write;
+use std::path::Path;
+
+use super::triangulate::{repeated_index, Polygons};
+use super::{finish, parse_f64, parse_i64, show, tokens, xyz, Lines, CHUNK};
+use crate::error::{Error, Result};
+use crate::mesh::Mesh3;
+
+/// A PLY scalar type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Scalar {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    F32,
+    F64,
+}
+
+impl Scalar {
+    fn from_name(name: &[u8]) -> Option<Scalar> {
+        Some(match name {
+            b"char" | b"int8" => Scalar::I8,
+            b"uchar" | b"uint8" => Scalar::U8,
+            b"short" | b"int16" => Scalar::I16,
+            b"ushort" | b"uint16" => Scalar::U16,
+            b"int" | b"int32" => Scalar::I32,
+            b"uint" | b"uint32" => Scalar::U32,
+            b"float" | b"float32" => Scalar::F32,
+            b"double" | b"float64" => Scalar::F64,
+            _ => return None,
+        })
+    }
+
+    fn size(self) -> usize {
+        match self {
+            Scalar::I8 | Scalar::U8 => 1,
+            Scalar::I16 | Scalar::U16 => 2,
+            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
+            Scalar::F64 => 8,
+        }
+    }
+
+    /// The value stored in `b` (exactly `size()` bytes); every PLY scalar
+    /// converts exactly to `f64`.
+    fn decode(self, b: &[u8], big: bool) -> Option<f64> {
+        macro_rules! get {
+            ($t:ty) => {{
+                let a = b.try_into().ok()?;
+                f64::from(if big {
+                    <$t>::from_be_bytes(a)
+                } else {
+                    <$t>::from_le_bytes(a)
+                })
+            }};
+        }
+        Some(match self {
+            Scalar::I8 => get!(i8),
+            Scalar::U8 => get!(u8),
+            Scalar::I16 => get!(i16),
+            Scalar::U16 => get!(u16),
+            Scalar::I32 => get!(i32),
+            Scalar::U32 => get!(u32),
+            Scalar::F32 => get!(f32),
+            Scalar::F64 => get!(f64),
+        })
+    }
+}
+
+/// A property: a scalar, or a list with its count and item types.
+#[derive(Clone, Copy, Debug)]
+enum Kind {
+    Scalar(Scalar),
+    List(Scalar, Scalar),
+}
+
+struct Property {
+    name: Vec<u8>,
+    kind: Kind,
+}
+
+struct Element {
+    name: String,
+    count: usize,
+    props: Vec<Property>,
+}
+
+impl Element {
+    fn prop(&self, names: &[&[u8]]) -> Option<(usize, Kind)> {
+        self.props
+            .iter()
+            .position(|p| names.contains(&p.name.as_slice()))
+            .map(|k| (k, self.props[k].kind))
+    }
+
+    /// The fewest bytes one instance takes (binary), or values (ascii).
+    fn min_size(&self, binary: bool) -> usize {
+        let sizes = self.props.iter().map(|p| match p.kind {
+            Kind::Scalar(s) | Kind::List(s, _) if binary => s.size(),
+            _ => 1,
+        });
+        sizes.sum::<usize>().max(1)
+    }
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Encoding {
+    Ascii,
+    Little,
+    Big,
+}
+
+/// Parses a PLY file's contents (see the [module documentation](super)).
+pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
+    let mut lines = Lines::new(bytes);
+    let (encoding, elements) = parse_header(&mut lines, path)?;
+    let mut body = Body {
+        path,
+        ascii: (encoding == Encoding::Ascii).then_some(lines.clone()),
+        tokens: Vec::new(),
+        next: 0,
+        bytes: lines.rest,
+        pos: 0,
+        big: encoding == Encoding::Big,
+        element: "",
+        instance: 0,
+    };
+    let binary = encoding != Encoding::Ascii;
+    let Some(num_vertices) = elements
+        .iter()
+        .find(|e| e.name == "vertex")
+        .map(|e| e.count)
+    else {
+        return Err(Error::parse(
+            path,
+            None,
+            "no `vertex` element in the header",
+        ));
+    };
+    if !elements.iter().any(|e| e.name == "face") {
+        return Err(Error::parse(
+            path,
+            None,
+            "no triangles: no `face` element in the header",
+        ));
+    }
+
+    let mut positions: Vec<[f64; 3]> = Vec::new();
+    let mut faces = Polygons::default();
+    for element in &elements {
+        body.element = &element.name;
+        let capacity = element
+            .count
+            .min(body.bytes.len() / element.min_size(binary));
+        match element.name.as_str() {
+            "vertex" => {
+                positions.reserve(capacity);
+                read_vertices(&mut body, element, &mut positions)?;
+            }
+            "face" => {
+                faces = Polygons::with_capacity(capacity);
+                read_faces(&mut body, element, num_vertices, &mut faces)?;
+            }
+            _ => skip(&mut body, element)?,
+        }
+    }
+    let triangles = faces.triangulate(&positions);
+    finish(path, positions, triangles)
+}
+
+/// Reads the header up to `end_header`, leaving `lines` at the body.
+fn parse_header(lines: &mut Lines<'_>, path: &Path) -> Result<(Encoding, Vec<Element>)> {
+    let err = |line: usize, msg: String| Error::parse(path, Some(line), msg);
+    match lines.next() {
+        Some((_, b"ply")) => {}
+        _ => return Err(err(1, "not a PLY file: the first line is not `ply`".into())),
+    }
+    let mut encoding = None;
+    let mut elements: Vec<Element> = Vec::new();
+    loop {
+        let Some((n, line)) = lines.next() else {
+            return Err(Error::parse(
+                path,
+                None,
+                "the header has no `end_header` line",
+            ));
+        };
+        let toks: Vec<&[u8]> = tokens(line).collect();
+        match toks.as_slice() {
+            [] | [b"comment" | b"obj_info", ..] => {}
+            [b"end_header"] => break,
+            [b"format", enc, _version] => {
+                encoding = Some(match *enc {
+                    b"ascii" => Encoding::Ascii,
+                    b"binary_little_endian" => Encoding::Little,
+                    b"binary_big_endian" => Encoding::Big,
+                    _ => return Err(err(n, format!("unknown PLY format `{}`", show(enc)))),
+                });
+            }
+            [b"element", name, count] => {
+                let count = parse_i64(count)
+                    .and_then(|c| usize::try_from(c).ok())
+                    .ok_or_else(|| {
+                        err(
+                            n,
+                            format!(
+                                "element count `{}` is not a non-negative integer",
+                                show(count)
+                            ),
+                        )
+                    })?;
+                if elements.iter().any(|e| e.name.as_bytes() == *name) {
+                    return Err(err(
+                        n,
+                        format!("element `{}` is declared twice", show(name)),
+                    ));
+                }
+                elements.push(Element {
+                    name: String::from_utf8_lossy(name).into_owned(),
+                    count,
+                    props: Vec::new(),
+                });
+            }
+            [b"property", rest @ ..] => {
+                let scalar = |t: &[u8]| {
+                    Scalar::from_name(t)
+                        .ok_or_else(|| err(n, format!("unknown property type `{}`", show(t))))
+                };
+                let (kind, name) = match rest {
+                    [b"list", count, item, name] => {
+                        (Kind::List(scalar(count)?, scalar(item)?), name)
+                    }
+                    [ty, name] if *ty != b"list" => (Kind::Scalar(scalar(ty)?), name),
+                    _ => return Err(err(n, "malformed `property` line".into())),
+                };
+                let Some(element) = elements.last_mut() else {
+                    return Err(err(n, "`property` before any `element`".into()));
+                };
+                element.props.push(Property {
+                    name: name.to_vec(),
+                    kind,
+                });
+            }
+            _ => return Err(err(n, format!("unexpected header line `{}`", show(line)))),
+        }
+    }
+    let encoding =
+        encoding.ok_or_else(|| Error::parse(path, None, "the header has no `format` line"))?;
+    Ok((encoding, elements))
+}
+
+/// The body being read: ascii lines of tokens, or binary bytes.
+struct Body<'a> {
+    path: &'a Path,
+    /// The remaining lines, for an ascii file.
+    ascii: Option<Lines<'a>>,
+    /// The current line's tokens and the next one to read (ascii).
+    tokens: Vec<&'a [u8]>,
+    next: usize,
+    /// The body and the read position (binary).
+    bytes: &'a [u8],
+    pos: usize,
+    big: bool,
+    /// Where we are, for messages.
+    element: &'a str,
+    instance: usize,
+}
+
+impl<'a> Body<'a> {
+    fn error(&self, msg: impl std::fmt::Display) -> Error {
+        match &self.ascii {
+            Some(lines) => Error::parse(
+                self.path,
+                Some(lines.number()),
+                format!("{} {}: {msg}", self.element, self.instance),
+            ),
+            None => Error::parse(
+                self.path,
+                None,
+                format!(
+                    "{} {} (body byte {}): {msg}",
+                    self.element, self.instance, self.pos
+                ),
+            ),
+        }
+    }
+
+    /// Starts instance `i` of the current element.
+    fn begin(&mut self, i: usize, count: usize) -> Result<()> {
+        self.instance = i;
+        if let Some(lines) = &mut self.ascii {
+            let line = lines
+                .by_ref()
+                .map(|(_, l)| l)
+                .find(|l| tokens(l).next().is_some());
+            let Some(line) = line else {
+                return Err(self.error(format_args!(
+                    "the file ends here, but the header announces {count} `{}` elements",
+                    self.element
+                )));
+            };
+            self.tokens.clear();
+            self.tokens.extend(tokens(line));
+            self.next = 0;
+        }
+        Ok(())
+    }
+
+    /// Ends the current instance: an ascii line must hold nothing more.
+    fn end(&self) -> Result<()> {
+        if self.ascii.is_some() && self.next < self.tokens.len() {
+            return Err(self.error(format_args!(
+                "the line has {} values, more than the header's properties ({} read)",
+                self.tokens.len(),
+                self.next
+            )));
+        }
+        Ok(())
+    }
+
+    /// Reads one scalar.
+    #[inline]
+    fn value(&mut self, ty: Scalar) -> Result<f64> {
+        if self.ascii.is_some() {
+            let Some(&tok) = self.tokens.get(self.next) else {
+                return Err(self.error("the line has too few values for the header's properties"));
+            };
+            self.next += 1;
+            return parse_f64(tok)
+                .ok_or_else(|| self.error(format_args!("`{}` is not a number", show(tok))));
+        }
+        let end = self.pos + ty.size();
+        let value = self
+            .bytes
+            .get(self.pos..end)
+            .and_then(|b| ty.decode(b, self.big));
+        let Some(value) = value else {
+            return Err(self.error("the file ends in the middle of this element (truncated file)"));
+        };
+        self.pos = end;
+        Ok(value)
+    }
+
+    /// Reads a list's count, checking it against what is left to read.
+    fn list_len(&mut self, count: Scalar, item: Scalar) -> Result<usize> {
+        let c = self.value(count)?;
+        let left = match self.ascii {
+            Some(_) => self.tokens.len() - self.next,
+            None => (self.bytes.len() - self.pos) / item.size(),
+        };
+        if !(c >= 0.0 && c.fract() == 0.0) {
+            return Err(self.error(format_args!(
+                "list length {c} is not a non-negative integer"
+            )));
+        }
+        if c > left as f64 {
+            return Err(self.error(format_args!(
+                "a list of {c} values, but only {left} are left {}",
+                if self.ascii.is_some() {
+                    "on the line"
+                } else {
+                    "in the file"
+                }
+            )));
+        }
+        Ok(c as usize)
+    }
+
+    /// Reads (and drops) a property's value(s).
+    fn skip_property(&mut self, kind: Kind) -> Result<()> {
+        match kind {
+            Kind::Scalar(s) => {
+                self.value(s)?;
+            }
+            Kind::List(count, item) => {
+                for _ in 0..self.list_len(count, item)? {
+                    self.value(item)?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Skips every instance of an element the mesh does not need.
+fn skip(body: &mut Body<'_>, element: &Element) -> Result<()> {
+    if element.props.is_empty() {
+        return Ok(());
+    }
+    let fixed: Option<usize> = element
+        .props
+        .iter()
+        .map(|p| match p.kind {
+            Kind::Scalar(s) => Some(s.size()),
+            Kind::List(..) => None,
+        })
+        .sum();
+    if let (None, Some(size)) = (&body.ascii, fixed) {
+        let total = element
+            .count
+            .checked_mul(size)
+            .filter(|&t| t <= body.bytes.len() - body.pos);
+        let Some(total) = total else {
+            body.instance = element.count;
+            return Err(
+                body.error("the file is too short for the header's element count (truncated file)")
+            );
+        };
+        body.pos += total;
+        return Ok(());
+    }
+    for i in 0..element.count {
+        body.begin(i, element.count)?;
+        for p in &element.props {
+            body.skip_property(p.kind)?;
+        }
+        body.end()?;
+    }
+    Ok(())
+}
+
+fn read_vertices(
+    body: &mut Body<'_>,
+    element: &Element,
+    positions: &mut Vec<[f64; 3]>,
+) -> Result<()> {
+    let path = body.path;
+    let axis = |name: &[u8]| match element.prop(&[name]) {
+        Some((k, Kind::Scalar(_))) => Ok(Some(k)),
+        Some((_, Kind::List(..))) => Err(Error::parse(
+            path,
+            None,
+            format!("vertex property `{}` is a list, not a number", show(name)),
+        )),
+        None => Ok(None),
+    };
+    let (Some(ix), Some(iy)) = (axis(b"x")?, axis(b"y")?) else {
+        return Err(Error::parse(
+            path,
+            None,
+            "the `vertex` element has no `x` and `y` properties",
+        ));
+    };
+    let iz = axis(b"z")?;
+    for i in 0..element.count {
+        body.begin(i, element.count)?;
+        let mut p = [0.0; 3];
+        for (k, prop) in element.props.iter().enumerate() {
+            let Kind::Scalar(ty) = prop.kind else {
+                body.skip_property(prop.kind)?;
+                continue;
+            };
+            let v = body.value(ty)?;
+            let slot = if k == ix {
+                0
+            } else if k == iy {
+                1
+            } else if Some(k) == iz {
+                2
+            } else {
+                continue;
+            };
+            if !v.is_finite() {
+                return Err(body.error(format_args!(
+                    "coordinate {} is not a finite number",
+                    ["x", "y", "z"][slot]
+                )));
+            }
+            p[slot] = v;
+        }
+        body.end()?;
+        positions.push(p);
+    }
+    Ok(())
+}
+
+fn read_faces(
+    body: &mut Body<'_>,
+    element: &Element,
+    num_vertices: usize,
+    faces: &mut Polygons,
+) -> Result<()> {
+    let (il, count_ty, item_ty) = match element.prop(&[b"vertex_indices", b"vertex_index"]) {
+        Some((k, Kind::List(c, i))) => (k, c, i),
+        _ => {
+            return Err(Error::parse(
+                body.path,
+                None,
+                "the `face` element has no list property `vertex_indices` (or `vertex_index`)",
+            ))
+        }
+    };
+    let mut face: Vec<u32> = Vec::new();
+    for i in 0..element.count {
+        body.begin(i, element.count)?;
+        for (k, prop) in element.props.iter().enumerate() {
+            if k != il {
+                body.skip_property(prop.kind)?;
+                continue;
+            }
+            let n = body.list_len(count_ty, item_ty)?;
+            if n < 3 {
+                return Err(body.error(format_args!("a face needs at least 3 vertices, found {n}")));
+            }
+            face.clear();
+            for _ in 0..n {
+                let v = body.value(item_ty)?;
+                if !(v >= 0.0
+                    && v < num_vertices as f64
+                    && v <= f64::from(u32::MAX)
+                    && v.fract() == 0.0)
+                {
+                    return Err(body.error(format_args!(
+                        "vertex index {v} is out of range: the file has {num_vertices} vertices (indices start at 0)"
+                    )));
+                }
+                face.push(v as u32);
+            }
+            if let Some(r) = repeated_index(&face) {
+                return Err(body.error(format_args!("the face uses vertex {r} more than once")));
+            }
+        }
+        body.end()?;
+        let line = body.ascii.as_ref().map_or(i, Lines::number);
+        faces.push(&face, line);
+    }
+    Ok(())
+}
+
+/// Writes a `binary_little_endian` PLY with `double x, y, z` and
+/// `list uchar int vertex_indices`.
+pub(super) fn write<const D: usize>(
+    w: &mut dyn Write,
+    positions: &[[f64; D]],
+    triangles: &[[u32; 3]],
+) -> std::io::Result<()> {
+    write!(
+        w,
+        "ply\nformat binary_little_endian 1.0\ncomment written by meshmorph\n\
+         element vertex {}\nproperty double x\nproperty double y\nproperty double z\n\
+         element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        positions.len(),
+        triangles.len()
+    )?;
+    let mut buf = Vec::with_capacity(CHUNK + 64);
+    for p in positions {
+        for x in xyz(p) {
+            buf.extend_from_slice(&x.to_le_bytes());
+        }
+        if buf.len() >= CHUNK {
+            w.write_all(&buf)?;
+            buf.clear();
+        }
+    }
+    for t in triangles {
+        buf.push(3);
+        for &i in t {
+            let i = i32::try_from(i).map_err(|_| {
+                std::io::Error::new(
+                    std::io::ErrorKind::InvalidInput,
+                    format!("vertex index {i} does not fit a PLY `int`"),
+                )
+            })?;
+            buf.extend_from_slice(&i.to_le_bytes());
+        }
+        if buf.len() >= CHUNK {
+            w.write_all(&buf)?;
+            buf.clear();
+        }
+    }
+    w.write_all(&buf)
+}

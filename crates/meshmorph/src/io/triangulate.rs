@@ -1,0 +1,313 @@
+//! Faces as read from a file (polygons of any size) and their
+//! triangulation.
+//!
+//! A polygon is projected onto its best-fit plane (the plane through its
+//! first vertex orthogonal to the Newell normal, i.e. the polygon's area
+//! vector) and triangulated there by ear clipping, preferring the
+//! best-shaped ear at each step. The triangles keep the polygon's
+//! orientation. A convex quad is simply split along its shorter diagonal.
+//! Should ear clipping get stuck (a self-intersecting or degenerate
+//! polygon), what is left of the polygon is triangulated as a fan.
+
+use crate::geometry::{cross, dot, norm, scale, sub};
+
+/// Faces of any size, stored flat, with the line each came from.
+#[derive(Default)]
+pub(super) struct Polygons {
+    indices: Vec<u32>,
+    /// End of each face in `indices`.
+    ends: Vec<usize>,
+    /// Line (or instance number, for binary files) of each face.
+    lines: Vec<usize>,
+}
+
+impl Polygons {
+    /// An empty list with room for about `faces` triangles.
+    pub(super) fn with_capacity(faces: usize) -> Self {
+        Polygons {
+            indices: Vec::with_capacity(3 * faces),
+            ends: Vec::with_capacity(faces),
+            lines: Vec::with_capacity(faces),
+        }
+    }
+
+    /// Adds a face (at least three distinct indices; the caller checks).
+    #[inline]
+    pub(super) fn push(&mut self, face: &[u32], line: usize) {
+        self.indices.extend_from_slice(face);
+        self.ends.push(self.indices.len());
+        self.lines.push(line);
+    }
+
+    /// Every face with its line.
+    pub(super) fn iter(&self) -> impl Iterator<Item = (&[u32], usize)> + '_ {
+        let starts = std::iter::once(0).chain(self.ends.iter().copied());
+        self.ends
+            .iter()
+            .zip(starts)
+            .zip(&self.lines)
+            .map(|((&end, start), &line)| (&self.indices[start..end], line))
+    }
+
+    /// Triangulates every face; every index must be in range of `positions`.
+    pub(super) fn triangulate(&self, positions: &[[f64; 3]]) -> Vec<[u32; 3]> {
+        let mut out = Vec::with_capacity(self.indices.len().saturating_sub(2 * self.ends.len()));
+        for (face, _) in self.iter() {
+            if let [a, b, c] = *face {
+                out.push([a, b, c]);
+            } else {
+                triangulate_polygon(positions, face, &mut out);
+            }
+        }
+        out
+    }
+}
+
+/// The first index that occurs twice in `face`, if any.
+pub(super) fn repeated_index(face: &[u32]) -> Option<u32> {
+    if face.len() <= 16 {
+        (1..face.len()).find_map(|i| face[..i].contains(&face[i]).then_some(face[i]))
+    } else {
+        let mut sorted = face.to_vec();
+        sorted.sort_unstable();
+        sorted.windows(2).find(|w| w[0] == w[1]).map(|w| w[0])
+    }
+}
+
+/// Above this many vertices ear clipping takes the first ear it finds
+/// instead of the best-shaped one (which costs `O(n^3)`).
+const BEST_EAR_LIMIT: usize = 64;
+
+/// Above this many vertices a polygon is triangulated as a fan: ear clipping
+/// costs `O(n^2)` or worse, and no real mesh has such faces (a malformed
+/// file must not hang the reader).
+const EAR_CLIPPING_LIMIT: usize = 2048;
+
+/// Appends triangles covering the polygon `poly` (indices into `positions`,
+/// at least three, distinct and in range) with the polygon's orientation.
+pub(super) fn triangulate_polygon(positions: &[[f64; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
+    let n = poly.len();
+    if n < 3 {
+        return;
+    }
+    if n == 3 {
+        out.push([poly[0], poly[1], poly[2]]);
+        return;
+    }
+    if n > EAR_CLIPPING_LIMIT {
+        fan(poly, &(0..n).collect::<Vec<_>>(), out);
+        return;
+    }
+    let origin = positions[poly[0] as usize];
+    let p3: Vec<[f64; 3]> = poly
+        .iter()
+        .map(|&i| sub(positions[i as usize], origin))
+        .collect();
+    let Some((u, v)) = plane_basis(&p3) else {
+        fan(poly, &(0..n).collect::<Vec<_>>(), out);
+        return;
+    };
+    let p: Vec<[f64; 2]> = p3.iter().map(|&q| [dot(q, u), dot(q, v)]).collect();
+
+    if n == 4 && (0..4).all(|k| turn(p[(k + 3) % 4], p[k], p[(k + 1) % 4]) > 0.0) {
+        // Convex quad: the shorter diagonal.
+        if norm(sub(p3[2], p3[0])) <= norm(sub(p3[3], p3[1])) {
+            out.extend([[poly[0], poly[1], poly[2]], [poly[0], poly[2], poly[3]]]);
+        } else {
+            out.extend([[poly[1], poly[2], poly[3]], [poly[1], poly[3], poly[0]]]);
+        }
+        return;
+    }
+
+    let mut left: Vec<usize> = (0..n).collect();
+    // Where the search for the first ear starts (large polygons): just
+    // before the last ear clipped, so that a pass costs O(n) typically.
+    let mut start = 0;
+    while left.len() > 3 {
+        let m = left.len();
+        let mut best: Option<(usize, f64)> = None;
+        for k in (0..m).map(|k| (k + start) % m) {
+            let (a, b, c) = (left[(k + m - 1) % m], left[k], left[(k + 1) % m]);
+            if turn(p[a], p[b], p[c]) <= 0.0 {
+                continue; // reflex or flat
+            }
+            let blocked = left
+                .iter()
+                .any(|&j| j != a && j != b && j != c && in_triangle(p[j], p[a], p[b], p[c]));
+            if blocked {
+                continue;
+            }
+            let q = shape_quality(p[a], p[b], p[c]);
+            if best.is_none_or(|(_, bq)| q > bq) {
+                best = Some((k, q));
+            }
+            if m > BEST_EAR_LIMIT {
+                break;
+            }
+        }
+        let Some((k, _)) = best else {
+            fan(poly, &left, out);
+            return;
+        };
+        out.push([
+            poly[left[(k + m - 1) % m]],
+            poly[left[k]],
+            poly[left[(k + 1) % m]],
+        ]);
+        left.remove(k);
+        start = k.saturating_sub(1);
+    }
+    out.push([poly[left[0]], poly[left[1]], poly[left[2]]]);
+}
+
+/// An orthonormal basis `(u, v)` of the plane orthogonal to the polygon's
+/// Newell normal, with `u × v` along the normal (so the polygon winds
+/// counter-clockwise in `(u, v)` coordinates); `None` for a polygon of zero
+/// area.
+fn plane_basis(p: &[[f64; 3]]) -> Option<([f64; 3], [f64; 3])> {
+    let mut normal = [0.0; 3];
+    for k in 0..p.len() {
+        let c = cross(p[k], p[(k + 1) % p.len()]);
+        normal = [normal[0] + c[0], normal[1] + c[1], normal[2] + c[2]];
+    }
+    let len = norm(normal);
+    if !(len > 0.0 && len.is_finite()) {
+        return None;
+    }
+    let nrm = scale(normal, 1.0 / len);
+    // The coordinate axis least aligned with the normal.
+    let axis = (0..3)
+        .min_by(|&i, &j| nrm[i].abs().total_cmp(&nrm[j].abs()))
+        .unwrap_or(0);
+    let mut e = [0.0; 3];
+    e[axis] = 1.0;
+    let u = cross(nrm, e);
+    let u = scale(u, 1.0 / norm(u));
+    let v = cross(nrm, u);
+    Some((u, v))
+}
+
+/// Twice the signed area of `abc`: positive for a left turn.
+#[inline]
+fn turn(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+}
+
+/// Whether `q` lies inside or on the counter-clockwise triangle `abc`.
+#[inline]
+fn in_triangle(q: [f64; 2], a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> bool {
+    turn(a, b, q) >= 0.0 && turn(b, c, q) >= 0.0 && turn(c, a, q) >= 0.0
+}
+
+/// Area over the sum of squared edge lengths, scaled to 1 for an
+/// equilateral triangle.
+fn shape_quality(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    let sq = |x: [f64; 2], y: [f64; 2]| (x[0] - y[0]).powi(2) + (x[1] - y[1]).powi(2);
+    2.0 * 3f64.sqrt() * turn(a, b, c) / (sq(a, b) + sq(b, c) + sq(c, a))
+}
+
+/// A fan over the polygon vertices `left` (positions in `poly`).
+fn fan(poly: &[u32], left: &[usize], out: &mut Vec<[u32; 3]>) {
+    for k in 1..left.len().saturating_sub(1) {
+        out.push([poly[left[0]], poly[left[k]], poly[left[k + 1]]]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn signed_area(p: &[[f64; 3]], t: [u32; 3]) -> f64 {
+        let [a, b, c] = t.map(|i| p[i as usize]);
+        0.5 * turn([a[0], a[1]], [b[0], b[1]], [c[0], c[1]])
+    }
+
+    #[test]
+    fn l_shape_both_orientations() {
+        let p: Vec<[f64; 3]> = [[0., 0.], [2., 0.], [2., 1.], [1., 1.], [1., 2.], [0., 2.]]
+            .iter()
+            .map(|q| [q[0], q[1], 0.0])
+            .collect();
+        for reversed in [false, true] {
+            let mut poly: Vec<u32> = (0..6).collect();
+            if reversed {
+                poly.reverse();
+            }
+            let mut out = Vec::new();
+            triangulate_polygon(&p, &poly, &mut out);
+            assert_eq!(out.len(), 4);
+            let sign = if reversed { -1.0 } else { 1.0 };
+            let areas: Vec<f64> = out.iter().map(|&t| sign * signed_area(&p, t)).collect();
+            assert!(areas.iter().all(|&a| a > 0.0), "{out:?}");
+            assert!((areas.iter().sum::<f64>() - 3.0).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn convex_quad_uses_shorter_diagonal() {
+        let p = vec![[0., 0., 0.], [3., 0., 0.], [3.5, 1., 0.], [0., 1., 0.]];
+        let mut out = Vec::new();
+        triangulate_polygon(&p, &[0, 1, 2, 3], &mut out);
+        // |p1 - p3| = sqrt(10) < |p0 - p2| = sqrt(13.25)
+        assert_eq!(out, vec![[1, 2, 3], [1, 3, 0]]);
+    }
+
+    #[test]
+    fn tilted_polygon_and_degenerate_fallback() {
+        // A concave pentagon in the plane x = z.
+        let p: Vec<[f64; 3]> = [[0., 0.], [4., 0.], [4., 4.], [2., 1.], [0., 4.]]
+            .iter()
+            .map(|q| [q[0], q[1], q[0]])
+            .collect();
+        let mut out = Vec::new();
+        triangulate_polygon(&p, &[0, 1, 2, 3, 4], &mut out);
+        assert_eq!(out.len(), 3);
+        let area: f64 = out.iter().map(|&t| signed_area(&p, t)).sum();
+        assert!((area - 10.0).abs() < 1e-12, "{out:?}");
+        assert!(out.iter().all(|&t| signed_area(&p, t) > 0.0));
+        // All on a line: a fan, no panic.
+        let line = vec![[0., 0., 0.], [1., 0., 0.], [2., 0., 0.], [3., 0., 0.]];
+        out.clear();
+        triangulate_polygon(&line, &[0, 1, 2, 3], &mut out);
+        assert_eq!(out.len(), 2);
+    }
+
+    #[test]
+    fn large_star_polygons() {
+        for n in [40, 600, 3000] {
+            // A star: alternating radii, so every other vertex is reflex.
+            let p: Vec<[f64; 3]> = (0..n)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * k as f64 / n as f64;
+                    let r = if k % 2 == 0 { 1.0 } else { 0.8 };
+                    [r * a.cos(), r * a.sin(), 0.0]
+                })
+                .collect();
+            let poly: Vec<u32> = (0..n as u32).collect();
+            let mut out = Vec::new();
+            triangulate_polygon(&p, &poly, &mut out);
+            assert_eq!(out.len(), n - 2);
+            let area: f64 = (0..n)
+                .map(|k| {
+                    let (a, b) = (p[k], p[(k + 1) % n]);
+                    0.5 * (a[0] * b[1] - a[1] * b[0])
+                })
+                .sum();
+            let sum: f64 = out.iter().map(|&t| signed_area(&p, t)).sum();
+            assert!((sum - area).abs() < 1e-9, "{n}: {sum} vs {area}");
+            if n <= EAR_CLIPPING_LIMIT {
+                assert!(out.iter().all(|&t| signed_area(&p, t) > 0.0), "{n}");
+            }
+        }
+    }
+
+    #[test]
+    fn repeats() {
+        assert_eq!(repeated_index(&[1, 2, 3]), None);
+        assert_eq!(repeated_index(&[1, 2, 1]), Some(1));
+        let mut big: Vec<u32> = (0..40).collect();
+        assert_eq!(repeated_index(&big), None);
+        big.push(7);
+        assert_eq!(repeated_index(&big), Some(7));
+    }
+}

@@ -1,0 +1,238 @@
+//! Several meshes in space side by side: a grid of cells, one row per set
+//! of meshes that share a camera (e.g. the source poses, then the target
+//! poses of a deformation transfer).
+
+use super::canvas::Canvas;
+use super::palette::Palette;
+use super::shade3d::{draw_mesh_3d, Camera3d, Style3d};
+use super::Rect;
+
+/// One row of a grid: meshes with the same triangles (the poses of one
+/// shape), drawn left to right in one style.
+#[derive(Clone, Debug)]
+pub struct GridRow<'a> {
+    /// The triangles of every pose of the row.
+    pub triangles: &'a [[u32; 3]],
+    /// The vertex positions of each pose, one cell each.
+    pub poses: Vec<&'a [[f64; 3]]>,
+    /// How the row looks (e.g. [`Ramp::BLUE`](super::Ramp::BLUE) for the
+    /// source, [`Ramp::SAND`](super::Ramp::SAND) for the target).
+    pub style: Style3d,
+}
+
+/// Size and camera of a grid picture.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GridOptions {
+    /// Width of one cell in pixels (320).
+    pub cell_width: u32,
+    /// Height of one cell in pixels; `None` (the default) chooses it from
+    /// the shape of the tallest row, between a quarter and twice the
+    /// width, even.
+    pub cell_height: Option<u32>,
+    /// Background pixels kept around the mesh inside each cell (12).
+    pub margin_px: u32,
+    /// The direction every camera looks in ([`Camera3d::orbit`]`(30, 20)`
+    /// for y-up meshes).
+    pub direction: [f64; 3],
+    /// Up on screen.
+    pub up: [f64; 3],
+    /// The palette of the picture ([`Palette::standard`]).
+    pub palette: Palette,
+}
+
+impl Default for GridOptions {
+    fn default() -> Self {
+        let cam = Camera3d::orbit(30.0, 20.0);
+        GridOptions {
+            cell_width: 320,
+            cell_height: None,
+            margin_px: 12,
+            direction: cam.forward,
+            up: cam.up,
+            palette: Palette::standard(),
+        }
+    }
+}
+
+/// Where the cells of a grid are and the camera of each row: fitted once,
+/// then used to draw any number of pictures (the frames of an animation
+/// keep still cameras when the layout is fitted over all of them).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GridLayout {
+    /// Cell width in pixels.
+    pub cell_width: u32,
+    /// Cell height in pixels.
+    pub cell_height: u32,
+    /// Number of columns (the most poses of any row).
+    pub columns: u32,
+    /// Background pixels around each mesh inside its cell.
+    pub margin_px: u32,
+    /// The camera of each row, fitted to all of the row's poses so that
+    /// they share a scale.
+    pub cameras: Vec<Camera3d>,
+    /// The palette of the pictures.
+    pub palette: Palette,
+}
+
+impl GridLayout {
+    /// Fits a camera to the poses of each row and sizes the cells.
+    ///
+    /// To animate, fit with rows holding every pose of every frame, then
+    /// [`render`](GridLayout::render) each frame's rows.
+    pub fn fit(rows: &[GridRow<'_>], options: &GridOptions) -> Self {
+        let base = Camera3d::looking(options.direction, options.up);
+        let cameras: Vec<Camera3d> = rows
+            .iter()
+            .map(|r| base.fitted(r.poses.iter().copied()))
+            .collect();
+        let cell_width = options.cell_width.max(1);
+        let margin = options.margin_px.min(cell_width.saturating_sub(1) / 2);
+        let cell_height = options.cell_height.map_or_else(
+            || {
+                let inner = f64::from(cell_width - 2 * margin);
+                let tallest = cameras
+                    .iter()
+                    .map(|c| 1.0 / c.aspect())
+                    .fold(0.0f64, f64::max);
+                let tallest = if tallest > 0.0 && tallest.is_finite() {
+                    tallest
+                } else {
+                    1.0
+                };
+                let lo = (cell_width / 4).max(2 * margin + 2);
+                let hi = cell_width.saturating_mul(2).max(lo);
+                let h = (inner * tallest + f64::from(2 * margin))
+                    .ceil()
+                    .clamp(f64::from(lo), f64::from(hi)) as u32;
+                h + h % 2
+            },
+            |h| h.max(1),
+        );
+        GridLayout {
+            cell_width,
+            cell_height,
+            columns: rows
+                .iter()
+                .map(|r| r.poses.len() as u32)
+                .max()
+                .unwrap_or(0)
+                .max(1),
+            margin_px: options.margin_px,
+            cameras,
+            palette: options.palette.clone(),
+        }
+    }
+
+    /// Picture width and height in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        (
+            self.cell_width.saturating_mul(self.columns),
+            self.cell_height
+                .saturating_mul(self.cameras.len().max(1) as u32),
+        )
+    }
+
+    /// The pixels of cell (`row`, `column`), margins included.
+    pub fn cell(&self, row: u32, column: u32) -> Rect {
+        Rect {
+            x: column.saturating_mul(self.cell_width),
+            y: row.saturating_mul(self.cell_height),
+            width: self.cell_width,
+            height: self.cell_height,
+        }
+    }
+
+    /// Draws pose `k` of row `r` into cell `(r, k)` with the row's camera.
+    /// Rows beyond those the layout was fitted with are left empty.
+    pub fn render(&self, rows: &[GridRow<'_>]) -> Canvas {
+        let (w, h) = self.size();
+        let mut canvas = Canvas::new(w, h, self.palette.clone());
+        for ((r, row), camera) in rows.iter().enumerate().zip(&self.cameras) {
+            for (k, pose) in row.poses.iter().enumerate() {
+                let cell = self.cell(r as u32, k as u32);
+                let m = self
+                    .margin_px
+                    .min(cell.width.min(cell.height).saturating_sub(1) / 2);
+                let inner = Rect {
+                    x: cell.x + m,
+                    y: cell.y + m,
+                    width: cell.width - 2 * m,
+                    height: cell.height - 2 * m,
+                };
+                draw_mesh_3d(&mut canvas, pose, row.triangles, camera, inner, &row.style);
+            }
+        }
+        canvas
+    }
+}
+
+/// A picture of several meshes in space in a grid: row `r`, column `k`
+/// shows pose `k` of `rows[r]`, every row seen through its own camera fitted
+/// to all its poses (so they share a scale). Save it with
+/// [`write_png`](super::write_png).
+pub fn render_grid_3d(rows: &[GridRow<'_>], options: &GridOptions) -> Canvas {
+    GridLayout::fit(rows, options).render(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::palette::{slot, Ramp};
+    use super::*;
+
+    #[test]
+    fn rows_share_a_scale_and_stay_in_their_cells() {
+        let (p, t) = super::super::shade3d::tests::cube();
+        let big: Vec<[f64; 3]> = p.iter().map(|q| q.map(|x| 3.0 * x)).collect();
+        let camel: Vec<[f64; 3]> = p.iter().map(|q| [q[0], 2.0 * q[1], q[2]]).collect();
+        let rows = [
+            GridRow {
+                triangles: &t,
+                poses: vec![p.as_slice(), big.as_slice(), p.as_slice()],
+                style: Style3d::default(),
+            },
+            GridRow {
+                triangles: &t,
+                poses: vec![camel.as_slice()],
+                style: Style3d::with_ramp(Ramp::SAND),
+            },
+        ];
+        let options = GridOptions {
+            cell_width: 100,
+            margin_px: 5,
+            ..GridOptions::default()
+        };
+        let layout = GridLayout::fit(&rows, &options);
+        assert_eq!(layout.columns, 3);
+        assert_eq!(layout.cell_height % 2, 0);
+        let c = layout.render(&rows);
+        assert_eq!((c.width, c.height), (300, 2 * layout.cell_height));
+        let in_ramp = |r: Ramp, i: u8| (r.first..r.first + r.len).contains(&i);
+        let count_in = |rect: Rect, r: Ramp| {
+            let mut n = 0;
+            for y in rect.y..rect.y + rect.height {
+                for x in rect.x..rect.x + rect.width {
+                    n += usize::from(in_ramp(r, c.get(x, y).unwrap()));
+                }
+            }
+            n
+        };
+        // Same scale along the row: the small cube is 1/9 of the big one.
+        let (small, large) = (
+            count_in(layout.cell(0, 0), Ramp::BLUE),
+            count_in(layout.cell(0, 1), Ramp::BLUE),
+        );
+        assert!(
+            small > 0 && (8.0..10.0).contains(&(large as f64 / small as f64)),
+            "{small} {large}"
+        );
+        assert_eq!(count_in(layout.cell(0, 2), Ramp::BLUE), small);
+        assert!(count_in(layout.cell(1, 0), Ramp::SAND) > small);
+        assert_eq!(count_in(layout.cell(1, 1), Ramp::SAND), 0);
+        // Margins are background.
+        for x in 0..300 {
+            assert_eq!(c.get(x, 0), Some(slot::BACKGROUND));
+        }
+        let none = render_grid_3d(&[], &GridOptions::default());
+        assert!(none.width > 0 && none.height > 0);
+    }
+}

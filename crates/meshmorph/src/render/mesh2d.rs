@@ -1,0 +1,210 @@
+//! Planar meshes on a [`Canvas`]: filled triangles, flipped ones in the
+//! warning colour, edges on top.
+
+use super::canvas::Canvas;
+use super::palette::slot;
+use super::raster;
+use super::style::{valid, EdgeSets, Style2d};
+use super::view::View2d;
+
+/// Draws a planar mesh onto `canvas` through `view`.
+///
+/// Correctly oriented triangles are filled with [`slot::FILL`], then the
+/// flipped ones (see [`Style2d::flipped`]) with [`slot::FLIPPED_FILL`] on
+/// top, then the edges chosen by [`Style2d::edges`] in [`slot::EDGE`], and
+/// the edges of flipped triangles in [`slot::FLIPPED_EDGE`]. The colours
+/// are those of the canvas palette (see [`Canvas::with_style`]).
+///
+/// Triangles with an index out of range, a non-finite coordinate or zero
+/// area draw nothing (zero-area ones still get their edges).
+pub fn draw_mesh_2d(
+    canvas: &mut Canvas,
+    positions: &[[f64; 2]],
+    triangles: &[[u32; 3]],
+    view: &View2d,
+    style: &Style2d,
+) {
+    let mode = style.resolve_edges([positions], triangles, view.scale);
+    let edges = match mode {
+        Some(_) => EdgeSets::new(triangles, positions.len()),
+        None => EdgeSets::default(),
+    };
+    let mut scratch = Scratch::default();
+    draw_prepared(
+        canvas,
+        positions,
+        triangles,
+        &edges,
+        mode,
+        view,
+        style,
+        &mut scratch,
+    );
+}
+
+/// Buffers reused from frame to frame.
+#[derive(Debug, Default)]
+pub(crate) struct Scratch {
+    /// Pixel coordinates of the vertices.
+    px: Vec<[f64; 2]>,
+    /// The same, snapped.
+    fixed: Vec<[i64; 2]>,
+}
+
+/// [`draw_mesh_2d`] with the edge sets and edge mode computed beforehand
+/// (once per animation) and a reusable buffer for the pixel coordinates.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn draw_prepared(
+    canvas: &mut Canvas,
+    positions: &[[f64; 2]],
+    triangles: &[[u32; 3]],
+    edges: &EdgeSets,
+    mode: Option<bool>,
+    view: &View2d,
+    style: &Style2d,
+    scratch: &mut Scratch,
+) {
+    let Scratch { px, fixed } = scratch;
+    px.clear();
+    px.extend(positions.iter().map(|&p| view.to_pixel(p)));
+    fixed.clear();
+    fixed.extend(px.iter().map(|&p| raster::snap_point(p)));
+    let flipped = style.flipped_mask(positions, triangles);
+    let clip = canvas.clip(canvas.bounds());
+    let w = canvas.width as usize;
+    let n = px.len();
+    for (pass, color) in [(false, slot::FILL), (true, slot::FLIPPED_FILL)] {
+        let pixels = &mut canvas.pixels;
+        for (t, _) in triangles
+            .iter()
+            .zip(&flipped)
+            .filter(|(t, &f)| f == pass && valid(t, n))
+        {
+            let [a, b, c] = t.map(|i| i as usize);
+            raster::fill_snapped(
+                [fixed[a], fixed[b], fixed[c]],
+                [px[a], px[b], px[c]],
+                &clip,
+                |y, x0, x1| pixels[y * w + x0..y * w + x1].fill(color),
+            );
+        }
+    }
+    let Some(all) = mode else { return };
+    let list = if all { &edges.all } else { &edges.boundary };
+    for &[a, b] in list {
+        if (a as usize) < n && (b as usize) < n {
+            canvas.draw_line(px[a as usize], px[b as usize], slot::EDGE, None);
+        }
+    }
+    if all {
+        for (t, _) in triangles
+            .iter()
+            .zip(&flipped)
+            .filter(|(t, &f)| f && valid(t, n))
+        {
+            for k in 0..3 {
+                let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
+                canvas.draw_line(px[a], px[b], slot::FLIPPED_EDGE, None);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::style::{Edges, Flipped};
+    use super::*;
+
+    fn square() -> (Vec<[f64; 2]>, Vec<[u32; 3]>) {
+        (
+            vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+    }
+
+    #[test]
+    fn a_square_of_two_triangles_is_filled_exactly() {
+        let (p, t) = square();
+        // 40 × 40 pixels inside a 10-pixel margin: the square covers pixels
+        // 10..50 on both axes.
+        let view = View2d::fitting([p.as_slice()], 60, Some(60), 10);
+        let style = Style2d {
+            edges: Edges::None,
+            ..Style2d::default()
+        };
+        let mut c = Canvas::with_style(60, 60, &style);
+        draw_mesh_2d(&mut c, &p, &t, &view, &style);
+        assert_eq!(c.count(slot::FILL), 1600);
+        for y in 0..60 {
+            for x in 0..60 {
+                let inside = (10..50).contains(&x) && (10..50).contains(&y);
+                assert_eq!(c.get(x, y) == Some(slot::FILL), inside, "{x} {y}");
+            }
+        }
+        // Each triangle alone: the two halves add up with no pixel twice.
+        let mut halves = 0;
+        for tri in &t {
+            let mut c = Canvas::with_style(60, 60, &style);
+            draw_mesh_2d(&mut c, &p, std::slice::from_ref(tri), &view, &style);
+            halves += c.count(slot::FILL);
+        }
+        assert_eq!(halves, 1600);
+    }
+
+    #[test]
+    fn flipped_triangles_use_the_warning_colour() {
+        let (mut p, t) = square();
+        p[2] = [0.5, -0.5]; // folds triangle 0 over
+        let style = Style2d::default();
+        let view = View2d::fitting([p.as_slice()], 100, Some(100), 5);
+        let areas = crate::mesh::signed_areas(&p, &t);
+        assert!(areas[0] < 0.0 && areas[1] > 0.0);
+        let mut c = Canvas::with_style(100, 100, &style);
+        draw_mesh_2d(&mut c, &p, &[t[0]], &view, &style);
+        assert!(c.count(slot::FLIPPED_FILL) > 100);
+        assert_eq!(c.count(slot::FILL), 0);
+        let style = Style2d {
+            flipped: Flipped::Mask(vec![false, true]),
+            edges: Edges::All,
+            ..style
+        };
+        let mut c = Canvas::with_style(100, 100, &style);
+        draw_mesh_2d(&mut c, &p, &t, &view, &style);
+        assert!(c.count(slot::FILL) > 100);
+        assert!(c.count(slot::FLIPPED_FILL) > 100);
+        assert!(c.count(slot::FLIPPED_EDGE) > 50);
+    }
+
+    #[test]
+    fn degenerate_input_does_not_panic() {
+        let style = Style2d {
+            edges: Edges::All,
+            ..Style2d::default()
+        };
+        let cases: Vec<Vec<[f64; 2]>> = vec![
+            vec![[1.0, 1.0]; 4],
+            vec![[0.0, 0.0], [1.0, 1.0], [2.0, 2.0], [3.0, 3.0]],
+            vec![
+                [-1e300, 0.0],
+                [1e300, 1e-300],
+                [0.0, 1e300],
+                [1e-300, -1e300],
+            ],
+        ];
+        let t = vec![[0, 1, 2], [0, 2, 3], [0, 2, 7]];
+        for p in &cases {
+            let view = View2d::fitting([p.as_slice()], 64, None, 4);
+            let mut c = Canvas::with_style(view.width, view.height, &style);
+            draw_mesh_2d(&mut c, p, &t, &view, &style);
+            // A view fitted elsewhere puts the points far outside.
+            let far = View2d {
+                scale: 1e300,
+                ..view
+            };
+            draw_mesh_2d(&mut c, p, &t, &far, &style);
+        }
+        let mut c = Canvas::with_style(0, 0, &style);
+        let view = View2d::fitting([cases[1].as_slice()], 0, Some(0), 4);
+        draw_mesh_2d(&mut c, &cases[1], &t, &view, &style);
+    }
+}

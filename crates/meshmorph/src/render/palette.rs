@@ -1,0 +1,223 @@
+//! The fixed 256-colour palette of every raster picture.
+//!
+//! Pictures are drawn in palette indices, not colours: GIF is an indexed
+//! format, and a fixed palette means no colour quantisation when encoding.
+//! The layout is fixed ([`slot`] for the flat colours of the 2D pictures,
+//! [`Ramp`]s of shades for the 3D ones); the colours can be changed.
+
+use super::style::Style2d;
+
+/// An sRGB colour, 8 bits per channel.
+pub type Rgb = [u8; 3];
+
+/// Palette indices of the flat colours.
+pub mod slot {
+    /// Background (white by default). A new canvas is filled with it.
+    pub const BACKGROUND: u8 = 0;
+    /// Fill of correctly oriented triangles.
+    pub const FILL: u8 = 1;
+    /// Edges of correctly oriented triangles.
+    pub const EDGE: u8 = 2;
+    /// Fill of flipped triangles (a warning colour).
+    pub const FLIPPED_FILL: u8 = 3;
+    /// Edges of flipped triangles.
+    pub const FLIPPED_EDGE: u8 = 4;
+    /// Black.
+    pub const BLACK: u8 = 5;
+    /// A mid grey, for frames and labels.
+    pub const GREY: u8 = 6;
+    /// A light grey, for separators and backdrops.
+    pub const LIGHT_GREY: u8 = 7;
+    /// A near-black for edges over shaded 3D meshes ([`Style3d::with_edges`](crate::render::Style3d::with_edges)
+    /// uses a dark shade of the ramp instead).
+    pub const EDGE_3D: u8 = 8;
+}
+
+/// A run of palette entries holding shades of one colour, darkest first:
+/// entry `first + k` is lit at level `k / (len - 1)`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Ramp {
+    /// First palette index.
+    pub first: u8,
+    /// Number of levels (at least 1; `first + len` at most 256).
+    pub len: u8,
+}
+
+impl Ramp {
+    /// Number of levels of each standard ramp.
+    pub const LEVELS: u8 = 32;
+    /// Slate to light blue (the default, e.g. for the source meshes).
+    pub const BLUE: Ramp = Ramp {
+        first: 64,
+        len: Self::LEVELS,
+    };
+    /// Brown to sand (e.g. for the target meshes).
+    pub const SAND: Ramp = Ramp {
+        first: 96,
+        len: Self::LEVELS,
+    };
+    /// Dark to light green.
+    pub const GREEN: Ramp = Ramp {
+        first: 128,
+        len: Self::LEVELS,
+    };
+    /// Dark to light grey.
+    pub const GREY: Ramp = Ramp {
+        first: 160,
+        len: Self::LEVELS,
+    };
+    /// The standard ramps, in order.
+    pub const ALL: [Ramp; 4] = [Self::BLUE, Self::SAND, Self::GREEN, Self::GREY];
+
+    /// The palette index of brightness `level` in `[0, 1]` (clamped; NaN is
+    /// the darkest shade).
+    #[inline]
+    pub fn index(self, level: f64) -> u8 {
+        let n = self.len.max(1) - 1;
+        let k = if level >= 0.0 {
+            (level.min(1.0) * f64::from(n)).round() as u8
+        } else {
+            0
+        };
+        self.first.saturating_add(k)
+    }
+}
+
+/// 256 colours indexed by `u8`; see [`slot`] and [`Ramp`] for the layout
+/// of [`Palette::standard`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Palette {
+    /// The colours.
+    pub colors: [Rgb; 256],
+}
+
+impl Default for Palette {
+    fn default() -> Self {
+        Self::standard()
+    }
+}
+
+/// Shadow, base and highlight colours of the standard ramps.
+const RAMP_KEYS: [[Rgb; 3]; 4] = [
+    [[0x16, 0x22, 0x38], [0x4a, 0x7c, 0xc0], [0xe4, 0xee, 0xfb]],
+    [[0x33, 0x1f, 0x12], [0xc4, 0x84, 0x4a], [0xfa, 0xec, 0xd8]],
+    [[0x13, 0x2b, 0x1c], [0x4b, 0x9a, 0x66], [0xe2, 0xf4, 0xe6]],
+    [[0x1e, 0x1e, 0x22], [0x86, 0x88, 0x8e], [0xf0, 0xf0, 0xf2]],
+];
+
+impl Palette {
+    /// The standard palette: the default [`Style2d`] colours in the
+    /// [`slot`]s, the four standard [`Ramp`]s, black elsewhere.
+    pub fn standard() -> Self {
+        let mut colors = [[0u8; 3]; 256];
+        colors[slot::BLACK as usize] = [0, 0, 0];
+        colors[slot::GREY as usize] = [0x80, 0x84, 0x8c];
+        colors[slot::LIGHT_GREY as usize] = [0xe6, 0xe8, 0xec];
+        colors[slot::EDGE_3D as usize] = [0x10, 0x14, 0x1c];
+        for (ramp, keys) in Ramp::ALL.iter().zip(RAMP_KEYS) {
+            for k in 0..ramp.len {
+                let t = f64::from(k) / f64::from(ramp.len - 1);
+                colors[(ramp.first + k) as usize] = three_stop(keys, t);
+            }
+        }
+        Palette { colors }.with_style(&Style2d::default())
+    }
+
+    /// This palette with the flat [`slot`]s set to the colours of `style`.
+    pub fn with_style(mut self, style: &Style2d) -> Self {
+        self.colors[slot::BACKGROUND as usize] = style.background;
+        self.colors[slot::FILL as usize] = style.fill;
+        self.colors[slot::EDGE as usize] = style.edge;
+        self.colors[slot::FLIPPED_FILL as usize] = style.flipped_fill;
+        self.colors[slot::FLIPPED_EDGE as usize] = style.flipped_edge;
+        self
+    }
+
+    /// This palette with `ramp` filled by a gradient from `shadow` through
+    /// `base` to `highlight` (interpolated in linear light).
+    pub fn with_ramp(mut self, ramp: Ramp, shadow: Rgb, base: Rgb, highlight: Rgb) -> Self {
+        let n = ramp.len.max(1);
+        for k in 0..n {
+            let t = if n == 1 {
+                0.5
+            } else {
+                f64::from(k) / f64::from(n - 1)
+            };
+            if let Some(c) = self.colors.get_mut(ramp.first as usize + k as usize) {
+                *c = three_stop([shadow, base, highlight], t);
+            }
+        }
+        self
+    }
+
+    /// The colour of palette entry `index`.
+    #[inline]
+    pub fn get(&self, index: u8) -> Rgb {
+        self.colors[index as usize]
+    }
+
+    /// The palette as `r, g, b, r, g, b, ...` bytes (768 of them), the form
+    /// GIF and PNG encoders take.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        self.colors.iter().flatten().copied().collect()
+    }
+}
+
+/// `#rrggbb`.
+pub(crate) fn hex(c: Rgb) -> String {
+    format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
+}
+
+fn to_linear(c: u8) -> f64 {
+    let c = f64::from(c) / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+fn from_linear(l: f64) -> u8 {
+    let l = l.clamp(0.0, 1.0);
+    let c = if l <= 0.003_130_8 {
+        12.92 * l
+    } else {
+        1.055 * l.powf(1.0 / 2.4) - 0.055
+    };
+    (c * 255.0).round() as u8
+}
+
+/// Gradient through three colours at `t` in `[0, 1]`, mixed in linear light.
+fn three_stop(keys: [Rgb; 3], t: f64) -> Rgb {
+    let (a, b, s) = if t < 0.5 {
+        (keys[0], keys[1], 2.0 * t)
+    } else {
+        (keys[1], keys[2], 2.0 * t - 1.0)
+    };
+    std::array::from_fn(|k| from_linear(to_linear(a[k]) * (1.0 - s) + to_linear(b[k]) * s))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ramps_go_from_dark_to_light_and_do_not_overlap_slots() {
+        let p = Palette::standard();
+        for r in Ramp::ALL {
+            assert!(r.first as usize + r.len as usize <= 256);
+            assert!(r.first > slot::EDGE_3D);
+            let lum = |c: Rgb| c.iter().map(|&x| u32::from(x)).sum::<u32>();
+            for k in 1..r.len {
+                assert!(lum(p.get(r.first + k)) >= lum(p.get(r.first + k - 1)));
+            }
+            assert_eq!(r.index(0.0), r.first);
+            assert_eq!(r.index(1.0), r.first + r.len - 1);
+            assert_eq!(r.index(7.0), r.first + r.len - 1);
+            assert_eq!(r.index(f64::NAN), r.first);
+        }
+        assert_eq!(p.get(slot::BACKGROUND), [255, 255, 255]);
+        assert_eq!(p.to_bytes().len(), 768);
+        assert_eq!(hex([255, 0, 16]), "#ff0010");
+    }
+}

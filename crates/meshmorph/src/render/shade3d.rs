@@ -1,0 +1,506 @@
+//! Meshes in space: an orthographic [`Camera3d`] and z-buffered, flat
+//! shaded drawing ([`draw_mesh_3d`]).
+
+use super::canvas::Canvas;
+use super::palette::Ramp;
+use super::raster;
+use super::Rect;
+use crate::geometry::{cross, dot, norm, scale, sub};
+
+/// An orthographic camera: the direction it looks in, which way is up on
+/// screen, and the region of space it shows.
+///
+/// `right`, `up` and `forward` are orthonormal with `right = forward × up`;
+/// a point `p` appears at `dot(p - center, right)` to the right of the
+/// picture's centre and `dot(p - center, up)` above it, and is hidden by
+/// points of smaller `dot(p - center, forward)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera3d {
+    /// Screen x axis in world coordinates.
+    pub right: [f64; 3],
+    /// Screen y axis (up) in world coordinates.
+    pub up: [f64; 3],
+    /// The viewing direction, into the screen.
+    pub forward: [f64; 3],
+    /// The world point drawn at the centre of the viewport.
+    pub center: [f64; 3],
+    /// Half the width and height of the shown region along `right` and
+    /// `up`, in world units; the region is scaled to fit the viewport
+    /// keeping its aspect ratio.
+    pub half_size: [f64; 2],
+}
+
+impl Camera3d {
+    /// A camera looking along `direction` with `up` (projected to be
+    /// perpendicular to it) pointing up on screen, showing the cube of
+    /// half-size 1 around the origin. Zero or parallel vectors are replaced
+    /// by sensible ones: looking along -z, then y up (or z up when looking
+    /// along y).
+    pub fn looking(direction: [f64; 3], up: [f64; 3]) -> Self {
+        let forward = normalized(direction).unwrap_or([0.0, 0.0, -1.0]);
+        let perpendicular = |u: [f64; 3]| {
+            let u = normalized(u)?;
+            let v = sub(u, scale(forward, dot(u, forward)));
+            if norm(v) > 1e-6 {
+                normalized(v)
+            } else {
+                None
+            }
+        };
+        let up = perpendicular(up)
+            .or_else(|| perpendicular([0.0, 1.0, 0.0]))
+            .or_else(|| perpendicular([0.0, 0.0, 1.0]))
+            .unwrap_or([1.0, 0.0, 0.0]);
+        let right = cross(forward, up);
+        Camera3d {
+            right,
+            up,
+            forward,
+            center: [0.0; 3],
+            half_size: [1.0, 1.0],
+        }
+    }
+
+    /// The camera at azimuth `azimuth_deg` around the y axis and elevation
+    /// `elevation_deg` above the x-z plane, looking at the origin with y up
+    /// (the usual convention of OBJ models). `(0, 0)` looks along -z at the
+    /// side facing +z; azimuth 90 looks from +x.
+    pub fn orbit(azimuth_deg: f64, elevation_deg: f64) -> Self {
+        let (a, e) = (azimuth_deg.to_radians(), elevation_deg.to_radians());
+        let eye = [a.sin() * e.cos(), e.sin(), a.cos() * e.cos()];
+        Self::looking(scale(eye, -1.0), [0.0, 1.0, 0.0])
+    }
+
+    /// This camera's direction with `center` and `half_size` fitted to the
+    /// projections of all points of all `meshes` (non-finite points are
+    /// ignored; with none, the camera is returned unchanged).
+    pub fn fitted<'a>(mut self, meshes: impl IntoIterator<Item = &'a [[f64; 3]]>) -> Self {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for p in meshes.into_iter().flatten() {
+            if p.iter().all(|x| x.is_finite()) {
+                let q = [dot(*p, self.right), dot(*p, self.up), dot(*p, self.forward)];
+                for k in 0..3 {
+                    lo[k] = lo[k].min(q[k]);
+                    hi[k] = hi[k].max(q[k]);
+                }
+            }
+        }
+        if lo[0] > hi[0] {
+            return self;
+        }
+        let mid: [f64; 3] = std::array::from_fn(|k| lo[k] / 2.0 + hi[k] / 2.0);
+        self.center = [0, 1, 2]
+            .map(|k| mid[0] * self.right[k] + mid[1] * self.up[k] + mid[2] * self.forward[k]);
+        let mut half = [hi[0] / 2.0 - lo[0] / 2.0, hi[1] / 2.0 - lo[1] / 2.0];
+        let biggest = half[0].max(half[1]);
+        for h in &mut half {
+            // A flat or point-like set still gets a region of some size.
+            if h.is_nan() || *h <= biggest * 1e-6 {
+                *h = if biggest > 0.0 { biggest * 1e-6 } else { 1.0 };
+            }
+        }
+        self.half_size = half;
+        self
+    }
+
+    /// Width over height of the shown region.
+    pub fn aspect(&self) -> f64 {
+        self.half_size[0] / self.half_size[1]
+    }
+
+    /// Pixels per world unit when the region fills `viewport`.
+    pub fn pixels_per_unit(&self, viewport: Rect) -> f64 {
+        (f64::from(viewport.width) / (2.0 * self.half_size[0]))
+            .min(f64::from(viewport.height) / (2.0 * self.half_size[1]))
+    }
+
+    /// Pixel coordinates of `p` in `viewport` and its depth (world units
+    /// along `forward` from the centre: smaller is nearer).
+    #[inline]
+    pub fn project(&self, p: [f64; 3], viewport: Rect) -> [f64; 3] {
+        self.projector(viewport).apply(p)
+    }
+
+    fn projector(&self, viewport: Rect) -> Projector {
+        let s = self.pixels_per_unit(viewport);
+        Projector {
+            right: scale(self.right, s),
+            down: scale(self.up, -s),
+            forward: self.forward,
+            center: self.center,
+            origin: [
+                f64::from(viewport.x) + f64::from(viewport.width) / 2.0,
+                f64::from(viewport.y) + f64::from(viewport.height) / 2.0,
+            ],
+        }
+    }
+}
+
+struct Projector {
+    right: [f64; 3],
+    down: [f64; 3],
+    forward: [f64; 3],
+    center: [f64; 3],
+    origin: [f64; 2],
+}
+
+impl Projector {
+    #[inline]
+    fn apply(&self, p: [f64; 3]) -> [f64; 3] {
+        let d = sub(p, self.center);
+        [
+            self.origin[0] + dot(d, self.right),
+            self.origin[1] + dot(d, self.down),
+            dot(d, self.forward),
+        ]
+    }
+}
+
+fn normalized(v: [f64; 3]) -> Option<[f64; 3]> {
+    let n = norm(v);
+    (n > 0.0 && n.is_finite()).then(|| scale(v, 1.0 / n))
+}
+
+/// How meshes in space look.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Style3d {
+    /// The shades of the surface ([`Ramp::BLUE`]).
+    pub ramp: Ramp,
+    /// The palette index of edges drawn over the surface, `None` for no
+    /// edges (the default); see [`Style3d::with_edges`].
+    pub edges: Option<u8>,
+    /// Direction towards the light in camera coordinates (right, up,
+    /// towards the viewer): from the upper left, in front.
+    pub light: [f64; 3],
+    /// Brightness of surfaces facing away from the light, in `[0, 1]`.
+    pub ambient: f64,
+}
+
+impl Default for Style3d {
+    fn default() -> Self {
+        Style3d {
+            ramp: Ramp::BLUE,
+            edges: None,
+            light: [-0.45, 0.6, 0.65],
+            ambient: 0.12,
+        }
+    }
+}
+
+impl Style3d {
+    /// The default style with the shades of `ramp`.
+    pub fn with_ramp(ramp: Ramp) -> Self {
+        Style3d {
+            ramp,
+            ..Self::default()
+        }
+    }
+
+    /// This style with edges in a dark shade of its ramp (darker than any
+    /// lit surface).
+    pub fn with_edges(self) -> Self {
+        Style3d {
+            edges: Some(self.ramp.index(0.06)),
+            ..self
+        }
+    }
+}
+
+/// Draws a mesh in space into `viewport` of `canvas` through `camera`:
+/// hidden surfaces removed with a depth buffer (of the viewport, cleared
+/// on each call), each triangle flat shaded by Lambert's law from its
+/// normal, quantised into `style.ramp`. Both sides of a triangle are lit
+/// the same, so open meshes and inconsistent orientations look right.
+///
+/// Nothing is drawn outside `viewport` (clipped to the canvas). Triangles
+/// with an index out of range or a non-finite coordinate are skipped.
+pub fn draw_mesh_3d(
+    canvas: &mut Canvas,
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    camera: &Camera3d,
+    viewport: Rect,
+    style: &Style3d,
+) {
+    let clip = canvas.clip(viewport);
+    let vx0 = viewport.x.min(canvas.width) as usize;
+    let vy0 = viewport.y.min(canvas.height) as usize;
+    let vw = (viewport.x.saturating_add(viewport.width)).min(canvas.width) as usize - vx0;
+    let vh = (viewport.y.saturating_add(viewport.height)).min(canvas.height) as usize - vy0;
+    if vw == 0 || vh == 0 {
+        return;
+    }
+    let mut depth = vec![f32::INFINITY; vw * vh];
+    let proj = camera.projector(viewport);
+    let q: Vec<[f64; 3]> = positions.iter().map(|&p| proj.apply(p)).collect();
+    let fixed: Vec<[i64; 2]> = q.iter().map(|p| raster::snap_point([p[0], p[1]])).collect();
+    let light = {
+        let l = style.light;
+        let d = [0, 1, 2]
+            .map(|k| l[0] * camera.right[k] + l[1] * camera.up[k] - l[2] * camera.forward[k]);
+        normalized(d).unwrap_or(scale(camera.forward, -1.0))
+    };
+    let ambient = if style.ambient.is_finite() {
+        style.ambient.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let w = canvas.width as usize;
+    let n = positions.len();
+    for t in triangles {
+        if !super::style::valid(t, n) {
+            continue;
+        }
+        let [a, b, c] = t.map(|i| i as usize);
+        let normal = cross(
+            sub(positions[b], positions[a]),
+            sub(positions[c], positions[a]),
+        );
+        let lambert = normalized(normal).map_or(0.0, |nn| dot(nn, light).abs());
+        let color = style.ramp.index(ambient + (1.0 - ambient) * lambert);
+        let (pa, pb, pc) = (q[a], q[b], q[c]);
+        // Depth as a plane over the screen, clamped to the corners' range
+        // (slivers seen edge-on have wild gradients).
+        let det = (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pc[0] - pa[0]) * (pb[1] - pa[1]);
+        if det == 0.0 || !det.is_finite() {
+            continue;
+        }
+        let gx = ((pb[2] - pa[2]) * (pc[1] - pa[1]) - (pc[2] - pa[2]) * (pb[1] - pa[1])) / det;
+        let gy = ((pc[2] - pa[2]) * (pb[0] - pa[0]) - (pb[2] - pa[2]) * (pc[0] - pa[0])) / det;
+        let zmin = pa[2].min(pb[2]).min(pc[2]) as f32;
+        let zmax = pa[2].max(pb[2]).max(pc[2]) as f32;
+        let gx32 = gx as f32;
+        let pixels = &mut canvas.pixels;
+        let corners = [[pa[0], pa[1]], [pb[0], pb[1]], [pc[0], pc[1]]];
+        raster::fill_snapped(
+            [fixed[a], fixed[b], fixed[c]],
+            corners,
+            &clip,
+            |y, x0, x1| {
+                let row_z =
+                    (pa[2] + gx * (x0 as f64 + 0.5 - pa[0]) + gy * (y as f64 + 0.5 - pa[1])) as f32;
+                let zrow = &mut depth[(y - vy0) * vw..(y - vy0 + 1) * vw];
+                let prow = &mut pixels[y * w..(y + 1) * w];
+                for (i, x) in (x0..x1).enumerate() {
+                    let z = (row_z + gx32 * i as f32).clamp(zmin, zmax);
+                    if z < zrow[x - vx0] {
+                        zrow[x - vx0] = z;
+                        prow[x] = color;
+                    }
+                }
+            },
+        );
+    }
+    if let Some(edge) = style.edges {
+        // Edges win against the surface they lie on, within a couple of
+        // pixels' worth of depth.
+        let eps = (2.0 / camera.pixels_per_unit(viewport)) as f32;
+        for t in triangles.iter().filter(|t| super::style::valid(t, n)) {
+            for k in 0..3 {
+                let (a, b) = (q[t[k] as usize], q[t[(k + 1) % 3] as usize]);
+                let pixels = &mut canvas.pixels;
+                raster::draw_line([a[0], a[1]], [b[0], b[1]], &clip, |x, y, s| {
+                    let z = (a[2] + f64::from(s) * (b[2] - a[2])) as f32;
+                    if z <= depth[(y - vy0) * vw + x - vx0] + eps {
+                        pixels[y * w + x] = edge;
+                    }
+                });
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::super::palette::{slot, Palette};
+    use super::*;
+
+    /// A unit cube, triangles counter-clockwise seen from outside.
+    pub(crate) fn cube() -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+        let p = (0..8)
+            .map(|i| {
+                [
+                    f64::from(i & 1),
+                    f64::from((i >> 1) & 1),
+                    f64::from((i >> 2) & 1),
+                ]
+            })
+            .collect();
+        let quads = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        let t = quads
+            .iter()
+            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+            .collect();
+        (p, t)
+    }
+
+    #[test]
+    fn camera_axes_and_fit() {
+        let c = Camera3d::orbit(0.0, 0.0);
+        assert_eq!(c.forward, [-0.0, -0.0, -1.0]);
+        assert!((c.right[0] - 1.0).abs() < 1e-12 && (c.up[1] - 1.0).abs() < 1e-12);
+        let c = Camera3d::orbit(90.0, 0.0);
+        assert!((c.forward[0] + 1.0).abs() < 1e-12);
+        // Looking straight down y with y "up": a perpendicular up is chosen.
+        let c = Camera3d::looking([0.0, -1.0, 0.0], [0.0, 1.0, 0.0]);
+        assert!(dot(c.up, c.forward).abs() < 1e-12 && (norm(c.up) - 1.0).abs() < 1e-12);
+        let c = Camera3d::looking([0.0; 3], [0.0; 3]);
+        assert_eq!(c.forward, [0.0, 0.0, -1.0]);
+
+        let (p, _) = cube();
+        let shifted: Vec<[f64; 3]> = p.iter().map(|q| [q[0] * 2.0 + 5.0, q[1], q[2]]).collect();
+        let c = Camera3d::orbit(0.0, 0.0).fitted([p.as_slice(), shifted.as_slice()]);
+        assert!((c.half_size[0] - 3.5).abs() < 1e-12 && (c.half_size[1] - 0.5).abs() < 1e-12);
+        let vp = Rect {
+            x: 10,
+            y: 20,
+            width: 70,
+            height: 50,
+        };
+        let q = c.project([0.0, 0.0, 0.0], vp);
+        assert!(
+            (q[0] - 10.0).abs() < 1e-9 && (q[1] - (45.0 + 5.0)).abs() < 1e-9,
+            "{q:?}"
+        );
+        let q = c.project([7.0, 1.0, 1.0], vp);
+        assert!(
+            (q[0] - 80.0).abs() < 1e-9 && (q[1] - 40.0).abs() < 1e-9 && q[2] < 0.0,
+            "{q:?}"
+        );
+        // All points equal: a region of size 1.
+        let one = [[1.0, 2.0, 3.0]];
+        let c = Camera3d::orbit(30.0, 20.0).fitted([one.as_slice()]);
+        assert_eq!(c.half_size, [1.0, 1.0]);
+        assert!(c.project(one[0], vp).iter().all(|x| x.is_finite()));
+    }
+
+    #[test]
+    fn the_near_face_hides_the_far_one_and_shading_follows_the_normal() {
+        let (p, t) = cube();
+        let cam = Camera3d::orbit(0.0, 0.0).fitted([p.as_slice()]);
+        let mut canvas = Canvas::new(40, 40, Palette::standard());
+        let vp = canvas.bounds();
+        draw_mesh_3d(&mut canvas, &p, &t, &cam, vp, &Style3d::default());
+        // Front view of a cube: one face fills the viewport, one shade.
+        let first = canvas.pixels[0];
+        assert!(canvas.pixels.iter().all(|&i| i == first));
+        let r = Ramp::BLUE;
+        assert!((r.first..r.first + r.len).contains(&first));
+        // Depth test: a square facing the camera in front of a tilted one
+        // drawn after it in the same call keeps the middle of the picture.
+        let sq = [
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [1.0, 1.0, 1.0],
+            [0.0, 1.0, 1.0],
+        ];
+        let tilted = [
+            [-1.0, -1.0, -1.0],
+            [2.0, -1.0, 0.0],
+            [2.0, 2.0, 0.0],
+            [-1.0, 2.0, -1.0],
+        ];
+        let pq: Vec<[f64; 3]> = sq.iter().chain(&tilted).copied().collect();
+        let near = [[0, 1, 2], [0, 2, 3]];
+        let far = [[4, 5, 6], [4, 6, 7]];
+        let cam = Camera3d::orbit(0.0, 0.0).fitted([sq.as_slice()]);
+        let shade_of = |tris: &[[u32; 3]]| {
+            let mut c = Canvas::new(20, 20, Palette::standard());
+            let vp = c.bounds();
+            draw_mesh_3d(&mut c, &pq, tris, &cam, vp, &Style3d::default());
+            c.get(10, 10).unwrap()
+        };
+        let (near_shade, far_shade) = (shade_of(&near), shade_of(&far));
+        assert_ne!(near_shade, far_shade);
+        assert_eq!(shade_of(&[near[0], near[1], far[0], far[1]]), near_shade);
+        assert_eq!(shade_of(&[far[0], far[1], near[0], near[1]]), near_shade);
+        // Three-quarter view from above: three faces, three shades, and the
+        // background around it; a second ramp changes only the colours.
+        let cam = Camera3d::orbit(35.0, 30.0).fitted([p.as_slice()]);
+        let mut c = Canvas::new(60, 60, Palette::standard());
+        draw_mesh_3d(
+            &mut c,
+            &p,
+            &t,
+            &cam,
+            Rect {
+                x: 5,
+                y: 5,
+                width: 50,
+                height: 50,
+            },
+            &Style3d::default(),
+        );
+        let mut shades: Vec<u8> = c.pixels.clone();
+        shades.sort_unstable();
+        shades.dedup();
+        assert_eq!(shades.len(), 4, "{shades:?}");
+        assert_eq!(c.get(2, 2), Some(slot::BACKGROUND));
+        let mut d = Canvas::new(60, 60, Palette::standard());
+        let sand = Style3d::with_ramp(Ramp::SAND).with_edges();
+        draw_mesh_3d(
+            &mut d,
+            &p,
+            &t,
+            &cam,
+            Rect {
+                x: 5,
+                y: 5,
+                width: 50,
+                height: 50,
+            },
+            &sand,
+        );
+        let edge = sand.edges.unwrap();
+        assert!(d.count(edge) > 50);
+        assert!(d
+            .pixels
+            .iter()
+            .all(|&i| i == slot::BACKGROUND
+                || (Ramp::SAND.first..Ramp::SAND.first + 32).contains(&i)));
+        assert!(c.count(edge) == 0 && c.count(Ramp::BLUE.index(0.06)) == 0);
+    }
+
+    #[test]
+    fn degenerate_input_does_not_panic() {
+        let mut c = Canvas::new(30, 20, Palette::standard());
+        let t = [[0, 1, 2], [0, 1, 3], [0, 0, 0]];
+        let style = Style3d::default().with_edges();
+        for p in [
+            vec![[1.0; 3]; 3],
+            vec![[0.0, 0.0, 0.0], [1.0, 1.0, 1.0], [2.0, 2.0, 2.0]],
+            vec![
+                [1e300, -1e300, 0.0],
+                [-1e300, 1e300, 1e300],
+                [0.0, 0.0, -1e300],
+            ],
+        ] {
+            let cam = Camera3d::orbit(10.0, 10.0).fitted([p.as_slice()]);
+            for vp in [
+                c.bounds(),
+                Rect {
+                    x: 25,
+                    y: 15,
+                    width: 100,
+                    height: 100,
+                },
+                Rect {
+                    x: 99,
+                    y: 0,
+                    width: 5,
+                    height: 5,
+                },
+            ] {
+                draw_mesh_3d(&mut c, &p, &t, &cam, vp, &style);
+            }
+        }
+    }
+}

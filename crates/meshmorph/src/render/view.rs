@@ -1,0 +1,216 @@
+//! [`View2d`]: the fixed map from the plane of a planar mesh to pixels.
+
+/// An axis-aligned map from world coordinates (y up) to pixel coordinates
+/// (y down, `(0, 0)` the top-left corner of the top-left pixel), with the
+/// same scale on both axes.
+///
+/// One view fitted over every frame of an animation keeps the camera still
+/// while the mesh moves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View2d {
+    /// Picture width in pixels.
+    pub width: u32,
+    /// Picture height in pixels.
+    pub height: u32,
+    /// Pixels per world unit.
+    pub scale: f64,
+    /// The world point drawn at the centre of the picture.
+    pub center: [f64; 2],
+}
+
+/// Pictures are no taller than this many times their width when the height
+/// is chosen from the aspect ratio...
+const MAX_ASPECT: u32 = 2;
+/// ...and no shorter than their width divided by this.
+const MIN_ASPECT: u32 = 4;
+
+impl View2d {
+    /// The view of a `width` × `height` picture that shows every point of
+    /// every frame, as large as possible with at least `margin_px` pixels
+    /// of background on each side, centred.
+    ///
+    /// With `height` `None` the height follows the aspect ratio of the
+    /// bounds (plus margins), clamped to between a quarter and twice the
+    /// width and rounded up to an even number (video encoders want even
+    /// sizes). Non-finite coordinates are ignored; with no points at all
+    /// the view shows the unit square. Sizes of 0 count as 1.
+    pub fn fitting<'a>(
+        frames: impl IntoIterator<Item = &'a [[f64; 2]]>,
+        width: u32,
+        height: Option<u32>,
+        margin_px: u32,
+    ) -> Self {
+        let mut lo = [f64::INFINITY; 2];
+        let mut hi = [f64::NEG_INFINITY; 2];
+        for frame in frames {
+            for p in frame {
+                if p[0].is_finite() && p[1].is_finite() {
+                    for k in 0..2 {
+                        lo[k] = lo[k].min(p[k]);
+                        hi[k] = hi[k].max(p[k]);
+                    }
+                }
+            }
+        }
+        if lo[0] > hi[0] {
+            (lo, hi) = ([0.0; 2], [1.0; 2]);
+        }
+        Self::fitting_bounds(lo, hi, width, height, margin_px)
+    }
+
+    /// [`View2d::fitting`] for the box from `lo` to `hi` (finite, `lo <= hi`).
+    pub fn fitting_bounds(
+        lo: [f64; 2],
+        hi: [f64; 2],
+        width: u32,
+        height: Option<u32>,
+        margin_px: u32,
+    ) -> Self {
+        let width = width.max(1);
+        // Halves, so that neither the extent nor the centre overflows.
+        let half = [hi[0] / 2.0 - lo[0] / 2.0, hi[1] / 2.0 - lo[1] / 2.0];
+        let center = [lo[0] / 2.0 + hi[0] / 2.0, lo[1] / 2.0 + hi[1] / 2.0];
+        let height = match height {
+            Some(h) => h.max(1),
+            None => {
+                let m = effective_margin(width, margin_px);
+                let inner_w = f64::from(width - 2 * m);
+                let inner_h = if half[0] > 0.0 {
+                    inner_w * (half[1] / half[0])
+                } else if half[1] > 0.0 {
+                    f64::INFINITY
+                } else {
+                    inner_w
+                };
+                let lo_lim = (width / MIN_ASPECT).max(2 * margin_px + 2);
+                let hi_lim = width.saturating_mul(MAX_ASPECT).max(lo_lim);
+                let h = (inner_h + f64::from(2 * m))
+                    .ceil()
+                    .clamp(f64::from(lo_lim), f64::from(hi_lim)) as u32;
+                h.saturating_add(h % 2)
+            }
+        };
+        let mx = effective_margin(width, margin_px);
+        let my = effective_margin(height, margin_px);
+        let avail = [
+            f64::from(width - 2 * mx) / 2.0,
+            f64::from(height - 2 * my) / 2.0,
+        ];
+        let mut scale = f64::INFINITY;
+        for k in 0..2 {
+            if half[k] > 0.0 {
+                scale = scale.min(avail[k] / half[k]);
+            }
+        }
+        if !scale.is_finite() || scale <= 0.0 {
+            // A single point (or bounds so small that the scale overflows).
+            scale = if half[0] > 0.0 || half[1] > 0.0 {
+                f64::MAX
+            } else {
+                1.0
+            };
+        }
+        View2d {
+            width,
+            height,
+            scale,
+            center,
+        }
+    }
+
+    /// Pixel coordinates of world point `p`.
+    #[inline]
+    pub fn to_pixel(&self, p: [f64; 2]) -> [f64; 2] {
+        [
+            f64::from(self.width) * 0.5 + (p[0] - self.center[0]) * self.scale,
+            f64::from(self.height) * 0.5 - (p[1] - self.center[1]) * self.scale,
+        ]
+    }
+
+    /// World coordinates of pixel point `q` (inverse of [`View2d::to_pixel`]).
+    #[inline]
+    pub fn to_world(&self, q: [f64; 2]) -> [f64; 2] {
+        [
+            self.center[0] + (q[0] - f64::from(self.width) * 0.5) / self.scale,
+            self.center[1] - (q[1] - f64::from(self.height) * 0.5) / self.scale,
+        ]
+    }
+}
+
+/// The margin actually kept: at most what leaves one pixel in the middle.
+fn effective_margin(size: u32, margin: u32) -> u32 {
+    margin.min(size.saturating_sub(1) / 2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn inside(v: &View2d, p: [f64; 2], margin: f64) -> bool {
+        let q = v.to_pixel(p);
+        let eps = 1e-9;
+        q[0] >= margin - eps
+            && q[1] >= margin - eps
+            && q[0] <= f64::from(v.width) - margin + eps
+            && q[1] <= f64::from(v.height) - margin + eps
+    }
+
+    #[test]
+    fn holds_every_frame_and_keeps_the_aspect_ratio() {
+        let a = vec![[0.0, 0.0], [2.0, 0.0], [2.0, 1.0]];
+        let b = vec![[-1.0, 0.5], [3.0, -0.5], [0.0, 1.5]];
+        let v = View2d::fitting([a.as_slice(), b.as_slice()], 400, None, 10);
+        // Bounds 4 × 2 plus margins: 380 × 190 inside.
+        assert_eq!(v.height, 210);
+        assert!((v.scale - 95.0).abs() < 1e-12);
+        for p in a.iter().chain(&b) {
+            assert!(inside(&v, *p, 10.0), "{p:?} -> {:?}", v.to_pixel(*p));
+        }
+        // The corners of the bounds touch the margin on both axes.
+        assert!((v.to_pixel([-1.0, 1.5])[0] - 10.0).abs() < 1e-9);
+        assert!((v.to_pixel([-1.0, 1.5])[1] - 10.0).abs() < 1e-9);
+        // Same scale on both axes: a unit square stays square.
+        let (p, q) = (v.to_pixel([0.0, 0.0]), v.to_pixel([1.0, 1.0]));
+        assert!(((q[0] - p[0]) + (q[1] - p[1])).abs() < 1e-9);
+        assert!((v.to_world(v.to_pixel([0.3, -0.2]))[1] + 0.2).abs() < 1e-12);
+
+        // A fixed height: the wide bounds limit the scale; everything fits.
+        let v = View2d::fitting([a.as_slice(), b.as_slice()], 400, Some(400), 10);
+        assert!((v.scale - 95.0).abs() < 1e-12);
+        for p in a.iter().chain(&b) {
+            assert!(inside(&v, *p, 10.0));
+        }
+    }
+
+    #[test]
+    fn clamps_the_chosen_height() {
+        let tall = [[0.0, 0.0], [0.001, 100.0]];
+        let v = View2d::fitting([tall.as_slice()], 300, None, 5);
+        assert_eq!(v.height, 600);
+        assert!(inside(&v, tall[1], 5.0));
+        let wide = [[0.0, 0.0], [100.0, 0.0]];
+        let v = View2d::fitting([wide.as_slice()], 301, None, 5);
+        assert_eq!(v.height, 76);
+        assert!(inside(&v, wide[1], 5.0));
+        assert_eq!(v.height % 2, 0);
+    }
+
+    #[test]
+    fn degenerate_bounds_do_not_panic() {
+        let same = [[3.0, 4.0]; 5];
+        let v = View2d::fitting([same.as_slice()], 100, None, 10);
+        assert_eq!(v.to_pixel([3.0, 4.0]), [50.0, f64::from(v.height) / 2.0]);
+        let none: [&[[f64; 2]]; 0] = [];
+        let v = View2d::fitting(none, 0, Some(0), 10);
+        assert_eq!((v.width, v.height), (1, 1));
+        assert!(v.scale.is_finite());
+        let huge = [[-1e308, -1e308], [1.7e308, 1e308], [f64::NAN, 0.0]];
+        let v = View2d::fitting([huge.as_slice()], 640, None, 10);
+        assert!(v.scale > 0.0 && v.scale.is_finite());
+        let q = v.to_pixel(huge[1]);
+        assert!(q[0].is_finite() && q[0] <= 631.0);
+        let tiny = [[0.0, 0.0], [1e-320, 0.0]];
+        let v = View2d::fitting([tiny.as_slice()], 64, None, 4);
+        assert!(v.scale > 0.0);
+    }
+}

@@ -1,0 +1,879 @@
+//! Reading and writing OBJ, OFF and PLY files.
+
+use std::path::{Path, PathBuf};
+
+use meshmorph::io::{
+    parse_mesh, read_mesh, read_mesh_as, write_atomic, write_mesh, write_positions, Format,
+};
+use meshmorph::{Error, Mesh2, Mesh3};
+
+const FORMATS: [Format; 3] = [Format::Obj, Format::Off, Format::Ply];
+
+fn parse(text: &str, format: Format) -> meshmorph::Result<Mesh3> {
+    parse_mesh(
+        text.as_bytes(),
+        format,
+        Path::new(&format!("fixture.{format}")),
+    )
+}
+
+fn ok(text: &str, format: Format) -> Mesh3 {
+    parse(text, format).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The error message, checked to name the fixture file and the line.
+#[track_caller]
+fn error(text: &str, format: Format, line: Option<usize>, needle: &str) -> String {
+    let e = parse(text, format).expect_err("should not parse");
+    let msg = e.to_string();
+    assert!(
+        msg.contains(&format!("fixture.{format}")),
+        "no file name: {msg}"
+    );
+    match &e {
+        Error::Parse { line: l, .. } => assert_eq!(*l, line, "{msg}"),
+        other => panic!("not a parse error: {other:?}"),
+    }
+    if let Some(l) = line {
+        assert!(msg.contains(&format!("line {l}")), "{msg}");
+    }
+    assert!(msg.contains(needle), "`{needle}` not in: {msg}");
+    msg
+}
+
+/// Twice the signed area of each triangle's projection on the xy plane.
+fn xy_areas(m: &Mesh3) -> Vec<f64> {
+    (0..m.num_triangles())
+        .map(|t| {
+            let [a, b, c] = m.corners(t);
+            (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+        })
+        .collect()
+}
+
+fn awkward_mesh() -> Mesh3 {
+    let positions = vec![
+        [0.1, 1.0 / 3.0, -2.5e-300],
+        [1e20, -0.0, 5e-324],
+        [f64::MAX, f64::MIN_POSITIVE, -1.0],
+        [
+            std::f64::consts::PI,
+            -std::f64::consts::E,
+            123_456_789.123_456_78,
+        ],
+        [0.0, 0.0, 0.0], // unused vertex
+    ];
+    Mesh3::new(positions, vec![[0, 1, 2], [2, 1, 3], [3, 0, 2]]).unwrap()
+}
+
+fn planar_mesh() -> Mesh2 {
+    let positions = vec![
+        [0.0, 0.0],
+        [1.0, 0.0],
+        [1.0, 1.0],
+        [0.0, 1.0],
+        [0.5, 0.7000000000000001],
+    ];
+    Mesh2::new(positions, vec![[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]).unwrap()
+}
+
+#[test]
+fn round_trips_are_exact_in_every_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = awkward_mesh();
+    let planar = planar_mesh();
+    for format in FORMATS {
+        let path = dir.path().join(format!("mesh.{format}"));
+        write_mesh(&path, &mesh, format).unwrap();
+        assert_eq!(read_mesh(&path).unwrap(), mesh, "{format}");
+
+        write_mesh(&path, &planar, format).unwrap();
+        let back = read_mesh(&path).unwrap();
+        assert!(back.positions().iter().all(|p| p[2] == 0.0));
+        assert_eq!(back.to_2d().unwrap(), planar, "{format}");
+
+        // write_positions writes the same bytes as write_mesh.
+        let other = dir.path().join(format!("positions.{format}"));
+        write_positions(&other, planar.positions(), planar.triangles(), format).unwrap();
+        assert_eq!(
+            std::fs::read(&other).unwrap(),
+            std::fs::read(&path).unwrap()
+        );
+    }
+}
+
+#[test]
+fn written_files_look_standard() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = planar_mesh();
+    let path = dir.path().join("m.obj");
+    write_mesh(&path, &mesh, Format::Obj).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.starts_with("v 0 0 0\nv 1 0 0\n"), "{text}");
+    assert!(text.contains("\nv 0.5 0.7000000000000001 0\n"), "{text}");
+    assert!(text.ends_with("f 4 1 5\n"), "{text}");
+
+    let path = dir.path().join("m.off");
+    write_mesh(&path, &mesh, Format::Off).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.starts_with("OFF\n5 4 0\n0 0 0\n"), "{text}");
+    assert!(text.ends_with("3 3 0 4\n"), "{text}");
+
+    let path = dir.path().join("m.ply");
+    write_mesh(&path, &mesh, Format::Ply).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    let header = "ply\nformat binary_little_endian 1.0\n";
+    assert!(bytes.starts_with(header.as_bytes()));
+    let text = String::from_utf8_lossy(&bytes);
+    assert!(text.contains("property double x\nproperty double y\nproperty double z\n"));
+    assert!(text.contains("property list uchar int vertex_indices\nend_header\n"));
+    let body = text.find("end_header\n").unwrap() + "end_header\n".len();
+    assert_eq!(bytes.len() - body, 5 * 24 + 4 * 13);
+}
+
+#[test]
+fn obj_face_syntaxes_and_negative_indices() {
+    let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n\
+                f 1 2 3\nf 1/1 3/1 4/1\nf 1/1/1 2/1/1 3/1/1\nf 1//1 3//1 4//1\nf -4 -3 -2\nf -4/1 -2/1/1 -1//1\n";
+    let m = ok(text, Format::Obj);
+    assert_eq!(m.num_vertices(), 4);
+    assert_eq!(
+        m.triangles(),
+        &[
+            [0, 1, 2],
+            [0, 2, 3],
+            [0, 1, 2],
+            [0, 2, 3],
+            [0, 1, 2],
+            [0, 2, 3]
+        ]
+    );
+    // Relative indices count back from the vertices defined so far.
+    let m = ok(
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 5 5 5\nf -4 -3 -2\n",
+        Format::Obj,
+    );
+    assert_eq!(m.triangles(), &[[0, 1, 2], [0, 1, 2]]);
+}
+
+#[test]
+fn obj_crlf_comments_blank_lines_and_other_statements() {
+    let text = "# a comment\r\nmtllib x.mtl\r\n\r\no thing\r\ng group\r\ns 1\r\nusemtl red\r\n\
+                v 0 0 # z absent below\r\nv 1 0\r\n  v   0 1 0 1.0  \r\n\tv 2 2 2\r\n\r\n\
+                vt 0.5 0.5\r\nvn 0 0 1\r\nvp 0.1\r\nl 1 2\r\ncstype bezier\r\nf 1 2 3 # trailing\r\n";
+    let m = ok(text, Format::Obj);
+    assert_eq!(
+        m.positions(),
+        &[
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [2.0, 2.0, 2.0]
+        ]
+    );
+    assert_eq!(m.triangles(), &[[0, 1, 2]]);
+    // A last line without a line end, and forward references.
+    let m = ok("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0", Format::Obj);
+    assert_eq!(m.triangles(), &[[0, 1, 2]]);
+}
+
+#[test]
+fn concave_polygon_is_ear_clipped_with_its_orientation() {
+    // An L-shaped hexagon of area 3; a fan from vertex 0 would cover the notch.
+    let l_shape = "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\n";
+    for (faces, sign) in [("f 4 5 6 1 2 3\n", 1.0), ("f 6 5 4 3 2 1\n", -1.0)] {
+        let m = ok(&format!("{l_shape}{faces}"), Format::Obj);
+        assert_eq!(m.num_triangles(), 4);
+        let areas = xy_areas(&m);
+        assert!(areas.iter().all(|&a| sign * a > 0.0), "{:?}", m.triangles());
+        assert!((areas.iter().sum::<f64>() - sign * 6.0).abs() < 1e-12);
+        // No triangle covers the notch (1.5, 1.5).
+        for t in 0..m.num_triangles() {
+            let [a, b, c] = m.corners(t);
+            let x = [1.5, 1.5];
+            let s = |p: [f64; 3], q: [f64; 3]| {
+                sign * ((q[0] - p[0]) * (x[1] - p[1]) - (q[1] - p[1]) * (x[0] - p[0]))
+            };
+            assert!(!(s(a, b) > 0.0 && s(b, c) > 0.0 && s(c, a) > 0.0));
+        }
+    }
+    // The same polygon in a tilted plane (z = x + y) in OFF.
+    let off = "OFF\n6 1 0\n0 0 0\n2 0 2\n2 1 3\n1 1 2\n1 2 3\n0 2 2\n6 0 1 2 3 4 5\n";
+    let m = ok(off, Format::Off);
+    assert_eq!(m.num_triangles(), 4);
+    let areas = xy_areas(&m);
+    assert!(areas.iter().all(|&a| a > 0.0));
+    assert!((areas.iter().sum::<f64>() - 6.0).abs() < 1e-12);
+}
+
+#[test]
+fn convex_quad_is_split_along_the_shorter_diagonal() {
+    let m = ok(
+        "v 0 0 0\nv 4 0 0\nv 4.5 1 0\nv 0 1 0\nf 1 2 3 4\n",
+        Format::Obj,
+    );
+    assert_eq!(m.triangles(), &[[1, 2, 3], [1, 3, 0]]);
+    let m = ok(
+        "v 0 0 0\nv 4 0 0\nv 4 1 0\nv -0.5 1 0\nf 1 2 3 4\n",
+        Format::Obj,
+    );
+    assert_eq!(m.triangles(), &[[0, 1, 2], [0, 2, 3]]);
+}
+
+#[test]
+fn off_variants_colours_and_polygons() {
+    let text = "# leading comment\n\nOFF\n# counts next\n5 3 0\n0 0 0\n1 0 0\n1 1 0 # comment\n\n0 1 0\n0.5 2 0\n\
+                3 0 1 2 255 0 0\n3 0 2 3 0.1 0.2 0.3 1.0\n3 3 2 4\n";
+    let m = ok(text, Format::Off);
+    assert_eq!(m.num_vertices(), 5);
+    assert_eq!(m.triangles(), &[[0, 1, 2], [0, 2, 3], [3, 2, 4]]);
+    // COFF with vertex colours, counts on the keyword line, CRLF, a quad.
+    let text = "COFF 4 1 4\r\n0 0 0 255 0 0 255\r\n1 0 0 0 255 0 255\r\n1 1 0 0 0 255 255\r\n0 1 0 9 9 9 255\r\n4 0 1 2 3 7 7 7\r\n";
+    let m = ok(text, Format::Off);
+    assert_eq!(m.num_triangles(), 2);
+    assert!(xy_areas(&m).iter().all(|&a| (a - 1.0).abs() < 1e-15));
+    // Keyword glued to the counts, as some exporters write it; no keyword.
+    assert_eq!(
+        ok("OFF3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", Format::Off).num_triangles(),
+        1
+    );
+    assert_eq!(
+        ok("3 1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", Format::Off).num_triangles(),
+        1
+    );
+}
+
+/// The PLY header for the test fixtures.
+fn ply_header(format: &str, vertex_props: &str, face_list: &str, nv: usize, nf: usize) -> Vec<u8> {
+    format!(
+        "ply\nformat {format} 1.0\ncomment hand-made\nobj_info test\nelement vertex {nv}\n{vertex_props}\
+         element face {nf}\nproperty {face_list}\nproperty uchar flags\nelement edge 2\n\
+         property int vertex1\nproperty int vertex2\nend_header\n"
+    )
+    .into_bytes()
+}
+
+fn ply_quad(m: &Mesh3) {
+    assert_eq!(
+        m.positions(),
+        &[
+            [0.0, 0.0, 0.5],
+            [2.0, 0.0, 0.5],
+            [2.0, 1.0, 0.5],
+            [0.0, 1.0, 0.5],
+            [1.0, 3.0, -0.25]
+        ]
+    );
+    assert_eq!(m.num_triangles(), 3);
+    assert!(xy_areas(m).iter().all(|&a| a > 0.0));
+    assert!((xy_areas(m).iter().sum::<f64>() - 8.0).abs() < 1e-12);
+}
+
+#[test]
+fn ply_ascii() {
+    let props = "property float x\nproperty float y\nproperty float z\nproperty float nx\nproperty uchar red\n";
+    let mut text = ply_header("ascii", props, "list uchar int vertex_indices", 5, 2);
+    text.extend_from_slice(
+        b"0 0 0.5 0 1\n2 0 0.5 0 2\r\n2 1 0.5 0 3\n\n0 1 0.5 0 4\n1 3 -0.25 0 5\n\
+          4 0 1 2 3 7\n3 3 2 4 0\n0 1\n1 2\n",
+    );
+    ply_quad(&parse_mesh(&text, Format::Ply, Path::new("a.ply")).unwrap());
+    // Without z, with `vertex_index` and other types.
+    let mut text = ply_header(
+        "ascii",
+        "property double y\nproperty double x\n",
+        "list int uint vertex_index",
+        3,
+        1,
+    );
+    text.extend_from_slice(b"0 0\n0 1\n1 0\n3 0 1 2 0\n0 1\n1 2\n");
+    let m = parse_mesh(&text, Format::Ply, Path::new("a.ply")).unwrap();
+    assert_eq!(
+        m.positions(),
+        &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+    );
+}
+
+#[test]
+fn ply_binary_little_and_big_endian() {
+    let vertices: [[f64; 3]; 5] = [
+        [0.0, 0.0, 0.5],
+        [2.0, 0.0, 0.5],
+        [2.0, 1.0, 0.5],
+        [0.0, 1.0, 0.5],
+        [1.0, 3.0, -0.25],
+    ];
+    let faces: [&[u32]; 2] = [&[0, 1, 2, 3], &[3, 2, 4]];
+    for big in [false, true] {
+        let (name, props) = if big {
+            (
+                "binary_big_endian",
+                "property short id\nproperty float x\nproperty float y\nproperty double z\n",
+            )
+        } else {
+            ("binary_little_endian", "property double x\nproperty list uchar uchar junk\nproperty float y\nproperty float z\n")
+        };
+        let list = if big {
+            "list ushort uint vertex_indices"
+        } else {
+            "list uchar int vertex_indices"
+        };
+        let mut bytes = ply_header(name, props, list, 5, 2);
+        macro_rules! put {
+            ($v:expr) => {
+                bytes.extend_from_slice(&if big {
+                    $v.to_be_bytes()
+                } else {
+                    $v.to_le_bytes()
+                })
+            };
+        }
+        for (i, p) in vertices.iter().enumerate() {
+            if big {
+                put!(i as i16);
+                put!(p[0] as f32);
+                put!(p[1] as f32);
+                put!(p[2]);
+            } else {
+                put!(p[0]);
+                bytes.extend_from_slice(&[2, 7, 7]);
+                put!(p[1] as f32);
+                put!(p[2] as f32);
+            }
+        }
+        for f in faces {
+            if big {
+                put!(f.len() as u16);
+                for &i in f {
+                    put!(i);
+                }
+            } else {
+                bytes.push(f.len() as u8);
+                for &i in f {
+                    put!(i as i32);
+                }
+            }
+            bytes.push(0); // flags
+        }
+        for e in [[0i32, 1], [1, 2]] {
+            put!(e[0]);
+            put!(e[1]);
+        }
+        let m =
+            parse_mesh(&bytes, Format::Ply, Path::new("b.ply")).unwrap_or_else(|e| panic!("{e}"));
+        ply_quad(&m);
+    }
+}
+
+#[test]
+fn obj_errors_name_the_file_and_line() {
+    let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    let o = Format::Obj;
+    error(
+        &format!("{tri}v 1 2 x3\nf 1 2 3\n"),
+        o,
+        Some(4),
+        "`x3` is not a number",
+    );
+    error(
+        &format!("{tri}v 1 nan 3\nf 1 2 3\n"),
+        o,
+        Some(4),
+        "vertex 4",
+    );
+    error(
+        &format!("{tri}\nv 1 1e999 3\nf 1 2 3\n"),
+        o,
+        Some(5),
+        "not a finite number",
+    );
+    error(
+        &format!("{tri}v 1 -inf 3\n"),
+        o,
+        Some(4),
+        "not a finite number",
+    );
+    error(&format!("{tri}v 1\n"), o, Some(4), "at least 2 coordinates");
+    error(
+        &format!("{tri}f 1 2\n"),
+        o,
+        Some(4),
+        "at least 3 vertices, found 2",
+    );
+    error(&format!("{tri}f 1\n"), o, Some(4), "found 1");
+    error(&format!("{tri}f 1 0 2\n"), o, Some(4), "index 0");
+    error(
+        &format!("{tri}f 1 x 2\n"),
+        o,
+        Some(4),
+        "`x` is not a vertex index",
+    );
+    // Checked after the whole file: the face's line, the index and the count.
+    let msg = error(
+        &format!("{tri}f 1 2 3\nf 1 2 7 # bad\nv 1 1 1\n"),
+        o,
+        Some(5),
+        "vertex index 7 is out of range",
+    );
+    assert!(msg.contains("4 vertices"), "{msg}");
+    error(
+        &format!("{tri}f 1 2 -4\n"),
+        o,
+        Some(4),
+        "only 3 vertices are defined",
+    );
+    error(
+        &format!("{tri}f 1 2 99999999999\n"),
+        o,
+        Some(4),
+        "out of range",
+    );
+    error(
+        &format!("{tri}f 1 2 1\n"),
+        o,
+        Some(4),
+        "vertex 1 (1-based) more than once",
+    );
+    error(
+        &format!("{tri}f 1 3 -1\n"),
+        o,
+        Some(4),
+        "vertex 3 (1-based) more than once",
+    );
+    error("", o, None, "no triangles");
+    error("# nothing\n\n", o, None, "no triangles");
+    error(tri, o, None, "no triangles");
+}
+
+#[test]
+fn off_errors_name_the_file_and_line() {
+    let f = Format::Off;
+    let head = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n";
+    error(
+        &format!("{head}3 0 1 3\n"),
+        f,
+        Some(6),
+        "vertex index 3 is out of range: the file has 3 vertices",
+    );
+    error(&format!("{head}3 0 1 -1\n"), f, Some(6), "out of range");
+    error(
+        &format!("{head}3 0 1 1\n"),
+        f,
+        Some(6),
+        "uses vertex 1 more than once",
+    );
+    error(&format!("{head}2 0 1\n"), f, Some(6), "at least 3");
+    error(
+        &format!("{head}4 0 1 2\n"),
+        f,
+        Some(6),
+        "announces 4 vertices but lists 3",
+    );
+    error(
+        &format!("{head}3 0 1 z\n"),
+        f,
+        Some(6),
+        "`z` is not a vertex index",
+    );
+    error(
+        "OFF\n3 1 0\n0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n",
+        f,
+        Some(4),
+        "`zero` is not a number",
+    );
+    error(
+        "OFF\n3 1 0\n0 0 0\n1 0 inf\n0 1 0\n3 0 1 2\n",
+        f,
+        Some(4),
+        "vertex 1 has a coordinate that is not a finite",
+    );
+    error(
+        "OFF\n3 1 0\n0 0 0\n1 0\n",
+        f,
+        Some(4),
+        "vertex 1 has 2 coordinates",
+    );
+    error("OFF\n3 -1 0\n", f, Some(2), "face count `-1`");
+    error("OFF\n3 1 0 7\n", f, Some(2), "found 4 values");
+    error("PLY\n", f, Some(1), "expected the `OFF` keyword");
+    error("4OFF\n", f, Some(1), "not supported");
+    error("OFF\n", f, Some(1), "no counts");
+    error(head, f, None, "ends after 0 of the 1 faces");
+    error(
+        "OFF\n4 0 0\n0 0 0\n1 0 0\n",
+        f,
+        None,
+        "ends after 2 of the 4 vertices",
+    );
+    error("OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n", f, None, "no triangles");
+    error("", f, None, "no triangles");
+}
+
+#[test]
+fn ply_errors_name_the_file_and_place() {
+    let p = Format::Ply;
+    let head = |nv: usize, nf: usize| {
+        format!(
+            "ply\nformat ascii 1.0\nelement vertex {nv}\nproperty float x\nproperty float y\n\
+             element face {nf}\nproperty list uchar int vertex_indices\nend_header\n"
+        )
+    };
+    let verts = "0 0\n1 0\n0 1\n";
+    error(
+        &format!("{}{verts}3 0 1 3\n", head(3, 1)),
+        p,
+        Some(12),
+        "vertex index 3 is out of range: the file has 3 vertices",
+    );
+    error(
+        &format!("{}{verts}3 0 1 1\n", head(3, 1)),
+        p,
+        Some(12),
+        "face 0: the face uses vertex 1 more than once",
+    );
+    error(
+        &format!("{}{verts}2 0 1\n", head(3, 1)),
+        p,
+        Some(12),
+        "at least 3 vertices",
+    );
+    error(
+        &format!("{}{verts}4 0 1 2\n", head(3, 1)),
+        p,
+        Some(12),
+        "a list of 4 values, but only 3 are left",
+    );
+    error(
+        &format!("{}{verts}3 0 1 2 5\n", head(3, 1)),
+        p,
+        Some(12),
+        "more than the header's properties",
+    );
+    error(
+        &format!("{}0 0\n1 x\n", head(3, 1)),
+        p,
+        Some(10),
+        "vertex 1: `x` is not a number",
+    );
+    error(
+        &format!("{}0 0\n1 nan\n", head(3, 1)),
+        p,
+        Some(10),
+        "coordinate y is not a finite number",
+    );
+    error(
+        &format!("{}{verts}", head(3, 1)),
+        p,
+        Some(11),
+        "announces 1 `face` elements",
+    );
+    error(&format!("{}{verts}", head(3, 0)), p, None, "no triangles");
+    error(
+        "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nend_header\n",
+        p,
+        None,
+        "no triangles",
+    );
+    error(
+        "ply\nformat ascii 1.0\nelement vertex 1\nproperty floaty x\n",
+        p,
+        Some(4),
+        "unknown property type `floaty`",
+    );
+    error(
+        "ply\nformat ascii 1.0\nelemnt vertex 1\n",
+        p,
+        Some(3),
+        "unexpected header line",
+    );
+    error(
+        "ply\nformat ascii 1.0\nelement vertex 1\n",
+        p,
+        None,
+        "no `end_header`",
+    );
+    error("plx\n", p, Some(1), "not a PLY file");
+    // Binary: the element, its number and the byte offset instead of a line.
+    let mut bytes = head(3, 1)
+        .replace("ascii", "binary_little_endian")
+        .into_bytes();
+    for x in [0f32, 0., 1., 0., 0., 1.] {
+        bytes.extend_from_slice(&x.to_le_bytes());
+    }
+    bytes.push(3);
+    for i in [0i32, 1] {
+        bytes.extend_from_slice(&i.to_le_bytes());
+    }
+    let e = parse_mesh(&bytes, p, Path::new("t.ply"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("`t.ply`")
+            && e.contains("face 0 (body byte 25)")
+            && e.contains("a list of 3 values"),
+        "{e}"
+    );
+    bytes.extend_from_slice(&2i32.to_le_bytes()[..3]);
+    let e = parse_mesh(&bytes, p, Path::new("t.ply"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("`t.ply`") && e.contains("face 0"), "{e}");
+}
+
+/// A tiny deterministic generator for garbage bytes.
+fn lcg(seed: &mut u64) -> u8 {
+    *seed = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    (*seed >> 56) as u8
+}
+
+#[test]
+fn truncated_and_garbage_inputs_are_errors_not_panics() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = awkward_mesh();
+    let mut seed = 7;
+    for format in FORMATS {
+        let path = dir.path().join(format!("m.{format}"));
+        write_mesh(&path, &mesh, format).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        // Every prefix (most cut a number or a face short: errors or a
+        // smaller mesh; never a panic) and the empty file.
+        for len in 0..bytes.len() {
+            let _ = parse_mesh(&bytes[..len], format, &path);
+        }
+        assert!(parse_mesh(&[], format, &path).is_err());
+        // Bytes flipped at random places.
+        for _ in 0..300 {
+            let mut b = bytes.clone();
+            for _ in 0..4 {
+                let at = (lcg(&mut seed) as usize * 257 + lcg(&mut seed) as usize) % b.len();
+                b[at] = lcg(&mut seed);
+            }
+            let _ = parse_mesh(&b, format, &path);
+        }
+        // Pure garbage.
+        for len in [1, 10, 100, 1000] {
+            let b: Vec<u8> = (0..len).map(|_| lcg(&mut seed)).collect();
+            assert!(parse_mesh(&b, format, &path).is_err());
+        }
+    }
+    // Truncated binary PLY: an error, not a panic.
+    let path = dir.path().join("m.ply");
+    let bytes = std::fs::read(&path).unwrap();
+    assert!(parse_mesh(&bytes[..bytes.len() - 1], Format::Ply, &path).is_err());
+    // Huge counts in headers must not allocate or loop blindly.
+    let huge = "ply\nformat binary_little_endian 1.0\nelement vertex 18446744073709551615\nproperty double x\n\
+                property double y\nelement face 4000000000000\nproperty list uint uint vertex_indices\nend_header\n";
+    assert!(parse(huge, Format::Ply).is_err());
+    let huge = "ply\nformat ascii 1.0\nelement vertex 900000000000000000\nproperty double x\n\
+                property double y\nelement face 1\nproperty list uint uint vertex_indices\nend_header\n0 0\n";
+    assert!(parse(huge, Format::Ply).is_err());
+    let huge = "ply\nformat binary_big_endian 1.0\nelement junk 900000000000000000\nproperty double a\n\
+                element vertex 0\nproperty double x\nproperty double y\nelement face 0\nproperty list uint uint vertex_indices\nend_header\n";
+    assert!(parse(huge, Format::Ply).is_err());
+    assert!(parse(
+        "OFF\n900000000000000000 900000000000000000 0\n0 0 0\n",
+        Format::Off
+    )
+    .is_err());
+    let mut list = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty uchar x\nproperty uchar y\n\
+                    element face 1\nproperty list uint uint vertex_indices\nend_header\n\0\0\x01\0\0\x01"
+        .as_bytes()
+        .to_vec();
+    list.extend_from_slice(&u32::MAX.to_le_bytes());
+    assert!(parse_mesh(&list, Format::Ply, Path::new("x.ply"))
+        .unwrap_err()
+        .to_string()
+        .contains("a list of 4294967295"));
+}
+
+fn dir_entries(dir: &Path) -> Vec<PathBuf> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect()
+}
+
+#[test]
+fn failed_writes_leave_nothing_behind() {
+    let dir = tempfile::tempdir().unwrap();
+    let target = dir.path().join("out.obj");
+    // The writer fails half-way.
+    let e = write_atomic(&target, |w| {
+        w.write_all(b"partial")?;
+        Err(std::io::Error::other("disk full"))
+    })
+    .unwrap_err();
+    assert!(matches!(e, Error::Io { .. }));
+    assert!(
+        e.to_string().contains("out.obj") && e.to_string().contains("disk full"),
+        "{e}"
+    );
+    assert!(dir_entries(dir.path()).is_empty());
+
+    // The target is an existing directory: renaming onto it fails.
+    let sub = dir.path().join("taken.obj");
+    std::fs::create_dir(&sub).unwrap();
+    let e = write_mesh(&sub, &planar_mesh(), Format::Obj).unwrap_err();
+    assert!(e.to_string().contains("taken.obj"), "{e}");
+    assert_eq!(dir_entries(dir.path()), vec![sub.clone()]);
+    assert!(dir_entries(&sub).is_empty());
+
+    // The directory does not exist.
+    let e = write_mesh(
+        &dir.path().join("missing/out.off"),
+        &planar_mesh(),
+        Format::Off,
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("out.off"), "{e}");
+    assert_eq!(dir_entries(dir.path()), vec![sub.clone()]);
+
+    // Unwritable input: NaN coordinates, bad indices.
+    let target = dir.path().join("nan.ply");
+    let e = write_positions(
+        &target,
+        &[[0.0, f64::NAN], [1.0, 0.0], [0.0, 1.0]],
+        &[[0, 1, 2]],
+        Format::Ply,
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string().contains("nan.ply") && e.to_string().contains("vertex 0"),
+        "{e}"
+    );
+    let e = write_positions(&target, &[[0.0; 3]; 3], &[[0, 1, 3]], Format::Ply).unwrap_err();
+    assert!(e.to_string().contains("triangle 0"), "{e}");
+    assert_eq!(dir_entries(dir.path()), vec![sub]);
+}
+
+#[test]
+fn atomic_write_replaces_and_keeps_usual_permissions() {
+    let dir = tempfile::tempdir().unwrap();
+    let target = dir.path().join("a.txt");
+    write_atomic(&target, |w| w.write_all(b"old")).unwrap();
+    write_atomic(&target, |w| writeln!(w, "new")).unwrap();
+    assert_eq!(std::fs::read_to_string(&target).unwrap(), "new\n");
+    // A failed rewrite leaves the old contents.
+    assert!(write_atomic(&target, |_| Err(std::io::Error::other("no"))).is_err());
+    assert_eq!(std::fs::read_to_string(&target).unwrap(), "new\n");
+    assert_eq!(dir_entries(dir.path()), vec![target.clone()]);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt as _;
+        let mode = std::fs::metadata(&target).unwrap().permissions().mode();
+        assert_ne!(mode & 0o044, 0, "not the 0600 of temporary files: {mode:o}");
+    }
+    // A relative path without a directory part writes to the working directory.
+    let name = format!("meshmorph-io-test-{}.txt", std::process::id());
+    write_atomic(Path::new(&name), |w| w.write_all(b"x")).unwrap();
+    assert_eq!(std::fs::read(&name).unwrap(), b"x");
+    std::fs::remove_file(&name).unwrap();
+}
+
+#[test]
+fn formats_and_file_errors() {
+    assert_eq!(
+        Format::from_path(Path::new("dir/x.Ply")).unwrap(),
+        Format::Ply
+    );
+    assert_eq!(Format::Off.extension(), "off");
+    assert_eq!("obj".parse::<Format>().unwrap(), Format::Obj);
+    assert!("stl"
+        .parse::<Format>()
+        .unwrap_err()
+        .to_string()
+        .contains("obj, off, ply"));
+    let e = read_mesh(Path::new("mesh.stl")).unwrap_err();
+    assert!(
+        matches!(e, Error::UnknownFormat { .. }) && e.to_string().contains("mesh.stl"),
+        "{e}"
+    );
+    let e = read_mesh(Path::new("/nonexistent/dir/mesh.obj")).unwrap_err();
+    assert!(
+        matches!(e, Error::Io { .. }) && e.to_string().contains("mesh.obj"),
+        "{e}"
+    );
+    // read_mesh_as ignores the extension.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("mesh.txt");
+    write_mesh(&path, &planar_mesh(), Format::Off).unwrap();
+    assert_eq!(
+        read_mesh_as(&path, Format::Off).unwrap().to_2d().unwrap(),
+        planar_mesh()
+    );
+    let e = read_mesh_as(&path, Format::Ply).unwrap_err().to_string();
+    assert!(e.contains("mesh.txt") && e.contains("line 1"), "{e}");
+}
+
+#[test]
+fn shared_data_meshes() {
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"));
+    if !root.is_dir() {
+        println!("skipped: ../shared/data not found");
+        return;
+    }
+    for (file, nv, nt) in [
+        ("2d/elephant/elephant_s.obj", 1105, 1796),
+        ("2d/man/man.obj", 214, 332),
+        (
+            "dt/horse-camel/camel-poses/camel-reference.obj",
+            21887,
+            43814,
+        ),
+    ] {
+        let path = root.join(file);
+        let start = std::time::Instant::now();
+        let m = read_mesh(&path).unwrap_or_else(|e| panic!("{e}"));
+        println!(
+            "{file}: {} V, {} T in {:?}",
+            m.num_vertices(),
+            m.num_triangles(),
+            start.elapsed()
+        );
+        assert_eq!((m.num_vertices(), m.num_triangles()), (nv, nt), "{file}");
+    }
+    let m = read_mesh(&root.join("2d/man/man.obj")).unwrap();
+    assert!(m.to_2d().is_ok());
+}
+
+/// A `n × n` grid of vertices with irrational-looking coordinates.
+fn grid(n: u32) -> Mesh3 {
+    let positions = (0..n * n)
+        .map(|k| {
+            let (i, j) = (f64::from(k % n), f64::from(k / n));
+            [i / 7.0 + 0.1, j / 3.0 - 0.3, (i * 0.37 + j * 0.11).sin()]
+        })
+        .collect();
+    let mut triangles = Vec::new();
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            let k = j * n + i;
+            triangles.push([k, k + 1, k + n + 1]);
+            triangles.push([k, k + n + 1, k + n]);
+        }
+    }
+    Mesh3::new(positions, triangles).unwrap()
+}
+
+#[test]
+fn large_mesh_round_trips() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = grid(317); // 100 489 vertices, 200 032 triangles
+    for format in FORMATS {
+        let path = dir.path().join(format!("big.{format}"));
+        let start = std::time::Instant::now();
+        write_mesh(&path, &mesh, format).unwrap();
+        let written = start.elapsed();
+        let start = std::time::Instant::now();
+        let back = read_mesh(&path).unwrap();
+        println!(
+            "{format}: {} V, {} T written in {written:?}, read in {:?}",
+            mesh.num_vertices(),
+            mesh.num_triangles(),
+            start.elapsed()
+        );
+        assert_eq!(back, mesh, "{format}");
+    }
+}
