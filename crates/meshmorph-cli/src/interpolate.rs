@@ -9,6 +9,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::output::{self, FormatArg};
+use crate::pictures;
 use crate::progress;
 
 /// Interpolate between two planar meshes with the same triangles.
@@ -85,7 +86,8 @@ pub struct FrameArgs {
     /// Play the GIF forward only, instead of forward then back.
     #[arg(long)]
     pub no_boomerang: bool,
-    /// Also write each frame as an SVG beside the mesh files.
+    /// Also write each frame as an SVG beside the mesh files (one view that
+    /// holds every frame, --gif-width pixels wide).
     #[arg(long)]
     pub svg: bool,
 }
@@ -234,7 +236,7 @@ pub fn animate(
     output::make_dir(dir)?;
 
     let bar = progress::bar(times.len() as u64, "frames");
-    let keep = args.gif.is_some();
+    let keep = args.gif.is_some() || args.svg;
     let results: Vec<Result<Frame>> = times
         .par_iter()
         .enumerate()
@@ -248,14 +250,8 @@ pub fn animate(
                 let flipped = morph.count_flipped(&positions);
                 let begin = Instant::now();
                 let path = output::frame_path(dir, k, times.len(), format.extension());
-                meshmorph::io::write_positions(&path, &positions, morph.triangles(), format)?;
-                if args.svg {
-                    crate::demo::write_svg_frame(
-                        &path.with_extension("svg"),
-                        &positions,
-                        morph.triangles(),
-                    )?;
-                }
+                meshmorph::io::write_positions(&path, &positions, morph.triangles(), format)
+                    .with_context(|| format!("writing `{}`", path.display()))?;
                 let write = begin.elapsed().as_secs_f64();
                 bar.inc(1);
                 Ok(Frame {
@@ -268,17 +264,33 @@ pub fn animate(
         )
         .collect();
     bar.finish_and_clear();
-    let frames = results.into_iter().collect::<Result<Vec<_>>>()?;
+    let mut frames = results.into_iter().collect::<Result<Vec<_>>>()?;
     let (max_flipped_frame, max_flipped) = frames
         .iter()
         .enumerate()
         .map(|(k, f)| (k, f.flipped))
         .max_by_key(|&(k, f)| (f, std::cmp::Reverse(k)))
         .unwrap_or((0, 0));
-    if let Some(gif) = &args.gif {
-        let positions: Vec<Vec<[f64; 2]>> =
-            frames.iter().filter_map(|f| f.positions.clone()).collect();
-        crate::demo::write_gif(gif, &positions, morph.triangles(), args)?;
+    if keep {
+        let positions: Vec<Vec<[f64; 2]>> = frames
+            .iter_mut()
+            .filter_map(|f| f.positions.take())
+            .collect();
+        if args.svg {
+            let paths: Vec<PathBuf> = (0..positions.len())
+                .map(|k| output::frame_path(dir, k, positions.len(), "svg"))
+                .collect();
+            pictures::write_svgs(&paths, &positions, morph.triangles(), args.gif_width)?;
+        }
+        if let Some(gif) = &args.gif {
+            let gif_args = pictures::GifArgs {
+                width: args.gif_width,
+                height: args.gif_height,
+                fps: args.fps,
+                boomerang: !args.no_boomerang,
+            };
+            pictures::write_gif(gif, &positions, morph.triangles(), &gif_args)?;
+        }
     }
     let n = frames.len() as f64;
     Ok(Report {

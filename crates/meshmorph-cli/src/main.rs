@@ -6,7 +6,9 @@
 mod demo;
 mod interpolate;
 mod output;
+mod pictures;
 mod progress;
+mod transfer;
 
 use std::process::ExitCode;
 
@@ -15,8 +17,8 @@ use clap::{Parser, Subcommand};
 /// Gradient-domain shape animation on triangle meshes.
 ///
 /// As-rigid-as-possible shape interpolation (Alexa, Cohen-Or, Levin 2000;
-/// Baxter, Barla, Anjyo 2008) and, in later subcommands, deformation
-/// transfer (Sumner, Popovic 2004).
+/// Baxter, Barla, Anjyo 2008) and deformation transfer (Sumner, Popovic
+/// 2004).
 #[derive(Debug, Parser)]
 #[command(name = "meshmorph", version, about, long_about = None, propagate_version = true)]
 struct Cli {
@@ -28,6 +30,10 @@ struct Cli {
 enum Command {
     /// Interpolate between two planar meshes with the same triangles.
     Interpolate(interpolate::Args),
+    /// Carry the poses of a source mesh over to a different target mesh.
+    Transfer(transfer::TransferArgs),
+    /// Compute the triangle correspondence between two meshes and save it.
+    Correspond(transfer::CorrespondCommand),
     /// Run on built-in procedural shapes and write frames and pictures.
     Demo(demo::Args),
 }
@@ -36,6 +42,8 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Interpolate(args) => interpolate::run(&args),
+        Command::Transfer(args) => transfer::run_transfer(&args),
+        Command::Correspond(args) => transfer::run_correspond(&args),
         Command::Demo(args) => demo::run(&args),
     };
     match result {

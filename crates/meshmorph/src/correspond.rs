@@ -41,7 +41,8 @@ pub struct CorrespondOptions {
     /// bounding-box diagonal; farther vertices are not pulled. Default 0.02.
     pub closest_cutoff: f64,
     /// Largest centroid distance of a matched triangle pair, as a fraction of
-    /// the target's bounding-box diagonal. Default 0.01: pairs farther apart
+    /// the target's bounding-box diagonal, but never less than the mean edge
+    /// length of either mesh. Default 0.01: pairs farther apart
     /// than that are more often wrong than right, and a target triangle left
     /// without a pair takes its neighbours' deformation in the transfer.
     pub match_threshold: f64,
@@ -145,13 +146,33 @@ pub fn correspond(
 
     let deformed = deform(source, target, markers, options, progress)?;
     let deformed_source = source.with_positions(deformed)?;
-    let threshold = options.match_threshold * target.bounding_box_diagonal();
+    // Centroids of two differently tessellated surfaces lie up to about an
+    // edge apart even where the surfaces coincide: never ask for less.
+    let threshold = (options.match_threshold * target.bounding_box_diagonal())
+        .max(mean_edge_length(&deformed_source))
+        .max(mean_edge_length(target));
     let correspondence = match_triangles(&deformed_source, target, threshold);
     progress(correspond_steps(options));
     Ok(CorrespondResult {
         correspondence,
         deformed_source,
     })
+}
+
+/// Mean length of the edges of a mesh.
+pub fn mean_edge_length(mesh: &Mesh3) -> f64 {
+    let e = edges(mesh.triangles());
+    let p = mesh.positions();
+    let total: f64 = e
+        .iter()
+        .map(|e| {
+            crate::geometry::norm(crate::geometry::sub(
+                p[e.vertices[0] as usize],
+                p[e.vertices[1] as usize],
+            ))
+        })
+        .sum();
+    total / e.len().max(1) as f64
 }
 
 /// Number of steps [`correspond`] reports: each deformation round, then matching.

@@ -150,6 +150,28 @@ pub fn bend(mesh: &Mesh3, length: f64, angle: f64) -> Mesh3 {
         .expect("bending keeps coordinates finite")
 }
 
+/// For each of `source_vertices`, the index of the nearest of `target`
+/// positions: marker pairs for meshes that are already aligned (by brute
+/// force: meant for a few dozen markers).
+pub fn nearest_vertex_pairs(
+    source: &[[f64; 3]],
+    target: &[[f64; 3]],
+    source_vertices: &[u32],
+) -> Vec<[u32; 2]> {
+    source_vertices
+        .iter()
+        .filter_map(|&s| {
+            let p = source[s as usize];
+            let t = (0..target.len()).min_by(|&a, &b| {
+                let da = crate::geometry::norm(crate::geometry::sub(target[a], p));
+                let db = crate::geometry::norm(crate::geometry::sub(target[b], p));
+                da.total_cmp(&db)
+            })?;
+            Some([s, t as u32])
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,0 +1,411 @@
+//! `meshmorph transfer` and `meshmorph correspond`.
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use meshmorph::{
+    correspond, CorrespondOptions, Correspondence, Markers, Mesh3, Transfer, TransferOptions,
+};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::output::{self, FormatArg};
+use crate::progress;
+
+/// How the triangle correspondence is computed (Sumner and Popovic 2004, section 5).
+#[derive(Debug, Clone, clap::Args)]
+pub struct CorrespondArgs {
+    /// Marker file: one `source target` vertex pair per line (white space or
+    /// a comma between), `#` comments, an optional first line with the count.
+    #[arg(long, value_name = "FILE")]
+    pub markers: Option<PathBuf>,
+    /// Marker indices start at 1 instead of 0.
+    #[arg(long)]
+    pub one_based: bool,
+    /// Weight of the smoothness term w_S.
+    #[arg(long, default_value_t = 1.0, value_name = "W")]
+    pub smoothness_weight: f64,
+    /// Weight of the identity term w_I.
+    #[arg(long, default_value_t = 0.001, value_name = "W")]
+    pub identity_weight: f64,
+    /// Weights w_C of the closest-point rounds, comma-separated (after a
+    /// first round without closest points).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "1,1667.33,3333.67,5000",
+        value_name = "LIST"
+    )]
+    pub closest_weights: Vec<f64>,
+    /// Largest distance to a closest point, as a fraction of the target's
+    /// bounding-box diagonal.
+    #[arg(long, default_value_t = 0.02, value_name = "FRACTION")]
+    pub closest_cutoff: f64,
+    /// Largest centroid distance of matched triangles, as a fraction of the
+    /// target's bounding-box diagonal.
+    #[arg(long, default_value_t = 0.01, value_name = "FRACTION")]
+    pub match_threshold: f64,
+}
+
+impl CorrespondArgs {
+    fn options(&self) -> Result<CorrespondOptions> {
+        for (name, v) in [
+            ("--smoothness-weight", self.smoothness_weight),
+            ("--identity-weight", self.identity_weight),
+            ("--closest-cutoff", self.closest_cutoff),
+            ("--match-threshold", self.match_threshold),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                bail!("{name} must be a non-negative number, not {v}");
+            }
+        }
+        if let Some(w) = self
+            .closest_weights
+            .iter()
+            .find(|w| !(w.is_finite() && **w > 0.0))
+        {
+            bail!("--closest-weights must be positive numbers, not {w}");
+        }
+        Ok(CorrespondOptions::default()
+            .with_weights(self.smoothness_weight, self.identity_weight)
+            .with_closest_weights(self.closest_weights.clone())
+            .with_closest_cutoff(self.closest_cutoff)
+            .with_match_threshold(self.match_threshold))
+    }
+
+    /// Reads the markers and computes the correspondence, with a progress bar.
+    fn compute(&self, source: &Mesh3, target: &Mesh3) -> Result<meshmorph::CorrespondResult> {
+        let Some(path) = &self.markers else {
+            bail!(
+                "--markers is required to compute a correspondence (or pass --correspondence FILE)"
+            );
+        };
+        let markers = Markers::read(path, self.one_based).context("reading the markers")?;
+        markers
+            .validate(source.num_vertices(), target.num_vertices())
+            .context("checking the markers against the meshes")?;
+        let options = self.options()?;
+        let bar = progress::bar(
+            meshmorph::correspond::correspond_steps(&options) as u64,
+            "correspond",
+        );
+        let result = correspond(source, target, &markers, &options, &mut |done| {
+            bar.set_position(done as u64)
+        })
+        .with_context(|| format!("computing the correspondence from `{}`", path.display()))?;
+        bar.finish_and_clear();
+        Ok(result)
+    }
+}
+
+/// The two reference meshes.
+#[derive(Debug, Clone, clap::Args)]
+pub struct References {
+    /// The source character at rest (S0); its poses have its vertices and triangles.
+    #[arg(long, value_name = "MESH")]
+    pub source_ref: PathBuf,
+    /// The target character at rest (T0).
+    #[arg(long, value_name = "MESH")]
+    pub target_ref: PathBuf,
+}
+
+impl References {
+    fn read(&self) -> Result<(Mesh3, Mesh3)> {
+        let (s, t) = rayon::join(
+            || output::read_mesh(&self.source_ref, "source reference"),
+            || output::read_mesh(&self.target_ref, "target reference"),
+        );
+        Ok((s?, t?))
+    }
+}
+
+/// Carry the poses of a source mesh over to a target mesh.
+///
+/// Writes one mesh per pose: DIR/<the pose file's stem>.<ext>.
+#[derive(Debug, clap::Args)]
+pub struct TransferArgs {
+    #[command(flatten)]
+    pub refs: References,
+    #[command(flatten)]
+    pub correspond: CorrespondArgs,
+    /// Reuse a correspondence saved by --save-correspondence or `meshmorph
+    /// correspond` (then no markers are needed).
+    #[arg(long, value_name = "FILE", conflicts_with = "markers")]
+    pub correspondence: Option<PathBuf>,
+    /// Save the correspondence computed from the markers.
+    #[arg(long, value_name = "FILE")]
+    pub save_correspondence: Option<PathBuf>,
+    /// Target vertices (comma-separated, 0-based) held at their rest
+    /// positions in every pose, instead of placing the result by its centroid.
+    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    pub pin: Vec<u32>,
+    /// Directory for the transferred poses (created if missing).
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
+    /// Output mesh format [default: the target reference's].
+    #[arg(long, value_enum)]
+    pub format: Option<FormatArg>,
+    /// Print the report as one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Source poses: meshes with the source reference's vertices and triangles.
+    #[arg(required = true, value_name = "POSE")]
+    pub poses: Vec<PathBuf>,
+}
+
+/// What a transfer did.
+#[derive(Debug, Serialize)]
+pub struct TransferReport {
+    pub output: PathBuf,
+    pub poses_written: usize,
+    /// Computing (or loading) the correspondence.
+    pub correspondence_seconds: f64,
+    pub correspondence_loaded: bool,
+    /// Factoring the transfer system.
+    pub setup_seconds: f64,
+    /// Solving one pose, averaged.
+    pub seconds_per_pose: f64,
+    /// One pose with reading and writing, averaged over the poses run in parallel.
+    pub seconds_per_pose_with_io: f64,
+    pub matched_pairs: usize,
+    pub unmatched_source_triangles: usize,
+    pub unmatched_target_triangles: usize,
+    pub total_seconds: f64,
+}
+
+impl TransferReport {
+    fn print(&self, json: bool) {
+        if json {
+            println!(
+                "{}",
+                serde_json::to_string(self).expect("a report serialises")
+            );
+            return;
+        }
+        println!(
+            "wrote {} poses to {}",
+            self.poses_written,
+            self.output.display()
+        );
+        println!(
+            "correspondence: {} ({} pairs; unmatched: {} source, {} target triangles){}",
+            output::human_seconds(self.correspondence_seconds),
+            self.matched_pairs,
+            self.unmatched_source_triangles,
+            self.unmatched_target_triangles,
+            if self.correspondence_loaded {
+                ", loaded"
+            } else {
+                ""
+            }
+        );
+        println!(
+            "setup:          {}",
+            output::human_seconds(self.setup_seconds)
+        );
+        println!(
+            "time per pose:  {} solving, {} with reading and writing",
+            output::human_seconds(self.seconds_per_pose),
+            output::human_seconds(self.seconds_per_pose_with_io)
+        );
+        println!(
+            "total:          {}",
+            output::human_seconds(self.total_seconds)
+        );
+    }
+}
+
+pub fn run_transfer(args: &TransferArgs) -> Result<()> {
+    let start = Instant::now();
+    let (source, target) = args.refs.read()?;
+    let format = output::format_or_like(args.format, &args.refs.target_ref)?;
+    let outputs = output_paths(&args.poses, &args.output, format.extension())?;
+
+    let begin = Instant::now();
+    let correspondence = match &args.correspondence {
+        Some(path) => {
+            let c = Correspondence::load(path).context("reading the correspondence")?;
+            c.check_fits(&source, &target).with_context(|| {
+                format!(
+                    "correspondence `{}` does not fit these meshes",
+                    path.display()
+                )
+            })?;
+            c
+        }
+        None => args.correspond.compute(&source, &target)?.correspondence,
+    };
+    let correspondence_seconds = begin.elapsed().as_secs_f64();
+    if let Some(path) = &args.save_correspondence {
+        correspondence
+            .save(path)
+            .context("saving the correspondence")?;
+    }
+
+    let begin = Instant::now();
+    let pins = args
+        .pin
+        .iter()
+        .map(|&v| {
+            let p = target.positions().get(v as usize).with_context(|| {
+                format!(
+                    "--pin {v}: the target has {} vertices",
+                    target.num_vertices()
+                )
+            })?;
+            Ok((v, *p))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let transfer = Transfer::new(
+        &source,
+        &target,
+        &correspondence,
+        &TransferOptions::default().with_pins(pins),
+    )
+    .context("setting up the transfer")?;
+    let setup_seconds = begin.elapsed().as_secs_f64();
+
+    // Read and check every pose before writing anything.
+    let bar = progress::bar(args.poses.len() as u64, "poses");
+    let poses: Vec<(Mesh3, f64)> = args
+        .poses
+        .par_iter()
+        .map(|path| {
+            let begin = Instant::now();
+            let pose = output::read_mesh(path, "source pose")?;
+            transfer.check_pose(&pose).with_context(|| {
+                format!(
+                    "source pose `{}` does not fit the source reference",
+                    path.display()
+                )
+            })?;
+            Ok((pose, begin.elapsed().as_secs_f64()))
+        })
+        .collect::<Result<_>>()?;
+    output::make_dir(&args.output)?;
+    let timings: Vec<(f64, f64)> = poses
+        .par_iter()
+        .zip(&outputs)
+        .map_init(
+            || transfer.workspace(),
+            |ws, ((pose, read), out_path)| {
+                let begin = Instant::now();
+                let mut out = vec![[0.0; 3]; target.num_vertices()];
+                transfer.apply_into(pose.positions(), &mut out, ws);
+                let solve = begin.elapsed().as_secs_f64();
+                meshmorph::io::write_positions(out_path, &out, target.triangles(), format)
+                    .with_context(|| format!("writing `{}`", out_path.display()))?;
+                bar.inc(1);
+                Ok((solve, read + begin.elapsed().as_secs_f64()))
+            },
+        )
+        .collect::<Result<_>>()?;
+    bar.finish_and_clear();
+    let n = timings.len() as f64;
+    TransferReport {
+        output: args.output.clone(),
+        poses_written: timings.len(),
+        correspondence_seconds,
+        correspondence_loaded: args.correspondence.is_some(),
+        setup_seconds,
+        seconds_per_pose: timings.iter().map(|t| t.0).sum::<f64>() / n,
+        seconds_per_pose_with_io: timings.iter().map(|t| t.1).sum::<f64>() / n,
+        matched_pairs: correspondence.pairs().len(),
+        unmatched_source_triangles: correspondence.unmatched_source(),
+        unmatched_target_triangles: correspondence.unmatched_target(),
+        total_seconds: start.elapsed().as_secs_f64(),
+    }
+    .print(args.json);
+    Ok(())
+}
+
+/// DIR/<stem>.<ext> for each pose, refusing two poses with the same stem.
+fn output_paths(poses: &[PathBuf], dir: &Path, ext: &str) -> Result<Vec<PathBuf>> {
+    let mut seen = HashSet::new();
+    poses
+        .iter()
+        .map(|p| {
+            let stem = p
+                .file_stem()
+                .with_context(|| format!("pose `{}` has no file name", p.display()))?;
+            if !seen.insert(stem.to_os_string()) {
+                bail!(
+                    "two poses are named `{}`: their outputs would overwrite each other",
+                    stem.to_string_lossy()
+                );
+            }
+            Ok(dir.join(stem).with_extension(ext))
+        })
+        .collect()
+}
+
+/// Compute the triangle correspondence between two meshes and save it.
+#[derive(Debug, clap::Args)]
+pub struct CorrespondCommand {
+    #[command(flatten)]
+    pub refs: References,
+    #[command(flatten)]
+    pub correspond: CorrespondArgs,
+    /// Where to save the correspondence.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+    /// Also write the source reference deformed onto the target, to see how
+    /// well it fits.
+    #[arg(long, value_name = "MESH")]
+    pub deformed_source: Option<PathBuf>,
+    /// Print the report as one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// What `correspond` did.
+#[derive(Debug, Serialize)]
+pub struct CorrespondReport {
+    pub output: PathBuf,
+    pub seconds: f64,
+    pub matched_pairs: usize,
+    pub unmatched_source_triangles: usize,
+    pub unmatched_target_triangles: usize,
+}
+
+pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
+    let (source, target) = args.refs.read()?;
+    let begin = Instant::now();
+    if args.correspond.markers.is_none() {
+        bail!("--markers is required");
+    }
+    let result = args.correspond.compute(&source, &target)?;
+    let seconds = begin.elapsed().as_secs_f64();
+    let c = &result.correspondence;
+    c.save(&args.output).context("saving the correspondence")?;
+    if let Some(path) = &args.deformed_source {
+        let format = meshmorph::io::Format::from_path(path)?;
+        meshmorph::io::write_mesh(path, &result.deformed_source, format)
+            .with_context(|| format!("writing `{}`", path.display()))?;
+    }
+    let report = CorrespondReport {
+        output: args.output.clone(),
+        seconds,
+        matched_pairs: c.pairs().len(),
+        unmatched_source_triangles: c.unmatched_source(),
+        unmatched_target_triangles: c.unmatched_target(),
+    };
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string(&report).expect("a report serialises")
+        );
+    } else {
+        println!(
+            "correspondence: {} pairs in {} (unmatched: {} source, {} target triangles), saved to {}",
+            report.matched_pairs,
+            output::human_seconds(seconds),
+            report.unmatched_source_triangles,
+            report.unmatched_target_triangles,
+            args.output.display()
+        );
+    }
+    Ok(())
+}
