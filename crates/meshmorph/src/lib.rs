@@ -39,6 +39,11 @@ pub mod transfer;
 pub use correspond::{correspond, CorrespondOptions, CorrespondResult};
 pub use correspondence::Correspondence;
 pub use error::{Error, Result};
+
+/// The README's examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;
 pub use interpolate::{Interpolator, InterpolatorOptions, StretchMode};
 pub use markers::Markers;
 pub use mesh::{Mesh, Mesh2, Mesh3};
