@@ -75,13 +75,13 @@ pub struct FrameArgs {
     #[arg(long, value_name = "FILE")]
     pub gif: Option<PathBuf>,
     /// GIF width in pixels.
-    #[arg(long, default_value_t = 640, value_name = "PX")]
+    #[arg(long, default_value_t = 640, value_name = "PX", value_parser = clap::value_parser!(u32).range(16..=8192))]
     pub gif_width: u32,
     /// GIF height in pixels [default: from the shape's aspect ratio].
-    #[arg(long, value_name = "PX")]
+    #[arg(long, value_name = "PX", value_parser = clap::value_parser!(u32).range(16..=8192))]
     pub gif_height: Option<u32>,
     /// GIF frame rate.
-    #[arg(long, default_value_t = 25.0, value_name = "FPS")]
+    #[arg(long, default_value_t = 25.0, value_name = "FPS", value_parser = positive_number)]
     pub fps: f64,
     /// Play the GIF forward only, instead of forward then back.
     #[arg(long)]
@@ -90,6 +90,14 @@ pub struct FrameArgs {
     /// holds every frame, --gif-width pixels wide).
     #[arg(long)]
     pub svg: bool,
+}
+
+/// A finite number above zero.
+fn positive_number(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err(format!("`{text}` is not a positive number")),
+    }
 }
 
 /// `--stretch` values.
@@ -264,7 +272,23 @@ pub fn animate(
         )
         .collect();
     bar.finish_and_clear();
-    let mut frames = results.into_iter().collect::<Result<Vec<_>>>()?;
+    // A run that fails once writing has begun (a frame that cannot be
+    // written, an SVG or GIF path that cannot be) removes the frames and
+    // SVGs it names, so that it leaves no partial animation behind.
+    let remove_frames = |e: anyhow::Error| {
+        for k in 0..times.len() {
+            let _ =
+                std::fs::remove_file(output::frame_path(dir, k, times.len(), format.extension()));
+            if args.svg {
+                let _ = std::fs::remove_file(output::frame_path(dir, k, times.len(), "svg"));
+            }
+        }
+        e
+    };
+    let mut frames = results
+        .into_iter()
+        .collect::<Result<Vec<_>>>()
+        .map_err(remove_frames)?;
     let (max_flipped_frame, max_flipped) = frames
         .iter()
         .enumerate()
@@ -276,21 +300,7 @@ pub fn animate(
             .iter_mut()
             .filter_map(|f| f.positions.take())
             .collect();
-        if args.svg {
-            let paths: Vec<PathBuf> = (0..positions.len())
-                .map(|k| output::frame_path(dir, k, positions.len(), "svg"))
-                .collect();
-            pictures::write_svgs(&paths, &positions, morph.triangles(), args.gif_width)?;
-        }
-        if let Some(gif) = &args.gif {
-            let gif_args = pictures::GifArgs {
-                width: args.gif_width,
-                height: args.gif_height,
-                fps: args.fps,
-                boomerang: !args.no_boomerang,
-            };
-            pictures::write_gif(gif, &positions, morph.triangles(), &gif_args)?;
-        }
+        write_pictures(args, dir, &positions, morph.triangles()).map_err(remove_frames)?;
     }
     let n = frames.len() as f64;
     Ok(Report {
@@ -306,6 +316,31 @@ pub fn animate(
         max_flipped_frame,
         gif: args.gif.clone(),
     })
+}
+
+/// The SVGs and the GIF asked for, of the frames' positions.
+fn write_pictures(
+    args: &FrameArgs,
+    dir: &Path,
+    positions: &[Vec<[f64; 2]>],
+    triangles: &[[u32; 3]],
+) -> Result<()> {
+    if args.svg {
+        let paths: Vec<PathBuf> = (0..positions.len())
+            .map(|k| output::frame_path(dir, k, positions.len(), "svg"))
+            .collect();
+        pictures::write_svgs(&paths, positions, triangles, args.gif_width)?;
+    }
+    if let Some(gif) = &args.gif {
+        let gif_args = pictures::GifArgs {
+            width: args.gif_width,
+            height: args.gif_height,
+            fps: args.fps,
+            boomerang: !args.no_boomerang,
+        };
+        pictures::write_gif(gif, positions, triangles, &gif_args)?;
+    }
+    Ok(())
 }
 
 struct Frame {

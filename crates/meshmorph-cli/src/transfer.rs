@@ -76,7 +76,13 @@ impl CorrespondArgs {
     }
 
     /// Reads the markers and computes the correspondence, with a progress bar.
-    fn compute(&self, source: &Mesh3, target: &Mesh3) -> Result<meshmorph::CorrespondResult> {
+    /// `refs` name the meshes in error messages.
+    fn compute(
+        &self,
+        refs: &References,
+        source: &Mesh3,
+        target: &Mesh3,
+    ) -> Result<meshmorph::CorrespondResult> {
         let Some(path) = &self.markers else {
             bail!(
                 "--markers is required to compute a correspondence (or pass --correspondence FILE)"
@@ -94,7 +100,13 @@ impl CorrespondArgs {
         let result = correspond(source, target, &markers, &options, &mut |done| {
             bar.set_position(done as u64)
         })
-        .with_context(|| format!("computing the correspondence from `{}`", path.display()))?;
+        .with_context(|| {
+            format!(
+                "computing the correspondence {} with the markers `{}`",
+                refs.describe(),
+                path.display()
+            )
+        })?;
         bar.finish_and_clear();
         Ok(result)
     }
@@ -118,6 +130,15 @@ impl References {
             || output::read_mesh(&self.target_ref, "target reference"),
         );
         Ok((s?, t?))
+    }
+
+    /// "from `source.obj` to `target.obj`", for messages.
+    fn describe(&self) -> String {
+        format!(
+            "from `{}` to `{}`",
+            self.source_ref.display(),
+            self.target_ref.display()
+        )
     }
 }
 
@@ -223,6 +244,26 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let format = output::format_or_like(args.format, &args.refs.target_ref)?;
     let outputs = output_paths(&args.poses, &args.output, format.extension())?;
 
+    // Read and check every pose first: a bad pose is reported before the
+    // slow correspondence, and nothing is written.
+    let poses: Vec<(Mesh3, f64)> = args
+        .poses
+        .par_iter()
+        .map(|path| {
+            let begin = Instant::now();
+            let pose = output::read_mesh(path, "source pose")?;
+            source
+                .check_same_connectivity(&pose, ["the source reference", "the pose"])
+                .with_context(|| {
+                    format!(
+                        "source pose `{}` does not fit the source reference",
+                        path.display()
+                    )
+                })?;
+            Ok((pose, begin.elapsed().as_secs_f64()))
+        })
+        .collect::<Result<_>>()?;
+
     let begin = Instant::now();
     let correspondence = match &args.correspondence {
         Some(path) => {
@@ -235,14 +276,13 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
             })?;
             c
         }
-        None => args.correspond.compute(&source, &target)?.correspondence,
+        None => {
+            args.correspond
+                .compute(&args.refs, &source, &target)?
+                .correspondence
+        }
     };
     let correspondence_seconds = begin.elapsed().as_secs_f64();
-    if let Some(path) = &args.save_correspondence {
-        correspondence
-            .save(path)
-            .context("saving the correspondence")?;
-    }
 
     let begin = Instant::now();
     let pins = args
@@ -264,26 +304,17 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         &correspondence,
         &TransferOptions::default().with_pins(pins),
     )
-    .context("setting up the transfer")?;
+    .with_context(|| format!("setting up the transfer {}", args.refs.describe()))?;
     let setup_seconds = begin.elapsed().as_secs_f64();
 
-    // Read and check every pose before writing anything.
-    let bar = progress::bar(args.poses.len() as u64, "poses");
-    let poses: Vec<(Mesh3, f64)> = args
-        .poses
-        .par_iter()
-        .map(|path| {
-            let begin = Instant::now();
-            let pose = output::read_mesh(path, "source pose")?;
-            transfer.check_pose(&pose).with_context(|| {
-                format!(
-                    "source pose `{}` does not fit the source reference",
-                    path.display()
-                )
-            })?;
-            Ok((pose, begin.elapsed().as_secs_f64()))
-        })
-        .collect::<Result<_>>()?;
+    let bar = progress::bar(poses.len() as u64, "poses");
+    // Saved only now that every input is known to be good: a failed run
+    // writes nothing.
+    if let Some(path) = &args.save_correspondence {
+        correspondence
+            .save(path)
+            .context("saving the correspondence")?;
+    }
     output::make_dir(&args.output)?;
     let timings: Vec<(f64, f64)> = poses
         .par_iter()
@@ -376,12 +407,17 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
     if args.correspond.markers.is_none() {
         bail!("--markers is required");
     }
-    let result = args.correspond.compute(&source, &target)?;
+    // Checked before any work, so that a bad name leaves no output behind.
+    let deformed_format = args
+        .deformed_source
+        .as_deref()
+        .map(meshmorph::io::Format::from_path)
+        .transpose()?;
+    let result = args.correspond.compute(&args.refs, &source, &target)?;
     let seconds = begin.elapsed().as_secs_f64();
     let c = &result.correspondence;
     c.save(&args.output).context("saving the correspondence")?;
-    if let Some(path) = &args.deformed_source {
-        let format = meshmorph::io::Format::from_path(path)?;
+    if let (Some(path), Some(format)) = (&args.deformed_source, deformed_format) {
         meshmorph::io::write_mesh(path, &result.deformed_source, format)
             .with_context(|| format!("writing `{}`", path.display()))?;
     }

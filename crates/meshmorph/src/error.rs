@@ -11,14 +11,15 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
-    /// The operating system refused a read or write.
-    #[error("`{}`: {source}", path.display())]
+    /// The operating system refused a read or write. The message includes
+    /// the operating system's own, so `error` is not also given as a source
+    /// (printing the chain would repeat it).
+    #[error("`{}`: {error}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
         /// What the operating system said.
-        #[source]
-        source: std::io::Error,
+        error: std::io::Error,
     },
 
     /// A file did not parse.
@@ -107,10 +108,10 @@ pub(crate) fn list(items: &[usize], count: usize) -> String {
 }
 
 impl Error {
-    pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+    pub(crate) fn io(path: impl Into<PathBuf>, error: std::io::Error) -> Self {
         Error::Io {
             path: path.into(),
-            source,
+            error,
         }
     }
 

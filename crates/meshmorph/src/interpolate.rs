@@ -177,7 +177,7 @@ impl Interpolator {
     /// Linear in the number of triangles apart from one sparse Cholesky
     /// factorization of a `#V × #V` matrix.
     pub fn new(source: &Mesh2, target: &Mesh2, options: &InterpolatorOptions) -> Result<Self> {
-        check_same_connectivity(source, target)?;
+        source.check_same_connectivity(target, ["the source", "the target"])?;
         let n = source.num_vertices();
         let triangles = source.triangles().to_vec();
         let (p, q) = (source.positions(), target.positions());
@@ -481,33 +481,6 @@ fn angle_seeds(angles: &[f64], of_triangle: &[u32], count: usize, source: &Mesh2
         }
     }
     best.into_iter().flatten().collect()
-}
-
-fn check_same_connectivity(source: &Mesh2, target: &Mesh2) -> Result<()> {
-    if source.num_vertices() != target.num_vertices() {
-        return Err(Error::Mismatch(format!(
-            "the source has {} vertices but the target has {}",
-            source.num_vertices(),
-            target.num_vertices()
-        )));
-    }
-    if source.num_triangles() != target.num_triangles() {
-        return Err(Error::Mismatch(format!(
-            "the source has {} triangles but the target has {}",
-            source.num_triangles(),
-            target.num_triangles()
-        )));
-    }
-    if let Some(t) =
-        (0..source.num_triangles()).find(|&t| source.triangles()[t] != target.triangles()[t])
-    {
-        return Err(Error::Mismatch(format!(
-            "triangle {t} is {:?} in the source but {:?} in the target: the meshes must have the same triangles",
-            source.triangles()[t],
-            target.triangles()[t]
-        )));
-    }
-    Ok(())
 }
 
 /// Fails on triangles whose area is zero relative to the mesh's size.

@@ -81,6 +81,42 @@ impl<const D: usize> Mesh<D> {
         })
     }
 
+    /// Checks that `other` has this mesh's vertex count and triangles (the
+    /// same connectivity: another pose of the same shape). `names` say what
+    /// the two meshes are, for the message ("the source", "the target").
+    ///
+    /// # Errors
+    /// [`Error::Mismatch`] naming the counts or the first triangle that differs.
+    pub fn check_same_connectivity<const E: usize>(
+        &self,
+        other: &Mesh<E>,
+        names: [&str; 2],
+    ) -> Result<()> {
+        let [mine, theirs] = names;
+        if self.num_vertices() != other.num_vertices() {
+            return Err(Error::Mismatch(format!(
+                "{mine} has {} vertices but {theirs} has {}",
+                self.num_vertices(),
+                other.num_vertices()
+            )));
+        }
+        if self.num_triangles() != other.num_triangles() {
+            return Err(Error::Mismatch(format!(
+                "{mine} has {} triangles but {theirs} has {}",
+                self.num_triangles(),
+                other.num_triangles()
+            )));
+        }
+        match (0..self.num_triangles()).find(|&t| self.triangles[t] != other.triangles()[t]) {
+            Some(t) => Err(Error::Mismatch(format!(
+                "triangle {t} is {:?} in {mine} but {:?} in {theirs}: they must have the same triangles",
+                self.triangles[t],
+                other.triangles()[t]
+            ))),
+            None => Ok(()),
+        }
+    }
+
     /// Takes the mesh apart into positions and triangles.
     pub fn into_parts(self) -> (Vec<[f64; D]>, Vec<[u32; 3]>) {
         (self.positions, self.triangles)

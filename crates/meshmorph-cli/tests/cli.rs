@@ -1,0 +1,1197 @@
+//! End-to-end tests: run the `meshmorph` binary on small files in temporary
+//! directories and check its outputs, its reports and its error messages.
+//!
+//! The rule for bad input: a clear message naming the file and the element
+//! (line, vertex or triangle), a non-zero exit status, no panic, and no
+//! partial output (no frame or pose file, no leftover temporary file).
+
+use std::f64::consts::PI;
+use std::ffi::OsStr;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use meshmorph::io::{read_mesh, write_mesh, Format};
+use meshmorph::shapes::{bend, curl, nearest_vertex_pairs, strip, tube};
+use meshmorph::{Mesh2, Mesh3};
+use serde_json::Value;
+use tempfile::TempDir;
+
+// ---------------------------------------------------------------------------
+// Helpers.
+
+/// Runs the binary with `args`.
+fn run<I, S>(args: I) -> Output
+where
+    I: IntoIterator<Item = S>,
+    S: AsRef<OsStr>,
+{
+    Command::new(env!("CARGO_BIN_EXE_meshmorph"))
+        .args(args)
+        .output()
+        .expect("the meshmorph binary runs")
+}
+
+fn stdout(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Asserts a successful run and returns its stdout.
+fn succeeds(out: &Output) -> String {
+    assert!(
+        out.status.success(),
+        "expected success, got {:?}\nstdout:\n{}\nstderr:\n{}",
+        out.status,
+        stdout(out),
+        stderr(out)
+    );
+    stdout(out)
+}
+
+/// Asserts a clean failure (non-zero status, no panic) and returns stderr.
+fn fails(out: &Output) -> String {
+    let err = stderr(out);
+    assert!(
+        !out.status.success(),
+        "expected failure\nstdout:\n{}\nstderr:\n{err}",
+        stdout(out)
+    );
+    assert_eq!(out.status.code(), Some(1), "stderr:\n{err}");
+    assert!(!err.contains("panicked"), "panic:\n{err}");
+    assert!(err.starts_with("error: "), "stderr:\n{err}");
+    err
+}
+
+/// Asserts that `text` contains every one of `parts`.
+fn assert_mentions(text: &str, parts: &[&str]) {
+    for p in parts {
+        assert!(text.contains(p), "`{p}` missing from:\n{text}");
+    }
+}
+
+/// A path as it appears in messages.
+fn shown(path: &Path) -> String {
+    path.display().to_string()
+}
+
+/// The names in `dir` (sorted), or nothing when it does not exist.
+fn names(dir: &Path) -> Vec<String> {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut v: Vec<String> = entries
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// Asserts that `dir` is missing or empty: no output, no temporary file.
+fn assert_empty(dir: &Path) {
+    let left = names(dir);
+    assert!(left.is_empty(), "{} holds {left:?}", dir.display());
+}
+
+/// Parses stdout as exactly one JSON object.
+fn json(out: &str) -> Value {
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 1, "expected one line of JSON:\n{out}");
+    let v: Value = serde_json::from_str(lines[0]).expect("valid JSON");
+    assert!(v.is_object(), "{v}");
+    v
+}
+
+fn uint(v: &Value, key: &str) -> u64 {
+    v[key]
+        .as_u64()
+        .unwrap_or_else(|| panic!("`{key}` is not an integer in {v}"))
+}
+
+fn seconds(v: &Value, key: &str) -> f64 {
+    let s = v[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("`{key}` is not a number in {v}"));
+    assert!(s.is_finite() && s >= 0.0, "{key} = {s}");
+    s
+}
+
+/// Largest coordinate difference between two position lists of equal length.
+fn max_diff(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .flat_map(|(p, q)| (0..3).map(move |k| (p[k] - q[k]).abs()))
+        .fold(0.0, f64::max)
+}
+
+fn read(path: &Path) -> Mesh3 {
+    read_mesh(path).unwrap_or_else(|e| panic!("reading {}: {e}", path.display()))
+}
+
+fn write<const D: usize>(path: &Path, mesh: &meshmorph::Mesh<D>) {
+    write_mesh(path, mesh, Format::from_path(path).unwrap()).unwrap();
+}
+
+/// Rewrites a text file line by line (1-based line numbers).
+fn edit_lines(path: &Path, f: impl FnOnce(&mut Vec<String>)) {
+    let mut lines: Vec<String> = fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .map(str::to_owned)
+        .collect();
+    f(&mut lines);
+    fs::write(path, lines.join("\n") + "\n").unwrap();
+}
+
+/// 1-based number of the first line of `path` that starts with `prefix`.
+fn line_starting(path: &Path, prefix: &str) -> usize {
+    fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .position(|l| l.starts_with(prefix))
+        .expect("such a line")
+        + 1
+}
+
+// ---------------------------------------------------------------------------
+// Help.
+
+#[test]
+fn help_lists_commands_and_flags() {
+    let top = succeeds(&run(["--help"]));
+    assert_mentions(&top, &["interpolate", "transfer", "correspond", "demo"]);
+    let cases: [(&str, &[&str]); 4] = [
+        (
+            "interpolate",
+            &[
+                "--output",
+                "--frames",
+                "--t",
+                "--format",
+                "--json",
+                "--gif",
+                "--svg",
+                "--allow-flips",
+                "--no-consistency",
+                "--turns",
+                "--stretch",
+            ],
+        ),
+        (
+            "transfer",
+            &[
+                "--source-ref",
+                "--target-ref",
+                "--markers",
+                "--one-based",
+                "--correspondence",
+                "--save-correspondence",
+                "--output",
+                "--format",
+                "--json",
+                "--pin",
+            ],
+        ),
+        (
+            "correspond",
+            &[
+                "--source-ref",
+                "--target-ref",
+                "--markers",
+                "--output",
+                "--deformed-source",
+                "--json",
+            ],
+        ),
+        ("demo", &["--output", "--json"]),
+    ];
+    for (command, flags) in cases {
+        let text = succeeds(&run([command, "--help"]));
+        assert_mentions(&text, flags);
+    }
+}
+
+// ---------------------------------------------------------------------------
+// interpolate: happy paths.
+
+/// A small bar and the same bar curled by half a turn.
+fn bar_and_curl() -> (Mesh2, Mesh2) {
+    let bar = strip(4.0, 1.0, 8, 2);
+    let curled = curl(&bar, PI);
+    (bar, curled)
+}
+
+/// A temporary directory with `src.obj` and `tgt.obj` written from the meshes.
+struct Pair {
+    /// Kept for its lifetime: the directory goes when the test ends.
+    _dir: TempDir,
+    src: PathBuf,
+    tgt: PathBuf,
+    out: PathBuf,
+}
+
+impl Pair {
+    fn new(source: &Mesh2, target: &Mesh2) -> Self {
+        Self::with_ext(source, target, "obj")
+    }
+
+    fn with_ext(source: &Mesh2, target: &Mesh2, ext: &str) -> Self {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("in");
+        fs::create_dir(&input).unwrap();
+        let src = input.join(format!("src.{ext}"));
+        let tgt = input.join(format!("tgt.{ext}"));
+        write(&src, source);
+        write(&tgt, target);
+        let out = dir.path().join("out");
+        Self {
+            _dir: dir,
+            src,
+            tgt,
+            out,
+        }
+    }
+
+    fn bar() -> Self {
+        let (a, b) = bar_and_curl();
+        Self::new(&a, &b)
+    }
+
+    /// `interpolate SRC TGT -o OUT` followed by `extra`.
+    fn interpolate(&self, extra: &[&str]) -> Output {
+        let mut args: Vec<&OsStr> = vec![
+            "interpolate".as_ref(),
+            self.src.as_os_str(),
+            self.tgt.as_os_str(),
+            "-o".as_ref(),
+            self.out.as_os_str(),
+        ];
+        args.extend(extra.iter().map(OsStr::new));
+        run(args)
+    }
+
+    /// Runs, expects a clean failure with no output, returns stderr.
+    fn interpolate_fails(&self, extra: &[&str]) -> String {
+        let err = fails(&self.interpolate(extra));
+        assert_empty(&self.out);
+        err
+    }
+}
+
+#[test]
+fn interpolate_writes_frames_svgs_gif_and_a_json_report() {
+    let (bar, curled) = bar_and_curl();
+    let p = Pair::new(&bar, &curled);
+    let gif = p.out.join("a.gif");
+    let out = p.interpolate(&[
+        "--frames",
+        "5",
+        "--json",
+        "--gif",
+        gif.to_str().unwrap(),
+        "--svg",
+    ]);
+    let report = json(&succeeds(&out));
+    assert_eq!(uint(&report, "frames_written"), 5);
+    assert_eq!(uint(&report, "max_flipped_triangles"), 0);
+    assert_eq!(uint(&report, "vertices"), bar.num_vertices() as u64);
+    assert_eq!(uint(&report, "triangles"), bar.num_triangles() as u64);
+    seconds(&report, "setup_seconds");
+    seconds(&report, "seconds_per_frame");
+    seconds(&report, "total_seconds");
+
+    let mut expected: Vec<String> = (0..5)
+        .flat_map(|k| [format!("frame_{k:04}.obj"), format!("frame_{k:04}.svg")])
+        .collect();
+    expected.push("a.gif".into());
+    expected.sort();
+    assert_eq!(names(&p.out), expected);
+    assert!(fs::read(&gif).unwrap().starts_with(b"GIF89a"));
+    let svg = fs::read_to_string(p.out.join("frame_0002.svg")).unwrap();
+    assert!(svg.contains("<svg"), "{svg}");
+
+    let first = read(&p.out.join("frame_0000.obj"));
+    let last = read(&p.out.join("frame_0004.obj"));
+    assert_eq!(first.triangles(), bar.triangles());
+    assert_eq!(last.triangles(), bar.triangles());
+    assert!(max_diff(first.positions(), bar.to_3d().positions()) < 1e-12);
+    assert!(max_diff(last.positions(), curled.to_3d().positions()) < 1e-12);
+    // The middle frame is neither end.
+    let middle = read(&p.out.join("frame_0002.obj"));
+    assert!(max_diff(middle.positions(), bar.to_3d().positions()) > 0.1);
+    assert!(max_diff(middle.positions(), curled.to_3d().positions()) > 0.1);
+}
+
+#[test]
+fn interpolate_explicit_times_in_order_and_extrapolated() {
+    let (bar, curled) = bar_and_curl();
+    let p = Pair::new(&bar, &curled);
+    let report = json(&succeeds(&p.interpolate(&["--t", "0,0.5,1.5", "--json"])));
+    assert_eq!(uint(&report, "frames_written"), 3);
+    assert_eq!(
+        names(&p.out),
+        ["frame_0000.obj", "frame_0001.obj", "frame_0002.obj"]
+    );
+    let frame = |k: usize| read(&p.out.join(format!("frame_{k:04}.obj")));
+    assert!(max_diff(frame(0).positions(), bar.to_3d().positions()) < 1e-12);
+    // 1.5 goes past the target.
+    assert!(max_diff(frame(2).positions(), curled.to_3d().positions()) > 0.1);
+
+    // The same times in the reverse order give the same frames reversed.
+    let q = Pair::new(&bar, &curled);
+    succeeds(&q.interpolate(&["--t", "1.5,0.5,0"]));
+    for k in 0..3 {
+        let a = fs::read(p.out.join(format!("frame_{k:04}.obj"))).unwrap();
+        let b = fs::read(q.out.join(format!("frame_{:04}.obj", 2 - k))).unwrap();
+        assert!(a == b, "frame {k}");
+    }
+}
+
+#[test]
+fn interpolate_format_ply() {
+    let (bar, curled) = bar_and_curl();
+    let p = Pair::new(&bar, &curled);
+    succeeds(&p.interpolate(&["--frames", "3", "--format", "ply"]));
+    assert_eq!(
+        names(&p.out),
+        ["frame_0000.ply", "frame_0001.ply", "frame_0002.ply"]
+    );
+    let bytes = fs::read(p.out.join("frame_0000.ply")).unwrap();
+    assert!(bytes.starts_with(b"ply"));
+    let first = read(&p.out.join("frame_0000.ply"));
+    assert!(max_diff(first.positions(), bar.to_3d().positions()) < 1e-12);
+    let last = read(&p.out.join("frame_0002.ply"));
+    assert!(max_diff(last.positions(), curled.to_3d().positions()) < 1e-12);
+}
+
+#[test]
+fn interpolate_format_follows_the_source() {
+    let (bar, curled) = bar_and_curl();
+    let p = Pair::with_ext(&bar, &curled, "off");
+    succeeds(&p.interpolate(&["--frames", "2"]));
+    assert_eq!(names(&p.out), ["frame_0000.off", "frame_0001.off"]);
+}
+
+#[test]
+fn interpolate_spiral_tears_only_without_consistency() {
+    let bar = strip(10.0, 0.5, 100, 4);
+    let spiral = curl(&bar, 3.0 * PI);
+    let p = Pair::new(&bar, &spiral);
+    let report = json(&succeeds(&p.interpolate(&["--frames", "9", "--json"])));
+    assert_eq!(uint(&report, "max_flipped_triangles"), 0, "{report}");
+
+    let q = Pair::new(&bar, &spiral);
+    let report = json(&succeeds(&q.interpolate(&[
+        "--frames",
+        "9",
+        "--json",
+        "--no-consistency",
+    ])));
+    assert!(uint(&report, "max_flipped_triangles") > 0, "{report}");
+    // The report names a frame strictly inside the animation.
+    let frame = uint(&report, "max_flipped_frame");
+    assert!(0 < frame && frame < 8, "{report}");
+}
+
+// ---------------------------------------------------------------------------
+// interpolate: bad input.
+
+#[test]
+fn interpolate_malformed_obj_names_file_and_line() {
+    let p = Pair::bar();
+    edit_lines(&p.src, |l| l[2] = "v 0.5 abc 0".into());
+    let err = p.interpolate_fails(&[]);
+    assert_mentions(&err, &[&shown(&p.src), "line 3", "`abc` is not a number"]);
+}
+
+#[test]
+fn interpolate_face_index_out_of_range() {
+    let p = Pair::bar();
+    let line = line_starting(&p.src, "f ") + 1;
+    edit_lines(&p.src, |l| {
+        let k = line - 1;
+        l[k] = "f 1 2 999".into();
+    });
+    let err = p.interpolate_fails(&[]);
+    assert_mentions(
+        &err,
+        &[
+            &shown(&p.src),
+            &format!("line {line}"),
+            "999",
+            "out of range",
+        ],
+    );
+}
+
+#[test]
+fn interpolate_face_repeating_a_vertex() {
+    let p = Pair::bar();
+    edit_lines(&p.tgt, |l| l.push("f 4 5 4".into()));
+    let line = fs::read_to_string(&p.tgt).unwrap().lines().count();
+    let err = p.interpolate_fails(&[]);
+    assert_mentions(
+        &err,
+        &[
+            &shown(&p.tgt),
+            &format!("line {line}"),
+            "vertex 4",
+            "more than once",
+        ],
+    );
+}
+
+#[test]
+fn interpolate_nan_coordinate() {
+    let p = Pair::bar();
+    edit_lines(&p.src, |l| l[4] = "v 1.0 NaN 0".into());
+    let err = p.interpolate_fails(&[]);
+    assert_mentions(
+        &err,
+        &[&shown(&p.src), "line 5", "vertex 5", "not a finite number"],
+    );
+}
+
+#[test]
+fn interpolate_different_vertex_counts() {
+    let bar = strip(4.0, 1.0, 8, 2);
+    let other = curl(&strip(4.0, 1.0, 9, 2), PI);
+    let p = Pair::new(&bar, &other);
+    let err = p.interpolate_fails(&[]);
+    assert_mentions(
+        &err,
+        &[
+            &shown(&p.src),
+            &shown(&p.tgt),
+            &format!("{} vertices", bar.num_vertices()),
+            &format!("{}", other.num_vertices()),
+        ],
+    );
+}
+
+#[test]
+fn interpolate_same_count_different_triangles() {
+    let (bar, curled) = bar_and_curl();
+    let mut triangles = curled.triangles().to_vec();
+    // Same orientation, another starting corner: still another triangle list.
+    let [a, b, c] = triangles[7];
+    triangles[7] = [b, c, a];
+    let target = Mesh2::new(curled.positions().to_vec(), triangles).unwrap();
+    let p = Pair::new(&bar, &target);
+    let err = p.interpolate_fails(&[]);
+    assert_mentions(&err, &[&shown(&p.src), &shown(&p.tgt), "triangle 7"]);
+}
+
+#[test]
+fn interpolate_zero_area_source_triangle() {
+    let (bar, curled) = bar_and_curl();
+    let mut positions = bar.positions().to_vec();
+    // Vertex 1 onto vertex 0: triangle 0 = [0, 1, 10] collapses.
+    positions[1] = positions[0];
+    let source = Mesh2::new(positions, bar.triangles().to_vec()).unwrap();
+    let p = Pair::new(&source, &curled);
+    let err = p.interpolate_fails(&[]);
+    assert_mentions(
+        &err,
+        &[&shown(&p.src), "degenerate", "source", "triangle 0"],
+    );
+}
+
+#[test]
+fn interpolate_mirrored_target_needs_allow_flips() {
+    let (bar, curled) = bar_and_curl();
+    let mirrored: Vec<[f64; 2]> = curled.positions().iter().map(|p| [-p[0], p[1]]).collect();
+    let target = curled.with_positions(mirrored).unwrap();
+    let p = Pair::new(&bar, &target);
+    let err = p.interpolate_fails(&[]);
+    assert_mentions(
+        &err,
+        &[
+            &shown(&p.tgt),
+            &format!("{} triangles reversed", bar.num_triangles()),
+            "--allow-flips",
+        ],
+    );
+    let report = json(&succeeds(&p.interpolate(&[
+        "--allow-flips",
+        "--frames",
+        "3",
+        "--json",
+    ])));
+    assert_eq!(uint(&report, "frames_written"), 3);
+    assert_eq!(names(&p.out).len(), 3);
+}
+
+#[test]
+fn interpolate_empty_file_and_file_without_triangles() {
+    let p = Pair::bar();
+    fs::write(&p.src, "").unwrap();
+    let err = p.interpolate_fails(&[]);
+    assert_mentions(&err, &[&shown(&p.src), "no triangles"]);
+
+    fs::write(&p.src, "# only vertices\nv 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap();
+    let err = p.interpolate_fails(&[]);
+    assert_mentions(&err, &[&shown(&p.src), "no triangles", "3 vertices"]);
+}
+
+#[test]
+fn interpolate_non_planar_mesh_names_the_vertex() {
+    let (bar, curled) = bar_and_curl();
+    let p = Pair::new(&bar, &curled);
+    let mut lifted: Vec<[f64; 3]> = curled.to_3d().positions().to_vec();
+    lifted[6][2] = 0.25;
+    let target = Mesh3::new(lifted, curled.triangles().to_vec()).unwrap();
+    write(&p.tgt, &target);
+    let err = p.interpolate_fails(&[]);
+    assert_mentions(
+        &err,
+        &[&shown(&p.tgt), "not planar", "vertex 6", "z = 0.25"],
+    );
+}
+
+#[test]
+fn interpolate_unknown_extension() {
+    let p = Pair::bar();
+    let stl = p.src.with_extension("stl");
+    fs::copy(&p.src, &stl).unwrap();
+    let out = run([
+        "interpolate".as_ref(),
+        stl.as_os_str(),
+        p.tgt.as_os_str(),
+        "-o".as_ref(),
+        p.out.as_os_str(),
+    ]);
+    let err = fails(&out);
+    assert_empty(&p.out);
+    assert_mentions(&err, &[&shown(&stl), "unknown mesh format"]);
+}
+
+#[test]
+fn interpolate_missing_file() {
+    let p = Pair::bar();
+    fs::remove_file(&p.tgt).unwrap();
+    let err = p.interpolate_fails(&[]);
+    assert_mentions(&err, &[&shown(&p.tgt), "target mesh"]);
+    // The operating system's message once, not repeated by the error chain.
+    assert_eq!(err.matches("os error").count(), 1, "{err}");
+}
+
+#[test]
+fn interpolate_gif_that_cannot_be_written_leaves_no_frames() {
+    let p = Pair::bar();
+    let gif = p.out.join("missing").join("a.gif");
+    let err = p.interpolate_fails(&["--frames", "3", "--svg", "--gif", gif.to_str().unwrap()]);
+    assert_mentions(&err, &[&shown(&gif), "animation"]);
+    assert_eq!(err.matches("os error").count(), 1, "{err}");
+}
+
+#[test]
+fn interpolate_bad_frame_options() {
+    let p = Pair::bar();
+    let err = p.interpolate_fails(&["--frames", "0"]);
+    assert_mentions(&err, &["--frames"]);
+    let err = p.interpolate_fails(&["--t", "0,nan"]);
+    assert_mentions(&err, &["--t", "NaN"]);
+}
+
+// ---------------------------------------------------------------------------
+// transfer and correspond.
+
+const LENGTH: f64 = 4.0;
+const THIN_RINGS: usize = 17;
+const THIN_SEGMENTS: usize = 12;
+
+fn thin_tube() -> Mesh3 {
+    tube(LENGTH, 0.25, THIN_RINGS, THIN_SEGMENTS)
+}
+
+fn thick_tube() -> Mesh3 {
+    tube(LENGTH, 0.5, 11, 16)
+}
+
+/// Marker pairs as the demo builds them: rings along the thin tube at four
+/// angles, each paired with the nearest vertex of the thick tube once the
+/// thin one is widened to its radius.
+fn marker_pairs(source: &Mesh3, target: &Mesh3) -> Vec<[u32; 2]> {
+    let ring = |r: usize, s: usize| (r * THIN_SEGMENTS + s) as u32;
+    let chosen: Vec<u32> = [0, 4, 8, 12, 16]
+        .iter()
+        .flat_map(|&r| [0, 3, 6, 9].map(|s| ring(r, s)))
+        .collect();
+    let widened: Vec<[f64; 3]> = source
+        .positions()
+        .iter()
+        .map(|p| [p[0], 2.0 * p[1], 2.0 * p[2]])
+        .collect();
+    nearest_vertex_pairs(&widened, target.positions(), &chosen)
+}
+
+fn write_markers(path: &Path, pairs: &[[u32; 2]], offset: u32) {
+    let mut text = String::from("# source target\n");
+    for [s, t] in pairs {
+        text.push_str(&format!("{} {}\n", s + offset, t + offset));
+    }
+    fs::write(path, text).unwrap();
+}
+
+/// Reference meshes, markers and bent poses of the thin tube, in files.
+struct Rig {
+    dir: TempDir,
+    source_ref: PathBuf,
+    target_ref: PathBuf,
+    markers: PathBuf,
+    poses: Vec<PathBuf>,
+    target_vertices: usize,
+}
+
+impl Rig {
+    fn new() -> Self {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("in");
+        fs::create_dir(&input).unwrap();
+        let source = thin_tube();
+        let target = thick_tube();
+        let source_ref = input.join("thin.obj");
+        let target_ref = input.join("thick.obj");
+        write(&source_ref, &source);
+        write(&target_ref, &target);
+        let markers = input.join("markers.txt");
+        write_markers(&markers, &marker_pairs(&source, &target), 0);
+        let poses = [0.0, 0.3, 0.6]
+            .iter()
+            .enumerate()
+            .map(|(k, &turn)| {
+                let path = input.join(format!("bend-{k}.obj"));
+                write(&path, &bend(&source, LENGTH, turn * PI));
+                path
+            })
+            .collect();
+        Self {
+            dir,
+            source_ref,
+            target_ref,
+            markers,
+            poses,
+            target_vertices: target.num_vertices(),
+        }
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.dir.path().join(name)
+    }
+
+    /// `transfer --source-ref .. --target-ref .. -o OUT EXTRA.. POSES..`.
+    fn transfer(&self, out: &Path, extra: &[&OsStr], poses: &[PathBuf]) -> Output {
+        let mut args: Vec<&OsStr> = vec![
+            "transfer".as_ref(),
+            "--source-ref".as_ref(),
+            self.source_ref.as_os_str(),
+            "--target-ref".as_ref(),
+            self.target_ref.as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ];
+        args.extend_from_slice(extra);
+        args.extend(poses.iter().map(|p| p.as_os_str()));
+        run(args)
+    }
+
+    /// A transfer with the rig's markers and `extra` options on every pose.
+    fn transfer_with_markers(&self, out: &Path, extra: &[&OsStr]) -> Output {
+        let mut args: Vec<&OsStr> = vec!["--markers".as_ref(), self.markers.as_os_str()];
+        args.extend_from_slice(extra);
+        self.transfer(out, &args, &self.poses)
+    }
+
+    /// Runs `transfer` with these markers; expects a clean failure with no
+    /// output; returns stderr.
+    fn transfer_fails_with_markers(&self, markers: &Path) -> String {
+        let out = self.path("out");
+        let err = fails(&self.transfer(
+            &out,
+            &["--markers".as_ref(), markers.as_os_str()],
+            &self.poses,
+        ));
+        assert_empty(&out);
+        err
+    }
+
+    /// The bytes of every pose output in `dir`, by file name.
+    fn outputs(&self, dir: &Path) -> Vec<(String, Vec<u8>)> {
+        names(dir)
+            .into_iter()
+            .map(|n| {
+                let bytes = fs::read(dir.join(&n)).unwrap();
+                (n, bytes)
+            })
+            .collect()
+    }
+}
+
+fn os(s: &str) -> &OsStr {
+    OsStr::new(s)
+}
+
+#[test]
+fn transfer_happy_path_then_reuse_the_saved_correspondence() {
+    let rig = Rig::new();
+    let out = rig.path("out");
+    let corr = rig.path("thin-thick.corr");
+    let report = json(&succeeds(&rig.transfer_with_markers(
+        &out,
+        &[os("--json"), os("--save-correspondence"), corr.as_os_str()],
+    )));
+    assert_eq!(uint(&report, "poses_written"), 3);
+    assert!(uint(&report, "matched_pairs") > 0, "{report}");
+    assert_eq!(report["correspondence_loaded"], Value::Bool(false));
+    for key in [
+        "correspondence_seconds",
+        "setup_seconds",
+        "seconds_per_pose",
+        "seconds_per_pose_with_io",
+        "total_seconds",
+    ] {
+        seconds(&report, key);
+    }
+    assert_eq!(names(&out), ["bend-0.obj", "bend-1.obj", "bend-2.obj"]);
+    let thick = thick_tube();
+    for name in names(&out) {
+        let mesh = read(&out.join(&name));
+        assert_eq!(mesh.num_vertices(), rig.target_vertices, "{name}");
+        assert_eq!(mesh.triangles(), thick.triangles(), "{name}");
+    }
+    // The unbent pose gives back the thick tube, nearly.
+    let rest = read(&out.join("bend-0.obj"));
+    assert!(max_diff(rest.positions(), thick.positions()) < 0.05);
+    // The bent ones bend it: the far end moves off the x axis.
+    let bent = read(&out.join("bend-2.obj"));
+    let end = bent.positions()[rig.target_vertices - 1];
+    assert!(end[1] > 0.5, "{end:?}");
+
+    // Second run from the saved correspondence, without markers.
+    assert!(fs::read_to_string(&corr)
+        .unwrap()
+        .starts_with("meshmorph-correspondence"));
+    let again = rig.path("again");
+    let report = json(&succeeds(&rig.transfer(
+        &again,
+        &[os("--json"), os("--correspondence"), corr.as_os_str()],
+        &rig.poses,
+    )));
+    assert_eq!(report["correspondence_loaded"], Value::Bool(true));
+    assert_eq!(rig.outputs(&out), rig.outputs(&again));
+}
+
+#[test]
+fn correspond_writes_the_map_and_the_deformed_source() {
+    let rig = Rig::new();
+    let corr = rig.path("map.corr");
+    let deformed = rig.path("deformed.ply");
+    let out = run([
+        os("correspond"),
+        os("--source-ref"),
+        rig.source_ref.as_os_str(),
+        os("--target-ref"),
+        rig.target_ref.as_os_str(),
+        os("--markers"),
+        rig.markers.as_os_str(),
+        os("-o"),
+        corr.as_os_str(),
+        os("--deformed-source"),
+        deformed.as_os_str(),
+        os("--json"),
+    ]);
+    let report = json(&succeeds(&out));
+    let pairs = uint(&report, "matched_pairs");
+    assert!(pairs > 0, "{report}");
+    seconds(&report, "seconds");
+    let text = fs::read_to_string(&corr).unwrap();
+    assert!(text.starts_with("meshmorph-correspondence"), "{text}");
+    assert!(text.contains(&format!("pairs {pairs}\n")), "{text}");
+    let mesh = read(&deformed);
+    assert_eq!(mesh.num_vertices(), thin_tube().num_vertices());
+    assert_eq!(mesh.triangles(), thin_tube().triangles());
+    // Deformed onto the thick tube: about twice as wide as the thin one.
+    let radius = mesh
+        .positions()
+        .iter()
+        .map(|p| p[1].hypot(p[2]))
+        .fold(0.0, f64::max);
+    assert!(radius > 0.4, "{radius}");
+
+    // The map transfers the same as the one computed from the markers.
+    let (a, b) = (rig.path("a"), rig.path("b"));
+    succeeds(&rig.transfer_with_markers(&a, &[]));
+    succeeds(&rig.transfer(&b, &[os("--correspondence"), corr.as_os_str()], &rig.poses));
+    assert_eq!(rig.outputs(&a), rig.outputs(&b));
+}
+
+#[test]
+fn transfer_one_based_markers_match_zero_based() {
+    let rig = Rig::new();
+    let one = rig.path("one.txt");
+    write_markers(&one, &marker_pairs(&thin_tube(), &thick_tube()), 1);
+    let (a, b) = (rig.path("a"), rig.path("b"));
+    succeeds(&rig.transfer_with_markers(&a, &[]));
+    succeeds(&rig.transfer(
+        &b,
+        &[os("--markers"), one.as_os_str(), os("--one-based")],
+        &rig.poses,
+    ));
+    assert_eq!(names(&a).len(), 3);
+    assert_eq!(rig.outputs(&a), rig.outputs(&b));
+}
+
+#[test]
+fn transfer_format_option() {
+    let rig = Rig::new();
+    let out = rig.path("out");
+    succeeds(&rig.transfer_with_markers(&out, &[os("--format"), os("off")]));
+    assert_eq!(names(&out), ["bend-0.off", "bend-1.off", "bend-2.off"]);
+}
+
+// ---------------------------------------------------------------------------
+// transfer: bad input.
+
+#[test]
+fn transfer_pose_with_other_vertex_count_writes_nothing() {
+    let rig = Rig::new();
+    let bad = rig.path("odd-pose.obj");
+    write(&bad, &tube(LENGTH, 0.25, THIN_RINGS + 1, THIN_SEGMENTS));
+    let poses = vec![rig.poses[0].clone(), bad.clone(), rig.poses[2].clone()];
+    let out = rig.path("out");
+    let corr = rig.path("map.corr");
+    let err = fails(&rig.transfer(
+        &out,
+        &[
+            os("--markers"),
+            rig.markers.as_os_str(),
+            os("--save-correspondence"),
+            corr.as_os_str(),
+        ],
+        &poses,
+    ));
+    assert_empty(&out);
+    assert!(!corr.exists(), "the correspondence was saved");
+    assert_mentions(&err, &[&shown(&bad), "vertices"]);
+    // Not the good poses.
+    assert!(!err.contains(&shown(&rig.poses[0])), "{err}");
+}
+
+#[test]
+fn transfer_markers_out_of_range() {
+    let rig = Rig::new();
+    let m = rig.path("m.txt");
+    fs::write(&m, "0 0\n12 16\n# comment\n24 99999\n36 48\n").unwrap();
+    let err = rig.transfer_fails_with_markers(&m);
+    assert_mentions(&err, &[&shown(&m), "line 4", "99999", "out of range"]);
+
+    fs::write(&m, "0 0\n12 16\n9999 5\n").unwrap();
+    let err = rig.transfer_fails_with_markers(&m);
+    assert_mentions(&err, &[&shown(&m), "line 3", "source vertex 9999"]);
+}
+
+#[test]
+fn transfer_markers_repeated() {
+    let rig = Rig::new();
+    let m = rig.path("m.txt");
+    fs::write(&m, "0 0\n12 16\n24 32\n12 16\n").unwrap();
+    let err = rig.transfer_fails_with_markers(&m);
+    assert_mentions(&err, &[&shown(&m), "line 4", "repeats", "line 2"]);
+}
+
+#[test]
+fn transfer_marker_source_vertex_with_two_targets() {
+    let rig = Rig::new();
+    let m = rig.path("m.txt");
+    fs::write(&m, "0 0\n12 16\n24 32\n\n12 17\n").unwrap();
+    let err = rig.transfer_fails_with_markers(&m);
+    assert_mentions(
+        &err,
+        &[
+            &shown(&m),
+            "line 5",
+            "source vertex 12",
+            "target vertex 17",
+            "16",
+        ],
+    );
+}
+
+#[test]
+fn transfer_markers_that_do_not_parse() {
+    let rig = Rig::new();
+    let m = rig.path("m.txt");
+    fs::write(&m, "0 0\n12 16\n24 x32\n").unwrap();
+    let err = rig.transfer_fails_with_markers(&m);
+    assert_mentions(&err, &[&shown(&m), "line 3", "x32"]);
+
+    fs::write(&m, "0 0\n12 16 3\n").unwrap();
+    let err = rig.transfer_fails_with_markers(&m);
+    assert_mentions(&err, &[&shown(&m), "line 2"]);
+
+    // Zero is not a 1-based index.
+    fs::write(&m, "1 1\n0 2\n").unwrap();
+    let out = rig.path("out");
+    let err = fails(&rig.transfer(
+        &out,
+        &[os("--markers"), m.as_os_str(), os("--one-based")],
+        &rig.poses,
+    ));
+    assert_empty(&out);
+    assert_mentions(&err, &[&shown(&m), "line 2", "1-based"]);
+}
+
+#[test]
+fn transfer_fewer_than_three_markers() {
+    let rig = Rig::new();
+    let m = rig.path("m.txt");
+    fs::write(&m, "0 0\n12 16\n").unwrap();
+    let err = rig.transfer_fails_with_markers(&m);
+    assert_mentions(&err, &[&shown(&m), "2 marker pairs", "at least 3"]);
+}
+
+#[test]
+fn transfer_without_markers_or_correspondence() {
+    let rig = Rig::new();
+    let out = rig.path("out");
+    let err = fails(&rig.transfer(&out, &[], &rig.poses));
+    assert_empty(&out);
+    assert_mentions(&err, &["--markers", "--correspondence"]);
+}
+
+#[test]
+fn transfer_saved_correspondence_with_other_meshes() {
+    let rig = Rig::new();
+    let corr = rig.path("map.corr");
+    succeeds(&run([
+        os("correspond"),
+        os("--source-ref"),
+        rig.source_ref.as_os_str(),
+        os("--target-ref"),
+        rig.target_ref.as_os_str(),
+        os("--markers"),
+        rig.markers.as_os_str(),
+        os("-o"),
+        corr.as_os_str(),
+    ]));
+    // Another thick tube, more finely tessellated.
+    let other = rig.path("other.obj");
+    write(&other, &tube(LENGTH, 0.5, 13, 16));
+    let out = rig.path("out");
+    let output = run([
+        os("transfer"),
+        os("--source-ref"),
+        rig.source_ref.as_os_str(),
+        os("--target-ref"),
+        other.as_os_str(),
+        os("--correspondence"),
+        corr.as_os_str(),
+        os("-o"),
+        out.as_os_str(),
+        rig.poses[1].as_os_str(),
+    ]);
+    let err = fails(&output);
+    assert_empty(&out);
+    assert_mentions(
+        &err,
+        &[
+            &shown(&corr),
+            "does not fit",
+            "target reference",
+            "vertices",
+        ],
+    );
+}
+
+#[test]
+fn transfer_corrupted_correspondence() {
+    let rig = Rig::new();
+    let corr = rig.path("map.corr");
+    let first = rig.path("first");
+    succeeds(&rig.transfer_with_markers(&first, &[os("--save-correspondence"), corr.as_os_str()]));
+    let line = line_starting(&corr, "pairs ") + 3;
+    edit_lines(&corr, |l| l[line - 1] = "12 abc".into());
+    let out = rig.path("out");
+    let err = fails(&rig.transfer(
+        &out,
+        &[os("--correspondence"), corr.as_os_str()],
+        &rig.poses,
+    ));
+    assert_empty(&out);
+    assert_mentions(&err, &[&shown(&corr), &format!("line {line}"), "12 abc"]);
+
+    // Truncated.
+    edit_lines(&corr, |l| l.truncate(line - 1));
+    let err = fails(&rig.transfer(
+        &out,
+        &[os("--correspondence"), corr.as_os_str()],
+        &rig.poses,
+    ));
+    assert_empty(&out);
+    assert_mentions(&err, &[&shown(&corr), "ends before"]);
+
+    // Not a correspondence at all.
+    let err = fails(&rig.transfer(
+        &out,
+        &[os("--correspondence"), rig.markers.as_os_str()],
+        &rig.poses,
+    ));
+    assert_empty(&out);
+    assert_mentions(
+        &err,
+        &[
+            &shown(&rig.markers),
+            "line 2",
+            "not a meshmorph correspondence",
+        ],
+    );
+}
+
+#[test]
+fn transfer_degenerate_target_triangle() {
+    let rig = Rig::new();
+    let corr = rig.path("map.corr");
+    succeeds(&run([
+        os("correspond"),
+        os("--source-ref"),
+        rig.source_ref.as_os_str(),
+        os("--target-ref"),
+        rig.target_ref.as_os_str(),
+        os("--markers"),
+        rig.markers.as_os_str(),
+        os("-o"),
+        corr.as_os_str(),
+    ]));
+    let thick = thick_tube();
+    let mut positions = thick.positions().to_vec();
+    // Vertex 1 onto vertex 0: triangle 0 = [0, 1, 17] and the cap triangle
+    // [cap, 1, 0] collapse.
+    positions[1] = positions[0];
+    write(&rig.target_ref, &thick.with_positions(positions).unwrap());
+    let out = rig.path("out");
+    let err = fails(&rig.transfer_with_markers(&out, &[]));
+    assert_empty(&out);
+    assert_mentions(
+        &err,
+        &[
+            &shown(&rig.target_ref),
+            "2 degenerate (zero-area) triangles",
+            "target reference",
+            "triangles 0, 320",
+        ],
+    );
+    // The same from a saved correspondence (it fits: same connectivity).
+    let err = fails(&rig.transfer(
+        &out,
+        &[os("--correspondence"), corr.as_os_str()],
+        &rig.poses,
+    ));
+    assert_empty(&out);
+    assert_mentions(
+        &err,
+        &[
+            &shown(&rig.target_ref),
+            "2 degenerate (zero-area) triangles",
+            "target reference",
+            "triangles 0, 320",
+        ],
+    );
+}
+
+#[test]
+fn transfer_two_poses_with_the_same_stem() {
+    let rig = Rig::new();
+    let (a, b) = (rig.path("a"), rig.path("b"));
+    fs::create_dir(&a).unwrap();
+    fs::create_dir(&b).unwrap();
+    fs::copy(&rig.poses[0], a.join("bend.obj")).unwrap();
+    fs::copy(&rig.poses[1], b.join("bend.ply")).unwrap();
+    let out = rig.path("out");
+    let err = fails(&rig.transfer(
+        &out,
+        &[os("--markers"), rig.markers.as_os_str()],
+        &[a.join("bend.obj"), b.join("bend.ply")],
+    ));
+    assert_empty(&out);
+    assert_mentions(&err, &["two poses are named `bend`"]);
+}
+
+#[test]
+fn correspond_bad_deformed_source_name_writes_nothing() {
+    let rig = Rig::new();
+    let corr = rig.path("map.corr");
+    let deformed = rig.path("deformed.stl");
+    let err = fails(&run([
+        os("correspond"),
+        os("--source-ref"),
+        rig.source_ref.as_os_str(),
+        os("--target-ref"),
+        rig.target_ref.as_os_str(),
+        os("--markers"),
+        rig.markers.as_os_str(),
+        os("-o"),
+        corr.as_os_str(),
+        os("--deformed-source"),
+        deformed.as_os_str(),
+    ]));
+    assert_mentions(&err, &[&shown(&deformed), "unknown mesh format"]);
+    assert!(!corr.exists() && !deformed.exists());
+}
+
+// ---------------------------------------------------------------------------
+// demo.
+
+#[test]
+fn demo_writes_everything_and_json_lines() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("demo");
+    let text = succeeds(&run([os("demo"), os("-o"), out.as_os_str(), os("--json")]));
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(!lines.is_empty());
+    for line in &lines {
+        let v: Value =
+            serde_json::from_str(line).unwrap_or_else(|e| panic!("not JSON ({e}): {line}"));
+        assert!(v.is_object(), "{line}");
+    }
+    let reports: Vec<Value> = lines
+        .iter()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert!(reports
+        .iter()
+        .any(|r| r["frames_written"].as_u64() > Some(0)));
+    assert!(reports
+        .iter()
+        .any(|r| r["poses_written"].as_u64() > Some(0)));
+
+    let gif = fs::read(out.join("spiral.gif")).unwrap();
+    assert!(gif.starts_with(b"GIF89a"));
+    assert!(out.join("spiral").join("frame_0000.obj").is_file());
+    let transfer = out.join("transfer");
+    let gif = fs::read(transfer.join("transfer.gif")).unwrap();
+    assert!(gif.starts_with(b"GIF89a"));
+    let png = fs::read(transfer.join("transfer.png")).unwrap();
+    assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"));
+    let targets = names(&transfer.join("target"));
+    assert!(!targets.is_empty());
+    for name in &targets {
+        assert!(name.ends_with(".obj"), "{name}");
+        read(&transfer.join("target").join(name));
+    }
+    // No temporary file left anywhere.
+    for d in [
+        out.clone(),
+        out.join("spiral"),
+        transfer.clone(),
+        transfer.join("target"),
+    ] {
+        for name in names(&d) {
+            assert!(!name.ends_with(".tmp"), "{}", d.join(name).display());
+        }
+    }
+}
