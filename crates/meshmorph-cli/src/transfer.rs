@@ -252,8 +252,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         .map(|path| {
             let begin = Instant::now();
             let pose = output::read_mesh(path, "source pose")?;
-            source
-                .check_same_connectivity(&pose, ["the source reference", "the pose"])
+            pose.check_same_connectivity(&source, ["the pose", "the source reference"])
                 .with_context(|| {
                     format!(
                         "source pose `{}` does not fit the source reference",

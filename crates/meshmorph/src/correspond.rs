@@ -272,10 +272,14 @@ fn deform(
             }
         }
     }
-    let pinned: Vec<usize> = markers.pairs().iter().map(|p| p[0] as usize).collect();
+    // In a fixed order: the solve sums the pinned values' contributions in
+    // this order, and the last bits of the result decide ties in matching.
+    let mut pairs = markers.pairs().to_vec();
+    pairs.sort_unstable();
+    let pinned: Vec<usize> = pairs.iter().map(|p| p[0] as usize).collect();
     let np = pinned.len();
     let mut pinned_values = vec![0.0; 3 * np];
-    for (q, &[_, t]) in markers.pairs().iter().enumerate() {
+    for (q, &[_, t]) in pairs.iter().enumerate() {
         for i in 0..3 {
             pinned_values[i * np + q] = target.positions()[t as usize][i];
         }

@@ -18,14 +18,20 @@
 //! bring the mean error against his own results from 0.017 to 0.015.)
 //!
 //! Target triangles in no pair take the deformation of their neighbours
-//! (a smoothness term across their edges, and a faint pull towards their
-//! rest shape so that a part with no pair at all stays where it is).
+//! (a smoothness term across their edges). Those that cannot reach a paired
+//! triangle across edges also get a faint pull towards their rest shape, so
+//! that a part with no pair at all keeps its shape; the pull is left out
+//! elsewhere, where it would bias the result towards the rest pose.
 //!
 //! The energy does not see translations. Each connected part of the target
-//! is placed so that its centroid moves as the centroid of the source
-//! triangles paired with it does: the output does not drift. Pinned target
-//! vertices ([`TransferOptions::pins`]) replace that placement for the parts
-//! they are in.
+//! is placed so that, in the area-weighted mean over its pairs, the centroid
+//! of each paired target triangle sits where the centroid of its source
+//! triangle went, plus their offset in the references carried by that source
+//! triangle's deformation gradient. The output does not drift, and a rigid
+//! (or affine) motion of the whole source moves the target by the same
+//! motion, wherever the target lies. A part without pairs stays where it is.
+//! Pinned target vertices ([`TransferOptions::pins`]) replace that placement
+//! for the parts they are in.
 #![allow(non_snake_case)]
 
 use rayon::prelude::*;
@@ -37,7 +43,7 @@ use crate::frames::{deformation_gradient, frame, gradient_operator, inverse3, Ma
 use crate::geometry::centroid;
 use crate::mesh::Mesh3;
 use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder, Workspace};
-use crate::topology::{connected_components, edges};
+use crate::topology::{connected_components, edges, TriangleAdjacency};
 
 /// Options of [`Transfer::new`].
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -59,16 +65,17 @@ impl TransferOptions {
     }
 }
 
-/// Weight pulling unpaired target triangles towards their rest shape,
-/// relative to the weight 1 of a pair and of a smoothness term.
+/// Weight pulling unpaired target triangles that reach no paired triangle
+/// across edges towards their rest shape, relative to the weight 1 of a pair
+/// and of a smoothness term.
 const UNPAIRED_REST_WEIGHT: f64 = 1e-6;
 
 /// Deformation transfer from one source reference to one target reference,
 /// factored once; see the [module documentation](self).
 #[derive(Debug)]
 pub struct Transfer {
-    source_vertices: usize,
-    source_triangles: Vec<[u32; 3]>,
+    /// The source reference (its connectivity checks poses).
+    source_ref: Mesh3,
     /// `V⁻¹` of every source reference triangle.
     source_frames_inv: Vec<Mat3>,
     target_vertices: usize,
@@ -95,11 +102,15 @@ pub struct Transfer {
 /// How one connected part of the target is placed.
 #[derive(Clone, Debug)]
 struct Placement {
-    /// `(source triangle, weight)` whose weighted centroid the part follows.
-    follow: Vec<(u32, f64)>,
-    /// That weighted centroid in the source reference.
-    source_rest: [f64; 3],
-    /// The part's own area-weighted centroid in the target reference.
+    /// The pairs `(source triangle, target triangle, weight)` in the part.
+    pairs: Vec<(u32, u32, f64)>,
+    /// For each pair, the offset from the centroid of its source triangle to
+    /// the centroid of its target triangle in the references.
+    offsets: Vec<[f64; 3]>,
+    /// Sum of the pair weights.
+    pair_weight: f64,
+    /// The part's own area-weighted centroid in the target reference, where
+    /// a part without pairs stays.
     target_rest: [f64; 3],
     total_weight: f64,
 }
@@ -181,13 +192,29 @@ impl Transfer {
             })
             .collect();
 
+        // Unpaired triangles that reach a paired one across edges take its
+        // deformation through the smoothness terms; only those that reach
+        // none need the rest pull (which would bias the others towards the
+        // identity: a rotated source would give a target not quite rotated).
+        let tri_edges = edges(tris);
+        let adjacency = TriangleAdjacency::from_edges(tris.len(), &tri_edges);
+        let mut reached: Vec<bool> = (0..tris.len()).map(|t| count(t) > 0).collect();
+        let mut stack: Vec<usize> = (0..tris.len()).filter(|&t| reached[t]).collect();
+        while let Some(t) = stack.pop() {
+            for &u in adjacency.of(t) {
+                if !std::mem::replace(&mut reached[u as usize], true) {
+                    stack.push(u as usize);
+                }
+            }
+        }
+
         let mut builder = SymmetricBuilder::new(m, 12 * tris.len());
         let mut rhs_rest = vec![0.0; 3 * m];
         for t in 0..tris.len() {
             let G = &target_gradients[t];
             if count(t) > 0 {
                 builder.add_gram(&unknowns(t), G, weight[t]);
-            } else {
+            } else if !reached[t] {
                 let w = UNPAIRED_REST_WEIGHT * weight[t];
                 builder.add_gram(&unknowns(t), G, w);
                 for (k, u) in unknowns(t).into_iter().enumerate() {
@@ -197,7 +224,7 @@ impl Transfer {
                 }
             }
         }
-        for e in edges(tris) {
+        for e in &tri_edges {
             for (k, &a) in e.triangles.iter().enumerate() {
                 for &b in &e.triangles[k + 1..] {
                     let (a, b) = (a as usize, b as usize);
@@ -260,7 +287,6 @@ impl Transfer {
         }
 
         // Placement of each part not held by a pin.
-        let source_areas = triangle_areas(source_ref);
         let mut vertex_weight = vec![0.0; n];
         for (tri, a) in tris.iter().zip(&target_areas) {
             for &v in tri {
@@ -273,33 +299,28 @@ impl Transfer {
             if !pinned_part[c] {
                 part_slot[c] = placements.len() as u32;
                 placements.push(Placement {
-                    follow: Vec::new(),
-                    source_rest: [0.0; 3],
+                    pairs: Vec::new(),
+                    offsets: Vec::new(),
+                    pair_weight: 0.0,
                     target_rest: [0.0; 3],
                     total_weight: 0.0,
                 });
             }
         }
-        for p in correspondence.pairs() {
-            let slot = part_slot[components.of_triangle[p[1] as usize] as usize];
+        for &[s, t] in correspondence.pairs() {
+            let slot = part_slot[components.of_triangle[t as usize] as usize];
             if slot != u32::MAX {
-                placements[slot as usize]
-                    .follow
-                    .push((p[0], source_areas[p[0] as usize]));
+                let pl = &mut placements[slot as usize];
+                // Each target triangle counts by its area, as in the energy.
+                let w = pair_scale[t as usize];
+                let (cs, ct) = (
+                    centroid(source_ref.corners(s as usize)),
+                    centroid(target_ref.corners(t as usize)),
+                );
+                pl.pairs.push((s, t, w));
+                pl.offsets.push(std::array::from_fn(|i| ct[i] - cs[i]));
+                pl.pair_weight += w;
             }
-        }
-        for pl in &mut placements {
-            pl.follow.sort_unstable_by_key(|f| f.0);
-            pl.follow.dedup_by(|a, b| {
-                if a.0 == b.0 {
-                    b.1 += a.1;
-                    true
-                } else {
-                    false
-                }
-            });
-            pl.source_rest =
-                weighted_centroid(source_ref.positions(), source_ref.triangles(), &pl.follow);
         }
         let vertex_part: Vec<u32> = components
             .of_vertex
@@ -322,8 +343,7 @@ impl Transfer {
         }
 
         Ok(Self {
-            source_vertices: source_ref.num_vertices(),
-            source_triangles: source_ref.triangles().to_vec(),
+            source_ref: source_ref.clone(),
             source_frames_inv,
             target_vertices: n,
             target_triangles: tris.to_vec(),
@@ -350,7 +370,7 @@ impl Transfer {
         let m = self.target_vertices + self.target_triangles.len();
         PoseWorkspace {
             solve: self.system.workspace(3),
-            gradients: vec![[[0.0; 3]; 3]; self.source_triangles.len()],
+            gradients: vec![[[0.0; 3]; 3]; self.source_ref.num_triangles()],
             rhs: vec![0.0; 3 * m],
             x: vec![0.0; 3 * m],
         }
@@ -361,30 +381,7 @@ impl Transfer {
     /// # Errors
     /// [`Error::Mismatch`] naming what differs.
     pub fn check_pose(&self, pose: &Mesh3) -> Result<()> {
-        if pose.num_vertices() != self.source_vertices {
-            return Err(Error::Mismatch(format!(
-                "the pose has {} vertices but the source reference has {}",
-                pose.num_vertices(),
-                self.source_vertices
-            )));
-        }
-        if pose.num_triangles() != self.source_triangles.len() {
-            return Err(Error::Mismatch(format!(
-                "the pose has {} triangles but the source reference has {}",
-                pose.num_triangles(),
-                self.source_triangles.len()
-            )));
-        }
-        if let Some(t) = (0..self.source_triangles.len())
-            .find(|&t| pose.triangles()[t] != self.source_triangles[t])
-        {
-            return Err(Error::Mismatch(format!(
-                "triangle {t} of the pose is {:?} but {:?} in the source reference",
-                pose.triangles()[t],
-                self.source_triangles[t]
-            )));
-        }
-        Ok(())
+        pose.check_same_connectivity(&self.source_ref, ["the pose", "the source reference"])
     }
 
     /// The target's vertex positions in `pose`.
@@ -429,7 +426,7 @@ impl Transfer {
     pub fn apply_into(&self, pose: &[[f64; 3]], out: &mut [[f64; 3]], ws: &mut PoseWorkspace) {
         assert_eq!(
             pose.len(),
-            self.source_vertices,
+            self.source_ref.num_vertices(),
             "pose has the wrong number of vertices"
         );
         assert_eq!(
@@ -442,7 +439,7 @@ impl Transfer {
         for ((Q, tri), V_inv) in ws
             .gradients
             .iter_mut()
-            .zip(&self.source_triangles)
+            .zip(self.source_ref.triangles())
             .zip(&self.source_frames_inv)
         {
             *Q = deformation_gradient(*V_inv, tri.map(|v| pose[v as usize]));
@@ -478,11 +475,16 @@ impl Transfer {
         for (v, o) in out.iter_mut().enumerate() {
             *o = [ws.x[v], ws.x[m + v], ws.x[2 * m + v]];
         }
-        self.place(pose, out);
+        self.place(pose, &ws.gradients, out);
     }
 
-    /// Moves each unpinned part so its centroid follows its source triangles.
-    fn place(&self, pose: &[[f64; 3]], out: &mut [[f64; 3]]) {
+    /// Moves each unpinned part so that its paired triangles' centroids
+    /// follow those of their source triangles: each at its source triangle's
+    /// centroid in `pose` plus the rest offset between the two mapped by the
+    /// source triangle's deformation gradient, in the weighted mean over the
+    /// pairs. A rigid (or affine) motion of the source thus moves the target
+    /// by the same motion. A part without pairs stays where it is.
+    fn place(&self, pose: &[[f64; 3]], gradients: &[Mat3], out: &mut [[f64; 3]]) {
         let mut now = vec![[0.0; 3]; self.placements.len()];
         for (v, p) in out.iter().enumerate() {
             let c = self.vertex_part[v];
@@ -497,13 +499,21 @@ impl Transfer {
             .iter()
             .zip(&now)
             .map(|(pl, now)| {
-                let moved = if pl.follow.is_empty() {
-                    [0.0; 3]
-                } else {
-                    let c = weighted_centroid(pose, &self.source_triangles, &pl.follow);
-                    std::array::from_fn(|i| c[i] - pl.source_rest[i])
-                };
-                std::array::from_fn(|i| pl.target_rest[i] + moved[i] - now[i] / pl.total_weight)
+                if pl.pairs.is_empty() {
+                    return std::array::from_fn(|i| pl.target_rest[i] - now[i] / pl.total_weight);
+                }
+                let mut shift = [0.0; 3];
+                for (&(s, t, w), o) in pl.pairs.iter().zip(&pl.offsets) {
+                    let cs =
+                        centroid(self.source_ref.triangles()[s as usize].map(|v| pose[v as usize]));
+                    let ct = centroid(self.target_triangles[t as usize].map(|v| out[v as usize]));
+                    let Q = &gradients[s as usize];
+                    for i in 0..3 {
+                        let moved = Q[i][0] * o[0] + Q[i][1] * o[1] + Q[i][2] * o[2];
+                        shift[i] += w * (cs[i] + moved - ct[i]);
+                    }
+                }
+                shift.map(|x| x / pl.pair_weight)
             })
             .collect();
         for (v, p) in out.iter_mut().enumerate() {
@@ -523,25 +533,4 @@ pub(crate) fn triangle_areas(mesh: &Mesh3) -> Vec<f64> {
         .iter()
         .map(|n| 0.5 * crate::geometry::norm(*n))
         .collect()
-}
-
-fn weighted_centroid(
-    positions: &[[f64; 3]],
-    triangles: &[[u32; 3]],
-    follow: &[(u32, f64)],
-) -> [f64; 3] {
-    let mut c = [0.0; 3];
-    let mut w = 0.0;
-    for &(t, wt) in follow {
-        let p = centroid(triangles[t as usize].map(|v| positions[v as usize]));
-        for i in 0..3 {
-            c[i] += wt * p[i];
-        }
-        w += wt;
-    }
-    if w > 0.0 {
-        c.map(|x| x / w)
-    } else {
-        c
-    }
 }

@@ -1,0 +1,1388 @@
+//! Deformation transfer (correspondence and transfer) over families of
+//! procedural tubes, bad input, and Sumner's horse and camel of
+//! ../shared/data/dt when present.
+
+use std::f64::consts::{PI, TAU};
+use std::path::{Path, PathBuf};
+
+use meshmorph::correspond::{correspond_steps, MIN_MARKERS};
+use meshmorph::shapes::{bend, tube};
+use meshmorph::{
+    correspond, io, topology, CorrespondOptions, CorrespondResult, Correspondence, Error, Markers,
+    Mesh3, Transfer, TransferOptions,
+};
+
+// ---------------------------------------------------------------------------
+// Shared helpers
+// ---------------------------------------------------------------------------
+
+type P3 = [f64; 3];
+type M3 = [[f64; 3]; 3];
+
+/// A small seeded generator (SplitMix64): the tests never depend on chance.
+struct Rng(u64);
+
+impl Rng {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e3779b97f4a7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58476d1ce4e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d049bb133111eb);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [0, 1).
+    fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next_u64() % n as u64) as usize
+    }
+    fn shuffle<T>(&mut self, v: &mut [T]) {
+        for i in (1..v.len()).rev() {
+            v.swap(i, self.below(i + 1));
+        }
+    }
+    /// A random rotation (uniform axis, angle in (0.1, π)).
+    fn rotation(&mut self) -> M3 {
+        let z: f64 = self.range(-1.0, 1.0);
+        let phi = self.range(0.0, TAU);
+        let r = (1.0 - z * z).sqrt();
+        rotation([r * phi.cos(), r * phi.sin(), z], self.range(0.1, PI))
+    }
+}
+
+fn sub(a: P3, b: P3) -> P3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn norm(a: P3) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+fn mul(r: &M3, p: P3) -> P3 {
+    std::array::from_fn(|i| r[i][0] * p[0] + r[i][1] * p[1] + r[i][2] * p[2])
+}
+
+/// Rotation by `angle` about the unit `axis` (Rodrigues).
+fn rotation(axis: P3, angle: f64) -> M3 {
+    let [x, y, z] = axis;
+    let (s, c) = angle.sin_cos();
+    let t = 1.0 - c;
+    [
+        [c + x * x * t, x * y * t - z * s, x * z * t + y * s],
+        [y * x * t + z * s, c + y * y * t, y * z * t - x * s],
+        [z * x * t - y * s, z * y * t + x * s, c + z * z * t],
+    ]
+}
+
+/// The mesh with every vertex moved by `f`.
+fn mapped(m: &Mesh3, f: impl Fn(P3) -> P3) -> Mesh3 {
+    m.with_positions(m.positions().iter().map(|&p| f(p)).collect())
+        .unwrap()
+}
+
+/// `x ↦ R x + t` on every vertex.
+fn rigid(m: &Mesh3, r: &M3, t: P3) -> Mesh3 {
+    mapped(m, |p| {
+        let q = mul(r, p);
+        [q[0] + t[0], q[1] + t[1], q[2] + t[2]]
+    })
+}
+
+/// Twists a mesh along x from 0 to `length`: the cross-section at `x`
+/// turns about the x axis by `angle · x / length`.
+fn twist(m: &Mesh3, length: f64, angle: f64) -> Mesh3 {
+    mapped(m, |[x, y, z]| {
+        let (s, c) = (angle * x / length).sin_cos();
+        [x, c * y - s * z, s * y + c * z]
+    })
+}
+
+/// Scales along x by `along` and across by `across`, growing with x (not affine).
+fn stretch(m: &Mesh3, along: f64, across: f64) -> Mesh3 {
+    mapped(m, |[x, y, z]| {
+        let k = across * (1.0 + 0.1 * x);
+        [along * x, k * y, k * z]
+    })
+}
+
+/// Two meshes side by side in one (their components stay apart).
+fn union(a: &Mesh3, b: &Mesh3) -> Mesh3 {
+    let off = a.num_vertices() as u32;
+    let mut p = a.positions().to_vec();
+    p.extend_from_slice(b.positions());
+    let mut t = a.triangles().to_vec();
+    t.extend(b.triangles().iter().map(|t| t.map(|v| v + off)));
+    Mesh3::new(p, t).unwrap()
+}
+
+/// Vertex `s` of ring `r` of a [`tube`] with `segments` vertices per ring.
+fn ring_vertex(segments: usize, r: usize, s: usize) -> u32 {
+    (r * segments + s % segments) as u32
+}
+
+/// A [`tube`] without its caps (and without the two cap centres): two
+/// boundary loops.
+fn open_tube(length: f64, radius: f64, rings: usize, segments: usize) -> Mesh3 {
+    let closed = tube(length, radius, rings, segments);
+    let side = 2 * (rings - 1) * segments;
+    let (mut p, t) = closed.into_parts();
+    p.truncate(rings * segments);
+    Mesh3::new(p, t[..side].to_vec()).unwrap()
+}
+
+/// Glues a fin triangle onto the axial edge from ring `r` to ring `r + 1` at
+/// segment 0 of a tube, its tip at `y = height`: the edge gets a third
+/// triangle and becomes non-manifold.
+fn with_fin(m: &Mesh3, segments: usize, r: usize, height: f64) -> Mesh3 {
+    let (a, b) = (ring_vertex(segments, r, 0), ring_vertex(segments, r + 1, 0));
+    let (pa, pb) = (m.positions()[a as usize], m.positions()[b as usize]);
+    let (mut p, mut t) = m.clone().into_parts();
+    p.push([0.5 * (pa[0] + pb[0]), height, 0.05 * height]);
+    t.push([a, b, p.len() as u32 - 1]);
+    Mesh3::new(p, t).unwrap()
+}
+
+fn max_distance(a: &[P3], b: &[P3]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| norm(sub(*p, *q)))
+        .fold(0.0, f64::max)
+}
+
+fn all_finite(p: &[P3]) -> bool {
+    p.iter().flatten().all(|x| x.is_finite())
+}
+
+/// Asserts `got` is within `fraction` of `reference`'s bounding-box diagonal
+/// of `want`, vertex by vertex.
+#[track_caller]
+fn assert_close(got: &[P3], want: &[P3], reference: &Mesh3, fraction: f64, what: &str) {
+    assert!(all_finite(got), "{what}: non-finite output");
+    let d = max_distance(got, want) / reference.bounding_box_diagonal();
+    assert!(d < fraction, "{what}: off by {d:e} of the diagonal");
+}
+
+fn mean(p: &[P3]) -> P3 {
+    let mut c = [0.0; 3];
+    for q in p {
+        for i in 0..3 {
+            c[i] += q[i];
+        }
+    }
+    c.map(|x| x / p.len() as f64)
+}
+
+/// Centroid of ring `r` of a tube output.
+fn ring_centroid(p: &[P3], segments: usize, r: usize) -> P3 {
+    mean(&p[r * segments..(r + 1) * segments])
+}
+
+/// Identity-correspondence transfer of a mesh onto itself.
+fn self_transfer(m: &Mesh3) -> Transfer {
+    Transfer::new(
+        m,
+        m,
+        &Correspondence::identity(m),
+        &TransferOptions::default(),
+    )
+    .unwrap()
+}
+
+/// A tube's parameters, to find corresponding vertices of two tubes.
+#[derive(Clone, Copy, Debug)]
+struct TubeSpec {
+    length: f64,
+    radius: f64,
+    rings: usize,
+    segments: usize,
+}
+
+impl TubeSpec {
+    fn mesh(self) -> Mesh3 {
+        tube(self.length, self.radius, self.rings, self.segments)
+    }
+    /// Position along the axis and angle around it of every vertex
+    /// (cap centres at angle 0 with a flag).
+    fn axial(self, v: usize) -> (f64, f64, bool) {
+        let n = self.rings * self.segments;
+        if v >= n {
+            return (if v == n { 0.0 } else { self.length }, 0.0, true);
+        }
+        let (r, s) = (v / self.segments, v % self.segments);
+        (
+            self.length * r as f64 / (self.rings - 1) as f64,
+            TAU * s as f64 / self.segments as f64,
+            false,
+        )
+    }
+}
+
+/// Markers between two tubes: each source vertex in `picks` with the target
+/// vertex nearest to it along the axis and around it (the radii differ).
+fn tube_markers(source: TubeSpec, target: TubeSpec, picks: &[u32]) -> Markers {
+    let n = target.rings * target.segments + 2;
+    let pairs = picks
+        .iter()
+        .map(|&v| {
+            let (x, a, cap) = source.axial(v as usize);
+            let t = (0..n)
+                .min_by(|&i, &j| {
+                    let cost = |k: usize| {
+                        let (y, b, c) = target.axial(k);
+                        let da = (a - b).rem_euclid(TAU);
+                        let da = da.min(TAU - da);
+                        (x - y).abs() + da + if c == cap { 0.0 } else { 100.0 }
+                    };
+                    cost(i).total_cmp(&cost(j))
+                })
+                .unwrap();
+            [v, t as u32]
+        })
+        .collect();
+    Markers::new(pairs)
+}
+
+/// Marker picks on a source tube: both cap centres and, on every `every`-th
+/// ring, the vertices at 0°, 90°, 180° and 270° (`segments` divisible by 4).
+fn tube_picks(s: TubeSpec, every: usize) -> Vec<u32> {
+    let n = (s.rings * s.segments) as u32;
+    let mut picks = vec![n, n + 1];
+    for r in (0..s.rings).step_by(every) {
+        for q in 0..4 {
+            picks.push(ring_vertex(s.segments, r, q * s.segments / 4));
+        }
+    }
+    picks
+}
+
+/// The usual source, target and a very coarse source: all along x from 0 to 4.
+const THIN: TubeSpec = TubeSpec {
+    length: 4.0,
+    radius: 0.5,
+    rings: 17,
+    segments: 16,
+};
+const THICK: TubeSpec = TubeSpec {
+    length: 4.0,
+    radius: 0.65,
+    rings: 25,
+    segments: 20,
+};
+const COARSE: TubeSpec = TubeSpec {
+    rings: 5,
+    segments: 8,
+    ..THIN
+};
+
+fn tube_correspondence(source: TubeSpec, target: TubeSpec) -> CorrespondResult {
+    let markers = tube_markers(source, target, &tube_picks(source, 4));
+    correspond(
+        &source.mesh(),
+        &target.mesh(),
+        &markers,
+        &CorrespondOptions::default(),
+        &mut |_| {},
+    )
+    .unwrap()
+}
+
+/// Asserts `e` is the variant `matches` says and its message holds every needle.
+#[track_caller]
+fn assert_error(e: Error, matches: fn(&Error) -> bool, needles: &[&str]) {
+    let msg = e.to_string();
+    assert!(matches(&e), "wrong variant: {e:?}");
+    for n in needles {
+        assert!(msg.contains(n), "`{n}` not in: {msg}");
+    }
+}
+
+// ---------------------------------------------------------------------------
+// 1. Identity: S0 = T0 and the identity correspondence reproduce every pose
+// ---------------------------------------------------------------------------
+
+/// Meshes along x from 0 to `length`, each with poses that bend, twist and
+/// stretch it.
+fn identity_family() -> Vec<(String, Mesh3, f64)> {
+    let mut family = Vec::new();
+    for (rings, segments) in [(2, 3), (5, 6), (9, 12), (33, 8), (12, 40)] {
+        family.push((
+            format!("tube {rings}x{segments}"),
+            tube(4.0, 0.5, rings, segments),
+            4.0,
+        ));
+    }
+    family.push(("open tube".into(), open_tube(3.0, 0.4, 10, 10), 3.0));
+    family.push((
+        "tube with a fin".into(),
+        with_fin(&tube(3.0, 0.4, 10, 10), 10, 4, 0.8),
+        3.0,
+    ));
+    family.push((
+        "open tube with a fin".into(),
+        with_fin(&open_tube(3.0, 0.4, 10, 10), 10, 0, 0.8),
+        3.0,
+    ));
+    let second = mapped(&tube(4.0, 0.3, 7, 9), |[x, y, z]| [x, y + 2.0, z - 1.0]);
+    family.push((
+        "two tubes".into(),
+        union(&tube(4.0, 0.5, 9, 12), &second),
+        4.0,
+    ));
+    family
+}
+
+fn identity_poses(m: &Mesh3, length: f64) -> Vec<(String, Mesh3)> {
+    let mut poses = vec![("rest".to_string(), m.clone())];
+    for deg in [-60.0, 10.0, 90.0, 180.0, 300.0] {
+        let a = f64::to_radians(deg);
+        poses.push((format!("bend {deg}"), bend(m, length, a)));
+        poses.push((format!("twist {deg}"), twist(m, length, a)));
+        poses.push((
+            format!("bend {deg} twisted"),
+            bend(&twist(m, length, -a), length, 0.5 * a),
+        ));
+    }
+    poses.push(("stretch".into(), stretch(m, 1.7, 0.6)));
+    poses.push(("squash".into(), stretch(m, 0.5, 1.3)));
+    poses.push((
+        "stretch, bend, move".into(),
+        rigid(
+            &bend(&stretch(m, 1.3, 0.8), 1.3 * length, 2.0),
+            &rotation([0.0, 0.6, 0.8], 2.5),
+            [10.0, -3.0, 7.0],
+        ),
+    ));
+    let mut rng = Rng(7);
+    poses.push((
+        "noise".into(),
+        mapped(m, |p| p.map(|x| x + 0.05 * (x * 37.0).sin())),
+    ));
+    let jitter: Vec<P3> = m
+        .positions()
+        .iter()
+        .map(|p| p.map(|x| x + rng.range(-0.1, 0.1)))
+        .collect();
+    poses.push(("random jitter".into(), m.with_positions(jitter).unwrap()));
+    poses
+}
+
+#[test]
+fn identity_correspondence_reproduces_every_pose() {
+    for (name, mesh, length) in identity_family() {
+        let transfer = self_transfer(&mesh);
+        let poses = identity_poses(&mesh, length);
+        let all = transfer
+            .apply_all(&poses.iter().map(|p| p.1.clone()).collect::<Vec<_>>())
+            .unwrap();
+        for ((pose_name, pose), out) in poses.iter().zip(&all) {
+            assert_close(
+                out,
+                pose.positions(),
+                pose,
+                1e-8,
+                &format!("{name}, {pose_name}"),
+            );
+        }
+    }
+}
+
+/// (boundary edges, non-manifold edges, connected parts) of a mesh.
+fn topology_of(m: &Mesh3) -> (usize, usize, usize) {
+    let edges = topology::edges(m.triangles());
+    (
+        edges.iter().filter(|e| e.triangles.len() == 1).count(),
+        edges.iter().filter(|e| e.triangles.len() > 2).count(),
+        topology::connected_components(m.num_vertices(), m.triangles()).count,
+    )
+}
+
+#[test]
+fn the_identity_family_has_boundaries_fins_and_parts() {
+    let kinds: Vec<(String, (usize, usize, usize))> = identity_family()
+        .into_iter()
+        .map(|(name, m, _)| (name, topology_of(&m)))
+        .collect();
+    let of = |name: &str| kinds.iter().find(|k| k.0 == name).unwrap().1;
+    assert_eq!(of("tube 9x12"), (0, 0, 1));
+    // Two loops of 10 edges; the fin adds two boundary edges.
+    assert_eq!(of("open tube"), (20, 0, 1));
+    assert_eq!(of("tube with a fin"), (2, 1, 1));
+    assert_eq!(of("open tube with a fin"), (22, 1, 1));
+    assert_eq!(of("two tubes"), (0, 0, 2));
+}
+
+#[test]
+fn components_of_a_self_transfer_move_independently() {
+    // Each tube gets its own rigid motion and bend; the output follows both.
+    let (a, b) = (
+        tube(4.0, 0.5, 9, 12),
+        mapped(&tube(2.0, 0.3, 5, 7), |p| [p[0], p[1] + 3.0, p[2]]),
+    );
+    let mesh = union(&a, &b);
+    let transfer = self_transfer(&mesh);
+    let mut rng = Rng(11);
+    for k in 0..4 {
+        let a1 = rigid(
+            &bend(&a, 4.0, 0.7 * k as f64),
+            &rng.rotation(),
+            [1.0, 2.0, 3.0],
+        );
+        let b1 = rigid(&twist(&b, 2.0, 1.0), &rng.rotation(), [-5.0, 0.0, 1.0]);
+        let pose = union(&a1, &b1);
+        let out = transfer.apply(&pose).unwrap();
+        assert_close(&out, pose.positions(), &pose, 1e-8, &format!("pose {k}"));
+    }
+}
+
+// ---------------------------------------------------------------------------
+// 2. Rigid motions carry over to a different target
+// ---------------------------------------------------------------------------
+
+/// Source and target tubes for the rigid-motion test: the target as made by
+/// `spec.mesh()`, then changed by `edit` (moved away, given a fin, ...).
+struct RigidCase {
+    name: &'static str,
+    source: TubeSpec,
+    target: TubeSpec,
+    edit: fn(Mesh3, TubeSpec) -> Mesh3,
+    /// The correspondence must leave some target triangle unpaired.
+    unpaired: bool,
+}
+
+fn rigid_cases() -> Vec<RigidCase> {
+    let keep: fn(Mesh3, TubeSpec) -> Mesh3 = |m, _| m;
+    vec![
+        RigidCase {
+            name: "thin to thick",
+            source: THIN,
+            target: THICK,
+            edit: keep,
+            unpaired: false,
+        },
+        RigidCase {
+            name: "thick to coarser",
+            source: THICK,
+            target: TubeSpec {
+                rings: 9,
+                segments: 12,
+                ..THIN
+            },
+            edit: keep,
+            unpaired: false,
+        },
+        // Many target triangles per source triangle: the centroid of the
+        // paired source triangles is not the target's centroid.
+        RigidCase {
+            name: "coarse to thick",
+            source: COARSE,
+            target: THICK,
+            edit: keep,
+            unpaired: false,
+        },
+        RigidCase {
+            name: "thin to thick, target elsewhere",
+            source: THIN,
+            target: THICK,
+            edit: |m, _| rigid(&m, &rotation([0.0, 0.0, 1.0], 0.4), [0.5, 2.0, -1.0]),
+            unpaired: false,
+        },
+        // The fin is too far from the source to be paired: it takes the
+        // rotation of its neighbours.
+        RigidCase {
+            name: "thin to thick with a fin",
+            source: THIN,
+            target: THICK,
+            edit: |m, spec| with_fin(&m, spec.segments, 10, 2.5),
+            unpaired: true,
+        },
+    ]
+}
+
+#[test]
+fn rigid_motions_of_the_source_move_the_target_rigidly() {
+    for case in rigid_cases() {
+        let s0 = case.source.mesh();
+        let t0 = (case.edit)(case.target.mesh(), case.target);
+        let markers = tube_markers(case.source, case.target, &tube_picks(case.source, 4));
+        let c = correspond(
+            &s0,
+            &t0,
+            &markers,
+            &CorrespondOptions::default(),
+            &mut |_| {},
+        )
+        .unwrap()
+        .correspondence;
+        let what = format!(
+            "{} ({} pairs, unpaired: {} source, {} target triangles)",
+            case.name,
+            c.pairs().len(),
+            c.unmatched_source(),
+            c.unmatched_target()
+        );
+        assert_eq!(c.unmatched_target() > 0, case.unpaired, "{what}");
+        let transfer = Transfer::new(&s0, &t0, &c, &TransferOptions::default()).unwrap();
+        let rest = transfer.apply(&s0).unwrap();
+        assert_close(&rest, t0.positions(), &t0, 1e-8, &format!("{what}: rest"));
+        let mut rng = Rng(3);
+        for k in 0..6 {
+            let r = rng.rotation();
+            let t = [
+                rng.range(-5.0, 5.0),
+                rng.range(-5.0, 5.0),
+                rng.range(-5.0, 5.0),
+            ];
+            let out = transfer.apply(&rigid(&s0, &r, t)).unwrap();
+            let want = rigid(&t0, &r, t);
+            assert_close(
+                &out,
+                want.positions(),
+                &t0,
+                1e-8,
+                &format!("{what}: motion {k}"),
+            );
+        }
+    }
+}
+
+#[test]
+fn target_parts_without_pairs_keep_their_shape() {
+    // The thick tube, a small tube far away (no pair at all) and a triangle
+    // hanging from one tube vertex, far from the source (no pair, and no
+    // edge shared with a paired triangle).
+    let s0 = THIN.mesh();
+    let thick = THICK.mesh();
+    let far = mapped(&tube(1.0, 0.3, 3, 5), |p| [p[0], p[1] + 6.0, p[2]]);
+    let hang_at = ring_vertex(THICK.segments, 12, 0);
+    let p = thick.positions()[hang_at as usize];
+    let (mut positions, mut triangles) = union(&thick, &far).into_parts();
+    let first = positions.len() as u32;
+    positions.push([p[0] + 0.2, p[1] + 1.5, 0.3]);
+    positions.push([p[0] - 0.2, p[1] + 1.5, -0.3]);
+    triangles.push([hang_at, first, first + 1]);
+    let t0 = Mesh3::new(positions, triangles).unwrap();
+    let hanging = t0.num_triangles() - 1;
+    let far_vertices = thick.num_vertices()..thick.num_vertices() + far.num_vertices();
+
+    let markers = tube_markers(THIN, THICK, &tube_picks(THIN, 4));
+    let c = correspond(
+        &s0,
+        &t0,
+        &markers,
+        &CorrespondOptions::default(),
+        &mut |_| {},
+    )
+    .unwrap()
+    .correspondence;
+    assert!(c
+        .pairs()
+        .iter()
+        .all(|p| (p[1] as usize) < thick.num_triangles()));
+    let transfer = Transfer::new(&s0, &t0, &c, &TransferOptions::default()).unwrap();
+    let mut rng = Rng(21);
+    for k in 0..4 {
+        let pose = rigid(
+            &bend(&s0, 4.0, 0.5 * k as f64),
+            &rng.rotation(),
+            [1.0, 2.0, 3.0],
+        );
+        let out = transfer.apply(&pose).unwrap();
+        assert!(all_finite(&out), "pose {k}");
+        // The far tube stays where it is.
+        assert_close(
+            &out[far_vertices.clone()],
+            &t0.positions()[far_vertices.clone()],
+            &t0,
+            1e-7,
+            &format!("pose {k}: far tube"),
+        );
+        // The hanging triangle keeps its shape and its orientation.
+        let rest = t0.corners(hanging);
+        let now = t0.triangles()[hanging].map(|v| out[v as usize]);
+        for i in 1..3 {
+            let d = norm(sub(sub(now[i], now[0]), sub(rest[i], rest[0])));
+            assert!(
+                d < 1e-6,
+                "pose {k}: hanging triangle corner {i} off by {d:e}"
+            );
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------
+// 3. Order independence: markers and poses
+// ---------------------------------------------------------------------------
+
+#[test]
+fn marker_order_does_not_matter() {
+    // Tubes are symmetric: many triangles have two equally near partners,
+    // and the last bits of the deformed source decide which one is taken.
+    // Markers on every ring put neighbours along the axis in the same rows
+    // of the system.
+    for (source, target) in [(THIN, THICK), (COARSE, THICK), (THICK, THIN)] {
+        let (s0, t0) = (source.mesh(), target.mesh());
+        let pose = bend(&twist(&s0, 4.0, 1.0), 4.0, 1.2);
+        for every in [1, 2, 4] {
+            let what = format!(
+                "{}x{} -> {}x{}, markers on every {every} rings",
+                source.rings, source.segments, target.rings, target.segments
+            );
+            let markers = tube_markers(source, target, &tube_picks(source, every));
+            let opts = CorrespondOptions::default();
+            let base = correspond(&s0, &t0, &markers, &opts, &mut |_| {}).unwrap();
+            let transfer =
+                Transfer::new(&s0, &t0, &base.correspondence, &Default::default()).unwrap();
+            let want = transfer.apply(&pose).unwrap();
+            let mut rng = Rng(5);
+            for k in 0..4 {
+                let mut pairs = markers.pairs().to_vec();
+                rng.shuffle(&mut pairs);
+                let shuffled =
+                    correspond(&s0, &t0, &Markers::new(pairs), &opts, &mut |_| {}).unwrap();
+                assert_eq!(
+                    shuffled.correspondence, base.correspondence,
+                    "{what}, shuffle {k}: other pairs"
+                );
+                assert_eq!(
+                    shuffled.deformed_source, base.deformed_source,
+                    "{what}, shuffle {k}: other deformed source"
+                );
+                let t =
+                    Transfer::new(&s0, &t0, &shuffled.correspondence, &Default::default()).unwrap();
+                assert_eq!(t.apply(&pose).unwrap(), want, "{what}, shuffle {k}");
+            }
+        }
+    }
+}
+
+#[test]
+fn pose_order_does_not_matter_and_batches_equal_single_poses() {
+    let (s0, t0) = (THIN.mesh(), THICK.mesh());
+    let result = tube_correspondence(THIN, THICK);
+    let transfer = Transfer::new(&s0, &t0, &result.correspondence, &Default::default()).unwrap();
+    let poses: Vec<Mesh3> = (0..9)
+        .map(|k| {
+            let a = 0.4 * k as f64 - 1.0;
+            twist(&bend(&s0, 4.0, a), 4.0, 0.3 * a)
+        })
+        .collect();
+    let single: Vec<Vec<P3>> = poses.iter().map(|p| transfer.apply(p).unwrap()).collect();
+    assert_eq!(transfer.apply_all(&poses).unwrap(), single);
+    let mut rng = Rng(9);
+    for _ in 0..3 {
+        let mut order: Vec<usize> = (0..poses.len()).collect();
+        rng.shuffle(&mut order);
+        let permuted: Vec<Mesh3> = order.iter().map(|&k| poses[k].clone()).collect();
+        let out = transfer.apply_all(&permuted).unwrap();
+        for (o, &k) in out.iter().zip(&order) {
+            assert_eq!(o, &single[k], "pose {k}");
+        }
+    }
+    // apply_into with one workspace reused over all poses: the same again.
+    let mut ws = transfer.workspace();
+    let mut out = vec![[0.0; 3]; t0.num_vertices()];
+    for (p, want) in poses.iter().zip(&single).rev() {
+        transfer.apply_into(p.positions(), &mut out, &mut ws);
+        assert_eq!(&out, want);
+    }
+}
+
+// ---------------------------------------------------------------------------
+// 4. Bad input
+// ---------------------------------------------------------------------------
+
+fn is_mismatch(e: &Error) -> bool {
+    matches!(e, Error::Mismatch(_))
+}
+fn is_invalid_argument(e: &Error) -> bool {
+    matches!(e, Error::InvalidArgument(_))
+}
+fn is_invalid_mesh(e: &Error) -> bool {
+    matches!(e, Error::InvalidMesh(_))
+}
+fn is_parse(e: &Error) -> bool {
+    matches!(e, Error::Parse { .. })
+}
+fn is_degenerate(e: &Error) -> bool {
+    matches!(e, Error::DegenerateTriangles { .. })
+}
+
+#[test]
+fn poses_that_do_not_fit_the_source_are_refused() {
+    let s0 = tube(4.0, 0.5, 9, 12);
+    let transfer = self_transfer(&s0);
+    let bigger = tube(4.0, 0.5, 9, 13);
+    assert_error(
+        transfer.apply(&bigger).unwrap_err(),
+        is_mismatch,
+        &["the pose has 119 vertices but the source reference has 110"],
+    );
+    // Same vertices, one fewer triangle.
+    let (p, t) = s0.clone().into_parts();
+    let fewer = Mesh3::new(p.clone(), t[1..].to_vec()).unwrap();
+    assert_error(
+        transfer.apply(&fewer).unwrap_err(),
+        is_mismatch,
+        &["triangles but the source reference has"],
+    );
+    // Same counts, triangle 5 turned over.
+    let mut flipped = t.clone();
+    flipped[5].swap(1, 2);
+    let flipped = Mesh3::new(p, flipped).unwrap();
+    assert_error(
+        transfer.check_pose(&flipped).unwrap_err(),
+        is_mismatch,
+        &[
+            "triangle 5 is",
+            "in the pose but",
+            "in the source reference",
+        ],
+    );
+    // In a batch the error names the pose.
+    let poses = [s0.clone(), bend(&s0, 4.0, 1.0), flipped];
+    assert_error(
+        transfer.apply_all(&poses).unwrap_err(),
+        is_mismatch,
+        &["pose 2:", "triangle 5"],
+    );
+}
+
+#[test]
+#[should_panic(expected = "pose has the wrong number of vertices")]
+fn apply_into_panics_on_a_pose_of_the_wrong_size() {
+    let s0 = tube(4.0, 0.5, 3, 4);
+    let transfer = self_transfer(&s0);
+    let mut out = vec![[0.0; 3]; s0.num_vertices()];
+    transfer.apply_into(&[[0.0; 3]; 3], &mut out, &mut transfer.workspace());
+}
+
+#[test]
+fn bad_markers_are_refused() {
+    let (s0, t0) = (THIN.mesh(), THICK.mesh());
+    let (ns, nt) = (s0.num_vertices() as u32, t0.num_vertices() as u32);
+    let good = tube_markers(THIN, THICK, &tube_picks(THIN, 8))
+        .pairs()
+        .to_vec();
+    let run = |pairs: Vec<[u32; 2]>| {
+        correspond(
+            &s0,
+            &t0,
+            &Markers::new(pairs),
+            &CorrespondOptions::default(),
+            &mut |_| {},
+        )
+        .map(|_| ())
+        .unwrap_err()
+    };
+    let with = |extra: [u32; 2]| {
+        let mut p = good.clone();
+        p.push(extra);
+        p
+    };
+    assert_error(
+        run(with([ns, 0])),
+        is_invalid_argument,
+        &[
+            &format!("marker {}", good.len()),
+            &format!("source vertex {ns} is out of range (the source has {ns} vertices)"),
+        ],
+    );
+    assert_error(
+        run(with([3, nt + 7])),
+        is_invalid_argument,
+        &[&format!("target vertex {} is out of range", nt + 7)],
+    );
+    assert_error(
+        run(with(good[2])),
+        is_invalid_argument,
+        &[&format!(
+            "the pair {} {} repeats marker 2",
+            good[2][0], good[2][1]
+        )],
+    );
+    let other = (good[3][1] + 1) % nt;
+    assert_error(
+        run(with([good[3][0], other])),
+        is_invalid_argument,
+        &[&format!(
+            "source vertex {} is paired with target vertex {other} here and with {} in marker 3",
+            good[3][0], good[3][1]
+        )],
+    );
+    // Too few.
+    for k in 0..MIN_MARKERS {
+        assert_error(
+            run(good[..k].to_vec()),
+            is_invalid_argument,
+            &[
+                &format!("{k} marker pair"),
+                &format!("at least {MIN_MARKERS}"),
+            ],
+        );
+    }
+    // A second source tube without a marker of its own.
+    let far = mapped(&s0, |p| [p[0], p[1] + 3.0, p[2]]);
+    let two = union(&s0, &far);
+    let e = correspond(
+        &two,
+        &t0,
+        &Markers::new(good.clone()),
+        &CorrespondOptions::default(),
+        &mut |_| {},
+    )
+    .unwrap_err();
+    assert_error(
+        e,
+        is_invalid_argument,
+        &[
+            "part 1 of the source reference",
+            &format!("around triangle {}", s0.num_triangles()),
+            "no marker",
+        ],
+    );
+}
+
+#[test]
+fn marker_files_that_do_not_parse_name_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bad.cons");
+    for (text, line, needle) in [
+        ("3\n0 1\n1 x\n2 2\n", 3, "`x` is not a vertex index"),
+        ("# comment\n0 1\n\n1 2 3\n", 4, "expected `source target`"),
+        (
+            "5\n0 1\n1 2\n",
+            1,
+            "the count line says 5 pairs but 2 follow",
+        ),
+        ("0 1\n4 -2\n", 2, "out of range"),
+    ] {
+        std::fs::write(&path, text).unwrap();
+        let e = Markers::read(&path, false).unwrap_err();
+        match &e {
+            Error::Parse {
+                line: l, path: p, ..
+            } => {
+                assert_eq!(*l, Some(line), "{e}");
+                assert_eq!(p, &path);
+            }
+            other => panic!("not a parse error: {other:?}"),
+        }
+        assert_error(e, is_parse, &["bad.cons", &format!("line {line}"), needle]);
+    }
+    // 1-based files refuse a 0.
+    std::fs::write(&path, "1 1\n0 2\n").unwrap();
+    assert_error(
+        Markers::read(&path, true).unwrap_err(),
+        is_parse,
+        &["line 2", "1-based"],
+    );
+    // A file that parses but names a vertex the mesh lacks: the line is named.
+    std::fs::write(&path, "0 0\n1 1\n999 2\n").unwrap();
+    let m = Markers::read(&path, false).unwrap();
+    assert_error(
+        m.validate(100, 100).unwrap_err(),
+        is_invalid_argument,
+        &["bad.cons", "line 3", "source vertex 999"],
+    );
+    // A missing file.
+    assert!(matches!(
+        Markers::read(&dir.path().join("none.cons"), false).unwrap_err(),
+        Error::Io { .. }
+    ));
+}
+
+#[test]
+fn correspondences_made_for_other_meshes_are_refused() {
+    let s0 = tube(4.0, 0.5, 9, 12);
+    let t0 = tube(4.0, 0.7, 9, 12);
+    let c = Correspondence::new(vec![[0, 0], [5, 7], [5, 8], [200, 1]], &s0, &t0);
+    assert!(c.check_fits(&s0, &t0).is_ok());
+    // Other counts, source or target.
+    let other = tube(4.0, 0.5, 10, 12);
+    for (s, t, name) in [
+        (&other, &t0, "source reference"),
+        (&s0, &other, "target reference"),
+    ] {
+        assert_error(
+            c.check_fits(s, t).unwrap_err(),
+            is_mismatch,
+            &[
+                name,
+                "of 110 vertices and 216 triangles",
+                "this one has 122 vertices",
+            ],
+        );
+        assert_error(
+            Transfer::new(s, t, &c, &TransferOptions::default()).unwrap_err(),
+            is_mismatch,
+            &[name],
+        );
+    }
+    // Same counts, other triangles: two triangles swapped.
+    let (p, mut tris) = s0.clone().into_parts();
+    tris.swap(0, 1);
+    let renumbered = Mesh3::new(p, tris).unwrap();
+    assert_error(
+        Transfer::new(&renumbered, &t0, &c, &TransferOptions::default()).unwrap_err(),
+        is_mismatch,
+        &["source reference with other triangles (same counts"],
+    );
+    // Moving vertices is fine: only connectivity counts.
+    assert!(c.check_fits(&bend(&s0, 4.0, 1.0), &t0).is_ok());
+}
+
+#[test]
+fn correspondence_files_round_trip_and_name_bad_lines() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.txt");
+    let result = tube_correspondence(THIN, THICK);
+    let c = result.correspondence;
+    c.save(&path).unwrap();
+    let back = Correspondence::load(&path).unwrap();
+    assert_eq!(back, c);
+    assert!(back.check_fits(&THIN.mesh(), &THICK.mesh()).is_ok());
+    assert_eq!(back.unmatched_source(), c.unmatched_source());
+    assert_eq!(back.unmatched_target(), c.unmatched_target());
+    // The file remembers which meshes it was made for.
+    for (s, t, needle) in [
+        (
+            COARSE.mesh(),
+            THICK.mesh(),
+            "source reference of 274 vertices",
+        ),
+        (THIN.mesh(), THIN.mesh(), "target reference of 502 vertices"),
+    ] {
+        assert_error(
+            Transfer::new(&s, &t, &back, &TransferOptions::default()).unwrap_err(),
+            is_mismatch,
+            &[needle],
+        );
+    }
+    let (p, mut tris) = THICK.mesh().into_parts();
+    tris.swap(3, 4);
+    assert_error(
+        Transfer::new(
+            &THIN.mesh(),
+            &Mesh3::new(p, tris).unwrap(),
+            &back,
+            &TransferOptions::default(),
+        )
+        .unwrap_err(),
+        is_mismatch,
+        &["target reference with other triangles (same counts"],
+    );
+
+    let text = std::fs::read_to_string(&path).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    // Header, comment, source, target, pair count, then pairs from line 6.
+    assert!(lines[4].starts_with("pairs "), "{text}");
+    let corrupt = |line: usize, with: &str| {
+        let mut l = lines.clone();
+        l[line - 1] = with;
+        let bad = dir.path().join(format!("bad-{line}.txt"));
+        std::fs::write(&bad, l.join("\n")).unwrap();
+        Correspondence::load(&bad).unwrap_err()
+    };
+    for (line, with, needle) in [
+        (
+            1,
+            "meshmorph-correspondence 9",
+            "not a meshmorph correspondence",
+        ),
+        (
+            3,
+            "source 10 x 0",
+            "expected `source VERTICES TRIANGLES HASH`",
+        ),
+        (
+            4,
+            "source 1 2 3",
+            "expected `target VERTICES TRIANGLES HASH`",
+        ),
+        (5, "pairs many", "expected `pairs COUNT`"),
+        (8, "12 abc", "expected `SOURCE TARGET`, found `12 abc`"),
+        (9, "1 2 3", "expected `SOURCE TARGET`"),
+        (10, "0 99999", "triangle pair 0 99999 is out of range"),
+    ] {
+        let e = corrupt(line, with);
+        assert!(
+            matches!(&e, Error::Parse { line: Some(l), .. } if *l == line),
+            "line {line}: {e:?}"
+        );
+        assert_error(e, is_parse, &[&format!("line {line}"), needle]);
+    }
+    // Truncated: no line to name, but the message says what is missing.
+    let short = dir.path().join("short.txt");
+    std::fs::write(&short, lines[..8].join("\n")).unwrap();
+    assert_error(
+        Correspondence::load(&short).unwrap_err(),
+        is_parse,
+        &["short.txt", "ends before all pairs are listed"],
+    );
+    // An extra line after the pairs.
+    let long = dir.path().join("long.txt");
+    std::fs::write(&long, format!("{text}0 0\n")).unwrap();
+    assert_error(
+        Correspondence::load(&long).unwrap_err(),
+        is_parse,
+        &[&format!("line {}", lines.len() + 1), "more lines than"],
+    );
+}
+
+/// A tube whose first cap triangle has zero area: the cap centre moved onto
+/// the midpoint of the opposite edge.
+fn tube_with_degenerate_triangle(spec: TubeSpec) -> (Mesh3, usize) {
+    let m = spec.mesh();
+    let n = spec.rings * spec.segments;
+    let mut p = m.positions().to_vec();
+    let (a, b) = (p[0], p[1]);
+    p[n] = std::array::from_fn(|i| 0.5 * (a[i] + b[i]));
+    let first_cap = 2 * (spec.rings - 1) * spec.segments;
+    (m.with_positions(p).unwrap(), first_cap)
+}
+
+#[test]
+fn degenerate_triangles_are_named_and_never_give_nan() {
+    let (bad_s, ts) = tube_with_degenerate_triangle(THIN);
+    let (bad_t, tt) = tube_with_degenerate_triangle(THICK);
+    let (s0, t0) = (THIN.mesh(), THICK.mesh());
+    let markers = tube_markers(THIN, THICK, &tube_picks(THIN, 4));
+    let opts = CorrespondOptions::default();
+    let source_msg =
+        format!("1 degenerate (zero-area) triangle in the source reference: triangle {ts}");
+    let target_msg =
+        format!("1 degenerate (zero-area) triangle in the target reference: triangle {tt}");
+    let e = correspond(&bad_s, &t0, &markers, &opts, &mut |_| {}).unwrap_err();
+    assert_error(e, is_degenerate, &[&source_msg]);
+    let e = correspond(&s0, &bad_t, &markers, &opts, &mut |_| {}).unwrap_err();
+    assert_error(e, is_degenerate, &[&target_msg]);
+
+    let pairs: Vec<[u32; 2]> = (0..s0.num_triangles().min(t0.num_triangles()) as u32)
+        .map(|t| [t, t])
+        .collect();
+    let c = Correspondence::new(pairs.clone(), &bad_s, &t0);
+    let e = Transfer::new(&bad_s, &t0, &c, &TransferOptions::default()).unwrap_err();
+    assert_error(e, is_degenerate, &[&source_msg]);
+    let c = Correspondence::new(pairs, &s0, &bad_t);
+    let e = Transfer::new(&s0, &bad_t, &c, &TransferOptions::default()).unwrap_err();
+    assert_error(e, is_degenerate, &[&target_msg]);
+
+    // Many: the message counts them all and lists the first few.
+    let m = tube(4.0, 0.5, 5, 8);
+    let squashed = mapped(&m, |[x, _, _]| [x, 0.0, 0.0]);
+    let e = self_transfer_err(&squashed);
+    assert_error(
+        e,
+        is_degenerate,
+        &[&format!(
+            "{} degenerate (zero-area) triangles in the source reference: triangles 0, 1, 2, 3, 4, ...",
+            m.num_triangles()
+        )],
+    );
+
+    // Degenerate triangles in a pose are allowed and give finite output,
+    // whether one triangle collapses or the whole pose is one point.
+    let result = tube_correspondence(THIN, THICK);
+    let transfer = Transfer::new(
+        &s0,
+        &t0,
+        &result.correspondence,
+        &TransferOptions::default(),
+    )
+    .unwrap();
+    let point = mapped(&s0, |_| [1.0, 2.0, 3.0]);
+    let line = mapped(&s0, |[x, _, _]| [x, 0.0, 0.0]);
+    for (name, pose) in [
+        ("one triangle", &bad_s),
+        ("a point", &point),
+        ("a line", &line),
+    ] {
+        let out = transfer.apply(pose).unwrap();
+        assert!(all_finite(&out), "{name}: non-finite output");
+    }
+    // A pose collapsed to a point collapses the target to that point.
+    let out = transfer.apply(&point).unwrap();
+    assert!(
+        max_distance(&out, &vec![[1.0, 2.0, 3.0]; out.len()]) < 1e-9,
+        "point"
+    );
+}
+
+fn self_transfer_err(m: &Mesh3) -> Error {
+    Transfer::new(
+        m,
+        m,
+        &Correspondence::identity(m),
+        &TransferOptions::default(),
+    )
+    .unwrap_err()
+}
+
+#[test]
+fn nan_coordinates_are_refused() {
+    let m = tube(4.0, 0.5, 3, 4);
+    let mut p = m.positions().to_vec();
+    p[5][1] = f64::NAN;
+    assert_error(
+        Mesh3::new(p.clone(), m.triangles().to_vec()).unwrap_err(),
+        is_invalid_mesh,
+        &["vertex 5", "not a finite number"],
+    );
+    assert_error(
+        m.with_positions(p.clone()).unwrap_err(),
+        is_invalid_mesh,
+        &["vertex 5"],
+    );
+    p[5][1] = f64::INFINITY;
+    assert_error(
+        m.with_positions(p).unwrap_err(),
+        is_invalid_mesh,
+        &["vertex 5"],
+    );
+    // From a file.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("nan.obj");
+    std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 NaN 0\nf 1 2 3\n").unwrap();
+    assert_error(
+        io::read_mesh(&path).unwrap_err(),
+        is_parse,
+        &["nan.obj", "line 3", "not a finite number"],
+    );
+    // Pinned positions too.
+    let opts = TransferOptions::default().with_pins(vec![(0, [0.0, f64::NAN, 0.0])]);
+    assert_error(
+        Transfer::new(&m, &m, &Correspondence::identity(&m), &opts).unwrap_err(),
+        is_invalid_argument,
+        &["pinned target vertex 0 has a non-finite position"],
+    );
+}
+
+// ---------------------------------------------------------------------------
+// 5. A bend carries over to a thicker, differently tessellated tube
+// ---------------------------------------------------------------------------
+
+/// The angle (degrees) by which a tube's axis turns, from the circle through
+/// the centroids of its first, middle and last rings: the angle those
+/// centroids span seen from the circle's centre. [`bend`] puts every ring
+/// centroid on one arc, so this is the bend angle at any tessellation.
+/// Also the largest |z| of the ring centroids (bends are about z: the axis
+/// should stay in z = 0).
+fn arc_angle(p: &[P3], spec: TubeSpec) -> (f64, f64) {
+    let c = |r| ring_centroid(p, spec.segments, r);
+    let n = spec.rings;
+    let (a, b, e) = (c(0), c(n / 2), c(n - 1));
+    // Circumcentre of a, b, e in the xy plane.
+    let (bx, by, ex, ey) = (b[0] - a[0], b[1] - a[1], e[0] - a[0], e[1] - a[1]);
+    let d = 2.0 * (bx * ey - by * ex);
+    let (b2, e2) = (bx * bx + by * by, ex * ex + ey * ey);
+    let centre = [
+        a[0] + (ey * b2 - by * e2) / d,
+        a[1] + (bx * e2 - ex * b2) / d,
+        0.0,
+    ];
+    let turn = |u: P3, v: P3| {
+        let (u, v) = (sub(u, centre), sub(v, centre));
+        (u[0] * v[1] - u[1] * v[0])
+            .atan2(u[0] * v[0] + u[1] * v[1])
+            .to_degrees()
+    };
+    let z = (0..n).map(|r| c(r)[2].abs()).fold(0.0, f64::max);
+    (turn(a, b) + turn(b, e), z)
+}
+
+#[test]
+fn bends_carry_over_to_a_thicker_tube() {
+    // (source, target, tolerance in degrees): a source of four segments
+    // along its length carries the bend less faithfully.
+    for (source, target, tolerance) in [
+        (THIN, THICK, 1.0),
+        (
+            THICK,
+            TubeSpec {
+                radius: 0.8,
+                rings: 13,
+                segments: 12,
+                ..THIN
+            },
+            1.0,
+        ),
+        (COARSE, THICK, 4.0),
+    ] {
+        let (s0, t0) = (source.mesh(), target.mesh());
+        let result = tube_correspondence(source, target);
+        let transfer = Transfer::new(
+            &s0,
+            &t0,
+            &result.correspondence,
+            &TransferOptions::default(),
+        )
+        .unwrap();
+        let what = format!(
+            "{}x{} -> {}x{}",
+            source.rings, source.segments, target.rings, target.segments
+        );
+        for deg in [20.0, 45.0, 90.0, 135.0, 180.0] {
+            let pose = bend(&s0, source.length, f64::to_radians(deg));
+            let out = transfer.apply(&pose).unwrap();
+            assert!(all_finite(&out), "{what}, {deg}°: non-finite output");
+            let (got, z) = arc_angle(&out, target);
+            let ideal = bend(&t0, target.length, f64::to_radians(deg));
+            let (exact, _) = arc_angle(ideal.positions(), target);
+            assert!((exact - deg).abs() < 1e-9, "the measure: {exact} for {deg}");
+            let d = max_distance(&out, ideal.positions()) / t0.bounding_box_diagonal();
+            println!(
+                "{what}, {deg}°: the axis turns by {got:.2}°, max distance to the ideal bend \
+                 {d:.4} of the diagonal"
+            );
+            assert!(
+                (got - deg).abs() < tolerance,
+                "{what}, {deg}°: the axis turns by {got:.2}°"
+            );
+            assert!(
+                z < 1e-3 * t0.bounding_box_diagonal(),
+                "{what}, {deg}°: the axis leaves z = 0 by {z:e}"
+            );
+            assert!(d < 0.05, "{what}, {deg}°: {d} from the ideal bend");
+        }
+    }
+}
+
+#[test]
+fn correspondence_reports_progress_and_pairs_the_tubes() {
+    let (s0, t0) = (THIN.mesh(), THICK.mesh());
+    let markers = tube_markers(THIN, THICK, &tube_picks(THIN, 4));
+    let opts = CorrespondOptions::default();
+    let mut steps = Vec::new();
+    let result = correspond(&s0, &t0, &markers, &opts, &mut |k| steps.push(k)).unwrap();
+    assert_eq!(steps, (1..=correspond_steps(&opts)).collect::<Vec<_>>());
+    // The deformed source lies on the target: every vertex near the thick radius.
+    for p in result.deformed_source.positions() {
+        let r = p[1].hypot(p[2]);
+        let on_cap = p[0].abs() < 1e-6 || (p[0] - 4.0).abs() < 1e-6;
+        assert!(
+            on_cap || (r - THICK.radius).abs() < 0.02,
+            "deformed vertex {p:?} at radius {r}"
+        );
+    }
+    // Each pair joins triangles that face the same way around the axis.
+    let c = &result.correspondence;
+    assert!(
+        c.unmatched_source() * 10 < s0.num_triangles(),
+        "{}",
+        c.unmatched_source()
+    );
+    for &[s, t] in c.pairs() {
+        let cs = mean(&s0.corners(s as usize));
+        let ct = mean(&t0.corners(t as usize));
+        assert!((cs[0] - ct[0]).abs() < 0.3, "pair {s} {t}: {cs:?} {ct:?}");
+    }
+}
+
+// ---------------------------------------------------------------------------
+// 6. Sumner's horse and camel
+// ---------------------------------------------------------------------------
+
+fn horse_camel_dir() -> Option<PathBuf> {
+    let d = PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/data/dt/horse-camel"
+    ));
+    if d.is_dir() {
+        Some(d)
+    } else {
+        println!("skipped: ../shared/data/dt/horse-camel not found");
+        None
+    }
+}
+
+fn read(dir: &Path, name: &str) -> Mesh3 {
+    io::read_mesh(&dir.join(name)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// RMS distance of corresponding vertices after moving each set's vertex
+/// centroid to the origin.
+fn rms_centred(a: &[P3], b: &[P3]) -> f64 {
+    let (ca, cb) = (mean(a), mean(b));
+    let s: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(p, q)| norm(sub(sub(*p, ca), sub(*q, cb))).powi(2))
+        .sum();
+    (s / a.len() as f64).sqrt()
+}
+
+#[test]
+fn horse_poses_transfer_to_the_camel_close_to_sumners() {
+    let Some(dir) = horse_camel_dir() else { return };
+    let start = std::time::Instant::now();
+    let horse = read(&dir, "horse-poses/horse-reference.obj");
+    let camel = read(&dir, "camel-poses/camel-reference.obj");
+    let markers = Markers::read(&dir.join("markers/horse-camel-107.cons"), false).unwrap();
+    assert_eq!(markers.pairs().len(), 107);
+    let result = correspond(
+        &horse,
+        &camel,
+        &markers,
+        &CorrespondOptions::default(),
+        &mut |_| {},
+    )
+    .unwrap();
+    let c = &result.correspondence;
+    println!(
+        "{} pairs, unmatched source {}, target {}",
+        c.pairs().len(),
+        c.unmatched_source(),
+        c.unmatched_target()
+    );
+    let transfer = Transfer::new(&horse, &camel, c, &TransferOptions::default()).unwrap();
+    let poses: Vec<Mesh3> = (1..=10)
+        .map(|k| read(&dir, &format!("horse-poses/horse-{k:02}.obj")))
+        .collect();
+    let outputs = transfer.apply_all(&poses).unwrap();
+    let diag = camel.bounding_box_diagonal();
+    let mut scores = Vec::new();
+    for (k, out) in (1..=10).zip(&outputs) {
+        assert!(all_finite(out), "pose {k}: non-finite output");
+        let sumner = read(&dir, &format!("camel-poses/camel-{k:02}.obj"));
+        let score = rms_centred(out, sumner.positions()) / diag;
+        println!("pose {k:02}: score {score:.5}");
+        scores.push(score);
+    }
+    let mean = scores.iter().sum::<f64>() / scores.len() as f64;
+    let worst = scores.iter().copied().fold(0.0, f64::max);
+    println!(
+        "mean {mean:.5} worst {worst:.5} ({:.1} s)",
+        start.elapsed().as_secs_f64()
+    );
+    assert!(mean < 0.0155, "mean score {mean:.5}");
+    assert!(worst < 0.023, "worst score {worst:.5}");
+}
+
+#[test]
+fn the_camels_nonmanifold_edges_and_boundaries_are_handled() {
+    let Some(dir) = horse_camel_dir() else { return };
+    let camel = read(&dir, "camel-poses/camel-reference.obj");
+    let edges = topology::edges(camel.triangles());
+    let nonmanifold = edges.iter().filter(|e| e.triangles.len() > 2).count();
+    let boundary = edges.iter().filter(|e| e.triangles.len() == 1).count();
+    assert_eq!((nonmanifold, boundary), (26, 5));
+    // The camel onto itself: every one of Sumner's camel poses comes back.
+    let transfer = self_transfer(&camel);
+    let poses: Vec<Mesh3> = (1..=10)
+        .map(|k| read(&dir, &format!("camel-poses/camel-{k:02}.obj")))
+        .collect();
+    for (k, (pose, out)) in (1..=10).zip(poses.iter().zip(transfer.apply_all(&poses).unwrap())) {
+        assert_close(
+            &out,
+            pose.positions(),
+            pose,
+            1e-8,
+            &format!("camel pose {k}"),
+        );
+    }
+}
