@@ -18,7 +18,7 @@ use rayon::prelude::*;
 use crate::closest::{unit_normal, vertex_normals, CentroidIndex, SurfaceIndex};
 use crate::correspondence::Correspondence;
 use crate::error::{Error, Result};
-use crate::frames::{frame, gradient_operator, inverse3};
+use crate::frames::{GradientOperators, IDENTITY};
 use crate::geometry::centroid;
 use crate::markers::Markers;
 use crate::mesh::Mesh3;
@@ -209,18 +209,7 @@ fn deform(
 ) -> Result<Vec<[f64; 3]>> {
     let (n, tris) = (source.num_vertices(), source.triangles());
     let m = n + tris.len();
-    let G: Vec<[[f64; 3]; 4]> = (0..tris.len())
-        .map(|t| {
-            let V_inv =
-                inverse3(frame(source.corners(t))).expect("degenerate triangles were refused");
-            gradient_operator(V_inv)
-        })
-        .collect();
-    let unknowns = |t: usize| {
-        let [a, b, c] = tris[t];
-        [a as usize, b as usize, c as usize, n + t]
-    };
-
+    let ops = GradientOperators::new(source).expect("degenerate triangles were refused");
     // Every term counts in proportion to the area it covers (normalised by
     // the mean area), so the energy does not depend on the tessellation.
     let areas = crate::transfer::triangle_areas(source);
@@ -240,38 +229,31 @@ fn deform(
     for v in 0..m {
         base.add(v, v, 0.0);
     }
+    let mut rhs_identity = vec![0.0; 3 * m];
     for e in edges(tris) {
         for (k, &a) in e.triangles.iter().enumerate() {
             for &b in &e.triangles[k + 1..] {
                 let (a, b) = (a as usize, b as usize);
-                let idx: Vec<usize> = unknowns(a).into_iter().chain(unknowns(b)).collect();
-                let coef: Vec<[f64; 3]> = G[a]
-                    .iter()
-                    .copied()
-                    .chain(G[b].iter().map(|r| r.map(|x| -x)))
-                    .collect();
-                base.add_gram(
-                    &idx,
-                    &coef,
+                ops.add_difference(
+                    &mut base,
+                    a,
+                    b,
                     options.smoothness_weight * 0.5 * (aw(a) + aw(b)),
                 );
             }
         }
     }
     for t in 0..tris.len() {
-        base.add_gram(&unknowns(t), &G[t], options.identity_weight * aw(t));
+        ops.add_target(
+            &mut base,
+            &mut rhs_identity,
+            t,
+            &IDENTITY,
+            options.identity_weight * aw(t),
+        );
     }
     let base = base.build();
 
-    // Identity term right-hand side: Σ_T w_I G_T I[i, :]ᵀ for coordinate i.
-    let mut rhs_identity = vec![0.0; 3 * m];
-    for t in 0..tris.len() {
-        for (k, u) in unknowns(t).into_iter().enumerate() {
-            for i in 0..3 {
-                rhs_identity[i * m + u] += options.identity_weight * aw(t) * G[t][k][i];
-            }
-        }
-    }
     // In a fixed order: the solve sums the pinned values' contributions in
     // this order, and the last bits of the result decide ties in matching.
     let mut pairs = markers.pairs().to_vec();

@@ -13,6 +13,7 @@
 #![allow(non_snake_case)]
 
 use crate::geometry::{add, cross, norm, scale, sub};
+use crate::solve::SymmetricBuilder;
 
 /// A 3×3 matrix, row-major.
 pub type Mat3 = [[f64; 3]; 3];
@@ -101,6 +102,93 @@ pub fn gradient_operator(V_inv: Mat3) -> [[f64; 3]; 4] {
 pub fn deformation_gradient(V_inv: Mat3, p: [[f64; 3]; 3]) -> Mat3 {
     mul3(frame(p), V_inv)
 }
+
+/// The gradient operators of every triangle of a rest mesh, and the
+/// least-squares terms built from them. The unknowns are the `#V` vertices
+/// followed by one fourth vertex per triangle; every coordinate has the same
+/// matrix, so a term is added once and its right-hand side has three columns.
+#[derive(Clone, Debug)]
+pub struct GradientOperators {
+    num_vertices: usize,
+    triangles: Vec<[u32; 3]>,
+    operators: Vec<[[f64; 3]; 4]>,
+}
+
+impl GradientOperators {
+    /// The operators of `mesh`, or `None` if a triangle is degenerate.
+    pub fn new(mesh: &crate::mesh::Mesh3) -> Option<Self> {
+        let operators = (0..mesh.num_triangles())
+            .map(|t| inverse3(frame(mesh.corners(t))).map(gradient_operator))
+            .collect::<Option<_>>()?;
+        Some(Self {
+            num_vertices: mesh.num_vertices(),
+            triangles: mesh.triangles().to_vec(),
+            operators,
+        })
+    }
+
+    /// Number of unknowns: vertices and fourth vertices.
+    pub fn num_unknowns(&self) -> usize {
+        self.num_vertices + self.triangles.len()
+    }
+
+    /// The operator `G` (4×3) of triangle `t`.
+    #[inline]
+    pub fn operator(&self, t: usize) -> &[[f64; 3]; 4] {
+        &self.operators[t]
+    }
+
+    /// The unknowns of triangle `t`: its corners, then its fourth vertex.
+    #[inline]
+    pub fn unknowns(&self, t: usize) -> [usize; 4] {
+        let [a, b, c] = self.triangles[t];
+        [a as usize, b as usize, c as usize, self.num_vertices + t]
+    }
+
+    /// `weight · ‖T_t − Q‖²_F`: adds the matrix part to `builder` and
+    /// `weight · G Qᵀ` to the column-major `#unknowns × 3` right-hand side.
+    pub fn add_target(
+        &self,
+        builder: &mut SymmetricBuilder,
+        rhs: &mut [f64],
+        t: usize,
+        Q: &Mat3,
+        weight: f64,
+    ) {
+        builder.add_gram(&self.unknowns(t), &self.operators[t], weight);
+        self.add_target_rhs(rhs, t, Q, weight);
+    }
+
+    /// The right-hand side part of [`GradientOperators::add_target`] alone.
+    #[inline]
+    pub fn add_target_rhs(&self, rhs: &mut [f64], t: usize, Q: &Mat3, weight: f64) {
+        let m = self.num_unknowns();
+        let G = &self.operators[t];
+        for (k, u) in self.unknowns(t).into_iter().enumerate() {
+            for i in 0..3 {
+                rhs[i * m + u] +=
+                    weight * (G[k][0] * Q[i][0] + G[k][1] * Q[i][1] + G[k][2] * Q[i][2]);
+            }
+        }
+    }
+
+    /// `weight · ‖T_a − T_b‖²_F` (no right-hand side).
+    pub fn add_difference(&self, builder: &mut SymmetricBuilder, a: usize, b: usize, weight: f64) {
+        let (ua, ub) = (self.unknowns(a), self.unknowns(b));
+        let idx: [usize; 8] = std::array::from_fn(|k| if k < 4 { ua[k] } else { ub[k - 4] });
+        let coef: [[f64; 3]; 8] = std::array::from_fn(|k| {
+            if k < 4 {
+                self.operators[a][k]
+            } else {
+                self.operators[b][k - 4].map(|x| -x)
+            }
+        });
+        builder.add_gram(&idx, &coef, weight);
+    }
+}
+
+/// The identity matrix.
+pub const IDENTITY: Mat3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
 #[cfg(test)]
 mod tests {

@@ -39,7 +39,7 @@ use rayon::prelude::*;
 use crate::correspond::check_degenerate;
 use crate::correspondence::Correspondence;
 use crate::error::{Error, Result};
-use crate::frames::{deformation_gradient, frame, gradient_operator, inverse3, Mat3};
+use crate::frames::{deformation_gradient, frame, inverse3, GradientOperators, Mat3, IDENTITY};
 use crate::geometry::centroid;
 use crate::mesh::Mesh3;
 use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder, Workspace};
@@ -81,7 +81,7 @@ pub struct Transfer {
     target_vertices: usize,
     target_triangles: Vec<[u32; 3]>,
     /// `G = D V⁻¹` of every target reference triangle.
-    target_gradients: Vec<[[f64; 3]; 4]>,
+    target_gradients: GradientOperators,
     /// Source triangles paired with each target triangle, compressed rows.
     paired_ptr: Vec<usize>,
     paired: Vec<u32>,
@@ -149,18 +149,9 @@ impl Transfer {
                 inverse3(frame(source_ref.corners(t))).expect("degenerate triangles were refused")
             })
             .collect();
-        let target_gradients: Vec<[[f64; 3]; 4]> = (0..tris.len())
-            .map(|t| {
-                gradient_operator(
-                    inverse3(frame(target_ref.corners(t)))
-                        .expect("degenerate triangles were refused"),
-                )
-            })
-            .collect();
-        let unknowns = |t: usize| {
-            let [a, b, c] = tris[t];
-            [a as usize, b as usize, c as usize, n + t]
-        };
+        let target_gradients =
+            GradientOperators::new(target_ref).expect("degenerate triangles were refused");
+        let unknowns = |t: usize| target_gradients.unknowns(t);
 
         // Pairs grouped by target triangle.
         let mut paired_ptr = vec![0usize; tris.len() + 1];
@@ -211,17 +202,11 @@ impl Transfer {
         let mut builder = SymmetricBuilder::new(m, 12 * tris.len());
         let mut rhs_rest = vec![0.0; 3 * m];
         for t in 0..tris.len() {
-            let G = &target_gradients[t];
             if count(t) > 0 {
-                builder.add_gram(&unknowns(t), G, weight[t]);
+                builder.add_gram(&unknowns(t), target_gradients.operator(t), weight[t]);
             } else if !reached[t] {
                 let w = UNPAIRED_REST_WEIGHT * weight[t];
-                builder.add_gram(&unknowns(t), G, w);
-                for (k, u) in unknowns(t).into_iter().enumerate() {
-                    for i in 0..3 {
-                        rhs_rest[i * m + u] += w * G[k][i];
-                    }
-                }
+                target_gradients.add_target(&mut builder, &mut rhs_rest, t, &IDENTITY, w);
             }
         }
         for e in &tri_edges {
@@ -229,13 +214,12 @@ impl Transfer {
                 for &b in &e.triangles[k + 1..] {
                     let (a, b) = (a as usize, b as usize);
                     if count(a) == 0 || count(b) == 0 {
-                        let idx: Vec<usize> = unknowns(a).into_iter().chain(unknowns(b)).collect();
-                        let coef: Vec<[f64; 3]> = target_gradients[a]
-                            .iter()
-                            .copied()
-                            .chain(target_gradients[b].iter().map(|r| r.map(|x| -x)))
-                            .collect();
-                        builder.add_gram(&idx, &coef, 0.5 * (weight[a] + weight[b]));
+                        target_gradients.add_difference(
+                            &mut builder,
+                            a,
+                            b,
+                            0.5 * (weight[a] + weight[b]),
+                        );
                     }
                 }
             }
@@ -445,7 +429,7 @@ impl Transfer {
             *Q = deformation_gradient(*V_inv, tri.map(|v| pose[v as usize]));
         }
         ws.rhs.copy_from_slice(&self.rhs_rest);
-        for (t, tri) in self.target_triangles.iter().enumerate() {
+        for t in 0..self.target_triangles.len() {
             let sources = &self.paired[self.paired_ptr[t]..self.paired_ptr[t + 1]];
             if sources.is_empty() {
                 continue;
@@ -459,16 +443,8 @@ impl Transfer {
                     }
                 }
             }
-            let scale = self.pair_scale[t];
-            let sum = sum.map(|r| r.map(|x| x * scale));
-            let G = &self.target_gradients[t];
-            let idx = [tri[0] as usize, tri[1] as usize, tri[2] as usize, n + t];
-            for (k, &u) in idx.iter().enumerate() {
-                for i in 0..3 {
-                    ws.rhs[i * m + u] +=
-                        G[k][0] * sum[i][0] + G[k][1] * sum[i][1] + G[k][2] * sum[i][2];
-                }
-            }
+            self.target_gradients
+                .add_target_rhs(&mut ws.rhs, t, &sum, self.pair_scale[t]);
         }
         self.system
             .solve(&ws.rhs, Some(&self.pinned_values), &mut ws.x, &mut ws.solve);
