@@ -169,10 +169,7 @@ pub struct Report {
 impl Report {
     pub fn print(&self, json: bool) {
         if json {
-            println!(
-                "{}",
-                serde_json::to_string(self).expect("a report serialises")
-            );
+            output::print_json(self);
             return;
         }
         println!(

@@ -68,3 +68,11 @@ pub fn human_seconds(s: f64) -> String {
         format!("{:.1} µs", s * 1e6)
     }
 }
+
+/// Prints a report as one line of JSON on stdout.
+pub fn print_json(report: &impl serde::Serialize) {
+    println!(
+        "{}",
+        serde_json::to_string(report).expect("a report serialises")
+    );
+}

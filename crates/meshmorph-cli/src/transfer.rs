@@ -199,10 +199,7 @@ pub struct TransferReport {
 impl TransferReport {
     fn print(&self, json: bool) {
         if json {
-            println!(
-                "{}",
-                serde_json::to_string(self).expect("a report serialises")
-            );
+            output::print_json(self);
             return;
         }
         println!(
@@ -428,10 +425,7 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         unmatched_target_triangles: c.unmatched_target(),
     };
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string(&report).expect("a report serialises")
-        );
+        output::print_json(&report);
     } else {
         println!(
             "correspondence: {} pairs in {} (unmatched: {} source, {} target triangles), saved to {}",
