@@ -6,7 +6,7 @@
 //!   meshes (Alexa, Cohen-Or and Levin, SIGGRAPH 2000) with rotation
 //!   consistency and a system factored once (Baxter, Barla and Anjyo,
 //!   NPAR 2008).
-//! - [`correspond`] and [`Transfer`]: deformation transfer (Sumner and
+//! - [`correspond()`] and [`Transfer`]: deformation transfer (Sumner and
 //!   Popović, SIGGRAPH 2004): a triangle correspondence from a few marker
 //!   vertex pairs, then any number of source poses carried over to a target.
 //! - mesh reading and writing ([`io`]), pictures ([`render`]).
