@@ -189,7 +189,7 @@ mod frames100 {
 
 /// Simplicial against supernodal Cholesky on either side of
 /// `FactorKind::SIMPLICIAL_LIMIT` (150k unknowns): the 100k-triangle strip
-/// has 51k vertices, the 1M-triangle strip 505k.
+/// has 51k vertices, the 1M-triangle strip 504k.
 mod factor {
     use super::*;
 
