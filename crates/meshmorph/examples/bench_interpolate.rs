@@ -101,7 +101,11 @@ fn main() {
             continue;
         };
         let big = s.num_triangles() > 500_000;
-        for kind in [FactorKind::Simplicial, FactorKind::Supernodal] {
+        for kind in [
+            FactorKind::Auto,
+            FactorKind::Simplicial,
+            FactorKind::Supernodal,
+        ] {
             let options = InterpolatorOptions::default().with_factor(kind);
             let setup = time(if big { 5 } else { 21 }, || {
                 Interpolator::new(&s, &t, &options).unwrap()

@@ -272,6 +272,7 @@ fn deform(
     let mut x = vec![0.0; 3 * m];
     let mut positions: Vec<[f64; 3]> = source.positions().to_vec();
     let rounds = std::iter::once(0.0).chain(options.closest_weights.iter().copied());
+    let mut system: Option<PinnedSystem> = None;
     for (round, w_c) in rounds.enumerate() {
         let mut rhs = rhs_identity.clone();
         let matrix = if w_c > 0.0 {
@@ -300,7 +301,15 @@ fn deform(
         } else {
             base.clone()
         };
-        let system = PinnedSystem::new(&matrix, &pinned, FactorKind::Auto)?;
+        // One factorization per round, each used once: the supernodal factor
+        // is the faster one then, and the symbolic analysis is shared.
+        let system = match &mut system {
+            Some(system) => {
+                system.refactor(&matrix)?;
+                system
+            }
+            None => system.insert(PinnedSystem::new(&matrix, &pinned, FactorKind::Supernodal)?),
+        };
         let mut ws = system.workspace(3);
         system.solve(&rhs, Some(&pinned_values), &mut x, &mut ws);
         positions = (0..n).map(|v| [x[v], x[m + v], x[2 * m + v]]).collect();

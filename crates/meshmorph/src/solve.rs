@@ -36,21 +36,45 @@ use crate::error::{Error, Result};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum FactorKind {
-    /// Simplicial below [`FactorKind::SIMPLICIAL_LIMIT`] unknowns, supernodal above.
+    /// Simplicial up to [`FactorKind::SIMPLICIAL_LIMIT`] unknowns; up to
+    /// [`FactorKind::SUPERNODAL_LIMIT`], simplicial while the factorization
+    /// is cheap for its size (little fill, as in long strips), else
+    /// supernodal; supernodal above.
     #[default]
     Auto,
     /// Column-by-column factor: slower to factor, about twice as fast to solve.
-    /// Pays back after about 20 solves.
+    /// Pays back after a few solves.
     Simplicial,
     /// Blocked factor: fast to factor large systems, slower solves.
     Supernodal,
 }
 
 impl FactorKind {
-    /// Systems up to this many unknowns get the simplicial factor under
-    /// [`FactorKind::Auto`]: their factorization is cheap either way and
-    /// the faster solve wins over many frames.
+    /// Systems up to this many unknowns always get the simplicial factor
+    /// under [`FactorKind::Auto`]: their factorization is cheap either way
+    /// and the faster solve wins over many frames.
     pub const SIMPLICIAL_LIMIT: usize = 150_000;
+    /// Systems above this many unknowns always get the supernodal factor
+    /// under [`FactorKind::Auto`]: the simplicial one would take seconds.
+    pub const SUPERNODAL_LIMIT: usize = 600_000;
+
+    /// faer's threshold on the ratio of factorization flops to factor
+    /// entries above which it chooses the supernodal factor.
+    fn threshold(self, n: usize) -> SupernodalThreshold {
+        match self {
+            FactorKind::Simplicial => SupernodalThreshold::FORCE_SIMPLICIAL,
+            FactorKind::Supernodal => SupernodalThreshold::FORCE_SUPERNODAL,
+            FactorKind::Auto if n <= Self::SIMPLICIAL_LIMIT => {
+                SupernodalThreshold::FORCE_SIMPLICIAL
+            }
+            // Measured (BENCHMARKS.md): a 1M-triangle strip (500k unknowns)
+            // factors simplicially in 2.4 s and solves twice as fast; a
+            // square sheet of the same size takes 5.7 s, and faer's flop
+            // ratio tells the two apart at this threshold.
+            FactorKind::Auto if n <= Self::SUPERNODAL_LIMIT => SupernodalThreshold(4.0),
+            FactorKind::Auto => SupernodalThreshold::FORCE_SUPERNODAL,
+        }
+    }
 }
 
 /// The upper triangle of a symmetric sparse matrix in compressed-column form,
@@ -191,27 +215,45 @@ impl SymmetricBuilder {
     }
 
     /// Compresses into a [`SymmetricMatrix`], summing duplicates.
-    pub fn build(mut self) -> SymmetricMatrix {
-        self.entries.sort_unstable_by_key(|e| (e.0, e.1));
-        let mut col_ptr = vec![0usize; self.n + 1];
-        let mut row_idx = Vec::with_capacity(self.entries.len() / 2);
-        let mut values: Vec<f64> = Vec::with_capacity(self.entries.len() / 2);
-        let mut last: Option<(u32, u32)> = None;
-        for (c, r, v) in self.entries {
-            if last == Some((c, r)) {
-                *values.last_mut().unwrap() += v;
-            } else {
-                row_idx.push(r as usize);
-                values.push(v);
-                col_ptr[c as usize + 1] += 1;
-                last = Some((c, r));
-            }
+    pub fn build(self) -> SymmetricMatrix {
+        // Bucket the entries by column (a counting sort), then sort each
+        // short column by row and sum duplicates: linear apart from the
+        // small per-column sorts.
+        let n = self.n;
+        let mut start = vec![0usize; n + 1];
+        for e in &self.entries {
+            start[e.0 as usize + 1] += 1;
         }
-        for j in 0..self.n {
-            col_ptr[j + 1] += col_ptr[j];
+        for j in 0..n {
+            start[j + 1] += start[j];
+        }
+        let mut next = start.clone();
+        let mut bucket: Vec<(u32, f64)> = vec![(0, 0.0); self.entries.len()];
+        for &(c, r, v) in &self.entries {
+            bucket[next[c as usize]] = (r, v);
+            next[c as usize] += 1;
+        }
+        drop(self.entries);
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(bucket.len() / 2);
+        let mut values: Vec<f64> = Vec::with_capacity(bucket.len() / 2);
+        col_ptr.push(0);
+        for j in 0..n {
+            let column = &mut bucket[start[j]..start[j + 1]];
+            column.sort_unstable_by_key(|e| e.0);
+            let first = row_idx.len();
+            for &(r, v) in column.iter() {
+                if row_idx.len() > first && *row_idx.last().unwrap() == r as usize {
+                    *values.last_mut().unwrap() += v;
+                } else {
+                    row_idx.push(r as usize);
+                    values.push(v);
+                }
+            }
+            col_ptr.push(row_idx.len());
         }
         SymmetricMatrix {
-            n: self.n,
+            n,
             col_ptr,
             row_idx,
             values,
@@ -224,6 +266,10 @@ impl SymmetricBuilder {
 pub struct Cholesky {
     symbolic: SymbolicCholesky<usize>,
     l_values: Vec<f64>,
+    kind: FactorKind,
+    /// The sparsity pattern the symbolic analysis was made for.
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
 }
 
 impl Cholesky {
@@ -232,14 +278,7 @@ impl Cholesky {
     /// # Errors
     /// [`Error::Solver`] when the matrix is not numerically positive definite.
     pub fn new(matrix: &SymmetricMatrix, kind: FactorKind) -> Result<Self> {
-        let threshold = match kind {
-            FactorKind::Simplicial => SupernodalThreshold::FORCE_SIMPLICIAL,
-            FactorKind::Supernodal => SupernodalThreshold::FORCE_SUPERNODAL,
-            FactorKind::Auto if matrix.n <= FactorKind::SIMPLICIAL_LIMIT => {
-                SupernodalThreshold::FORCE_SIMPLICIAL
-            }
-            FactorKind::Auto => SupernodalThreshold::FORCE_SUPERNODAL,
-        };
+        let threshold = kind.threshold(matrix.n);
         let a = matrix.as_faer();
         let symbolic = factorize_symbolic_cholesky(
             a.symbolic(),
@@ -254,17 +293,25 @@ impl Cholesky {
         let mut this = Self {
             l_values: vec![0.0; symbolic.len_val()],
             symbolic,
+            kind,
+            col_ptr: matrix.col_ptr.clone(),
+            row_idx: matrix.row_idx.clone(),
         };
         this.refactor(matrix)?;
         Ok(this)
     }
 
-    /// Factors a new matrix with the same sparsity pattern as the one given
-    /// to [`Cholesky::new`], reusing the ordering and symbolic analysis.
+    /// Factors a new matrix, reusing the ordering and symbolic analysis when
+    /// it has the sparsity pattern of the one given to [`Cholesky::new`]
+    /// (and starting afresh when it does not).
     ///
     /// # Errors
     /// [`Error::Solver`] when the matrix is not numerically positive definite.
     pub fn refactor(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
+        if matrix.col_ptr != self.col_ptr || matrix.row_idx != self.row_idx {
+            *self = Self::new(matrix, self.kind)?;
+            return Ok(());
+        }
         let a = matrix.as_faer();
         let par = Par::Seq;
         let req = self
@@ -379,45 +426,36 @@ impl PinnedSystem {
                 free.push(i as u32);
             }
         }
-        let mut pinned_col = vec![u32::MAX; n];
-        for (k, &p) in pinned.iter().enumerate() {
-            pinned_col[p] = k as u32;
-        }
-        let mut reduced = SymmetricBuilder::new(free.len(), matrix.nnz());
-        let mut coupling_entries: Vec<(u32, u32, f64)> = Vec::new();
-        for j in 0..n {
-            for p in matrix.col_ptr[j]..matrix.col_ptr[j + 1] {
-                let (i, v) = (matrix.row_idx[p], matrix.values[p]);
-                match (reduced_of[i], reduced_of[j]) {
-                    (u32::MAX, u32::MAX) => {}
-                    (u32::MAX, rj) => coupling_entries.push((pinned_col[i], rj, v)),
-                    (ri, u32::MAX) => coupling_entries.push((pinned_col[j], ri, v)),
-                    (ri, rj) => reduced.add(ri as usize, rj as usize, v),
-                }
-            }
-        }
-        coupling_entries.sort_unstable_by_key(|e| (e.0, e.1));
-        let mut coupling_ptr = vec![0usize; pinned.len() + 1];
-        for e in &coupling_entries {
-            coupling_ptr[e.0 as usize + 1] += 1;
-        }
-        for k in 0..pinned.len() {
-            coupling_ptr[k + 1] += coupling_ptr[k];
-        }
-        let coupling = coupling_entries
-            .into_iter()
-            .map(|(_, r, v)| (r, v))
-            .collect();
-        let cholesky = Cholesky::new(&reduced.build(), kind)?;
+        let pinned: Vec<u32> = pinned.iter().map(|&p| p as u32).collect();
+        let (reduced, coupling_ptr, coupling) = split(matrix, &reduced_of, &free, &pinned);
+        let cholesky = Cholesky::new(&reduced, kind)?;
         Ok(Self {
             n,
             reduced_of,
             free,
-            pinned: pinned.iter().map(|&p| p as u32).collect(),
+            pinned,
             coupling_ptr,
             coupling,
             cholesky,
         })
+    }
+
+    /// Factors a new matrix with the same sparsity pattern and the same
+    /// pinned unknowns, reusing the ordering and symbolic analysis.
+    ///
+    /// # Errors
+    /// [`Error::Solver`] when the reduced matrix is not positive definite.
+    ///
+    /// # Panics
+    /// If the matrix has another dimension.
+    pub fn refactor(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
+        assert_eq!(matrix.n, self.n, "matrix of another dimension");
+        let (reduced, coupling_ptr, coupling) =
+            split(matrix, &self.reduced_of, &self.free, &self.pinned);
+        self.cholesky.refactor(&reduced)?;
+        self.coupling_ptr = coupling_ptr;
+        self.coupling = coupling;
+        Ok(())
     }
 
     /// Number of unknowns, pinned ones included.
@@ -503,6 +541,47 @@ impl PinnedSystem {
     }
 }
 
+/// The free-free block of `matrix` and the free-pinned coupling, by pinned
+/// column: `(A_ff, coupling_ptr, [(reduced row, value)])`.
+#[allow(clippy::type_complexity)]
+fn split(
+    matrix: &SymmetricMatrix,
+    reduced_of: &[u32],
+    free: &[u32],
+    pinned: &[u32],
+) -> (SymmetricMatrix, Vec<usize>, Vec<(u32, f64)>) {
+    let mut pinned_col = vec![u32::MAX; matrix.n];
+    for (k, &p) in pinned.iter().enumerate() {
+        pinned_col[p as usize] = k as u32;
+    }
+    let mut reduced = SymmetricBuilder::new(free.len(), matrix.nnz());
+    let mut coupling_entries: Vec<(u32, u32, f64)> = Vec::new();
+    for j in 0..matrix.n {
+        for p in matrix.col_ptr[j]..matrix.col_ptr[j + 1] {
+            let (i, v) = (matrix.row_idx[p], matrix.values[p]);
+            match (reduced_of[i], reduced_of[j]) {
+                (u32::MAX, u32::MAX) => {}
+                (u32::MAX, rj) => coupling_entries.push((pinned_col[i], rj, v)),
+                (ri, u32::MAX) => coupling_entries.push((pinned_col[j], ri, v)),
+                (ri, rj) => reduced.add(ri as usize, rj as usize, v),
+            }
+        }
+    }
+    coupling_entries.sort_unstable_by_key(|e| (e.0, e.1));
+    let mut coupling_ptr = vec![0usize; pinned.len() + 1];
+    for e in &coupling_entries {
+        coupling_ptr[e.0 as usize + 1] += 1;
+    }
+    for k in 0..pinned.len() {
+        coupling_ptr[k + 1] += coupling_ptr[k];
+    }
+    let coupling = coupling_entries
+        .into_iter()
+        .map(|(_, r, v)| (r, v))
+        .collect();
+    (reduced.build(), coupling_ptr, coupling)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -578,6 +657,37 @@ mod tests {
         assert_eq!(s.reduced_index(0), None);
         assert_eq!(s.reduced_index(1), Some(0));
         assert!(PinnedSystem::new(&m, &[3, 3], FactorKind::Auto).is_err());
+    }
+
+    #[test]
+    fn refactoring_reuses_or_redoes_the_analysis() {
+        let n = 50;
+        let mut s =
+            PinnedSystem::new(&path_laplacian(n, 0.0), &[0], FactorKind::Supernodal).unwrap();
+        let mut ws = s.workspace(1);
+        let b: Vec<f64> = (0..n).map(|i| (i as f64).cos()).collect();
+        for (shift, m) in [(0.5, path_laplacian(n, 0.5)), (2.0, path_laplacian(n, 2.0))] {
+            s.refactor(&m).unwrap();
+            let mut x = vec![0.0; n];
+            s.solve(&b, Some(&[0.25]), &mut x, &mut ws);
+            let r = m.mul_vec(&x);
+            for i in 1..n {
+                assert!((r[i] - b[i]).abs() < 1e-10, "shift {shift}: row {i}");
+            }
+            assert_eq!(x[0], 0.25);
+        }
+        // Another pattern: a dense row added.
+        let mut bigger = SymmetricBuilder::new(n, 4 * n);
+        for i in 0..n - 1 {
+            bigger.add_row_outer(&[(i, 1.0), (i + 1, -1.0)], 1.0);
+            bigger.add_row_outer(&[(i, 0.1), (n - 1, -0.1)], 1.0);
+        }
+        let bigger = bigger.build();
+        s.refactor(&bigger).unwrap();
+        let mut x = vec![0.0; n];
+        s.solve(&b, Some(&[0.0]), &mut x, &mut ws);
+        let r = bigger.mul_vec(&x);
+        assert!((1..n).all(|i| (r[i] - b[i]).abs() < 1e-9));
     }
 
     #[test]

@@ -55,32 +55,61 @@ pub struct TriangleAdjacency {
 
 impl TriangleAdjacency {
     /// Builds the adjacency from the edges of `triangles`.
+    ///
+    /// # Performance
+    /// Two sorts of `3 #T` small records; no allocation per edge or triangle.
     pub fn new(triangles: &[[u32; 3]]) -> Self {
-        Self::from_edges(triangles.len(), &edges(triangles))
-    }
-
-    /// Builds the adjacency of `num_triangles` triangles from their edges.
-    pub fn from_edges(num_triangles: usize, edges: &[Edge]) -> Self {
-        let mut lists: Vec<Vec<u32>> = vec![Vec::new(); num_triangles];
-        for e in edges {
-            for &a in &e.triangles {
-                for &b in &e.triangles {
+        let mut half: Vec<(u64, u32)> = Vec::with_capacity(3 * triangles.len());
+        for (t, tri) in triangles.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                half.push((((a.min(b) as u64) << 32) | a.max(b) as u64, t as u32));
+            }
+        }
+        half.sort_unstable();
+        let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(half.len());
+        for run in half.chunk_by(|x, y| x.0 == y.0) {
+            for &(_, a) in run {
+                for &(_, b) in run {
                     if a != b {
-                        lists[a as usize].push(b);
+                        pairs.push((a, b));
                     }
                 }
             }
         }
-        let mut offsets = Vec::with_capacity(num_triangles + 1);
-        let mut neighbors = Vec::new();
-        offsets.push(0);
-        for mut l in lists {
-            l.sort_unstable();
-            l.dedup();
-            neighbors.extend_from_slice(&l);
-            offsets.push(neighbors.len());
+        Self::from_pairs(triangles.len(), pairs)
+    }
+
+    /// Builds the adjacency of `num_triangles` triangles from their edges.
+    pub fn from_edges(num_triangles: usize, edges: &[Edge]) -> Self {
+        let mut pairs = Vec::new();
+        for e in edges {
+            for &a in &e.triangles {
+                for &b in &e.triangles {
+                    if a != b {
+                        pairs.push((a, b));
+                    }
+                }
+            }
         }
-        Self { offsets, neighbors }
+        Self::from_pairs(num_triangles, pairs)
+    }
+
+    /// Compresses `(triangle, neighbour)` pairs, dropping repeats.
+    fn from_pairs(num_triangles: usize, mut pairs: Vec<(u32, u32)>) -> Self {
+        pairs.sort_unstable();
+        pairs.dedup();
+        let mut offsets = vec![0usize; num_triangles + 1];
+        for &(a, _) in &pairs {
+            offsets[a as usize + 1] += 1;
+        }
+        for t in 0..num_triangles {
+            offsets[t + 1] += offsets[t];
+        }
+        Self {
+            offsets,
+            neighbors: pairs.into_iter().map(|p| p.1).collect(),
+        }
     }
 
     /// The neighbours of triangle `t`.
