@@ -123,8 +123,8 @@ pub fn correspond(
             if markers.pairs().len() == 1 { "" } else { "s" }
         )));
     }
-    check_degenerate(source, "source reference")?;
-    check_degenerate(target, "target reference")?;
+    source.check_no_degenerate_triangles("source reference")?;
+    target.check_no_degenerate_triangles("target reference")?;
     let components = connected_components(source.num_vertices(), source.triangles());
     let mut held = vec![false; components.count];
     for &[s, _] in markers.pairs() {
@@ -180,25 +180,6 @@ pub fn correspond_steps(options: &CorrespondOptions) -> usize {
     options.closest_weights.len() + 2
 }
 
-pub(crate) fn check_degenerate(mesh: &Mesh3, name: &str) -> Result<()> {
-    let tiny = 1e-14 * mesh.bounding_box_diagonal().powi(2);
-    let bad: Vec<usize> = mesh
-        .triangle_normals_unnormalized()
-        .iter()
-        .enumerate()
-        .filter(|(_, n)| crate::geometry::norm(**n) <= tiny)
-        .map(|(t, _)| t)
-        .collect();
-    if bad.is_empty() {
-        return Ok(());
-    }
-    Err(Error::DegenerateTriangles {
-        mesh: name.into(),
-        count: bad.len(),
-        first: bad.into_iter().take(crate::error::LIST_LIMIT).collect(),
-    })
-}
-
 /// Deforms the source onto the target; returns the deformed vertex positions.
 fn deform(
     source: &Mesh3,
@@ -212,7 +193,7 @@ fn deform(
     let ops = GradientOperators::new(source).expect("degenerate triangles were refused");
     // Every term counts in proportion to the area it covers (normalised by
     // the mean area), so the energy does not depend on the tessellation.
-    let areas = crate::transfer::triangle_areas(source);
+    let areas = source.triangle_areas();
     let mean_area = areas.iter().sum::<f64>() / areas.len() as f64;
     let aw = |t: usize| areas[t] / mean_area;
     // The closest-point term weighs each vertex by its share of the area,

@@ -20,7 +20,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result, LIST_LIMIT};
 use crate::geometry::{centroid, signed_area2};
-use crate::mesh::{bounding_box_diagonal, Mesh2};
+use crate::mesh::{bounding_box_diagonal, check_areas, Mesh2};
 use crate::polar::{mul, polar_decomposition, rotation, Mat2, SymmetricEigen2};
 use crate::rotation::{make_consistent, nearest_branch};
 use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder, Workspace};
@@ -183,7 +183,7 @@ impl Interpolator {
         let (p, q) = (source.positions(), target.positions());
 
         let source_areas = source.signed_areas();
-        check_degenerate(&source_areas, bounding_box_diagonal(p))?;
+        check_areas(&source_areas, bounding_box_diagonal(p), "source")?;
         let target_areas = target.signed_areas();
         let flipped: Vec<usize> = (0..triangles.len())
             .filter(|&t| source_areas[t] * target_areas[t] < 0.0)
@@ -481,20 +481,4 @@ fn angle_seeds(angles: &[f64], of_triangle: &[u32], count: usize, source: &Mesh2
         }
     }
     best.into_iter().flatten().collect()
-}
-
-/// Fails on triangles whose area is zero relative to the mesh's size.
-pub(crate) fn check_degenerate(signed_areas: &[f64], diagonal: f64) -> Result<()> {
-    let tiny = 1e-14 * diagonal * diagonal;
-    let bad: Vec<usize> = (0..signed_areas.len())
-        .filter(|&t| signed_areas[t].abs() <= tiny || !signed_areas[t].is_finite())
-        .collect();
-    if bad.is_empty() {
-        return Ok(());
-    }
-    Err(Error::DegenerateTriangles {
-        mesh: "source".into(),
-        count: bad.len(),
-        first: bad.into_iter().take(LIST_LIMIT).collect(),
-    })
 }

@@ -168,6 +168,42 @@ impl Mesh3 {
     }
 }
 
+impl Mesh3 {
+    /// Area of each triangle.
+    pub fn triangle_areas(&self) -> Vec<f64> {
+        self.triangle_normals_unnormalized()
+            .iter()
+            .map(|n| 0.5 * crate::geometry::norm(*n))
+            .collect()
+    }
+
+    /// Fails on triangles of (numerically) zero area; `name` says which mesh
+    /// it is in the message.
+    ///
+    /// # Errors
+    /// [`Error::DegenerateTriangles`] naming the first few.
+    pub fn check_no_degenerate_triangles(&self, name: &str) -> Result<()> {
+        check_areas(&self.triangle_areas(), self.bounding_box_diagonal(), name)
+    }
+}
+
+/// Fails on triangles whose (absolute) area is at most `1e-14 · diagonal²`
+/// or not a number.
+pub(crate) fn check_areas(areas: &[f64], diagonal: f64, name: &str) -> Result<()> {
+    let tiny = 1e-14 * diagonal * diagonal;
+    let bad: Vec<usize> = (0..areas.len())
+        .filter(|&t| !(areas[t].abs() > tiny))
+        .collect();
+    if bad.is_empty() {
+        return Ok(());
+    }
+    Err(Error::DegenerateTriangles {
+        mesh: name.into(),
+        count: bad.len(),
+        first: bad.into_iter().take(crate::error::LIST_LIMIT).collect(),
+    })
+}
+
 impl Mesh2 {
     /// The same mesh in the plane z = 0.
     pub fn to_3d(&self) -> Mesh3 {

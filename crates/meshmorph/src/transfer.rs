@@ -36,7 +36,6 @@
 
 use rayon::prelude::*;
 
-use crate::correspond::check_degenerate;
 use crate::correspondence::Correspondence;
 use crate::error::{Error, Result};
 use crate::frames::{deformation_gradient, frame, inverse3, GradientOperators, Mat3, IDENTITY};
@@ -140,8 +139,8 @@ impl Transfer {
         options: &TransferOptions,
     ) -> Result<Self> {
         correspondence.check_fits(source_ref, target_ref)?;
-        check_degenerate(source_ref, "source reference")?;
-        check_degenerate(target_ref, "target reference")?;
+        source_ref.check_no_degenerate_triangles("source reference")?;
+        target_ref.check_no_degenerate_triangles("target reference")?;
         let (n, tris) = (target_ref.num_vertices(), target_ref.triangles());
         let m = n + tris.len();
         let source_frames_inv: Vec<Mat3> = (0..source_ref.num_triangles())
@@ -170,7 +169,7 @@ impl Transfer {
         let count = |t: usize| paired_ptr[t + 1] - paired_ptr[t];
         // Each target triangle counts in proportion to its area (normalised
         // by the mean area) and takes the mean gradient of its partners.
-        let target_areas: Vec<f64> = triangle_areas(target_ref);
+        let target_areas: Vec<f64> = target_ref.triangle_areas();
         let mean_area = target_areas.iter().sum::<f64>() / target_areas.len() as f64;
         let weight: Vec<f64> = target_areas.iter().map(|a| a / mean_area).collect();
         let pair_scale: Vec<f64> = (0..tris.len())
@@ -501,12 +500,4 @@ impl Transfer {
             }
         }
     }
-}
-
-/// Area of each triangle.
-pub(crate) fn triangle_areas(mesh: &Mesh3) -> Vec<f64> {
-    mesh.triangle_normals_unnormalized()
-        .iter()
-        .map(|n| 0.5 * crate::geometry::norm(*n))
-        .collect()
 }
