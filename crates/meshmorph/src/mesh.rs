@@ -192,7 +192,7 @@ impl Mesh3 {
 pub(crate) fn check_areas(areas: &[f64], diagonal: f64, name: &str) -> Result<()> {
     let tiny = 1e-14 * diagonal * diagonal;
     let bad: Vec<usize> = (0..areas.len())
-        .filter(|&t| !(areas[t].abs() > tiny))
+        .filter(|&t| areas[t].abs() <= tiny || areas[t].is_nan())
         .collect();
     if bad.is_empty() {
         return Ok(());
