@@ -22,7 +22,7 @@ use crate::error::{Error, Result, LIST_LIMIT};
 use crate::geometry::{centroid, signed_area2};
 use crate::mesh::{bounding_box_diagonal, check_areas, Mesh2};
 use crate::polar::{mul, polar_decomposition, rotation, Mat2, SymmetricEigen2};
-use crate::rotation::{make_consistent, nearest_branch};
+use crate::rotation::make_consistent;
 use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder, Workspace};
 use crate::topology::{connected_components, TriangleAdjacency};
 
@@ -222,8 +222,11 @@ impl Interpolator {
 
         let components = connected_components(n, &triangles);
         if options.consistency {
-            let seeds = angle_seeds(&angles, &components.of_triangle, components.count, source);
+            // Angles propagate across edges, so each part connected across
+            // edges gets its own seed.
             let adjacency = TriangleAdjacency::new(&triangles);
+            let (parts, count) = adjacency.edge_components();
+            let seeds = angle_seeds(&angles, &parts, count, source);
             make_consistent(&mut angles, &adjacency, &seeds);
         }
         let extra = std::f64::consts::TAU * options.turns as f64;
@@ -464,21 +467,21 @@ fn affine_map(weighted_gradients: &[[f64; 2]; 3], area: f64, q: [[f64; 2]; 3]) -
     A
 }
 
-/// One seed triangle per component: the one that turns least, ties broken by
+/// One seed triangle per part (angles are principal, in (−π, π]): the one that turns least, ties broken by
 /// the position of its source centroid, so the choice does not depend on how
 /// the triangles are numbered.
 fn angle_seeds(angles: &[f64], of_triangle: &[u32], count: usize, source: &Mesh2) -> Vec<usize> {
-    let mut best: Vec<Option<usize>> = vec![None; count];
     let key = |t: usize| {
         let c = centroid(source.corners(t));
-        (nearest_branch(angles[t], 0.0).abs(), c[0], c[1])
+        (angles[t].abs(), c[0], c[1])
     };
+    let mut best: Vec<Option<(usize, (f64, f64, f64))>> = vec![None; count];
     for (t, &c) in of_triangle.iter().enumerate() {
+        let k = key(t);
         let slot = &mut best[c as usize];
-        match *slot {
-            Some(b) if key(b).partial_cmp(&key(t)) != Some(std::cmp::Ordering::Greater) => {}
-            _ => *slot = Some(t),
+        if slot.is_none_or(|(_, b)| k.partial_cmp(&b) == Some(std::cmp::Ordering::Less)) {
+            *slot = Some((t, k));
         }
     }
-    best.into_iter().flatten().collect()
+    best.into_iter().flatten().map(|(t, _)| t).collect()
 }

@@ -118,6 +118,32 @@ impl TriangleAdjacency {
         &self.neighbors[self.offsets[t]..self.offsets[t + 1]]
     }
 
+    /// Components of triangles connected across edges (a bow-tie of two
+    /// fans meeting at one vertex is two of them): the label of each
+    /// triangle, numbered in order of their first triangle, and the count.
+    pub fn edge_components(&self) -> (Vec<u32>, usize) {
+        let mut label = vec![u32::MAX; self.len()];
+        let mut count = 0u32;
+        let mut stack = Vec::new();
+        for start in 0..self.len() {
+            if label[start] != u32::MAX {
+                continue;
+            }
+            label[start] = count;
+            stack.push(start);
+            while let Some(t) = stack.pop() {
+                for &u in self.of(t) {
+                    if label[u as usize] == u32::MAX {
+                        label[u as usize] = count;
+                        stack.push(u as usize);
+                    }
+                }
+            }
+            count += 1;
+        }
+        (label, count as usize)
+    }
+
     /// Number of triangles.
     pub fn len(&self) -> usize {
         self.offsets.len() - 1
@@ -201,6 +227,10 @@ mod tests {
         assert_eq!(e01.triangles, vec![0, 1, 2]);
         assert_eq!(e.iter().filter(|e| e.triangles.len() == 1).count(), 7);
         let adj = TriangleAdjacency::new(&tris);
+        assert_eq!(adj.edge_components(), (vec![0, 0, 0, 0], 1));
+        // A bow-tie: two triangles sharing only vertex 0.
+        let bow = TriangleAdjacency::new(&[[0, 1, 2], [0, 3, 4]]);
+        assert_eq!(bow.edge_components(), (vec![0, 1], 2));
         assert_eq!(adj.of(0), &[1, 2, 3]);
         assert_eq!(adj.of(1), &[0, 2]);
         assert_eq!(adj.of(3), &[0]);

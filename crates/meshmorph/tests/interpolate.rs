@@ -409,3 +409,32 @@ fn real_2d_meshes_interpolate_without_flips() {
         );
     }
 }
+
+/// Two strips that share one vertex only (a bow-tie): angles cannot cross
+/// from one to the other, so each needs its own seed.
+#[test]
+fn parts_joined_at_a_single_vertex_are_each_made_consistent() {
+    let s = strip(10.0, 0.5, 100, 4);
+    let curled = curl(&s, 3.0 * PI);
+    let half_turn = |m: &Mesh2, to: [f64; 2]| {
+        let p0 = m.positions()[0];
+        rigid_motion(m, PI, p0, [to[0] - p0[0], to[1] - p0[1]])
+    };
+    // Part B is part A turned by half a turn about A's vertex 0, in both shapes.
+    let join = |a: &Mesh2, b: &Mesh2| {
+        let n = a.num_vertices() as u32;
+        let mut p = a.positions().to_vec();
+        p.extend_from_slice(&b.positions()[1..]);
+        let mut t = a.triangles().to_vec();
+        t.extend(
+            b.triangles()
+                .iter()
+                .map(|t| t.map(|v| if v == 0 { 0 } else { v + n - 1 })),
+        );
+        Mesh2::new(p, t).unwrap()
+    };
+    let source = join(&s, &half_turn(&s, s.positions()[0]));
+    let target = join(&curled, &half_turn(&curled, curled.positions()[0]));
+    let m = Interpolator::new(&source, &target, &InterpolatorOptions::default()).unwrap();
+    assert_eq!(max_flipped(&m, 101), 0);
+}
