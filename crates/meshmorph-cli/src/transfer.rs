@@ -24,55 +24,40 @@ pub struct CorrespondArgs {
     /// Marker indices start at 1 instead of 0.
     #[arg(long)]
     pub one_based: bool,
-    /// Weight of the smoothness term w_S.
-    #[arg(long, default_value_t = 1.0, value_name = "W")]
-    pub smoothness_weight: f64,
-    /// Weight of the identity term w_I.
-    #[arg(long, default_value_t = 0.001, value_name = "W")]
-    pub identity_weight: f64,
-    /// Weights w_C of the closest-point rounds, comma-separated (after a
-    /// first round without closest points).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "1,1667.33,3333.67,5000",
-        value_name = "LIST"
-    )]
-    pub closest_weights: Vec<f64>,
+    /// Weight of the smoothness term w_S [default: 1].
+    #[arg(long, value_name = "W")]
+    pub smoothness_weight: Option<f64>,
+    /// Weight of the identity term w_I, above 0 [default: 0.001].
+    #[arg(long, value_name = "W")]
+    pub identity_weight: Option<f64>,
+    /// Weights w_C of the closest-point rounds, comma-separated, after a
+    /// first round without closest points [default: 1 to 5000 in four
+    /// even steps].
+    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    pub closest_weights: Option<Vec<f64>>,
     /// Largest distance to a closest point, as a fraction of the target's
-    /// bounding-box diagonal.
-    #[arg(long, default_value_t = 0.02, value_name = "FRACTION")]
-    pub closest_cutoff: f64,
+    /// bounding-box diagonal [default: 0.02].
+    #[arg(long, value_name = "FRACTION")]
+    pub closest_cutoff: Option<f64>,
     /// Largest centroid distance of matched triangles, as a fraction of the
-    /// target's bounding-box diagonal.
-    #[arg(long, default_value_t = 0.01, value_name = "FRACTION")]
-    pub match_threshold: f64,
+    /// target's bounding-box diagonal, and never less than the mean edge
+    /// length of either mesh [default: 0.01].
+    #[arg(long, value_name = "FRACTION")]
+    pub match_threshold: Option<f64>,
 }
 
 impl CorrespondArgs {
-    fn options(&self) -> Result<CorrespondOptions> {
-        for (name, v) in [
-            ("--smoothness-weight", self.smoothness_weight),
-            ("--identity-weight", self.identity_weight),
-            ("--closest-cutoff", self.closest_cutoff),
-            ("--match-threshold", self.match_threshold),
-        ] {
-            if !(v.is_finite() && v >= 0.0) {
-                bail!("{name} must be a non-negative number, not {v}");
-            }
-        }
-        if let Some(w) = self
-            .closest_weights
-            .iter()
-            .find(|w| !(w.is_finite() && **w > 0.0))
-        {
-            bail!("--closest-weights must be positive numbers, not {w}");
-        }
-        Ok(CorrespondOptions::default()
-            .with_weights(self.smoothness_weight, self.identity_weight)
-            .with_closest_weights(self.closest_weights.clone())
-            .with_closest_cutoff(self.closest_cutoff)
-            .with_match_threshold(self.match_threshold))
+    /// The library's defaults, with the options given on the command line.
+    fn options(&self) -> CorrespondOptions {
+        let d = CorrespondOptions::default();
+        CorrespondOptions::default()
+            .with_weights(
+                self.smoothness_weight.unwrap_or(d.smoothness_weight),
+                self.identity_weight.unwrap_or(d.identity_weight),
+            )
+            .with_closest_weights(self.closest_weights.clone().unwrap_or(d.closest_weights))
+            .with_closest_cutoff(self.closest_cutoff.unwrap_or(d.closest_cutoff))
+            .with_match_threshold(self.match_threshold.unwrap_or(d.match_threshold))
     }
 
     /// Reads the markers and computes the correspondence, with a progress bar.
@@ -89,10 +74,7 @@ impl CorrespondArgs {
             );
         };
         let markers = Markers::read(path, self.one_based).context("reading the markers")?;
-        markers
-            .validate(source.num_vertices(), target.num_vertices())
-            .context("checking the markers against the meshes")?;
-        let options = self.options()?;
+        let options = self.options();
         let bar = progress::bar(
             meshmorph::correspond::correspond_steps(&options) as u64,
             "correspond",
@@ -239,7 +221,13 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let start = Instant::now();
     let (source, target) = args.refs.read()?;
     let format = output::format_or_like(args.format, &args.refs.target_ref)?;
-    let outputs = output_paths(&args.poses, &args.output, format.extension())?;
+    let mut inputs: Vec<&Path> = args.poses.iter().map(PathBuf::as_path).collect();
+    inputs.extend([
+        args.refs.source_ref.as_path(),
+        args.refs.target_ref.as_path(),
+    ]);
+    inputs.extend(args.correspondence.as_deref());
+    let outputs = output_paths(&args.poses, &args.output, format.extension(), &inputs)?;
 
     // Read and check every pose first: a bad pose is reported before the
     // slow correspondence, and nothing is written.
@@ -348,9 +336,20 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     Ok(())
 }
 
-/// DIR/<stem>.<ext> for each pose, refusing two poses with the same stem.
-fn output_paths(poses: &[PathBuf], dir: &Path, ext: &str) -> Result<Vec<PathBuf>> {
+/// DIR/<stem>.<ext> for each pose, refusing two poses with the same stem
+/// and any output that would overwrite one of the `inputs`.
+fn output_paths(
+    poses: &[PathBuf],
+    dir: &Path,
+    ext: &str,
+    inputs: &[&Path],
+) -> Result<Vec<PathBuf>> {
     let mut seen = HashSet::new();
+    let inputs: Vec<PathBuf> = inputs
+        .iter()
+        .filter_map(|p| p.canonicalize().ok())
+        .collect();
+    let dir_now = dir.canonicalize().ok();
     poses
         .iter()
         .map(|p| {
@@ -363,7 +362,18 @@ fn output_paths(poses: &[PathBuf], dir: &Path, ext: &str) -> Result<Vec<PathBuf>
                     stem.to_string_lossy()
                 );
             }
-            Ok(dir.join(stem).with_extension(ext))
+            let out = dir.join(stem).with_extension(ext);
+            if let Some(d) = &dir_now {
+                let resolved = d.join(out.file_name().expect("a file name was just set"));
+                if let Some(input) = inputs.iter().find(|i| **i == resolved) {
+                    bail!(
+                        "the output `{}` would overwrite the input `{}`: choose another -o directory or --format",
+                        out.display(),
+                        input.display()
+                    );
+                }
+            }
+            Ok(out)
         })
         .collect()
 }
@@ -398,11 +408,11 @@ pub struct CorrespondReport {
 }
 
 pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
-    let (source, target) = args.refs.read()?;
-    let begin = Instant::now();
     if args.correspond.markers.is_none() {
         bail!("--markers is required");
     }
+    let (source, target) = args.refs.read()?;
+    let begin = Instant::now();
     // Checked before any work, so that a bad name leaves no output behind.
     let deformed_format = args
         .deformed_source

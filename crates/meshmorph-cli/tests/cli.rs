@@ -1195,3 +1195,17 @@ fn demo_writes_everything_and_json_lines() {
         }
     }
 }
+
+#[test]
+fn transfer_refuses_to_overwrite_its_inputs() {
+    let rig = Rig::new();
+    let dir = rig.poses[0].parent().unwrap().to_path_buf();
+    let before = fs::read(&rig.poses[0]).unwrap();
+    let err = fails(&rig.transfer(
+        &dir,
+        &[os("--markers"), rig.markers.as_os_str()],
+        &rig.poses[..1],
+    ));
+    assert_mentions(&err, &["would overwrite the input"]);
+    assert_eq!(fs::read(&rig.poses[0]).unwrap(), before);
+}

@@ -63,6 +63,43 @@ impl Default for CorrespondOptions {
 }
 
 impl CorrespondOptions {
+    /// Checks that every weight and fraction can make a solvable problem.
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] naming the option.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |name: &str, v: f64, what: &str| {
+            Err(Error::InvalidArgument(format!(
+                "{name} must be {what}, not {v}"
+            )))
+        };
+        if !(self.identity_weight.is_finite() && self.identity_weight > 0.0) {
+            // Without it, an affine motion that keeps the markers costs nothing.
+            return bad(
+                "the identity weight",
+                self.identity_weight,
+                "a positive number",
+            );
+        }
+        for (name, v) in [
+            ("the smoothness weight", self.smoothness_weight),
+            ("the closest-point cut-off", self.closest_cutoff),
+            ("the match threshold", self.match_threshold),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return bad(name, v, "a number of at least 0");
+            }
+        }
+        if let Some(&w) = self
+            .closest_weights
+            .iter()
+            .find(|w| !(w.is_finite() && **w > 0.0))
+        {
+            return bad("every closest-point weight", w, "a positive number");
+        }
+        Ok(())
+    }
+
     /// Sets [`CorrespondOptions::closest_weights`].
     pub fn with_closest_weights(mut self, weights: Vec<f64>) -> Self {
         self.closest_weights = weights;
@@ -115,6 +152,7 @@ pub fn correspond(
     options: &CorrespondOptions,
     progress: &mut dyn FnMut(usize),
 ) -> Result<CorrespondResult> {
+    options.validate()?;
     markers.validate(source.num_vertices(), target.num_vertices())?;
     if markers.pairs().len() < MIN_MARKERS {
         return Err(Error::InvalidArgument(format!(
@@ -190,7 +228,7 @@ fn deform(
 ) -> Result<Vec<[f64; 3]>> {
     let (n, tris) = (source.num_vertices(), source.triangles());
     let m = n + tris.len();
-    let ops = GradientOperators::new(source).expect("degenerate triangles were refused");
+    let ops = GradientOperators::new(source, "source reference")?;
     // Every term counts in proportion to the area it covers (normalised by
     // the mean area), so the energy does not depend on the tessellation.
     let areas = source.triangle_areas();
@@ -239,12 +277,27 @@ fn deform(
     // this order, and the last bits of the result decide ties in matching.
     let mut pairs = markers.pairs().to_vec();
     pairs.sort_unstable();
-    let pinned: Vec<usize> = pairs.iter().map(|p| p[0] as usize).collect();
+    // Markers are held at their targets; vertices no triangle uses (and no
+    // marker names) have no term at all and stay where they are.
+    let mut held: Vec<(usize, [f64; 3])> = pairs
+        .iter()
+        .map(|&[s, t]| (s as usize, target.positions()[t as usize]))
+        .collect();
+    let mut is_marker = vec![false; n];
+    pairs.iter().for_each(|p| is_marker[p[0] as usize] = true);
+    let mut used = vec![false; n];
+    tris.iter().flatten().for_each(|&v| used[v as usize] = true);
+    held.extend(
+        (0..n)
+            .filter(|&v| !used[v] && !is_marker[v])
+            .map(|v| (v, source.positions()[v])),
+    );
+    let pinned: Vec<usize> = held.iter().map(|h| h.0).collect();
     let np = pinned.len();
     let mut pinned_values = vec![0.0; 3 * np];
-    for (q, &[_, t]) in pairs.iter().enumerate() {
+    for (q, (_, p)) in held.iter().enumerate() {
         for i in 0..3 {
-            pinned_values[i * np + q] = target.positions()[t as usize][i];
+            pinned_values[i * np + q] = p[i];
         }
     }
 

@@ -62,7 +62,7 @@ pub enum Error {
     },
 
     /// Triangles whose orientation is reversed between two meshes.
-    #[error("{count} triangle{} reversed between source and target: {} (set `allow_flips`, or pass --allow-flips on the command line, to go on anyway)", plural(*count), list(first, *count))]
+    #[error("{count} triangle{} reversed or collapsed between source and target: {} (set `allow_flips`, or pass --allow-flips on the command line, to go on anyway)", plural(*count), list(first, *count))]
     FlippedTriangles {
         /// How many.
         count: usize,

@@ -115,12 +115,16 @@ pub struct GradientOperators {
 }
 
 impl GradientOperators {
-    /// The operators of `mesh`, or `None` if a triangle is degenerate.
-    pub fn new(mesh: &crate::mesh::Mesh3) -> Option<Self> {
-        let operators = (0..mesh.num_triangles())
-            .map(|t| inverse3(frame(mesh.corners(t))).map(gradient_operator))
-            .collect::<Option<_>>()?;
-        Some(Self {
+    /// The operators of `mesh`; `name` says which mesh it is in errors.
+    ///
+    /// # Errors
+    /// As [`frame_inverses`].
+    pub fn new(mesh: &crate::mesh::Mesh3, name: &str) -> crate::Result<Self> {
+        let operators = frame_inverses(mesh, name)?
+            .into_iter()
+            .map(gradient_operator)
+            .collect();
+        Ok(Self {
             num_vertices: mesh.num_vertices(),
             triangles: mesh.triangles().to_vec(),
             operators,
@@ -185,6 +189,26 @@ impl GradientOperators {
         });
         builder.add_gram(&idx, &coef, weight);
     }
+}
+
+/// `V⁻¹` of every triangle of `mesh`.
+///
+/// # Errors
+/// [`Error::InvalidMesh`](crate::Error::InvalidMesh) naming the first
+/// triangle whose frame cannot be inverted: a zero-area triangle, or
+/// coordinates so large or small that the determinant leaves the range of
+/// `f64`.
+pub fn frame_inverses(mesh: &crate::mesh::Mesh3, name: &str) -> crate::Result<Vec<Mat3>> {
+    (0..mesh.num_triangles())
+        .map(|t| {
+            inverse3(frame(mesh.corners(t))).ok_or_else(|| {
+                crate::Error::InvalidMesh(format!(
+                    "triangle {t} of the {name} has no invertible frame (zero area, or \
+                     coordinates too large or too small: rescale the mesh)"
+                ))
+            })
+        })
+        .collect()
 }
 
 /// The identity matrix.

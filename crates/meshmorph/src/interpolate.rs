@@ -42,6 +42,10 @@ pub enum StretchMode {
     /// `Sᵗ = V diag(λᵗ) Vᵀ` through the eigen decomposition of `S`: positive
     /// definite for every real `t`, so extrapolation never collapses a
     /// triangle. Stretches then grow geometrically rather than linearly.
+    /// (With [`InterpolatorOptions::allow_flips`], a reversed triangle has
+    /// no positive definite stretch: its symmetric part is used with
+    /// eigenvalues raised to a tiny positive floor, so the fit reaches the
+    /// target only approximately at `t = 1`.)
     Log,
 }
 
@@ -169,8 +173,9 @@ impl Interpolator {
     /// # Errors
     /// - [`Error::Mismatch`] when the meshes differ in vertex count or triangles;
     /// - [`Error::DegenerateTriangles`] for zero-area source triangles;
-    /// - [`Error::FlippedTriangles`] for triangles reversed between source and
-    ///   target, unless [`InterpolatorOptions::allow_flips`];
+    /// - [`Error::FlippedTriangles`] for triangles reversed (or collapsed to
+    ///   zero area) between source and target, unless
+    ///   [`InterpolatorOptions::allow_flips`];
     /// - [`Error::Solver`] if the system cannot be factored.
     ///
     /// # Performance
@@ -186,7 +191,7 @@ impl Interpolator {
         check_areas(&source_areas, bounding_box_diagonal(p), "source")?;
         let target_areas = target.signed_areas();
         let flipped: Vec<usize> = (0..triangles.len())
-            .filter(|&t| source_areas[t] * target_areas[t] < 0.0)
+            .filter(|&t| source_areas[t] * target_areas[t] <= 0.0)
             .collect();
         if !flipped.is_empty() && !options.allow_flips {
             return Err(Error::FlippedTriangles {

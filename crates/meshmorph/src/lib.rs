@@ -47,4 +47,5 @@ pub struct ReadmeDoctests;
 pub use interpolate::{Interpolator, InterpolatorOptions, StretchMode};
 pub use markers::Markers;
 pub use mesh::{Mesh, Mesh2, Mesh3};
+pub use solve::FactorKind;
 pub use transfer::{Transfer, TransferOptions};

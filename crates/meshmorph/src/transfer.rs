@@ -39,7 +39,7 @@ use rayon::prelude::*;
 
 use crate::correspondence::Correspondence;
 use crate::error::{Error, Result};
-use crate::frames::{deformation_gradient, frame, inverse3, GradientOperators, Mat3, IDENTITY};
+use crate::frames::{deformation_gradient, frame_inverses, GradientOperators, Mat3, IDENTITY};
 use crate::geometry::centroid;
 use crate::mesh::Mesh3;
 use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder, Workspace};
@@ -58,6 +58,12 @@ pub struct TransferOptions {
 }
 
 impl TransferOptions {
+    /// Sets [`TransferOptions::factor`].
+    pub fn with_factor(mut self, kind: FactorKind) -> Self {
+        self.factor = kind;
+        self
+    }
+
     /// Sets [`TransferOptions::pins`].
     pub fn with_pins(mut self, pins: Vec<(u32, [f64; 3])>) -> Self {
         self.pins = pins;
@@ -121,6 +127,8 @@ pub struct PoseWorkspace {
     gradients: Vec<Mat3>,
     rhs: Vec<f64>,
     x: Vec<f64>,
+    /// One vector per placed part: its centroid, then its shift.
+    parts: Vec<[f64; 3]>,
 }
 
 impl Transfer {
@@ -143,13 +151,8 @@ impl Transfer {
         target_ref.check_no_degenerate_triangles("target reference")?;
         let (n, tris) = (target_ref.num_vertices(), target_ref.triangles());
         let m = n + tris.len();
-        let source_frames_inv: Vec<Mat3> = (0..source_ref.num_triangles())
-            .map(|t| {
-                inverse3(frame(source_ref.corners(t))).expect("degenerate triangles were refused")
-            })
-            .collect();
-        let target_gradients =
-            GradientOperators::new(target_ref).expect("degenerate triangles were refused");
+        let source_frames_inv = frame_inverses(source_ref, "source reference")?;
+        let target_gradients = GradientOperators::new(target_ref, "target reference")?;
         let unknowns = |t: usize| target_gradients.unknowns(t);
 
         // Pairs grouped by target triangle.
@@ -355,6 +358,7 @@ impl Transfer {
             gradients: vec![[[0.0; 3]; 3]; self.source_ref.num_triangles()],
             rhs: vec![0.0; 3 * m],
             x: vec![0.0; 3 * m],
+            parts: vec![[0.0; 3]; self.placements.len()],
         }
     }
 
@@ -449,7 +453,7 @@ impl Transfer {
         for (v, o) in out.iter_mut().enumerate() {
             *o = [ws.x[v], ws.x[m + v], ws.x[2 * m + v]];
         }
-        self.place(pose, &ws.gradients, out);
+        self.place(pose, &ws.gradients, out, &mut ws.parts);
     }
 
     /// Moves each unpinned part so that its paired triangles' centroids
@@ -458,43 +462,45 @@ impl Transfer {
     /// source triangle's deformation gradient, in the weighted mean over the
     /// pairs. A rigid (or affine) motion of the source thus moves the target
     /// by the same motion. A part without pairs stays where it is.
-    fn place(&self, pose: &[[f64; 3]], gradients: &[Mat3], out: &mut [[f64; 3]]) {
-        let mut now = vec![[0.0; 3]; self.placements.len()];
+    fn place(
+        &self,
+        pose: &[[f64; 3]],
+        gradients: &[Mat3],
+        out: &mut [[f64; 3]],
+        parts: &mut [[f64; 3]],
+    ) {
+        parts.fill([0.0; 3]);
         for (v, p) in out.iter().enumerate() {
             let c = self.vertex_part[v];
             if c != u32::MAX {
                 for i in 0..3 {
-                    now[c as usize][i] += self.vertex_weight[v] * p[i];
+                    parts[c as usize][i] += self.vertex_weight[v] * p[i];
                 }
             }
         }
-        let shifts: Vec<[f64; 3]> = self
-            .placements
-            .iter()
-            .zip(&now)
-            .map(|(pl, now)| {
-                if pl.pairs.is_empty() {
-                    return std::array::from_fn(|i| pl.target_rest[i] - now[i] / pl.total_weight);
+        for (pl, part) in self.placements.iter().zip(parts.iter_mut()) {
+            if pl.pairs.is_empty() {
+                *part = std::array::from_fn(|i| pl.target_rest[i] - part[i] / pl.total_weight);
+                continue;
+            }
+            let mut shift = [0.0; 3];
+            for (&(s, t, w), o) in pl.pairs.iter().zip(&pl.offsets) {
+                let cs =
+                    centroid(self.source_ref.triangles()[s as usize].map(|v| pose[v as usize]));
+                let ct = centroid(self.target_triangles[t as usize].map(|v| out[v as usize]));
+                let Q = &gradients[s as usize];
+                for i in 0..3 {
+                    let moved = Q[i][0] * o[0] + Q[i][1] * o[1] + Q[i][2] * o[2];
+                    shift[i] += w * (cs[i] + moved - ct[i]);
                 }
-                let mut shift = [0.0; 3];
-                for (&(s, t, w), o) in pl.pairs.iter().zip(&pl.offsets) {
-                    let cs =
-                        centroid(self.source_ref.triangles()[s as usize].map(|v| pose[v as usize]));
-                    let ct = centroid(self.target_triangles[t as usize].map(|v| out[v as usize]));
-                    let Q = &gradients[s as usize];
-                    for i in 0..3 {
-                        let moved = Q[i][0] * o[0] + Q[i][1] * o[1] + Q[i][2] * o[2];
-                        shift[i] += w * (cs[i] + moved - ct[i]);
-                    }
-                }
-                shift.map(|x| x / pl.pair_weight)
-            })
-            .collect();
+            }
+            *part = shift.map(|x| x / pl.pair_weight);
+        }
         for (v, p) in out.iter_mut().enumerate() {
             let c = self.vertex_part[v];
             if c != u32::MAX {
                 for i in 0..3 {
-                    p[i] += shifts[c as usize][i];
+                    p[i] += parts[c as usize][i];
                 }
             }
         }

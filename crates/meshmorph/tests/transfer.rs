@@ -1386,3 +1386,51 @@ fn the_camels_nonmanifold_edges_and_boundaries_are_handled() {
         );
     }
 }
+
+/// A source with a vertex no triangle uses (as OBJ files often have) still
+/// corresponds: the vertex stays where it is, the pairs are the same.
+#[test]
+fn unused_source_vertices_do_not_stop_the_correspondence() {
+    let plain = tube_correspondence(THIN, THICK);
+    let source = THIN.mesh();
+    let mut p = source.positions().to_vec();
+    p.push([10.0, 10.0, 10.0]);
+    let with_extra = Mesh3::new(p, source.triangles().to_vec()).unwrap();
+    let markers = tube_markers(THIN, THICK, &tube_picks(THIN, 4));
+    let r = correspond(
+        &with_extra,
+        &THICK.mesh(),
+        &markers,
+        &CorrespondOptions::default(),
+        &mut |_| {},
+    )
+    .unwrap();
+    assert_eq!(r.correspondence.pairs(), plain.correspondence.pairs());
+    assert_eq!(
+        *r.deformed_source.positions().last().unwrap(),
+        [10.0, 10.0, 10.0]
+    );
+}
+
+#[test]
+fn options_that_cannot_be_solved_are_refused() {
+    let markers = tube_markers(THIN, THICK, &tube_picks(THIN, 4));
+    for (options, needle) in [
+        (
+            CorrespondOptions::default().with_weights(1.0, 0.0),
+            "identity weight",
+        ),
+        (
+            CorrespondOptions::default().with_closest_weights(vec![1.0, -2.0]),
+            "closest-point weight",
+        ),
+        (
+            CorrespondOptions::default().with_match_threshold(f64::NAN),
+            "match threshold",
+        ),
+    ] {
+        let e =
+            correspond(&THIN.mesh(), &THICK.mesh(), &markers, &options, &mut |_| {}).unwrap_err();
+        assert_error(e, is_invalid_argument, &[needle]);
+    }
+}
