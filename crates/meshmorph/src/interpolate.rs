@@ -480,7 +480,8 @@ fn angle_seeds(angles: &[f64], of_triangle: &[u32], count: usize, source: &Mesh2
         let c = centroid(source.corners(t));
         (angles[t].abs(), c[0], c[1])
     };
-    let mut best: Vec<Option<(usize, (f64, f64, f64))>> = vec![None; count];
+    type Best = Option<(usize, (f64, f64, f64))>;
+    let mut best: Vec<Best> = vec![None; count];
     for (t, &c) in of_triangle.iter().enumerate() {
         let k = key(t);
         let slot = &mut best[c as usize];
