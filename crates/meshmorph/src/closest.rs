@@ -155,21 +155,33 @@ impl SurfaceIndex {
         normal: [f64; 3],
         max_distance: f64,
     ) -> Option<ClosestPoint> {
-        let max2 = max_distance * max_distance;
-        for (tri, d2) in self.tree.nearest_neighbor_iter_with_distance_2(q) {
-            if d2 > max2 {
-                return None;
-            }
-            if dot(self.normals[tri.index as usize], normal) > 0.0 {
-                return Some(ClosestPoint {
-                    triangle: tri.index,
-                    point: closest_point_on_triangle(q, tri.corners),
-                    distance: d2.sqrt(),
-                });
-            }
-        }
-        None
+        let candidates = self.tree.nearest_neighbor_iter_with_distance_2(q);
+        let (tri, d2) = first_compatible(
+            candidates,
+            |t| self.normals[t.index as usize],
+            normal,
+            max_distance,
+        )?;
+        Some(ClosestPoint {
+            triangle: tri.index,
+            point: closest_point_on_triangle(q, tri.corners),
+            distance: d2.sqrt(),
+        })
     }
+}
+
+/// The first of `candidates` (in order of squared distance) whose normal is
+/// less than 90° from `normal`, unless the walk passes `max_distance` first.
+fn first_compatible<'a, T: 'a>(
+    candidates: impl Iterator<Item = (&'a T, f64)>,
+    normal_of: impl Fn(&T) -> [f64; 3],
+    normal: [f64; 3],
+    max_distance: f64,
+) -> Option<(&'a T, f64)> {
+    let max2 = max_distance * max_distance;
+    candidates
+        .take_while(|&(_, d2)| d2 <= max2)
+        .find(|&(item, _)| dot(normal_of(item), normal) > 0.0)
 }
 
 /// Triangle centroids with their unit normals, for nearest-triangle queries.
@@ -205,16 +217,14 @@ impl CentroidIndex {
         normal: [f64; 3],
         max_distance: f64,
     ) -> Option<u32> {
-        let max2 = max_distance * max_distance;
-        for (item, d2) in self.tree.nearest_neighbor_iter_with_distance_2(q) {
-            if d2 > max2 {
-                return None;
-            }
-            if dot(self.normals[item.data as usize], normal) > 0.0 {
-                return Some(item.data);
-            }
-        }
-        None
+        let candidates = self.tree.nearest_neighbor_iter_with_distance_2(q);
+        first_compatible(
+            candidates,
+            |item| self.normals[item.data as usize],
+            normal,
+            max_distance,
+        )
+        .map(|(item, _)| item.data)
     }
 }
 

@@ -297,7 +297,7 @@ impl Cholesky {
             col_ptr: matrix.col_ptr.clone(),
             row_idx: matrix.row_idx.clone(),
         };
-        this.refactor(matrix)?;
+        this.factor_numeric(matrix)?;
         Ok(this)
     }
 
@@ -312,6 +312,11 @@ impl Cholesky {
             *self = Self::new(matrix, self.kind)?;
             return Ok(());
         }
+        self.factor_numeric(matrix)
+    }
+
+    /// The numeric factorization of `matrix`, whose pattern is the analysed one.
+    fn factor_numeric(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
         let a = matrix.as_faer();
         let par = Par::Seq;
         let req = self
