@@ -8,13 +8,23 @@ use meshmorph::{Interpolator, InterpolatorOptions, Mesh2, StretchMode};
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::memory;
 use crate::output::{self, FormatArg};
+use crate::outputs::{Output, Plan, Staging};
 use crate::pictures;
 use crate::progress;
 
 /// Interpolate between two planar meshes with the same triangles.
 ///
 /// Writes DIR/frame_0000.obj, frame_0001.obj, ... and prints a report.
+///
+/// Inputs are never written: an output that would land on an input is
+/// refused before any work. All or nothing: every file is written under a
+/// temporary name and moved into place only when the whole run has
+/// succeeded; a failed or interrupted (Ctrl-C) run leaves the output folder
+/// as it was. After a successful run, files of an earlier run in DIR named
+/// exactly like frames (frame_ + digits + .obj/.off/.ply/.svg) that this
+/// run did not write are removed; no other file is touched.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The shape at t = 0 (OBJ, OFF or PLY; planar: every z = 0).
@@ -37,15 +47,15 @@ pub struct Args {
 /// Options shared by `interpolate` and `demo`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct FrameArgs {
-    /// Number of frames, t evenly from 0 to 1 inclusive.
-    #[arg(long, default_value_t = 30, value_name = "N")]
+    /// Number of frames, t evenly from 0 to 1 inclusive (at most 1000000).
+    #[arg(long, default_value_t = 30, value_name = "N", value_parser = frame_count)]
     pub frames: usize,
     /// Explicit times instead, comma-separated, written in this order
     /// (values outside [0, 1] extrapolate), e.g. --t 0,0.5,1.5
     #[arg(
         long = "t",
         value_delimiter = ',',
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         value_name = "LIST",
         conflicts_with = "frames"
     )]
@@ -92,6 +102,20 @@ pub struct FrameArgs {
     pub svg: bool,
 }
 
+/// The most frames a run writes: a million files is already more than a
+/// folder comfortably holds.
+pub const MAX_FRAMES: usize = 1_000_000;
+
+/// A frame count from 1 to [`MAX_FRAMES`].
+fn frame_count(text: &str) -> Result<usize, String> {
+    match text.parse::<u128>() {
+        Ok(0) => Err("at least 1 frame is needed".into()),
+        Ok(n) if n <= MAX_FRAMES as u128 => Ok(n as usize),
+        Ok(_) => Err(format!("{text} frames is too many (at most {MAX_FRAMES})")),
+        Err(_) => Err(format!("`{text}` is not a whole number of frames")),
+    }
+}
+
 /// A finite number above zero.
 fn positive_number(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
@@ -110,7 +134,7 @@ pub enum Stretch {
 }
 
 impl FrameArgs {
-    fn times(&self) -> Result<Vec<f64>> {
+    pub fn times(&self) -> Result<Vec<f64>> {
         if let Some(t) = &self.times {
             if t.is_empty() {
                 bail!("--t needs at least one time");
@@ -118,10 +142,14 @@ impl FrameArgs {
             if let Some(x) = t.iter().find(|x| !x.is_finite()) {
                 bail!("--t: {x} is not a finite number");
             }
+            if t.len() > MAX_FRAMES {
+                bail!("--t lists {} times: at most {MAX_FRAMES}", t.len());
+            }
             return Ok(t.clone());
         }
         match self.frames {
             0 => bail!("--frames must be at least 1"),
+            n if n > MAX_FRAMES => bail!("--frames {n} is too many (at most {MAX_FRAMES})"),
             1 => Ok(vec![0.0]),
             n => Ok((0..n).map(|k| k as f64 / (n - 1) as f64).collect()),
         }
@@ -164,6 +192,8 @@ pub struct Report {
     pub max_flipped_frame: usize,
     /// The GIF written, if any.
     pub gif: Option<PathBuf>,
+    /// Frame files of an earlier run removed from the output folder.
+    pub surplus_frames_removed: usize,
 }
 
 impl Report {
@@ -203,14 +233,27 @@ impl Report {
         if let Some(g) = &self.gif {
             println!("animation: {}", g.display());
         }
+        if self.surplus_frames_removed > 0 {
+            println!(
+                "removed {} frame files of an earlier run",
+                self.surplus_frames_removed
+            );
+        }
     }
 }
 
 pub fn run(args: &Args) -> Result<()> {
     let start = Instant::now();
+    let times = args.frames.times()?;
+    let format = output::format_or_like(args.format, &args.source)?;
+    let mut plan = Plan::new();
+    plan.input(&args.source, "source mesh");
+    plan.input(&args.target, "target mesh");
+    let outputs = FrameOutputs::plan(&mut plan, &args.frames, &args.output, times.len(), format);
+    let staging = plan.prepare()?;
+    memory::check_reading(&[&args.source, &args.target])?;
     let source = output::read_mesh_2d(&args.source, "source mesh")?;
     let target = output::read_mesh_2d(&args.target, "target mesh")?;
-    let format = output::format_or_like(args.format, &args.source)?;
     let context = || {
         format!(
             "interpolating `{}` to `{}`",
@@ -218,30 +261,80 @@ pub fn run(args: &Args) -> Result<()> {
             args.target.display()
         )
     };
-    let report = animate(&source, &target, &args.frames, &args.output, format, start)
-        .with_context(context)?;
+    let mut report = animate(
+        &source,
+        &target,
+        &args.frames,
+        &times,
+        &outputs,
+        &staging,
+        format,
+        start,
+    )
+    .with_context(context)?;
+    report.surplus_frames_removed = staging.commit()?;
     report.print(args.json);
     Ok(())
 }
 
-/// Builds the interpolator, writes every frame (and the pictures asked for),
-/// and reports. `start` is when the command began.
+/// The files of an animation: one mesh per frame, and the pictures asked for.
+pub struct FrameOutputs {
+    dir: PathBuf,
+    meshes: Vec<Output>,
+    svgs: Vec<Output>,
+    gif: Option<Output>,
+}
+
+impl FrameOutputs {
+    /// Adds the frames (and SVGs, GIF) of `count` frames in `dir` to `plan`.
+    pub fn plan(
+        plan: &mut Plan,
+        args: &FrameArgs,
+        dir: &Path,
+        count: usize,
+        format: meshmorph::io::Format,
+    ) -> Self {
+        Self {
+            dir: dir.to_path_buf(),
+            meshes: plan.frames(dir, count, format.extension()),
+            svgs: if args.svg {
+                plan.frames(dir, count, "svg")
+            } else {
+                Vec::new()
+            },
+            gif: args.gif.as_deref().map(|g| plan.file(g, "animation")),
+        }
+    }
+}
+
+/// Builds the interpolator, writes every frame (and the pictures asked for)
+/// through `staging`, and reports. `start` is when the command began.
+#[allow(clippy::too_many_arguments)]
 pub fn animate(
     source: &Mesh2,
     target: &Mesh2,
     args: &FrameArgs,
-    dir: &Path,
+    times: &[f64],
+    outputs: &FrameOutputs,
+    staging: &Staging,
     format: meshmorph::io::Format,
     start: Instant,
 ) -> Result<Report> {
-    let times = args.times()?;
+    let dir = outputs.dir.as_path();
+    memory::check_setup(source.num_triangles(), "the interpolation")?;
     let setup = Instant::now();
     let morph = Interpolator::new(source, target, &args.options())?;
     let setup_seconds = setup.elapsed().as_secs_f64();
-    output::make_dir(dir)?;
 
     let bar = progress::bar(times.len() as u64, "frames");
-    let keep = args.gif.is_some() || args.svg;
+    let keep = outputs.gif.is_some() || !outputs.svgs.is_empty();
+    if keep {
+        memory::check_held(
+            times.len(),
+            morph.num_vertices() * std::mem::size_of::<[f64; 2]>(),
+            "holding every frame for the pictures",
+        )?;
+    }
     let results: Vec<Result<Frame>> = times
         .par_iter()
         .enumerate()
@@ -254,9 +347,15 @@ pub fn animate(
                 let compute = begin.elapsed().as_secs_f64();
                 let flipped = morph.count_flipped(&positions);
                 let begin = Instant::now();
-                let path = output::frame_path(dir, k, times.len(), format.extension());
-                meshmorph::io::write_positions(&path, &positions, morph.triangles(), format)
-                    .with_context(|| format!("writing `{}`", path.display()))?;
+                staging.write(outputs.meshes[k], |path| {
+                    check_finite(&positions, k, t)?;
+                    Ok(meshmorph::io::write_positions(
+                        path,
+                        &positions,
+                        morph.triangles(),
+                        format,
+                    )?)
+                })?;
                 let write = begin.elapsed().as_secs_f64();
                 bar.inc(1);
                 Ok(Frame {
@@ -269,23 +368,7 @@ pub fn animate(
         )
         .collect();
     bar.finish_and_clear();
-    // A run that fails once writing has begun (a frame that cannot be
-    // written, an SVG or GIF path that cannot be) removes the frames and
-    // SVGs it names, so that it leaves no partial animation behind.
-    let remove_frames = |e: anyhow::Error| {
-        for k in 0..times.len() {
-            let _ =
-                std::fs::remove_file(output::frame_path(dir, k, times.len(), format.extension()));
-            if args.svg {
-                let _ = std::fs::remove_file(output::frame_path(dir, k, times.len(), "svg"));
-            }
-        }
-        e
-    };
-    let mut frames = results
-        .into_iter()
-        .collect::<Result<Vec<_>>>()
-        .map_err(remove_frames)?;
+    let mut frames = results.into_iter().collect::<Result<Vec<_>>>()?;
     let (max_flipped_frame, max_flipped) = frames
         .iter()
         .enumerate()
@@ -297,7 +380,7 @@ pub fn animate(
             .iter_mut()
             .filter_map(|f| f.positions.take())
             .collect();
-        write_pictures(args, dir, &positions, morph.triangles()).map_err(remove_frames)?;
+        write_pictures(args, outputs, staging, &positions, morph.triangles())?;
     }
     let n = frames.len() as f64;
     Ok(Report {
@@ -312,30 +395,45 @@ pub fn animate(
         max_flipped_triangles: max_flipped,
         max_flipped_frame,
         gif: args.gif.clone(),
+        surplus_frames_removed: 0,
     })
+}
+
+/// Refuses a frame whose coordinates overflowed (inputs near the largest
+/// representable number, or far extrapolation).
+fn check_finite(positions: &[[f64; 2]], frame: usize, t: f64) -> Result<()> {
+    if let Some(v) = positions
+        .iter()
+        .position(|p| !(p[0].is_finite() && p[1].is_finite()))
+    {
+        bail!(
+            "frame {frame} (t = {t}): vertex {v} overflows (its coordinates exceed the range of floating-point numbers); scale the meshes down"
+        );
+    }
+    Ok(())
 }
 
 /// The SVGs and the GIF asked for, of the frames' positions.
 fn write_pictures(
     args: &FrameArgs,
-    dir: &Path,
+    outputs: &FrameOutputs,
+    staging: &Staging,
     positions: &[Vec<[f64; 2]>],
     triangles: &[[u32; 3]],
 ) -> Result<()> {
-    if args.svg {
-        let paths: Vec<PathBuf> = (0..positions.len())
-            .map(|k| output::frame_path(dir, k, positions.len(), "svg"))
-            .collect();
-        pictures::write_svgs(&paths, positions, triangles, args.gif_width)?;
+    if !outputs.svgs.is_empty() {
+        pictures::write_svgs(staging, &outputs.svgs, positions, triangles, args.gif_width)?;
     }
-    if let Some(gif) = &args.gif {
+    if let Some(gif) = outputs.gif {
         let gif_args = pictures::GifArgs {
             width: args.gif_width,
             height: args.gif_height,
             fps: args.fps,
             boomerang: !args.no_boomerang,
         };
-        pictures::write_gif(gif, positions, triangles, &gif_args)?;
+        staging.write(gif, |path| {
+            pictures::write_gif(path, positions, triangles, &gif_args)
+        })?;
     }
     Ok(())
 }

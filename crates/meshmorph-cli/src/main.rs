@@ -5,7 +5,9 @@
 
 mod demo;
 mod interpolate;
+mod memory;
 mod output;
+mod outputs;
 mod pictures;
 mod progress;
 mod transfer;

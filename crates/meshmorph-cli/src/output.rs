@@ -1,6 +1,6 @@
 //! What every subcommand shares: output paths, formats, reports.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use anyhow::{Context, Result};
 use meshmorph::io::Format;
@@ -32,18 +32,6 @@ pub fn format_or_like(asked: Option<FormatArg>, like: &Path) -> Result<Format> {
         Some(f) => Ok(f.into()),
         None => Format::from_path(like).map_err(Into::into),
     }
-}
-
-/// Creates `dir` (and its parents) if missing.
-pub fn make_dir(dir: &Path) -> Result<()> {
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("creating output directory `{}`", dir.display()))
-}
-
-/// `dir/frame_0007.ext`, with enough digits for `count` frames (at least 4).
-pub fn frame_path(dir: &Path, index: usize, count: usize, ext: &str) -> PathBuf {
-    let digits = (count.max(2) - 1).to_string().len().max(4);
-    dir.join(format!("frame_{index:0digits$}.{ext}"))
 }
 
 /// Reads a mesh, saying which file and what role on failure.

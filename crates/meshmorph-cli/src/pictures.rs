@@ -1,9 +1,11 @@
 //! Pictures the CLI writes: SVG frames, GIF animations, PNG stills.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use meshmorph::render::{self, Flipped, GifOptions, Style2d, View2d};
+
+use crate::outputs::{Output, Staging};
 
 /// The look of planar frames: triangles turned against the majority of
 /// the mesh are drawn in the warning colour.
@@ -16,17 +18,21 @@ pub fn style_2d() -> Style2d {
 
 /// Writes each frame as an SVG, all through one view that holds every frame.
 pub fn write_svgs(
-    paths: &[PathBuf],
+    staging: &Staging,
+    outputs: &[Output],
     frames: &[Vec<[f64; 2]>],
     triangles: &[[u32; 3]],
     width: u32,
 ) -> Result<()> {
     let view = View2d::fitting(frames.iter().map(Vec::as_slice), width, None, 16);
     let style = style_2d();
-    for (path, frame) in paths.iter().zip(frames) {
+    for (&output, frame) in outputs.iter().zip(frames) {
         let svg = render::svg_frame(frame, triangles, &view, &style);
-        meshmorph::io::write_atomic(path, |w| w.write_all(svg.as_bytes()))
-            .with_context(|| format!("writing `{}`", path.display()))?;
+        staging.write(output, |path| {
+            Ok(meshmorph::io::write_atomic(path, |w| {
+                w.write_all(svg.as_bytes())
+            })?)
+        })?;
     }
     Ok(())
 }
@@ -53,6 +59,11 @@ pub fn write_gif(
         boomerang: args.boomerang,
         ..GifOptions::default()
     };
-    render::write_gif_2d(path, frames, triangles, &options, &style_2d())
-        .with_context(|| format!("writing the animation `{}`", path.display()))
+    Ok(render::write_gif_2d(
+        path,
+        frames,
+        triangles,
+        &options,
+        &style_2d(),
+    )?)
 }

@@ -11,7 +11,9 @@ use meshmorph::{
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::memory;
 use crate::output::{self, FormatArg};
+use crate::outputs::Plan;
 use crate::progress;
 
 /// How the triangle correspondence is computed (Sumner and Popovic 2004, section 5).
@@ -25,24 +27,29 @@ pub struct CorrespondArgs {
     #[arg(long)]
     pub one_based: bool,
     /// Weight of the smoothness term w_S [default: 1].
-    #[arg(long, value_name = "W")]
+    #[arg(long, value_name = "W", allow_negative_numbers = true)]
     pub smoothness_weight: Option<f64>,
     /// Weight of the identity term w_I, above 0 [default: 0.001].
-    #[arg(long, value_name = "W")]
+    #[arg(long, value_name = "W", allow_negative_numbers = true)]
     pub identity_weight: Option<f64>,
     /// Weights w_C of the closest-point rounds, comma-separated, after a
     /// first round without closest points [default: 1 to 5000 in four
     /// even steps].
-    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        allow_hyphen_values = true
+    )]
     pub closest_weights: Option<Vec<f64>>,
     /// Largest distance to a closest point, as a fraction of the target's
     /// bounding-box diagonal [default: 0.02].
-    #[arg(long, value_name = "FRACTION")]
+    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
     pub closest_cutoff: Option<f64>,
     /// Largest centroid distance of matched triangles, as a fraction of the
     /// target's bounding-box diagonal, and never less than the mean edge
     /// length of either mesh [default: 0.01].
-    #[arg(long, value_name = "FRACTION")]
+    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
     pub match_threshold: Option<f64>,
 }
 
@@ -106,6 +113,12 @@ pub struct References {
 }
 
 impl References {
+    /// Both meshes as inputs of a plan.
+    fn plan(&self, plan: &mut Plan) {
+        plan.input(&self.source_ref, "source reference");
+        plan.input(&self.target_ref, "target reference");
+    }
+
     fn read(&self) -> Result<(Mesh3, Mesh3)> {
         let (s, t) = rayon::join(
             || output::read_mesh(&self.source_ref, "source reference"),
@@ -127,6 +140,12 @@ impl References {
 /// Carry the poses of a source mesh over to a target mesh.
 ///
 /// Writes one mesh per pose: DIR/<the pose file's stem>.<ext>.
+///
+/// Inputs are never written: an output that would land on an input is
+/// refused before any work. All or nothing: every file is written under a
+/// temporary name and moved into place only when the whole run has
+/// succeeded; a failed or interrupted (Ctrl-C) run leaves every output
+/// folder as it was.
 #[derive(Debug, clap::Args)]
 pub struct TransferArgs {
     #[command(flatten)]
@@ -142,7 +161,13 @@ pub struct TransferArgs {
     pub save_correspondence: Option<PathBuf>,
     /// Target vertices (comma-separated, 0-based) held at their rest
     /// positions in every pose, instead of placing the result by its centroid.
-    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        allow_hyphen_values = true,
+        value_parser = vertex_index
+    )]
     pub pin: Vec<u32>,
     /// Directory for the transferred poses (created if missing).
     #[arg(short, long, value_name = "DIR")]
@@ -156,6 +181,15 @@ pub struct TransferArgs {
     /// Source poses: meshes with the source reference's vertices and triangles.
     #[arg(required = true, value_name = "POSE")]
     pub poses: Vec<PathBuf>,
+}
+
+/// A 0-based vertex index.
+fn vertex_index(text: &str) -> Result<u32, String> {
+    match text.trim().parse::<i128>() {
+        Ok(v) if v < 0 => Err(format!("{v} is not a vertex index: indices count from 0")),
+        Ok(v) => u32::try_from(v).map_err(|_| format!("{v} is too large for a vertex index")),
+        Err(_) => Err(format!("`{text}` is not a vertex index")),
+    }
 }
 
 /// What a transfer did.
@@ -219,15 +253,34 @@ impl TransferReport {
 
 pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let start = Instant::now();
-    let (source, target) = args.refs.read()?;
     let format = output::format_or_like(args.format, &args.refs.target_ref)?;
-    let mut inputs: Vec<&Path> = args.poses.iter().map(PathBuf::as_path).collect();
-    inputs.extend([
+    let mut plan = Plan::new();
+    for pose in &args.poses {
+        plan.input(pose, "source pose");
+    }
+    args.refs.plan(&mut plan);
+    if let Some(m) = &args.correspond.markers {
+        plan.input(m, "marker file");
+    }
+    if let Some(c) = &args.correspondence {
+        plan.input(c, "correspondence");
+    }
+    let pose_outputs: Vec<_> = pose_paths(&args.poses, &args.output, format.extension())?
+        .iter()
+        .map(|p| plan.file(p, "transferred pose"))
+        .collect();
+    let save = args
+        .save_correspondence
+        .as_deref()
+        .map(|p| plan.file(p, "correspondence to save"));
+    let staging = plan.prepare()?;
+    let mut read: Vec<&Path> = args.poses.iter().map(PathBuf::as_path).collect();
+    read.extend([
         args.refs.source_ref.as_path(),
         args.refs.target_ref.as_path(),
     ]);
-    inputs.extend(args.correspondence.as_deref());
-    let outputs = output_paths(&args.poses, &args.output, format.extension(), &inputs)?;
+    memory::check_reading(&read)?;
+    let (source, target) = args.refs.read()?;
 
     // Read and check every pose first: a bad pose is reported before the
     // slow correspondence, and nothing is written.
@@ -269,6 +322,10 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let correspondence_seconds = begin.elapsed().as_secs_f64();
 
     let begin = Instant::now();
+    memory::check_setup(
+        source.num_triangles() + target.num_triangles(),
+        "the transfer",
+    )?;
     let pins = args
         .pin
         .iter()
@@ -292,32 +349,37 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let setup_seconds = begin.elapsed().as_secs_f64();
 
     let bar = progress::bar(poses.len() as u64, "poses");
-    // Saved only now that every input is known to be good: a failed run
-    // writes nothing.
-    if let Some(path) = &args.save_correspondence {
-        correspondence
-            .save(path)
-            .context("saving the correspondence")?;
+    if let Some(save) = save {
+        staging.write(save, |path| Ok(correspondence.save(path)?))?;
     }
-    output::make_dir(&args.output)?;
     let timings: Vec<(f64, f64)> = poses
         .par_iter()
-        .zip(&outputs)
+        .zip(&pose_outputs)
         .map_init(
             || transfer.workspace(),
-            |ws, ((pose, read), out_path)| {
+            |ws, ((pose, read), &output)| {
                 let begin = Instant::now();
                 let mut out = vec![[0.0; 3]; target.num_vertices()];
                 transfer.apply_into(pose.positions(), &mut out, ws);
                 let solve = begin.elapsed().as_secs_f64();
-                meshmorph::io::write_positions(out_path, &out, target.triangles(), format)
-                    .with_context(|| format!("writing `{}`", out_path.display()))?;
+                staging.write(output, |path| {
+                    if let Some(v) = out.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
+                        bail!("vertex {v} overflows (its coordinates exceed the range of floating-point numbers); scale the meshes down");
+                    }
+                    Ok(meshmorph::io::write_positions(
+                        path,
+                        &out,
+                        target.triangles(),
+                        format,
+                    )?)
+                })?;
                 bar.inc(1);
                 Ok((solve, read + begin.elapsed().as_secs_f64()))
             },
         )
         .collect::<Result<_>>()?;
     bar.finish_and_clear();
+    staging.commit()?;
     let n = timings.len() as f64;
     TransferReport {
         output: args.output.clone(),
@@ -336,20 +398,9 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     Ok(())
 }
 
-/// DIR/<stem>.<ext> for each pose, refusing two poses with the same stem
-/// and any output that would overwrite one of the `inputs`.
-fn output_paths(
-    poses: &[PathBuf],
-    dir: &Path,
-    ext: &str,
-    inputs: &[&Path],
-) -> Result<Vec<PathBuf>> {
+/// DIR/<stem>.<ext> for each pose, refusing two poses with the same stem.
+fn pose_paths(poses: &[PathBuf], dir: &Path, ext: &str) -> Result<Vec<PathBuf>> {
     let mut seen = HashSet::new();
-    let inputs: Vec<PathBuf> = inputs
-        .iter()
-        .filter_map(|p| p.canonicalize().ok())
-        .collect();
-    let dir_now = dir.canonicalize().ok();
     poses
         .iter()
         .map(|p| {
@@ -362,18 +413,7 @@ fn output_paths(
                     stem.to_string_lossy()
                 );
             }
-            let out = dir.join(stem).with_extension(ext);
-            if let Some(d) = &dir_now {
-                let resolved = d.join(out.file_name().expect("a file name was just set"));
-                if let Some(input) = inputs.iter().find(|i| **i == resolved) {
-                    bail!(
-                        "the output `{}` would overwrite the input `{}`: choose another -o directory or --format",
-                        out.display(),
-                        input.display()
-                    );
-                }
-            }
-            Ok(out)
+            Ok(dir.join(stem).with_extension(ext))
         })
         .collect()
 }
@@ -408,25 +448,45 @@ pub struct CorrespondReport {
 }
 
 pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
-    if args.correspond.markers.is_none() {
+    let Some(markers) = &args.correspond.markers else {
         bail!("--markers is required");
-    }
-    let (source, target) = args.refs.read()?;
-    let begin = Instant::now();
+    };
     // Checked before any work, so that a bad name leaves no output behind.
     let deformed_format = args
         .deformed_source
         .as_deref()
         .map(meshmorph::io::Format::from_path)
         .transpose()?;
+    let mut plan = Plan::new();
+    args.refs.plan(&mut plan);
+    plan.input(markers, "marker file");
+    let saved = plan.file(&args.output, "correspondence");
+    let deformed = args
+        .deformed_source
+        .as_deref()
+        .map(|p| plan.file(p, "deformed source"));
+    let staging = plan.prepare()?;
+    memory::check_reading(&[&args.refs.source_ref, &args.refs.target_ref])?;
+    let (source, target) = args.refs.read()?;
+    memory::check_setup(
+        source.num_triangles() + target.num_triangles(),
+        "the correspondence",
+    )?;
+    let begin = Instant::now();
     let result = args.correspond.compute(&args.refs, &source, &target)?;
     let seconds = begin.elapsed().as_secs_f64();
     let c = &result.correspondence;
-    c.save(&args.output).context("saving the correspondence")?;
-    if let (Some(path), Some(format)) = (&args.deformed_source, deformed_format) {
-        meshmorph::io::write_mesh(path, &result.deformed_source, format)
-            .with_context(|| format!("writing `{}`", path.display()))?;
+    staging.write(saved, |path| Ok(c.save(path)?))?;
+    if let (Some(output), Some(format)) = (deformed, deformed_format) {
+        staging.write(output, |path| {
+            Ok(meshmorph::io::write_mesh(
+                path,
+                &result.deformed_source,
+                format,
+            )?)
+        })?;
     }
+    staging.commit()?;
     let report = CorrespondReport {
         output: args.output.clone(),
         seconds,

@@ -20,7 +20,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result, LIST_LIMIT};
 use crate::geometry::{centroid, signed_area2};
-use crate::mesh::{bounding_box_diagonal, check_areas, Mesh2};
+use crate::mesh::{check_areas, Mesh2};
 use crate::polar::{mul, polar_decomposition, rotation, Mat2, SymmetricEigen2};
 use crate::rotation::make_consistent;
 use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder, Workspace};
@@ -188,7 +188,7 @@ impl Interpolator {
         let (p, q) = (source.positions(), target.positions());
 
         let source_areas = source.signed_areas();
-        check_areas(&source_areas, bounding_box_diagonal(p), "source")?;
+        check_areas(&source_areas, source.bounding_box_diagonal(), "source")?;
         let target_areas = target.signed_areas();
         let flipped: Vec<usize> = (0..triangles.len())
             .filter(|&t| source_areas[t] * target_areas[t] <= 0.0)

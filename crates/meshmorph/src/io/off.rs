@@ -5,7 +5,7 @@ use std::path::Path;
 
 use super::triangulate::{repeated_index, Polygons};
 use super::{
-    finish, parse_f64, parse_i64, push_f64, push_uint, show, strip_comment, tokens,
+    bad_count, finish, parse_f64, parse_i64, push_f64, push_uint, show, strip_comment, tokens,
     write_formatted, xyz, Lines,
 };
 use crate::error::{Error, Result};
@@ -77,10 +77,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
             .ok_or_else(|| {
                 err(
                     counts_line,
-                    format!(
-                        "the {what} count `{}` is not a non-negative integer",
-                        show(tok)
-                    ),
+                    format!("the {what} count `{}` {}", show(tok), bad_count(tok)),
                 )
             })
     };

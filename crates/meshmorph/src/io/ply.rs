@@ -9,7 +9,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::triangulate::{repeated_index, Polygons};
-use super::{finish, parse_f64, parse_i64, show, tokens, xyz, Lines, CHUNK};
+use super::{bad_count, finish, parse_f64, parse_i64, show, tokens, xyz, Lines, CHUNK};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh3;
 
@@ -212,10 +212,7 @@ fn parse_header(lines: &mut Lines<'_>, path: &Path) -> Result<(Encoding, Vec<Ele
                     .ok_or_else(|| {
                         err(
                             n,
-                            format!(
-                                "element count `{}` is not a non-negative integer",
-                                show(count)
-                            ),
+                            format!("element count `{}` {}", show(count), bad_count(count)),
                         )
                     })?;
                 if elements.iter().any(|e| e.name.as_bytes() == *name) {
