@@ -194,6 +194,9 @@ pub struct Report {
     pub gif: Option<PathBuf>,
     /// Frame files of an earlier run removed from the output folder.
     pub surplus_frames_removed: usize,
+    /// Vertices no triangle uses: they move on the straight line from their
+    /// source to their target position and count in no scale.
+    pub unused_vertices: usize,
 }
 
 impl Report {
@@ -232,6 +235,12 @@ impl Report {
         }
         if let Some(g) = &self.gif {
             println!("animation: {}", g.display());
+        }
+        if self.unused_vertices > 0 {
+            println!(
+                "unused vertices: {} (in no triangle; carried along unchanged)",
+                self.unused_vertices
+            );
         }
         if self.surplus_frames_removed > 0 {
             println!(
@@ -396,6 +405,7 @@ pub fn animate(
         max_flipped_frame,
         gif: args.gif.clone(),
         surplus_frames_removed: 0,
+        unused_vertices: source.num_unused_vertices(),
     })
 }
 

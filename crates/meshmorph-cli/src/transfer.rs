@@ -209,6 +209,8 @@ pub struct TransferReport {
     pub matched_pairs: usize,
     pub unmatched_source_triangles: usize,
     pub unmatched_target_triangles: usize,
+    /// Target vertices no triangle uses: written at their rest positions.
+    pub unused_target_vertices: usize,
     pub total_seconds: f64,
 }
 
@@ -235,6 +237,12 @@ impl TransferReport {
                 ""
             }
         );
+        if self.unused_target_vertices > 0 {
+            println!(
+                "unused target vertices: {} (in no triangle; kept at rest)",
+                self.unused_target_vertices
+            );
+        }
         println!(
             "setup:          {}",
             output::human_seconds(self.setup_seconds)
@@ -392,6 +400,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         matched_pairs: correspondence.pairs().len(),
         unmatched_source_triangles: correspondence.unmatched_source(),
         unmatched_target_triangles: correspondence.unmatched_target(),
+        unused_target_vertices: target.num_unused_vertices(),
         total_seconds: start.elapsed().as_secs_f64(),
     }
     .print(args.json);

@@ -353,7 +353,7 @@ fn catalogue() -> Vec<Case> {
             |d| obj_with(d, "nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")),
         with_setup(case("coordinates near the largest number overflow", &[I, "big.obj", "big.obj", "-o", "out"], 1, &["overflow"]),
             |d| obj_with(d, "big.obj", "v 1e307 0 0\nv -1e307 0 0\nv 0 1e307 0\nf 1 2 3\n")),
-        with_setup(case("an unused vertex far away changes nothing", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "2"], 0, &["wrote 2 frames"]),
+        with_setup(case("an unused vertex far away changes nothing", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "2"], 0, &["wrote 2 frames", "unused vertices: 1"]),
             |d| { append(d, "src.obj", "v 1000000 1000000 0\n"); append(d, "dst.obj", "v 1000000 1000000 0\n"); }),
         with_setup(case("zero-area triangle", &[I, "flat.obj", "flat.obj", "-o", "out"], 1, &["degenerate", "triangle 0"]),
             |d| obj_with(d, "flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")),
@@ -418,6 +418,8 @@ fn catalogue() -> Vec<Case> {
         case("correspond without markers", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "-o", "x.corr"], 1, &["--markers is required"]),
         may_change(case("correspond replaces its own earlier output", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "c.corr"], 0, &["saved to c.corr"]), &["c.corr"]),
         with_setup(case("target with an unused vertex", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "x.corr"], 0, &["saved to x.corr"]),
+            |d| append(d, "thick.obj", "v 10 10 10\n")),
+        with_setup(case("transfer onto a target with an unused vertex", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "out", "pose1.obj"], 0, &["wrote 1 poses", "unused target vertices: 1"]),
             |d| append(d, "thick.obj", "v 10 10 10\n")),
         // demo
         case("demo -o onto a file", &["demo", "-o", "thin.obj"], 1, &["is a file, not a folder"]),

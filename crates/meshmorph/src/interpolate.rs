@@ -412,8 +412,16 @@ impl Interpolator {
                 out[v] = [xs[v] + s[0], ys[v] + s[1]];
             }
         }
+        // Unused vertices move on their straight line; one that does not
+        // move stays exactly where it is.
         for &(v, a, b) in &self.loose {
-            out[v as usize] = [(1.0 - t) * a[0] + t * b[0], (1.0 - t) * a[1] + t * b[1]];
+            out[v as usize] = std::array::from_fn(|k| {
+                if a[k] == b[k] {
+                    a[k]
+                } else {
+                    (1.0 - t) * a[k] + t * b[k]
+                }
+            });
         }
     }
 
