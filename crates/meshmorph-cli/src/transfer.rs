@@ -251,7 +251,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     ]);
     inputs.extend(args.correspondence.as_deref());
     let outputs = output_paths(&args.poses, &args.output, format.extension(), &inputs)?;
-    args.gltf.check(
+    args.gltf.check::<3>(
         target.num_vertices(),
         target.num_triangles(),
         args.poses.len(),

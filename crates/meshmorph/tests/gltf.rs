@@ -154,7 +154,7 @@ fn planar_interpolation_reads_back_frame_by_frame() {
         }
     }
     // The estimate is close to what was written.
-    let estimate = estimate_glb_bytes(bar.num_vertices(), bar.num_triangles(), 5, false);
+    let estimate = estimate_glb_bytes::<2>(bar.num_vertices(), bar.num_triangles(), 5, false);
     let ratio = estimate as f64 / bytes.len() as f64;
     assert!((0.7..1.5).contains(&ratio), "{estimate} vs {}", bytes.len());
 }

@@ -139,15 +139,23 @@ impl<'a, const D: usize> GltfBase<'a, D> {
 }
 
 /// About how many bytes a GLB of `frames` frames of a mesh with `vertices`
-/// vertices and `triangles` triangles weighs: 24 bytes per vertex and frame
-/// plus the base mesh, the animation and the JSON (texture seams, which split
-/// vertices, add a little).
-pub fn estimate_glb_bytes(vertices: usize, triangles: usize, frames: usize, uvs: bool) -> u64 {
+/// vertices, `triangles` triangles and `D` coordinates weighs: 24 bytes per
+/// vertex and frame in space, 12 in the plane, plus the base mesh, the
+/// animation and the JSON (texture seams, which split vertices, add a
+/// little).
+pub fn estimate_glb_bytes<const D: usize>(
+    vertices: usize,
+    triangles: usize,
+    frames: usize,
+    uvs: bool,
+) -> u64 {
     let (v, t, f) = (vertices as u64, triangles as u64, frames as u64);
-    let base = 12 * t + v * (24 + if uvs { 8 } else { 0 });
+    let per_frame = if D == 3 { 24 } else { 12 };
+    let planar_normals = if D == 3 { 0 } else { 12 * v };
+    let base = 12 * t + v * (24 + if uvs { 8 } else { 0 }) + planar_normals;
     let animation = 4 * f * (f + 1);
     let json = 1500 + 300 * f;
-    base + 24 * v * f + animation + json
+    base + per_frame * v * f + animation + json
 }
 
 /// Writes a GLB atomically (see [`write_atomic`]): the base mesh, one morph
