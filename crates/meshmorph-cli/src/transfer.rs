@@ -491,7 +491,11 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         .with_fps(args.fps)
         .with_animation(!args.gltf_shapes)
         .with_name(crate::gltf::mesh_name(&args.refs.target_ref));
-    let base = GltfBase::new(target.positions(), target.triangles());
+    let corner_uvs = target_file.triangle_corner_uvs();
+    let mut base = GltfBase::new(target.positions(), target.triangles());
+    if let Some(uvs) = &corner_uvs {
+        base = base.with_corner_uvs(uvs);
+    }
     let gltf = args.gltf.write(&base, &results, &names, &options)?;
     files_written.extend(gltf.clone());
     if args.pictures.any() {
