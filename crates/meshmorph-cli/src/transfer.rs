@@ -365,7 +365,18 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         .with_fps(args.fps)
         .with_animation(!args.gltf_shapes)
         .with_name(crate::gltf::mesh_name(&args.refs.target_ref));
-    let base = GltfBase::new(target.positions(), target.triangles());
+    // The target's texture coordinates, when its file has them for every
+    // triangle corner.
+    let uvs = match &args.gltf.gltf {
+        Some(_) => meshmorph::io::MeshFile::read(&args.refs.target_ref)
+            .context("reading the target reference's texture coordinates")?
+            .triangle_corner_uvs(),
+        None => None,
+    };
+    let mut base = GltfBase::new(target.positions(), target.triangles());
+    if let Some(uvs) = &uvs {
+        base = base.with_corner_uvs(uvs);
+    }
     let gltf = args.gltf.write(&base, &results, &names, &options)?;
     files_written.extend(gltf.clone());
     if args.pictures.any() {
