@@ -37,7 +37,7 @@ fn main() -> Result<(), meshmorph::Error> {
     // tube, v along it. The seam, where u jumps from 1 to 0, splits vertices.
     let tube = shapes::tube(4.0, 0.5, 17, 24);
     let p = tube.positions();
-    let uvs: Vec<[[f64; 2]; 3]> = tube
+    let uvs: Vec<[[f32; 2]; 3]> = tube
         .triangles()
         .iter()
         .map(|t| {
@@ -45,7 +45,7 @@ fn main() -> Result<(), meshmorph::Error> {
             if u.iter().any(|&x| x > 0.75) {
                 u = u.map(|x| if x < 0.25 { x + 1.0 } else { x });
             }
-            std::array::from_fn(|k| [u[k], p[t[k] as usize][0] / 4.0])
+            std::array::from_fn(|k| [u[k] as f32, (p[t[k] as usize][0] / 4.0) as f32])
         })
         .collect();
     let bends: Vec<Vec<[f64; 3]>> = [0.5, 1.0, 1.5]

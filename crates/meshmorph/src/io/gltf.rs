@@ -117,8 +117,10 @@ pub struct GltfBase<'a, const D: usize> {
     /// `#T` triangles, counter-clockwise seen from the front.
     pub triangles: &'a [[u32; 3]],
     /// `#T × 3` texture coordinates `(u, v)`, one per triangle corner
-    /// (OBJ's convention: v up; written with glTF's v down).
-    pub corner_uvs: Option<&'a [[[f64; 2]; 3]]>,
+    /// (OBJ's convention: v up; written with glTF's v down), as
+    /// [`MeshFile::triangle_corner_uvs`](crate::io::MeshFile::triangle_corner_uvs)
+    /// gives them.
+    pub corner_uvs: Option<&'a [[[f32; 2]; 3]]>,
 }
 
 impl<'a, const D: usize> GltfBase<'a, D> {
@@ -132,7 +134,7 @@ impl<'a, const D: usize> GltfBase<'a, D> {
     }
 
     /// Adds texture coordinates per triangle corner.
-    pub fn with_corner_uvs(mut self, corner_uvs: &'a [[[f64; 2]; 3]]) -> Self {
+    pub fn with_corner_uvs(mut self, corner_uvs: &'a [[[f32; 2]; 3]]) -> Self {
         self.corner_uvs = Some(corner_uvs);
         self
     }
@@ -793,7 +795,7 @@ fn split_vertices<const D: usize>(
         )));
     }
     // glTF's v runs down the image, OBJ's up.
-    let gltf_uv = |uv: [f64; 2]| [uv[0] as f32, (1.0 - uv[1]) as f32];
+    let gltf_uv = |uv: [f32; 2]| [uv[0], 1.0 - uv[1]];
     let mut first: Vec<Option<[f32; 2]>> = vec![None; n];
     for (t, c) in base.triangles.iter().zip(corner_uvs) {
         for k in 0..3 {

@@ -223,7 +223,7 @@ impl MeshFile {
     /// `texture_u texture_v` or a face list `texcoord`, OFF `ST` files.
     /// `None` when the file has no texture coordinates or some corner lacks
     /// them. (glTF's `TEXCOORD_0` wants `v` flipped: `1 - v`.)
-    pub fn triangle_corner_uvs(&self) -> Option<Vec<[[f64; 2]; 3]>> {
+    pub fn triangle_corner_uvs(&self) -> Option<Vec<[[f32; 2]; 3]>> {
         if self.corner_uv.is_empty() || self.corner_uv.contains(&NONE) {
             return None;
         }
@@ -234,7 +234,7 @@ impl MeshFile {
                 .map(|c| {
                     c.map(|k| {
                         let uv = self.uvs[self.corner_uv[k as usize] as usize];
-                        [uv[0], uv[1]]
+                        [uv[0] as f32, uv[1] as f32]
                     })
                 })
                 .collect(),
