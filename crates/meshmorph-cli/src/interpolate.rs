@@ -4,12 +4,14 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
+use meshmorph::io::gltf::{GltfBase, GltfOptions};
 use meshmorph::{Interpolator, InterpolatorOptions, Mesh2, StretchMode};
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::gltf::GltfArgs;
 use crate::memory;
-use crate::output::{self, FormatArg};
+use crate::output::{self, positive_number, FormatArg};
 use crate::outputs::{Output, Plan, Staging};
 use crate::pictures;
 use crate::progress;
@@ -90,7 +92,7 @@ pub struct FrameArgs {
     /// GIF height in pixels [default: from the shape's aspect ratio].
     #[arg(long, value_name = "PX", value_parser = clap::value_parser!(u32).range(16..=8192))]
     pub gif_height: Option<u32>,
-    /// GIF frame rate.
+    /// Frame rate of the GIF and of the glTF animation.
     #[arg(long, default_value_t = 25.0, value_name = "FPS", value_parser = positive_number)]
     pub fps: f64,
     /// Play the GIF forward only, instead of forward then back.
@@ -100,6 +102,8 @@ pub struct FrameArgs {
     /// holds every frame, --gif-width pixels wide).
     #[arg(long)]
     pub svg: bool,
+    #[command(flatten)]
+    pub gltf: GltfArgs,
 }
 
 /// The most frames a run writes: a million files is already more than a
@@ -113,14 +117,6 @@ fn frame_count(text: &str) -> Result<usize, String> {
         Ok(n) if n <= MAX_FRAMES as u128 => Ok(n as usize),
         Ok(_) => Err(format!("{text} frames is too many (at most {MAX_FRAMES})")),
         Err(_) => Err(format!("`{text}` is not a whole number of frames")),
-    }
-}
-
-/// A finite number above zero.
-fn positive_number(text: &str) -> Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
-        _ => Err(format!("`{text}` is not a positive number")),
     }
 }
 
@@ -192,6 +188,12 @@ pub struct Report {
     pub max_flipped_frame: usize,
     /// The GIF written, if any.
     pub gif: Option<PathBuf>,
+    /// The GLB written, if any.
+    pub gltf: Option<PathBuf>,
+    /// Every file written, in order.
+    pub files_written: Vec<PathBuf>,
+    /// The warnings given (also printed on stderr).
+    pub warnings: Vec<String>,
     /// Frame files of an earlier run removed from the output folder.
     pub surplus_frames_removed: usize,
     /// Vertices no triangle uses: they move on the straight line from their
@@ -235,6 +237,9 @@ impl Report {
         }
         if let Some(g) = &self.gif {
             println!("animation: {}", g.display());
+        }
+        if let Some(g) = &self.gltf {
+            println!("glTF:      {}", g.display());
         }
         if self.unused_vertices > 0 {
             println!(
@@ -292,10 +297,11 @@ pub struct FrameOutputs {
     meshes: Vec<Output>,
     svgs: Vec<Output>,
     gif: Option<Output>,
+    gltf: Option<Output>,
 }
 
 impl FrameOutputs {
-    /// Adds the frames (and SVGs, GIF) of `count` frames in `dir` to `plan`.
+    /// Adds the frames (and SVGs, GIF, GLB) of `count` frames in `dir` to `plan`.
     pub fn plan(
         plan: &mut Plan,
         args: &FrameArgs,
@@ -312,6 +318,7 @@ impl FrameOutputs {
                 Vec::new()
             },
             gif: args.gif.as_deref().map(|g| plan.file(g, "animation")),
+            gltf: args.gltf.gltf.as_deref().map(|g| plan.file(g, "glTF file")),
         }
     }
 }
@@ -330,13 +337,19 @@ pub fn animate(
     start: Instant,
 ) -> Result<Report> {
     let dir = outputs.dir.as_path();
+    args.gltf.check::<2>(
+        source.num_vertices(),
+        source.num_triangles(),
+        times.len(),
+        false,
+    )?;
     memory::check_setup(source.num_triangles(), "the interpolation")?;
     let setup = Instant::now();
     let morph = Interpolator::new(source, target, &args.options())?;
     let setup_seconds = setup.elapsed().as_secs_f64();
 
     let bar = progress::bar(times.len() as u64, "frames");
-    let keep = outputs.gif.is_some() || !outputs.svgs.is_empty();
+    let keep = outputs.gif.is_some() || !outputs.svgs.is_empty() || outputs.gltf.is_some();
     if keep {
         memory::check_held(
             times.len(),
@@ -384,13 +397,50 @@ pub fn animate(
         .map(|(k, f)| (k, f.flipped))
         .max_by_key(|&(k, f)| (f, std::cmp::Reverse(k)))
         .unwrap_or((0, 0));
+    let mut files_written: Vec<PathBuf> = (0..times.len())
+        .map(|k| crate::outputs::frame_path(dir, k, times.len(), format.extension()))
+        .collect();
+    let mut gltf = None;
     if keep {
         let positions: Vec<Vec<[f64; 2]>> = frames
             .iter_mut()
             .filter_map(|f| f.positions.take())
             .collect();
-        write_pictures(args, outputs, staging, &positions, morph.triangles())?;
+        files_written.extend(write_pictures(
+            args,
+            outputs,
+            staging,
+            &positions,
+            morph.triangles(),
+        )?);
+        if let Some(output) = outputs.gltf {
+            let names: Vec<String> = (0..times.len())
+                .map(|k| {
+                    let path = crate::outputs::frame_path(dir, k, times.len(), format.extension());
+                    crate::gltf::mesh_name(&path)
+                })
+                .collect();
+            let options = GltfOptions::default()
+                .with_fps(args.fps)
+                .with_name("interpolation");
+            let base = GltfBase::new(source.positions(), source.triangles());
+            staging.write(output, |path| {
+                let mut staged = args.gltf.clone();
+                staged.gltf = Some(path.to_path_buf());
+                staged.write(&base, &positions, &names, &options)?;
+                Ok(())
+            })?;
+            gltf = args.gltf.gltf.clone();
+            files_written.extend(gltf.clone());
+        }
     }
+    let mut warnings = Vec::new();
+    if max_flipped > 0 {
+        warnings.push(format!(
+            "frame {max_flipped_frame} has {max_flipped} triangles reversed relative to the source"
+        ));
+    }
+    output::print_warnings(&warnings);
     let n = frames.len() as f64;
     Ok(Report {
         output: dir.to_path_buf(),
@@ -404,6 +454,9 @@ pub fn animate(
         max_flipped_triangles: max_flipped,
         max_flipped_frame,
         gif: args.gif.clone(),
+        gltf,
+        files_written,
+        warnings,
         surplus_frames_removed: 0,
         unused_vertices: source.num_unused_vertices(),
     })
@@ -423,29 +476,36 @@ fn check_finite(positions: &[[f64; 2]], frame: usize, t: f64) -> Result<()> {
     Ok(())
 }
 
-/// The SVGs and the GIF asked for, of the frames' positions.
+/// The SVGs and the GIF asked for, of the frames' positions; returns the
+/// files (as the user will find them).
 fn write_pictures(
     args: &FrameArgs,
     outputs: &FrameOutputs,
     staging: &Staging,
     positions: &[Vec<[f64; 2]>],
     triangles: &[[u32; 3]],
-) -> Result<()> {
+) -> Result<Vec<PathBuf>> {
+    let mut written = Vec::new();
     if !outputs.svgs.is_empty() {
         pictures::write_svgs(staging, &outputs.svgs, positions, triangles, args.gif_width)?;
+        written.extend(
+            (0..positions.len())
+                .map(|k| crate::outputs::frame_path(&outputs.dir, k, positions.len(), "svg")),
+        );
     }
-    if let Some(gif) = outputs.gif {
+    if let (Some(output), Some(gif)) = (outputs.gif, &args.gif) {
         let gif_args = pictures::GifArgs {
             width: args.gif_width,
             height: args.gif_height,
             fps: args.fps,
             boomerang: !args.no_boomerang,
         };
-        staging.write(gif, |path| {
+        staging.write(output, |path| {
             pictures::write_gif(path, positions, triangles, &gif_args)
         })?;
+        written.push(gif.clone());
     }
-    Ok(())
+    Ok(written)
 }
 
 struct Frame {

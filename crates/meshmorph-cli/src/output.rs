@@ -39,6 +39,12 @@ pub fn read_mesh(path: &Path, role: &str) -> Result<meshmorph::Mesh3> {
     meshmorph::io::read_mesh(path).with_context(|| format!("reading {role} `{}`", path.display()))
 }
 
+/// Reads a mesh file kept whole, saying which file and what role on failure.
+pub fn read_mesh_file(path: &Path, role: &str) -> Result<meshmorph::io::MeshFile> {
+    meshmorph::io::MeshFile::read(path)
+        .with_context(|| format!("reading {role} `{}`", path.display()))
+}
+
 /// Reads a planar mesh (every z = 0).
 pub fn read_mesh_2d(path: &Path, role: &str) -> Result<meshmorph::Mesh2> {
     read_mesh(path, role)?
@@ -63,4 +69,19 @@ pub fn print_json(report: &impl serde::Serialize) {
         "{}",
         serde_json::to_string(report).expect("a report serialises")
     );
+}
+
+/// A finite number above zero (a clap value parser).
+pub fn positive_number(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err(format!("`{text}` is not a finite number above 0")),
+    }
+}
+
+/// Prints each warning on stderr.
+pub fn print_warnings(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
 }

@@ -5,27 +5,38 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
+use meshmorph::io::gltf::{GltfBase, GltfOptions};
+use meshmorph::io::MeshFile;
 use meshmorph::{
     correspond, CorrespondOptions, Correspondence, Markers, Mesh3, Transfer, TransferOptions,
 };
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::gltf::GltfArgs;
 use crate::memory;
-use crate::output::{self, FormatArg};
-use crate::outputs::Plan;
+use crate::output::{self, positive_number, FormatArg};
+use crate::outputs::{Output, Plan, Staging};
+use crate::pictures::PictureArgs;
 use crate::progress;
 
 /// How the triangle correspondence is computed (Sumner and Popovic 2004, section 5).
 #[derive(Debug, Clone, clap::Args)]
 pub struct CorrespondArgs {
-    /// Marker file: one `source target` vertex pair per line (white space or
-    /// a comma between), `#` comments, an optional first line with the count.
+    /// Marker file: one `source target` vertex pair per line, or a point on
+    /// each mesh `sx sy sz tx ty tz` (snapped to the nearest vertex); white
+    /// space or a comma between, `#` comments, an optional first line with
+    /// the count.
     #[arg(long, value_name = "FILE")]
     pub markers: Option<PathBuf>,
-    /// Marker indices start at 1 instead of 0.
+    /// Vertex indices (markers and --pin) start at 1 instead of 0.
     #[arg(long)]
     pub one_based: bool,
+    /// Do not bring the source onto the target by the similarity (rotation,
+    /// uniform scale, translation) that best fits the markers: the two
+    /// references must then already overlap.
+    #[arg(long)]
+    pub no_align: bool,
     /// Weight of the smoothness term w_S [default: 1].
     #[arg(long, value_name = "W", allow_negative_numbers = true)]
     pub smoothness_weight: Option<f64>,
@@ -65,22 +76,28 @@ impl CorrespondArgs {
             .with_closest_weights(self.closest_weights.clone().unwrap_or(d.closest_weights))
             .with_closest_cutoff(self.closest_cutoff.unwrap_or(d.closest_cutoff))
             .with_match_threshold(self.match_threshold.unwrap_or(d.match_threshold))
+            .with_align(!self.no_align)
     }
 
-    /// Reads the markers and computes the correspondence, with a progress bar.
-    /// `refs` name the meshes in error messages.
+    /// Reads the markers (snapping marker points to vertices) and computes
+    /// the correspondence, with a progress bar. `refs` name the meshes in
+    /// error messages; warnings about the markers go to `warnings`.
     fn compute(
         &self,
         refs: &References,
         source: &Mesh3,
         target: &Mesh3,
-    ) -> Result<meshmorph::CorrespondResult> {
+        warnings: &mut Vec<String>,
+    ) -> Result<(meshmorph::CorrespondResult, MarkerReport)> {
         let Some(path) = &self.markers else {
             bail!(
                 "--markers is required to compute a correspondence (or pass --correspondence FILE)"
             );
         };
         let markers = Markers::read(path, self.one_based).context("reading the markers")?;
+        let (markers, snap) = markers
+            .snap(source, target)
+            .context("snapping the marker points to vertices")?;
         let options = self.options();
         let bar = progress::bar(
             meshmorph::correspond::correspond_steps(&options) as u64,
@@ -97,7 +114,79 @@ impl CorrespondArgs {
             )
         })?;
         bar.finish_and_clear();
-        Ok(result)
+        let diagonal = target.bounding_box_diagonal();
+        let r = &result.marker_residuals;
+        let rms = (r.iter().map(|x| x * x).sum::<f64>() / r.len().max(1) as f64).sqrt();
+        let suspicious: Vec<String> = meshmorph::similarity::outliers(r)
+            .into_iter()
+            .map(|k| markers.describe(k))
+            .collect();
+        if !suspicious.is_empty() {
+            warnings.push(format!(
+                "after the alignment, {} far from {} target vertex ({}): {} may be on the wrong feature",
+                if suspicious.len() == 1 { "a marker lies" } else { "markers lie" },
+                if suspicious.len() == 1 { "its" } else { "their" },
+                suspicious.join("; "),
+                if suspicious.len() == 1 { "it" } else { "they" },
+            ));
+        }
+        let report = MarkerReport {
+            markers: markers.pairs().len(),
+            snapped_points: snap.points,
+            largest_snap_source: snap.largest_source,
+            largest_snap_target: snap.largest_target,
+            aligned: options.align,
+            alignment_scale: result.correspondence.alignment().scale,
+            marker_residual_rms: rms / diagonal,
+            marker_residual_max: r.iter().copied().fold(0.0, f64::max) / diagonal,
+            suspicious_markers: suspicious,
+        };
+        Ok((result, report))
+    }
+}
+
+/// How the markers fitted (distances as fractions of the target's diagonal).
+#[derive(Debug, Default, Serialize)]
+pub struct MarkerReport {
+    pub markers: usize,
+    /// Markers given as points and snapped to the nearest vertex.
+    pub snapped_points: usize,
+    pub largest_snap_source: f64,
+    pub largest_snap_target: f64,
+    /// Whether the source was aligned to the target (not --no-align).
+    pub aligned: bool,
+    /// The scale of the alignment (target size over source size).
+    pub alignment_scale: f64,
+    pub marker_residual_rms: f64,
+    pub marker_residual_max: f64,
+    pub suspicious_markers: Vec<String>,
+}
+
+impl MarkerReport {
+    fn print(&self) {
+        let mut line = format!("markers:        {}", self.markers);
+        if self.snapped_points > 0 {
+            line += &format!(
+                " ({} points snapped to vertices, at most {:.3} % of the source's and {:.3} % of the target's diagonal away)",
+                self.snapped_points,
+                100.0 * self.largest_snap_source,
+                100.0 * self.largest_snap_target
+            );
+        }
+        println!("{line}");
+        if self.aligned {
+            println!(
+                "alignment:      scale {:.6}, marker residual {:.3} % of the target's diagonal (RMS), {:.3} % at most",
+                self.alignment_scale,
+                100.0 * self.marker_residual_rms,
+                100.0 * self.marker_residual_max
+            );
+        } else {
+            println!(
+                "alignment:      off, marker distance {:.3} % of the target's diagonal (RMS)",
+                100.0 * self.marker_residual_rms
+            );
+        }
     }
 }
 
@@ -113,16 +202,11 @@ pub struct References {
 }
 
 impl References {
-    /// Both meshes as inputs of a plan.
-    fn plan(&self, plan: &mut Plan) {
-        plan.input(&self.source_ref, "source reference");
-        plan.input(&self.target_ref, "target reference");
-    }
-
-    fn read(&self) -> Result<(Mesh3, Mesh3)> {
+    /// Both files, kept whole.
+    fn read(&self) -> Result<(MeshFile, MeshFile)> {
         let (s, t) = rayon::join(
-            || output::read_mesh(&self.source_ref, "source reference"),
-            || output::read_mesh(&self.target_ref, "target reference"),
+            || output::read_mesh_file(&self.source_ref, "source reference"),
+            || output::read_mesh_file(&self.target_ref, "target reference"),
         );
         Ok((s?, t?))
     }
@@ -140,12 +224,6 @@ impl References {
 /// Carry the poses of a source mesh over to a target mesh.
 ///
 /// Writes one mesh per pose: DIR/<the pose file's stem>.<ext>.
-///
-/// Inputs are never written: an output that would land on an input is
-/// refused before any work. All or nothing: every file is written under a
-/// temporary name and moved into place only when the whole run has
-/// succeeded; a failed or interrupted (Ctrl-C) run leaves every output
-/// folder as it was.
 #[derive(Debug, clap::Args)]
 pub struct TransferArgs {
     #[command(flatten)]
@@ -159,8 +237,9 @@ pub struct TransferArgs {
     /// Save the correspondence computed from the markers.
     #[arg(long, value_name = "FILE")]
     pub save_correspondence: Option<PathBuf>,
-    /// Target vertices (comma-separated, 0-based) held at their rest
-    /// positions in every pose, instead of placing the result by its centroid.
+    /// Target vertices (comma-separated, 0-based unless --one-based) held at
+    /// their rest positions in every pose, instead of placing the result by
+    /// its centroid.
     #[arg(
         long,
         value_delimiter = ',',
@@ -178,12 +257,24 @@ pub struct TransferArgs {
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
-    /// Source poses: meshes with the source reference's vertices and triangles.
+    #[command(flatten)]
+    pub gltf: GltfArgs,
+    /// With --gltf: write the poses as shape keys (morph targets at weight
+    /// 0), without the animation.
+    #[arg(long, requires = "gltf")]
+    pub gltf_shapes: bool,
+    /// Frame rate of the glTF animation and of the GIF.
+    #[arg(long, default_value_t = 25.0, value_name = "FPS", value_parser = positive_number)]
+    pub fps: f64,
+    #[command(flatten)]
+    pub pictures: PictureArgs,
+    /// Source poses: new positions for the source reference's vertices, with
+    /// its faces (listed in any corner order or winding).
     #[arg(required = true, value_name = "POSE")]
     pub poses: Vec<PathBuf>,
 }
 
-/// A 0-based vertex index.
+/// A vertex index (0 or more).
 fn vertex_index(text: &str) -> Result<u32, String> {
     match text.trim().parse::<i128>() {
         Ok(v) if v < 0 => Err(format!("{v} is not a vertex index: indices count from 0")),
@@ -209,9 +300,19 @@ pub struct TransferReport {
     pub matched_pairs: usize,
     pub unmatched_source_triangles: usize,
     pub unmatched_target_triangles: usize,
+    /// How the markers fitted (absent when the correspondence was loaded).
+    pub markers: Option<MarkerReport>,
+    /// Pose faces that list the reference's corners in another order or winding.
+    pub reordered_pose_faces: usize,
     /// Target vertices no triangle uses: written at their rest positions.
     pub unused_target_vertices: usize,
     pub total_seconds: f64,
+    /// The GLB written, if any.
+    pub gltf: Option<PathBuf>,
+    /// Every file written, in order.
+    pub files_written: Vec<PathBuf>,
+    /// The warnings given (also printed on stderr).
+    pub warnings: Vec<String>,
 }
 
 impl TransferReport {
@@ -219,6 +320,9 @@ impl TransferReport {
         if json {
             output::print_json(self);
             return;
+        }
+        if let Some(m) = &self.markers {
+            m.print();
         }
         println!(
             "wrote {} poses to {}",
@@ -256,24 +360,35 @@ impl TransferReport {
             "total:          {}",
             output::human_seconds(self.total_seconds)
         );
+        if let Some(g) = &self.gltf {
+            println!("glTF:           {}", g.display());
+        }
     }
 }
+
+/// How far a pose's size may differ from its reference's before a warning:
+/// more looks like an export in other units.
+const POSE_SIZE_RATIO: f64 = 2.0;
 
 pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let start = Instant::now();
     let format = output::format_or_like(args.format, &args.refs.target_ref)?;
+    // Every output is checked against every input (by resolved path) before
+    // anything is read or computed.
+    let outputs = output_paths(&args.poses, &args.output, format.extension(), &[])?;
     let mut plan = Plan::new();
     for pose in &args.poses {
         plan.input(pose, "source pose");
     }
-    args.refs.plan(&mut plan);
+    plan.input(&args.refs.source_ref, "source reference");
+    plan.input(&args.refs.target_ref, "target reference");
     if let Some(m) = &args.correspond.markers {
         plan.input(m, "marker file");
     }
     if let Some(c) = &args.correspondence {
         plan.input(c, "correspondence");
     }
-    let pose_outputs: Vec<_> = pose_paths(&args.poses, &args.output, format.extension())?
+    let pose_outputs: Vec<Output> = outputs
         .iter()
         .map(|p| plan.file(p, "transferred pose"))
         .collect();
@@ -281,6 +396,8 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         .save_correspondence
         .as_deref()
         .map(|p| plan.file(p, "correspondence to save"));
+    let gltf_output = args.gltf.gltf.as_deref().map(|p| plan.file(p, "glTF file"));
+    let pictures = PictureOutputs::plan(&mut plan, &args.pictures);
     let staging = plan.prepare()?;
     let mut read: Vec<&Path> = args.poses.iter().map(PathBuf::as_path).collect();
     read.extend([
@@ -288,32 +405,62 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         args.refs.target_ref.as_path(),
     ]);
     memory::check_reading(&read)?;
-    let (source, target) = args.refs.read()?;
+    let (source_file, target_file) = args.refs.read()?;
+    let (source, target) = (source_file.mesh(), target_file.mesh());
+    args.gltf.check::<3>(
+        target.num_vertices(),
+        target.num_triangles(),
+        args.poses.len(),
+        false,
+    )?;
+    let pins = pin_positions(&args.pin, args.correspond.one_based, target)?;
+    let mut warnings: Vec<String> = Vec::new();
 
     // Read and check every pose first: a bad pose is reported before the
-    // slow correspondence, and nothing is written.
-    let poses: Vec<(Mesh3, f64)> = args
+    // slow correspondence, and nothing is written. Each pose is new
+    // positions for the reference's faces, split as the reference is.
+    let source_diagonal = source.bounding_box_diagonal();
+    let poses: Vec<(Mesh3, usize, f64)> = args
         .poses
         .par_iter()
         .map(|path| {
             let begin = Instant::now();
-            let pose = output::read_mesh(path, "source pose")?;
-            pose.check_same_connectivity(&source, ["the pose", "the source reference"])
-                .with_context(|| {
-                    format!(
-                        "source pose `{}` does not fit the source reference",
-                        path.display()
-                    )
-                })?;
-            Ok((pose, begin.elapsed().as_secs_f64()))
+            let file = output::read_mesh_file(path, "source pose")?;
+            let (pose, reordered) = source_file.pose(&file).with_context(|| {
+                format!(
+                    "source pose `{}` does not fit the source reference `{}`",
+                    path.display(),
+                    args.refs.source_ref.display()
+                )
+            })?;
+            Ok((pose, reordered, begin.elapsed().as_secs_f64()))
         })
         .collect::<Result<_>>()?;
+    let mut reordered_pose_faces = 0;
+    for ((pose, reordered, _), path) in poses.iter().zip(&args.poses) {
+        reordered_pose_faces += reordered;
+        if *reordered > 0 {
+            warnings.push(format!(
+                "`{}`: {reordered} face{} list the reference's corners in another order or winding: read as the reference's faces",
+                path.display(),
+                if *reordered == 1 { "" } else { "s" }
+            ));
+        }
+        let ratio = pose.bounding_box_diagonal() / source_diagonal;
+        if !(1.0 / POSE_SIZE_RATIO..=POSE_SIZE_RATIO).contains(&ratio) {
+            warnings.push(format!(
+                "`{}` is {ratio:.3} times the size of the source reference: exported in other units?",
+                path.display()
+            ));
+        }
+    }
 
     let begin = Instant::now();
+    let mut marker_report = None;
     let correspondence = match &args.correspondence {
         Some(path) => {
             let c = Correspondence::load(path).context("reading the correspondence")?;
-            c.check_fits(&source, &target).with_context(|| {
+            c.check_fits(source, target).with_context(|| {
                 format!(
                     "correspondence `{}` does not fit these meshes",
                     path.display()
@@ -322,9 +469,11 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
             c
         }
         None => {
-            args.correspond
-                .compute(&args.refs, &source, &target)?
-                .correspondence
+            let (result, report) =
+                args.correspond
+                    .compute(&args.refs, source, target, &mut warnings)?;
+            marker_report = Some(report);
+            result.correspondence
         }
     };
     let correspondence_seconds = begin.elapsed().as_secs_f64();
@@ -334,22 +483,9 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         source.num_triangles() + target.num_triangles(),
         "the transfer",
     )?;
-    let pins = args
-        .pin
-        .iter()
-        .map(|&v| {
-            let p = target.positions().get(v as usize).with_context(|| {
-                format!(
-                    "--pin {v}: the target has {} vertices",
-                    target.num_vertices()
-                )
-            })?;
-            Ok((v, *p))
-        })
-        .collect::<Result<Vec<_>>>()?;
     let transfer = Transfer::new(
-        &source,
-        &target,
+        source,
+        target,
         &correspondence,
         &TransferOptions::default().with_pins(pins),
     )
@@ -360,33 +496,92 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     if let Some(save) = save {
         staging.write(save, |path| Ok(correspondence.save(path)?))?;
     }
-    let timings: Vec<(f64, f64)> = poses
+    let keep = args.gltf.gltf.is_some() || args.pictures.any();
+    let solved: Vec<(f64, f64, Vec<String>, Option<Vec<[f64; 3]>>)> = poses
         .par_iter()
         .zip(&pose_outputs)
         .map_init(
             || transfer.workspace(),
-            |ws, ((pose, read), &output)| {
+            |ws, ((pose, _, read), &output)| {
                 let begin = Instant::now();
                 let mut out = vec![[0.0; 3]; target.num_vertices()];
                 transfer.apply_into(pose.positions(), &mut out, ws);
                 let solve = begin.elapsed().as_secs_f64();
+                let mut dropped = Vec::new();
                 staging.write(output, |path| {
                     if let Some(v) = out.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
                         bail!("vertex {v} overflows (its coordinates exceed the range of floating-point numbers); scale the meshes down");
                     }
-                    Ok(meshmorph::io::write_positions(
-                        path,
-                        &out,
-                        target.triangles(),
-                        format,
-                    )?)
+                    dropped = target_file.write(path, &out, format)?;
+                    Ok(())
                 })?;
                 bar.inc(1);
-                Ok((solve, read + begin.elapsed().as_secs_f64()))
+                Ok((
+                    solve,
+                    read + begin.elapsed().as_secs_f64(),
+                    dropped,
+                    keep.then_some(out),
+                ))
             },
         )
         .collect::<Result<_>>()?;
     bar.finish_and_clear();
+    if let Some((_, _, dropped, _)) = solved.first() {
+        // The same for every pose: said once, for the directory.
+        for d in dropped {
+            let what = d.split_once(": ").map_or(d.as_str(), |x| x.1);
+            warnings.push(format!("{}: {what}", args.output.display()));
+        }
+    }
+    let mut timings = Vec::with_capacity(solved.len());
+    let mut results = Vec::new();
+    for (solve, with_io, _, result) in solved {
+        timings.push((solve, with_io));
+        results.extend(result);
+    }
+    let mut files_written: Vec<PathBuf> = args.save_correspondence.iter().cloned().collect();
+    files_written.extend(outputs.iter().cloned());
+    let names: Vec<String> = outputs.iter().map(|p| crate::gltf::mesh_name(p)).collect();
+    let options = GltfOptions::default()
+        .with_fps(args.fps)
+        .with_animation(!args.gltf_shapes)
+        .with_name(crate::gltf::mesh_name(&args.refs.target_ref));
+    let corner_uvs = target_file.triangle_corner_uvs();
+    let mut base = GltfBase::new(target.positions(), target.triangles());
+    if let Some(uvs) = &corner_uvs {
+        base = base.with_corner_uvs(uvs);
+    }
+    let mut gltf = None;
+    if let Some(output) = gltf_output {
+        staging.write(output, |path| {
+            let mut staged = args.gltf.clone();
+            staged.gltf = Some(path.to_path_buf());
+            staged.write(&base, &results, &names, &options)?;
+            Ok(())
+        })?;
+        gltf = args.gltf.gltf.clone();
+        files_written.extend(gltf.clone());
+    }
+    if args.pictures.any() {
+        let source_poses: Vec<&[[f64; 3]]> = poses.iter().map(|(p, _, _)| p.positions()).collect();
+        let target_poses: Vec<&[[f64; 3]]> = results.iter().map(Vec::as_slice).collect();
+        files_written.extend(pictures.write(&staging, &args.pictures, |staged| {
+            crate::pictures::write_transfer_pictures(
+                staged,
+                args.fps,
+                (source.triangles(), &source_poses),
+                (target.triangles(), &target_poses),
+            )
+            .map(|_| ())
+        })?);
+    }
+    if correspondence.unmatched_target() > 0 {
+        warnings.push(format!(
+            "{} target triangles have no source partner: they follow their neighbours",
+            correspondence.unmatched_target()
+        ));
+    }
+    output::print_warnings(&warnings);
     staging.commit()?;
     let n = timings.len() as f64;
     TransferReport {
@@ -400,16 +595,100 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         matched_pairs: correspondence.pairs().len(),
         unmatched_source_triangles: correspondence.unmatched_source(),
         unmatched_target_triangles: correspondence.unmatched_target(),
+        markers: marker_report,
+        reordered_pose_faces,
         unused_target_vertices: target.num_unused_vertices(),
         total_seconds: start.elapsed().as_secs_f64(),
+        gltf,
+        files_written,
+        warnings,
     }
     .print(args.json);
     Ok(())
 }
 
-/// DIR/<stem>.<ext> for each pose, refusing two poses with the same stem.
-fn pose_paths(poses: &[PathBuf], dir: &Path, ext: &str) -> Result<Vec<PathBuf>> {
+/// The pictures of a plan (`--png`, `--gif`), each written through the
+/// staging on its own.
+struct PictureOutputs {
+    png: Option<Output>,
+    gif: Option<Output>,
+}
+
+impl PictureOutputs {
+    fn plan(plan: &mut Plan, args: &crate::pictures::PictureArgs) -> Self {
+        Self {
+            png: args.png.as_deref().map(|p| plan.file(p, "picture")),
+            gif: args.gif.as_deref().map(|p| plan.file(p, "animation")),
+        }
+    }
+
+    /// Calls `draw` once per picture with the staged path in place of the
+    /// user's; returns the user's paths.
+    fn write(
+        &self,
+        staging: &Staging,
+        args: &crate::pictures::PictureArgs,
+        draw: impl Fn(&crate::pictures::PictureArgs) -> Result<()>,
+    ) -> Result<Vec<PathBuf>> {
+        let mut written = Vec::new();
+        if let (Some(output), Some(png)) = (self.png, &args.png) {
+            staging.write(output, |path| {
+                draw(&crate::pictures::PictureArgs {
+                    png: Some(path.to_path_buf()),
+                    gif: None,
+                })
+            })?;
+            written.push(png.clone());
+        }
+        if let (Some(output), Some(gif)) = (self.gif, &args.gif) {
+            staging.write(output, |path| {
+                draw(&crate::pictures::PictureArgs {
+                    png: None,
+                    gif: Some(path.to_path_buf()),
+                })
+            })?;
+            written.push(gif.clone());
+        }
+        Ok(written)
+    }
+}
+
+/// `--pin` vertices (1-based with `--one-based`) at their rest positions.
+fn pin_positions(pins: &[u32], one_based: bool, target: &Mesh3) -> Result<Vec<(u32, [f64; 3])>> {
+    pins.iter()
+        .map(|&given| {
+            let v = if one_based {
+                given.checked_sub(1).with_context(|| {
+                    format!("--pin {given}: with --one-based, 1 is the first vertex")
+                })?
+            } else {
+                given
+            };
+            let p = target.positions().get(v as usize).with_context(|| {
+                format!(
+                    "--pin {given}: the target has {} vertices",
+                    target.num_vertices()
+                )
+            })?;
+            Ok((v, *p))
+        })
+        .collect()
+}
+
+/// DIR/<stem>.<ext> for each pose, refusing two poses with the same stem
+/// and any output that would overwrite one of the `inputs`.
+fn output_paths(
+    poses: &[PathBuf],
+    dir: &Path,
+    ext: &str,
+    inputs: &[&Path],
+) -> Result<Vec<PathBuf>> {
     let mut seen = HashSet::new();
+    let inputs: Vec<PathBuf> = inputs
+        .iter()
+        .filter_map(|p| p.canonicalize().ok())
+        .collect();
+    let dir_now = dir.canonicalize().ok();
     poses
         .iter()
         .map(|p| {
@@ -422,7 +701,18 @@ fn pose_paths(poses: &[PathBuf], dir: &Path, ext: &str) -> Result<Vec<PathBuf>> 
                     stem.to_string_lossy()
                 );
             }
-            Ok(dir.join(stem).with_extension(ext))
+            let out = dir.join(stem).with_extension(ext);
+            if let Some(d) = &dir_now {
+                let resolved = d.join(out.file_name().expect("a file name was just set"));
+                if let Some(input) = inputs.iter().find(|i| **i == resolved) {
+                    bail!(
+                        "the output `{}` would overwrite the input `{}`: choose another -o directory or --format",
+                        out.display(),
+                        input.display()
+                    );
+                }
+            }
+            Ok(out)
         })
         .collect()
 }
@@ -441,6 +731,10 @@ pub struct CorrespondCommand {
     /// well it fits.
     #[arg(long, value_name = "MESH")]
     pub deformed_source: Option<PathBuf>,
+    /// Pictures: the deformed source (above) over the target (below); the
+    /// GIF turns the source reference into the deformed source.
+    #[command(flatten)]
+    pub pictures: PictureArgs,
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
@@ -454,10 +748,16 @@ pub struct CorrespondReport {
     pub matched_pairs: usize,
     pub unmatched_source_triangles: usize,
     pub unmatched_target_triangles: usize,
+    /// Every file written, in order.
+    pub files_written: Vec<PathBuf>,
+    /// How the markers fitted.
+    pub markers: MarkerReport,
+    /// The warnings given (also printed on stderr).
+    pub warnings: Vec<String>,
 }
 
 pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
-    let Some(markers) = &args.correspond.markers else {
+    let Some(markers_path) = &args.correspond.markers else {
         bail!("--markers is required");
     };
     // Checked before any work, so that a bad name leaves no output behind.
@@ -467,34 +767,60 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         .map(meshmorph::io::Format::from_path)
         .transpose()?;
     let mut plan = Plan::new();
-    args.refs.plan(&mut plan);
-    plan.input(markers, "marker file");
+    plan.input(&args.refs.source_ref, "source reference");
+    plan.input(&args.refs.target_ref, "target reference");
+    plan.input(markers_path, "marker file");
     let saved = plan.file(&args.output, "correspondence");
     let deformed = args
         .deformed_source
         .as_deref()
         .map(|p| plan.file(p, "deformed source"));
+    let pictures = PictureOutputs::plan(&mut plan, &args.pictures);
     let staging = plan.prepare()?;
     memory::check_reading(&[&args.refs.source_ref, &args.refs.target_ref])?;
-    let (source, target) = args.refs.read()?;
+    let (source_file, target_file) = args.refs.read()?;
+    let (source, target) = (source_file.mesh(), target_file.mesh());
     memory::check_setup(
         source.num_triangles() + target.num_triangles(),
         "the correspondence",
     )?;
     let begin = Instant::now();
-    let result = args.correspond.compute(&args.refs, &source, &target)?;
+    let mut warnings = Vec::new();
+    let (result, markers) = args
+        .correspond
+        .compute(&args.refs, source, target, &mut warnings)?;
     let seconds = begin.elapsed().as_secs_f64();
     let c = &result.correspondence;
     staging.write(saved, |path| Ok(c.save(path)?))?;
-    if let (Some(output), Some(format)) = (deformed, deformed_format) {
-        staging.write(output, |path| {
+    let mut files_written = vec![args.output.clone()];
+    if let (Some(output), Some(path), Some(format)) =
+        (deformed, &args.deformed_source, deformed_format)
+    {
+        staging.write(output, |staged| {
             Ok(meshmorph::io::write_mesh(
-                path,
+                staged,
                 &result.deformed_source,
                 format,
             )?)
         })?;
+        files_written.push(path.clone());
     }
+    files_written.extend(pictures.write(&staging, &args.pictures, |staged| {
+        crate::pictures::write_correspondence_pictures(
+            staged,
+            (source.triangles(), &[source.positions()]),
+            result.deformed_source.positions(),
+            (target.triangles(), &[target.positions()]),
+        )
+        .map(|_| ())
+    })?);
+    if c.unmatched_target() > 0 {
+        warnings.push(format!(
+            "{} target triangles have no source partner",
+            c.unmatched_target()
+        ));
+    }
+    output::print_warnings(&warnings);
     staging.commit()?;
     let report = CorrespondReport {
         output: args.output.clone(),
@@ -502,10 +828,14 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         matched_pairs: c.pairs().len(),
         unmatched_source_triangles: c.unmatched_source(),
         unmatched_target_triangles: c.unmatched_target(),
+        files_written,
+        markers,
+        warnings,
     };
     if args.json {
         output::print_json(&report);
     } else {
+        report.markers.print();
         println!(
             "correspondence: {} pairs in {} (unmatched: {} source, {} target triangles), saved to {}",
             report.matched_pairs,

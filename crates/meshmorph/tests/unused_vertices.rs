@@ -61,7 +61,10 @@ fn an_unused_target_vertex_changes_no_correspondence_or_transfer() {
     let markers = Markers::new(nearest_vertex_pairs(&widened, thick.positions(), &chosen));
     let stray = [10.0, 10.0, 10.0];
     let thick2: Mesh3 = with_extra(&thick, stray);
-    assert_eq!(thick2.bounding_box_diagonal(), thick.bounding_box_diagonal());
+    assert_eq!(
+        thick2.bounding_box_diagonal(),
+        thick.bounding_box_diagonal()
+    );
     let options = CorrespondOptions::default();
     let plain = correspond(&thin, &thick, &markers, &options, &mut |_| {}).unwrap();
     let extra = correspond(&thin, &thick2, &markers, &options, &mut |_| {}).unwrap();

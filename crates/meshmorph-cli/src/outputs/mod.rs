@@ -47,3 +47,4 @@ mod surplus;
 
 pub use plan::{Output, Plan};
 pub use staging::Staging;
+pub use surplus::frame_path;
