@@ -168,7 +168,7 @@ pub(crate) fn hex(c: Rgb) -> String {
     format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
 }
 
-fn to_linear(c: u8) -> f64 {
+pub(crate) fn to_linear(c: u8) -> f64 {
     let c = f64::from(c) / 255.0;
     if c <= 0.04045 {
         c / 12.92
@@ -177,7 +177,7 @@ fn to_linear(c: u8) -> f64 {
     }
 }
 
-fn from_linear(l: f64) -> u8 {
+pub(crate) fn from_linear(l: f64) -> u8 {
     let l = l.clamp(0.0, 1.0);
     let c = if l <= 0.003_130_8 {
         12.92 * l
