@@ -51,6 +51,12 @@ pub fn read_mesh(path: &Path, role: &str) -> Result<meshmorph::Mesh3> {
     meshmorph::io::read_mesh(path).with_context(|| format!("reading {role} `{}`", path.display()))
 }
 
+/// Reads a mesh file kept whole, saying which file and what role on failure.
+pub fn read_mesh_file(path: &Path, role: &str) -> Result<meshmorph::io::MeshFile> {
+    meshmorph::io::MeshFile::read(path)
+        .with_context(|| format!("reading {role} `{}`", path.display()))
+}
+
 /// Reads a planar mesh (every z = 0).
 pub fn read_mesh_2d(path: &Path, role: &str) -> Result<meshmorph::Mesh2> {
     read_mesh(path, role)?

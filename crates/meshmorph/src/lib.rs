@@ -32,11 +32,12 @@ pub mod closest;
 pub mod correspond;
 pub mod correspondence;
 pub mod error;
-pub mod frames;
 pub mod geometry;
+mod gradient;
 pub mod interpolate;
 pub mod io;
 pub mod markers;
+mod matrix;
 pub mod mesh;
 pub mod polar;
 pub mod render;
@@ -55,9 +56,11 @@ pub use error::{Error, Result};
 #[cfg(doctest)]
 #[doc = include_str!("../../../README.md")]
 pub struct ReadmeDoctests;
-pub use interpolate::{Interpolator, InterpolatorOptions, StretchMode};
+pub use gradient::TriangleMaps;
+pub use interpolate::{Interpolator, InterpolatorOptions, RestSystem, StretchMode};
 pub use markers::Markers;
 pub use mesh::{Mesh, Mesh2, Mesh3};
+pub use rotation::{Rotations, Space};
 pub use similarity::Similarity;
 pub use solve::FactorKind;
 pub use transfer::{Transfer, TransferOptions};

@@ -273,6 +273,13 @@ impl Markers {
         Ok(())
     }
 
+    /// Marker `k` for messages: "marker 3 (source vertex 10, target vertex
+    /// 52)" or "`file.cons`, line 5 (...)".
+    pub fn describe(&self, k: usize) -> String {
+        let [s, t] = self.pairs[k];
+        format!("{} (source vertex {s}, target vertex {t})", self.name(k))
+    }
+
     /// "marker 3" or "`file.cons`, line 5".
     fn name(&self, k: usize) -> String {
         match (&self.path, self.lines.get(k)) {
