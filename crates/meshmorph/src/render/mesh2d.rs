@@ -123,7 +123,7 @@ pub(crate) fn draw_prepared(
 fn draw_wide_line(canvas: &mut Canvas, a: [f64; 2], b: [f64; 2], index: u8, width: u32) {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let len = dx.hypot(dy);
-    if width <= 1 || !(len > 0.0) {
+    if width <= 1 || len.is_nan() || len <= 0.0 {
         canvas.draw_line(a, b, index, None);
         return;
     }
