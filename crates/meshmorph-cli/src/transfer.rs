@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
+use meshmorph::io::gltf::{GltfBase, GltfOptions};
 use meshmorph::io::MeshFile;
 use meshmorph::{
     correspond, CorrespondOptions, Correspondence, Markers, Mesh3, Transfer, TransferOptions,
@@ -12,7 +13,9 @@ use meshmorph::{
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::output::{self, FormatArg};
+use crate::gltf::GltfArgs;
+use crate::output::{self, positive_number, FormatArg};
+use crate::pictures::PictureArgs;
 use crate::progress;
 
 /// How the triangle correspondence is computed (Sumner and Popovic 2004, section 5).
@@ -180,13 +183,6 @@ impl MarkerReport {
     }
 }
 
-/// Prints warnings on stderr.
-fn print_warnings(warnings: &[String]) {
-    for w in warnings {
-        eprintln!("warning: {w}");
-    }
-}
-
 /// The two reference meshes.
 #[derive(Debug, Clone, clap::Args)]
 pub struct References {
@@ -248,6 +244,17 @@ pub struct TransferArgs {
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub gltf: GltfArgs,
+    /// With --gltf: write the poses as shape keys (morph targets at weight
+    /// 0), without the animation.
+    #[arg(long, requires = "gltf")]
+    pub gltf_shapes: bool,
+    /// Frame rate of the glTF animation and of the GIF.
+    #[arg(long, default_value_t = 25.0, value_name = "FPS", value_parser = positive_number)]
+    pub fps: f64,
+    #[command(flatten)]
+    pub pictures: PictureArgs,
     /// Source poses: new positions for the source reference's vertices, with
     /// its faces (listed in any corner order or winding).
     #[arg(required = true, value_name = "POSE")]
@@ -275,8 +282,17 @@ pub struct TransferReport {
     pub markers: Option<MarkerReport>,
     /// Pose faces that list the reference's corners in another order or winding.
     pub reordered_pose_faces: usize,
-    pub warnings: Vec<String>,
+    /// Target triangles without a partner nearby, kept at their rest shape.
+    pub unpaired_target_triangles: usize,
+    /// Separate parts of the target carried rigidly by the surface around them.
+    pub carried_parts: usize,
     pub total_seconds: f64,
+    /// The GLB written, if any.
+    pub gltf: Option<PathBuf>,
+    /// Every file written, in order.
+    pub files_written: Vec<PathBuf>,
+    /// The warnings given (also printed on stderr).
+    pub warnings: Vec<String>,
 }
 
 impl TransferReport {
@@ -285,7 +301,6 @@ impl TransferReport {
             output::print_json(self);
             return;
         }
-        print_warnings(&self.warnings);
         if let Some(m) = &self.markers {
             m.print();
         }
@@ -319,6 +334,9 @@ impl TransferReport {
             "total:          {}",
             output::human_seconds(self.total_seconds)
         );
+        if let Some(g) = &self.gltf {
+            println!("glTF:           {}", g.display());
+        }
     }
 }
 
@@ -341,6 +359,15 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let outputs = output_paths(&args.poses, &args.output, format.extension(), &inputs)?;
     let pins = pin_positions(&args.pin, args.correspond.one_based, target)?;
     let mut warnings: Vec<String> = Vec::new();
+    args.gltf.check(
+        target.num_vertices(),
+        target.num_triangles(),
+        args.poses.len(),
+        false,
+    )?;
+    for extra in args.gltf.gltf.iter().chain(args.pictures.paths()) {
+        output::refuse_input(extra, &inputs)?;
+    }
 
     // Read and check every pose first: a bad pose is reported before the
     // slow correspondence, and nothing is written. Each pose is new
@@ -423,7 +450,8 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
             .context("saving the correspondence")?;
     }
     output::make_dir(&args.output)?;
-    let written: Vec<(f64, f64, Vec<String>)> = poses
+    let keep = args.gltf.gltf.is_some() || args.pictures.any();
+    let solved: Vec<(f64, f64, Vec<String>, Option<Vec<[f64; 3]>>)> = poses
         .par_iter()
         .zip(&outputs)
         .map_init(
@@ -437,34 +465,82 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
                     .write(out_path, &out, format)
                     .with_context(|| format!("writing `{}`", out_path.display()))?;
                 bar.inc(1);
-                Ok((solve, read + begin.elapsed().as_secs_f64(), dropped))
+                Ok((
+                    solve,
+                    read + begin.elapsed().as_secs_f64(),
+                    dropped,
+                    keep.then_some(out),
+                ))
             },
         )
         .collect::<Result<_>>()?;
     bar.finish_and_clear();
-    if let Some((_, _, dropped)) = written.first() {
+    if let Some((_, _, dropped, _)) = solved.first() {
         // The same for every pose: said once, for the directory.
         for d in dropped {
             let what = d.split_once(": ").map_or(d.as_str(), |x| x.1);
             warnings.push(format!("{}: {what}", args.output.display()));
         }
     }
-    let n = written.len() as f64;
+    let (timings, results): (Vec<(f64, f64)>, Vec<Option<Vec<[f64; 3]>>>) =
+        solved.into_iter().map(|(a, b, _, r)| ((a, b), r)).unzip();
+    let results: Vec<Vec<[f64; 3]>> = results.into_iter().flatten().collect();
+    let mut files_written: Vec<PathBuf> = args.save_correspondence.iter().cloned().collect();
+    files_written.extend(outputs.iter().cloned());
+    let names: Vec<String> = outputs.iter().map(|p| crate::gltf::mesh_name(p)).collect();
+    let options = GltfOptions::default()
+        .with_fps(args.fps)
+        .with_animation(!args.gltf_shapes)
+        .with_name(crate::gltf::mesh_name(&args.refs.target_ref));
+    let base = GltfBase::new(target.positions(), target.triangles());
+    let gltf = args.gltf.write(&base, &results, &names, &options)?;
+    files_written.extend(gltf.clone());
+    if args.pictures.any() {
+        let source_poses: Vec<&[[f64; 3]]> = poses.iter().map(|(p, _, _)| p.positions()).collect();
+        let target_poses: Vec<&[[f64; 3]]> = results.iter().map(Vec::as_slice).collect();
+        files_written.extend(crate::pictures::write_transfer_pictures(
+            &args.pictures,
+            args.fps,
+            (source.triangles(), &source_poses),
+            (target.triangles(), &target_poses),
+        )?);
+    }
+    if transfer.unpaired_triangles() > 0 {
+        warnings.push(format!(
+            "{} target triangles have no source partner nearby: they keep their rest shape and turn with the paired surface",
+            transfer.unpaired_triangles()
+        ));
+    }
+    if transfer.carried_parts() > 0 {
+        warnings.push(format!(
+            "{} separate part{} of the target with few source partners {} carried rigidly by the surface around {}",
+            transfer.carried_parts(),
+            if transfer.carried_parts() == 1 { "" } else { "s" },
+            if transfer.carried_parts() == 1 { "is" } else { "are" },
+            if transfer.carried_parts() == 1 { "it" } else { "them" },
+        ));
+    }
+    output::print_warnings(&warnings);
+    let n = timings.len() as f64;
     TransferReport {
         output: args.output.clone(),
-        poses_written: written.len(),
+        poses_written: timings.len(),
         correspondence_seconds,
         correspondence_loaded: args.correspondence.is_some(),
         setup_seconds,
-        seconds_per_pose: written.iter().map(|t| t.0).sum::<f64>() / n,
-        seconds_per_pose_with_io: written.iter().map(|t| t.1).sum::<f64>() / n,
+        seconds_per_pose: timings.iter().map(|t| t.0).sum::<f64>() / n,
+        seconds_per_pose_with_io: timings.iter().map(|t| t.1).sum::<f64>() / n,
         matched_pairs: correspondence.pairs().len(),
         unmatched_source_triangles: correspondence.unmatched_source(),
         unmatched_target_triangles: correspondence.unmatched_target(),
         markers: marker_report,
         reordered_pose_faces,
-        warnings,
+        unpaired_target_triangles: transfer.unpaired_triangles(),
+        carried_parts: transfer.carried_parts(),
         total_seconds: start.elapsed().as_secs_f64(),
+        gltf,
+        files_written,
+        warnings,
     }
     .print(args.json);
     Ok(())
@@ -548,6 +624,10 @@ pub struct CorrespondCommand {
     /// well it fits.
     #[arg(long, value_name = "MESH")]
     pub deformed_source: Option<PathBuf>,
+    /// Pictures: the deformed source (above) over the target (below); the
+    /// GIF turns the source reference into the deformed source.
+    #[command(flatten)]
+    pub pictures: PictureArgs,
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
@@ -562,6 +642,9 @@ pub struct CorrespondReport {
     pub unmatched_source_triangles: usize,
     pub unmatched_target_triangles: usize,
     pub markers: MarkerReport,
+    /// Every file written, in order.
+    pub files_written: Vec<PathBuf>,
+    /// The warnings given (also printed on stderr).
     pub warnings: Vec<String>,
 }
 
@@ -578,6 +661,13 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         .as_deref()
         .map(meshmorph::io::Format::from_path)
         .transpose()?;
+    let inputs = [
+        args.refs.source_ref.as_path(),
+        args.refs.target_ref.as_path(),
+    ];
+    for extra in args.pictures.paths() {
+        output::refuse_input(extra, &inputs)?;
+    }
     let mut warnings = Vec::new();
     let (result, markers) = args
         .correspond
@@ -585,10 +675,25 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
     let seconds = begin.elapsed().as_secs_f64();
     let c = &result.correspondence;
     c.save(&args.output).context("saving the correspondence")?;
+    let mut files_written = vec![args.output.clone()];
     if let (Some(path), Some(format)) = (&args.deformed_source, deformed_format) {
         meshmorph::io::write_mesh(path, &result.deformed_source, format)
             .with_context(|| format!("writing `{}`", path.display()))?;
+        files_written.push(path.clone());
     }
+    files_written.extend(crate::pictures::write_correspondence_pictures(
+        &args.pictures,
+        (source.triangles(), &[source.positions()]),
+        result.deformed_source.positions(),
+        (target.triangles(), &[target.positions()]),
+    )?);
+    if c.unmatched_target() > 0 {
+        warnings.push(format!(
+            "{} target triangles have no source partner",
+            c.unmatched_target()
+        ));
+    }
+    output::print_warnings(&warnings);
     let report = CorrespondReport {
         output: args.output.clone(),
         seconds,
@@ -596,12 +701,12 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         unmatched_source_triangles: c.unmatched_source(),
         unmatched_target_triangles: c.unmatched_target(),
         markers,
+        files_written,
         warnings,
     };
     if args.json {
         output::print_json(&report);
     } else {
-        print_warnings(&report.warnings);
         report.markers.print();
         println!(
             "correspondence: {} pairs in {} (unmatched: {} source, {} target triangles), saved to {}",

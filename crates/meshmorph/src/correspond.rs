@@ -28,7 +28,7 @@ use crate::frames::{GradientOperators, IDENTITY};
 use crate::geometry::centroid;
 use crate::markers::Markers;
 use crate::mesh::Mesh3;
-use crate::similarity::{residuals, Similarity};
+use crate::similarity::{fit_robust, residuals, Similarity};
 use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder};
 use crate::topology::{connected_components, edges};
 
@@ -212,7 +212,7 @@ pub fn correspond(
     };
     let (from, to) = (marker_points(source, 0), marker_points(target, 1));
     let alignment = if options.align {
-        Similarity::fit(&from, &to)?
+        fit_robust(&from, &to)?.0
     } else {
         Similarity::IDENTITY
     };

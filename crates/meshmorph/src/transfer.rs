@@ -18,11 +18,16 @@
 //! weights bring the mean error against his own results from 0.017 to 0.015
 //! and the worst from 0.023 to 0.022.)
 //!
-//! Target triangles in no pair take the deformation of their neighbours
-//! (a smoothness term across their edges). Those that cannot reach a paired
-//! triangle across edges also get a faint pull towards their rest shape, so
-//! that a part with no pair at all keeps its shape; the pull is left out
-//! elsewhere, where it would bias the result towards the rest pose.
+//! Target triangles in no pair (the back of a head under a face mask, a
+//! neck) keep their rest shape and follow: each is held to its rest shape
+//! turned by a rotation spread from the paired triangles
+//! ([`RotationField`]: harmonic interpolation of the paired triangles'
+//! rotations, projected onto rotations). They join the paired region
+//! smoothly, a rigid motion of the whole source still moves the whole target
+//! rigidly, and a local deformation of the source leaves them as they are.
+//! The system is then the same as if every triangle were paired. Separate
+//! parts with few pairs (eyes, teeth) are carried rigidly by the surface
+//! around them ([`CarriedParts`]).
 //!
 //! The energy does not see translations. Each connected part of the target
 //! is placed so that, in the area-weighted mean over its pairs, the centroid
@@ -37,17 +42,20 @@
 
 use rayon::prelude::*;
 
+use crate::carried_parts::CarriedParts;
 use crate::correspondence::Correspondence;
 use crate::error::{Error, Result};
 use crate::frames::{deformation_gradient, frame_inverses, GradientOperators, Mat3, IDENTITY};
 use crate::geometry::centroid;
 use crate::mesh::Mesh3;
+use crate::rotation_field::{FieldWorkspace, RotationField};
+use crate::similarity::closest_rotation;
 use crate::similarity::Similarity;
 use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder, Workspace};
 use crate::topology::{connected_components, edges, TriangleAdjacency};
 
 /// Options of [`Transfer::new`].
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct TransferOptions {
     /// Target vertices held at the given positions in every pose. The parts
@@ -56,6 +64,24 @@ pub struct TransferOptions {
     pub pins: Vec<(u32, [f64; 3])>,
     /// Which Cholesky variant factors the system. Default [`FactorKind::Auto`].
     pub factor: FactorKind,
+    /// Unpaired target triangles whose centroid lies within this fraction
+    /// of the target's bounding-box diagonal (and never less than its mean
+    /// edge length) of a paired triangle's centroid are gaps of the
+    /// matching and take their neighbours' deformation; farther ones keep
+    /// their rest shape, turned with the paired surface. Default 0.01, the
+    /// default [`CorrespondOptions::match_threshold`](crate::CorrespondOptions::match_threshold):
+    /// the distance within which the correspondence pairs triangles at all.
+    pub gap_distance: f64,
+}
+
+impl Default for TransferOptions {
+    fn default() -> Self {
+        Self {
+            pins: Vec::new(),
+            factor: FactorKind::Auto,
+            gap_distance: 0.01,
+        }
+    }
 }
 
 impl TransferOptions {
@@ -71,11 +97,6 @@ impl TransferOptions {
         self
     }
 }
-
-/// Weight pulling unpaired target triangles that reach no paired triangle
-/// across edges towards their rest shape, relative to the weight 1 of a pair
-/// and of a smoothness term.
-const UNPAIRED_REST_WEIGHT: f64 = 1e-6;
 
 /// Deformation transfer from one source reference to one target reference,
 /// factored once; see the [module documentation](self).
@@ -95,8 +116,16 @@ pub struct Transfer {
     /// compressed rows.
     paired_ptr: Vec<usize>,
     paired: Vec<(u32, f64)>,
-    /// Constant part of the right-hand side (rest pull of unpaired triangles).
-    rhs_rest: Vec<f64>,
+    /// The weight of each target triangle (its area over the mean).
+    weight: Vec<f64>,
+    /// Rotations for the unpaired triangles.
+    field: RotationField,
+    /// The unpaired triangles.
+    unpaired: Vec<u32>,
+    /// Separate parts carried by the surface around them.
+    carried: CarriedParts,
+    /// The target reference's positions (carried parts move them rigidly).
+    target_rest: Vec<[f64; 3]>,
     system: PinnedSystem,
     /// Column-major `#pinned × 3` values.
     pinned_values: Vec<f64>,
@@ -134,6 +163,9 @@ pub struct PoseWorkspace {
     x: Vec<f64>,
     /// One vector per placed part: its centroid, then its shift.
     parts: Vec<[f64; 3]>,
+    /// Rotation of each unpaired target triangle.
+    rotations: Vec<Mat3>,
+    field: FieldWorkspace,
 }
 
 impl Transfer {
@@ -196,37 +228,31 @@ impl Transfer {
             partners.iter_mut().for_each(|p| p.1 *= weight[t] / total);
         }
 
-        // Unpaired triangles that reach a paired one across edges take its
-        // deformation through the smoothness terms; only those that reach
-        // none need the rest pull (which would bias the others towards the
-        // identity: a rotated source would give a target not quite rotated).
+        // Unpaired triangles near a paired one are gaps of the matching: they
+        // take their neighbours' deformation (smoothness across their
+        // edges). Farther ones have no partner: each is held to its rest
+        // shape turned by the rotation spread from the paired triangles.
         let tri_edges = edges(tris);
         let adjacency = TriangleAdjacency::from_edges(tris.len(), &tri_edges);
-        let mut reached: Vec<bool> = (0..tris.len()).map(|t| count(t) > 0).collect();
-        let mut stack: Vec<usize> = (0..tris.len()).filter(|&t| reached[t]).collect();
-        while let Some(t) = stack.pop() {
-            for &u in adjacency.of(t) {
-                if !std::mem::replace(&mut reached[u as usize], true) {
-                    stack.push(u as usize);
-                }
-            }
-        }
-
+        let paired_mask: Vec<bool> = (0..tris.len()).map(|t| count(t) > 0).collect();
+        let gap_distance = (options.gap_distance * target_ref.bounding_box_diagonal())
+            .max(crate::correspond::mean_edge_length(target_ref));
+        let is_gap = gaps(target_ref, &paired_mask, gap_distance);
+        let field = RotationField::new(&adjacency, &paired_mask, &weight)?;
+        let unpaired: Vec<u32> = (0..tris.len() as u32)
+            .filter(|&t| !paired_mask[t as usize] && !is_gap[t as usize])
+            .collect();
         let mut builder = SymmetricBuilder::new(m, 12 * tris.len());
-        let mut rhs_rest = vec![0.0; 3 * m];
         for t in 0..tris.len() {
-            if count(t) > 0 {
+            if !is_gap[t] {
                 builder.add_gram(&unknowns(t), target_gradients.operator(t), weight[t]);
-            } else if !reached[t] {
-                let w = UNPAIRED_REST_WEIGHT * weight[t];
-                target_gradients.add_target(&mut builder, &mut rhs_rest, t, &IDENTITY, w);
             }
         }
         for e in &tri_edges {
             for (k, &a) in e.triangles.iter().enumerate() {
                 for &b in &e.triangles[k + 1..] {
                     let (a, b) = (a as usize, b as usize);
-                    if count(a) == 0 || count(b) == 0 {
+                    if is_gap[a] || is_gap[b] {
                         target_gradients.add_difference(
                             &mut builder,
                             a,
@@ -240,6 +266,12 @@ impl Transfer {
 
         // Translation: pins, else one held vertex per part, moved afterwards.
         let components = connected_components(n, tris);
+        let carried = CarriedParts::new(
+            target_ref.positions(),
+            &components,
+            &paired_mask,
+            &target_areas,
+        );
         let mut pinned: Vec<usize> = Vec::new();
         let mut values: Vec<[f64; 3]> = Vec::new();
         let mut pinned_part = vec![false; components.count];
@@ -350,7 +382,11 @@ impl Transfer {
             target_gradients,
             paired_ptr,
             paired,
-            rhs_rest,
+            weight,
+            field,
+            unpaired,
+            carried,
+            target_rest: target_ref.positions().to_vec(),
             system,
             pinned_values,
             placements,
@@ -374,6 +410,8 @@ impl Transfer {
             rhs: vec![0.0; 3 * m],
             x: vec![0.0; 3 * m],
             parts: vec![[0.0; 3]; self.placements.len()],
+            rotations: vec![IDENTITY; self.target_triangles.len()],
+            field: self.field.workspace(),
         }
     }
 
@@ -453,23 +491,30 @@ impl Transfer {
         {
             *Q = deformation_gradient(*V_inv, tri.map(|v| pose[v as usize]));
         }
-        ws.rhs.copy_from_slice(&self.rhs_rest);
+        ws.rhs.fill(0.0);
         for t in 0..self.target_triangles.len() {
-            let sources = &self.paired[self.paired_ptr[t]..self.paired_ptr[t + 1]];
-            if sources.is_empty() {
-                continue;
+            let sum = self.partner_gradient(t, &ws.gradients);
+            if let Some(sum) = sum {
+                self.target_gradients
+                    .add_target_rhs(&mut ws.rhs, t, &sum, 1.0);
             }
-            let mut sum = [[0.0; 3]; 3];
-            for &(s, w) in sources {
-                let Q = &ws.gradients[s as usize];
-                for i in 0..3 {
-                    for j in 0..3 {
-                        sum[i][j] += w * Q[i][j];
-                    }
-                }
+        }
+        if !self.unpaired.is_empty() {
+            let gradients = &ws.gradients;
+            self.field.fill(
+                |t| closest_rotation(&self.partner_gradient(t, gradients).unwrap_or(IDENTITY)),
+                &mut ws.rotations,
+                &mut ws.field,
+            );
+            for &t in &self.unpaired {
+                let t = t as usize;
+                self.target_gradients.add_target_rhs(
+                    &mut ws.rhs,
+                    t,
+                    &ws.rotations[t],
+                    self.weight[t],
+                );
             }
-            self.target_gradients
-                .add_target_rhs(&mut ws.rhs, t, &sum, 1.0);
         }
         self.system
             .solve(&ws.rhs, Some(&self.pinned_values), &mut ws.x, &mut ws.solve);
@@ -477,7 +522,40 @@ impl Transfer {
             *o = [ws.x[v], ws.x[m + v], ws.x[2 * m + v]];
         }
         self.place(pose, &ws.gradients, out, &mut ws.parts);
+        self.carried.carry(&self.target_rest, out);
         ws.aligned = aligned;
+    }
+
+    /// Number of separate parts of the target carried rigidly by the
+    /// surface around them (see [`CarriedParts`]).
+    pub fn carried_parts(&self) -> usize {
+        self.carried.len()
+    }
+
+    /// Number of target triangles without a partner (held to their rest
+    /// shape, turned by the spread rotation).
+    pub fn unpaired_triangles(&self) -> usize {
+        self.unpaired.len()
+    }
+
+    /// The weighted sum of the gradients of triangle `t`'s partners (its
+    /// target, times its weight), `None` without partners.
+    #[inline]
+    fn partner_gradient(&self, t: usize, gradients: &[Mat3]) -> Option<Mat3> {
+        let sources = &self.paired[self.paired_ptr[t]..self.paired_ptr[t + 1]];
+        if sources.is_empty() {
+            return None;
+        }
+        let mut sum = [[0.0; 3]; 3];
+        for &(s, w) in sources {
+            let Q = &gradients[s as usize];
+            for i in 0..3 {
+                for j in 0..3 {
+                    sum[i][j] += w * Q[i][j];
+                }
+            }
+        }
+        Some(sum)
     }
 
     /// Moves each unpinned part so that its paired triangles' centroids
@@ -529,4 +607,31 @@ impl Transfer {
             }
         }
     }
+}
+
+/// Which unpaired triangles of `mesh` have their centroid within `distance`
+/// of a paired triangle's centroid.
+fn gaps(mesh: &Mesh3, paired: &[bool], distance: f64) -> Vec<bool> {
+    use rstar::primitives::GeomWithData;
+    let centroids: Vec<[f64; 3]> = (0..mesh.num_triangles())
+        .map(|t| centroid(mesh.corners(t)))
+        .collect();
+    let items: Vec<GeomWithData<[f64; 3], ()>> = centroids
+        .iter()
+        .zip(paired)
+        .filter(|(_, p)| **p)
+        .map(|(c, _)| GeomWithData::new(*c, ()))
+        .collect();
+    let tree = rstar::RTree::bulk_load(items);
+    let d2 = distance * distance;
+    centroids
+        .par_iter()
+        .zip(paired)
+        .map(|(c, &p)| {
+            !p && tree
+                .nearest_neighbor_iter_with_distance_2(*c)
+                .next()
+                .is_some_and(|(_, d)| d <= d2)
+        })
+        .collect()
 }

@@ -1,4 +1,5 @@
-//! Reading and writing meshes: OBJ, OFF and PLY.
+//! Reading and writing meshes: OBJ, OFF and PLY; animations as binary glTF
+//! ([`gltf`]).
 //!
 //! - [`read_mesh`] / [`read_mesh_as`] / [`parse_mesh`] read a triangle mesh
 //!   (polygons are triangulated, see below); every error names the file and,
@@ -38,6 +39,7 @@
 //! `f64`, so reading a written mesh gives back exactly the same mesh.
 
 mod atomic;
+pub mod gltf;
 mod mesh_file;
 mod obj;
 mod off;
