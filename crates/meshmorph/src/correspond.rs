@@ -211,8 +211,13 @@ pub fn correspond(
             .collect()
     };
     let (from, to) = (marker_points(source, 0), marker_points(target, 1));
+    // Fitted in a fixed order of the pairs, so that the order of the
+    // markers does not change the last bits.
+    let mut order: Vec<usize> = (0..from.len()).collect();
+    order.sort_unstable_by_key(|&k| markers.pairs()[k]);
+    let sorted = |p: &[[f64; 3]]| -> Vec<[f64; 3]> { order.iter().map(|&k| p[k]).collect() };
     let alignment = if options.align {
-        fit_robust(&from, &to)?.0
+        fit_robust(&sorted(&from), &sorted(&to))?.0
     } else {
         Similarity::IDENTITY
     };
