@@ -240,7 +240,7 @@ pub fn animate(
     start: Instant,
 ) -> Result<Report> {
     let times = args.times()?;
-    args.gltf.check(
+    args.gltf.check::<2>(
         source.num_vertices(),
         source.num_triangles(),
         times.len(),

@@ -357,9 +357,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     inputs.extend(args.correspondence.as_deref());
     inputs.extend(args.correspond.markers.as_deref());
     let outputs = output_paths(&args.poses, &args.output, format.extension(), &inputs)?;
-    let pins = pin_positions(&args.pin, args.correspond.one_based, target)?;
-    let mut warnings: Vec<String> = Vec::new();
-    args.gltf.check(
+    args.gltf.check::<3>(
         target.num_vertices(),
         target.num_triangles(),
         args.poses.len(),
@@ -368,6 +366,8 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     for extra in args.gltf.gltf.iter().chain(args.pictures.paths()) {
         output::refuse_input(extra, &inputs)?;
     }
+    let pins = pin_positions(&args.pin, args.correspond.one_based, target)?;
+    let mut warnings: Vec<String> = Vec::new();
 
     // Read and check every pose first: a bad pose is reported before the
     // slow correspondence, and nothing is written. Each pose is new
@@ -482,9 +482,12 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
             warnings.push(format!("{}: {what}", args.output.display()));
         }
     }
-    let (timings, results): (Vec<(f64, f64)>, Vec<Option<Vec<[f64; 3]>>>) =
-        solved.into_iter().map(|(a, b, _, r)| ((a, b), r)).unzip();
-    let results: Vec<Vec<[f64; 3]>> = results.into_iter().flatten().collect();
+    let mut timings = Vec::with_capacity(solved.len());
+    let mut results = Vec::new();
+    for (solve, with_io, _, result) in solved {
+        timings.push((solve, with_io));
+        results.extend(result);
+    }
     let mut files_written: Vec<PathBuf> = args.save_correspondence.iter().cloned().collect();
     files_written.extend(outputs.iter().cloned());
     let names: Vec<String> = outputs.iter().map(|p| crate::gltf::mesh_name(p)).collect();
@@ -492,7 +495,11 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         .with_fps(args.fps)
         .with_animation(!args.gltf_shapes)
         .with_name(crate::gltf::mesh_name(&args.refs.target_ref));
-    let base = GltfBase::new(target.positions(), target.triangles());
+    let corner_uvs = target_file.triangle_corner_uvs();
+    let mut base = GltfBase::new(target.positions(), target.triangles());
+    if let Some(uvs) = &corner_uvs {
+        base = base.with_corner_uvs(uvs);
+    }
     let gltf = args.gltf.write(&base, &results, &names, &options)?;
     files_written.extend(gltf.clone());
     if args.pictures.any() {
@@ -641,9 +648,10 @@ pub struct CorrespondReport {
     pub matched_pairs: usize,
     pub unmatched_source_triangles: usize,
     pub unmatched_target_triangles: usize,
-    pub markers: MarkerReport,
     /// Every file written, in order.
     pub files_written: Vec<PathBuf>,
+    /// How the markers fitted.
+    pub markers: MarkerReport,
     /// The warnings given (also printed on stderr).
     pub warnings: Vec<String>,
 }
@@ -700,8 +708,8 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         matched_pairs: c.pairs().len(),
         unmatched_source_triangles: c.unmatched_source(),
         unmatched_target_triangles: c.unmatched_target(),
-        markers,
         files_written,
+        markers,
         warnings,
     };
     if args.json {

@@ -16,7 +16,7 @@
 #![allow(non_snake_case)]
 
 use crate::error::Result;
-use crate::frames::{Mat3, IDENTITY};
+use crate::matrix::{identity, Mat3};
 use crate::similarity::closest_rotation;
 use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder, Workspace};
 use crate::topology::TriangleAdjacency;
@@ -180,7 +180,7 @@ impl RotationField {
             put(q as usize, &known_rotation(t as usize));
         }
         for &q in &self.unreached {
-            put(q as usize, &IDENTITY);
+            put(q as usize, &identity());
         }
         let solve = ws.solve.as_mut().expect("a workspace of this field");
         system.solve(&ws.rhs, Some(&ws.pinned_values), &mut ws.x, solve);
