@@ -282,6 +282,10 @@ pub struct TransferReport {
     pub markers: Option<MarkerReport>,
     /// Pose faces that list the reference's corners in another order or winding.
     pub reordered_pose_faces: usize,
+    /// Target triangles without a partner nearby, kept at their rest shape.
+    pub unpaired_target_triangles: usize,
+    /// Separate parts of the target carried rigidly by the surface around them.
+    pub carried_parts: usize,
     pub total_seconds: f64,
     /// The GLB written, if any.
     pub gltf: Option<PathBuf>,
@@ -512,10 +516,19 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
             (target.triangles(), &target_poses),
         )?);
     }
-    if correspondence.unmatched_target() > 0 {
+    if transfer.unpaired_triangles() > 0 {
         warnings.push(format!(
-            "{} target triangles have no source partner: they follow their neighbours",
-            correspondence.unmatched_target()
+            "{} target triangles have no source partner nearby: they keep their rest shape and turn with the paired surface",
+            transfer.unpaired_triangles()
+        ));
+    }
+    if transfer.carried_parts() > 0 {
+        warnings.push(format!(
+            "{} separate part{} of the target with few source partners {} carried rigidly by the surface around {}",
+            transfer.carried_parts(),
+            if transfer.carried_parts() == 1 { "" } else { "s" },
+            if transfer.carried_parts() == 1 { "is" } else { "are" },
+            if transfer.carried_parts() == 1 { "it" } else { "them" },
         ));
     }
     output::print_warnings(&warnings);
@@ -533,6 +546,8 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         unmatched_target_triangles: correspondence.unmatched_target(),
         markers: marker_report,
         reordered_pose_faces,
+        unpaired_target_triangles: transfer.unpaired_triangles(),
+        carried_parts: transfer.carried_parts(),
         total_seconds: start.elapsed().as_secs_f64(),
         gltf,
         files_written,
