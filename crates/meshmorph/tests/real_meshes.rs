@@ -235,6 +235,16 @@ fn turn_scale_move(p: P3) -> P3 {
     [7.5 * q[0] + 3.0, 7.5 * q[1] - 20.0, 7.5 * q[2] + 0.5]
 }
 
+/// [`turn_scale_move`] without the scale: a rigid motion.
+fn turn_move(p: P3) -> P3 {
+    let q = turn_scale_move(p);
+    [
+        (q[0] - 3.0) / 7.5 + 3.0,
+        (q[1] + 20.0) / 7.5 - 20.0,
+        (q[2] - 0.5) / 7.5 + 0.5,
+    ]
+}
+
 fn mapped(m: &Mesh3, f: impl Fn(P3) -> P3) -> Mesh3 {
     m.with_positions(m.positions().iter().map(|&p| f(p)).collect())
         .unwrap()
@@ -317,4 +327,157 @@ fn marker_points_snap_to_the_nearest_vertex_and_far_points_are_refused() {
         e.contains("picks.txt") && e.contains("line 2") && e.contains("source point"),
         "{e}"
     );
+}
+
+/// Two meshes as one (indices of the second shifted).
+fn union(a: &Mesh3, b: &Mesh3) -> Mesh3 {
+    let mut p = a.positions().to_vec();
+    p.extend_from_slice(b.positions());
+    let n = a.num_vertices() as u32;
+    let mut t = a.triangles().to_vec();
+    t.extend(b.triangles().iter().map(|tri| tri.map(|v| v + n)));
+    Mesh3::new(p, t).unwrap()
+}
+
+fn distance(a: P3, b: P3) -> f64 {
+    (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt()
+}
+
+/// The rigid motion (rotation and translation, no scale) that best takes
+/// `from[vertices]` to `to[vertices]`, applied to `p`.
+fn rigid_fit(from: &[P3], to: &[P3], vertices: std::ops::Range<usize>) -> impl Fn(P3) -> P3 {
+    let fit = meshmorph::Similarity::fit(&from[vertices.clone()], &to[vertices]).unwrap();
+    move |p| {
+        let q = fit.rotate(p);
+        [
+            q[0] * fit.scale + fit.translation[0],
+            q[1] * fit.scale + fit.translation[1],
+            q[2] * fit.scale + fit.translation[2],
+        ]
+    }
+}
+
+/// A source tube and its markers onto a target tube of twice the radius.
+fn tube_pair(source: &Mesh3, target: &Mesh3, ends: &[u32]) -> Markers {
+    let widened: Vec<P3> = source
+        .positions()
+        .iter()
+        .map(|p| [p[0], 2.0 * p[1], 2.0 * p[2]])
+        .collect();
+    Markers::new(nearest_vertex_pairs(&widened, target.positions(), ends))
+}
+
+#[test]
+fn eyes_and_teeth_inside_a_head_stay_in_place() {
+    let thin = tube(4.0, 0.25, 17, 12);
+    let head = tube(4.0, 0.5, 11, 16);
+    // Two "eyes" and a row of "teeth": thin closed tubes on the axis, far
+    // from the surface, with no partner on the source.
+    let eye = |x: f64| {
+        mapped(&tube(0.3, 0.06, 3, 6), move |p| {
+            [p[0] + x, p[1] + 0.1, p[2]]
+        })
+    };
+    let teeth = mapped(&tube(0.8, 0.05, 4, 6), |p| [p[0] + 0.3, p[1] - 0.1, p[2]]);
+    let parts = union(&union(&eye(3.0), &eye(3.5)), &teeth);
+    let target = union(&head, &parts);
+    let inner = head.num_vertices()..target.num_vertices();
+    let markers = tube_pair(
+        &thin,
+        &head,
+        &[0, 3, 6, 9, 96, 99, 102, 105, 192, 195, 198, 201],
+    );
+    let found = correspond(
+        &thin,
+        &target,
+        &markers,
+        &CorrespondOptions::default(),
+        &mut |_| {},
+    )
+    .unwrap();
+    let transfer =
+        Transfer::new(&thin, &target, &found.correspondence, &Default::default()).unwrap();
+    assert_eq!(transfer.carried_parts(), 3);
+    let diagonal = target.bounding_box_diagonal();
+    // A rigid turn: the parts stay where they were relative to the head.
+    let out = transfer.apply(&mapped(&thin, turn_move)).unwrap();
+    let head_motion = rigid_fit(target.positions(), &out, 0..head.num_vertices());
+    for v in inner.clone() {
+        let d = distance(out[v], head_motion(target.positions()[v]));
+        assert!(d < 1e-3 * diagonal, "vertex {v}: {d} off the head's motion");
+    }
+    // A bend ("the jaw opens" at one end): the parts keep their shape and
+    // stay next to the surface around them.
+    let out = transfer.apply(&bend(&thin, 4.0, 1.2)).unwrap();
+    let nearest_head = |p: P3, q: &[P3]| {
+        (0..head.num_vertices())
+            .map(|h| distance(p, q[h]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    for v in inner.clone().step_by(5) {
+        let rest = nearest_head(target.positions()[v], target.positions());
+        let now = nearest_head(out[v], &out);
+        assert!(
+            (now - rest).abs() < 0.5 * rest,
+            "vertex {v}: {rest} from the head at rest, {now} bent"
+        );
+    }
+    for (a, b) in [
+        (inner.start, inner.start + 7),
+        (inner.end - 1, inner.end - 9),
+    ] {
+        let d = distance(out[a], out[b]) - distance(target.positions()[a], target.positions()[b]);
+        assert!(d.abs() < 1e-9, "a part stretched by {d}");
+    }
+}
+
+#[test]
+fn a_source_covering_half_the_target_leaves_the_other_half_at_rest() {
+    let half = tube(2.0, 0.25, 9, 12);
+    let whole = tube(4.0, 0.5, 21, 16);
+    let ends: Vec<u32> = [0u32, 3, 6, 9, 96, 99, 102, 105].to_vec();
+    let markers = tube_pair(&half, &whole, &ends);
+    let found = correspond(
+        &half,
+        &whole,
+        &markers,
+        &CorrespondOptions::default(),
+        &mut |_| {},
+    )
+    .unwrap();
+    let transfer =
+        Transfer::new(&half, &whole, &found.correspondence, &Default::default()).unwrap();
+    assert!(transfer.unpaired_triangles() > 0);
+    let far: Vec<usize> = (0..whole.num_vertices())
+        .filter(|&v| whole.positions()[v][0] > 3.0)
+        .collect();
+    let rest = whole.positions();
+    // A local deformation of the source (a twist of its far end, the end
+    // at x = 0 held): the far half keeps its rest shape.
+    let twisted = mapped(&half, |p| {
+        let a = 0.4 * p[0] / 2.0;
+        [
+            p[0],
+            p[1] * a.cos() - p[2] * a.sin(),
+            p[1] * a.sin() + p[2] * a.cos(),
+        ]
+    });
+    let out = transfer.apply(&twisted).unwrap();
+    let diagonal = whole.bounding_box_diagonal();
+    for &a in far.iter().step_by(7) {
+        for &b in far.iter().step_by(11) {
+            let d = distance(out[a], out[b]) - distance(rest[a], rest[b]);
+            assert!(
+                d.abs() < 2e-3 * diagonal,
+                "far half stretched by {d} between {a} and {b}"
+            );
+        }
+    }
+    // A rigid motion of the source moves the whole target rigidly.
+    let out = transfer.apply(&mapped(&half, turn_move)).unwrap();
+    let motion = rigid_fit(rest, &out, 0..whole.num_vertices());
+    for v in 0..whole.num_vertices() {
+        let d = distance(out[v], motion(rest[v]));
+        assert!(d < 1e-8 * diagonal, "vertex {v}: {d} off a rigid motion");
+    }
 }
