@@ -104,13 +104,14 @@ proptest! {
 
     #[test]
     fn interpolation_commutes_with_rigid_motions_and_renumbering(
-        nx in 3usize..10,
-        turn in 0.1f64..1.6,
+        nx in 8usize..16,
+        turn in 0.1f64..1.0,
         angle in -PI..PI,
         shift in [-50.0f64..50.0, -50.0f64..50.0],
         seed in any::<u64>(),
         t in -0.5f64..1.5,
     ) {
+        // Fine enough that the curl reverses no triangle.
         let a = strip(3.0, 0.6, nx, 2);
         let b = curl(&a, turn * PI);
         let morph = Interpolator::new(&a, &b, &InterpolatorOptions::default()).unwrap();
