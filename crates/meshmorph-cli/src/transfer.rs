@@ -304,6 +304,10 @@ pub struct TransferReport {
     pub markers: Option<MarkerReport>,
     /// Pose faces that list the reference's corners in another order or winding.
     pub reordered_pose_faces: usize,
+    /// Target triangles without a partner nearby, kept at their rest shape.
+    pub unpaired_target_triangles: usize,
+    /// Separate parts of the target carried rigidly by the surface around them.
+    pub carried_parts: usize,
     /// Target vertices no triangle uses: written at their rest positions.
     pub unused_target_vertices: usize,
     pub total_seconds: f64,
@@ -369,6 +373,10 @@ impl TransferReport {
 /// How far a pose's size may differ from its reference's before a warning:
 /// more looks like an export in other units.
 const POSE_SIZE_RATIO: f64 = 2.0;
+
+/// One pose done: seconds solving, seconds with reading and writing, what
+/// the output format dropped, the positions (kept for the glTF and pictures).
+type SolvedPose = (f64, f64, Vec<String>, Option<Vec<[f64; 3]>>);
 
 pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let start = Instant::now();
@@ -497,7 +505,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         staging.write(save, |path| Ok(correspondence.save(path)?))?;
     }
     let keep = args.gltf.gltf.is_some() || args.pictures.any();
-    let solved: Vec<(f64, f64, Vec<String>, Option<Vec<[f64; 3]>>)> = poses
+    let solved: Vec<SolvedPose> = poses
         .par_iter()
         .zip(&pose_outputs)
         .map_init(
@@ -575,10 +583,19 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
             .map(|_| ())
         })?);
     }
-    if correspondence.unmatched_target() > 0 {
+    if transfer.unpaired_triangles() > 0 {
         warnings.push(format!(
-            "{} target triangles have no source partner: they follow their neighbours",
-            correspondence.unmatched_target()
+            "{} target triangles have no source partner nearby: they keep their rest shape and turn with the paired surface",
+            transfer.unpaired_triangles()
+        ));
+    }
+    if transfer.carried_parts() > 0 {
+        warnings.push(format!(
+            "{} separate part{} of the target with few source partners {} carried rigidly by the surface around {}",
+            transfer.carried_parts(),
+            if transfer.carried_parts() == 1 { "" } else { "s" },
+            if transfer.carried_parts() == 1 { "is" } else { "are" },
+            if transfer.carried_parts() == 1 { "it" } else { "them" },
         ));
     }
     output::print_warnings(&warnings);
@@ -597,6 +614,8 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         unmatched_target_triangles: correspondence.unmatched_target(),
         markers: marker_report,
         reordered_pose_faces,
+        unpaired_target_triangles: transfer.unpaired_triangles(),
+        carried_parts: transfer.carried_parts(),
         unused_target_vertices: target.num_unused_vertices(),
         total_seconds: start.elapsed().as_secs_f64(),
         gltf,

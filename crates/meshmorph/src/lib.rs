@@ -28,6 +28,7 @@
 // Numeric kernels index small fixed-size arrays by position, as the papers do.
 #![allow(clippy::needless_range_loop)]
 
+pub mod carried_parts;
 pub mod closest;
 pub mod correspond;
 pub mod correspondence;
@@ -42,6 +43,7 @@ pub mod mesh;
 pub mod polar;
 pub mod render;
 pub mod rotation;
+pub mod rotation_field;
 pub mod shapes;
 pub mod similarity;
 pub mod solve;
