@@ -340,6 +340,10 @@ impl TransferReport {
     }
 }
 
+/// One pose done: solve time, time with reading and writing, what writing
+/// dropped from the target's file, and the positions when kept for pictures.
+type SolvedPose = (f64, f64, Vec<String>, Option<Vec<[f64; 3]>>);
+
 /// How far a pose's size may differ from its reference's before a warning:
 /// more looks like an export in other units.
 const POSE_SIZE_RATIO: f64 = 2.0;
@@ -451,7 +455,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     }
     output::make_dir(&args.output)?;
     let keep = args.gltf.gltf.is_some() || args.pictures.any();
-    let solved: Vec<(f64, f64, Vec<String>, Option<Vec<[f64; 3]>>)> = poses
+    let solved: Vec<SolvedPose> = poses
         .par_iter()
         .zip(&outputs)
         .map_init(

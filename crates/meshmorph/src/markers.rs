@@ -106,7 +106,7 @@ impl Markers {
             .enumerate()
             {
                 let (v, d) = nearest(mesh.positions(), used, point);
-                if !(d <= SNAP_LIMIT * diagonal) {
+                if d.is_nan() || d > SNAP_LIMIT * diagonal {
                     return Err(Error::InvalidArgument(format!(
                         "{name}: the {which} point {point:?} is {:.3} % of the {which} mesh's diagonal from its nearest vertex ({v}); \
                          marker points must lie on the mesh (within {} %)",

@@ -300,7 +300,7 @@ pub fn outliers(residuals: &[f64]) -> Vec<usize> {
     };
     let m = median(&mut residuals.to_vec());
     let mad = median(&mut residuals.iter().map(|r| (r - m).abs()).collect());
-    if !(mad > 0.0) {
+    if mad.is_nan() || mad <= 0.0 {
         return Vec::new();
     }
     (0..residuals.len())
