@@ -169,6 +169,16 @@ impl Correspondence {
     /// the line that does not parse.
     pub fn load(path: &Path) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        Self::parse(&text, path)
+    }
+
+    /// [`Correspondence::load`] on text already in memory; `path` names it
+    /// in errors. A leading UTF-8 byte-order mark is skipped.
+    ///
+    /// # Errors
+    /// [`Error::Parse`] naming the line that does not parse.
+    pub fn parse(text: &str, path: &Path) -> Result<Self> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut lines = text
             .lines()
             .enumerate()

@@ -141,6 +141,8 @@ impl Markers {
     /// # Errors
     /// [`Error::Parse`] naming the line of the first entry that does not parse.
     pub fn parse(text: &str, path: &Path, one_based: bool) -> Result<Self> {
+        // A byte-order mark, as some editors write, is not part of the text.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut pairs = Vec::new();
         let mut lines = Vec::new();
         let mut points = Vec::new();

@@ -9,7 +9,7 @@ use meshmorph::io::gltf::{estimate_glb_bytes, write_glb, write_glb_to, GltfBase,
 use meshmorph::shapes::{bend, curl, strip, tube};
 use meshmorph::{Error, Interpolator, InterpolatorOptions};
 
-/// Position and normal deltas of one morph target.
+/// A morph target's position and normal deltas.
 type Deltas = (Vec<[f32; 3]>, Vec<[f32; 3]>);
 
 /// What a GLB holds, as the `gltf` crate reads it.
