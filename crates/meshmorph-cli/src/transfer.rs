@@ -370,10 +370,6 @@ impl TransferReport {
     }
 }
 
-/// One pose done: solve time, time with reading and writing, what writing
-/// dropped from the target's file, and the positions when kept for pictures.
-type SolvedPose = (f64, f64, Vec<String>, Option<Vec<[f64; 3]>>);
-
 /// How far a pose's size may differ from its reference's before a warning:
 /// more looks like an export in other units.
 const POSE_SIZE_RATIO: f64 = 2.0;
