@@ -51,6 +51,12 @@ pub fn read_mesh(path: &Path, role: &str) -> Result<meshmorph::Mesh3> {
     meshmorph::io::read_mesh(path).with_context(|| format!("reading {role} `{}`", path.display()))
 }
 
+/// Reads a mesh file kept whole, saying which file and what role on failure.
+pub fn read_mesh_file(path: &Path, role: &str) -> Result<meshmorph::io::MeshFile> {
+    meshmorph::io::MeshFile::read(path)
+        .with_context(|| format!("reading {role} `{}`", path.display()))
+}
+
 /// Reads a planar mesh (every z = 0).
 pub fn read_mesh_2d(path: &Path, role: &str) -> Result<meshmorph::Mesh2> {
     read_mesh(path, role)?
@@ -75,4 +81,48 @@ pub fn print_json(report: &impl serde::Serialize) {
         "{}",
         serde_json::to_string(report).expect("a report serialises")
     );
+}
+
+/// A finite number above zero (a clap value parser).
+pub fn positive_number(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err(format!("`{text}` is not a finite number above 0")),
+    }
+}
+
+/// Prints each warning on stderr.
+pub fn print_warnings(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
+}
+
+/// Refuses an output path that resolves to one of the `inputs`.
+pub fn refuse_input(output: &Path, inputs: &[&Path]) -> Result<()> {
+    let resolved = match (output.parent(), output.file_name()) {
+        (Some(dir), Some(name)) => {
+            let dir = if dir.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                dir
+            };
+            dir.canonicalize().ok().map(|d| d.join(name))
+        }
+        _ => None,
+    };
+    let Some(resolved) = resolved else {
+        return Ok(());
+    };
+    if let Some(input) = inputs
+        .iter()
+        .find(|i| i.canonicalize().ok().as_ref() == Some(&resolved))
+    {
+        anyhow::bail!(
+            "the output `{}` would overwrite the input `{}`: choose another name",
+            output.display(),
+            input.display()
+        );
+    }
+    Ok(())
 }

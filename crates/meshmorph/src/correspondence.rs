@@ -1,25 +1,29 @@
-//! The triangle map between a source and a target mesh, and its file format.
-
-use std::path::Path;
+//! The triangle map between a source and a target mesh (its file format is
+//! in [`io`](crate::io)).
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh3;
+use crate::similarity::Similarity;
 
 /// Pairs `(source triangle, target triangle)`, sorted and unique, with the
-/// sizes and a connectivity fingerprint of the meshes they were made for.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// sizes and a connectivity fingerprint of the meshes they were made for,
+/// and the similarity that brought the source onto the target before the
+/// pairs were found (the identity unless [`correspond`](crate::correspond)
+/// aligned them).
+#[derive(Clone, Debug, PartialEq)]
 pub struct Correspondence {
-    pairs: Vec<[u32; 2]>,
-    source: MeshSignature,
-    target: MeshSignature,
+    pub(crate) pairs: Vec<[u32; 2]>,
+    pub(crate) source: MeshSignature,
+    pub(crate) target: MeshSignature,
+    pub(crate) alignment: Similarity,
 }
 
 /// Vertex and triangle counts and a hash of the triangle list.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct MeshSignature {
-    vertices: usize,
-    triangles: usize,
-    hash: u64,
+pub(crate) struct MeshSignature {
+    pub(crate) vertices: usize,
+    pub(crate) triangles: usize,
+    pub(crate) hash: u64,
 }
 
 impl MeshSignature {
@@ -42,8 +46,6 @@ impl MeshSignature {
     }
 }
 
-const MAGIC: &str = "meshmorph-correspondence 1";
-
 impl Correspondence {
     /// A map from `pairs` between `source` and `target` (sorted and
     /// deduplicated here).
@@ -64,7 +66,21 @@ impl Correspondence {
             pairs,
             source: MeshSignature::of(source),
             target: MeshSignature::of(target),
+            alignment: Similarity::IDENTITY,
         }
+    }
+
+    /// The same pairs, made with the source brought onto the target by
+    /// `alignment`: [`Transfer`](crate::Transfer) applies it to the source
+    /// reference and to every pose.
+    pub fn with_alignment(mut self, alignment: Similarity) -> Self {
+        self.alignment = alignment;
+        self
+    }
+
+    /// The similarity that brings the source onto the target.
+    pub fn alignment(&self) -> &Similarity {
+        &self.alignment
     }
 
     /// Every triangle of `mesh` paired with itself: the map between a mesh
@@ -116,115 +132,6 @@ impl Correspondence {
             }
         }
         Ok(())
-    }
-
-    /// Writes the map as text, atomically.
-    ///
-    /// # Errors
-    /// [`Error::Io`] when the file cannot be written.
-    pub fn save(&self, path: &Path) -> Result<()> {
-        crate::io::write_atomic(path, |w| {
-            writeln!(w, "{MAGIC}")?;
-            writeln!(w, "# pairs of (source triangle, target triangle), 0-based")?;
-            for (name, s) in [("source", self.source), ("target", self.target)] {
-                writeln!(w, "{name} {} {} {:016x}", s.vertices, s.triangles, s.hash)?;
-            }
-            writeln!(w, "pairs {}", self.pairs.len())?;
-            for [s, t] in &self.pairs {
-                writeln!(w, "{s} {t}")?;
-            }
-            Ok(())
-        })
-    }
-
-    /// Reads a map written by [`Correspondence::save`].
-    ///
-    /// # Errors
-    /// [`Error::Io`] when the file cannot be read, [`Error::Parse`] naming
-    /// the line that does not parse.
-    pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        let mut lines = text
-            .lines()
-            .enumerate()
-            .map(|(k, l)| (k + 1, l.trim()))
-            .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-        let mut next = |what: &str| {
-            lines
-                .next()
-                .ok_or_else(|| Error::parse(path, None, format!("the file ends before {what}")))
-        };
-        let (line, magic) = next("the header")?;
-        if magic != MAGIC {
-            return Err(Error::parse(
-                path,
-                Some(line),
-                format!("not a meshmorph correspondence (expected `{MAGIC}`)"),
-            ));
-        }
-        let mut signature = |name: &str| -> Result<MeshSignature> {
-            let (line, l) = next(name)?;
-            let f: Vec<&str> = l.split_whitespace().collect();
-            let bad = || {
-                Error::parse(
-                    path,
-                    Some(line),
-                    format!("expected `{name} VERTICES TRIANGLES HASH`"),
-                )
-            };
-            if f.len() != 4 || f[0] != name {
-                return Err(bad());
-            }
-            Ok(MeshSignature {
-                vertices: f[1].parse().map_err(|_| bad())?,
-                triangles: f[2].parse().map_err(|_| bad())?,
-                hash: u64::from_str_radix(f[3], 16).map_err(|_| bad())?,
-            })
-        };
-        let source = signature("source")?;
-        let target = signature("target")?;
-        let (line, l) = next("the pair count")?;
-        let count: usize = l
-            .strip_prefix("pairs ")
-            .and_then(|c| c.trim().parse().ok())
-            .ok_or_else(|| Error::parse(path, Some(line), "expected `pairs COUNT`"))?;
-        let mut pairs = Vec::with_capacity(count.min(1 << 24));
-        for _ in 0..count {
-            let (line, l) = next("all pairs are listed")?;
-            let mut f = l.split_whitespace().map(|x| x.parse::<u32>());
-            let pair = match (f.next(), f.next(), f.next()) {
-                (Some(Ok(s)), Some(Ok(t)), None) => [s, t],
-                _ => {
-                    return Err(Error::parse(
-                        path,
-                        Some(line),
-                        format!("expected `SOURCE TARGET`, found `{l}`"),
-                    ))
-                }
-            };
-            if pair[0] as usize >= source.triangles || pair[1] as usize >= target.triangles {
-                return Err(Error::parse(
-                    path,
-                    Some(line),
-                    format!("triangle pair {} {} is out of range", pair[0], pair[1]),
-                ));
-            }
-            pairs.push(pair);
-        }
-        if let Some((line, _)) = lines.next() {
-            return Err(Error::parse(
-                path,
-                Some(line),
-                format!("more lines than the {count} pairs announced"),
-            ));
-        }
-        pairs.sort_unstable();
-        pairs.dedup();
-        Ok(Self {
-            pairs,
-            source,
-            target,
-        })
     }
 }
 

@@ -1,19 +1,43 @@
-//! Marker vertex pairs that tie a source mesh to a target mesh.
+//! Marker vertex pairs that tie a source mesh to a target mesh, given as
+//! vertex indices or as points snapped to the nearest vertex.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
+use crate::geometry::{norm, sub};
+use crate::mesh::Mesh3;
 
 /// Pairs `(source vertex, target vertex)`, 0-based, with where they came from
-/// so that errors can name the file and line.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+/// so that errors can name the file and line. A marker file may also give
+/// points (`x y z` on each mesh, as picking tools write them): they become
+/// vertex pairs through [`Markers::snap`].
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Markers {
     pairs: Vec<[u32; 2]>,
     /// 1-based line of each pair, when read from a file.
     lines: Vec<usize>,
+    /// Point pairs not yet snapped to vertices, with their lines.
+    points: Vec<([[f64; 3]; 2], usize)>,
     path: Option<PathBuf>,
 }
+
+/// How far [`Markers::snap`] moved the marker points, as fractions of each
+/// mesh's bounding-box diagonal.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Snap {
+    /// Number of point pairs snapped.
+    pub points: usize,
+    /// The largest distance from a source point to its vertex.
+    pub largest_source: f64,
+    /// The largest distance from a target point to its vertex.
+    pub largest_target: f64,
+}
+
+/// The farthest a marker point may lie from a vertex, as a fraction of the
+/// mesh's bounding-box diagonal: farther, it is more likely a point of
+/// another model (or in other units) than a point picked on this one.
+pub const SNAP_LIMIT: f64 = 0.02;
 
 impl Markers {
     /// Markers from 0-based pairs in memory.
@@ -21,100 +45,98 @@ impl Markers {
         Self {
             pairs,
             lines: Vec::new(),
+            points: Vec::new(),
             path: None,
         }
     }
 
-    /// The pairs, 0-based.
+    /// Markers from point pairs `[source point, target point]` in memory,
+    /// to be snapped to vertices with [`Markers::snap`].
+    pub fn from_points(points: Vec<[[f64; 3]; 2]>) -> Self {
+        Self {
+            points: points.into_iter().map(|p| (p, 0)).collect(),
+            ..Self::default()
+        }
+    }
+
+    /// The vertex pairs, 0-based (point pairs count once snapped).
     pub fn pairs(&self) -> &[[u32; 2]] {
         &self.pairs
     }
 
-    /// Reads a marker file: one pair `source target` per line, separated by
-    /// white space or a comma; `#` starts a comment; a first line holding
-    /// only the number of pairs (as in `.cons` files) is accepted and
-    /// checked. Indices are 0-based unless `one_based`.
-    ///
-    /// # Errors
-    /// [`Error::Io`] if the file cannot be read, [`Error::Parse`] naming the
-    /// line of the first entry that does not parse.
-    pub fn read(path: &Path, one_based: bool) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        Self::parse(&text, path, one_based)
+    /// Whether some markers are points not yet snapped to vertices.
+    pub fn has_points(&self) -> bool {
+        !self.points.is_empty()
     }
 
-    /// [`Markers::read`] on text already in memory; `path` names it in errors.
+    /// Every point pair snapped to the nearest vertex (that a triangle uses)
+    /// of each mesh, added to the vertex pairs.
     ///
     /// # Errors
-    /// [`Error::Parse`] naming the line of the first entry that does not parse.
-    pub fn parse(text: &str, path: &Path, one_based: bool) -> Result<Self> {
-        let mut pairs = Vec::new();
-        let mut lines = Vec::new();
-        let mut count: Option<(usize, usize)> = None;
-        let mut first = true;
-        for (k, raw) in text.lines().enumerate() {
-            let line = k + 1;
-            let content = raw.split('#').next().unwrap_or("").trim();
-            if content.is_empty() {
-                continue;
-            }
-            let fields: Vec<&str> = content
-                .split(|c: char| c == ',' || c.is_whitespace())
-                .filter(|f| !f.is_empty())
-                .collect();
-            let bad = |msg: String| Error::parse(path, Some(line), msg);
-            let index = |f: &str| -> Result<u32> {
-                let v: i64 = f
-                    .parse()
-                    .map_err(|_| bad(format!("`{f}` is not a vertex index")))?;
-                let v = if one_based {
-                    if v < 1 {
-                        return Err(bad(format!(
-                            "vertex index {v} is not 1-based (1 is the first vertex)"
-                        )));
-                    }
-                    v - 1
-                } else {
-                    v
-                };
-                u32::try_from(v).map_err(|_| bad(format!("vertex index {f} is out of range")))
+    /// [`Error::InvalidArgument`] naming the marker (file and line when read
+    /// from a file) whose point lies farther than [`SNAP_LIMIT`] of the
+    /// mesh's bounding-box diagonal from every vertex.
+    pub fn snap(&self, source: &Mesh3, target: &Mesh3) -> Result<(Markers, Snap)> {
+        let mut out = Markers {
+            pairs: self.pairs.clone(),
+            lines: self.lines.clone(),
+            points: Vec::new(),
+            path: self.path.clone(),
+        };
+        let mut snap = Snap {
+            points: self.points.len(),
+            ..Snap::default()
+        };
+        let (ds, dt) = (
+            source.bounding_box_diagonal(),
+            target.bounding_box_diagonal(),
+        );
+        let (us, ut) = (used_vertices(source), used_vertices(target));
+        for (k, &([ps, pt], line)) in self.points.iter().enumerate() {
+            let name = match &self.path {
+                Some(p) => format!("`{}`, line {line}", p.display()),
+                None => format!("marker point {k}"),
             };
-            match fields.len() {
-                1 if first => {
-                    let n = fields[0].parse::<usize>().map_err(|_| {
-                        bad(format!(
-                            "`{}` is neither a pair count nor a pair",
-                            fields[0]
-                        ))
-                    })?;
-                    count = Some((n, line));
+            let mut pair = [0u32; 2];
+            for (slot, (mesh, used, point, diagonal, which, largest)) in [
+                (source, &us, ps, ds, "source", &mut snap.largest_source),
+                (target, &ut, pt, dt, "target", &mut snap.largest_target),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                let (v, d) = nearest(mesh.positions(), used, point);
+                if d.is_nan() || d > SNAP_LIMIT * diagonal {
+                    return Err(Error::InvalidArgument(format!(
+                        "{name}: the {which} point {point:?} is {:.3} % of the {which} mesh's diagonal from its nearest vertex ({v}); \
+                         marker points must lie on the mesh (within {} %)",
+                        100.0 * d / diagonal,
+                        100.0 * SNAP_LIMIT
+                    )));
                 }
-                2 => {
-                    pairs.push([index(fields[0])?, index(fields[1])?]);
-                    lines.push(line);
-                }
-                _ => {
-                    return Err(bad(format!(
-                        "expected `source target` (two vertex indices), found `{content}`"
-                    )))
-                }
+                *largest = largest.max(d / diagonal);
+                pair[slot] = v;
             }
-            first = false;
+            out.pairs.push(pair);
+            out.lines.push(line);
         }
-        if let Some((n, line)) = count {
-            if n != pairs.len() {
-                return Err(Error::parse(
-                    path,
-                    Some(line),
-                    format!("the count line says {n} pairs but {} follow", pairs.len()),
-                ));
-            }
-        }
-        Ok(Self {
+        Ok((out, snap))
+    }
+
+    /// Markers read from `path`: the vertex pairs and the 1-based line of
+    /// each, and the point pairs with theirs.
+    pub(crate) fn from_file(
+        pairs: Vec<[u32; 2]>,
+        lines: Vec<usize>,
+        points: Vec<([[f64; 3]; 2], usize)>,
+        path: &Path,
+    ) -> Self {
+        Self {
             pairs,
             lines,
+            points,
             path: Some(path.to_path_buf()),
-        })
+        }
     }
 
     /// Checks every pair against meshes of `source_vertices` and
@@ -125,6 +147,15 @@ impl Markers {
     /// [`Error::InvalidArgument`] naming the marker (and file and line, when
     /// read from a file).
     pub fn validate(&self, source_vertices: usize, target_vertices: usize) -> Result<()> {
+        if let Some((_, line)) = self.points.first() {
+            return Err(Error::InvalidArgument(format!(
+                "{}: a marker given as points must be snapped to vertices first (Markers::snap)",
+                match &self.path {
+                    Some(p) => format!("`{}`, line {line}", p.display()),
+                    None => "marker point 0".into(),
+                }
+            )));
+        }
         let mut seen: HashMap<u32, usize> = HashMap::with_capacity(self.pairs.len());
         for (k, &[s, t]) in self.pairs.iter().enumerate() {
             let fail =
@@ -155,6 +186,13 @@ impl Markers {
         Ok(())
     }
 
+    /// Marker `k` for messages: "marker 3 (source vertex 10, target vertex
+    /// 52)" or "`file.cons`, line 5 (...)".
+    pub fn describe(&self, k: usize) -> String {
+        let [s, t] = self.pairs[k];
+        format!("{} (source vertex {s}, target vertex {t})", self.name(k))
+    }
+
     /// "marker 3" or "`file.cons`, line 5".
     fn name(&self, k: usize) -> String {
         match (&self.path, self.lines.get(k)) {
@@ -164,41 +202,34 @@ impl Markers {
     }
 }
 
+/// Which vertices a triangle uses.
+fn used_vertices(mesh: &Mesh3) -> Vec<bool> {
+    let mut used = vec![false; mesh.num_vertices()];
+    mesh.triangles()
+        .iter()
+        .flatten()
+        .for_each(|&v| used[v as usize] = true);
+    used
+}
+
+/// The used vertex nearest to `p` (the lowest index among equals) and its
+/// distance.
+fn nearest(positions: &[[f64; 3]], used: &[bool], p: [f64; 3]) -> (u32, f64) {
+    let mut best = (0u32, f64::INFINITY);
+    for (v, q) in positions.iter().enumerate() {
+        if used[v] {
+            let d = norm(sub(*q, p));
+            if d < best.1 {
+                best = (v as u32, d);
+            }
+        }
+    }
+    best
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn parses_the_usual_layouts() {
-        let p = Path::new("m.cons");
-        let m = Markers::parse("3\n0, 5\n1 6 # tail\n\n# c\n2\t7\r\n", p, false).unwrap();
-        assert_eq!(m.pairs(), &[[0, 5], [1, 6], [2, 7]]);
-        let m = Markers::parse("1 1\n2 3\n", p, true).unwrap();
-        assert_eq!(m.pairs(), &[[0, 0], [1, 2]]);
-        assert_eq!(Markers::parse("", p, false).unwrap().pairs().len(), 0);
-    }
-
-    #[test]
-    fn reports_lines() {
-        let p = Path::new("m.txt");
-        let e = Markers::parse("0 1\n2 x\n", p, false)
-            .unwrap_err()
-            .to_string();
-        assert!(
-            e.contains("m.txt") && e.contains("line 2") && e.contains("`x`"),
-            "{e}"
-        );
-        let e = Markers::parse("0 1 2\n", p, false).unwrap_err().to_string();
-        assert!(e.contains("line 1"), "{e}");
-        let e = Markers::parse("4\n0 1\n", p, false)
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("says 4 pairs but 1"), "{e}");
-        let e = Markers::parse("0 1\n", p, true).unwrap_err().to_string();
-        assert!(e.contains("1-based"), "{e}");
-        let e = Markers::parse("0 -1\n", p, false).unwrap_err().to_string();
-        assert!(e.contains("out of range"), "{e}");
-    }
 
     #[test]
     fn validation() {

@@ -45,6 +45,7 @@ use crate::gradient::weights::{normalised_by_mean, vertex_weights};
 use crate::gradient::{FactoredSystem, GradientOperators, Pins, Placement, SolveWorkspace};
 use crate::matrix::{identity, Mat3};
 use crate::mesh::Mesh3;
+use crate::similarity::Similarity;
 use crate::solve::{FactorKind, SymmetricBuilder};
 use crate::topology::{connected_components, edges, Edge, TriangleAdjacency};
 
@@ -83,7 +84,9 @@ const UNPAIRED_REST_WEIGHT: f64 = 1e-6;
 /// factored once; see the [module documentation](self).
 #[derive(Debug)]
 pub struct Transfer {
-    /// The source reference (its connectivity checks poses).
+    /// What brings the source onto the target (applied to every pose).
+    alignment: Similarity,
+    /// The source reference, aligned (its connectivity checks poses).
     source_ref: Mesh3,
     /// `V⁻¹` of every source reference triangle.
     source_frames_inv: Vec<Mat3>,
@@ -181,6 +184,8 @@ struct PartAnchor {
 #[derive(Debug)]
 pub struct PoseWorkspace {
     solve: SolveWorkspace,
+    /// The pose brought onto the target by the alignment.
+    aligned: Vec<[f64; 3]>,
     gradients: Vec<Mat3>,
     /// One vector per placed part: its centroid, then its shift.
     parts: Vec<[f64; 3]>,
@@ -202,6 +207,14 @@ impl Transfer {
         options: &TransferOptions,
     ) -> Result<Self> {
         correspondence.check_fits(source_ref, target_ref)?;
+        let alignment = *correspondence.alignment();
+        let aligned;
+        let source_ref = if alignment.is_identity() {
+            source_ref
+        } else {
+            aligned = source_ref.with_positions(alignment.apply_all(source_ref.positions()))?;
+            &aligned
+        };
         source_ref.check_no_degenerate_triangles("source reference")?;
         target_ref.check_no_degenerate_triangles("target reference")?;
         let source_frames_inv = frame_inverses(source_ref, "source reference")?;
@@ -225,6 +238,7 @@ impl Transfer {
         );
         let anchors = part_anchors(&placement, &pairs, source_ref, target_ref);
         Ok(Self {
+            alignment,
             source_ref: source_ref.clone(),
             source_frames_inv,
             target_gradients,
@@ -249,6 +263,7 @@ impl Transfer {
     pub fn workspace(&self) -> PoseWorkspace {
         PoseWorkspace {
             solve: self.system.workspace(),
+            aligned: Vec::new(),
             gradients: vec![[[0.0; 3]; 3]; self.source_ref.num_triangles()],
             parts: vec![[0.0; 3]; self.placement.count()],
         }
@@ -312,6 +327,14 @@ impl Transfer {
             self.target_vertices(),
             "output has the wrong number of vertices"
         );
+        let mut aligned = std::mem::take(&mut ws.aligned);
+        let pose = if self.alignment.is_identity() {
+            pose
+        } else {
+            aligned.clear();
+            aligned.extend(pose.iter().map(|&p| self.alignment.apply(p)));
+            &aligned[..]
+        };
         for ((Q, tri), V_inv) in ws
             .gradients
             .iter_mut()
@@ -343,6 +366,7 @@ impl Transfer {
             *o = self.system.position(&ws.solve, v);
         }
         self.place(pose, &ws.gradients, out, &mut ws.parts);
+        ws.aligned = aligned;
     }
 
     /// Moves each unpinned part so that its paired triangles' centroids

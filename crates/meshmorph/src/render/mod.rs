@@ -39,8 +39,6 @@
 //! ```
 
 mod canvas;
-#[cfg(test)]
-mod check;
 mod gif;
 mod grid;
 mod mesh2d;
