@@ -9,11 +9,16 @@ use meshmorph::io::Format;
 use meshmorph::shapes;
 
 use crate::gltf::GltfArgs;
-use crate::interpolate::{animate, FrameArgs, Stretch};
+use crate::interpolate::{animate, FrameArgs, FrameOutputs, Stretch};
+use crate::outputs::Plan;
 use crate::pictures::PictureArgs;
 use crate::transfer::{run_transfer, CorrespondArgs, References, TransferArgs};
 
 /// Run the main jobs on built-in procedural shapes (no files needed).
+///
+/// Each step (the spiral, the transfer's inputs, the transfer) is all or
+/// nothing, like every other command: its files are moved into place
+/// together once it has succeeded.
 ///
 /// Writes, under DIR:
 ///   spiral.gif, spiral.glb,          a bar curling into a spiral of 540 degrees;
@@ -59,17 +64,37 @@ fn spiral(args: &Args) -> Result<()> {
             max_gltf_mb: 256.0,
         },
     };
-    crate::output::make_dir(&args.output)?;
-    meshmorph::io::write_mesh(&args.output.join("spiral-source.obj"), &bar, Format::Obj)?;
-    meshmorph::io::write_mesh(&args.output.join("spiral-target.obj"), &spiral, Format::Obj)?;
-    let report = animate(
+    let times = frames.times()?;
+    let dir = args.output.join("spiral");
+    let mut plan = Plan::new();
+    let meshes = [
+        (
+            plan.file(&args.output.join("spiral-source.obj"), "demo mesh"),
+            &bar,
+        ),
+        (
+            plan.file(&args.output.join("spiral-target.obj"), "demo mesh"),
+            &spiral,
+        ),
+    ];
+    let outputs = FrameOutputs::plan(&mut plan, &frames, &dir, times.len(), Format::Obj);
+    let staging = plan.prepare()?;
+    for (output, mesh) in meshes {
+        staging.write(output, |path| {
+            Ok(meshmorph::io::write_mesh(path, mesh, Format::Obj)?)
+        })?;
+    }
+    let mut report = animate(
         &bar,
         &spiral,
         &frames,
-        &args.output.join("spiral"),
+        &times,
+        &outputs,
+        &staging,
         Format::Obj,
         start,
     )?;
+    report.surplus_frames_removed = staging.commit()?;
     if !args.json {
         println!("== interpolation: a bar curling into a spiral of 540 degrees ==");
     }
@@ -85,7 +110,6 @@ const POSES: usize = 24;
 fn transfer(args: &Args) -> Result<()> {
     let dir = args.output.join("transfer");
     let input = dir.join("input");
-    crate::output::make_dir(&input)?;
     let source = shapes::tube(TUBE_LENGTH, 0.25, 33, 12);
     let target = shapes::tube(TUBE_LENGTH, 0.5, 21, 20);
 
@@ -103,25 +127,40 @@ fn transfer(args: &Args) -> Result<()> {
         .collect();
     let markers = shapes::nearest_vertex_pairs(&widened, target.positions(), &chosen);
     let markers_path = input.join("markers.txt");
-    meshmorph::io::write_atomic(&markers_path, |w| {
-        writeln!(w, "# source-vertex target-vertex (0-based)")?;
-        for [s, t] in &markers {
-            writeln!(w, "{s} {t}")?;
-        }
-        Ok(())
-    })?;
     let source_ref = input.join("thin-tube.obj");
     let target_ref = input.join("thick-tube.obj");
-    meshmorph::io::write_mesh(&source_ref, &source, Format::Obj)?;
-    meshmorph::io::write_mesh(&target_ref, &target, Format::Obj)?;
-    let mut pose_paths = Vec::new();
-    for k in 0..POSES {
-        let angle = 0.75 * PI * k as f64 / (POSES - 1) as f64;
-        let pose = shapes::bend(&source, TUBE_LENGTH, angle);
-        let path = input.join(format!("bend-{k:02}.obj"));
-        meshmorph::io::write_mesh(&path, &pose, Format::Obj)?;
-        pose_paths.push(path);
+    let poses: Vec<meshmorph::Mesh3> = (0..POSES)
+        .map(|k| {
+            let angle = 0.75 * PI * k as f64 / (POSES - 1) as f64;
+            shapes::bend(&source, TUBE_LENGTH, angle)
+        })
+        .collect();
+    let pose_paths: Vec<PathBuf> = (0..POSES)
+        .map(|k| input.join(format!("bend-{k:02}.obj")))
+        .collect();
+    let mut plan = Plan::new();
+    let marker_output = plan.file(&markers_path, "demo markers");
+    let meshes: Vec<_> = [(&source_ref, &source), (&target_ref, &target)]
+        .into_iter()
+        .chain(pose_paths.iter().zip(&poses))
+        .map(|(path, mesh)| (plan.file(path, "demo mesh"), mesh))
+        .collect();
+    let staging = plan.prepare()?;
+    staging.write(marker_output, |path| {
+        Ok(meshmorph::io::write_atomic(path, |w| {
+            writeln!(w, "# source-vertex target-vertex (0-based)")?;
+            for [s, t] in &markers {
+                writeln!(w, "{s} {t}")?;
+            }
+            Ok(())
+        })?)
+    })?;
+    for (output, mesh) in meshes {
+        staging.write(output, |path| {
+            Ok(meshmorph::io::write_mesh(path, mesh, Format::Obj)?)
+        })?;
     }
+    staging.commit()?;
     if !args.json {
         println!("\n== deformation transfer: a thin tube's bends onto a thick tube ==");
     }

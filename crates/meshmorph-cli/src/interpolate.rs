@@ -10,13 +10,23 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::gltf::GltfArgs;
+use crate::memory;
 use crate::output::{self, positive_number, FormatArg};
+use crate::outputs::{Output, Plan, Staging};
 use crate::pictures;
 use crate::progress;
 
 /// Interpolate between two planar meshes with the same triangles.
 ///
 /// Writes DIR/frame_0000.obj, frame_0001.obj, ... and prints a report.
+///
+/// Inputs are never written: an output that would land on an input is
+/// refused before any work. All or nothing: every file is written under a
+/// temporary name and moved into place only when the whole run has
+/// succeeded; a failed or interrupted (Ctrl-C) run leaves the output folder
+/// as it was. After a successful run, files of an earlier run in DIR named
+/// exactly like frames (frame_ + digits + .obj/.off/.ply/.svg) that this
+/// run did not write are removed; no other file is touched.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The shape at t = 0 (OBJ, OFF or PLY; planar: every z = 0).
@@ -39,15 +49,15 @@ pub struct Args {
 /// Options shared by `interpolate` and `demo`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct FrameArgs {
-    /// Number of frames, t evenly from 0 to 1 inclusive.
-    #[arg(long, default_value_t = 30, value_name = "N")]
+    /// Number of frames, t evenly from 0 to 1 inclusive (at most 1000000).
+    #[arg(long, default_value_t = 30, value_name = "N", value_parser = frame_count)]
     pub frames: usize,
     /// Explicit times instead, comma-separated, written in this order
     /// (values outside [0, 1] extrapolate), e.g. --t 0,0.5,1.5
     #[arg(
         long = "t",
         value_delimiter = ',',
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         value_name = "LIST",
         conflicts_with = "frames"
     )]
@@ -96,6 +106,20 @@ pub struct FrameArgs {
     pub gltf: GltfArgs,
 }
 
+/// The most frames a run writes: a million files is already more than a
+/// folder comfortably holds.
+pub const MAX_FRAMES: usize = 1_000_000;
+
+/// A frame count from 1 to [`MAX_FRAMES`].
+fn frame_count(text: &str) -> Result<usize, String> {
+    match text.parse::<u128>() {
+        Ok(0) => Err("at least 1 frame is needed".into()),
+        Ok(n) if n <= MAX_FRAMES as u128 => Ok(n as usize),
+        Ok(_) => Err(format!("{text} frames is too many (at most {MAX_FRAMES})")),
+        Err(_) => Err(format!("`{text}` is not a whole number of frames")),
+    }
+}
+
 /// `--stretch` values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Stretch {
@@ -106,7 +130,7 @@ pub enum Stretch {
 }
 
 impl FrameArgs {
-    fn times(&self) -> Result<Vec<f64>> {
+    pub fn times(&self) -> Result<Vec<f64>> {
         if let Some(t) = &self.times {
             if t.is_empty() {
                 bail!("--t needs at least one time");
@@ -114,10 +138,14 @@ impl FrameArgs {
             if let Some(x) = t.iter().find(|x| !x.is_finite()) {
                 bail!("--t: {x} is not a finite number");
             }
+            if t.len() > MAX_FRAMES {
+                bail!("--t lists {} times: at most {MAX_FRAMES}", t.len());
+            }
             return Ok(t.clone());
         }
         match self.frames {
             0 => bail!("--frames must be at least 1"),
+            n if n > MAX_FRAMES => bail!("--frames {n} is too many (at most {MAX_FRAMES})"),
             1 => Ok(vec![0.0]),
             n => Ok((0..n).map(|k| k as f64 / (n - 1) as f64).collect()),
         }
@@ -166,6 +194,11 @@ pub struct Report {
     pub files_written: Vec<PathBuf>,
     /// The warnings given (also printed on stderr).
     pub warnings: Vec<String>,
+    /// Frame files of an earlier run removed from the output folder.
+    pub surplus_frames_removed: usize,
+    /// Vertices no triangle uses: they move on the straight line from their
+    /// source to their target position and count in no scale.
+    pub unused_vertices: usize,
 }
 
 impl Report {
@@ -208,14 +241,33 @@ impl Report {
         if let Some(g) = &self.gltf {
             println!("glTF:      {}", g.display());
         }
+        if self.unused_vertices > 0 {
+            println!(
+                "unused vertices: {} (in no triangle; carried along unchanged)",
+                self.unused_vertices
+            );
+        }
+        if self.surplus_frames_removed > 0 {
+            println!(
+                "removed {} frame files of an earlier run",
+                self.surplus_frames_removed
+            );
+        }
     }
 }
 
 pub fn run(args: &Args) -> Result<()> {
     let start = Instant::now();
+    let times = args.frames.times()?;
+    let format = output::format_or_like(args.format, &args.source)?;
+    let mut plan = Plan::new();
+    plan.input(&args.source, "source mesh");
+    plan.input(&args.target, "target mesh");
+    let outputs = FrameOutputs::plan(&mut plan, &args.frames, &args.output, times.len(), format);
+    let staging = plan.prepare()?;
+    memory::check_reading(&[&args.source, &args.target])?;
     let source = output::read_mesh_2d(&args.source, "source mesh")?;
     let target = output::read_mesh_2d(&args.target, "target mesh")?;
-    let format = output::format_or_like(args.format, &args.source)?;
     let context = || {
         format!(
             "interpolating `{}` to `{}`",
@@ -223,36 +275,88 @@ pub fn run(args: &Args) -> Result<()> {
             args.target.display()
         )
     };
-    let report = animate(&source, &target, &args.frames, &args.output, format, start)
-        .with_context(context)?;
+    let mut report = animate(
+        &source,
+        &target,
+        &args.frames,
+        &times,
+        &outputs,
+        &staging,
+        format,
+        start,
+    )
+    .with_context(context)?;
+    report.surplus_frames_removed = staging.commit()?;
     report.print(args.json);
     Ok(())
 }
 
-/// Builds the interpolator, writes every frame (and the pictures asked for),
-/// and reports. `start` is when the command began.
+/// The files of an animation: one mesh per frame, and the pictures asked for.
+pub struct FrameOutputs {
+    dir: PathBuf,
+    meshes: Vec<Output>,
+    svgs: Vec<Output>,
+    gif: Option<Output>,
+    gltf: Option<Output>,
+}
+
+impl FrameOutputs {
+    /// Adds the frames (and SVGs, GIF, GLB) of `count` frames in `dir` to `plan`.
+    pub fn plan(
+        plan: &mut Plan,
+        args: &FrameArgs,
+        dir: &Path,
+        count: usize,
+        format: meshmorph::io::Format,
+    ) -> Self {
+        Self {
+            dir: dir.to_path_buf(),
+            meshes: plan.frames(dir, count, format.extension()),
+            svgs: if args.svg {
+                plan.frames(dir, count, "svg")
+            } else {
+                Vec::new()
+            },
+            gif: args.gif.as_deref().map(|g| plan.file(g, "animation")),
+            gltf: args.gltf.gltf.as_deref().map(|g| plan.file(g, "glTF file")),
+        }
+    }
+}
+
+/// Builds the interpolator, writes every frame (and the pictures asked for)
+/// through `staging`, and reports. `start` is when the command began.
+#[allow(clippy::too_many_arguments)]
 pub fn animate(
     source: &Mesh2,
     target: &Mesh2,
     args: &FrameArgs,
-    dir: &Path,
+    times: &[f64],
+    outputs: &FrameOutputs,
+    staging: &Staging,
     format: meshmorph::io::Format,
     start: Instant,
 ) -> Result<Report> {
-    let times = args.times()?;
+    let dir = outputs.dir.as_path();
     args.gltf.check::<2>(
         source.num_vertices(),
         source.num_triangles(),
         times.len(),
         false,
     )?;
+    memory::check_setup(source.num_triangles(), "the interpolation")?;
     let setup = Instant::now();
     let morph = Interpolator::new(source, target, &args.options())?;
     let setup_seconds = setup.elapsed().as_secs_f64();
-    output::make_dir(dir)?;
 
     let bar = progress::bar(times.len() as u64, "frames");
-    let keep = args.gif.is_some() || args.svg || args.gltf.gltf.is_some();
+    let keep = outputs.gif.is_some() || !outputs.svgs.is_empty() || outputs.gltf.is_some();
+    if keep {
+        memory::check_held(
+            times.len(),
+            morph.num_vertices() * std::mem::size_of::<[f64; 2]>(),
+            "holding every frame for the pictures",
+        )?;
+    }
     let results: Vec<Result<Frame>> = times
         .par_iter()
         .enumerate()
@@ -265,9 +369,15 @@ pub fn animate(
                 let compute = begin.elapsed().as_secs_f64();
                 let flipped = morph.count_flipped(&positions);
                 let begin = Instant::now();
-                let path = output::frame_path(dir, k, times.len(), format.extension());
-                meshmorph::io::write_positions(&path, &positions, morph.triangles(), format)
-                    .with_context(|| format!("writing `{}`", path.display()))?;
+                staging.write(outputs.meshes[k], |path| {
+                    check_finite(&positions, k, t)?;
+                    Ok(meshmorph::io::write_positions(
+                        path,
+                        &positions,
+                        morph.triangles(),
+                        format,
+                    )?)
+                })?;
                 let write = begin.elapsed().as_secs_f64();
                 bar.inc(1);
                 Ok(Frame {
@@ -280,26 +390,7 @@ pub fn animate(
         )
         .collect();
     bar.finish_and_clear();
-    // A run that fails once writing has begun (a frame that cannot be
-    // written, an SVG or GIF path that cannot be) removes the frames and
-    // SVGs it names, so that it leaves no partial animation behind.
-    let remove_frames = |e: anyhow::Error| {
-        for k in 0..times.len() {
-            let _ =
-                std::fs::remove_file(output::frame_path(dir, k, times.len(), format.extension()));
-            if args.svg {
-                let _ = std::fs::remove_file(output::frame_path(dir, k, times.len(), "svg"));
-            }
-        }
-        if let Some(gif) = &args.gif {
-            let _ = std::fs::remove_file(gif);
-        }
-        e
-    };
-    let mut frames = results
-        .into_iter()
-        .collect::<Result<Vec<_>>>()
-        .map_err(remove_frames)?;
+    let mut frames = results.into_iter().collect::<Result<Vec<_>>>()?;
     let (max_flipped_frame, max_flipped) = frames
         .iter()
         .enumerate()
@@ -307,7 +398,7 @@ pub fn animate(
         .max_by_key(|&(k, f)| (f, std::cmp::Reverse(k)))
         .unwrap_or((0, 0));
     let mut files_written: Vec<PathBuf> = (0..times.len())
-        .map(|k| output::frame_path(dir, k, times.len(), format.extension()))
+        .map(|k| crate::outputs::frame_path(dir, k, times.len(), format.extension()))
         .collect();
     let mut gltf = None;
     if keep {
@@ -315,24 +406,33 @@ pub fn animate(
             .iter_mut()
             .filter_map(|f| f.positions.take())
             .collect();
-        files_written.extend(
-            write_pictures(args, dir, &positions, morph.triangles()).map_err(remove_frames)?,
-        );
-        let names: Vec<String> = (0..times.len())
-            .map(|k| {
-                let path = output::frame_path(dir, k, times.len(), format.extension());
-                crate::gltf::mesh_name(&path)
-            })
-            .collect();
-        let options = GltfOptions::default()
-            .with_fps(args.fps)
-            .with_name("interpolation");
-        let base = GltfBase::new(source.positions(), source.triangles());
-        gltf = args
-            .gltf
-            .write(&base, &positions, &names, &options)
-            .map_err(remove_frames)?;
-        files_written.extend(gltf.clone());
+        files_written.extend(write_pictures(
+            args,
+            outputs,
+            staging,
+            &positions,
+            morph.triangles(),
+        )?);
+        if let Some(output) = outputs.gltf {
+            let names: Vec<String> = (0..times.len())
+                .map(|k| {
+                    let path = crate::outputs::frame_path(dir, k, times.len(), format.extension());
+                    crate::gltf::mesh_name(&path)
+                })
+                .collect();
+            let options = GltfOptions::default()
+                .with_fps(args.fps)
+                .with_name("interpolation");
+            let base = GltfBase::new(source.positions(), source.triangles());
+            staging.write(output, |path| {
+                let mut staged = args.gltf.clone();
+                staged.gltf = Some(path.to_path_buf());
+                staged.write(&base, &positions, &names, &options)?;
+                Ok(())
+            })?;
+            gltf = args.gltf.gltf.clone();
+            files_written.extend(gltf.clone());
+        }
     }
     let mut warnings = Vec::new();
     if max_flipped > 0 {
@@ -357,33 +457,52 @@ pub fn animate(
         gltf,
         files_written,
         warnings,
+        surplus_frames_removed: 0,
+        unused_vertices: source.num_unused_vertices(),
     })
 }
 
+/// Refuses a frame whose coordinates overflowed (inputs near the largest
+/// representable number, or far extrapolation).
+fn check_finite(positions: &[[f64; 2]], frame: usize, t: f64) -> Result<()> {
+    if let Some(v) = positions
+        .iter()
+        .position(|p| !(p[0].is_finite() && p[1].is_finite()))
+    {
+        bail!(
+            "frame {frame} (t = {t}): vertex {v} overflows (its coordinates exceed the range of floating-point numbers); scale the meshes down"
+        );
+    }
+    Ok(())
+}
+
 /// The SVGs and the GIF asked for, of the frames' positions; returns the
-/// files written.
+/// files (as the user will find them).
 fn write_pictures(
     args: &FrameArgs,
-    dir: &Path,
+    outputs: &FrameOutputs,
+    staging: &Staging,
     positions: &[Vec<[f64; 2]>],
     triangles: &[[u32; 3]],
 ) -> Result<Vec<PathBuf>> {
     let mut written = Vec::new();
-    if args.svg {
-        let paths: Vec<PathBuf> = (0..positions.len())
-            .map(|k| output::frame_path(dir, k, positions.len(), "svg"))
-            .collect();
-        pictures::write_svgs(&paths, positions, triangles, args.gif_width)?;
-        written.extend(paths);
+    if !outputs.svgs.is_empty() {
+        pictures::write_svgs(staging, &outputs.svgs, positions, triangles, args.gif_width)?;
+        written.extend(
+            (0..positions.len())
+                .map(|k| crate::outputs::frame_path(&outputs.dir, k, positions.len(), "svg")),
+        );
     }
-    if let Some(gif) = &args.gif {
+    if let (Some(output), Some(gif)) = (outputs.gif, &args.gif) {
         let gif_args = pictures::GifArgs {
             width: args.gif_width,
             height: args.gif_height,
             fps: args.fps,
             boomerang: !args.no_boomerang,
         };
-        pictures::write_gif(gif, positions, triangles, &gif_args)?;
+        staging.write(output, |path| {
+            pictures::write_gif(path, positions, triangles, &gif_args)
+        })?;
         written.push(gif.clone());
     }
     Ok(written)

@@ -1,6 +1,6 @@
 //! What every subcommand shares: output paths, formats, reports.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use anyhow::{Context, Result};
 use meshmorph::io::Format;
@@ -32,18 +32,6 @@ pub fn format_or_like(asked: Option<FormatArg>, like: &Path) -> Result<Format> {
         Some(f) => Ok(f.into()),
         None => Format::from_path(like).map_err(Into::into),
     }
-}
-
-/// Creates `dir` (and its parents) if missing.
-pub fn make_dir(dir: &Path) -> Result<()> {
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("creating output directory `{}`", dir.display()))
-}
-
-/// `dir/frame_0007.ext`, with enough digits for `count` frames (at least 4).
-pub fn frame_path(dir: &Path, index: usize, count: usize, ext: &str) -> PathBuf {
-    let digits = (count.max(2) - 1).to_string().len().max(4);
-    dir.join(format!("frame_{index:0digits$}.{ext}"))
 }
 
 /// Reads a mesh, saying which file and what role on failure.
@@ -96,33 +84,4 @@ pub fn print_warnings(warnings: &[String]) {
     for w in warnings {
         eprintln!("warning: {w}");
     }
-}
-
-/// Refuses an output path that resolves to one of the `inputs`.
-pub fn refuse_input(output: &Path, inputs: &[&Path]) -> Result<()> {
-    let resolved = match (output.parent(), output.file_name()) {
-        (Some(dir), Some(name)) => {
-            let dir = if dir.as_os_str().is_empty() {
-                Path::new(".")
-            } else {
-                dir
-            };
-            dir.canonicalize().ok().map(|d| d.join(name))
-        }
-        _ => None,
-    };
-    let Some(resolved) = resolved else {
-        return Ok(());
-    };
-    if let Some(input) = inputs
-        .iter()
-        .find(|i| i.canonicalize().ok().as_ref() == Some(&resolved))
-    {
-        anyhow::bail!(
-            "the output `{}` would overwrite the input `{}`: choose another name",
-            output.display(),
-            input.display()
-        );
-    }
-    Ok(())
 }

@@ -8,6 +8,8 @@ use meshmorph::render::{
     self, Flipped, GifOptions, GridOptions, GridRow, Ramp, Style2d, Style3d, View2d,
 };
 
+use crate::outputs::{Output, Staging};
+
 /// The look of planar frames: triangles turned against the majority of
 /// the mesh are drawn in the warning colour.
 pub fn style_2d() -> Style2d {
@@ -19,17 +21,21 @@ pub fn style_2d() -> Style2d {
 
 /// Writes each frame as an SVG, all through one view that holds every frame.
 pub fn write_svgs(
-    paths: &[PathBuf],
+    staging: &Staging,
+    outputs: &[Output],
     frames: &[Vec<[f64; 2]>],
     triangles: &[[u32; 3]],
     width: u32,
 ) -> Result<()> {
     let view = View2d::fitting(frames.iter().map(Vec::as_slice), width, None, 16);
     let style = style_2d();
-    for (path, frame) in paths.iter().zip(frames) {
+    for (&output, frame) in outputs.iter().zip(frames) {
         let svg = render::svg_frame(frame, triangles, &view, &style);
-        meshmorph::io::write_atomic(path, |w| w.write_all(svg.as_bytes()))
-            .with_context(|| format!("writing `{}`", path.display()))?;
+        staging.write(output, |path| {
+            Ok(meshmorph::io::write_atomic(path, |w| {
+                w.write_all(svg.as_bytes())
+            })?)
+        })?;
     }
     Ok(())
 }
@@ -56,8 +62,13 @@ pub fn write_gif(
         boomerang: args.boomerang,
         ..GifOptions::default()
     };
-    render::write_gif_2d(path, frames, triangles, &options, &style_2d())
-        .with_context(|| format!("writing the animation `{}`", path.display()))
+    Ok(render::write_gif_2d(
+        path,
+        frames,
+        triangles,
+        &options,
+        &style_2d(),
+    )?)
 }
 
 /// `--png` and `--gif` of the commands on meshes in space.
@@ -75,11 +86,6 @@ impl PictureArgs {
     /// Whether any picture is asked for.
     pub fn any(&self) -> bool {
         self.png.is_some() || self.gif.is_some()
-    }
-
-    /// The pictures' paths.
-    pub fn paths(&self) -> impl Iterator<Item = &PathBuf> {
-        self.png.iter().chain(&self.gif)
     }
 }
 

@@ -14,7 +14,9 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::gltf::GltfArgs;
+use crate::memory;
 use crate::output::{self, positive_number, FormatArg};
+use crate::outputs::{Output, Plan, Staging};
 use crate::pictures::PictureArgs;
 use crate::progress;
 
@@ -36,24 +38,29 @@ pub struct CorrespondArgs {
     #[arg(long)]
     pub no_align: bool,
     /// Weight of the smoothness term w_S [default: 1].
-    #[arg(long, value_name = "W")]
+    #[arg(long, value_name = "W", allow_negative_numbers = true)]
     pub smoothness_weight: Option<f64>,
     /// Weight of the identity term w_I, above 0 [default: 0.001].
-    #[arg(long, value_name = "W")]
+    #[arg(long, value_name = "W", allow_negative_numbers = true)]
     pub identity_weight: Option<f64>,
     /// Weights w_C of the closest-point rounds, comma-separated, after a
     /// first round without closest points [default: 1 to 5000 in four
     /// even steps].
-    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        allow_hyphen_values = true
+    )]
     pub closest_weights: Option<Vec<f64>>,
     /// Largest distance to a closest point, as a fraction of the target's
     /// bounding-box diagonal [default: 0.02].
-    #[arg(long, value_name = "FRACTION")]
+    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
     pub closest_cutoff: Option<f64>,
     /// Largest centroid distance of matched triangles, as a fraction of the
     /// target's bounding-box diagonal, and never less than the mean edge
     /// length of either mesh [default: 0.01].
-    #[arg(long, value_name = "FRACTION")]
+    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
     pub match_threshold: Option<f64>,
 }
 
@@ -230,7 +237,13 @@ pub struct TransferArgs {
     /// Target vertices (comma-separated, 0-based unless --one-based) held at
     /// their rest positions in every pose, instead of placing the result by
     /// its centroid.
-    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        allow_hyphen_values = true,
+        value_parser = vertex_index
+    )]
     pub pin: Vec<u32>,
     /// Directory for the transferred poses (created if missing).
     #[arg(short, long, value_name = "DIR")]
@@ -258,6 +271,15 @@ pub struct TransferArgs {
     pub poses: Vec<PathBuf>,
 }
 
+/// A vertex index (0 or more).
+fn vertex_index(text: &str) -> Result<u32, String> {
+    match text.trim().parse::<i128>() {
+        Ok(v) if v < 0 => Err(format!("{v} is not a vertex index: indices count from 0")),
+        Ok(v) => u32::try_from(v).map_err(|_| format!("{v} is too large for a vertex index")),
+        Err(_) => Err(format!("`{text}` is not a vertex index")),
+    }
+}
+
 /// What a transfer did.
 #[derive(Debug, Serialize)]
 pub struct TransferReport {
@@ -279,6 +301,12 @@ pub struct TransferReport {
     pub markers: Option<MarkerReport>,
     /// Pose faces that list the reference's corners in another order or winding.
     pub reordered_pose_faces: usize,
+    /// Target triangles without a partner nearby, kept at their rest shape.
+    pub unpaired_target_triangles: usize,
+    /// Separate parts of the target carried rigidly by the surface around them.
+    pub carried_parts: usize,
+    /// Target vertices no triangle uses: written at their rest positions.
+    pub unused_target_vertices: usize,
     pub total_seconds: f64,
     /// The GLB written, if any.
     pub gltf: Option<PathBuf>,
@@ -314,6 +342,12 @@ impl TransferReport {
                 ""
             }
         );
+        if self.unused_target_vertices > 0 {
+            println!(
+                "unused target vertices: {} (in no triangle; kept at rest)",
+                self.unused_target_vertices
+            );
+        }
         println!(
             "setup:          {}",
             output::human_seconds(self.setup_seconds)
@@ -337,28 +371,53 @@ impl TransferReport {
 /// more looks like an export in other units.
 const POSE_SIZE_RATIO: f64 = 2.0;
 
+/// One pose done: seconds solving, seconds with reading and writing, what
+/// the output format dropped, the positions (kept for the glTF and pictures).
+type SolvedPose = (f64, f64, Vec<String>, Option<Vec<[f64; 3]>>);
+
 pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let start = Instant::now();
-    let (source_file, target_file) = args.refs.read()?;
-    let (source, target) = (source_file.mesh(), target_file.mesh());
     let format = output::format_or_like(args.format, &args.refs.target_ref)?;
-    let mut inputs: Vec<&Path> = args.poses.iter().map(PathBuf::as_path).collect();
-    inputs.extend([
+    // Every output is checked against every input (by resolved path) before
+    // anything is read or computed.
+    let outputs = output_paths(&args.poses, &args.output, format.extension(), &[])?;
+    let mut plan = Plan::new();
+    for pose in &args.poses {
+        plan.input(pose, "source pose");
+    }
+    plan.input(&args.refs.source_ref, "source reference");
+    plan.input(&args.refs.target_ref, "target reference");
+    if let Some(m) = &args.correspond.markers {
+        plan.input(m, "marker file");
+    }
+    if let Some(c) = &args.correspondence {
+        plan.input(c, "correspondence");
+    }
+    let pose_outputs: Vec<Output> = outputs
+        .iter()
+        .map(|p| plan.file(p, "transferred pose"))
+        .collect();
+    let save = args
+        .save_correspondence
+        .as_deref()
+        .map(|p| plan.file(p, "correspondence to save"));
+    let gltf_output = args.gltf.gltf.as_deref().map(|p| plan.file(p, "glTF file"));
+    let pictures = PictureOutputs::plan(&mut plan, &args.pictures);
+    let staging = plan.prepare()?;
+    let mut read: Vec<&Path> = args.poses.iter().map(PathBuf::as_path).collect();
+    read.extend([
         args.refs.source_ref.as_path(),
         args.refs.target_ref.as_path(),
     ]);
-    inputs.extend(args.correspondence.as_deref());
-    inputs.extend(args.correspond.markers.as_deref());
-    let outputs = output_paths(&args.poses, &args.output, format.extension(), &inputs)?;
+    memory::check_reading(&read)?;
+    let (source_file, target_file) = args.refs.read()?;
+    let (source, target) = (source_file.mesh(), target_file.mesh());
     args.gltf.check::<3>(
         target.num_vertices(),
         target.num_triangles(),
         args.poses.len(),
         false,
     )?;
-    for extra in args.gltf.gltf.iter().chain(args.pictures.paths()) {
-        output::refuse_input(extra, &inputs)?;
-    }
     let pins = pin_positions(&args.pin, args.correspond.one_based, target)?;
     let mut warnings: Vec<String> = Vec::new();
 
@@ -425,6 +484,10 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let correspondence_seconds = begin.elapsed().as_secs_f64();
 
     let begin = Instant::now();
+    memory::check_setup(
+        source.num_triangles() + target.num_triangles(),
+        "the transfer",
+    )?;
     let transfer = Transfer::new(
         source,
         target,
@@ -435,28 +498,28 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let setup_seconds = begin.elapsed().as_secs_f64();
 
     let bar = progress::bar(poses.len() as u64, "poses");
-    // Saved only now that every input is known to be good: a failed run
-    // writes nothing.
-    if let Some(path) = &args.save_correspondence {
-        correspondence
-            .save(path)
-            .context("saving the correspondence")?;
+    if let Some(save) = save {
+        staging.write(save, |path| Ok(correspondence.save(path)?))?;
     }
-    output::make_dir(&args.output)?;
     let keep = args.gltf.gltf.is_some() || args.pictures.any();
-    let solved: Vec<(f64, f64, Vec<String>, Option<Vec<[f64; 3]>>)> = poses
+    let solved: Vec<SolvedPose> = poses
         .par_iter()
-        .zip(&outputs)
+        .zip(&pose_outputs)
         .map_init(
             || transfer.workspace(),
-            |ws, ((pose, _, read), out_path)| {
+            |ws, ((pose, _, read), &output)| {
                 let begin = Instant::now();
                 let mut out = vec![[0.0; 3]; target.num_vertices()];
                 transfer.apply_into(pose.positions(), &mut out, ws);
                 let solve = begin.elapsed().as_secs_f64();
-                let dropped = target_file
-                    .write(out_path, &out, format)
-                    .with_context(|| format!("writing `{}`", out_path.display()))?;
+                let mut dropped = Vec::new();
+                staging.write(output, |path| {
+                    if let Some(v) = out.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
+                        bail!("vertex {v} overflows (its coordinates exceed the range of floating-point numbers); scale the meshes down");
+                    }
+                    dropped = target_file.write(path, &out, format)?;
+                    Ok(())
+                })?;
                 bar.inc(1);
                 Ok((
                     solve,
@@ -493,25 +556,47 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     if let Some(uvs) = &corner_uvs {
         base = base.with_corner_uvs(uvs);
     }
-    let gltf = args.gltf.write(&base, &results, &names, &options)?;
-    files_written.extend(gltf.clone());
+    let mut gltf = None;
+    if let Some(output) = gltf_output {
+        staging.write(output, |path| {
+            let mut staged = args.gltf.clone();
+            staged.gltf = Some(path.to_path_buf());
+            staged.write(&base, &results, &names, &options)?;
+            Ok(())
+        })?;
+        gltf = args.gltf.gltf.clone();
+        files_written.extend(gltf.clone());
+    }
     if args.pictures.any() {
         let source_poses: Vec<&[[f64; 3]]> = poses.iter().map(|(p, _, _)| p.positions()).collect();
         let target_poses: Vec<&[[f64; 3]]> = results.iter().map(Vec::as_slice).collect();
-        files_written.extend(crate::pictures::write_transfer_pictures(
-            &args.pictures,
-            args.fps,
-            (source.triangles(), &source_poses),
-            (target.triangles(), &target_poses),
-        )?);
+        files_written.extend(pictures.write(&staging, &args.pictures, |staged| {
+            crate::pictures::write_transfer_pictures(
+                staged,
+                args.fps,
+                (source.triangles(), &source_poses),
+                (target.triangles(), &target_poses),
+            )
+            .map(|_| ())
+        })?);
     }
-    if correspondence.unmatched_target() > 0 {
+    if transfer.unpaired_triangles() > 0 {
         warnings.push(format!(
-            "{} target triangles have no source partner: they follow their neighbours",
-            correspondence.unmatched_target()
+            "{} target triangles have no source partner nearby: they keep their rest shape and turn with the paired surface",
+            transfer.unpaired_triangles()
+        ));
+    }
+    if transfer.carried_parts() > 0 {
+        warnings.push(format!(
+            "{} separate part{} of the target with few source partners {} carried rigidly by the surface around {}",
+            transfer.carried_parts(),
+            if transfer.carried_parts() == 1 { "" } else { "s" },
+            if transfer.carried_parts() == 1 { "is" } else { "are" },
+            if transfer.carried_parts() == 1 { "it" } else { "them" },
         ));
     }
     output::print_warnings(&warnings);
+    staging.commit()?;
     let n = timings.len() as f64;
     TransferReport {
         output: args.output.clone(),
@@ -526,6 +611,9 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         unmatched_target_triangles: correspondence.unmatched_target(),
         markers: marker_report,
         reordered_pose_faces,
+        unpaired_target_triangles: transfer.unpaired_triangles(),
+        carried_parts: transfer.carried_parts(),
+        unused_target_vertices: target.num_unused_vertices(),
         total_seconds: start.elapsed().as_secs_f64(),
         gltf,
         files_written,
@@ -533,6 +621,52 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     }
     .print(args.json);
     Ok(())
+}
+
+/// The pictures of a plan (`--png`, `--gif`), each written through the
+/// staging on its own.
+struct PictureOutputs {
+    png: Option<Output>,
+    gif: Option<Output>,
+}
+
+impl PictureOutputs {
+    fn plan(plan: &mut Plan, args: &crate::pictures::PictureArgs) -> Self {
+        Self {
+            png: args.png.as_deref().map(|p| plan.file(p, "picture")),
+            gif: args.gif.as_deref().map(|p| plan.file(p, "animation")),
+        }
+    }
+
+    /// Calls `draw` once per picture with the staged path in place of the
+    /// user's; returns the user's paths.
+    fn write(
+        &self,
+        staging: &Staging,
+        args: &crate::pictures::PictureArgs,
+        draw: impl Fn(&crate::pictures::PictureArgs) -> Result<()>,
+    ) -> Result<Vec<PathBuf>> {
+        let mut written = Vec::new();
+        if let (Some(output), Some(png)) = (self.png, &args.png) {
+            staging.write(output, |path| {
+                draw(&crate::pictures::PictureArgs {
+                    png: Some(path.to_path_buf()),
+                    gif: None,
+                })
+            })?;
+            written.push(png.clone());
+        }
+        if let (Some(output), Some(gif)) = (self.gif, &args.gif) {
+            staging.write(output, |path| {
+                draw(&crate::pictures::PictureArgs {
+                    png: None,
+                    gif: Some(path.to_path_buf()),
+                })
+            })?;
+            written.push(gif.clone());
+        }
+        Ok(written)
+    }
 }
 
 /// `--pin` vertices (1-based with `--one-based`) at their rest positions.
@@ -639,44 +773,63 @@ pub struct CorrespondReport {
 }
 
 pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
-    if args.correspond.markers.is_none() {
+    let Some(markers_path) = &args.correspond.markers else {
         bail!("--markers is required");
-    }
-    let (source_file, target_file) = args.refs.read()?;
-    let (source, target) = (source_file.mesh(), target_file.mesh());
-    let begin = Instant::now();
+    };
     // Checked before any work, so that a bad name leaves no output behind.
     let deformed_format = args
         .deformed_source
         .as_deref()
         .map(meshmorph::io::Format::from_path)
         .transpose()?;
-    let inputs = [
-        args.refs.source_ref.as_path(),
-        args.refs.target_ref.as_path(),
-    ];
-    for extra in args.pictures.paths() {
-        output::refuse_input(extra, &inputs)?;
-    }
+    let mut plan = Plan::new();
+    plan.input(&args.refs.source_ref, "source reference");
+    plan.input(&args.refs.target_ref, "target reference");
+    plan.input(markers_path, "marker file");
+    let saved = plan.file(&args.output, "correspondence");
+    let deformed = args
+        .deformed_source
+        .as_deref()
+        .map(|p| plan.file(p, "deformed source"));
+    let pictures = PictureOutputs::plan(&mut plan, &args.pictures);
+    let staging = plan.prepare()?;
+    memory::check_reading(&[&args.refs.source_ref, &args.refs.target_ref])?;
+    let (source_file, target_file) = args.refs.read()?;
+    let (source, target) = (source_file.mesh(), target_file.mesh());
+    memory::check_setup(
+        source.num_triangles() + target.num_triangles(),
+        "the correspondence",
+    )?;
+    let begin = Instant::now();
     let mut warnings = Vec::new();
     let (result, markers) = args
         .correspond
         .compute(&args.refs, source, target, &mut warnings)?;
     let seconds = begin.elapsed().as_secs_f64();
     let c = &result.correspondence;
-    c.save(&args.output).context("saving the correspondence")?;
+    staging.write(saved, |path| Ok(c.save(path)?))?;
     let mut files_written = vec![args.output.clone()];
-    if let (Some(path), Some(format)) = (&args.deformed_source, deformed_format) {
-        meshmorph::io::write_mesh(path, &result.deformed_source, format)
-            .with_context(|| format!("writing `{}`", path.display()))?;
+    if let (Some(output), Some(path), Some(format)) =
+        (deformed, &args.deformed_source, deformed_format)
+    {
+        staging.write(output, |staged| {
+            Ok(meshmorph::io::write_mesh(
+                staged,
+                &result.deformed_source,
+                format,
+            )?)
+        })?;
         files_written.push(path.clone());
     }
-    files_written.extend(crate::pictures::write_correspondence_pictures(
-        &args.pictures,
-        (source.triangles(), &[source.positions()]),
-        result.deformed_source.positions(),
-        (target.triangles(), &[target.positions()]),
-    )?);
+    files_written.extend(pictures.write(&staging, &args.pictures, |staged| {
+        crate::pictures::write_correspondence_pictures(
+            staged,
+            (source.triangles(), &[source.positions()]),
+            result.deformed_source.positions(),
+            (target.triangles(), &[target.positions()]),
+        )
+        .map(|_| ())
+    })?);
     if c.unmatched_target() > 0 {
         warnings.push(format!(
             "{} target triangles have no source partner",
@@ -684,6 +837,7 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         ));
     }
     output::print_warnings(&warnings);
+    staging.commit()?;
     let report = CorrespondReport {
         output: args.output.clone(),
         seconds,

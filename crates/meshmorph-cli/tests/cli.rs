@@ -583,17 +583,23 @@ fn interpolate_missing_file() {
 #[test]
 fn interpolate_gif_that_cannot_be_written_leaves_no_frames() {
     let p = Pair::bar();
-    let gif = p.out.join("missing").join("a.gif");
+    let blocker = p.out.parent().unwrap().join("blocker");
+    fs::write(&blocker, "a file, not a folder").unwrap();
+    let gif = blocker.join("a.gif");
     let err = p.interpolate_fails(&["--frames", "3", "--svg", "--gif", gif.to_str().unwrap()]);
-    assert_mentions(&err, &[&shown(&gif), "animation"]);
-    assert_eq!(err.matches("os error").count(), 1, "{err}");
+    assert_mentions(
+        &err,
+        &[&shown(&gif), "animation", "is a file, not a folder"],
+    );
 }
 
 #[test]
 fn interpolate_bad_frame_options() {
     let p = Pair::bar();
-    let err = p.interpolate_fails(&["--frames", "0"]);
-    assert_mentions(&err, &["--frames"]);
+    let out = p.interpolate(&["--frames", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_mentions(&stderr(&out), &["--frames", "at least 1 frame"]);
+    assert_empty(&p.out);
     let err = p.interpolate_fails(&["--t", "0,nan"]);
     assert_mentions(&err, &["--t", "NaN"]);
 }
@@ -1206,7 +1212,7 @@ fn transfer_refuses_to_overwrite_its_inputs() {
         &[os("--markers"), rig.markers.as_os_str()],
         &rig.poses[..1],
     ));
-    assert_mentions(&err, &["would overwrite the input"]);
+    assert_mentions(&err, &["would overwrite the source pose"]);
     assert_eq!(fs::read(&rig.poses[0]).unwrap(), before);
 }
 
@@ -1265,10 +1271,13 @@ fn interpolate_bad_gltf_options_are_refused_before_any_output() {
     assert_mentions(&err, &["a.gltf", ".glb"]);
     let err = p.interpolate_fails(&["--gltf", g, "--frames", "100", "--max-gltf-mb", "0.01"]);
     assert_mentions(&err, &["a.glb", "MB", "100 frames", "--max-gltf-mb"]);
-    // A GLB that cannot be written: no frame files left either.
-    let missing = p.out.join("no/such/dir/a.glb");
-    let err = p.interpolate_fails(&["--gltf", missing.to_str().unwrap()]);
-    assert_mentions(&err, &[&shown(&missing), "glTF"]);
+    // A GLB that cannot be written (its folder is a file): no frame files
+    // left either. (Missing folders are created.)
+    let blocker = p.out.parent().unwrap().join("blocker");
+    fs::write(&blocker, "a file").unwrap();
+    let blocked = blocker.join("a.glb");
+    let err = p.interpolate_fails(&["--gltf", blocked.to_str().unwrap()]);
+    assert_mentions(&err, &[&shown(&blocked), "glTF", "is a file, not a folder"]);
 }
 
 #[test]

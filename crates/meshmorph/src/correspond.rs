@@ -30,7 +30,7 @@ use crate::gradient::{FactoredSystem, GradientOperators, Pins};
 use crate::markers::Markers;
 use crate::matrix::identity;
 use crate::mesh::Mesh3;
-use crate::similarity::{residuals, Similarity};
+use crate::similarity::{fit_robust, residuals, Similarity};
 use crate::solve::{FactorKind, SymmetricBuilder, SymmetricMatrix};
 use crate::topology::{connected_components, edges, Components};
 
@@ -197,8 +197,13 @@ pub fn correspond(
             .collect()
     };
     let (from, to) = (marker_points(source, 0), marker_points(target, 1));
+    // Fitted in a fixed order of the pairs, so that the order of the
+    // markers does not change the last bits.
+    let mut order: Vec<usize> = (0..from.len()).collect();
+    order.sort_unstable_by_key(|&k| markers.pairs()[k]);
+    let sorted = |p: &[[f64; 3]]| -> Vec<[f64; 3]> { order.iter().map(|&k| p[k]).collect() };
     let alignment = if options.align {
-        Similarity::fit(&from, &to)?
+        fit_robust(&sorted(&from), &sorted(&to))?.0
     } else {
         Similarity::IDENTITY
     };

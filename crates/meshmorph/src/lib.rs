@@ -42,6 +42,7 @@
 // Numeric kernels index small fixed-size arrays by position, as the papers do.
 #![allow(clippy::needless_range_loop)]
 
+pub mod carried_parts;
 mod closest;
 mod correspond;
 mod correspondence;
@@ -56,6 +57,7 @@ mod mesh;
 mod polar;
 pub mod render;
 mod rotation;
+pub mod rotation_field;
 pub mod shapes;
 pub mod similarity;
 mod solve;

@@ -122,9 +122,17 @@ impl<const D: usize> Mesh<D> {
         (self.positions, self.triangles)
     }
 
-    /// Length of the diagonal of the axis-aligned bounding box of all vertices.
+    /// Length of the diagonal of the axis-aligned bounding box of the
+    /// vertices that triangles use: a stray unused vertex changes no scale.
     pub fn bounding_box_diagonal(&self) -> f64 {
-        bounding_box_diagonal(&self.positions)
+        used_bounding_box_diagonal(&self.positions, &self.triangles)
+    }
+
+    /// How many vertices no triangle uses (they are carried through every
+    /// operation unchanged).
+    pub fn num_unused_vertices(&self) -> usize {
+        let used = used_vertices(self.positions.len(), &self.triangles);
+        used.iter().filter(|u| !**u).count()
     }
 
     /// The vertices of triangle `t`.
@@ -188,8 +196,22 @@ impl Mesh3 {
 }
 
 /// Fails on triangles whose (absolute) area is at most `1e-14 · diagonal²`
-/// or not a number.
+/// or not a number, where `diagonal` is that of the used vertices' box.
+/// Coordinates so large that the box or an area is not a finite number
+/// are named as overflow, not as degenerate triangles.
 pub(crate) fn check_areas(areas: &[f64], diagonal: f64, name: &str) -> Result<()> {
+    if !diagonal.is_finite() {
+        return Err(Error::InvalidMesh(format!(
+            "the {name}'s coordinates overflow: its extent exceeds the range of floating-point numbers (about 1.8e308); scale it down"
+        )));
+    }
+    // Coordinates are finite (checked by `Mesh::new`): an area that is not
+    // comes from overflow in its products.
+    if let Some(t) = areas.iter().position(|a| !a.is_finite()) {
+        return Err(Error::InvalidMesh(format!(
+            "the {name}'s triangle {t} overflows: its area exceeds the range of floating-point numbers; scale the mesh down"
+        )));
+    }
     let tiny = 1e-14 * diagonal * diagonal;
     let bad: Vec<usize> = (0..areas.len())
         .filter(|&t| areas[t].abs() <= tiny || areas[t].is_nan())
@@ -233,6 +255,32 @@ pub fn signed_areas(positions: &[[f64; 2]], triangles: &[[u32; 3]]) -> Vec<f64> 
         .collect()
 }
 
+/// Which of `num_vertices` vertices some triangle uses.
+pub fn used_vertices(num_vertices: usize, triangles: &[[u32; 3]]) -> Vec<bool> {
+    let mut used = vec![false; num_vertices];
+    for t in triangles {
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    used
+}
+
+/// [`bounding_box_diagonal`] of the vertices that `triangles` use.
+pub fn used_bounding_box_diagonal<const D: usize>(
+    positions: &[[f64; D]],
+    triangles: &[[u32; 3]],
+) -> f64 {
+    let used = used_vertices(positions.len(), triangles);
+    let points: Vec<[f64; D]> = positions
+        .iter()
+        .zip(&used)
+        .filter(|(_, u)| **u)
+        .map(|(p, _)| *p)
+        .collect();
+    bounding_box_diagonal(&points)
+}
+
 /// Length of the diagonal of the axis-aligned bounding box of `points`
 /// (0 for an empty slice).
 pub fn bounding_box_diagonal<const D: usize>(points: &[[f64; D]]) -> f64 {
@@ -247,7 +295,19 @@ pub fn bounding_box_diagonal<const D: usize>(points: &[[f64; D]]) -> f64 {
     if points.is_empty() {
         return 0.0;
     }
-    (0..D).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
+    // Scaled by the largest extent, so that a box wider than 1e154 does not
+    // overflow when squared; infinite only when an extent is.
+    let extents: [f64; D] = std::array::from_fn(|k| hi[k] - lo[k]);
+    let largest = extents.iter().fold(0.0f64, |m, e| m.max(*e));
+    if largest == 0.0 || !largest.is_finite() {
+        return largest;
+    }
+    largest
+        * extents
+            .iter()
+            .map(|e| (e / largest).powi(2))
+            .sum::<f64>()
+            .sqrt()
 }
 
 fn check_finite<const D: usize>(positions: &[[f64; D]]) -> Result<()> {

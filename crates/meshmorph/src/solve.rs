@@ -184,7 +184,6 @@ impl SymmetricBuilder {
 
     /// Adds `weight · aᵀa` for the sparse row `a` given as `(column, value)`
     /// pairs (a column may appear more than once; its values add up).
-    #[cfg(test)]
     pub fn add_row_outer(&mut self, row: &[(usize, f64)], weight: f64) {
         for (k, &(i, a)) in row.iter().enumerate() {
             self.add(i, i, weight * a * a);

@@ -18,11 +18,17 @@
 //! weights bring the mean error against his own results from 0.017 to 0.015
 //! and the worst from 0.023 to 0.022.)
 //!
-//! Target triangles in no pair take the deformation of their neighbours
-//! (a smoothness term across their edges). Those that cannot reach a paired
-//! triangle across edges also get a faint pull towards their rest shape, so
-//! that a part with no pair at all keeps its shape; the pull is left out
-//! elsewhere, where it would bias the result towards the rest pose.
+//! Target triangles in no pair near a paired one (within
+//! [`TransferOptions::gap_distance`]) are gaps of the matching: they take
+//! the deformation of their neighbours (a smoothness term across their
+//! edges). Farther ones have no partner (the back of a head under a face
+//! mask, a neck): each keeps its rest shape, turned by a rotation spread
+//! from the paired triangles ([`RotationField`]: harmonic interpolation of
+//! the paired triangles' rotations, projected onto rotations). They join the
+//! paired region smoothly, a rigid motion of the whole source still moves
+//! the whole target rigidly, and a local deformation of the source leaves
+//! them as they are. Separate parts with few pairs (eyes, teeth) are carried
+//! rigidly by the surface around them ([`CarriedParts`]).
 //!
 //! The energy does not see translations. Each connected part of the target
 //! is placed so that, in the area-weighted mean over its pairs, the centroid
@@ -37,6 +43,7 @@
 
 use rayon::prelude::*;
 
+use crate::carried_parts::CarriedParts;
 use crate::correspondence::Correspondence;
 use crate::error::{Error, Result};
 use crate::geometry::centroid;
@@ -45,12 +52,14 @@ use crate::gradient::weights::{normalised_by_mean, vertex_weights};
 use crate::gradient::{FactoredSystem, GradientOperators, Pins, Placement, SolveWorkspace};
 use crate::matrix::{identity, Mat3};
 use crate::mesh::Mesh3;
+use crate::rotation_field::{FieldWorkspace, RotationField};
+use crate::similarity::closest_rotation;
 use crate::similarity::Similarity;
 use crate::solve::{FactorKind, SymmetricBuilder};
 use crate::topology::{connected_components, edges, Edge, TriangleAdjacency};
 
 /// Options of [`Transfer::new`].
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct TransferOptions {
     /// Target vertices held at the given positions in every pose. The parts
@@ -59,6 +68,24 @@ pub struct TransferOptions {
     pub pins: Vec<(u32, [f64; 3])>,
     /// Which Cholesky variant factors the system. Default [`FactorKind::Auto`].
     pub factor: FactorKind,
+    /// Unpaired target triangles whose centroid lies within this fraction
+    /// of the target's bounding-box diagonal (and never less than its mean
+    /// edge length) of a paired triangle's centroid are gaps of the
+    /// matching and take their neighbours' deformation; farther ones keep
+    /// their rest shape, turned with the paired surface. Default 0.01, the
+    /// default [`CorrespondOptions::match_threshold`](crate::CorrespondOptions::match_threshold):
+    /// the distance within which the correspondence pairs triangles at all.
+    pub gap_distance: f64,
+}
+
+impl Default for TransferOptions {
+    fn default() -> Self {
+        Self {
+            pins: Vec::new(),
+            factor: FactorKind::Auto,
+            gap_distance: 0.01,
+        }
+    }
 }
 
 impl TransferOptions {
@@ -75,11 +102,6 @@ impl TransferOptions {
     }
 }
 
-/// Weight pulling unpaired target triangles that reach no paired triangle
-/// across edges towards their rest shape, relative to the weight 1 of a pair
-/// and of a smoothness term.
-const UNPAIRED_REST_WEIGHT: f64 = 1e-6;
-
 /// Deformation transfer from one source reference to one target reference,
 /// factored once; see the [module documentation](self).
 #[derive(Debug)]
@@ -93,8 +115,17 @@ pub struct Transfer {
     /// `G = D V⁻¹` of every target reference triangle.
     target_gradients: GradientOperators<3, 4>,
     pairs: PairsByTarget,
-    /// Constant part of the right-hand side (rest pull of unpaired triangles).
-    rhs_rest: Vec<f64>,
+    /// The weight of each target triangle (its area over the mean).
+    weights: Vec<f64>,
+    /// Rotations for the unpaired triangles.
+    field: RotationField,
+    /// The unpaired triangles that are not gaps: held to their rest shape,
+    /// turned.
+    unpaired: Vec<u32>,
+    /// Separate parts carried by the surface around them.
+    carried: CarriedParts,
+    /// The target reference's positions (carried parts move them rigidly).
+    target_rest: Vec<[f64; 3]>,
     system: FactoredSystem<3>,
     /// The target's parts not held by a pin.
     placement: Placement<3>,
@@ -148,21 +179,6 @@ impl PairsByTarget {
     fn is_paired(&self, t: usize) -> bool {
         self.ptr[t + 1] > self.ptr[t]
     }
-
-    /// Which target triangles are paired or reach a paired one across edges.
-    fn reached(&self, adjacency: &TriangleAdjacency) -> Vec<bool> {
-        let n = self.ptr.len() - 1;
-        let mut reached: Vec<bool> = (0..n).map(|t| self.is_paired(t)).collect();
-        let mut stack: Vec<usize> = (0..n).filter(|&t| reached[t]).collect();
-        while let Some(t) = stack.pop() {
-            for &u in adjacency.of(t) {
-                if !std::mem::replace(&mut reached[u as usize], true) {
-                    stack.push(u as usize);
-                }
-            }
-        }
-        reached
-    }
 }
 
 /// How one connected part of the target follows the source.
@@ -189,6 +205,9 @@ pub struct PoseWorkspace {
     gradients: Vec<Mat3>,
     /// One vector per placed part: its centroid, then its shift.
     parts: Vec<[f64; 3]>,
+    /// Rotation of each unpaired target triangle.
+    rotations: Vec<Mat3>,
+    field: FieldWorkspace,
 }
 
 impl Transfer {
@@ -222,8 +241,22 @@ impl Transfer {
         let target_areas = target_ref.triangle_areas();
         let weights = normalised_by_mean(&target_areas);
         let pairs = PairsByTarget::new(correspondence, &source_ref.triangle_areas(), &weights);
-        let (matrix, rhs_rest) = normal_equations(&target_gradients, &pairs, &weights);
+        let tri_edges: Vec<Edge> = edges(target_ref.triangles());
+        let adjacency = TriangleAdjacency::from_edges(target_ref.num_triangles(), &tri_edges);
+        let paired: Vec<bool> = (0..target_ref.num_triangles())
+            .map(|t| pairs.is_paired(t))
+            .collect();
+        let gap_distance = (options.gap_distance * target_ref.bounding_box_diagonal())
+            .max(crate::correspond::mean_edge_length(target_ref));
+        let is_gap = gaps(target_ref, &paired, gap_distance);
+        let field = RotationField::new(&adjacency, &paired, &weights)?;
+        let unpaired: Vec<u32> = (0..target_ref.num_triangles() as u32)
+            .filter(|&t| !paired[t as usize] && !is_gap[t as usize])
+            .collect();
+        let matrix = normal_equations(&target_gradients, &tri_edges, &is_gap, &weights);
         let components = connected_components(target_ref.num_vertices(), target_ref.triangles());
+        let carried =
+            CarriedParts::new(target_ref.positions(), &components, &paired, &target_areas);
         let mut pins = target_pins(&options.pins, target_ref.num_vertices())?;
         let held_by_pin = pins.hold_free_parts(&components, |v| target_ref.positions()[v]);
         let system = FactoredSystem::new(&matrix, &pins, options.factor)?;
@@ -243,7 +276,11 @@ impl Transfer {
             source_frames_inv,
             target_gradients,
             pairs,
-            rhs_rest,
+            weights,
+            field,
+            unpaired,
+            carried,
+            target_rest: target_ref.positions().to_vec(),
             system,
             placement,
             anchors,
@@ -266,6 +303,8 @@ impl Transfer {
             aligned: Vec::new(),
             gradients: vec![[[0.0; 3]; 3]; self.source_ref.num_triangles()],
             parts: vec![[0.0; 3]; self.placement.count()],
+            rotations: vec![identity(); self.target_triangles().len()],
+            field: self.field.workspace(),
         }
     }
 
@@ -343,30 +382,69 @@ impl Transfer {
         {
             *Q = deformation_gradient(*V_inv, tri.map(|v| pose[v as usize]));
         }
-        ws.solve.rhs.copy_from_slice(&self.rhs_rest);
+        ws.solve.rhs.fill(0.0);
         for t in 0..self.target_triangles().len() {
-            let sources = self.pairs.of(t);
-            if sources.is_empty() {
-                continue;
+            if let Some(sum) = self.partner_gradient(t, &ws.gradients) {
+                self.target_gradients
+                    .add_fit_rhs(&mut ws.solve.rhs, t, &sum, 1.0);
             }
-            let mut sum = [[0.0; 3]; 3];
-            for &(s, w) in sources {
-                let Q = &ws.gradients[s as usize];
-                for i in 0..3 {
-                    for j in 0..3 {
-                        sum[i][j] += w * Q[i][j];
-                    }
-                }
+        }
+        if !self.unpaired.is_empty() {
+            let gradients = &ws.gradients;
+            self.field.fill(
+                |t| closest_rotation(&self.partner_gradient(t, gradients).unwrap_or(identity())),
+                &mut ws.rotations,
+                &mut ws.field,
+            );
+            for &t in &self.unpaired {
+                let t = t as usize;
+                self.target_gradients.add_fit_rhs(
+                    &mut ws.solve.rhs,
+                    t,
+                    &ws.rotations[t],
+                    self.weights[t],
+                );
             }
-            self.target_gradients
-                .add_fit_rhs(&mut ws.solve.rhs, t, &sum, 1.0);
         }
         self.system.solve(&mut ws.solve);
         for (v, o) in out.iter_mut().enumerate() {
             *o = self.system.position(&ws.solve, v);
         }
         self.place(pose, &ws.gradients, out, &mut ws.parts);
+        self.carried.carry(&self.target_rest, out);
         ws.aligned = aligned;
+    }
+
+    /// Number of separate parts of the target carried rigidly by the
+    /// surface around them (see [`CarriedParts`]).
+    pub fn carried_parts(&self) -> usize {
+        self.carried.len()
+    }
+
+    /// Number of target triangles without a partner nearby (held to their
+    /// rest shape, turned by the spread rotation).
+    pub fn unpaired_triangles(&self) -> usize {
+        self.unpaired.len()
+    }
+
+    /// The weighted sum of the gradients of triangle `t`'s partners (its
+    /// target, times its weight), `None` without partners.
+    #[inline]
+    fn partner_gradient(&self, t: usize, gradients: &[Mat3]) -> Option<Mat3> {
+        let sources = self.pairs.of(t);
+        if sources.is_empty() {
+            return None;
+        }
+        let mut sum = [[0.0; 3]; 3];
+        for &(s, w) in sources {
+            let Q = &gradients[s as usize];
+            for i in 0..3 {
+                for j in 0..3 {
+                    sum[i][j] += w * Q[i][j];
+                }
+            }
+        }
+        Some(sum)
     }
 
     /// Moves each unpinned part so that its paired triangles' centroids
@@ -405,35 +483,54 @@ impl Transfer {
     }
 }
 
-/// The normal matrix over the target's vertices and fourth vertices, and the
-/// constant part of the right-hand side: paired triangles fitted (their
-/// targets change with the pose), smoothness across every edge with an
-/// unpaired triangle on it, and the rest pull on unpaired triangles that
-/// reach no paired one (only there: elsewhere it would bias the result
-/// towards the identity, so that a rotated source would give a target not
-/// quite rotated).
+/// The normal matrix over the target's vertices and fourth vertices: every
+/// triangle fitted to a target (its partners' gradient, or its rest shape
+/// turned), except the gaps of the matching, which take their neighbours'
+/// deformation through smoothness across their edges.
 fn normal_equations(
     operators: &GradientOperators<3, 4>,
-    pairs: &PairsByTarget,
+    tri_edges: &[Edge],
+    is_gap: &[bool],
     weights: &[f64],
-) -> (crate::solve::SymmetricMatrix, Vec<f64>) {
-    let tris = operators.triangles();
-    let tri_edges: Vec<Edge> = edges(tris);
-    let reached = pairs.reached(&TriangleAdjacency::from_edges(tris.len(), &tri_edges));
-    let mut builder = SymmetricBuilder::new(operators.num_unknowns(), 12 * tris.len());
-    let mut rhs_rest = vec![0.0; 3 * operators.num_unknowns()];
-    for t in 0..tris.len() {
-        if pairs.is_paired(t) {
+) -> crate::solve::SymmetricMatrix {
+    let n = operators.triangles().len();
+    let mut builder = SymmetricBuilder::new(operators.num_unknowns(), 12 * n);
+    for t in 0..n {
+        if !is_gap[t] {
             operators.add_fit(&mut builder, t, weights[t]);
-        } else if !reached[t] {
-            let w = UNPAIRED_REST_WEIGHT * weights[t];
-            operators.add_fit_to(&mut builder, &mut rhs_rest, t, &identity(), w);
         }
     }
-    operators.add_smoothness(&mut builder, &tri_edges, weights, 1.0, |a, b| {
-        !pairs.is_paired(a) || !pairs.is_paired(b)
+    operators.add_smoothness(&mut builder, tri_edges, weights, 1.0, |a, b| {
+        is_gap[a] || is_gap[b]
     });
-    (builder.build(), rhs_rest)
+    builder.build()
+}
+
+/// Which unpaired triangles of `mesh` have their centroid within `distance`
+/// of a paired triangle's centroid.
+fn gaps(mesh: &Mesh3, paired: &[bool], distance: f64) -> Vec<bool> {
+    use rstar::primitives::GeomWithData;
+    let centroids: Vec<[f64; 3]> = (0..mesh.num_triangles())
+        .map(|t| centroid(mesh.corners(t)))
+        .collect();
+    let items: Vec<GeomWithData<[f64; 3], ()>> = centroids
+        .iter()
+        .zip(paired)
+        .filter(|(_, p)| **p)
+        .map(|(c, _)| GeomWithData::new(*c, ()))
+        .collect();
+    let tree = rstar::RTree::bulk_load(items);
+    let d2 = distance * distance;
+    centroids
+        .par_iter()
+        .zip(paired)
+        .map(|(c, &p)| {
+            !p && tree
+                .nearest_neighbor_iter_with_distance_2(*c)
+                .next()
+                .is_some_and(|(_, d)| d <= d2)
+        })
+        .collect()
 }
 
 /// The user's pins, checked.

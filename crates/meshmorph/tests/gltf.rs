@@ -9,6 +9,9 @@ use meshmorph::io::gltf::{estimate_glb_bytes, write_glb, write_glb_to, GltfBase,
 use meshmorph::shapes::{bend, curl, strip, tube};
 use meshmorph::{Error, Interpolator, InterpolatorOptions};
 
+/// A morph target's position and normal deltas.
+type Deltas = (Vec<[f32; 3]>, Vec<[f32; 3]>);
+
 /// What a GLB holds, as the `gltf` crate reads it.
 struct ReadBack {
     /// Base positions per glTF vertex.
@@ -17,7 +20,7 @@ struct ReadBack {
     uvs: Option<Vec<[f32; 2]>>,
     indices: Vec<u32>,
     /// Per morph target, the position and normal deltas.
-    targets: Vec<(Vec<[f32; 3]>, Vec<[f32; 3]>)>,
+    targets: Vec<Deltas>,
     target_names: Vec<String>,
     /// Keyframe times and weights of the animation, if any.
     animation: Option<(Vec<f32>, Vec<f32>)>,

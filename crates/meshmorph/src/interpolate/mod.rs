@@ -236,7 +236,14 @@ where
         rest.placement.translate(out, &ws.parts);
         for (&v, b) in rest.loose.iter().zip(&self.loose_targets) {
             let a = rest.source.positions()[v as usize];
-            out[v as usize] = std::array::from_fn(|i| (1.0 - t) * a[i] + t * b[i]);
+            // A vertex that does not move stays exactly where it is.
+            out[v as usize] = std::array::from_fn(|i| {
+                if a[i] == b[i] {
+                    a[i]
+                } else {
+                    (1.0 - t) * a[i] + t * b[i]
+                }
+            });
         }
     }
 

@@ -3,7 +3,7 @@
 use crate::error::Result;
 use crate::gradient::weights::vertex_weights;
 use crate::gradient::{FactoredSystem, GradientOperators, Pins, Placement, TriangleMaps};
-use crate::mesh::{bounding_box_diagonal, check_areas, Mesh};
+use crate::mesh::{check_areas, Mesh};
 use crate::solve::{FactorKind, SymmetricBuilder};
 use crate::topology::connected_components;
 use crate::Space;
@@ -48,7 +48,7 @@ where
         let areas: Vec<f64> = (0..tris.len())
             .map(|t| Space::<D>::area(&source.corners(t)))
             .collect();
-        check_areas(&areas, bounding_box_diagonal(source.positions()), "source")?;
+        check_areas(&areas, source.bounding_box_diagonal(), "source")?;
         let operators = GradientOperators::from_parts(
             n,
             tris.to_vec(),

@@ -43,9 +43,7 @@
 //! `f64`, so reading a written mesh gives back exactly the same mesh.
 
 mod atomic;
-mod correspondence;
 pub mod gltf;
-mod markers;
 mod mesh_file;
 mod obj;
 mod off;
@@ -418,6 +416,22 @@ fn parse_f64(token: &[u8]) -> Option<f64> {
 
 /// A token as an integer (optional sign, decimal digits only).
 #[inline]
+/// Why `token` is not a usable count: "is too large", "is negative" or "is
+/// not a whole number", for messages.
+fn bad_count(token: &[u8]) -> &'static str {
+    let digits = token.strip_prefix(b"+").unwrap_or(token);
+    if let Some(rest) = token.strip_prefix(b"-") {
+        if !rest.is_empty() && rest.iter().all(u8::is_ascii_digit) {
+            return "is negative";
+        }
+    }
+    if !digits.is_empty() && digits.iter().all(u8::is_ascii_digit) {
+        "is too large"
+    } else {
+        "is not a whole number"
+    }
+}
+
 fn parse_i64(token: &[u8]) -> Option<i64> {
     let (negative, digits) = match token.first()? {
         b'-' => (true, &token[1..]),

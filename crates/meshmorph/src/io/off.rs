@@ -6,8 +6,8 @@ use std::path::Path;
 use super::mesh_file::{offset_in, Parsed, Patch, Slot};
 use super::triangulate::{repeated_index, Polygons};
 use super::{
-    parse_f64, parse_i64, push_f64, push_uint, show, strip_comment, tokens, write_formatted, xyz,
-    Lines,
+    bad_count, parse_f64, parse_i64, push_f64, push_uint, show, strip_comment, tokens,
+    write_formatted, xyz, Lines,
 };
 use crate::error::{Error, Result};
 
@@ -85,10 +85,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
             .ok_or_else(|| {
                 err(
                     counts_line,
-                    format!(
-                        "the {what} count `{}` is not a non-negative integer",
-                        show(tok)
-                    ),
+                    format!("the {what} count `{}` {}", show(tok), bad_count(tok)),
                 )
             })
     };

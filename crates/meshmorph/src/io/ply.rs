@@ -10,7 +10,7 @@ use std::path::Path;
 
 use super::mesh_file::{offset_in, Coding, Parsed, Patch, Slot, NONE};
 use super::triangulate::{repeated_index, Polygons};
-use super::{parse_f64, parse_i64, show, tokens, xyz, Lines, CHUNK};
+use super::{bad_count, parse_f64, parse_i64, show, tokens, xyz, Lines, CHUNK};
 use crate::error::{Error, Result};
 
 /// A PLY scalar type.
@@ -247,10 +247,7 @@ fn parse_header(lines: &mut Lines<'_>, path: &Path) -> Result<(Encoding, Vec<Ele
                     .ok_or_else(|| {
                         err(
                             n,
-                            format!(
-                                "element count `{}` is not a non-negative integer",
-                                show(count)
-                            ),
+                            format!("element count `{}` {}", show(count), bad_count(count)),
                         )
                     })?;
                 if elements.iter().any(|e| e.name.as_bytes() == *name) {

@@ -1,0 +1,112 @@
+//! Memory estimates before large allocations: a run that would not fit
+//! stops with a message giving the estimate, instead of being killed (or
+//! aborting) half way.
+
+use std::path::Path;
+
+use anyhow::{bail, Result};
+
+/// Bytes a run may still allocate: the smaller of the memory the system
+/// reports available (`MemAvailable` on Linux) and what the address-space
+/// limit (`ulimit -v`) leaves; `None` where neither is known.
+pub fn available() -> Option<u64> {
+    let system = read_kib("/proc/meminfo", "MemAvailable:");
+    let limit = address_space_limit().map(|limit| {
+        let used = read_kib("/proc/self/status", "VmSize:").unwrap_or(0);
+        limit.saturating_sub(used)
+    });
+    match (system, limit) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
+}
+
+/// Refuses to go on when `bytes` (what `what` needs) exceeds [`available`].
+///
+/// # Errors
+/// Giving the estimate and what is available.
+pub fn check(bytes: u64, what: &str) -> Result<()> {
+    if let Some(free) = available() {
+        if bytes > free {
+            bail!(
+                "{what} needs about {} of memory, but only {} is available: use a smaller input or free memory",
+                human_bytes(bytes),
+                human_bytes(free)
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Reading meshes: the file's bytes, then the parsed positions and
+/// triangles (smaller than the text; a binary PLY's are about its size).
+pub fn check_reading(paths: &[&Path]) -> Result<()> {
+    let bytes: u64 = paths
+        .iter()
+        .filter_map(|p| std::fs::metadata(p).ok())
+        .map(|m| m.len())
+        .sum();
+    check(bytes.saturating_mul(3), "reading the meshes")
+}
+
+/// Bytes per triangle of a solver setup (interpolation or transfer),
+/// measured on planar strips from 10^4 to 10^7 triangles, with a margin:
+/// per-triangle data, the sparse system and its Cholesky factor.
+const SETUP_BYTES_PER_TRIANGLE: u64 = 700;
+
+/// A solver setup over `triangles` triangles.
+pub fn check_setup(triangles: usize, what: &str) -> Result<()> {
+    check(
+        (triangles as u64).saturating_mul(SETUP_BYTES_PER_TRIANGLE),
+        what,
+    )
+}
+
+/// `count` items of `bytes_each`, held at once.
+pub fn check_held(count: usize, bytes_each: usize, what: &str) -> Result<()> {
+    check((count as u64).saturating_mul(bytes_each as u64), what)
+}
+
+fn human_bytes(b: u64) -> String {
+    let b = b as f64;
+    if b >= 1e9 {
+        format!("{:.1} GB", b / 1e9)
+    } else {
+        format!("{:.0} MB", (b / 1e6).max(1.0))
+    }
+}
+
+/// A `Key: N kB` line of a /proc file, in bytes.
+fn read_kib(file: &str, key: &str) -> Option<u64> {
+    let text = std::fs::read_to_string(file).ok()?;
+    let line = text.lines().find(|l| l.starts_with(key))?;
+    let kib: u64 = line[key.len()..].split_whitespace().next()?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// The soft `Max address space` of /proc/self/limits, when not unlimited.
+fn address_space_limit() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/self/limits").ok()?;
+    let line = text.lines().find(|l| l.starts_with("Max address space"))?;
+    line["Max address space".len()..]
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn estimates_beyond_any_machine_are_refused() {
+        if available().is_none() {
+            eprintln!("skipped: no memory figure on this system");
+            return;
+        }
+        let e = check(u64::MAX, "a test").unwrap_err().to_string();
+        assert!(e.contains("a test needs about"), "{e}");
+        assert!(check(1, "a test").is_ok());
+    }
+}

@@ -1,0 +1,93 @@
+//! SIGINT and SIGTERM: an interrupted run removes what it staged and the
+//! folders it created, then exits with status 130.
+//!
+//! Writers hold [`writing`] (a shared lock) while they write one file; the
+//! handler first marks the run interrupted, so that no new write starts,
+//! then takes the lock exclusively (waiting for the writes in progress to
+//! finish or fail, which leaves no temporary file of theirs behind),
+//! removes the staged files and exits. The commit holds the lock
+//! exclusively, so an interrupt never cuts it in half.
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Mutex, RwLock, RwLockReadGuard, RwLockWriteGuard};
+
+use anyhow::{bail, Result};
+
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+static GATE: RwLock<()> = RwLock::new(());
+static PENDING: Mutex<Option<Cleanup>> = Mutex::new(None);
+
+/// What a run must undo if it does not commit.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Cleanup {
+    /// Staged files (they may not exist yet).
+    pub staged: Vec<PathBuf>,
+    /// Folders the run created, outermost first.
+    pub created: Vec<PathBuf>,
+}
+
+impl Cleanup {
+    pub fn run(&self) {
+        for p in &self.staged {
+            let _ = std::fs::remove_file(p);
+        }
+        super::plan::remove_folders(&self.created);
+    }
+}
+
+/// Installs the handler (once; later calls do nothing).
+pub fn install() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        // Without a handler (it cannot be installed) the default action
+        // still stops the run; staged files would then remain, so say so.
+        if let Err(e) = ctrlc::set_handler(on_interrupt) {
+            eprintln!("warning: cannot catch Ctrl-C ({e}): an interrupted run may leave .meshmorph-*.part files");
+        }
+    });
+}
+
+fn on_interrupt() {
+    INTERRUPTED.store(true, Ordering::SeqCst);
+    let _exclusive = GATE.write().unwrap_or_else(|e| e.into_inner());
+    let pending = PENDING.lock().unwrap_or_else(|e| e.into_inner()).take();
+    match pending {
+        Some(cleanup) => {
+            cleanup.run();
+            eprintln!(
+                "interrupted: this run's outputs were removed (none had been moved into place)"
+            );
+        }
+        None => eprintln!("interrupted: no output of the current run was written"),
+    }
+    std::process::exit(130);
+}
+
+/// A shared hold on writing one file; refused once the run is interrupted.
+pub(super) fn writing() -> Result<RwLockReadGuard<'static, ()>> {
+    let guard = GATE.read().unwrap_or_else(|e| e.into_inner());
+    if INTERRUPTED.load(Ordering::SeqCst) {
+        bail!("interrupted");
+    }
+    Ok(guard)
+}
+
+/// An exclusive hold, for the commit; refused once the run is interrupted.
+pub(super) fn exclusive() -> Result<RwLockWriteGuard<'static, ()>> {
+    let guard = GATE.write().unwrap_or_else(|e| e.into_inner());
+    if INTERRUPTED.load(Ordering::SeqCst) {
+        bail!("interrupted");
+    }
+    Ok(guard)
+}
+
+/// Registers what an interrupt must undo (replacing an earlier run's).
+pub(super) fn arm(cleanup: Cleanup) {
+    *PENDING.lock().unwrap_or_else(|e| e.into_inner()) = Some(cleanup);
+}
+
+/// Nothing left to undo: committed, or already cleaned up.
+pub(super) fn disarm() {
+    *PENDING.lock().unwrap_or_else(|e| e.into_inner()) = None;
+}

@@ -1,0 +1,50 @@
+//! Every file a command writes goes through here: one plan of all the
+//! outputs of a run, checked before any work, staged, and moved into place
+//! only when the whole run has succeeded.
+//!
+//! ```text
+//! let mut plan = Plan::new();
+//! plan.input(&args.source, "source mesh");          // every file the run reads
+//! let frames = plan.frames(&dir, times.len(), "obj"); // dir/frame_0000.obj, ...
+//! let gif = plan.file(&gif_path, "animation");       // any single file
+//! let run = plan.prepare()?;   // clashes refused, folders created, Ctrl-C armed
+//! run.write(gif, |path| meshmorph::render::write_gif_2d(path, ...).map_err(Into::into))?;
+//! run.commit()?;               // all outputs into place, surplus frames removed
+//! ```
+//!
+//! The guarantees, for every command:
+//!
+//! - **No input is written.** [`Plan::prepare`] compares every output with
+//!   every input and with every other output by resolved path (symbolic
+//!   links and `..` followed, the parent folder made canonical) and, where a
+//!   file already sits at the output path, by device and inode (hard links).
+//!   A clash is refused before any work, naming both paths. So is an output
+//!   slot that holds a folder, and an output folder that is a file.
+//! - **All or nothing.** [`Staging::write`] hands the writer a temporary
+//!   name (`.meshmorph-<pid>-<n>.part`) in the output's own folder; nothing
+//!   at the user's path changes until [`Staging::commit`], which moves every
+//!   staged file into place (keeping the files it replaces aside until all
+//!   moves succeeded, and putting them back if one fails). A run that fails
+//!   or is dropped before committing removes its staged files and the
+//!   folders it created, and nothing else.
+//! - **Surplus frames.** After a successful commit, files in a frame folder
+//!   named exactly as meshmorph names frames (`frame_` followed by four or
+//!   more digits, then `.obj`, `.off`, `.ply` or `.svg`) that this run did
+//!   not write are removed, so that the folder holds one animation. Inputs
+//!   and any other file are left alone.
+//! - **Interrupts.** On SIGINT or SIGTERM, writes in progress finish, then
+//!   every staged file and created folder is removed and the process exits
+//!   (130 or 143) saying nothing was written: an interrupted run leaves the
+//!   output folders as they were. An interrupt during the commit waits for
+//!   it (a few renames) and the finished outputs are kept.
+//! - **Messages name the user's path**, never a temporary one.
+
+mod interrupt;
+mod plan;
+mod resolve;
+mod staging;
+mod surplus;
+
+pub use plan::{Output, Plan};
+pub use staging::Staging;
+pub use surplus::frame_path;

@@ -1,0 +1,199 @@
+//! The plan of a run: every file it reads and every file it will write,
+//! checked against each other before any work.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context, Result};
+
+use super::resolve::Resolved;
+use super::staging::Staging;
+use super::surplus::frame_path;
+
+/// One output of a plan, to hand to [`Staging::write`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Output(pub(super) usize);
+
+/// A file of the plan: where the user asked for it and what it is, for
+/// messages ("source mesh", "frame", "animation", ...).
+#[derive(Clone, Debug)]
+pub(super) struct Named {
+    pub path: PathBuf,
+    pub role: String,
+}
+
+/// Every input and output of one run. Build it first, then
+/// [`Plan::prepare`] it before reading large files or computing anything.
+#[derive(Debug, Default)]
+pub struct Plan {
+    pub(super) inputs: Vec<Named>,
+    pub(super) outputs: Vec<Named>,
+    /// Folders of frame sets: their surplus frames go after a successful run.
+    pub(super) frame_folders: Vec<PathBuf>,
+}
+
+impl Plan {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// A file the run reads (it is never written, replaced or removed).
+    pub fn input(&mut self, path: &Path, role: &str) {
+        self.inputs.push(Named {
+            path: path.to_path_buf(),
+            role: role.to_string(),
+        });
+    }
+
+    /// A file the run writes.
+    pub fn file(&mut self, path: &Path, role: &str) -> Output {
+        self.outputs.push(Named {
+            path: path.to_path_buf(),
+            role: role.to_string(),
+        });
+        Output(self.outputs.len() - 1)
+    }
+
+    /// `count` frames `dir/frame_0000.ext`, ... (see [`frame_path`]). Frame
+    /// files of an earlier run left in `dir` are removed once this run has
+    /// committed.
+    pub fn frames(&mut self, dir: &Path, count: usize, ext: &str) -> Vec<Output> {
+        if !self.frame_folders.iter().any(|d| d == dir) {
+            self.frame_folders.push(dir.to_path_buf());
+        }
+        (0..count)
+            .map(|k| self.file(&frame_path(dir, k, count, ext), "frame"))
+            .collect()
+    }
+
+    /// Checks the plan and gets ready to write: refuses an output that is
+    /// an input or another output (by resolved path and by device and
+    /// inode), an output slot holding a folder, and an output folder that
+    /// is a file; then creates the missing folders and arms the interrupt
+    /// clean-up.
+    ///
+    /// # Errors
+    /// Naming both paths of a clash, or the path that cannot be used.
+    pub fn prepare(self) -> Result<Staging> {
+        let inputs: Vec<Resolved> = self.inputs.iter().map(|i| Resolved::new(&i.path)).collect();
+        let mut outputs: Vec<Resolved> = Vec::with_capacity(self.outputs.len());
+        for out in &self.outputs {
+            let r = check_slot(out)?;
+            if let Some(k) = inputs.iter().position(|i| i.same_file(&r)) {
+                let input = &self.inputs[k];
+                bail!(
+                    "the {} `{}` would overwrite the {} `{}`: meshmorph never writes over its inputs; choose another output path",
+                    out.role,
+                    out.path.display(),
+                    input.role,
+                    input.path.display()
+                );
+            }
+            outputs.push(r);
+        }
+        check_distinct(&self.outputs, &outputs)?;
+        Staging::new(self, inputs, outputs)
+    }
+}
+
+/// The output's resolved path, after refusing a slot that cannot take a file.
+fn check_slot(out: &Named) -> Result<Resolved> {
+    let path = &out.path;
+    if path.file_name().is_none() || path.as_os_str().to_string_lossy().ends_with('/') {
+        bail!("the {} `{}` is not a file name", out.role, path.display());
+    }
+    if std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
+        bail!(
+            "the {} `{}` is a folder: meshmorph writes a file there; move the folder or choose another output",
+            out.role,
+            path.display()
+        );
+    }
+    let mut ancestor = path.parent();
+    while let Some(dir) = ancestor {
+        if let Ok(m) = std::fs::metadata(dir) {
+            if !m.is_dir() {
+                bail!(
+                    "cannot write the {} `{}`: `{}` is a file, not a folder",
+                    out.role,
+                    path.display(),
+                    dir.display()
+                );
+            }
+            break;
+        }
+        ancestor = dir.parent();
+    }
+    Ok(Resolved::new(path))
+}
+
+/// Refuses two outputs that are one file.
+fn check_distinct(named: &[Named], resolved: &[Resolved]) -> Result<()> {
+    let mut order: Vec<usize> = (0..resolved.len()).collect();
+    order.sort_by(|&a, &b| resolved[a].path.cmp(&resolved[b].path));
+    let same_path = order
+        .windows(2)
+        .find(|w| resolved[w[0]].path == resolved[w[1]].path)
+        .map(|w| (w[0].min(w[1]), w[0].max(w[1])));
+    // Existing files reached by two different paths (hard links).
+    let mut ids: Vec<(u64, u64, usize)> = resolved
+        .iter()
+        .enumerate()
+        .filter_map(|(k, r)| r.id.map(|(d, i)| (d, i, k)))
+        .collect();
+    ids.sort_unstable();
+    let same_id = ids
+        .windows(2)
+        .find(|w| (w[0].0, w[0].1) == (w[1].0, w[1].1))
+        .map(|w| (w[0].2.min(w[1].2), w[0].2.max(w[1].2)));
+    if let Some((a, b)) = same_path.or(same_id) {
+        bail!(
+            "the {} `{}` and the {} `{}` are the same file: give each output its own path",
+            named[a].role,
+            named[a].path.display(),
+            named[b].role,
+            named[b].path.display()
+        );
+    }
+    Ok(())
+}
+
+/// The folders to create for `paths` (missing ancestors, outermost first).
+pub(super) fn missing_folders(paths: &[Named]) -> Vec<PathBuf> {
+    let mut missing: Vec<PathBuf> = Vec::new();
+    for p in paths {
+        let mut chain = Vec::new();
+        let mut dir = p.path.parent();
+        while let Some(d) = dir.filter(|d| !d.as_os_str().is_empty()) {
+            if d.exists() || missing.iter().any(|m| m == d) {
+                break;
+            }
+            chain.push(d.to_path_buf());
+            dir = d.parent();
+        }
+        missing.extend(chain.into_iter().rev());
+    }
+    missing
+}
+
+/// Creates `folders` (outermost first), returning those it created.
+pub(super) fn create_folders(folders: &[PathBuf]) -> Result<Vec<PathBuf>> {
+    let mut created = Vec::new();
+    for dir in folders {
+        match std::fs::create_dir(dir) {
+            Ok(()) => created.push(dir.clone()),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && dir.is_dir() => {}
+            Err(e) => {
+                remove_folders(&created);
+                return Err(e).with_context(|| format!("creating the folder `{}`", dir.display()));
+            }
+        }
+    }
+    Ok(created)
+}
+
+/// Removes folders this run created, innermost first, if they are empty.
+pub(super) fn remove_folders(created: &[PathBuf]) {
+    for dir in created.iter().rev() {
+        let _ = std::fs::remove_dir(dir);
+    }
+}

@@ -1,0 +1,102 @@
+//! What a path names on disk, so that two spellings of one file compare
+//! equal: the canonical path (symbolic links and `..` resolved; for a file
+//! that does not exist yet, its nearest existing folder made canonical and
+//! the rest appended) and, for an existing file, its device and inode.
+
+use std::path::{Component, Path, PathBuf};
+
+/// A path as the file system sees it.
+#[derive(Clone, Debug)]
+pub struct Resolved {
+    /// Canonical where it exists, else canonical parent plus the rest.
+    pub path: PathBuf,
+    /// Device and inode of the existing file (following symbolic links).
+    pub id: Option<(u64, u64)>,
+}
+
+impl Resolved {
+    pub fn new(path: &Path) -> Self {
+        Self {
+            path: canonical(path),
+            id: file_id(path),
+        }
+    }
+
+    /// The same file: same canonical path, or same device and inode.
+    pub fn same_file(&self, other: &Resolved) -> bool {
+        self.path == other.path || (self.id.is_some() && self.id == other.id)
+    }
+}
+
+/// `path` made absolute with every existing part canonical: symbolic
+/// links and `..` resolved as the system would, the missing rest appended.
+pub fn canonical(path: &Path) -> PathBuf {
+    if let Ok(p) = path.canonicalize() {
+        return p;
+    }
+    let mut out = if path.is_absolute() {
+        PathBuf::new()
+    } else {
+        let cwd = std::env::current_dir().unwrap_or_else(|_| PathBuf::from("."));
+        cwd.canonicalize().unwrap_or(cwd)
+    };
+    // `out` stays canonical while it exists, so `..` may drop its last part.
+    for part in path.components() {
+        match part {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                out.pop();
+            }
+            Component::Normal(name) => {
+                out.push(name);
+                if let Ok(c) = out.canonicalize() {
+                    out = c;
+                }
+            }
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+#[cfg(unix)]
+fn file_id(path: &Path) -> Option<(u64, u64)> {
+    use std::os::unix::fs::MetadataExt as _;
+    std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
+}
+
+#[cfg(not(unix))]
+fn file_id(_path: &Path) -> Option<(u64, u64)> {
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spellings_of_one_file_resolve_alike() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = dir.path().join("a.obj");
+        std::fs::write(&a, "x").unwrap();
+        std::fs::create_dir(dir.path().join("sub")).unwrap();
+        let dotted = dir.path().join("sub/../a.obj");
+        assert!(Resolved::new(&a).same_file(&Resolved::new(&dotted)));
+        let missing = dir.path().join("new/../b.obj");
+        assert_eq!(
+            canonical(&dir.path().join("new/../sub/../a.obj")),
+            a.canonicalize().unwrap()
+        );
+        assert_eq!(canonical(&missing), canonical(&dir.path().join("b.obj")));
+        #[cfg(unix)]
+        {
+            let link = dir.path().join("link.obj");
+            std::os::unix::fs::symlink(&a, &link).unwrap();
+            assert!(Resolved::new(&a).same_file(&Resolved::new(&link)));
+            let hard = dir.path().join("hard.obj");
+            std::fs::hard_link(&a, &hard).unwrap();
+            assert!(Resolved::new(&a).same_file(&Resolved::new(&hard)));
+            assert!(!Resolved::new(&a).same_file(&Resolved::new(&missing)));
+        }
+    }
+}

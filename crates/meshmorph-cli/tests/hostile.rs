@@ -1,0 +1,467 @@
+//! The catalogue of hostile inputs and argument combinations: every
+//! command and format, each case with its expected outcome.
+//!
+//! Every case runs the `meshmorph` binary in a fresh copy of one folder of
+//! small inputs (planar strips, two tubes, markers, poses, a saved
+//! correspondence) and checks, besides its own exit status and message:
+//! no panic; no message naming a temporary file; every file that was there
+//! before is byte for byte unchanged (unless the case expects it to be
+//! replaced or removed); a failed run adds no file or folder; no temporary
+//! file remains anywhere.
+
+use std::collections::BTreeMap;
+use std::f64::consts::PI;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+
+use meshmorph::io::{write_mesh, Format};
+use meshmorph::shapes::{bend, curl, nearest_vertex_pairs, strip, tube};
+
+/// One row of the catalogue.
+struct Case {
+    name: &'static str,
+    /// Changes to the standard folder before the run.
+    setup: fn(&Path),
+    args: &'static [&'static str],
+    /// Exit status: 0 success, 1 refused by meshmorph, 2 refused by the
+    /// argument parser.
+    code: i32,
+    /// Fragments of stderr (failures) or stdout (successes).
+    says: &'static [&'static str],
+    /// Files (relative) a successful run may replace or remove.
+    may_change: &'static [&'static str],
+    /// More checks after the run.
+    after: fn(&Path),
+}
+
+const NONE: fn(&Path) = |_| {};
+
+/// A case with no setup, nothing that may change and no extra check.
+const fn case(
+    name: &'static str,
+    args: &'static [&'static str],
+    code: i32,
+    says: &'static [&'static str],
+) -> Case {
+    Case {
+        name,
+        setup: NONE,
+        args,
+        code,
+        says,
+        may_change: &[],
+        after: NONE,
+    }
+}
+
+const fn with_setup(mut c: Case, setup: fn(&Path)) -> Case {
+    c.setup = setup;
+    c
+}
+
+const fn with_after(mut c: Case, after: fn(&Path)) -> Case {
+    c.after = after;
+    c
+}
+
+const fn may_change(mut c: Case, files: &'static [&'static str]) -> Case {
+    c.may_change = files;
+    c
+}
+
+// ---------------------------------------------------------------------------
+// The standard folder.
+
+/// The inputs every case starts from, made once.
+fn template() -> &'static Path {
+    static DIR: OnceLock<tempfile::TempDir> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let bar = strip(4.0, 0.5, 8, 2);
+        let curled = curl(&bar, PI);
+        write_mesh(&d.join("src.obj"), &bar, Format::Obj).unwrap();
+        write_mesh(&d.join("dst.obj"), &curled, Format::Obj).unwrap();
+        write_mesh(&d.join("src.ply"), &bar, Format::Ply).unwrap();
+        write_mesh(&d.join("dst.off"), &curled, Format::Off).unwrap();
+        let thin = tube(2.0, 0.25, 7, 8);
+        let thick = tube(2.0, 0.5, 5, 10);
+        write_mesh(&d.join("thin.obj"), &thin, Format::Obj).unwrap();
+        write_mesh(&d.join("thick.obj"), &thick, Format::Obj).unwrap();
+        let widened: Vec<[f64; 3]> = thin
+            .positions()
+            .iter()
+            .map(|p| [p[0], 2.0 * p[1], 2.0 * p[2]])
+            .collect();
+        let chosen: Vec<u32> = [0u32, 3, 6]
+            .iter()
+            .flat_map(|&r| [0, 2, 4, 6].map(|s| r * 8 + s))
+            .collect();
+        let pairs = nearest_vertex_pairs(&widened, thick.positions(), &chosen);
+        let text: String = pairs.iter().map(|[s, t]| format!("{s} {t}\n")).collect();
+        fs::write(d.join("markers.txt"), text).unwrap();
+        for (k, turn) in [0.2, 0.5].iter().enumerate() {
+            let pose = bend(&thin, 2.0, turn * PI);
+            write_mesh(&d.join(format!("pose{}.obj", k + 1)), &pose, Format::Obj).unwrap();
+        }
+        let out = meshmorph(
+            d,
+            &[
+                "correspond",
+                "--source-ref",
+                "thin.obj",
+                "--target-ref",
+                "thick.obj",
+                "--markers",
+                "markers.txt",
+                "-o",
+                "c.corr",
+            ],
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        dir
+    })
+    .path()
+}
+
+fn meshmorph(dir: &Path, args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_meshmorph"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the meshmorph binary runs")
+}
+
+/// Every file and folder under `dir`, with the bytes of the files.
+fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Option<Vec<u8>>> {
+    let mut all = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            let rel = p.strip_prefix(dir).unwrap().to_path_buf();
+            let meta = fs::symlink_metadata(&p).unwrap();
+            if meta.is_dir() {
+                all.insert(rel, None);
+                stack.push(p);
+            } else {
+                all.insert(rel, Some(fs::read(&p).unwrap_or_default()));
+            }
+        }
+    }
+    all
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    for e in fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        fs::copy(e.path(), to.join(e.file_name())).unwrap();
+    }
+}
+
+fn run_case(c: &Case) -> Result<(), String> {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    copy_dir(template(), d);
+    (c.setup)(d);
+    let before = snapshot(d);
+    let out = meshmorph(d, c.args);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let after = snapshot(d);
+    let fail = |what: String| {
+        Err(format!(
+            "{}: {what}\nargs: {:?}\nstatus: {:?}\nstdout:\n{stdout}\nstderr:\n{stderr}",
+            c.name, c.args, out.status
+        ))
+    };
+    if out.status.code() != Some(c.code) {
+        return fail(format!("expected exit status {}", c.code));
+    }
+    if stderr.contains("panicked")
+        || stderr.contains(".meshmorph-")
+        || stdout.contains(".meshmorph-")
+    {
+        return fail("a panic or a temporary file's name in the output".into());
+    }
+    let text = if c.code == 0 { &stdout } else { &stderr };
+    for s in c.says {
+        if !text.contains(s) {
+            return fail(format!("`{s}` missing"));
+        }
+    }
+    for (path, bytes) in &before {
+        let allowed = c.may_change.iter().any(|m| Path::new(m) == path);
+        if !allowed && after.get(path) != Some(bytes) {
+            return fail(format!("`{}` was changed or removed", path.display()));
+        }
+    }
+    if let Some(p) = after
+        .keys()
+        .find(|p| p.to_string_lossy().contains(".meshmorph-"))
+    {
+        return fail(format!("temporary file `{}` remains", p.display()));
+    }
+    if c.code != 0 {
+        if let Some(p) = after.keys().find(|p| !before.contains_key(*p)) {
+            return fail(format!("a failed run left `{}`", p.display()));
+        }
+    }
+    (c.after)(d);
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------
+// Setups.
+
+fn obj_with(d: &Path, name: &str, text: &str) {
+    fs::write(d.join(name), text).unwrap();
+}
+
+fn append(d: &Path, name: &str, text: &str) {
+    let mut s = fs::read_to_string(d.join(name)).unwrap();
+    s.push_str(text);
+    fs::write(d.join(name), s).unwrap();
+}
+
+fn prepend(d: &Path, name: &str, text: &str) {
+    let s = fs::read(d.join(name)).unwrap();
+    let mut v = text.as_bytes().to_vec();
+    v.extend(s);
+    fs::write(d.join(name), v).unwrap();
+}
+
+fn old_frames(d: &Path) {
+    fs::create_dir(d.join("out")).unwrap();
+    for k in 0..10 {
+        fs::write(d.join(format!("out/frame_{k:04}.obj")), "old").unwrap();
+    }
+    fs::write(d.join("out/frame_0007.svg"), "old").unwrap();
+    fs::write(d.join("out/notes.txt"), "mine").unwrap();
+    fs::write(d.join("out/frame_0008.obj.bak"), "mine").unwrap();
+    fs::write(d.join("out/frame_12.obj"), "mine").unwrap();
+}
+
+#[cfg(unix)]
+fn symlink(d: &Path, target: &str, link: &str) {
+    std::os::unix::fs::symlink(d.join(target), d.join(link)).unwrap();
+}
+
+fn hard_link(d: &Path, target: &str, link: &str) {
+    fs::hard_link(d.join(target), d.join(link)).unwrap();
+}
+
+fn mkdir(d: &Path, name: &str) {
+    fs::create_dir_all(d.join(name)).unwrap();
+}
+
+fn exists(d: &Path, name: &str) -> bool {
+    d.join(name).exists()
+}
+
+// ---------------------------------------------------------------------------
+// The catalogue.
+
+const I: &str = "interpolate";
+const T: &str = "transfer";
+
+#[rustfmt::skip]
+fn catalogue() -> Vec<Case> {
+    vec![
+        // interpolate: outputs against inputs
+        with_after(case("interpolate writes frames", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "3"], 0, &["wrote 3 frames"]),
+            |d| assert!(exists(d, "out/frame_0002.obj") && !exists(d, "out/frame_0003.obj"))),
+        case("--gif onto the source", &[I, "src.obj", "dst.obj", "-o", "out", "--gif", "src.obj"], 1, &["would overwrite the source mesh `src.obj`"]),
+        case("--gif onto the target", &[I, "src.obj", "dst.obj", "-o", "out", "--gif", "dst.obj"], 1, &["would overwrite the target mesh `dst.obj`"]),
+        case("--gif onto a frame", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "3", "--gif", "out/frame_0001.obj"], 1, &["are the same file", "out/frame_0001.obj"]),
+        case("--gif onto a frame through ..", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "3", "--gif", "out/../out/frame_0002.obj"], 1, &["are the same file"]),
+        case("--gif onto the source through ..", &[I, "src.obj", "dst.obj", "-o", "out", "--gif", "out/../src.obj"], 1, &["would overwrite the source mesh"]),
+        with_setup(case("inputs in the output folder under frame names", &[I, "frame_0000.obj", "frame_0001.obj", "-o", ".", "--frames", "2"], 1, &["would overwrite the source mesh `frame_0000.obj`"]),
+            |d| { fs::copy(d.join("src.obj"), d.join("frame_0000.obj")).unwrap(); fs::copy(d.join("dst.obj"), d.join("frame_0001.obj")).unwrap(); }),
+        with_setup(case("an input is frame 1 of the output folder", &[I, "src.obj", "out/frame_0001.obj", "-o", "out", "--frames", "3"], 1, &["would overwrite the target mesh `out/frame_0001.obj`"]),
+            |d| { mkdir(d, "out"); fs::copy(d.join("dst.obj"), d.join("out/frame_0001.obj")).unwrap(); }),
+        #[cfg(unix)]
+        with_setup(case("--gif onto a symbolic link to the source", &[I, "src.obj", "dst.obj", "-o", "out", "--gif", "link.obj"], 1, &["would overwrite the source mesh `src.obj`", "link.obj"]),
+            |d| symlink(d, "src.obj", "link.obj")),
+        #[cfg(unix)]
+        with_setup(case("source through a symbolic link, frame onto it", &[I, "lnk/frame_0000.obj", "dst.obj", "-o", "out", "--frames", "2"], 1, &["would overwrite the source mesh"]),
+            |d| { mkdir(d, "out"); fs::copy(d.join("src.obj"), d.join("out/frame_0000.obj")).unwrap(); std::os::unix::fs::symlink(d.join("out"), d.join("lnk")).unwrap(); }),
+        with_setup(case("--gif onto a hard link of the source", &[I, "src.obj", "dst.obj", "-o", "out", "--gif", "hard.obj"], 1, &["would overwrite the source mesh `src.obj`", "hard.obj"]),
+            |d| hard_link(d, "src.obj", "hard.obj")),
+        with_setup(case("a frame slot is a hard link of the target", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "3"], 1, &["would overwrite the target mesh `dst.obj`"]),
+            |d| { mkdir(d, "out"); hard_link(d, "dst.obj", "out/frame_0002.obj"); }),
+        with_setup(case("a folder where a frame goes", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "3"], 1, &["`out/frame_0001.obj` is a folder"]),
+            |d| mkdir(d, "out/frame_0001.obj")),
+        with_setup(case("a folder where an SVG goes", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "3", "--svg"], 1, &["`out/frame_0002.svg` is a folder"]),
+            |d| mkdir(d, "out/frame_0002.svg")),
+        with_setup(case("a folder where the GIF goes", &[I, "src.obj", "dst.obj", "-o", "out", "--gif", "anim.gif"], 1, &["`anim.gif` is a folder"]),
+            |d| mkdir(d, "anim.gif")),
+        case("-o is a file", &[I, "src.obj", "dst.obj", "-o", "thin.obj"], 1, &["`thin.obj` is a file, not a folder"]),
+        case("--gif inside a file", &[I, "src.obj", "dst.obj", "-o", "out", "--gif", "thin.obj/a.gif"], 1, &["`thin.obj` is a file, not a folder"]),
+        case("a late failure (overflow at t = 1e308) leaves nothing", &[I, "src.obj", "dst.obj", "-o", "out", "--t", "0,1e308", "--svg"], 1, &["overflow"]),
+        with_setup(case("a late failure keeps an earlier run's frames", &[I, "src.obj", "dst.obj", "-o", "out", "--t", "0,0.5,1e308"], 1, &["overflow"]),
+            old_frames),
+        // interpolate: reruns and surplus frames
+        may_change(with_setup(with_after(case("a rerun with fewer frames removes the surplus", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "3"], 0, &["removed 8 frame files of an earlier run"]),
+            |d| {
+                assert!(exists(d, "out/frame_0002.obj") && !exists(d, "out/frame_0003.obj") && !exists(d, "out/frame_0007.svg"));
+                assert!(exists(d, "out/notes.txt") && exists(d, "out/frame_0008.obj.bak") && exists(d, "out/frame_12.obj"));
+                assert_ne!(fs::read(d.join("out/frame_0001.obj")).unwrap(), b"old");
+            }), old_frames),
+            &["out/frame_0000.obj", "out/frame_0001.obj", "out/frame_0002.obj", "out/frame_0003.obj", "out/frame_0004.obj", "out/frame_0005.obj", "out/frame_0006.obj", "out/frame_0007.obj", "out/frame_0008.obj", "out/frame_0009.obj", "out/frame_0007.svg"]),
+        with_setup(with_after(case("surplus removal spares an input named like a frame", &[I, "out/frame_0005.obj", "dst.obj", "-o", "out", "--frames", "3"], 0, &["wrote 3 frames"]),
+            |d| assert!(exists(d, "out/frame_0005.obj"))),
+            |d| { mkdir(d, "out"); fs::copy(d.join("src.obj"), d.join("out/frame_0005.obj")).unwrap(); }),
+        with_after(case("outputs into folders that do not exist yet", &[I, "src.obj", "dst.obj", "-o", "a/b/out", "--frames", "2", "--gif", "c/d/anim.gif"], 0, &["wrote 2 frames"]),
+            |d| assert!(exists(d, "a/b/out/frame_0001.obj") && exists(d, "c/d/anim.gif"))),
+        case("a failure removes the folders it created", &[I, "src.obj", "dst.obj", "-o", "a/b/out", "--t", "0,1e308"], 1, &["overflow"]),
+        case("the same file as source and target", &[I, "src.obj", "src.obj", "-o", "out", "--frames", "2"], 0, &["wrote 2 frames"]),
+        // interpolate: arguments
+        case("--frames 0", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "0"], 2, &["at least 1 frame"]),
+        case("--frames 100000000000", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "100000000000"], 2, &["too many"]),
+        case("--frames u64::MAX", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "18446744073709551615"], 2, &["too many"]),
+        case("--frames 1e40", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "1e40"], 2, &["not a whole number"]),
+        case("--frames -3", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "-3"], 2, &[]),
+        case("--t -0.5,0.5 extrapolates", &[I, "src.obj", "dst.obj", "-o", "out", "--t", "-0.5,0.5"], 0, &["wrote 2 frames"]),
+        case("--t -1,-0.5 starts with a minus", &[I, "src.obj", "dst.obj", "-o", "out", "--t", "-1,-0.5"], 0, &["wrote 2 frames"]),
+        case("--closest-weights -5,1", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "--closest-weights", "-5,1", "-o", "out", "pose1.obj"], 1, &["weight"]),
+        case("--t -0 is a time", &[I, "src.obj", "dst.obj", "-o", "out", "--t", "-0"], 0, &["wrote 1 frames"]),
+        case("--t with NaN", &[I, "src.obj", "dst.obj", "-o", "out", "--t", "0,NaN"], 1, &["not a finite number"]),
+        case("--t with inf", &[I, "src.obj", "dst.obj", "-o", "out", "--t", "inf"], 1, &["not a finite number"]),
+        case("--t and --frames together", &[I, "src.obj", "dst.obj", "-o", "out", "--t", "0", "--frames", "3"], 2, &["cannot be used with"]),
+        case("--turns -1", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "2", "--turns", "-1"], 0, &["wrote 2 frames"]),
+        case("--gif-width 100000", &[I, "src.obj", "dst.obj", "-o", "out", "--gif", "a.gif", "--gif-width", "100000"], 2, &["100000"]),
+        case("--gif-height 0", &[I, "src.obj", "dst.obj", "-o", "out", "--gif", "a.gif", "--gif-height", "0"], 2, &[]),
+        case("--fps 0", &[I, "src.obj", "dst.obj", "-o", "out", "--gif", "a.gif", "--fps", "0"], 2, &["not a finite number above 0"]),
+        case("--fps -5", &[I, "src.obj", "dst.obj", "-o", "out", "--gif", "a.gif", "--fps", "-5"], 2, &[]),
+        case("--format xyz", &[I, "src.obj", "dst.obj", "-o", "out", "--format", "xyz"], 2, &["xyz"]),
+        case("--stretch cubic", &[I, "src.obj", "dst.obj", "-o", "out", "--stretch", "cubic"], 2, &["cubic"]),
+        // interpolate: bad files
+        case("missing source", &[I, "nosuch.obj", "dst.obj", "-o", "out"], 1, &["nosuch.obj"]),
+        case("unknown extension", &[I, "markers.txt", "dst.obj", "-o", "out"], 1, &["markers.txt", "unknown mesh format"]),
+        with_setup(case("malformed OBJ line", &[I, "bad.obj", "dst.obj", "-o", "out"], 1, &["bad.obj", "line 2"]),
+            |d| obj_with(d, "bad.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n")),
+        with_setup(case("OBJ with a byte-order mark", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "2"], 0, &["wrote 2 frames"]),
+            |d| { prepend(d, "src.obj", "\u{feff}"); prepend(d, "dst.obj", "\u{feff}"); }),
+        with_setup(case("NaN coordinate", &[I, "nan.obj", "nan.obj", "-o", "out"], 1, &["nan.obj", "line 1", "not a finite number"]),
+            |d| obj_with(d, "nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")),
+        with_setup(case("coordinates near the largest number overflow", &[I, "big.obj", "big.obj", "-o", "out"], 1, &["overflow"]),
+            |d| obj_with(d, "big.obj", "v 1e307 0 0\nv -1e307 0 0\nv 0 1e307 0\nf 1 2 3\n")),
+        with_setup(case("an unused vertex far away changes nothing", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "2"], 0, &["wrote 2 frames", "unused vertices: 1"]),
+            |d| { append(d, "src.obj", "v 1000000 1000000 0\n"); append(d, "dst.obj", "v 1000000 1000000 0\n"); }),
+        with_setup(case("zero-area triangle", &[I, "flat.obj", "flat.obj", "-o", "out"], 1, &["degenerate", "triangle 0"]),
+            |d| obj_with(d, "flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")),
+        case("different meshes", &[I, "src.obj", "thin.obj", "-o", "out"], 1, &["thin.obj"]),
+        case("a mesh that is not planar", &[I, "thin.obj", "thin.obj", "-o", "out"], 1, &["not planar", "vertex"]),
+        with_setup(case("empty file", &[I, "empty.obj", "dst.obj", "-o", "out"], 1, &["empty.obj"]),
+            |d| obj_with(d, "empty.obj", "")),
+        with_setup(case("PLY with an absurd element count", &[I, "huge.ply", "dst.obj", "-o", "out"], 1, &["huge.ply", "too large"]),
+            |d| obj_with(d, "huge.ply", "ply\nformat ascii 1.0\nelement vertex 18446744073709551615\nproperty float x\nproperty float y\nend_header\n")),
+        with_setup(case("OFF with an absurd count", &[I, "huge.off", "dst.obj", "-o", "out"], 1, &["huge.off"]),
+            |d| obj_with(d, "huge.off", "OFF\n18446744073709551615 1 0\n0 0 0\n")),
+        with_setup(case("truncated binary PLY", &[I, "cut.ply", "dst.off", "-o", "out"], 1, &["cut.ply"]),
+            |d| { let b = fs::read(d.join("src.ply")).unwrap(); fs::write(d.join("cut.ply"), &b[..b.len() - 7]).unwrap(); }),
+        case("PLY source and OFF target", &[I, "src.ply", "dst.off", "-o", "out", "--frames", "2"], 0, &["wrote 2 frames"]),
+        // transfer
+        with_after(case("transfer with a saved correspondence", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "-o", "out", "pose1.obj", "pose2.obj"], 0, &["wrote 2 poses"]),
+            |d| assert!(exists(d, "out/pose1.obj") && exists(d, "out/pose2.obj"))),
+        case("pose outputs onto the poses", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "-o", ".", "pose1.obj"], 1, &["would overwrite the source pose `pose1.obj`"]),
+        case("--save-correspondence onto the source reference", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "--save-correspondence", "thin.obj", "-o", "out", "pose1.obj"], 1, &["would overwrite the source reference `thin.obj`"]),
+        case("--save-correspondence onto the markers", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "--save-correspondence", "markers.txt", "-o", "out", "pose1.obj"], 1, &["would overwrite the marker file `markers.txt`"]),
+        case("--save-correspondence onto a pose output", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "--save-correspondence", "out/pose1.obj", "-o", "out", "pose1.obj"], 1, &["are the same file", "out/pose1.obj"]),
+        with_setup(case("a folder where a pose goes", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "--save-correspondence", "new.corr", "-o", "out", "pose1.obj", "pose2.obj"], 1, &["`out/pose2.obj` is a folder"]),
+            |d| mkdir(d, "out/pose2.obj")),
+        with_setup(case("a pose slot hard-linked to the target reference", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "-o", "out", "pose1.obj"], 1, &["would overwrite the target reference `thick.obj`"]),
+            |d| { mkdir(d, "out"); hard_link(d, "thick.obj", "out/pose1.obj"); }),
+        #[cfg(unix)]
+        with_setup(case("a pose slot linked to the source reference", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "-o", "out", "pose1.obj"], 1, &["would overwrite the source reference `thin.obj`"]),
+            |d| { mkdir(d, "out"); symlink(d, "thin.obj", "out/pose1.obj"); }),
+        with_setup(case("two poses with one name", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "-o", "out", "pose1.obj", "b/pose1.obj"], 1, &["two poses are named `pose1`"]),
+            |d| { mkdir(d, "b"); fs::copy(d.join("pose1.obj"), d.join("b/pose1.obj")).unwrap(); }),
+        case("--pin 3,-1", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "--pin", "3,-1", "-o", "out", "pose1.obj"], 2, &["-1 is not a vertex index"]),
+        case("--pin beyond the target", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "--pin", "99999", "-o", "out", "pose1.obj"], 1, &["--pin 99999"]),
+        case("--pin 0 holds a vertex", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "--pin", "0", "-o", "out", "pose1.obj"], 0, &["wrote 1 poses"]),
+        case("--smoothness-weight -1", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "--smoothness-weight", "-1", "-o", "out", "pose1.obj"], 1, &["weight"]),
+        case("--closest-weights with a negative weight", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "--closest-weights", "1,-5", "-o", "out", "pose1.obj"], 1, &["weight"]),
+        case("--markers and --correspondence together", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "--correspondence", "c.corr", "-o", "out", "pose1.obj"], 2, &["cannot be used with"]),
+        case("neither markers nor a correspondence", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "-o", "out", "pose1.obj"], 1, &["--markers is required"]),
+        with_setup(case("markers with a byte-order mark", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "out", "pose1.obj"], 0, &["wrote 1 poses"]),
+            |d| prepend(d, "markers.txt", "\u{feff}")),
+        with_setup(case("markers out of range", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "m.txt", "-o", "out", "pose1.obj"], 1, &["m.txt", "line 2"]),
+            |d| obj_with(d, "m.txt", "0 0\n5000 1\n")),
+        with_setup(case("a malformed marker line", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "m.txt", "-o", "out", "pose1.obj"], 1, &["m.txt", "line 1"]),
+            |d| obj_with(d, "m.txt", "0 zero\n")),
+        with_setup(case("a negative marker index", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "m.txt", "-o", "out", "pose1.obj"], 1, &["m.txt", "line 1"]),
+            |d| obj_with(d, "m.txt", "-1 3\n")),
+        with_setup(case("a correspondence with a byte-order mark", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "-o", "out", "pose1.obj"], 0, &["wrote 1 poses"]),
+            |d| prepend(d, "c.corr", "\u{feff}")),
+        with_setup(case("a truncated correspondence", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "cut.corr", "-o", "out", "pose1.obj"], 1, &["cut.corr"]),
+            |d| { let s = fs::read_to_string(d.join("c.corr")).unwrap(); fs::write(d.join("cut.corr"), &s[..s.len() / 2]).unwrap(); }),
+        case("a correspondence of other meshes", &[T, "--source-ref", "thin.obj", "--target-ref", "src.obj", "--correspondence", "c.corr", "-o", "out", "pose1.obj"], 1, &["c.corr"]),
+        case("a pose of another mesh", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "-o", "out", "pose1.obj", "thick.obj"], 1, &["thick.obj", "does not fit"]),
+        case("a missing pose", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "-o", "out", "pose1.obj", "nosuch.obj"], 1, &["nosuch.obj"]),
+        case("--format ply", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "--format", "ply", "-o", "out", "pose1.obj"], 0, &["wrote 1 poses"]),
+        // correspond
+        case("correspond -o onto the source reference", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "thin.obj"], 1, &["would overwrite the source reference `thin.obj`"]),
+        case("correspond -o onto the markers", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "markers.txt"], 1, &["would overwrite the marker file"]),
+        case("--deformed-source equal to -o", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "x.obj", "--deformed-source", "x.obj"], 1, &["are the same file"]),
+        case("--deformed-source onto the target", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "x.corr", "--deformed-source", "thick.obj"], 1, &["would overwrite the target reference"]),
+        case("--deformed-source with an unknown extension", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "x.corr", "--deformed-source", "fit.xyz"], 1, &["fit.xyz"]),
+        with_after(case("--deformed-source into a missing folder", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "x.corr", "--deformed-source", "new/fit.obj"], 0, &["saved to x.corr"]),
+            |d| assert!(exists(d, "new/fit.obj") && exists(d, "x.corr"))),
+        case("correspond without markers", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "-o", "x.corr"], 1, &["--markers is required"]),
+        may_change(case("correspond replaces its own earlier output", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "c.corr"], 0, &["saved to c.corr"]), &["c.corr"]),
+        with_setup(case("target with an unused vertex", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "x.corr"], 0, &["saved to x.corr"]),
+            |d| append(d, "thick.obj", "v 10 10 10\n")),
+        with_setup(case("transfer onto a target with an unused vertex", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "out", "pose1.obj"], 0, &["wrote 1 poses", "unused target vertices: 1"]),
+            |d| append(d, "thick.obj", "v 10 10 10\n")),
+        case("--gltf onto the source", &[I, "src.obj", "dst.obj", "-o", "out", "--gltf", "src.obj"], 1, &["would overwrite the source mesh `src.obj`"]),
+        case("--gltf equal to --gif", &[I, "src.obj", "dst.obj", "-o", "out", "--gltf", "a.glb", "--gif", "a.glb"], 1, &["are the same file"]),
+        case("transfer --png onto the target reference", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "--png", "thick.obj", "-o", "out", "pose1.obj"], 1, &["would overwrite the target reference"]),
+        case("transfer --gif onto a pose output", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "--gif", "out/pose1.obj", "-o", "out", "pose1.obj"], 1, &["are the same file"]),
+        case("correspond --png onto the markers", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "x.corr", "--png", "markers.txt"], 1, &["would overwrite the marker file"]),
+        with_after(case("transfer writes its GLB and pictures", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "--gltf", "p/poses.glb", "--png", "p/poses.png", "--gif", "p/poses.gif", "-o", "out", "pose1.obj", "pose2.obj"], 0, &["wrote 2 poses"]),
+            |d| assert!(exists(d, "p/poses.glb") && exists(d, "p/poses.png") && exists(d, "p/poses.gif"))),
+        // demo
+        case("demo -o onto a file", &["demo", "-o", "thin.obj"], 1, &["is a file, not a folder"]),
+        case("an unknown command", &["morph"], 2, &["morph"]),
+    ]
+}
+
+#[test]
+fn hostile_catalogue() {
+    let cases = catalogue();
+    assert!(
+        cases.len() >= 60,
+        "the catalogue holds {} cases",
+        cases.len()
+    );
+    let failures: Vec<String> = std::thread::scope(|s| {
+        let chunks: Vec<_> = cases
+            .chunks(cases.len().div_ceil(2))
+            .map(|chunk| {
+                s.spawn(move || {
+                    chunk
+                        .iter()
+                        .filter_map(|c| run_case(c).err())
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        chunks.into_iter().flat_map(|h| h.join().unwrap()).collect()
+    });
+    assert!(
+        failures.is_empty(),
+        "{} of {} cases failed:\n\n{}",
+        failures.len(),
+        cases.len(),
+        failures.join("\n\n")
+    );
+    println!("{} hostile cases passed", cases.len());
+}

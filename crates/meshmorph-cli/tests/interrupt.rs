@@ -1,0 +1,110 @@
+//! SIGINT and SIGTERM during a long run: the run stops, removes every
+//! staged file and every folder it created, and leaves the files that were
+//! there before as they were.
+
+#![cfg(unix)]
+
+use std::fs;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use meshmorph::io::{write_mesh, Format};
+use meshmorph::shapes::{curl, strip};
+
+/// Every name under `dir`, recursively.
+fn all_names(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        let Ok(entries) = fs::read_dir(&d) else {
+            continue;
+        };
+        for e in entries {
+            let p = e.unwrap().path();
+            out.push(p.strip_prefix(dir).unwrap().display().to_string());
+            if p.is_dir() {
+                stack.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+fn interrupt_a_long_run(signal: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let bar = strip(8.0, 1.0, 40, 4);
+    write_mesh(&d.join("a.obj"), &bar, Format::Obj).unwrap();
+    write_mesh(&d.join("b.obj"), &curl(&bar, 2.0), Format::Obj).unwrap();
+    // An earlier run's frames in one output folder, a new folder for the GIF.
+    fs::create_dir(d.join("old")).unwrap();
+    for k in 0..5 {
+        fs::write(d.join(format!("old/frame_{k:04}.obj")), format!("old {k}")).unwrap();
+    }
+    let before = all_names(d);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_meshmorph"))
+        .args([
+            "interpolate",
+            "a.obj",
+            "b.obj",
+            "-o",
+            "old",
+            "--frames",
+            "20000",
+            "--svg",
+            "--gif",
+            "new/anim.gif",
+        ])
+        .current_dir(d)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until the run has staged some files.
+    let begin = Instant::now();
+    loop {
+        let staged = all_names(d)
+            .iter()
+            .filter(|n| n.contains(".meshmorph-"))
+            .count();
+        if staged >= 3 {
+            break;
+        }
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the run ended before it could be interrupted"
+        );
+        assert!(
+            begin.elapsed() < Duration::from_secs(60),
+            "nothing was staged"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let status = Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("interrupted"), "{stderr}");
+    assert!(!stderr.contains(".meshmorph-"), "{stderr}");
+    assert_eq!(all_names(d), before, "the folder is as it was");
+    for k in 0..5 {
+        let text = fs::read_to_string(d.join(format!("old/frame_{k:04}.obj"))).unwrap();
+        assert_eq!(text, format!("old {k}"));
+    }
+}
+
+#[test]
+fn sigint_leaves_the_folders_as_they_were() {
+    interrupt_a_long_run("-INT");
+}
+
+#[test]
+fn sigterm_leaves_the_folders_as_they_were() {
+    interrupt_a_long_run("-TERM");
+}

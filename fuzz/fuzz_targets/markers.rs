@@ -1,0 +1,19 @@
+//! Any text given to the marker file reader, then checked against small
+//! meshes: an error or markers in range, never a panic.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use meshmorph::Markers;
+
+fuzz_target!(|data: &[u8]| {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    for one_based in [false, true] {
+        if let Ok(markers) = Markers::parse(text, "fuzz.txt".as_ref(), one_based) {
+            if markers.validate(40, 60).is_ok() {
+                assert!(markers.pairs().iter().all(|&[s, t]| s < 40 && t < 60));
+            }
+        }
+    }
+});
