@@ -99,10 +99,7 @@ impl CorrespondArgs {
             .snap(source, target)
             .context("snapping the marker points to vertices")?;
         let options = self.options();
-        let bar = progress::bar(
-            meshmorph::correspond::correspond_steps(&options) as u64,
-            "correspond",
-        );
+        let bar = progress::bar(meshmorph::correspond_steps(&options) as u64, "correspond");
         let result = correspond(source, target, &markers, &options, &mut |done| {
             bar.set_position(done as u64)
         })

@@ -18,7 +18,7 @@ use std::path::Path;
 
 use divan::counter::ItemsCount;
 use divan::{black_box, Bencher};
-use meshmorph::solve::FactorKind;
+use meshmorph::FactorKind;
 use meshmorph::{io, shapes, Interpolator, InterpolatorOptions, Mesh2};
 
 const ELEPHANT: &str = concat!(

@@ -13,7 +13,7 @@ use std::hint::black_box;
 use std::path::Path;
 use std::time::Instant;
 
-use meshmorph::solve::FactorKind;
+use meshmorph::FactorKind;
 use meshmorph::{io, shapes, Interpolator, InterpolatorOptions, Mesh2};
 
 const ELEPHANT: &str = concat!(

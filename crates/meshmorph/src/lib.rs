@@ -22,47 +22,64 @@
 //! will weigh before any work.
 //!
 //! Positions are plain `[f64; D]` arrays and triangles `[u32; 3]` index
-//! triples; the sparse linear algebra stays behind the [`solve`] module.
+//! triples; small matrices are row-major `[[f64; D]; D]` ([`Mat`]). The
+//! sparse linear algebra stays inside the crate.
+//!
+//! ## Inside
+//!
+//! Interpolation, transfer and the correspondence share one gradient-domain
+//! least-squares core: per-triangle gradient operators of a rest mesh, area
+//! weights, the normal matrix factored once with pinned unknowns
+//! eliminated, and the placement of each connected part. What depends on
+//! the rest mesh alone is a value of its own ([`RestSystem`] for
+//! interpolation), shared between targets. The dimension-dependent algebra
+//! of interpolation is behind two traits implemented by [`Space`]:
+//! [`Rotations`] (polar decomposition, rotation logarithm and exponential,
+//! branch choice) and [`TriangleMaps`] (areas, hat-function gradients,
+//! per-triangle maps).
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 // Numeric kernels index small fixed-size arrays by position, as the papers do.
 #![allow(clippy::needless_range_loop)]
 
 pub mod carried_parts;
-pub mod closest;
-pub mod correspond;
-pub mod correspondence;
-pub mod error;
-pub mod geometry;
+mod closest;
+mod correspond;
+mod correspondence;
+mod error;
+mod geometry;
 mod gradient;
-pub mod interpolate;
+mod interpolate;
 pub mod io;
-pub mod markers;
+mod markers;
 mod matrix;
-pub mod mesh;
-pub mod polar;
+mod mesh;
+mod polar;
 pub mod render;
-pub mod rotation;
+mod rotation;
 pub mod rotation_field;
 pub mod shapes;
 pub mod similarity;
-pub mod solve;
+mod solve;
 pub mod topology;
-pub mod transfer;
+mod transfer;
 
-pub use correspond::{correspond, CorrespondOptions, CorrespondResult};
+pub use correspond::{
+    correspond, correspond_steps, CorrespondOptions, CorrespondResult, MIN_MARKERS,
+};
 pub use correspondence::Correspondence;
 pub use error::{Error, Result};
+pub use gradient::TriangleMaps;
+pub use interpolate::{FrameWorkspace, Interpolator, InterpolatorOptions, RestSystem, StretchMode};
+pub use markers::{Markers, Snap, SNAP_LIMIT};
+pub use matrix::Mat;
+pub use mesh::{Mesh, Mesh2, Mesh3};
+pub use rotation::{Rotations, Space};
+pub use similarity::Similarity;
+pub use solve::FactorKind;
+pub use transfer::{PoseWorkspace, Transfer, TransferOptions};
 
 /// The README's examples, compiled and run as doctests.
 #[cfg(doctest)]
 #[doc = include_str!("../../../README.md")]
 pub struct ReadmeDoctests;
-pub use gradient::TriangleMaps;
-pub use interpolate::{Interpolator, InterpolatorOptions, RestSystem, StretchMode};
-pub use markers::Markers;
-pub use mesh::{Mesh, Mesh2, Mesh3};
-pub use rotation::{Rotations, Space};
-pub use similarity::Similarity;
-pub use solve::FactorKind;
-pub use transfer::{Transfer, TransferOptions};

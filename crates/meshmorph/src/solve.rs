@@ -88,17 +88,13 @@ pub struct SymmetricMatrix {
 }
 
 impl SymmetricMatrix {
-    /// Dimension.
-    pub fn dim(&self) -> usize {
-        self.n
-    }
-
     /// Stored entries (upper triangle).
     pub fn nnz(&self) -> usize {
         self.values.len()
     }
 
     /// `y = A x` for the full symmetric matrix.
+    #[cfg(test)]
     pub fn mul_vec(&self, x: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; self.n];
         for j in 0..self.n {
@@ -134,6 +130,7 @@ impl SymmetricMatrix {
     }
 
     /// Entry `(i, j)` (0 when not stored).
+    #[cfg(test)]
     pub fn get(&self, i: usize, j: usize) -> f64 {
         let (i, j) = (i.min(j), i.max(j));
         let rows = &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]];
@@ -467,11 +464,6 @@ impl PinnedSystem {
         self.n
     }
 
-    /// The pinned unknowns, in the order given to [`PinnedSystem::new`].
-    pub fn pinned(&self) -> impl ExactSizeIterator<Item = usize> + '_ {
-        self.pinned.iter().map(|&p| p as usize)
-    }
-
     /// Scratch for solving `ncols` right-hand sides at once; one per thread.
     pub fn workspace(&self, ncols: usize) -> Workspace {
         Workspace {
@@ -537,6 +529,7 @@ impl PinnedSystem {
     }
 
     /// Reduced index of unknown `i`, `None` if it is pinned.
+    #[cfg(test)]
     pub fn reduced_index(&self, i: usize) -> Option<usize> {
         match self.reduced_of[i] {
             u32::MAX => None,

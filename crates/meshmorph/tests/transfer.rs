@@ -5,12 +5,12 @@
 use std::f64::consts::{PI, TAU};
 use std::path::{Path, PathBuf};
 
-use meshmorph::correspond::{correspond_steps, MIN_MARKERS};
 use meshmorph::shapes::{bend, tube};
 use meshmorph::{
     correspond, io, topology, CorrespondOptions, CorrespondResult, Correspondence, Error, Markers,
     Mesh3, Transfer, TransferOptions,
 };
+use meshmorph::{correspond_steps, MIN_MARKERS};
 
 // ---------------------------------------------------------------------------
 // Shared helpers

@@ -11,6 +11,10 @@
 //!   groups, materials, other PLY properties and elements, colours) beside
 //!   the triangle mesh derived from it, and writes it back with new
 //!   positions: what deformation transfer writes for the target.
+//! - The files of deformation transfer: marker pairs
+//!   ([`Markers::read`](crate::Markers::read)) and triangle correspondences
+//!   ([`Correspondence::save`](crate::Correspondence::save) and
+//!   [`Correspondence::load`](crate::Correspondence::load)).
 //!
 //! Reading accepts:
 //!
