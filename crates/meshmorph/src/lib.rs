@@ -19,6 +19,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod closest;
+pub mod consistency3;
 pub mod correspond;
 pub mod correspondence;
 pub mod error;
@@ -29,8 +30,10 @@ pub mod io;
 pub mod markers;
 pub mod mesh;
 pub mod polar;
+pub mod polar3;
 pub mod render;
 pub mod rotation;
+pub mod rotation3;
 pub mod shapes;
 pub mod solve;
 pub mod topology;
