@@ -31,7 +31,10 @@
 //!    point nearly opposite ways at a jump); `c_P` is the mean of these over
 //!    the jump edges between `P` and the earlier layers, weighted by the
 //!    edges' lengths, rounded to the nearest whole number of turns along
-//!    its own direction.
+//!    its own direction. The patch takes these turns only if they make its
+//!    rotations halfway (`t = 1/2`, where a tear of a whole turn is widest)
+//!    agree better with its decided neighbours' across those edges than no
+//!    turns would; otherwise it keeps its principal rotations.
 //!
 //! Why patches rather than a walk from triangle to triangle: in 3D the axes
 //! of neighbours differ, non-rigid regions rotate a lot relative to each
@@ -53,7 +56,7 @@
 use std::f64::consts::{PI, TAU};
 
 use crate::geometry::{add, norm, scale};
-use crate::rotation3::{quat_dot, Quat};
+use crate::rotation3::{quat_dot, quat_exp, quat_log, quat_mul, Quat};
 use crate::topology::TriangleAdjacency;
 
 /// The whole-turn vector `c_i = 2πk u` of every triangle (see the module
@@ -70,6 +73,24 @@ pub fn whole_turns(
     edge_weight: impl Fn(usize, usize) -> f64,
     seeds: &[usize],
 ) -> Vec<[f64; 3]> {
+    whole_turns_after(rotations, adjacency, edge_weight, seeds, None)
+}
+
+/// [`whole_turns`] for a later key of a sequence, continuing the previous
+/// key: each seed's patch takes, instead of no turns, the whole turns
+/// nearest to the previous key's lifted rotation vectors over the patch
+/// (`previous.0[i]`, whole-turn vector plus principal vector), weighted by
+/// `previous.1` (the triangles' areas); the other patches follow from it as
+/// in [`whole_turns`]. A part that keeps turning from key to key keeps
+/// turning the same way, as long as the seeds' patches turn by less than
+/// half a turn between two keys.
+pub fn whole_turns_after(
+    rotations: &[Quat],
+    adjacency: &TriangleAdjacency,
+    edge_weight: impl Fn(usize, usize) -> f64,
+    seeds: &[usize],
+    previous: Option<(&[[f64; 3]], &[f64])>,
+) -> Vec<[f64; 3]> {
     assert_eq!(
         rotations.len(),
         adjacency.len(),
@@ -77,9 +98,40 @@ pub fn whole_turns(
     );
     let jumps = |i: usize, j: usize| quat_dot(rotations[i], rotations[j]) < 0.0;
     let (patch, count) = patches(adjacency, &jumps);
+    // The seeds' patches: no turns for the first key (the convention), the
+    // previous key's nearest whole turns for later ones.
+    let mut decided: Vec<Option<[f64; 3]>> = vec![None; count];
+    let mut layer: Vec<usize> = Vec::new();
+    for &s in seeds {
+        let p = patch[s] as usize;
+        if decided[p].is_none() {
+            decided[p] = Some([0.0; 3]);
+            layer.push(p);
+        }
+    }
+    if let Some((lifted, weights)) = previous {
+        let mut sums = vec![([0.0; 3], 0.0); count];
+        for (t, &p) in patch.iter().enumerate() {
+            if decided[p as usize].is_some() {
+                let d = crate::geometry::sub(lifted[t], crate::rotation3::quat_log(rotations[t]));
+                let s = &mut sums[p as usize];
+                s.0 = add(s.0, scale(d, weights[t]));
+                s.1 += weights[t];
+            }
+        }
+        for &p in &layer {
+            let (sum, total) = sums[p];
+            if total > 0.0 {
+                decided[p] = Some(nearest_whole_turns(scale(sum, 1.0 / total)));
+            }
+        }
+    }
     let mut turns = vec![[0.0; 3]; rotations.len()];
-    if count == seeds.len() {
+    if count == layer.len() {
         // No jump separates anything: every patch is a seed's.
+        for (t, c) in turns.iter_mut().enumerate() {
+            *c = decided[patch[t] as usize].unwrap_or([0.0; 3]);
+        }
         return turns;
     }
 
@@ -111,15 +163,6 @@ pub fn whole_turns(
             [0.0; 3]
         }
     };
-    let mut decided: Vec<Option<[f64; 3]>> = vec![None; count];
-    let mut layer: Vec<usize> = Vec::new();
-    for &s in seeds {
-        let p = patch[s] as usize;
-        if decided[p].is_none() {
-            decided[p] = Some([0.0; 3]);
-            layer.push(p);
-        }
-    }
     while !layer.is_empty() {
         // The next layer: undecided patches next to this one, each decided
         // from every decided neighbour (all in earlier layers).
@@ -148,13 +191,34 @@ pub fn whole_turns(
             } else {
                 [0.0; 3]
             };
-            let len = norm(mean);
-            let k = (len / TAU).round();
-            choices.push(if k == 0.0 {
-                [0.0; 3]
-            } else {
-                scale(mean, TAU * k / len)
-            });
+            let candidate = nearest_whole_turns(mean);
+            // Adopt the turns only where they make the patch agree better
+            // with its decided neighbours halfway (where a tear of a whole
+            // turn shows most), so that consistency never makes things worse.
+            let disagreement = |c: [f64; 3]| -> f64 {
+                boundary[start[p]..start[p + 1]]
+                    .iter()
+                    .filter_map(|&(_, j, i)| {
+                        let (i, j) = (i as usize, j as usize);
+                        let ci = decided[patch[i] as usize]?;
+                        let half = |c: [f64; 3], t: usize| {
+                            quat_mul(
+                                quat_exp(scale(c, 0.5)),
+                                quat_exp(scale(quat_log(rotations[t]), 0.5)),
+                            )
+                        };
+                        let d = quat_dot(half(ci, i), half(c, j)).abs().min(1.0);
+                        Some(edge_weight(i, j) * d.acos())
+                    })
+                    .sum()
+            };
+            let candidate =
+                if candidate != [0.0; 3] && disagreement(candidate) < disagreement([0.0; 3]) {
+                    candidate
+                } else {
+                    [0.0; 3]
+                };
+            choices.push(candidate);
         }
         for (&p, c) in next.iter().zip(choices) {
             decided[p] = Some(c);
@@ -165,6 +229,18 @@ pub fn whole_turns(
         *c = decided[patch[t] as usize].unwrap_or([0.0; 3]);
     }
     turns
+}
+
+/// The vector `2πk v/|v|` with the whole number `k ≥ 0` nearest to
+/// `|v| / 2π`: the whole turns nearest to the rotation vector `v`.
+pub fn nearest_whole_turns(v: [f64; 3]) -> [f64; 3] {
+    let len = norm(v);
+    let k = (len / TAU).round();
+    if k == 0.0 {
+        [0.0; 3]
+    } else {
+        scale(v, TAU * k / len)
+    }
 }
 
 /// Patches: triangles connected across edges that `jumps` does not mark.

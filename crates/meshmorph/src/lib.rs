@@ -18,6 +18,7 @@
 // Numeric kernels index small fixed-size arrays by position, as the papers do.
 #![allow(clippy::needless_range_loop)]
 
+pub mod blend3;
 pub mod closest;
 pub mod consistency3;
 pub mod correspond;
@@ -31,17 +32,23 @@ pub mod markers;
 pub mod mesh;
 pub mod polar;
 pub mod polar3;
+pub mod pose3;
+pub mod prepared3;
 pub mod render;
 pub mod rotation;
 pub mod rotation3;
+pub mod sequence3;
 pub mod shapes;
 pub mod solve;
 pub mod topology;
 pub mod transfer;
 
+pub use blend3::Blend3;
 pub use correspond::{correspond, CorrespondOptions, CorrespondResult};
 pub use correspondence::Correspondence;
 pub use error::{Error, Result};
+pub use prepared3::PreparedSurface;
+pub use sequence3::Sequence3;
 
 /// The README's examples, compiled and run as doctests.
 #[cfg(doctest)]
