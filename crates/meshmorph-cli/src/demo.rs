@@ -1,23 +1,25 @@
 //! `meshmorph demo`: the main jobs on built-in procedural shapes.
 
 use std::f64::consts::PI;
-use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::path::PathBuf;
+use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use meshmorph::io::Format;
-use meshmorph::render::{self, GifOptions, GridOptions, GridRow, Ramp, Style3d};
 use meshmorph::shapes;
 
+use crate::gltf::GltfArgs;
 use crate::interpolate::{animate, FrameArgs, Stretch};
+use crate::pictures::PictureArgs;
 use crate::transfer::{run_transfer, CorrespondArgs, References, TransferArgs};
 
 /// Run the main jobs on built-in procedural shapes (no files needed).
 ///
 /// Writes, under DIR:
-///   spiral.gif, spiral/frame_*.obj   a bar curling into a spiral of 540 degrees;
+///   spiral.gif, spiral.glb,          a bar curling into a spiral of 540 degrees;
+///   spiral/frame_*.obj
 ///   transfer.gif, transfer.png,      a thin tube's bending poses carried over
-///   transfer/target/*.obj            to a thicker, differently tessellated tube
+///   transfer.glb, transfer/target/*  to a thicker, differently tessellated tube
 ///   (the inputs are in transfer/input/, to rerun with `meshmorph transfer`).
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -52,6 +54,10 @@ fn spiral(args: &Args) -> Result<()> {
         fps: 25.0,
         no_boomerang: false,
         svg: false,
+        gltf: GltfArgs {
+            gltf: Some(args.output.join("spiral.glb")),
+            max_gltf_mb: 256.0,
+        },
     };
     crate::output::make_dir(&args.output)?;
     meshmorph::io::write_mesh(&args.output.join("spiral-source.obj"), &bar, Format::Obj)?;
@@ -109,14 +115,12 @@ fn transfer(args: &Args) -> Result<()> {
     meshmorph::io::write_mesh(&source_ref, &source, Format::Obj)?;
     meshmorph::io::write_mesh(&target_ref, &target, Format::Obj)?;
     let mut pose_paths = Vec::new();
-    let mut poses = Vec::new();
     for k in 0..POSES {
         let angle = 0.75 * PI * k as f64 / (POSES - 1) as f64;
         let pose = shapes::bend(&source, TUBE_LENGTH, angle);
         let path = input.join(format!("bend-{k:02}.obj"));
         meshmorph::io::write_mesh(&path, &pose, Format::Obj)?;
         pose_paths.push(path);
-        poses.push(pose);
     }
     if !args.json {
         println!("\n== deformation transfer: a thin tube's bends onto a thick tube ==");
@@ -142,18 +146,18 @@ fn transfer(args: &Args) -> Result<()> {
         output: out.clone(),
         format: None,
         json: args.json,
+        gltf: GltfArgs {
+            gltf: Some(dir.join("transfer.glb")),
+            max_gltf_mb: 256.0,
+        },
+        gltf_shapes: false,
+        fps: 12.0,
+        pictures: PictureArgs {
+            png: Some(dir.join("transfer.png")),
+            gif: Some(dir.join("transfer.gif")),
+        },
         poses: pose_paths,
     })?;
-
-    let results: Vec<Vec<[f64; 3]>> = (0..POSES)
-        .map(|k| {
-            let path = out.join(format!("bend-{k:02}.obj"));
-            Ok(crate::output::read_mesh(&path, "transferred pose")?
-                .into_parts()
-                .0)
-        })
-        .collect::<Result<_>>()?;
-    write_pictures(&dir, &source, &poses, &target, &results)?;
     if !args.json {
         println!(
             "pictures: {}, {}",
@@ -169,65 +173,5 @@ fn transfer(args: &Args) -> Result<()> {
             input.join("bend-*.obj").display()
         );
     }
-    Ok(())
-}
-
-/// An animation and a still: source poses above, target poses below.
-fn write_pictures(
-    dir: &Path,
-    source: &meshmorph::Mesh3,
-    poses: &[meshmorph::Mesh3],
-    target: &meshmorph::Mesh3,
-    results: &[Vec<[f64; 3]>],
-) -> Result<()> {
-    let grid = GridOptions {
-        cell_width: 360,
-        direction: [-0.25, -0.35, -1.0],
-        up: [0.0, 1.0, 0.0],
-        ..GridOptions::default()
-    };
-    let rows = |k: usize| {
-        vec![
-            GridRow {
-                triangles: source.triangles(),
-                poses: vec![poses[k].positions()],
-                style: Style3d::with_ramp(Ramp::BLUE),
-            },
-            GridRow {
-                triangles: target.triangles(),
-                poses: vec![results[k].as_slice()],
-                style: Style3d::with_ramp(Ramp::SAND),
-            },
-        ]
-    };
-    let frames: Vec<Vec<GridRow<'_>>> = (0..poses.len()).map(rows).collect();
-    let options = GifOptions {
-        fps: 12.0,
-        hold_ends: Duration::from_millis(600),
-        ..GifOptions::default()
-    };
-    render::write_gif_grid(&dir.join("transfer.gif"), &frames, &grid, &options)
-        .context("writing transfer.gif")?;
-    let picks = [0, poses.len() / 2, poses.len() - 1];
-    let still = vec![
-        GridRow {
-            triangles: source.triangles(),
-            poses: picks.iter().map(|&k| poses[k].positions()).collect(),
-            style: Style3d::with_ramp(Ramp::BLUE),
-        },
-        GridRow {
-            triangles: target.triangles(),
-            poses: picks.iter().map(|&k| results[k].as_slice()).collect(),
-            style: Style3d::with_ramp(Ramp::SAND),
-        },
-    ];
-    let canvas = render::render_grid_3d(
-        &still,
-        &GridOptions {
-            cell_width: 240,
-            ..grid
-        },
-    );
-    render::write_png(&dir.join("transfer.png"), &canvas).context("writing transfer.png")?;
     Ok(())
 }

@@ -4,11 +4,13 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
+use meshmorph::io::gltf::{GltfBase, GltfOptions};
 use meshmorph::{Interpolator, InterpolatorOptions, Mesh2, StretchMode};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::output::{self, FormatArg};
+use crate::gltf::GltfArgs;
+use crate::output::{self, positive_number, FormatArg};
 use crate::pictures;
 use crate::progress;
 
@@ -80,7 +82,7 @@ pub struct FrameArgs {
     /// GIF height in pixels [default: from the shape's aspect ratio].
     #[arg(long, value_name = "PX", value_parser = clap::value_parser!(u32).range(16..=8192))]
     pub gif_height: Option<u32>,
-    /// GIF frame rate.
+    /// Frame rate of the GIF and of the glTF animation.
     #[arg(long, default_value_t = 25.0, value_name = "FPS", value_parser = positive_number)]
     pub fps: f64,
     /// Play the GIF forward only, instead of forward then back.
@@ -90,14 +92,8 @@ pub struct FrameArgs {
     /// holds every frame, --gif-width pixels wide).
     #[arg(long)]
     pub svg: bool,
-}
-
-/// A finite number above zero.
-fn positive_number(text: &str) -> Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
-        _ => Err(format!("`{text}` is not a positive number")),
-    }
+    #[command(flatten)]
+    pub gltf: GltfArgs,
 }
 
 /// `--stretch` values.
@@ -164,6 +160,12 @@ pub struct Report {
     pub max_flipped_frame: usize,
     /// The GIF written, if any.
     pub gif: Option<PathBuf>,
+    /// The GLB written, if any.
+    pub gltf: Option<PathBuf>,
+    /// Every file written, in order.
+    pub files_written: Vec<PathBuf>,
+    /// The warnings given (also printed on stderr).
+    pub warnings: Vec<String>,
 }
 
 impl Report {
@@ -203,6 +205,9 @@ impl Report {
         if let Some(g) = &self.gif {
             println!("animation: {}", g.display());
         }
+        if let Some(g) = &self.gltf {
+            println!("glTF:      {}", g.display());
+        }
     }
 }
 
@@ -235,13 +240,19 @@ pub fn animate(
     start: Instant,
 ) -> Result<Report> {
     let times = args.times()?;
+    args.gltf.check(
+        source.num_vertices(),
+        source.num_triangles(),
+        times.len(),
+        false,
+    )?;
     let setup = Instant::now();
     let morph = Interpolator::new(source, target, &args.options())?;
     let setup_seconds = setup.elapsed().as_secs_f64();
     output::make_dir(dir)?;
 
     let bar = progress::bar(times.len() as u64, "frames");
-    let keep = args.gif.is_some() || args.svg;
+    let keep = args.gif.is_some() || args.svg || args.gltf.gltf.is_some();
     let results: Vec<Result<Frame>> = times
         .par_iter()
         .enumerate()
@@ -280,6 +291,9 @@ pub fn animate(
                 let _ = std::fs::remove_file(output::frame_path(dir, k, times.len(), "svg"));
             }
         }
+        if let Some(gif) = &args.gif {
+            let _ = std::fs::remove_file(gif);
+        }
         e
     };
     let mut frames = results
@@ -292,13 +306,41 @@ pub fn animate(
         .map(|(k, f)| (k, f.flipped))
         .max_by_key(|&(k, f)| (f, std::cmp::Reverse(k)))
         .unwrap_or((0, 0));
+    let mut files_written: Vec<PathBuf> = (0..times.len())
+        .map(|k| output::frame_path(dir, k, times.len(), format.extension()))
+        .collect();
+    let mut gltf = None;
     if keep {
         let positions: Vec<Vec<[f64; 2]>> = frames
             .iter_mut()
             .filter_map(|f| f.positions.take())
             .collect();
-        write_pictures(args, dir, &positions, morph.triangles()).map_err(remove_frames)?;
+        files_written.extend(
+            write_pictures(args, dir, &positions, morph.triangles()).map_err(remove_frames)?,
+        );
+        let names: Vec<String> = (0..times.len())
+            .map(|k| {
+                let path = output::frame_path(dir, k, times.len(), format.extension());
+                crate::gltf::mesh_name(&path)
+            })
+            .collect();
+        let options = GltfOptions::default()
+            .with_fps(args.fps)
+            .with_name("interpolation");
+        let base = GltfBase::new(source.positions(), source.triangles());
+        gltf = args
+            .gltf
+            .write(&base, &positions, &names, &options)
+            .map_err(remove_frames)?;
+        files_written.extend(gltf.clone());
     }
+    let mut warnings = Vec::new();
+    if max_flipped > 0 {
+        warnings.push(format!(
+            "frame {max_flipped_frame} has {max_flipped} triangles reversed relative to the source"
+        ));
+    }
+    output::print_warnings(&warnings);
     let n = frames.len() as f64;
     Ok(Report {
         output: dir.to_path_buf(),
@@ -312,21 +354,27 @@ pub fn animate(
         max_flipped_triangles: max_flipped,
         max_flipped_frame,
         gif: args.gif.clone(),
+        gltf,
+        files_written,
+        warnings,
     })
 }
 
-/// The SVGs and the GIF asked for, of the frames' positions.
+/// The SVGs and the GIF asked for, of the frames' positions; returns the
+/// files written.
 fn write_pictures(
     args: &FrameArgs,
     dir: &Path,
     positions: &[Vec<[f64; 2]>],
     triangles: &[[u32; 3]],
-) -> Result<()> {
+) -> Result<Vec<PathBuf>> {
+    let mut written = Vec::new();
     if args.svg {
         let paths: Vec<PathBuf> = (0..positions.len())
             .map(|k| output::frame_path(dir, k, positions.len(), "svg"))
             .collect();
         pictures::write_svgs(&paths, positions, triangles, args.gif_width)?;
+        written.extend(paths);
     }
     if let Some(gif) = &args.gif {
         let gif_args = pictures::GifArgs {
@@ -336,8 +384,9 @@ fn write_pictures(
             boomerang: !args.no_boomerang,
         };
         pictures::write_gif(gif, positions, triangles, &gif_args)?;
+        written.push(gif.clone());
     }
-    Ok(())
+    Ok(written)
 }
 
 struct Frame {

@@ -4,7 +4,9 @@
 //! arguments, reads files, reports progress and calls the library.
 
 mod demo;
+mod gltf;
 mod interpolate;
+mod manual;
 mod output;
 mod pictures;
 mod progress;
@@ -12,7 +14,7 @@ mod transfer;
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 
 /// Gradient-domain shape animation on triangle meshes.
 ///
@@ -36,6 +38,15 @@ enum Command {
     Correspond(transfer::CorrespondCommand),
     /// Run on built-in procedural shapes and write frames and pictures.
     Demo(demo::Args),
+    /// Print a shell completion script, e.g.
+    /// `meshmorph completions bash > ~/.local/share/bash-completion/completions/meshmorph`.
+    Completions {
+        /// The shell.
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
+    /// Print the manual page (roff), e.g. `meshmorph man | man -l -`.
+    Man(manual::ManArgs),
 }
 
 fn main() -> ExitCode {
@@ -45,6 +56,11 @@ fn main() -> ExitCode {
         Command::Transfer(args) => transfer::run_transfer(&args),
         Command::Correspond(args) => transfer::run_correspond(&args),
         Command::Demo(args) => demo::run(&args),
+        Command::Completions { shell } => {
+            manual::completions(Cli::command(), shell);
+            Ok(())
+        }
+        Command::Man(args) => manual::man(Cli::command(), &args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

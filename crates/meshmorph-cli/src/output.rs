@@ -76,3 +76,47 @@ pub fn print_json(report: &impl serde::Serialize) {
         serde_json::to_string(report).expect("a report serialises")
     );
 }
+
+/// A finite number above zero (a clap value parser).
+pub fn positive_number(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err(format!("`{text}` is not a finite number above 0")),
+    }
+}
+
+/// Prints each warning on stderr.
+pub fn print_warnings(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
+}
+
+/// Refuses an output path that resolves to one of the `inputs`.
+pub fn refuse_input(output: &Path, inputs: &[&Path]) -> Result<()> {
+    let resolved = match (output.parent(), output.file_name()) {
+        (Some(dir), Some(name)) => {
+            let dir = if dir.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                dir
+            };
+            dir.canonicalize().ok().map(|d| d.join(name))
+        }
+        _ => None,
+    };
+    let Some(resolved) = resolved else {
+        return Ok(());
+    };
+    if let Some(input) = inputs
+        .iter()
+        .find(|i| i.canonicalize().ok().as_ref() == Some(&resolved))
+    {
+        anyhow::bail!(
+            "the output `{}` would overwrite the input `{}`: choose another name",
+            output.display(),
+            input.display()
+        );
+    }
+    Ok(())
+}

@@ -1,9 +1,12 @@
 //! Pictures the CLI writes: SVG frames, GIF animations, PNG stills.
 
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 use anyhow::{Context, Result};
-use meshmorph::render::{self, Flipped, GifOptions, Style2d, View2d};
+use meshmorph::render::{
+    self, Flipped, GifOptions, GridOptions, GridRow, Ramp, Style2d, Style3d, View2d,
+};
 
 /// The look of planar frames: triangles turned against the majority of
 /// the mesh are drawn in the warning colour.
@@ -55,4 +58,145 @@ pub fn write_gif(
     };
     render::write_gif_2d(path, frames, triangles, &options, &style_2d())
         .with_context(|| format!("writing the animation `{}`", path.display()))
+}
+
+/// `--png` and `--gif` of the commands on meshes in space.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct PictureArgs {
+    /// Also write a still picture (PNG) of the result.
+    #[arg(long, value_name = "FILE.png")]
+    pub png: Option<PathBuf>,
+    /// Also write an animated GIF of the result.
+    #[arg(long, value_name = "FILE.gif")]
+    pub gif: Option<PathBuf>,
+}
+
+impl PictureArgs {
+    /// Whether any picture is asked for.
+    pub fn any(&self) -> bool {
+        self.png.is_some() || self.gif.is_some()
+    }
+
+    /// The pictures' paths.
+    pub fn paths(&self) -> impl Iterator<Item = &PathBuf> {
+        self.png.iter().chain(&self.gif)
+    }
+}
+
+/// Meshes in space with one set of triangles: the triangles and the poses.
+pub type Poses<'a> = (&'a [[u32; 3]], &'a [&'a [[f64; 3]]]);
+
+/// The look of grid pictures: a view from the front, a little from the
+/// left and from above, y up.
+fn grid_options(cell_width: u32) -> GridOptions {
+    GridOptions {
+        cell_width,
+        direction: [-0.25, -0.35, -1.0],
+        up: [0.0, 1.0, 0.0],
+        ..GridOptions::default()
+    }
+}
+
+/// Pictures of a transfer, as `meshmorph demo` draws them: source poses
+/// above, target poses below. The PNG shows the first, the middle and the
+/// last pose; the GIF every pose at `fps`. Returns the files written.
+pub fn write_transfer_pictures(
+    args: &PictureArgs,
+    fps: f64,
+    source: Poses<'_>,
+    target: Poses<'_>,
+) -> Result<Vec<PathBuf>> {
+    let rows = |picks: &[usize]| {
+        vec![
+            GridRow {
+                triangles: source.0,
+                poses: picks.iter().map(|&k| source.1[k]).collect(),
+                style: Style3d::with_ramp(Ramp::BLUE),
+            },
+            GridRow {
+                triangles: target.0,
+                poses: picks.iter().map(|&k| target.1[k]).collect(),
+                style: Style3d::with_ramp(Ramp::SAND),
+            },
+        ]
+    };
+    let n = source.1.len();
+    let mut written = Vec::new();
+    if let Some(path) = &args.gif {
+        let frames: Vec<Vec<GridRow<'_>>> = (0..n).map(|k| rows(&[k])).collect();
+        let options = GifOptions {
+            fps,
+            hold_ends: Duration::from_millis(600),
+            ..GifOptions::default()
+        };
+        render::write_gif_grid(path, &frames, &grid_options(360), &options)
+            .with_context(|| format!("writing the animation `{}`", path.display()))?;
+        written.push(path.clone());
+    }
+    if let Some(path) = &args.png {
+        let mut picks = vec![0, n / 2, n - 1];
+        picks.dedup();
+        let canvas = render::render_grid_3d(&rows(&picks), &grid_options(240));
+        render::write_png(path, &canvas)
+            .with_context(|| format!("writing the picture `{}`", path.display()))?;
+        written.push(path.clone());
+    }
+    Ok(written)
+}
+
+/// Pictures of a correspondence: the source deformed onto the target above,
+/// the target below. The GIF shows the source reference turning into the
+/// deformed source. Returns the files written.
+pub fn write_correspondence_pictures(
+    args: &PictureArgs,
+    source: Poses<'_>,
+    deformed: &[[f64; 3]],
+    target: Poses<'_>,
+) -> Result<Vec<PathBuf>> {
+    /// Steps of the GIF from the reference to the deformed source.
+    const STEPS: usize = 24;
+    let blends: Vec<Vec<[f64; 3]>> = (0..STEPS)
+        .map(|k| {
+            let s = k as f64 / (STEPS - 1) as f64;
+            source.1[0]
+                .iter()
+                .zip(deformed)
+                .map(|(a, b)| std::array::from_fn(|c| (1.0 - s) * a[c] + s * b[c]))
+                .collect()
+        })
+        .collect();
+    let sources: Vec<&[[f64; 3]]> = blends.iter().map(Vec::as_slice).collect();
+    let targets: Vec<&[[f64; 3]]> = vec![target.1[0]; STEPS];
+    let mut written = Vec::new();
+    if let Some(path) = &args.gif {
+        let only_gif = PictureArgs {
+            png: None,
+            gif: Some(path.clone()),
+        };
+        written.extend(write_transfer_pictures(
+            &only_gif,
+            12.0,
+            (source.0, &sources),
+            (target.0, &targets),
+        )?);
+    }
+    if let Some(path) = &args.png {
+        let rows = vec![
+            GridRow {
+                triangles: source.0,
+                poses: vec![deformed],
+                style: Style3d::with_ramp(Ramp::BLUE),
+            },
+            GridRow {
+                triangles: target.0,
+                poses: vec![target.1[0]],
+                style: Style3d::with_ramp(Ramp::SAND),
+            },
+        ];
+        let canvas = render::render_grid_3d(&rows, &grid_options(360));
+        render::write_png(path, &canvas)
+            .with_context(|| format!("writing the picture `{}`", path.display()))?;
+        written.push(path.clone());
+    }
+    Ok(written)
 }

@@ -5,13 +5,16 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
+use meshmorph::io::gltf::{GltfBase, GltfOptions};
 use meshmorph::{
     correspond, CorrespondOptions, Correspondence, Markers, Mesh3, Transfer, TransferOptions,
 };
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::output::{self, FormatArg};
+use crate::gltf::GltfArgs;
+use crate::output::{self, positive_number, FormatArg};
+use crate::pictures::PictureArgs;
 use crate::progress;
 
 /// How the triangle correspondence is computed (Sumner and Popovic 2004, section 5).
@@ -153,6 +156,17 @@ pub struct TransferArgs {
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub gltf: GltfArgs,
+    /// With --gltf: write the poses as shape keys (morph targets at weight
+    /// 0), without the animation.
+    #[arg(long, requires = "gltf")]
+    pub gltf_shapes: bool,
+    /// Frame rate of the glTF animation and of the GIF.
+    #[arg(long, default_value_t = 25.0, value_name = "FPS", value_parser = positive_number)]
+    pub fps: f64,
+    #[command(flatten)]
+    pub pictures: PictureArgs,
     /// Source poses: meshes with the source reference's vertices and triangles.
     #[arg(required = true, value_name = "POSE")]
     pub poses: Vec<PathBuf>,
@@ -176,6 +190,12 @@ pub struct TransferReport {
     pub unmatched_source_triangles: usize,
     pub unmatched_target_triangles: usize,
     pub total_seconds: f64,
+    /// The GLB written, if any.
+    pub gltf: Option<PathBuf>,
+    /// Every file written, in order.
+    pub files_written: Vec<PathBuf>,
+    /// The warnings given (also printed on stderr).
+    pub warnings: Vec<String>,
 }
 
 impl TransferReport {
@@ -214,6 +234,9 @@ impl TransferReport {
             "total:          {}",
             output::human_seconds(self.total_seconds)
         );
+        if let Some(g) = &self.gltf {
+            println!("glTF:           {}", g.display());
+        }
     }
 }
 
@@ -228,6 +251,15 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     ]);
     inputs.extend(args.correspondence.as_deref());
     let outputs = output_paths(&args.poses, &args.output, format.extension(), &inputs)?;
+    args.gltf.check(
+        target.num_vertices(),
+        target.num_triangles(),
+        args.poses.len(),
+        false,
+    )?;
+    for extra in args.gltf.gltf.iter().chain(args.pictures.paths()) {
+        output::refuse_input(extra, &inputs)?;
+    }
 
     // Read and check every pose first: a bad pose is reported before the
     // slow correspondence, and nothing is written.
@@ -300,7 +332,8 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
             .context("saving the correspondence")?;
     }
     output::make_dir(&args.output)?;
-    let timings: Vec<(f64, f64)> = poses
+    let keep = args.gltf.gltf.is_some() || args.pictures.any();
+    let solved: Vec<(f64, f64, Option<Vec<[f64; 3]>>)> = poses
         .par_iter()
         .zip(&outputs)
         .map_init(
@@ -313,11 +346,46 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
                 meshmorph::io::write_positions(out_path, &out, target.triangles(), format)
                     .with_context(|| format!("writing `{}`", out_path.display()))?;
                 bar.inc(1);
-                Ok((solve, read + begin.elapsed().as_secs_f64()))
+                Ok((
+                    solve,
+                    read + begin.elapsed().as_secs_f64(),
+                    keep.then_some(out),
+                ))
             },
         )
         .collect::<Result<_>>()?;
     bar.finish_and_clear();
+    let (timings, results): (Vec<(f64, f64)>, Vec<Option<Vec<[f64; 3]>>>) =
+        solved.into_iter().map(|(a, b, r)| ((a, b), r)).unzip();
+    let results: Vec<Vec<[f64; 3]>> = results.into_iter().flatten().collect();
+    let mut files_written: Vec<PathBuf> = args.save_correspondence.iter().cloned().collect();
+    files_written.extend(outputs.iter().cloned());
+    let names: Vec<String> = outputs.iter().map(|p| crate::gltf::mesh_name(p)).collect();
+    let options = GltfOptions::default()
+        .with_fps(args.fps)
+        .with_animation(!args.gltf_shapes)
+        .with_name(crate::gltf::mesh_name(&args.refs.target_ref));
+    let base = GltfBase::new(target.positions(), target.triangles());
+    let gltf = args.gltf.write(&base, &results, &names, &options)?;
+    files_written.extend(gltf.clone());
+    if args.pictures.any() {
+        let source_poses: Vec<&[[f64; 3]]> = poses.iter().map(|(p, _)| p.positions()).collect();
+        let target_poses: Vec<&[[f64; 3]]> = results.iter().map(Vec::as_slice).collect();
+        files_written.extend(crate::pictures::write_transfer_pictures(
+            &args.pictures,
+            args.fps,
+            (source.triangles(), &source_poses),
+            (target.triangles(), &target_poses),
+        )?);
+    }
+    let mut warnings = Vec::new();
+    if correspondence.unmatched_target() > 0 {
+        warnings.push(format!(
+            "{} target triangles have no source partner: they follow their neighbours",
+            correspondence.unmatched_target()
+        ));
+    }
+    output::print_warnings(&warnings);
     let n = timings.len() as f64;
     TransferReport {
         output: args.output.clone(),
@@ -331,6 +399,9 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         unmatched_source_triangles: correspondence.unmatched_source(),
         unmatched_target_triangles: correspondence.unmatched_target(),
         total_seconds: start.elapsed().as_secs_f64(),
+        gltf,
+        files_written,
+        warnings,
     }
     .print(args.json);
     Ok(())
@@ -392,6 +463,10 @@ pub struct CorrespondCommand {
     /// well it fits.
     #[arg(long, value_name = "MESH")]
     pub deformed_source: Option<PathBuf>,
+    /// Pictures: the deformed source (above) over the target (below); the
+    /// GIF turns the source reference into the deformed source.
+    #[command(flatten)]
+    pub pictures: PictureArgs,
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
@@ -405,6 +480,10 @@ pub struct CorrespondReport {
     pub matched_pairs: usize,
     pub unmatched_source_triangles: usize,
     pub unmatched_target_triangles: usize,
+    /// Every file written, in order.
+    pub files_written: Vec<PathBuf>,
+    /// The warnings given (also printed on stderr).
+    pub warnings: Vec<String>,
 }
 
 pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
@@ -419,20 +498,45 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         .as_deref()
         .map(meshmorph::io::Format::from_path)
         .transpose()?;
+    let inputs = [
+        args.refs.source_ref.as_path(),
+        args.refs.target_ref.as_path(),
+    ];
+    for extra in args.pictures.paths() {
+        output::refuse_input(extra, &inputs)?;
+    }
     let result = args.correspond.compute(&args.refs, &source, &target)?;
     let seconds = begin.elapsed().as_secs_f64();
     let c = &result.correspondence;
     c.save(&args.output).context("saving the correspondence")?;
+    let mut files_written = vec![args.output.clone()];
     if let (Some(path), Some(format)) = (&args.deformed_source, deformed_format) {
         meshmorph::io::write_mesh(path, &result.deformed_source, format)
             .with_context(|| format!("writing `{}`", path.display()))?;
+        files_written.push(path.clone());
     }
+    files_written.extend(crate::pictures::write_correspondence_pictures(
+        &args.pictures,
+        (source.triangles(), &[source.positions()]),
+        result.deformed_source.positions(),
+        (target.triangles(), &[target.positions()]),
+    )?);
+    let mut warnings = Vec::new();
+    if c.unmatched_target() > 0 {
+        warnings.push(format!(
+            "{} target triangles have no source partner",
+            c.unmatched_target()
+        ));
+    }
+    output::print_warnings(&warnings);
     let report = CorrespondReport {
         output: args.output.clone(),
         seconds,
         matched_pairs: c.pairs().len(),
         unmatched_source_triangles: c.unmatched_source(),
         unmatched_target_triangles: c.unmatched_target(),
+        files_written,
+        warnings,
     };
     if args.json {
         output::print_json(&report);

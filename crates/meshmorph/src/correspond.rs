@@ -1,6 +1,12 @@
 //! Triangle correspondence between a source and a target mesh from a few
 //! marker vertex pairs (Sumner and Popović 2004, section 5).
 //!
+//! 0. Unless [`CorrespondOptions::align`] is off, the source reference is
+//!    first brought onto the target reference by the similarity (rotation,
+//!    uniform scale, translation) that best fits the marker pairs
+//!    ([`Similarity::fit`]): moving, turning or scaling the source changes
+//!    nothing. The similarity is kept in the [`Correspondence`], and
+//!    [`Transfer`](crate::Transfer) applies it to every pose.
 //! 1. The source reference is deformed onto the target reference by
 //!    minimising `w_S E_S + w_I E_I + w_C E_C` over its vertices and fourth
 //!    vertices, markers held at their target positions: `E_S` asks
@@ -22,6 +28,7 @@ use crate::frames::{GradientOperators, IDENTITY};
 use crate::geometry::centroid;
 use crate::markers::Markers;
 use crate::mesh::Mesh3;
+use crate::similarity::{residuals, Similarity};
 use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder};
 use crate::topology::{connected_components, edges};
 
@@ -46,6 +53,10 @@ pub struct CorrespondOptions {
     /// than that are more often wrong than right, and a target triangle left
     /// without a pair takes its neighbours' deformation in the transfer.
     pub match_threshold: f64,
+    /// Bring the source onto the target by the similarity that best fits
+    /// the markers before anything else. Default `true`; off, the two
+    /// references must already overlap.
+    pub align: bool,
 }
 
 impl Default for CorrespondOptions {
@@ -58,6 +69,7 @@ impl Default for CorrespondOptions {
                 .collect(),
             closest_cutoff: 0.02,
             match_threshold: 0.01,
+            align: true,
         }
     }
 }
@@ -115,6 +127,11 @@ impl CorrespondOptions {
         self.match_threshold = fraction;
         self
     }
+    /// Sets [`CorrespondOptions::align`].
+    pub fn with_align(mut self, align: bool) -> Self {
+        self.align = align;
+        self
+    }
     /// Sets the smoothness and identity weights.
     pub fn with_weights(mut self, smoothness: f64, identity: f64) -> Self {
         self.smoothness_weight = smoothness;
@@ -130,6 +147,10 @@ pub struct CorrespondResult {
     pub correspondence: Correspondence,
     /// The source reference deformed onto the target reference.
     pub deformed_source: Mesh3,
+    /// The distance between each marker's target vertex and its source
+    /// vertex brought onto the target by the alignment (in the order of the
+    /// markers; the misfit of the similarity, in the target's units).
+    pub marker_residuals: Vec<f64>,
 }
 
 /// The fewest markers [`correspond`] accepts: fewer cannot fix an orientation.
@@ -182,6 +203,27 @@ pub fn correspond(
         )));
     }
 
+    let marker_points = |mesh: &Mesh3, k: usize| -> Vec<[f64; 3]> {
+        markers
+            .pairs()
+            .iter()
+            .map(|p| mesh.positions()[p[k] as usize])
+            .collect()
+    };
+    let (from, to) = (marker_points(source, 0), marker_points(target, 1));
+    let alignment = if options.align {
+        Similarity::fit(&from, &to)?
+    } else {
+        Similarity::IDENTITY
+    };
+    let marker_residuals = residuals(&alignment, &from, &to);
+    let aligned;
+    let source = if alignment.is_identity() {
+        source
+    } else {
+        aligned = source.with_positions(alignment.apply_all(source.positions()))?;
+        &aligned
+    };
     let deformed = deform(source, target, markers, options, progress)?;
     let deformed_source = source.with_positions(deformed)?;
     // Centroids of two differently tessellated surfaces lie up to about an
@@ -189,11 +231,13 @@ pub fn correspond(
     let threshold = (options.match_threshold * target.bounding_box_diagonal())
         .max(mean_edge_length(&deformed_source))
         .max(mean_edge_length(target));
-    let correspondence = match_triangles(&deformed_source, target, threshold);
+    let correspondence =
+        match_triangles(&deformed_source, target, threshold).with_alignment(alignment);
     progress(correspond_steps(options));
     Ok(CorrespondResult {
         correspondence,
         deformed_source,
+        marker_residuals,
     })
 }
 

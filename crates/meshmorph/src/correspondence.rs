@@ -4,14 +4,19 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh3;
+use crate::similarity::Similarity;
 
 /// Pairs `(source triangle, target triangle)`, sorted and unique, with the
-/// sizes and a connectivity fingerprint of the meshes they were made for.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// sizes and a connectivity fingerprint of the meshes they were made for,
+/// and the similarity that brought the source onto the target before the
+/// pairs were found (the identity unless [`correspond`](crate::correspond)
+/// aligned them).
+#[derive(Clone, Debug, PartialEq)]
 pub struct Correspondence {
     pairs: Vec<[u32; 2]>,
     source: MeshSignature,
     target: MeshSignature,
+    alignment: Similarity,
 }
 
 /// Vertex and triangle counts and a hash of the triangle list.
@@ -64,7 +69,21 @@ impl Correspondence {
             pairs,
             source: MeshSignature::of(source),
             target: MeshSignature::of(target),
+            alignment: Similarity::IDENTITY,
         }
+    }
+
+    /// The same pairs, made with the source brought onto the target by
+    /// `alignment`: [`Transfer`](crate::Transfer) applies it to the source
+    /// reference and to every pose.
+    pub fn with_alignment(mut self, alignment: Similarity) -> Self {
+        self.alignment = alignment;
+        self
+    }
+
+    /// The similarity that brings the source onto the target.
+    pub fn alignment(&self) -> &Similarity {
+        &self.alignment
     }
 
     /// Every triangle of `mesh` paired with itself: the map between a mesh
@@ -129,6 +148,12 @@ impl Correspondence {
             for (name, s) in [("source", self.source), ("target", self.target)] {
                 writeln!(w, "{name} {} {} {:016x}", s.vertices, s.triangles, s.hash)?;
             }
+            let a = &self.alignment;
+            write!(w, "alignment {:?}", a.scale)?;
+            for x in a.rotation.iter().flatten().chain(&a.translation) {
+                write!(w, " {x:?}")?;
+            }
+            writeln!(w)?;
             writeln!(w, "pairs {}", self.pairs.len())?;
             for [s, t] in &self.pairs {
                 writeln!(w, "{s} {t}")?;
@@ -183,7 +208,29 @@ impl Correspondence {
         };
         let source = signature("source")?;
         let target = signature("target")?;
-        let (line, l) = next("the pair count")?;
+        let (mut line, mut l) = next("the pair count")?;
+        let mut alignment = Similarity::IDENTITY;
+        if let Some(values) = l.strip_prefix("alignment ") {
+            let v: Vec<f64> = values
+                .split_whitespace()
+                .map(str::parse)
+                .collect::<std::result::Result<_, _>>()
+                .ok()
+                .filter(|v: &Vec<f64>| v.len() == 13 && v.iter().all(|x| x.is_finite()) && v[0] > 0.0)
+                .ok_or_else(|| {
+                    Error::parse(
+                        path,
+                        Some(line),
+                        "expected `alignment SCALE R00 R01 ... R22 T0 T1 T2` (13 finite numbers, scale above 0)",
+                    )
+                })?;
+            alignment = Similarity {
+                scale: v[0],
+                rotation: [[v[1], v[2], v[3]], [v[4], v[5], v[6]], [v[7], v[8], v[9]]],
+                translation: [v[10], v[11], v[12]],
+            };
+            (line, l) = next("the pair count")?;
+        }
         let count: usize = l
             .strip_prefix("pairs ")
             .and_then(|c| c.trim().parse().ok())
@@ -224,6 +271,7 @@ impl Correspondence {
             pairs,
             source,
             target,
+            alignment,
         })
     }
 }

@@ -1,19 +1,43 @@
-//! Marker vertex pairs that tie a source mesh to a target mesh.
+//! Marker vertex pairs that tie a source mesh to a target mesh, given as
+//! vertex indices or as points snapped to the nearest vertex.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
+use crate::geometry::{norm, sub};
+use crate::mesh::Mesh3;
 
 /// Pairs `(source vertex, target vertex)`, 0-based, with where they came from
-/// so that errors can name the file and line.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+/// so that errors can name the file and line. A marker file may also give
+/// points (`x y z` on each mesh, as picking tools write them): they become
+/// vertex pairs through [`Markers::snap`].
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Markers {
     pairs: Vec<[u32; 2]>,
     /// 1-based line of each pair, when read from a file.
     lines: Vec<usize>,
+    /// Point pairs not yet snapped to vertices, with their lines.
+    points: Vec<([[f64; 3]; 2], usize)>,
     path: Option<PathBuf>,
 }
+
+/// How far [`Markers::snap`] moved the marker points, as fractions of each
+/// mesh's bounding-box diagonal.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Snap {
+    /// Number of point pairs snapped.
+    pub points: usize,
+    /// The largest distance from a source point to its vertex.
+    pub largest_source: f64,
+    /// The largest distance from a target point to its vertex.
+    pub largest_target: f64,
+}
+
+/// The farthest a marker point may lie from a vertex, as a fraction of the
+/// mesh's bounding-box diagonal: farther, it is more likely a point of
+/// another model (or in other units) than a point picked on this one.
+pub const SNAP_LIMIT: f64 = 0.02;
 
 impl Markers {
     /// Markers from 0-based pairs in memory.
@@ -21,13 +45,82 @@ impl Markers {
         Self {
             pairs,
             lines: Vec::new(),
+            points: Vec::new(),
             path: None,
         }
     }
 
-    /// The pairs, 0-based.
+    /// Markers from point pairs `[source point, target point]` in memory,
+    /// to be snapped to vertices with [`Markers::snap`].
+    pub fn from_points(points: Vec<[[f64; 3]; 2]>) -> Self {
+        Self {
+            points: points.into_iter().map(|p| (p, 0)).collect(),
+            ..Self::default()
+        }
+    }
+
+    /// The vertex pairs, 0-based (point pairs count once snapped).
     pub fn pairs(&self) -> &[[u32; 2]] {
         &self.pairs
+    }
+
+    /// Whether some markers are points not yet snapped to vertices.
+    pub fn has_points(&self) -> bool {
+        !self.points.is_empty()
+    }
+
+    /// Every point pair snapped to the nearest vertex (that a triangle uses)
+    /// of each mesh, added to the vertex pairs.
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] naming the marker (file and line when read
+    /// from a file) whose point lies farther than [`SNAP_LIMIT`] of the
+    /// mesh's bounding-box diagonal from every vertex.
+    pub fn snap(&self, source: &Mesh3, target: &Mesh3) -> Result<(Markers, Snap)> {
+        let mut out = Markers {
+            pairs: self.pairs.clone(),
+            lines: self.lines.clone(),
+            points: Vec::new(),
+            path: self.path.clone(),
+        };
+        let mut snap = Snap {
+            points: self.points.len(),
+            ..Snap::default()
+        };
+        let (ds, dt) = (
+            source.bounding_box_diagonal(),
+            target.bounding_box_diagonal(),
+        );
+        let (us, ut) = (used_vertices(source), used_vertices(target));
+        for (k, &([ps, pt], line)) in self.points.iter().enumerate() {
+            let name = match &self.path {
+                Some(p) => format!("`{}`, line {line}", p.display()),
+                None => format!("marker point {k}"),
+            };
+            let mut pair = [0u32; 2];
+            for (slot, (mesh, used, point, diagonal, which, largest)) in [
+                (source, &us, ps, ds, "source", &mut snap.largest_source),
+                (target, &ut, pt, dt, "target", &mut snap.largest_target),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                let (v, d) = nearest(mesh.positions(), used, point);
+                if !(d <= SNAP_LIMIT * diagonal) {
+                    return Err(Error::InvalidArgument(format!(
+                        "{name}: the {which} point {point:?} is {:.3} % of the {which} mesh's diagonal from its nearest vertex ({v}); \
+                         marker points must lie on the mesh (within {} %)",
+                        100.0 * d / diagonal,
+                        100.0 * SNAP_LIMIT
+                    )));
+                }
+                *largest = largest.max(d / diagonal);
+                pair[slot] = v;
+            }
+            out.pairs.push(pair);
+            out.lines.push(line);
+        }
+        Ok((out, snap))
     }
 
     /// Reads a marker file: one pair `source target` per line, separated by
@@ -50,6 +143,7 @@ impl Markers {
     pub fn parse(text: &str, path: &Path, one_based: bool) -> Result<Self> {
         let mut pairs = Vec::new();
         let mut lines = Vec::new();
+        let mut points = Vec::new();
         let mut count: Option<(usize, usize)> = None;
         let mut first = true;
         for (k, raw) in text.lines().enumerate() {
@@ -93,26 +187,41 @@ impl Markers {
                     pairs.push([index(fields[0])?, index(fields[1])?]);
                     lines.push(line);
                 }
+                6 => {
+                    let mut c = [0.0; 6];
+                    for (x, f) in c.iter_mut().zip(&fields) {
+                        *x = f
+                            .parse::<f64>()
+                            .ok()
+                            .filter(|x| x.is_finite())
+                            .ok_or_else(|| bad(format!("`{f}` is not a coordinate")))?;
+                    }
+                    points.push(([[c[0], c[1], c[2]], [c[3], c[4], c[5]]], line));
+                }
                 _ => {
                     return Err(bad(format!(
-                        "expected `source target` (two vertex indices), found `{content}`"
+                        "expected `source target` (two vertex indices) or `sx sy sz tx ty tz` (a point on each mesh), found `{content}`"
                     )))
                 }
             }
             first = false;
         }
         if let Some((n, line)) = count {
-            if n != pairs.len() {
+            if n != pairs.len() + points.len() {
                 return Err(Error::parse(
                     path,
                     Some(line),
-                    format!("the count line says {n} pairs but {} follow", pairs.len()),
+                    format!(
+                        "the count line says {n} pairs but {} follow",
+                        pairs.len() + points.len()
+                    ),
                 ));
             }
         }
         Ok(Self {
             pairs,
             lines,
+            points,
             path: Some(path.to_path_buf()),
         })
     }
@@ -125,6 +234,15 @@ impl Markers {
     /// [`Error::InvalidArgument`] naming the marker (and file and line, when
     /// read from a file).
     pub fn validate(&self, source_vertices: usize, target_vertices: usize) -> Result<()> {
+        if let Some((_, line)) = self.points.first() {
+            return Err(Error::InvalidArgument(format!(
+                "{}: a marker given as points must be snapped to vertices first (Markers::snap)",
+                match &self.path {
+                    Some(p) => format!("`{}`, line {line}", p.display()),
+                    None => "marker point 0".into(),
+                }
+            )));
+        }
         let mut seen: HashMap<u32, usize> = HashMap::with_capacity(self.pairs.len());
         for (k, &[s, t]) in self.pairs.iter().enumerate() {
             let fail =
@@ -162,6 +280,31 @@ impl Markers {
             _ => format!("marker {k}"),
         }
     }
+}
+
+/// Which vertices a triangle uses.
+fn used_vertices(mesh: &Mesh3) -> Vec<bool> {
+    let mut used = vec![false; mesh.num_vertices()];
+    mesh.triangles()
+        .iter()
+        .flatten()
+        .for_each(|&v| used[v as usize] = true);
+    used
+}
+
+/// The used vertex nearest to `p` (the lowest index among equals) and its
+/// distance.
+fn nearest(positions: &[[f64; 3]], used: &[bool], p: [f64; 3]) -> (u32, f64) {
+    let mut best = (0u32, f64::INFINITY);
+    for (v, q) in positions.iter().enumerate() {
+        if used[v] {
+            let d = norm(sub(*q, p));
+            if d < best.1 {
+                best = (v as u32, d);
+            }
+        }
+    }
+    best
 }
 
 #[cfg(test)]

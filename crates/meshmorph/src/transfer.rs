@@ -42,6 +42,7 @@ use crate::error::{Error, Result};
 use crate::frames::{deformation_gradient, frame_inverses, GradientOperators, Mat3, IDENTITY};
 use crate::geometry::centroid;
 use crate::mesh::Mesh3;
+use crate::similarity::Similarity;
 use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder, Workspace};
 use crate::topology::{connected_components, edges, TriangleAdjacency};
 
@@ -80,7 +81,9 @@ const UNPAIRED_REST_WEIGHT: f64 = 1e-6;
 /// factored once; see the [module documentation](self).
 #[derive(Debug)]
 pub struct Transfer {
-    /// The source reference (its connectivity checks poses).
+    /// What brings the source onto the target (applied to every pose).
+    alignment: Similarity,
+    /// The source reference, aligned (its connectivity checks poses).
     source_ref: Mesh3,
     /// `V⁻¹` of every source reference triangle.
     source_frames_inv: Vec<Mat3>,
@@ -124,6 +127,8 @@ struct Placement {
 #[derive(Debug)]
 pub struct PoseWorkspace {
     solve: Workspace,
+    /// The pose brought onto the target by the alignment.
+    aligned: Vec<[f64; 3]>,
     gradients: Vec<Mat3>,
     rhs: Vec<f64>,
     x: Vec<f64>,
@@ -147,6 +152,14 @@ impl Transfer {
         options: &TransferOptions,
     ) -> Result<Self> {
         correspondence.check_fits(source_ref, target_ref)?;
+        let alignment = *correspondence.alignment();
+        let aligned;
+        let source_ref = if alignment.is_identity() {
+            source_ref
+        } else {
+            aligned = source_ref.with_positions(alignment.apply_all(source_ref.positions()))?;
+            &aligned
+        };
         source_ref.check_no_degenerate_triangles("source reference")?;
         target_ref.check_no_degenerate_triangles("target reference")?;
         let (n, tris) = (target_ref.num_vertices(), target_ref.triangles());
@@ -329,6 +342,7 @@ impl Transfer {
         }
 
         Ok(Self {
+            alignment,
             source_ref: source_ref.clone(),
             source_frames_inv,
             target_vertices: n,
@@ -355,6 +369,7 @@ impl Transfer {
         let m = self.target_vertices + self.target_triangles.len();
         PoseWorkspace {
             solve: self.system.workspace(3),
+            aligned: Vec::new(),
             gradients: vec![[[0.0; 3]; 3]; self.source_ref.num_triangles()],
             rhs: vec![0.0; 3 * m],
             x: vec![0.0; 3 * m],
@@ -422,6 +437,14 @@ impl Transfer {
         );
         let n = self.target_vertices;
         let m = n + self.target_triangles.len();
+        let mut aligned = std::mem::take(&mut ws.aligned);
+        let pose = if self.alignment.is_identity() {
+            pose
+        } else {
+            aligned.clear();
+            aligned.extend(pose.iter().map(|&p| self.alignment.apply(p)));
+            &aligned[..]
+        };
         for ((Q, tri), V_inv) in ws
             .gradients
             .iter_mut()
@@ -454,6 +477,7 @@ impl Transfer {
             *o = [ws.x[v], ws.x[m + v], ws.x[2 * m + v]];
         }
         self.place(pose, &ws.gradients, out, &mut ws.parts);
+        ws.aligned = aligned;
     }
 
     /// Moves each unpinned part so that its paired triangles' centroids

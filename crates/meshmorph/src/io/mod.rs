@@ -1,4 +1,5 @@
-//! Reading and writing meshes: OBJ, OFF and PLY.
+//! Reading and writing meshes: OBJ, OFF and PLY; animations as binary glTF
+//! ([`gltf`]).
 //!
 //! - [`read_mesh`] / [`read_mesh_as`] / [`parse_mesh`] read a triangle mesh
 //!   (polygons are triangulated, see below); every error names the file and,
@@ -6,13 +7,19 @@
 //! - [`write_mesh`] / [`write_positions`] write a mesh in any of the three
 //!   formats (planar meshes get z = 0), atomically through [`write_atomic`],
 //!   which other modules also use for their own outputs.
+//! - [`MeshFile`] keeps a file whole (polygons, texture coordinates, normals,
+//!   groups, materials, other PLY properties and elements, colours) beside
+//!   the triangle mesh derived from it, and writes it back with new
+//!   positions: what deformation transfer writes for the target.
 //!
 //! Reading accepts:
 //!
 //! - **OBJ**: `v x y [z] [w]` (z defaults to 0), faces `f a`, `f a/b`,
 //!   `f a/b/c`, `f a//c` with absolute (1-based) or relative (negative)
-//!   indices, `#` comments, CRLF line ends; every other statement (`vt`, `vn`,
-//!   `g`, `o`, `s`, `usemtl`, `mtllib`, `l`, ...) is ignored.
+//!   indices, `#` comments, CRLF line ends; `vt` and `vn` (through `f a/b/c`)
+//!   are read for [`MeshFile`]; every other statement (`g`, `o`, `s`,
+//!   `usemtl`, `mtllib`, `l`, ...) is kept by [`MeshFile`] and not needed
+//!   for the mesh.
 //! - **OFF**: the `OFF` keyword (also `COFF`, `NOFF`, `STOFF`, counts on the
 //!   same line, or no keyword at all), `nV nF [nE]`, vertex lines (values past
 //!   x y z, such as colours, are ignored), face lines `n i0 ... i(n-1)`
@@ -32,12 +39,15 @@
 //! `f64`, so reading a written mesh gives back exactly the same mesh.
 
 mod atomic;
+pub mod gltf;
+mod mesh_file;
 mod obj;
 mod off;
 mod ply;
 mod triangulate;
 
 pub use atomic::write_atomic;
+pub use mesh_file::MeshFile;
 
 use std::fmt;
 use std::io::Write;
@@ -137,8 +147,7 @@ pub fn read_mesh(path: &Path) -> Result<Mesh3> {
 /// file (and the line, for text formats) when its contents are not a valid
 /// mesh.
 pub fn read_mesh_as(path: &Path, format: Format) -> Result<Mesh3> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    parse_mesh(&bytes, format, path)
+    MeshFile::read_as(path, format).map(MeshFile::into_mesh)
 }
 
 /// Parses a triangle mesh from a file's contents; `path_for_messages` only
@@ -153,11 +162,7 @@ pub fn read_mesh_as(path: &Path, format: Format) -> Result<Mesh3> {
 /// range, a face that repeats a vertex, a truncated file, a file without
 /// triangles, ...
 pub fn parse_mesh(bytes: &[u8], format: Format, path_for_messages: &Path) -> Result<Mesh3> {
-    match format {
-        Format::Obj => obj::parse(bytes, path_for_messages),
-        Format::Off => off::parse(bytes, path_for_messages),
-        Format::Ply => ply::parse(bytes, path_for_messages),
-    }
+    MeshFile::parse(bytes.to_vec(), format, path_for_messages).map(MeshFile::into_mesh)
 }
 
 /// Writes a mesh atomically (see [`write_atomic`]); a planar mesh (`D = 2`)
@@ -189,10 +194,11 @@ pub fn write_positions<const D: usize>(
     format: Format,
 ) -> Result<()> {
     check_writable(path, positions, triangles)?;
+    let faces = || triangles.iter().map(|t| &t[..]);
     write_atomic(path, |w| match format {
-        Format::Obj => obj::write(w, positions, triangles),
-        Format::Off => off::write(w, positions, triangles),
-        Format::Ply => ply::write(w, positions, triangles),
+        Format::Obj => obj::write(w, positions, faces()),
+        Format::Off => off::write(w, positions, faces(), triangles.len()),
+        Format::Ply => ply::write(w, positions, faces(), triangles.len()),
     })
 }
 
@@ -326,8 +332,8 @@ const CHUNK: usize = 1 << 16;
 /// with other work, so output stays sequential.)
 fn write_formatted<T>(
     w: &mut dyn Write,
-    items: &[T],
-    format: impl Fn(&mut Vec<u8>, &T),
+    items: impl IntoIterator<Item = T>,
+    format: impl Fn(&mut Vec<u8>, T),
 ) -> std::io::Result<()> {
     let mut buf = Vec::with_capacity(CHUNK + 1024);
     for item in items {

@@ -1,33 +1,52 @@
-//! Wavefront OBJ: `v` and `f` statements.
+//! Wavefront OBJ: `v`, `vt`, `vn` and `f` statements; the others are kept
+//! as they are when the file is written back.
 
 use std::io::Write;
 use std::path::Path;
 
-use super::triangulate::{repeated_index, Polygons};
+use super::mesh_file::{offset_in, Parsed, Patch, Slot, NONE};
+use super::triangulate::repeated_index;
 use super::{
-    finish, parse_f64, parse_i64, push_f64, push_uint, show, strip_comment, tokens,
-    write_formatted, xyz, Lines,
+    parse_f64, parse_i64, push_f64, push_uint, show, strip_comment, tokens, write_formatted, xyz,
+    Lines,
 };
 use crate::error::{Error, Result};
-use crate::mesh::Mesh3;
 
-/// Parses an OBJ file's contents (see the [module documentation](super)).
-pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
+/// Resolves an OBJ index (1-based, or negative: counted back from the last
+/// element defined so far) to 0-based; `None` for 0 or before the start.
+fn resolve(index: i64, defined: usize) -> Option<u32> {
+    let r = match index {
+        0 => return None,
+        i if i > 0 => i - 1,
+        i => defined as i64 + i,
+    };
+    u32::try_from(r).ok()
+}
+
+/// Parses an OBJ file's contents (see the [module documentation](super)),
+/// keeping what [`MeshFile`](super::MeshFile) needs to write it back.
+pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
     let err = |line: usize, msg: String| Error::parse(path, Some(line), msg);
-    let mut positions: Vec<[f64; 3]> = Vec::new();
-    let mut faces = Polygons::default();
+    let mut out = Parsed::default();
     let mut face: Vec<u32> = Vec::new();
+    let mut corner_uv: Vec<u32> = Vec::new();
+    let mut corner_normal: Vec<u32> = Vec::new();
     // Positive indices are checked once every vertex is known (forward
     // references are legal); the largest one tells whether any is out of
     // range.
     let mut max_index: i64 = 0;
+    let mut max_uv: i64 = 0;
+    let mut max_normal: i64 = 0;
 
     for (line_no, line) in Lines::new(bytes) {
         let mut toks = tokens(strip_comment(line));
-        match toks.next() {
+        let keyword = toks.next();
+        match keyword {
             Some(b"v") => {
+                let vertex = out.positions.len() as u32;
                 let mut p = [0.0; 3];
                 let mut count = 0;
+                let mut last_end = 0;
                 for tok in toks {
                     let x = parse_f64(tok)
                         .ok_or_else(|| err(line_no, format!("`{}` is not a number", show(tok))))?;
@@ -37,12 +56,18 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
                                 line_no,
                                 format!(
                                     "vertex {} (1-based) has a coordinate that is not a finite number: `{}`",
-                                    positions.len() + 1,
+                                    out.positions.len() + 1,
                                     show(tok)
                                 ),
                             ));
                         }
                         p[count] = x;
+                        let start = offset_in(bytes, tok);
+                        last_end = start + tok.len();
+                        out.patches.push(Patch::text(
+                            start..last_end,
+                            Slot::Position(vertex, count as u8),
+                        ));
                     }
                     count += 1;
                 }
@@ -52,47 +77,113 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
                         format!("a vertex needs at least 2 coordinates (`v x y [z] [w]`), found {count}"),
                     ));
                 }
-                positions.push(p);
+                if count == 2 {
+                    // `v x y`: z is written after y.
+                    out.patches
+                        .push(Patch::appended(last_end, Slot::Position(vertex, 2)));
+                }
+                out.positions.push(p);
+            }
+            Some(b"vt") => {
+                let mut uv = [0.0; 2];
+                for (k, tok) in toks.take(2).enumerate() {
+                    uv[k] = parse_f64(tok).filter(|x| x.is_finite()).ok_or_else(|| {
+                        err(
+                            line_no,
+                            format!("`{}` is not a texture coordinate", show(tok)),
+                        )
+                    })?;
+                }
+                out.uvs.push(uv);
+            }
+            Some(b"vn") => {
+                let normal = out.normals.len() as u32;
+                let mut n = [0.0; 3];
+                let mut count = 0;
+                for tok in toks.take(3) {
+                    n[count] = parse_f64(tok).filter(|x| x.is_finite()).ok_or_else(|| {
+                        err(
+                            line_no,
+                            format!("`{}` is not a normal coordinate", show(tok)),
+                        )
+                    })?;
+                    let start = offset_in(bytes, tok);
+                    out.patches.push(Patch::text(
+                        start..start + tok.len(),
+                        Slot::Normal(normal, count as u8),
+                    ));
+                    count += 1;
+                }
+                if count < 3 {
+                    return Err(err(
+                        line_no,
+                        format!("a normal needs 3 coordinates (`vn x y z`), found {count}"),
+                    ));
+                }
+                out.normals.push(n);
             }
             Some(b"f") => {
                 face.clear();
+                let first_corner = corner_uv.len();
                 for tok in toks {
-                    let vertex_part = tok.split(|&b| b == b'/').next().unwrap_or(tok);
+                    let mut parts = tok.split(|&b| b == b'/');
+                    let vertex_part = parts.next().unwrap_or(tok);
                     let index = parse_i64(vertex_part).ok_or_else(|| {
                         err(line_no, format!("`{}` is not a vertex index", show(tok)))
                     })?;
-                    let resolved = match index {
-                        0 => {
-                            return Err(err(
+                    if index > 0 {
+                        max_index = max_index.max(index);
+                    }
+                    let resolved = resolve(index, out.positions.len()).ok_or_else(|| {
+                        if index == 0 {
+                            err(
                                 line_no,
                                 "vertex index 0 is invalid: OBJ indices start at 1 (or count back from -1)".into(),
-                            ))
+                            )
+                        } else {
+                            err(
+                                line_no,
+                                format!(
+                                    "vertex index {index} is out of range: only {} vertices are defined before this line",
+                                    out.positions.len()
+                                ),
+                            )
                         }
-                        i if i > 0 => {
-                            max_index = max_index.max(i);
-                            i - 1
-                        }
-                        i => {
-                            let r = positions.len() as i64 + i;
-                            if r < 0 {
-                                return Err(err(
-                                    line_no,
-                                    format!(
-                                        "vertex index {i} is out of range: only {} vertices are defined before this line",
-                                        positions.len()
-                                    ),
-                                ));
-                            }
-                            r
-                        }
-                    };
-                    let resolved = u32::try_from(resolved).map_err(|_| {
-                        err(
-                            line_no,
-                            format!("vertex index {index} is out of range (too large)"),
-                        )
                     })?;
                     face.push(resolved);
+                    // Texture and normal indices: `a/b`, `a/b/c`, `a//c`.
+                    let optional = |part: Option<&[u8]>,
+                                    defined: usize,
+                                    max: &mut i64,
+                                    what: &str| {
+                        match part {
+                            None | Some(b"") => Ok(NONE),
+                            Some(t) => {
+                                let i = parse_i64(t).ok_or_else(|| {
+                                    err(line_no, format!("`{}` is not a {what} index", show(tok)))
+                                })?;
+                                if i > 0 {
+                                    *max = (*max).max(i);
+                                }
+                                resolve(i, defined).ok_or_else(|| {
+                                    err(
+                                        line_no,
+                                        format!("{what} index {i} is out of range: {defined} are defined before this line"),
+                                    )
+                                })
+                            }
+                        }
+                    };
+                    let uv = optional(
+                        parts.next(),
+                        out.uvs.len(),
+                        &mut max_uv,
+                        "texture coordinate",
+                    )?;
+                    let normal =
+                        optional(parts.next(), out.normals.len(), &mut max_normal, "normal")?;
+                    corner_uv.push(uv);
+                    corner_normal.push(normal);
                 }
                 if face.len() < 3 {
                     return Err(err(
@@ -109,47 +200,88 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
                         ),
                     ));
                 }
-                faces.push(&face, line_no);
+                debug_assert_eq!(corner_uv.len() - first_corner, face.len());
+                out.faces.push(&face, line_no);
             }
-            // vt, vn, vp, g, o, s, usemtl, mtllib, l, p, unknown statements.
+            Some(b"g") => out.note_extra("groups (`g`)"),
+            Some(b"o") => out.note_extra("objects (`o`)"),
+            Some(b"s") => out.note_extra("smoothing groups (`s`)"),
+            Some(b"usemtl" | b"mtllib") => out.note_extra("materials (`mtllib`, `usemtl`)"),
+            Some(b"l" | b"p") => out.note_extra("lines and points (`l`, `p`)"),
+            // vp, curves, unknown statements, comments: kept when written
+            // back as OBJ, never needed elsewhere.
             _ => {}
         }
     }
 
-    if max_index as u64 > positions.len() as u64 {
+    for (max, defined, what, plural, corners) in [
+        (max_index, out.positions.len(), "vertex", "vertices", None),
+        (
+            max_uv,
+            out.uvs.len(),
+            "texture coordinate",
+            "texture coordinates",
+            Some(&corner_uv),
+        ),
+        (
+            max_normal,
+            out.normals.len(),
+            "normal",
+            "normals",
+            Some(&corner_normal),
+        ),
+    ] {
+        if max as u64 <= defined as u64 {
+            continue;
+        }
         // Report the first face (in file order) with an index out of range.
-        let n = positions.len();
-        for (face, line) in faces.iter() {
-            if let Some(&i) = face.iter().find(|&&i| i as usize >= n) {
+        for f in 0..out.faces.len() {
+            let range = out.faces.range(f);
+            let bad = match corners {
+                None => out.faces.corner_vertices()[range]
+                    .iter()
+                    .find(|&&i| i as usize >= defined),
+                Some(c) => c[range]
+                    .iter()
+                    .find(|&&i| i != NONE && i as usize >= defined),
+            };
+            if let Some(&i) = bad {
                 return Err(err(
-                    line,
+                    out.faces.line(f),
                     format!(
-                        "vertex index {} is out of range: the file has {n} vertices",
+                        "{what} index {} is out of range: the file has {defined} {plural}",
                         u64::from(i) + 1
                     ),
                 ));
             }
         }
     }
-    if faces.iter().next().is_none() {
+    if out.faces.len() == 0 {
         return Err(Error::parse(
             path,
             None,
             format!(
                 "no triangles: the file has {} vertices and no faces (`f` lines)",
-                positions.len()
+                out.positions.len()
             ),
         ));
     }
-    let triangles = faces.triangulate(&positions);
-    finish(path, positions, triangles)
+    if !out.uvs.is_empty() && corner_uv.iter().any(|&i| i != NONE) {
+        out.corner_uv = corner_uv;
+        out.note_extra("texture coordinates (`vt`)");
+    }
+    if !out.normals.is_empty() && corner_normal.iter().any(|&i| i != NONE) {
+        out.corner_normal = corner_normal;
+        out.note_extra("normals (`vn`)");
+    }
+    Ok(out)
 }
 
-/// Writes `v x y z` lines then `f a b c` lines (1-based).
-pub(super) fn write<const D: usize>(
+/// Writes `v x y z` lines then `f a b c ...` lines (1-based).
+pub(super) fn write<'a, const D: usize>(
     w: &mut dyn Write,
     positions: &[[f64; D]],
-    triangles: &[[u32; 3]],
+    faces: impl Iterator<Item = &'a [u32]>,
 ) -> std::io::Result<()> {
     write_formatted(w, positions, |buf, p| {
         buf.push(b'v');
@@ -159,9 +291,9 @@ pub(super) fn write<const D: usize>(
         }
         buf.push(b'\n');
     })?;
-    write_formatted(w, triangles, |buf, t| {
+    write_formatted(w, faces, |buf, face| {
         buf.push(b'f');
-        for &i in t {
+        for &i in face {
             buf.push(b' ');
             push_uint(buf, u64::from(i) + 1);
         }

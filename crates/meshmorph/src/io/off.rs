@@ -3,17 +3,19 @@
 use std::io::Write;
 use std::path::Path;
 
+use super::mesh_file::{offset_in, Parsed, Patch, Slot};
 use super::triangulate::{repeated_index, Polygons};
 use super::{
-    finish, parse_f64, parse_i64, push_f64, push_uint, show, strip_comment, tokens,
-    write_formatted, xyz, Lines,
+    parse_f64, parse_i64, push_f64, push_uint, show, strip_comment, tokens, write_formatted, xyz,
+    Lines,
 };
 use crate::error::{Error, Result};
-use crate::mesh::Mesh3;
 
-/// Parses an OFF file's contents (see the [module documentation](super)).
-pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
+/// Parses an OFF file's contents (see the [module documentation](super)),
+/// keeping what [`MeshFile`](super::MeshFile) needs to write it back.
+pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
     let err = |line: usize, msg: String| Error::parse(path, Some(line), msg);
+    let mut out = Parsed::default();
     // Non-blank lines without comments.
     let mut lines = Lines::new(bytes)
         .map(|(n, l)| (n, strip_comment(l)))
@@ -26,8 +28,14 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
     let keyword = first_tokens.next().unwrap_or_default();
     let mut counts: Vec<&[u8]> = Vec::new();
     let mut counts_line = first_no;
+    // `NOFF`: a normal follows each vertex's x y z; `ST`: texture
+    // coordinates end each vertex line.
+    let mut has_normals = false;
+    let mut has_uvs = false;
     if let Some(at) = keyword.windows(3).position(|w| w == b"OFF") {
         let (prefix, suffix) = (&keyword[..at], &keyword[at + 3..]);
+        has_normals = prefix.contains(&b'N');
+        has_uvs = prefix.starts_with(b"ST");
         if !prefix.iter().all(|b| b"CNST".contains(b)) {
             return Err(err(
                 first_no,
@@ -100,7 +108,8 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
     }
 
     // Never trust the counts for more memory than the file could fill.
-    let mut positions: Vec<[f64; 3]> = Vec::with_capacity(num_vertices.min(bytes.len() / 6));
+    out.positions.reserve(num_vertices.min(bytes.len() / 6));
+    out.patches.reserve(3 * num_vertices.min(bytes.len() / 6));
     for v in 0..num_vertices {
         let Some((line_no, line)) = lines.next() else {
             return Err(Error::parse(
@@ -130,9 +139,48 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
                 ));
             }
             *slot = x;
+            let start = offset_in(bytes, tok);
+            out.patches.push(Patch::text(
+                start..start + tok.len(),
+                Slot::Position(v as u32, k as u8),
+            ));
         }
-        // Anything further (colour, normal) is ignored.
-        positions.push(p);
+        let rest: Vec<&[u8]> = toks.collect();
+        if has_normals {
+            let mut n = [0.0; 3];
+            for k in 0..3 {
+                let x = rest
+                    .get(k)
+                    .and_then(|t| parse_f64(t))
+                    .filter(|x| x.is_finite());
+                let Some(x) = x else {
+                    return Err(err(
+                        line_no,
+                        format!(
+                            "vertex {v} has no normal (`nx ny nz` after x y z, as `NOFF` says)"
+                        ),
+                    ));
+                };
+                n[k] = x;
+                let start = offset_in(bytes, rest[k]);
+                out.patches.push(Patch::text(
+                    start..start + rest[k].len(),
+                    Slot::Normal(v as u32, k as u8),
+                ));
+            }
+            out.normals.push(n);
+        }
+        if has_uvs && rest.len() >= 2 {
+            let uv = [rest.len() - 2, rest.len() - 1].map(|k| parse_f64(rest[k]));
+            if let [Some(u), Some(w)] = uv {
+                out.uvs.push([u, w]);
+            }
+        }
+        let used = if has_normals { 3 } else { 0 } + if has_uvs { 2 } else { 0 };
+        if rest.len() > used {
+            out.note_extra("vertex colours");
+        }
+        out.positions.push(p);
     }
 
     let mut faces = Polygons::with_capacity(num_faces.min(bytes.len() / 8));
@@ -181,7 +229,9 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
                 }
             }
         }
-        // Anything further (a colour) is ignored.
+        if toks.next().is_some() {
+            out.note_extra("face colours");
+        }
         if let Some(i) = repeated_index(&face) {
             return Err(err(
                 line_no,
@@ -191,17 +241,35 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
         faces.push(&face, line_no);
     }
 
-    let triangles = faces.triangulate(&positions);
-    finish(path, positions, triangles)
+    if faces.len() == 0 {
+        return Err(Error::parse(
+            path,
+            None,
+            format!("no triangles: the file has {num_vertices} vertices and no faces"),
+        ));
+    }
+    let corners = faces.corner_vertices().to_vec();
+    if has_normals {
+        out.corner_normal = corners.clone();
+        out.note_extra("normals (`NOFF`)");
+    }
+    if has_uvs && out.uvs.len() == num_vertices {
+        out.corner_uv = corners;
+        out.note_extra("texture coordinates (`STOFF`)");
+    }
+    out.faces = faces;
+    Ok(out)
 }
 
-/// Writes `OFF`, the counts, `x y z` lines and `3 a b c` lines (0-based).
-pub(super) fn write<const D: usize>(
+/// Writes `OFF`, the counts, `x y z` lines and `n i0 ... i(n-1)` face
+/// lines (0-based).
+pub(super) fn write<'a, const D: usize>(
     w: &mut dyn Write,
     positions: &[[f64; D]],
-    triangles: &[[u32; 3]],
+    faces: impl Iterator<Item = &'a [u32]>,
+    num_faces: usize,
 ) -> std::io::Result<()> {
-    writeln!(w, "OFF\n{} {} 0", positions.len(), triangles.len())?;
+    writeln!(w, "OFF\n{} {num_faces} 0", positions.len())?;
     write_formatted(w, positions, |buf, p| {
         let [x, y, z] = xyz(p);
         push_f64(buf, x);
@@ -211,9 +279,9 @@ pub(super) fn write<const D: usize>(
         push_f64(buf, z);
         buf.push(b'\n');
     })?;
-    write_formatted(w, triangles, |buf, t| {
-        buf.push(b'3');
-        for &i in t {
+    write_formatted(w, faces, |buf, face| {
+        push_uint(buf, face.len() as u64);
+        for &i in face {
             buf.push(b' ');
             push_uint(buf, u64::from(i));
         }

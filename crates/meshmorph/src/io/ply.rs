@@ -8,14 +8,14 @@
 use std::io::Write;
 use std::path::Path;
 
+use super::mesh_file::{offset_in, Coding, Parsed, Patch, Slot, NONE};
 use super::triangulate::{repeated_index, Polygons};
-use super::{finish, parse_f64, parse_i64, show, tokens, xyz, Lines, CHUNK};
+use super::{parse_f64, parse_i64, show, tokens, xyz, Lines, CHUNK};
 use crate::error::{Error, Result};
-use crate::mesh::Mesh3;
 
 /// A PLY scalar type.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Scalar {
+pub(super) enum Scalar {
     I8,
     U8,
     I16,
@@ -74,6 +74,30 @@ impl Scalar {
             Scalar::F64 => get!(f64),
         })
     }
+
+    /// Appends `x` in this type (integers rounded and saturated).
+    pub(super) fn encode(self, x: f64, big: bool, out: &mut Vec<u8>) {
+        macro_rules! put {
+            ($v:expr) => {{
+                let v = $v;
+                out.extend_from_slice(&if big {
+                    v.to_be_bytes()
+                } else {
+                    v.to_le_bytes()
+                });
+            }};
+        }
+        match self {
+            Scalar::I8 => put!(x.round() as i8),
+            Scalar::U8 => put!(x.round() as u8),
+            Scalar::I16 => put!(x.round() as i16),
+            Scalar::U16 => put!(x.round() as u16),
+            Scalar::I32 => put!(x.round() as i32),
+            Scalar::U32 => put!(x.round() as u32),
+            Scalar::F32 => put!(x as f32),
+            Scalar::F64 => put!(x),
+        }
+    }
 }
 
 /// A property: a scalar, or a list with its count and item types.
@@ -119,12 +143,14 @@ enum Encoding {
     Big,
 }
 
-/// Parses a PLY file's contents (see the [module documentation](super)).
-pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
+/// Parses a PLY file's contents (see the [module documentation](super)),
+/// keeping what [`MeshFile`](super::MeshFile) needs to write it back.
+pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
     let mut lines = Lines::new(bytes);
     let (encoding, elements) = parse_header(&mut lines, path)?;
     let mut body = Body {
         path,
+        file: bytes,
         ascii: (encoding == Encoding::Ascii).then_some(lines.clone()),
         tokens: Vec::new(),
         next: 0,
@@ -133,6 +159,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
         big: encoding == Encoding::Big,
         element: "",
         instance: 0,
+        last: 0..0,
     };
     let binary = encoding != Encoding::Ascii;
     let Some(num_vertices) = elements
@@ -154,8 +181,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
         ));
     }
 
-    let mut positions: Vec<[f64; 3]> = Vec::new();
-    let mut faces = Polygons::default();
+    let mut out = Parsed::default();
     for element in &elements {
         body.element = &element.name;
         let capacity = element
@@ -163,18 +189,27 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh3> {
             .min(body.bytes.len() / element.min_size(binary));
         match element.name.as_str() {
             "vertex" => {
-                positions.reserve(capacity);
-                read_vertices(&mut body, element, &mut positions)?;
+                out.positions.reserve(capacity);
+                read_vertices(&mut body, element, &mut out)?;
             }
             "face" => {
-                faces = Polygons::with_capacity(capacity);
-                read_faces(&mut body, element, num_vertices, &mut faces)?;
+                out.faces = Polygons::with_capacity(capacity);
+                read_faces(&mut body, element, num_vertices, &mut out)?;
             }
-            _ => skip(&mut body, element)?,
+            other => {
+                out.note_extra(&format!("element `{other}`"));
+                skip(&mut body, element)?;
+            }
         }
     }
-    let triangles = faces.triangulate(&positions);
-    finish(path, positions, triangles)
+    if out.faces.len() == 0 {
+        return Err(Error::parse(
+            path,
+            None,
+            format!("no triangles: the file has {num_vertices} vertices and no faces"),
+        ));
+    }
+    Ok(out)
 }
 
 /// Reads the header up to `end_header`, leaving `lines` at the body.
@@ -261,6 +296,8 @@ fn parse_header(lines: &mut Lines<'_>, path: &Path) -> Result<(Encoding, Vec<Ele
 /// The body being read: ascii lines of tokens, or binary bytes.
 struct Body<'a> {
     path: &'a Path,
+    /// The whole file, for the byte ranges of values.
+    file: &'a [u8],
     /// The remaining lines, for an ascii file.
     ascii: Option<Lines<'a>>,
     /// The current line's tokens and the next one to read (ascii).
@@ -273,6 +310,8 @@ struct Body<'a> {
     /// Where we are, for messages.
     element: &'a str,
     instance: usize,
+    /// Where in the file the value read last is.
+    last: std::ops::Range<usize>,
 }
 
 impl<'a> Body<'a> {
@@ -335,6 +374,8 @@ impl<'a> Body<'a> {
                 return Err(self.error("the line has too few values for the header's properties"));
             };
             self.next += 1;
+            let start = offset_in(self.file, tok);
+            self.last = start..start + tok.len();
             return parse_f64(tok)
                 .ok_or_else(|| self.error(format_args!("`{}` is not a number", show(tok))));
         }
@@ -346,6 +387,8 @@ impl<'a> Body<'a> {
         let Some(value) = value else {
             return Err(self.error("the file ends in the middle of this element (truncated file)"));
         };
+        let base = offset_in(self.file, self.bytes);
+        self.last = base + self.pos..base + end;
         self.pos = end;
         Ok(value)
     }
@@ -428,11 +471,15 @@ fn skip(body: &mut Body<'_>, element: &Element) -> Result<()> {
     Ok(())
 }
 
-fn read_vertices(
-    body: &mut Body<'_>,
-    element: &Element,
-    positions: &mut Vec<[f64; 3]>,
-) -> Result<()> {
+/// Names of per-vertex texture coordinates, in the order they are looked for.
+const UV_NAMES: [[&[u8]; 2]; 4] = [
+    [b"s", b"t"],
+    [b"u", b"v"],
+    [b"texture_u", b"texture_v"],
+    [b"texture_s", b"texture_t"],
+];
+
+fn read_vertices(body: &mut Body<'_>, element: &Element, out: &mut Parsed) -> Result<()> {
     let path = body.path;
     let axis = |name: &[u8]| match element.prop(&[name]) {
         Some((k, Kind::Scalar(_))) => Ok(Some(k)),
@@ -451,34 +498,98 @@ fn read_vertices(
         ));
     };
     let iz = axis(b"z")?;
+    let normal_props = [axis(b"nx")?, axis(b"ny")?, axis(b"nz")?];
+    let has_normals = normal_props.iter().all(Option::is_some);
+    let mut uv_props = [None, None];
+    for names in UV_NAMES {
+        if let (Some(u), Some(v)) = (axis(names[0])?, axis(names[1])?) {
+            uv_props = [Some(u), Some(v)];
+            break;
+        }
+    }
+    let has_uvs = uv_props.iter().all(Option::is_some);
+    // What each property is: 0..3 a coordinate, 3..6 a normal's, 6..8 a
+    // texture coordinate, else kept as it is.
+    let role: Vec<Option<usize>> = (0..element.props.len())
+        .map(|k| {
+            if k == ix {
+                Some(0)
+            } else if k == iy {
+                Some(1)
+            } else if Some(k) == iz {
+                Some(2)
+            } else if has_normals && normal_props.contains(&Some(k)) {
+                normal_props
+                    .iter()
+                    .position(|&p| p == Some(k))
+                    .map(|i| 3 + i)
+            } else if has_uvs && uv_props.contains(&Some(k)) {
+                uv_props.iter().position(|&p| p == Some(k)).map(|i| 6 + i)
+            } else {
+                None
+            }
+        })
+        .collect();
+    for (prop, r) in element.props.iter().zip(&role) {
+        if r.is_none() {
+            out.note_extra(&format!("vertex property `{}`", show(&prop.name)));
+        }
+    }
+    let (ascii, big) = (body.ascii.is_some(), body.big);
+    let coding = |ty: Scalar| match ascii {
+        true => Coding::Text,
+        false => Coding::Binary(ty, big),
+    };
     for i in 0..element.count {
         body.begin(i, element.count)?;
         let mut p = [0.0; 3];
-        for (k, prop) in element.props.iter().enumerate() {
-            let Kind::Scalar(ty) = prop.kind else {
+        let mut n = [0.0; 3];
+        let mut uv = [0.0; 2];
+        for (prop, r) in element.props.iter().zip(&role) {
+            let (Kind::Scalar(ty), Some(r)) = (prop.kind, *r) else {
                 body.skip_property(prop.kind)?;
                 continue;
             };
             let v = body.value(ty)?;
-            let slot = if k == ix {
-                0
-            } else if k == iy {
-                1
-            } else if Some(k) == iz {
-                2
-            } else {
-                continue;
-            };
             if !v.is_finite() {
-                return Err(body.error(format_args!(
-                    "coordinate {} is not a finite number",
-                    ["x", "y", "z"][slot]
-                )));
+                let name = String::from_utf8_lossy(&prop.name).into_owned();
+                let what = if r < 3 { "coordinate" } else { "value" };
+                return Err(body.error(format_args!("{what} {name} is not a finite number")));
             }
-            p[slot] = v;
+            let slot = match r {
+                0..3 => {
+                    p[r] = v;
+                    Slot::Position(i as u32, r as u8)
+                }
+                3..6 => {
+                    n[r - 3] = v;
+                    Slot::Normal(i as u32, (r - 3) as u8)
+                }
+                _ => {
+                    uv[r - 6] = v;
+                    continue;
+                }
+            };
+            out.patches.push(Patch {
+                bytes: body.last.clone(),
+                slot,
+                coding: coding(ty),
+            });
         }
         body.end()?;
-        positions.push(p);
+        out.positions.push(p);
+        if has_normals {
+            out.normals.push(n);
+        }
+        if has_uvs {
+            out.uvs.push(uv);
+        }
+    }
+    if has_normals {
+        out.note_extra("normals (`nx ny nz`)");
+    }
+    if has_uvs {
+        out.note_extra("texture coordinates");
     }
     Ok(())
 }
@@ -487,7 +598,7 @@ fn read_faces(
     body: &mut Body<'_>,
     element: &Element,
     num_vertices: usize,
-    faces: &mut Polygons,
+    out: &mut Parsed,
 ) -> Result<()> {
     let (il, count_ty, item_ty) = match element.prop(&[b"vertex_indices", b"vertex_index"]) {
         Some((k, Kind::List(c, i))) => (k, c, i),
@@ -499,10 +610,30 @@ fn read_faces(
             ))
         }
     };
+    let texcoord = match element.prop(&[b"texcoord"]) {
+        Some((k, Kind::List(..))) => Some(k),
+        _ => None,
+    };
+    for (k, prop) in element.props.iter().enumerate() {
+        if k != il && Some(k) != texcoord {
+            out.note_extra(&format!("face property `{}`", show(&prop.name)));
+        }
+    }
     let mut face: Vec<u32> = Vec::new();
+    let mut corner_uv: Vec<u32> = Vec::new();
+    let mut wedge: Vec<f64> = Vec::new();
     for i in 0..element.count {
         body.begin(i, element.count)?;
+        wedge.clear();
         for (k, prop) in element.props.iter().enumerate() {
+            if Some(k) == texcoord {
+                if let Kind::List(c, item) = prop.kind {
+                    for _ in 0..body.list_len(c, item)? {
+                        wedge.push(body.value(item)?);
+                    }
+                }
+                continue;
+            }
             if k != il {
                 body.skip_property(prop.kind)?;
                 continue;
@@ -530,26 +661,46 @@ fn read_faces(
             }
         }
         body.end()?;
+        if texcoord.is_some() {
+            if wedge.len() == 2 * face.len() && wedge.iter().all(|x| x.is_finite()) {
+                for c in wedge.chunks_exact(2) {
+                    corner_uv.push(out.uvs.len() as u32);
+                    out.uvs.push([c[0], c[1]]);
+                }
+            } else {
+                corner_uv.extend(std::iter::repeat_n(NONE, face.len()));
+            }
+        }
         let line = body.ascii.as_ref().map_or(i, Lines::number);
-        faces.push(&face, line);
+        out.faces.push(&face, line);
+    }
+    let corners = out.faces.corner_vertices().to_vec();
+    if texcoord.is_some() {
+        out.corner_uv = corner_uv;
+        out.note_extra("texture coordinates");
+    } else if !out.uvs.is_empty() {
+        out.corner_uv = corners.clone();
+    }
+    if !out.normals.is_empty() {
+        out.corner_normal = corners;
     }
     Ok(())
 }
 
 /// Writes a `binary_little_endian` PLY with `double x, y, z` and
 /// `list uchar int vertex_indices`.
-pub(super) fn write<const D: usize>(
+pub(super) fn write<'a, const D: usize>(
     w: &mut dyn Write,
     positions: &[[f64; D]],
-    triangles: &[[u32; 3]],
+    faces: impl Iterator<Item = &'a [u32]>,
+    num_faces: usize,
 ) -> std::io::Result<()> {
     write!(
         w,
         "ply\nformat binary_little_endian 1.0\ncomment written by meshmorph\n\
          element vertex {}\nproperty double x\nproperty double y\nproperty double z\n\
-         element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+         element face {num_faces}\nproperty list uchar int vertex_indices\nend_header\n",
         positions.len(),
-        triangles.len()
     )?;
     let mut buf = Vec::with_capacity(CHUNK + 64);
     for p in positions {
@@ -561,15 +712,18 @@ pub(super) fn write<const D: usize>(
             buf.clear();
         }
     }
-    for t in triangles {
-        buf.push(3);
-        for &i in t {
-            let i = i32::try_from(i).map_err(|_| {
-                std::io::Error::new(
-                    std::io::ErrorKind::InvalidInput,
-                    format!("vertex index {i} does not fit a PLY `int`"),
-                )
-            })?;
+    let invalid = |msg: String| std::io::Error::new(std::io::ErrorKind::InvalidInput, msg);
+    for face in faces {
+        let n = u8::try_from(face.len()).map_err(|_| {
+            invalid(format!(
+                "a face of {} vertices does not fit a PLY `uchar` count",
+                face.len()
+            ))
+        })?;
+        buf.push(n);
+        for &i in face {
+            let i = i32::try_from(i)
+                .map_err(|_| invalid(format!("vertex index {i} does not fit a PLY `int`")))?;
             buf.extend_from_slice(&i.to_le_bytes());
         }
         if buf.len() >= CHUNK {

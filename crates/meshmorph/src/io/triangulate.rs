@@ -12,7 +12,7 @@
 use crate::geometry::{cross, dot, norm, scale, sub};
 
 /// Faces of any size, stored flat, with the line each came from.
-#[derive(Default)]
+#[derive(Clone, Debug, Default)]
 pub(super) struct Polygons {
     indices: Vec<u32>,
     /// End of each face in `indices`.
@@ -39,28 +39,68 @@ impl Polygons {
         self.lines.push(line);
     }
 
-    /// Every face with its line.
-    pub(super) fn iter(&self) -> impl Iterator<Item = (&[u32], usize)> + '_ {
-        let starts = std::iter::once(0).chain(self.ends.iter().copied());
-        self.ends
-            .iter()
-            .zip(starts)
-            .zip(&self.lines)
-            .map(|((&end, start), &line)| (&self.indices[start..end], line))
+    /// Number of faces.
+    pub(super) fn len(&self) -> usize {
+        self.ends.len()
     }
 
-    /// Triangulates every face; every index must be in range of `positions`.
-    pub(super) fn triangulate(&self, positions: &[[f64; 3]]) -> Vec<[u32; 3]> {
-        let mut out = Vec::with_capacity(self.indices.len().saturating_sub(2 * self.ends.len()));
-        for (face, _) in self.iter() {
-            if let [a, b, c] = *face {
-                out.push([a, b, c]);
-            } else {
-                triangulate_polygon(positions, face, &mut out);
+    /// Face `f`'s corners as `start..end` in the flat corner list.
+    pub(super) fn range(&self, f: usize) -> std::ops::Range<usize> {
+        let start = if f == 0 { 0 } else { self.ends[f - 1] };
+        start..self.ends[f]
+    }
+
+    /// The vertex of every corner, face after face.
+    pub(super) fn corner_vertices(&self) -> &[u32] {
+        &self.indices
+    }
+
+    /// The line (or instance) face `f` came from.
+    pub(super) fn line(&self, f: usize) -> usize {
+        self.lines[f]
+    }
+
+    /// Triangulates every face once (every index must be in range of
+    /// `positions`): the triangles, and for each its face and the flat
+    /// corner (index into [`Polygons::corner_vertices`]) of each of its
+    /// vertices.
+    pub(super) fn triangulate(&self, positions: &[[f64; 3]]) -> Split {
+        let capacity = self.indices.len().saturating_sub(2 * self.ends.len());
+        let mut split = Split {
+            triangles: Vec::with_capacity(capacity),
+            face: Vec::with_capacity(capacity),
+            corners: Vec::with_capacity(capacity),
+        };
+        let mut local = Vec::new();
+        for f in 0..self.len() {
+            let range = self.range(f);
+            let face = &self.indices[range.clone()];
+            local.clear();
+            triangulate_polygon(positions, face, &mut local);
+            for t in &local {
+                // Corners of one face are distinct vertices (checked by the
+                // readers), so each vertex names its corner.
+                let corner = t.map(|v| {
+                    let k = face.iter().position(|&w| w == v).unwrap_or(0);
+                    (range.start + k) as u32
+                });
+                split.triangles.push(*t);
+                split.face.push(f as u32);
+                split.corners.push(corner);
             }
         }
-        out
+        split
     }
+}
+
+/// The triangles of a split of polygons, with where each came from.
+#[derive(Clone, Debug)]
+pub(super) struct Split {
+    pub(super) triangles: Vec<[u32; 3]>,
+    /// The face of each triangle.
+    pub(super) face: Vec<u32>,
+    /// The flat corner of each triangle vertex.
+    pub(super) corners: Vec<[u32; 3]>,
 }
 
 /// The first index that occurs twice in `face`, if any.

@@ -1,0 +1,827 @@
+//! Binary glTF 2.0 (GLB) output: a base mesh with every frame or pose as a
+//! morph target, and an animation that plays them in order.
+//!
+//! The file holds one mesh with one triangle primitive:
+//!
+//! - the base mesh (`POSITION`, `NORMAL`, and `TEXCOORD_0` when corner
+//!   texture coordinates are given): the source of an interpolation, the
+//!   target reference of a transfer;
+//! - one morph target per frame: `POSITION` and `NORMAL` deltas from the
+//!   base, so that weight 1 on target `k` (and 0 elsewhere) shows frame `k`;
+//!   the targets' names are in `mesh.extras.targetNames`, where Blender and
+//!   three.js read them;
+//! - unless [`GltfOptions::animation`] is off, an animation `morph` of the
+//!   node's `weights`: frame `k` at time `k / fps` seconds, `LINEAR`
+//!   keyframes of one-hot weight vectors (between two keyframes the shape
+//!   blends linearly from one frame to the next). Without the animation
+//!   every weight is 0: the targets are shape keys to dial in by hand.
+//!
+//! Planar meshes (`D = 2`) lie in the z = 0 plane with +z normals. glTF
+//! stores attributes per vertex, so a vertex whose corners carry different
+//! texture coordinates is split into one glTF vertex per coordinate pair
+//! (the splits follow the original vertices, in order); vertices that no
+//! triangle uses are left out. Vertex normals are area-weighted averages of
+//! the triangle normals of each frame. Coordinates are stored as `f32`:
+//! base plus delta gives each frame's positions to `f32` precision.
+//!
+//! # Size
+//! Each frame adds 24 bytes per vertex (12 for the position delta, 12 for
+//! the normal delta; planar frames share one block of zero normal deltas
+//! and add 12): [`estimate_glb_bytes`] gives the figure before anything is
+//! computed. A GLB holds at most 4 GiB.
+//!
+//! # Example
+//! ```no_run
+//! use meshmorph::io::gltf::{write_glb, GltfBase, GltfOptions};
+//! use meshmorph::shapes;
+//!
+//! let bar = shapes::strip(10.0, 0.5, 40, 2);
+//! let spiral = shapes::curl(&bar, 3.0 * std::f64::consts::PI);
+//! let frames = [bar.positions(), spiral.positions()];
+//! let base = GltfBase::new(bar.positions(), bar.triangles());
+//! let names = ["bar".to_string(), "spiral".to_string()];
+//! write_glb("curl.glb".as_ref(), &base, &frames, &names, &GltfOptions::default().with_fps(2.0))?;
+//! # Ok::<(), meshmorph::Error>(())
+//! ```
+
+use std::collections::HashMap;
+use std::io::Write;
+use std::path::Path;
+
+use gltf_json as json;
+use json::validation::{Checked::Valid, USize64};
+use rayon::prelude::*;
+
+use crate::closest::vertex_normals;
+use crate::error::{Error, Result};
+use crate::io::{write_atomic, xyz};
+
+/// How a GLB is written.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct GltfOptions {
+    /// Frames per second of the animation. Default 25.
+    pub fps: f64,
+    /// Write the animation; without it the morph targets are shape keys at
+    /// weight 0. Default `true`.
+    pub animation: bool,
+    /// The name of the mesh and of its node. Default `"meshmorph"`.
+    pub name: String,
+    /// Linear RGB base colour of the material. Default a light sand.
+    pub color: [f32; 3],
+}
+
+impl Default for GltfOptions {
+    fn default() -> Self {
+        GltfOptions {
+            fps: 25.0,
+            animation: true,
+            name: "meshmorph".to_string(),
+            color: [0.8, 0.62, 0.4],
+        }
+    }
+}
+
+impl GltfOptions {
+    /// Sets [`fps`](Self::fps).
+    pub fn with_fps(mut self, fps: f64) -> Self {
+        self.fps = fps;
+        self
+    }
+
+    /// Sets [`animation`](Self::animation).
+    pub fn with_animation(mut self, animation: bool) -> Self {
+        self.animation = animation;
+        self
+    }
+
+    /// Sets [`name`](Self::name).
+    pub fn with_name(mut self, name: impl Into<String>) -> Self {
+        self.name = name.into();
+        self
+    }
+
+    /// Sets [`color`](Self::color).
+    pub fn with_color(mut self, color: [f32; 3]) -> Self {
+        self.color = color;
+        self
+    }
+}
+
+/// The base mesh of a GLB: positions (`D` = 2 or 3), triangles, and
+/// optionally texture coordinates per triangle corner.
+#[derive(Clone, Copy, Debug)]
+pub struct GltfBase<'a, const D: usize> {
+    /// `#V` positions.
+    pub positions: &'a [[f64; D]],
+    /// `#T` triangles, counter-clockwise seen from the front.
+    pub triangles: &'a [[u32; 3]],
+    /// `#T × 3` texture coordinates `(u, v)`, one per triangle corner
+    /// (OBJ's convention: v up; written with glTF's v down).
+    pub corner_uvs: Option<&'a [[[f64; 2]; 3]]>,
+}
+
+impl<'a, const D: usize> GltfBase<'a, D> {
+    /// A base mesh without texture coordinates.
+    pub fn new(positions: &'a [[f64; D]], triangles: &'a [[u32; 3]]) -> Self {
+        GltfBase {
+            positions,
+            triangles,
+            corner_uvs: None,
+        }
+    }
+
+    /// Adds texture coordinates per triangle corner.
+    pub fn with_corner_uvs(mut self, corner_uvs: &'a [[[f64; 2]; 3]]) -> Self {
+        self.corner_uvs = Some(corner_uvs);
+        self
+    }
+}
+
+/// About how many bytes a GLB of `frames` frames of a mesh with `vertices`
+/// vertices and `triangles` triangles weighs: 24 bytes per vertex and frame
+/// plus the base mesh, the animation and the JSON (texture seams, which split
+/// vertices, add a little).
+pub fn estimate_glb_bytes(vertices: usize, triangles: usize, frames: usize, uvs: bool) -> u64 {
+    let (v, t, f) = (vertices as u64, triangles as u64, frames as u64);
+    let base = 12 * t + v * (24 + if uvs { 8 } else { 0 });
+    let animation = 4 * f * (f + 1);
+    let json = 1500 + 300 * f;
+    base + 24 * v * f + animation + json
+}
+
+/// Writes a GLB atomically (see [`write_atomic`]): the base mesh, one morph
+/// target per frame named by `names`, and the animation (see the
+/// [module documentation](self)).
+///
+/// # Errors
+/// [`Error::InvalidArgument`] when `names` and `frames` differ in length,
+/// there are no frames, `D` is not 2 or 3, the fps is not a finite positive
+/// number, the corner texture coordinates do not match the triangles or are
+/// not finite, or the file would pass 4 GiB; [`Error::InvalidMesh`] naming the
+/// frame and the vertex when a frame has the wrong number of vertices or a
+/// coordinate that is not finite, or a triangle index is out of range;
+/// [`Error::Io`] naming the file when it cannot be written. Nothing is left
+/// at `path` when an error occurs.
+///
+/// # Performance
+/// Frames are prepared in parallel; the file is streamed, never held whole
+/// in memory.
+pub fn write_glb<const D: usize, F: AsRef<[[f64; D]]> + Sync>(
+    path: &Path,
+    base: &GltfBase<'_, D>,
+    frames: &[F],
+    names: &[String],
+    options: &GltfOptions,
+) -> Result<()> {
+    let layout = Layout::new(base, frames, names, options)
+        .map_err(|e| prefix(e, &format!("cannot write `{}`", path.display())))?;
+    write_atomic(path, |w| layout.write(w, frames))
+}
+
+/// Writes a GLB to any writer (a buffer, a staging file): [`write_glb`]
+/// without the file handling.
+///
+/// # Errors
+/// As [`write_glb`]; a failing writer gives [`Error::Io`] naming
+/// `name_for_messages`.
+pub fn write_glb_to<const D: usize, F: AsRef<[[f64; D]]> + Sync>(
+    w: &mut dyn Write,
+    name_for_messages: &Path,
+    base: &GltfBase<'_, D>,
+    frames: &[F],
+    names: &[String],
+    options: &GltfOptions,
+) -> Result<()> {
+    let layout = Layout::new(base, frames, names, options)?;
+    layout
+        .write(w, frames)
+        .map_err(|e| Error::io(name_for_messages, e))
+}
+
+fn prefix(e: Error, what: &str) -> Error {
+    match e {
+        Error::InvalidArgument(m) => Error::InvalidArgument(format!("{what}: {m}")),
+        Error::InvalidMesh(m) => Error::InvalidMesh(format!("{what}: {m}")),
+        other => other,
+    }
+}
+
+/// Everything known before the binary data is streamed: the glTF vertices,
+/// the JSON, the offsets.
+struct Layout<'a, const D: usize> {
+    base: &'a [[f64; D]],
+    /// The base mesh's triangles, in original vertices.
+    triangles: &'a [[u32; 3]],
+    /// glTF vertex → original vertex.
+    original: Vec<u32>,
+    /// Triangles in glTF vertices.
+    indices: Vec<[u32; 3]>,
+    /// Per glTF vertex, glTF's convention (v down).
+    uvs: Option<Vec<[f32; 2]>>,
+    base_positions: Vec<[f32; 3]>,
+    base_normals: Vec<[f32; 3]>,
+    fps: f64,
+    animation: bool,
+    json: Vec<u8>,
+    bin_length: u64,
+}
+
+impl<'a, const D: usize> Layout<'a, D> {
+    fn new<F: AsRef<[[f64; D]]> + Sync>(
+        base: &GltfBase<'a, D>,
+        frames: &[F],
+        names: &[String],
+        options: &GltfOptions,
+    ) -> Result<Self> {
+        if D != 2 && D != 3 {
+            return Err(Error::InvalidArgument(format!(
+                "glTF meshes have 2 or 3 coordinates per vertex, not {D}"
+            )));
+        }
+        if frames.is_empty() {
+            return Err(Error::InvalidArgument("no frames to write".into()));
+        }
+        if names.len() != frames.len() {
+            return Err(Error::InvalidArgument(format!(
+                "{} frames but {} names",
+                frames.len(),
+                names.len()
+            )));
+        }
+        if !(options.fps.is_finite() && options.fps > 0.0) {
+            return Err(Error::InvalidArgument(format!(
+                "the frame rate must be a finite number above 0, not {}",
+                options.fps
+            )));
+        }
+        check_positions(base.positions, base.triangles, "the base mesh")?;
+        frames.par_iter().enumerate().try_for_each(|(k, f)| {
+            let f = f.as_ref();
+            if f.len() != base.positions.len() {
+                return Err(Error::InvalidMesh(format!(
+                    "frame {k} (`{}`) has {} vertices, the base mesh {}",
+                    names[k],
+                    f.len(),
+                    base.positions.len()
+                )));
+            }
+            check_finite(f, &format!("frame {k} (`{}`)", names[k]))
+        })?;
+        let (original, indices, uvs) = split_vertices(base)?;
+        let base_positions: Vec<[f32; 3]> = original
+            .iter()
+            .map(|&v| xyz(&base.positions[v as usize]).map(|x| x as f32))
+            .collect();
+        let base_normals = gltf_normals::<D>(base.positions, base.triangles, &original);
+
+        // Position deltas' bounds, which the JSON needs before any data.
+        let bounds: Vec<([f32; 3], [f32; 3])> = frames
+            .par_iter()
+            .map(|f| {
+                let f = f.as_ref();
+                let mut lo = [f32::INFINITY; 3];
+                let mut hi = [f32::NEG_INFINITY; 3];
+                for &v in &original {
+                    let d = delta(f[v as usize], base.positions[v as usize]);
+                    for k in 0..3 {
+                        lo[k] = lo[k].min(d[k]);
+                        hi[k] = hi[k].max(d[k]);
+                    }
+                }
+                (lo, hi)
+            })
+            .collect();
+
+        let mut layout = Layout {
+            base: base.positions,
+            triangles: base.triangles,
+            original,
+            indices,
+            uvs,
+            base_positions,
+            base_normals,
+            fps: options.fps,
+            animation: options.animation,
+            json: Vec::new(),
+            bin_length: 0,
+        };
+        let (root, bin_length) = layout.root(&bounds, names, options);
+        layout.bin_length = bin_length;
+        let mut json = root
+            .to_vec()
+            .map_err(|e| Error::InvalidArgument(format!("glTF JSON: {e}")))?;
+        while json.len() % 4 != 0 {
+            json.push(b' ');
+        }
+        let total = 12 + 8 + json.len() as u64 + 8 + bin_length;
+        if total > u64::from(u32::MAX) {
+            return Err(Error::InvalidArgument(format!(
+                "the GLB would weigh {} MB; the format holds at most 4 GiB: write fewer frames",
+                total / 1_000_000
+            )));
+        }
+        layout.json = json;
+        Ok(layout)
+    }
+
+    fn vertex_count(&self) -> usize {
+        self.original.len()
+    }
+
+    /// Whether frames carry their own normals (planar ones share zeros).
+    fn frame_normals(&self) -> bool {
+        D == 3
+    }
+
+    /// The glTF document and the length of the binary chunk.
+    fn root(
+        &self,
+        bounds: &[([f32; 3], [f32; 3])],
+        names: &[String],
+        options: &GltfOptions,
+    ) -> (json::Root, u64) {
+        let n = self.vertex_count() as u64;
+        let mut root = json::Root::default();
+        let mut offset = 0u64;
+        let buffer = json::Index::new(0);
+        let mut view =
+            |root: &mut json::Root, length: u64, target: Option<json::buffer::Target>| {
+                let v = root.push(json::buffer::View {
+                    buffer,
+                    byte_length: USize64(length),
+                    byte_offset: Some(USize64(offset)),
+                    byte_stride: None,
+                    name: None,
+                    target: target.map(Valid),
+                    extensions: None,
+                    extras: None,
+                });
+                offset += length;
+                v
+            };
+        let vec3 = |root: &mut json::Root,
+                    view: json::Index<json::buffer::View>,
+                    bounds: Option<([f32; 3], [f32; 3])>| {
+            root.push(accessor(
+                view,
+                n,
+                json::accessor::ComponentType::F32,
+                json::accessor::Type::Vec3,
+                bounds.map(|(lo, hi)| (lo.to_vec(), hi.to_vec())),
+            ))
+        };
+        use json::buffer::Target::{ArrayBuffer, ElementArrayBuffer};
+
+        let index_view = view(
+            &mut root,
+            12 * self.indices.len() as u64,
+            Some(ElementArrayBuffer),
+        );
+        let indices = root.push(accessor(
+            index_view,
+            3 * self.indices.len() as u64,
+            json::accessor::ComponentType::U32,
+            json::accessor::Type::Scalar,
+            None,
+        ));
+        let position_view = view(&mut root, 12 * n, Some(ArrayBuffer));
+        let positions = vec3(
+            &mut root,
+            position_view,
+            Some(bounds_of(&self.base_positions)),
+        );
+        let normal_view = view(&mut root, 12 * n, Some(ArrayBuffer));
+        let normals = vec3(&mut root, normal_view, None);
+        let mut attributes = std::collections::BTreeMap::new();
+        attributes.insert(Valid(json::mesh::Semantic::Positions), positions);
+        attributes.insert(Valid(json::mesh::Semantic::Normals), normals);
+        if self.uvs.is_some() {
+            let uv_view = view(&mut root, 8 * n, Some(ArrayBuffer));
+            let uvs = root.push(accessor(
+                uv_view,
+                n,
+                json::accessor::ComponentType::F32,
+                json::accessor::Type::Vec2,
+                None,
+            ));
+            attributes.insert(Valid(json::mesh::Semantic::TexCoords(0)), uvs);
+        }
+        let shared_zero_normals = if self.frame_normals() {
+            None
+        } else {
+            let v = view(&mut root, 12 * n, Some(ArrayBuffer));
+            Some(vec3(&mut root, v, None))
+        };
+        let targets: Vec<json::mesh::MorphTarget> = bounds
+            .iter()
+            .map(|&b| {
+                let pv = view(&mut root, 12 * n, Some(ArrayBuffer));
+                let positions = vec3(&mut root, pv, Some(b));
+                let normals = match shared_zero_normals {
+                    Some(a) => a,
+                    None => {
+                        let nv = view(&mut root, 12 * n, Some(ArrayBuffer));
+                        vec3(&mut root, nv, None)
+                    }
+                };
+                json::mesh::MorphTarget {
+                    positions: Some(positions),
+                    normals: Some(normals),
+                    tangents: None,
+                }
+            })
+            .collect();
+        let frames = bounds.len() as u64;
+
+        let material = root.push(json::Material {
+            double_sided: true,
+            name: Some("meshmorph".into()),
+            pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+                base_color_factor: json::material::PbrBaseColorFactor([
+                    options.color[0],
+                    options.color[1],
+                    options.color[2],
+                    1.0,
+                ]),
+                metallic_factor: json::material::StrengthFactor(0.0),
+                roughness_factor: json::material::StrengthFactor(0.7),
+                ..Default::default()
+            },
+            ..Default::default()
+        });
+        let target_names = json::Value::from(names.to_vec());
+        let extras = json::Value::Object(
+            [("targetNames".to_string(), target_names)]
+                .into_iter()
+                .collect(),
+        );
+        let mesh = root.push(json::Mesh {
+            extensions: None,
+            extras: json::extras::RawValue::from_string(extras.to_string()).ok(),
+            name: Some(options.name.clone()),
+            primitives: vec![json::mesh::Primitive {
+                attributes,
+                extensions: None,
+                extras: None,
+                indices: Some(indices),
+                material: Some(material),
+                mode: Valid(json::mesh::Mode::Triangles),
+                targets: Some(targets),
+            }],
+            weights: Some(vec![0.0; frames as usize]),
+        });
+        let node = root.push(json::Node {
+            mesh: Some(mesh),
+            name: Some(options.name.clone()),
+            ..Default::default()
+        });
+        let scene = root.push(json::Scene {
+            extensions: None,
+            extras: None,
+            name: Some(options.name.clone()),
+            nodes: vec![node],
+        });
+        root.scene = Some(scene);
+
+        if self.animation {
+            let times_view = view(&mut root, 4 * frames, None);
+            let last = ((frames - 1) as f64 / self.fps) as f32;
+            let times = root.push(accessor(
+                times_view,
+                frames,
+                json::accessor::ComponentType::F32,
+                json::accessor::Type::Scalar,
+                Some((vec![0.0], vec![last])),
+            ));
+            let weights_view = view(&mut root, 4 * frames * frames, None);
+            let weights = root.push(accessor(
+                weights_view,
+                frames * frames,
+                json::accessor::ComponentType::F32,
+                json::accessor::Type::Scalar,
+                None,
+            ));
+            root.push(json::Animation {
+                extensions: None,
+                extras: None,
+                name: Some("morph".into()),
+                channels: vec![json::animation::Channel {
+                    sampler: json::Index::new(0),
+                    target: json::animation::Target {
+                        extensions: None,
+                        extras: None,
+                        node,
+                        path: Valid(json::animation::Property::MorphTargetWeights),
+                    },
+                    extensions: None,
+                    extras: None,
+                }],
+                samplers: vec![json::animation::Sampler {
+                    extensions: None,
+                    extras: None,
+                    input: times,
+                    interpolation: Valid(json::animation::Interpolation::Linear),
+                    output: weights,
+                }],
+            });
+        }
+        root.push(json::Buffer {
+            byte_length: USize64(offset),
+            name: None,
+            uri: None,
+            extensions: None,
+            extras: None,
+        });
+        root.asset = json::Asset {
+            generator: Some(format!("meshmorph {}", env!("CARGO_PKG_VERSION"))),
+            ..Default::default()
+        };
+        (root, offset)
+    }
+
+    /// Streams the GLB: header, JSON chunk, binary chunk, in the order
+    /// [`Layout::root`] laid the buffer views out.
+    fn write<F: AsRef<[[f64; D]]> + Sync>(
+        &self,
+        w: &mut dyn Write,
+        frames: &[F],
+    ) -> std::io::Result<()> {
+        let total = 12 + 8 + self.json.len() as u64 + 8 + self.bin_length;
+        w.write_all(b"glTF")?;
+        w.write_all(&2u32.to_le_bytes())?;
+        w.write_all(&(total as u32).to_le_bytes())?;
+        w.write_all(&(self.json.len() as u32).to_le_bytes())?;
+        w.write_all(b"JSON")?;
+        w.write_all(&self.json)?;
+        w.write_all(&(self.bin_length as u32).to_le_bytes())?;
+        w.write_all(b"BIN\0")?;
+
+        let mut buf = Vec::with_capacity(12 * self.indices.len());
+        for i in self.indices.iter().flatten() {
+            buf.extend_from_slice(&i.to_le_bytes());
+        }
+        w.write_all(&buf)?;
+        write_f32s(w, self.base_positions.iter().flatten().copied())?;
+        write_f32s(w, self.base_normals.iter().flatten().copied())?;
+        if let Some(uvs) = &self.uvs {
+            write_f32s(w, uvs.iter().flatten().copied())?;
+        }
+        if !self.frame_normals() {
+            write_f32s(w, std::iter::repeat_n(0.0, 3 * self.vertex_count()))?;
+        }
+        // A batch of frames is prepared in parallel, then written in order.
+        let batch = 2 * rayon::current_num_threads();
+        for chunk in frames.chunks(batch) {
+            let blocks: Vec<Vec<u8>> = chunk
+                .par_iter()
+                .map(|f| self.frame_bytes(f.as_ref()))
+                .collect();
+            for b in blocks {
+                w.write_all(&b)?;
+            }
+        }
+        if self.animation {
+            let n = frames.len();
+            write_f32s(w, (0..n).map(|k| (k as f64 / self.fps) as f32))?;
+            write_f32s(
+                w,
+                (0..n * n).map(|i| if i / n == i % n { 1.0 } else { 0.0 }),
+            )?;
+        }
+        Ok(())
+    }
+
+    /// A frame's position deltas, then (for meshes in space) its normal
+    /// deltas, as little-endian `f32`.
+    fn frame_bytes(&self, frame: &[[f64; D]]) -> Vec<u8> {
+        let n = self.vertex_count();
+        let mut out = Vec::with_capacity(24 * n);
+        for &v in &self.original {
+            for x in delta(frame[v as usize], self.base[v as usize]) {
+                out.extend_from_slice(&x.to_le_bytes());
+            }
+        }
+        if self.frame_normals() {
+            let normals = gltf_normals::<D>(frame, self.triangles, &self.original);
+            for (a, b) in normals.iter().zip(&self.base_normals) {
+                for k in 0..3 {
+                    out.extend_from_slice(&(a[k] - b[k]).to_le_bytes());
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Writes `f32`s little-endian through a buffer.
+fn write_f32s(w: &mut dyn Write, values: impl Iterator<Item = f32>) -> std::io::Result<()> {
+    let mut buf = Vec::with_capacity(1 << 16);
+    for x in values {
+        buf.extend_from_slice(&x.to_le_bytes());
+        if buf.len() >= 1 << 16 {
+            w.write_all(&buf)?;
+            buf.clear();
+        }
+    }
+    w.write_all(&buf)
+}
+
+/// `frame - base` in `f32`, padded to three coordinates.
+#[inline]
+fn delta<const D: usize>(frame: [f64; D], base: [f64; D]) -> [f32; 3] {
+    let (f, b) = (xyz(&frame), xyz(&base));
+    std::array::from_fn(|k| (f[k] - b[k]) as f32)
+}
+
+/// Per-coordinate minimum and maximum of `f32` vectors.
+fn bounds_of(values: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
+    values.iter().fold(
+        ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]),
+        |(lo, hi), p| {
+            (
+                std::array::from_fn(|k| lo[k].min(p[k])),
+                std::array::from_fn(|k| hi[k].max(p[k])),
+            )
+        },
+    )
+}
+
+/// An accessor of tightly packed data at the start of a buffer view.
+fn accessor(
+    view: json::Index<json::buffer::View>,
+    count: u64,
+    component: json::accessor::ComponentType,
+    kind: json::accessor::Type,
+    bounds: Option<(Vec<f32>, Vec<f32>)>,
+) -> json::Accessor {
+    let (min, max) = match bounds {
+        Some((lo, hi)) => (Some(json::Value::from(lo)), Some(json::Value::from(hi))),
+        None => (None, None),
+    };
+    json::Accessor {
+        buffer_view: Some(view),
+        byte_offset: None,
+        count: USize64(count),
+        component_type: Valid(json::accessor::GenericComponentType(component)),
+        extensions: None,
+        extras: None,
+        type_: Valid(kind),
+        min,
+        max,
+        name: None,
+        normalized: false,
+        sparse: None,
+    }
+}
+
+/// Unit vertex normals for the glTF vertices: +z for planar meshes,
+/// area-weighted triangle normals in space (+z where they cancel out).
+fn gltf_normals<const D: usize>(
+    positions: &[[f64; D]],
+    triangles: &[[u32; 3]],
+    original: &[u32],
+) -> Vec<[f32; 3]> {
+    if D != 3 {
+        return vec![[0.0, 0.0, 1.0]; original.len()];
+    }
+    let space: Vec<[f64; 3]> = positions.iter().map(xyz).collect();
+    let normals = vertex_normals(&space, triangles);
+    original
+        .iter()
+        .map(|&v| {
+            let n = normals[v as usize];
+            if n == [0.0; 3] {
+                [0.0, 0.0, 1.0]
+            } else {
+                let m = n.map(|x| x as f32);
+                let len = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
+                m.map(|x| x / len)
+            }
+        })
+        .collect()
+}
+
+/// Refuses a base mesh whose coordinates are not finite or whose triangles
+/// point past its vertices.
+fn check_positions<const D: usize>(
+    positions: &[[f64; D]],
+    triangles: &[[u32; 3]],
+    what: &str,
+) -> Result<()> {
+    check_finite(positions, what)?;
+    if triangles.is_empty() {
+        return Err(Error::InvalidMesh(format!("{what} has no triangles")));
+    }
+    let n = positions.len();
+    if let Some(t) = triangles
+        .iter()
+        .position(|t| t.iter().any(|&i| i as usize >= n))
+    {
+        return Err(Error::InvalidMesh(format!(
+            "{what}: triangle {t} {:?} uses a vertex index out of range (the mesh has {n} vertices)",
+            triangles[t]
+        )));
+    }
+    Ok(())
+}
+
+fn check_finite<const D: usize>(positions: &[[f64; D]], what: &str) -> Result<()> {
+    match positions
+        .iter()
+        .position(|p| p.iter().any(|x| !x.is_finite()))
+    {
+        Some(v) => Err(Error::InvalidMesh(format!(
+            "{what}: vertex {v} has a coordinate that is not a finite number: {:?}",
+            positions[v]
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// glTF's vertices: one per used original vertex and distinct texture
+/// coordinate pair, original vertices first (in order, each with its first
+/// corner's coordinates), further pairs after. Returns (glTF vertex →
+/// original vertex, triangles in glTF vertices, texture coordinates).
+#[allow(clippy::type_complexity)]
+fn split_vertices<const D: usize>(
+    base: &GltfBase<'_, D>,
+) -> Result<(Vec<u32>, Vec<[u32; 3]>, Option<Vec<[f32; 2]>>)> {
+    let n = base.positions.len();
+    let mut used = vec![false; n];
+    for t in base.triangles {
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    let Some(corner_uvs) = base.corner_uvs else {
+        let mut new_index = vec![u32::MAX; n];
+        let mut original = Vec::with_capacity(n);
+        for v in (0..n).filter(|&v| used[v]) {
+            new_index[v] = original.len() as u32;
+            original.push(v as u32);
+        }
+        let indices = base
+            .triangles
+            .iter()
+            .map(|t| t.map(|v| new_index[v as usize]))
+            .collect();
+        return Ok((original, indices, None));
+    };
+    if corner_uvs.len() != base.triangles.len() {
+        return Err(Error::InvalidArgument(format!(
+            "{} triangles but texture coordinates for {}",
+            base.triangles.len(),
+            corner_uvs.len()
+        )));
+    }
+    if let Some(t) = corner_uvs
+        .iter()
+        .position(|c| c.iter().flatten().any(|x| !x.is_finite()))
+    {
+        return Err(Error::InvalidArgument(format!(
+            "triangle {t}'s texture coordinates are not finite numbers: {:?}",
+            corner_uvs[t]
+        )));
+    }
+    // glTF's v runs down the image, OBJ's up.
+    let gltf_uv = |uv: [f64; 2]| [uv[0] as f32, (1.0 - uv[1]) as f32];
+    let mut first: Vec<Option<[f32; 2]>> = vec![None; n];
+    for (t, c) in base.triangles.iter().zip(corner_uvs) {
+        for k in 0..3 {
+            first[t[k] as usize].get_or_insert(gltf_uv(c[k]));
+        }
+    }
+    let mut new_index = vec![u32::MAX; n];
+    let mut original = Vec::with_capacity(n);
+    let mut uvs = Vec::with_capacity(n);
+    for v in 0..n {
+        if let Some(uv) = first[v] {
+            new_index[v] = original.len() as u32;
+            original.push(v as u32);
+            uvs.push(uv);
+        }
+    }
+    let mut extra: HashMap<(u32, [u32; 2]), u32> = HashMap::new();
+    let indices = base
+        .triangles
+        .iter()
+        .zip(corner_uvs)
+        .map(|(t, c)| {
+            std::array::from_fn(|k| {
+                let v = t[k];
+                let uv = gltf_uv(c[k]);
+                let own = new_index[v as usize];
+                if uvs[own as usize].map(f32::to_bits) == uv.map(f32::to_bits) {
+                    return own;
+                }
+                *extra.entry((v, uv.map(f32::to_bits))).or_insert_with(|| {
+                    original.push(v);
+                    uvs.push(uv);
+                    (original.len() - 1) as u32
+                })
+            })
+        })
+        .collect();
+    Ok((original, indices, Some(uvs)))
+}

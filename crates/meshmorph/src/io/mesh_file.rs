@@ -1,0 +1,512 @@
+//! A mesh file kept whole: its polygons, texture coordinates, normals and
+//! everything else it holds, with the triangle mesh derived from it, written
+//! back with new positions.
+//!
+//! Deformation transfer and interpolation change positions only. A result
+//! written in the format of the file it came from is that file with new
+//! positions (and normals turned with the surface): in OBJ the `vt`, `vn`,
+//! `g`, `o`, `s`, `mtllib` and `usemtl` statements, the comments and the
+//! polygons stay as they were, in their order; in PLY every other property
+//! and element, in its type and encoding; in OFF the polygons, colours and
+//! comments. Only the numbers that change are rewritten (with the shortest
+//! representation that reads back to the same `f64`; in binary PLY in the
+//! property's own type).
+
+use std::io::Write;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use super::ply::Scalar;
+use super::triangulate::{Polygons, Split};
+use super::{push_f64, write_atomic, Format};
+use crate::error::{Error, Result};
+use crate::geometry::{add, cross, dot, norm, scale, sub};
+use crate::mesh::Mesh3;
+
+/// No index (a corner without texture coordinates or normal).
+pub(super) const NONE: u32 = u32::MAX;
+
+/// The byte offset of `part` (a sub-slice of `whole`) in `whole`.
+#[inline]
+pub(super) fn offset_in(whole: &[u8], part: &[u8]) -> usize {
+    part.as_ptr() as usize - whole.as_ptr() as usize
+}
+
+/// Which number a patch rewrites.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Slot {
+    /// Coordinate `axis` of vertex `v`.
+    Position(u32, u8),
+    /// Coordinate `axis` of normal `n`.
+    Normal(u32, u8),
+}
+
+/// How a patched number is written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Coding {
+    /// Replaces the text in the range.
+    Text,
+    /// Inserted (after a space) at the range's start, which is its end.
+    Appended,
+    /// Binary, in the given type, big endian or not.
+    Binary(Scalar, bool),
+}
+
+/// A number of the file that is rewritten with the new shape.
+#[derive(Clone, Debug)]
+pub(super) struct Patch {
+    pub(super) bytes: Range<usize>,
+    pub(super) slot: Slot,
+    pub(super) coding: Coding,
+}
+
+impl Patch {
+    pub(super) fn text(bytes: Range<usize>, slot: Slot) -> Self {
+        Patch {
+            bytes,
+            slot,
+            coding: Coding::Text,
+        }
+    }
+
+    pub(super) fn appended(at: usize, slot: Slot) -> Self {
+        Patch {
+            bytes: at..at,
+            slot,
+            coding: Coding::Appended,
+        }
+    }
+}
+
+/// What a reader found: positions, polygons, and what it takes to write the
+/// file back.
+#[derive(Default)]
+pub(super) struct Parsed {
+    pub(super) positions: Vec<[f64; 3]>,
+    pub(super) faces: Polygons,
+    /// The numbers to rewrite, in file order.
+    pub(super) patches: Vec<Patch>,
+    pub(super) uvs: Vec<[f64; 2]>,
+    /// The texture coordinate of each flat corner ([`NONE`] for none);
+    /// empty when the file has none.
+    pub(super) corner_uv: Vec<u32>,
+    pub(super) normals: Vec<[f64; 3]>,
+    /// The normal of each flat corner; empty when the file has none.
+    pub(super) corner_normal: Vec<u32>,
+    /// What the file holds beyond positions and polygons, for the warnings
+    /// when it is written in another format.
+    pub(super) extras: Vec<String>,
+}
+
+impl Parsed {
+    pub(super) fn note_extra(&mut self, what: &str) {
+        if !self.extras.iter().any(|e| e == what) {
+            self.extras.push(what.to_string());
+        }
+    }
+}
+
+/// A mesh file kept whole, with the triangle mesh derived from it (each
+/// polygon split once, along the split the file's own shape gives); see the
+/// [module documentation](self).
+#[derive(Clone, Debug)]
+pub struct MeshFile {
+    path: PathBuf,
+    format: Format,
+    bytes: Vec<u8>,
+    mesh: Mesh3,
+    faces: Polygons,
+    split: Split,
+    patches: Vec<Patch>,
+    uvs: Vec<[f64; 2]>,
+    corner_uv: Vec<u32>,
+    normals: Vec<[f64; 3]>,
+    corner_normal: Vec<u32>,
+    /// Each normal's direction computed from the faces that use it, in the
+    /// file's shape: a new shape turns each normal by the rotation that
+    /// takes this direction to the new one.
+    rest_normal_directions: Vec<[f64; 3]>,
+    extras: Vec<String>,
+}
+
+impl MeshFile {
+    /// Reads a mesh file, choosing the format by its extension.
+    ///
+    /// # Errors
+    /// As [`read_mesh`](super::read_mesh).
+    pub fn read(path: &Path) -> Result<Self> {
+        Self::read_as(path, Format::from_path(path)?)
+    }
+
+    /// Reads a mesh file in the given format.
+    ///
+    /// # Errors
+    /// As [`read_mesh_as`](super::read_mesh_as).
+    pub fn read_as(path: &Path, format: Format) -> Result<Self> {
+        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        Self::parse(bytes, format, path)
+    }
+
+    /// Parses a file's contents; `path` names it in messages (and in
+    /// [`MeshFile::path`]).
+    ///
+    /// # Errors
+    /// As [`parse_mesh`](super::parse_mesh).
+    pub fn parse(bytes: Vec<u8>, format: Format, path: &Path) -> Result<Self> {
+        let parsed = match format {
+            Format::Obj => super::obj::parse(&bytes, path)?,
+            Format::Off => super::off::parse(&bytes, path)?,
+            Format::Ply => super::ply::parse(&bytes, path)?,
+        };
+        let split = parsed.faces.triangulate(&parsed.positions);
+        let mesh = super::finish(path, parsed.positions, split.triangles.clone())?;
+        let mut file = MeshFile {
+            path: path.to_path_buf(),
+            format,
+            bytes,
+            mesh,
+            faces: parsed.faces,
+            split,
+            patches: parsed.patches,
+            uvs: parsed.uvs,
+            corner_uv: parsed.corner_uv,
+            normals: parsed.normals,
+            corner_normal: parsed.corner_normal,
+            rest_normal_directions: Vec::new(),
+            extras: parsed.extras,
+        };
+        file.rest_normal_directions = file.normal_directions(file.mesh.positions());
+        Ok(file)
+    }
+
+    /// The file's path (as given when it was read).
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The file's format.
+    pub fn format(&self) -> Format {
+        self.format
+    }
+
+    /// The triangle mesh: the file's positions, each polygon split once.
+    pub fn mesh(&self) -> &Mesh3 {
+        &self.mesh
+    }
+
+    /// The triangle mesh, without the rest of the file.
+    pub fn into_mesh(self) -> Mesh3 {
+        self.mesh
+    }
+
+    /// Number of polygons (faces) in the file.
+    pub fn num_faces(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// The vertices of face `f` (0-based), in the file's order.
+    ///
+    /// # Panics
+    /// If `f` is out of range.
+    pub fn face(&self, f: usize) -> &[u32] {
+        &self.faces.corner_vertices()[self.faces.range(f)]
+    }
+
+    /// The face each triangle of [`MeshFile::mesh`] was split from.
+    pub fn triangle_faces(&self) -> &[u32] {
+        &self.split.face
+    }
+
+    /// The texture coordinates `(u, v)` of the three corners of each
+    /// triangle of [`MeshFile::mesh`], in the triangle's corner order: from
+    /// OBJ `vt` (through `f v/vt`), PLY vertex properties `s t`, `u v` or
+    /// `texture_u texture_v` or a face list `texcoord`, OFF `ST` files.
+    /// `None` when the file has no texture coordinates or some corner lacks
+    /// them. (glTF's `TEXCOORD_0` wants `v` flipped: `1 - v`.)
+    pub fn triangle_corner_uvs(&self) -> Option<Vec<[[f32; 2]; 3]>> {
+        if self.corner_uv.is_empty() || self.corner_uv.contains(&NONE) {
+            return None;
+        }
+        Some(
+            self.split
+                .corners
+                .iter()
+                .map(|c| {
+                    c.map(|k| {
+                        let uv = self.uvs[self.corner_uv[k as usize] as usize];
+                        [uv[0] as f32, uv[1] as f32]
+                    })
+                })
+                .collect(),
+        )
+    }
+
+    /// Whether the file holds normals (which are turned with the surface
+    /// when it is written with new positions).
+    pub fn has_normals(&self) -> bool {
+        !self.corner_normal.is_empty()
+    }
+
+    /// What the file holds beyond positions and polygons ("texture
+    /// coordinates (`vt`)", "vertex property `red`", ...).
+    pub fn extras(&self) -> &[String] {
+        &self.extras
+    }
+
+    /// The file's normals for a new shape: each normal of the file turned by
+    /// the smallest rotation that takes the direction of the faces around it
+    /// (the area-weighted mean normal of the polygons whose corners use it)
+    /// from the file's shape to the new one. Authored normals and hard edges
+    /// (a normal used by one side only) stay as they were relative to the
+    /// surface, and the file's own shape gives back its own normals.
+    ///
+    /// # Panics
+    /// If `positions` does not have one entry per vertex.
+    pub fn normals_for(&self, positions: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        assert_eq!(positions.len(), self.mesh.num_vertices());
+        let now = self.normal_directions(positions);
+        self.normals
+            .iter()
+            .zip(&self.rest_normal_directions)
+            .zip(&now)
+            .map(|((&n, &from), &to)| turn(n, from, to))
+            .collect()
+    }
+
+    /// The area-weighted mean polygon normal around each normal of the file
+    /// (unit length, or zero where no face uses it).
+    fn normal_directions(&self, positions: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        let mut sums = vec![[0.0; 3]; self.normals.len()];
+        if self.corner_normal.is_empty() {
+            return sums;
+        }
+        for f in 0..self.faces.len() {
+            let range = self.faces.range(f);
+            let vertices = &self.faces.corner_vertices()[range.clone()];
+            let area = newell_normal(vertices, positions);
+            for &n in &self.corner_normal[range] {
+                if n != NONE {
+                    sums[n as usize] = add(sums[n as usize], area);
+                }
+            }
+        }
+        for s in &mut sums {
+            let len = norm(*s);
+            *s = if len > 0.0 {
+                scale(*s, 1.0 / len)
+            } else {
+                [0.0; 3]
+            };
+        }
+        sums
+    }
+
+    /// Writes the file with new `positions` in `format`, atomically. In the
+    /// file's own format everything but the positions (and normals, turned
+    /// with the surface) is kept byte for byte. In another format the
+    /// polygons are kept and what that format cannot hold here is dropped:
+    /// the returned warnings say what (empty when nothing was dropped).
+    ///
+    /// # Errors
+    /// [`Error::InvalidMesh`] when a position is not finite or their count is
+    /// not the file's; [`Error::Io`] when the file cannot be written (nothing
+    /// is left at `path` then).
+    pub fn write(
+        &self,
+        path: &Path,
+        positions: &[[f64; 3]],
+        format: Format,
+    ) -> Result<Vec<String>> {
+        if positions.len() != self.mesh.num_vertices() {
+            return Err(Error::InvalidMesh(format!(
+                "cannot write `{}`: {} positions given for the {} vertices of `{}`",
+                path.display(),
+                positions.len(),
+                self.mesh.num_vertices(),
+                self.path.display()
+            )));
+        }
+        super::check_writable(path, positions, &[])?;
+        if format == self.format {
+            let normals = self.normals_for(positions);
+            write_atomic(path, |w| self.write_patched(w, positions, &normals))?;
+            return Ok(Vec::new());
+        }
+        let faces = || (0..self.faces.len()).map(|f| self.face(f));
+        write_atomic(path, |w| match format {
+            Format::Obj => super::obj::write(w, positions, faces()),
+            Format::Off => super::off::write(w, positions, faces(), self.faces.len()),
+            Format::Ply => super::ply::write(w, positions, faces(), self.faces.len()),
+        })?;
+        Ok(self
+            .extras
+            .iter()
+            .map(|e| {
+                format!(
+                    "`{}`: the {} of `{}` cannot be carried over to {format}: dropped",
+                    path.display(),
+                    e,
+                    self.path.display()
+                )
+            })
+            .collect())
+    }
+
+    /// The file's bytes with every patched number rewritten.
+    fn write_patched(
+        &self,
+        w: &mut dyn Write,
+        positions: &[[f64; 3]],
+        normals: &[[f64; 3]],
+    ) -> std::io::Result<()> {
+        let mut buf: Vec<u8> = Vec::with_capacity(super::CHUNK + 1024);
+        let mut at = 0;
+        for p in &self.patches {
+            buf.extend_from_slice(&self.bytes[at..p.bytes.start]);
+            at = p.bytes.end;
+            let value = match p.slot {
+                Slot::Position(v, k) => positions[v as usize][k as usize],
+                Slot::Normal(n, k) => normals[n as usize][k as usize],
+            };
+            match p.coding {
+                Coding::Text => push_f64(&mut buf, value),
+                Coding::Appended => {
+                    buf.push(b' ');
+                    push_f64(&mut buf, value);
+                }
+                Coding::Binary(ty, big) => ty.encode(value, big, &mut buf),
+            }
+            if buf.len() >= super::CHUNK {
+                w.write_all(&buf)?;
+                buf.clear();
+            }
+        }
+        buf.extend_from_slice(&self.bytes[at..]);
+        w.write_all(&buf)
+    }
+
+    /// The triangle mesh of a pose of this file: `pose`'s positions on this
+    /// file's triangles (each polygon split as this file splits it, so every
+    /// pose triangulates the same). A pose face that lists a face's corners
+    /// in another order or winding is the same face; the count of such faces
+    /// is returned with the mesh.
+    ///
+    /// # Errors
+    /// [`Error::Mismatch`] naming `pose`'s file and its first face (1-based
+    /// line, for text formats) when the vertex or face counts differ or a
+    /// face has other corners.
+    pub fn pose(&self, pose: &MeshFile) -> Result<(Mesh3, usize)> {
+        let (mine, theirs) = (self.path.display(), pose.path.display());
+        if pose.mesh.num_vertices() != self.mesh.num_vertices() {
+            return Err(Error::Mismatch(format!(
+                "`{theirs}` has {} vertices but `{mine}` has {}: a pose has the reference's vertices",
+                pose.mesh.num_vertices(),
+                self.mesh.num_vertices()
+            )));
+        }
+        let mut reordered = 0;
+        let mut a: Vec<u32> = Vec::new();
+        let mut b: Vec<u32> = Vec::new();
+        for f in 0..self.faces.len().max(pose.faces.len()) {
+            let (Some(own), Some(other)) = (
+                (f < self.faces.len()).then(|| self.face(f)),
+                (f < pose.faces.len()).then(|| pose.face(f)),
+            ) else {
+                return Err(Error::Mismatch(format!(
+                    "`{theirs}` has {} faces but `{mine}` has {}: a pose has the reference's faces",
+                    pose.faces.len(),
+                    self.faces.len()
+                )));
+            };
+            if own == other {
+                continue;
+            }
+            a.clear();
+            a.extend_from_slice(own);
+            a.sort_unstable();
+            b.clear();
+            b.extend_from_slice(other);
+            b.sort_unstable();
+            if a != b {
+                let place = match pose.format {
+                    Format::Ply => format!("face {f}"),
+                    _ => format!("face {f} (line {})", pose.faces.line(f)),
+                };
+                return Err(Error::Mismatch(format!(
+                    "`{theirs}`, {place}: vertices {} (1-based) but face {f} of `{mine}` has {}: a pose has the reference's faces",
+                    show_face(other),
+                    show_face(own)
+                )));
+            }
+            reordered += 1;
+        }
+        let mesh = self.mesh.with_positions(pose.mesh.positions().to_vec())?;
+        Ok((mesh, reordered))
+    }
+}
+
+/// `[1, 2, 3]` from 0-based indices.
+fn show_face(face: &[u32]) -> String {
+    let items: Vec<String> = face
+        .iter()
+        .map(|i| (u64::from(*i) + 1).to_string())
+        .collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// Twice the area vector of a polygon (Newell's formula).
+fn newell_normal(vertices: &[u32], positions: &[[f64; 3]]) -> [f64; 3] {
+    let mut n = [0.0; 3];
+    let origin = positions[vertices[0] as usize];
+    for k in 1..vertices.len().saturating_sub(1) {
+        let a = sub(positions[vertices[k] as usize], origin);
+        let b = sub(positions[vertices[k + 1] as usize], origin);
+        n = add(n, cross(a, b));
+    }
+    n
+}
+
+/// `v` turned by the smallest rotation taking unit `from` to unit `to`
+/// (unchanged when either is zero or they coincide; for opposite
+/// directions, the half turn about an axis orthogonal to `from`).
+fn turn(v: [f64; 3], from: [f64; 3], to: [f64; 3]) -> [f64; 3] {
+    if from == to || norm(from) == 0.0 || norm(to) == 0.0 {
+        return v;
+    }
+    let c = dot(from, to);
+    let axis = cross(from, to);
+    if c <= -1.0 + 1e-12 {
+        // Half turn about any axis orthogonal to `from`.
+        let e = if from[0].abs() < 0.9 {
+            [1.0, 0.0, 0.0]
+        } else {
+            [0.0, 1.0, 0.0]
+        };
+        let k = cross(from, e);
+        let k = scale(k, 1.0 / norm(k));
+        return sub(scale(k, 2.0 * dot(k, v)), v);
+    }
+    // Rodrigues with the unnormalised axis: v c + (a × v) + a (a·v) / (1 + c).
+    add(
+        add(scale(v, c), cross(axis, v)),
+        scale(axis, dot(axis, v) / (1.0 + c)),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn turn_takes_from_to_to() {
+        let from = [0.0, 0.0, 1.0];
+        let to = [0.0, 1.0, 0.0];
+        let got = turn(from, from, to);
+        assert!(norm(sub(got, to)) < 1e-15, "{got:?}");
+        let other = turn([1.0, 0.0, 0.0], from, to);
+        assert!(norm(sub(other, [1.0, 0.0, 0.0])) < 1e-15, "{other:?}");
+        let back = turn(from, from, [0.0, 0.0, -1.0]);
+        assert!(norm(sub(back, [0.0, 0.0, -1.0])) < 1e-15, "{back:?}");
+        assert_eq!(turn([0.3, 0.1, 0.2], to, to), [0.3, 0.1, 0.2]);
+    }
+}

@@ -1,0 +1,388 @@
+//! Similarity transforms (rotation, uniform scale, translation) and their
+//! least-squares fit to point pairs.
+//!
+//! The fit is Horn's ("Closed-form solution of absolute orientation using
+//! unit quaternions", JOSA A 1987): the rotation is the unit quaternion of
+//! the largest eigenvalue of a symmetric 4 × 4 matrix built from the
+//! cross-covariance of the centred points, so it is always a proper
+//! rotation (never a reflection, the case Umeyama 1991 guards against with a
+//! sign in the SVD); the scale is Umeyama's `Σ yᵢ·R xᵢ / Σ |xᵢ|²`.
+#![allow(non_snake_case)]
+
+use crate::error::{Error, Result};
+use crate::geometry::{add, dot, norm, scale, sub};
+
+/// `x ↦ s R x + t`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Similarity {
+    /// The rotation `R`, row-major.
+    pub rotation: [[f64; 3]; 3],
+    /// The uniform scale `s > 0`.
+    pub scale: f64,
+    /// The translation `t`.
+    pub translation: [f64; 3],
+}
+
+impl Default for Similarity {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}
+
+impl Similarity {
+    /// The identity.
+    pub const IDENTITY: Similarity = Similarity {
+        rotation: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        scale: 1.0,
+        translation: [0.0; 3],
+    };
+
+    /// Whether this is exactly the identity.
+    pub fn is_identity(&self) -> bool {
+        *self == Self::IDENTITY
+    }
+
+    /// `s R p + t`.
+    #[inline]
+    pub fn apply(&self, p: [f64; 3]) -> [f64; 3] {
+        add(scale(self.rotate(p), self.scale), self.translation)
+    }
+
+    /// `R v` (no scale, no translation).
+    #[inline]
+    pub fn rotate(&self, v: [f64; 3]) -> [f64; 3] {
+        let R = &self.rotation;
+        [dot(R[0], v), dot(R[1], v), dot(R[2], v)]
+    }
+
+    /// Every point mapped.
+    pub fn apply_all(&self, points: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        points.iter().map(|&p| self.apply(p)).collect()
+    }
+
+    /// The similarity that best maps `from[i]` onto `to[i]` in the least
+    /// squares sense (see the [module documentation](self)).
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] when the counts differ, there are fewer
+    /// than three pairs, or either set lies on one line (then no rotation is
+    /// fixed): the message says which.
+    pub fn fit(from: &[[f64; 3]], to: &[[f64; 3]]) -> Result<Similarity> {
+        if from.len() != to.len() {
+            return Err(Error::InvalidArgument(format!(
+                "{} points cannot be paired with {}",
+                from.len(),
+                to.len()
+            )));
+        }
+        if from.len() < 3 {
+            return Err(Error::InvalidArgument(format!(
+                "{} marker pair{} cannot fix a rotation and scale: at least 3 not on one line are needed",
+                from.len(),
+                if from.len() == 1 { "" } else { "s" }
+            )));
+        }
+        let (cx, cy) = (mean(from), mean(to));
+        for (points, c, which) in [(from, cx, "source"), (to, cy, "target")] {
+            if is_on_a_line(points, c) {
+                return Err(Error::InvalidArgument(format!(
+                    "the {which} markers lie on one line: they cannot fix a rotation (add markers off that line)"
+                )));
+            }
+        }
+        // Cross-covariance M = Σ (x - cx)(y - cy)ᵀ.
+        let mut M = [[0.0; 3]; 3];
+        let mut xx = 0.0;
+        for (&x, &y) in from.iter().zip(to) {
+            let (x, y) = (sub(x, cx), sub(y, cy));
+            for i in 0..3 {
+                for j in 0..3 {
+                    M[i][j] += x[i] * y[j];
+                }
+            }
+            xx += dot(x, x);
+        }
+        let rotation = horn_rotation(&M);
+        let fit = Similarity {
+            rotation,
+            scale: 1.0,
+            translation: [0.0; 3],
+        };
+        let yrx: f64 = from
+            .iter()
+            .zip(to)
+            .map(|(&x, &y)| dot(sub(y, cy), fit.rotate(sub(x, cx))))
+            .sum();
+        let s = yrx / xx;
+        if !(s.is_finite() && s > 0.0) {
+            return Err(Error::InvalidArgument(
+                "the markers give no positive scale: the source markers cannot be turned onto the target's".into(),
+            ));
+        }
+        let translation = sub(cy, scale(fit.rotate(cx), s));
+        Ok(Similarity {
+            rotation,
+            scale: s,
+            translation,
+        })
+    }
+}
+
+fn mean(p: &[[f64; 3]]) -> [f64; 3] {
+    let s = p.iter().fold([0.0; 3], |a, &b| add(a, b));
+    scale(s, 1.0 / p.len() as f64)
+}
+
+/// Whether the points lie (numerically) on one line through `c`: the second
+/// largest eigenvalue of their scatter is below `1e-10` of the largest.
+fn is_on_a_line(points: &[[f64; 3]], c: [f64; 3]) -> bool {
+    let mut S = [[0.0; 4]; 4];
+    for &p in points {
+        let d = sub(p, c);
+        for i in 0..3 {
+            for j in 0..3 {
+                S[i][j] += d[i] * d[j];
+            }
+        }
+    }
+    // Padded to 4 × 4 with a zero row and column: the extra eigenvalue is 0.
+    let (mut values, _) = jacobi_eigen(S);
+    values.sort_by(|a, b| b.total_cmp(a));
+    !(values[0] > 0.0 && values[1] > 1e-10 * values[0])
+}
+
+/// Horn's rotation from the cross-covariance `M = Σ x yᵀ` of centred
+/// points: the unit quaternion maximising `Σ y·R x`.
+fn horn_rotation(M: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let (sxx, sxy, sxz) = (M[0][0], M[0][1], M[0][2]);
+    let (syx, syy, syz) = (M[1][0], M[1][1], M[1][2]);
+    let (szx, szy, szz) = (M[2][0], M[2][1], M[2][2]);
+    let N = [
+        [sxx + syy + szz, syz - szy, szx - sxz, sxy - syx],
+        [syz - szy, sxx - syy - szz, sxy + syx, szx + sxz],
+        [szx - sxz, sxy + syx, -sxx + syy - szz, syz + szy],
+        [sxy - syx, szx + sxz, syz + szy, -sxx - syy + szz],
+    ];
+    let (values, vectors) = jacobi_eigen(N);
+    let k = (0..4)
+        .max_by(|&a, &b| values[a].total_cmp(&values[b]))
+        .unwrap_or(0);
+    let q: [f64; 4] = std::array::from_fn(|i| vectors[i][k]);
+    let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let [w, x, y, z] = q.map(|c| c / len);
+    [
+        [
+            w * w + x * x - y * y - z * z,
+            2.0 * (x * y - w * z),
+            2.0 * (x * z + w * y),
+        ],
+        [
+            2.0 * (x * y + w * z),
+            w * w - x * x + y * y - z * z,
+            2.0 * (y * z - w * x),
+        ],
+        [
+            2.0 * (x * z - w * y),
+            2.0 * (y * z + w * x),
+            w * w - x * x - y * y + z * z,
+        ],
+    ]
+}
+
+/// Eigenvalues and eigenvectors (columns) of a symmetric 4 × 4 matrix by
+/// cyclic Jacobi rotations.
+fn jacobi_eigen(mut A: [[f64; 4]; 4]) -> ([f64; 4], [[f64; 4]; 4]) {
+    let mut V = [[0.0; 4]; 4];
+    for i in 0..4 {
+        V[i][i] = 1.0;
+    }
+    for _sweep in 0..50 {
+        let off: f64 = (0..4)
+            .flat_map(|i| (0..4).filter(move |&j| j != i).map(move |j| (i, j)))
+            .map(|(i, j)| A[i][j] * A[i][j])
+            .sum();
+        let total: f64 = A.iter().flatten().map(|x| x * x).sum();
+        if off <= 1e-30 * total || off == 0.0 {
+            break;
+        }
+        for p in 0..4 {
+            for q in p + 1..4 {
+                if A[p][q] == 0.0 {
+                    continue;
+                }
+                let theta = (A[q][q] - A[p][p]) / (2.0 * A[p][q]);
+                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+                let t = if theta == 0.0 { 1.0 } else { t };
+                let c = 1.0 / (t * t + 1.0).sqrt();
+                let s = t * c;
+                for k in 0..4 {
+                    let (akp, akq) = (A[k][p], A[k][q]);
+                    A[k][p] = c * akp - s * akq;
+                    A[k][q] = s * akp + c * akq;
+                }
+                for k in 0..4 {
+                    let (apk, aqk) = (A[p][k], A[q][k]);
+                    A[p][k] = c * apk - s * aqk;
+                    A[q][k] = s * apk + c * aqk;
+                }
+                for k in 0..4 {
+                    let (vkp, vkq) = (V[k][p], V[k][q]);
+                    V[k][p] = c * vkp - s * vkq;
+                    V[k][q] = s * vkp + c * vkq;
+                }
+            }
+        }
+    }
+    ([A[0][0], A[1][1], A[2][2], A[3][3]], V)
+}
+
+/// The residual `|s R xᵢ + t − yᵢ|` of each pair.
+pub fn residuals(fit: &Similarity, from: &[[f64; 3]], to: &[[f64; 3]]) -> Vec<f64> {
+    from.iter()
+        .zip(to)
+        .map(|(&x, &y)| norm(sub(fit.apply(x), y)))
+        .collect()
+}
+
+/// Pairs whose residual stands out: a modified z-score above 3.5 (Iglewicz
+/// and Hoaglin 1993), `0.6745 (rᵢ − median) / MAD`, where MAD is the median
+/// absolute deviation of the residuals from their median. Markers on two
+/// different characters never fit exactly; one whose residual is far beyond
+/// the spread of the others is most likely placed on the wrong feature.
+/// Indices in increasing order.
+pub fn outliers(residuals: &[f64]) -> Vec<usize> {
+    if residuals.len() < 4 {
+        return Vec::new();
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        let n = v.len();
+        if n % 2 == 1 {
+            v[n / 2]
+        } else {
+            0.5 * (v[n / 2 - 1] + v[n / 2])
+        }
+    };
+    let m = median(&mut residuals.to_vec());
+    let mad = median(&mut residuals.iter().map(|r| (r - m).abs()).collect());
+    if !(mad > 0.0) {
+        return Vec::new();
+    }
+    (0..residuals.len())
+        .filter(|&i| 0.6745 * (residuals[i] - m) / mad > 3.5)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn turn(axis: [f64; 3], angle: f64) -> [[f64; 3]; 3] {
+        let a = scale(axis, 1.0 / norm(axis));
+        let (c, s) = (angle.cos(), angle.sin());
+        let [x, y, z] = a;
+        [
+            [
+                c + x * x * (1.0 - c),
+                x * y * (1.0 - c) - z * s,
+                x * z * (1.0 - c) + y * s,
+            ],
+            [
+                y * x * (1.0 - c) + z * s,
+                c + y * y * (1.0 - c),
+                y * z * (1.0 - c) - x * s,
+            ],
+            [
+                z * x * (1.0 - c) - y * s,
+                z * y * (1.0 - c) + x * s,
+                c + z * z * (1.0 - c),
+            ],
+        ]
+    }
+
+    #[test]
+    fn recovers_a_similarity_exactly() {
+        let from = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.2, 0.0],
+            [0.3, 1.0, 0.1],
+            [0.2, 0.1, 1.0],
+            [0.7, 0.7, 0.7],
+        ];
+        for (axis, angle) in [
+            ([0.0, 0.0, 1.0], 0.0),
+            ([1.0, 2.0, 3.0], 2.5),
+            ([0.0, 1.0, 0.0], std::f64::consts::PI),
+        ] {
+            let want = Similarity {
+                rotation: turn(axis, angle),
+                scale: 7.5,
+                translation: [3.0, -2.0, 10.0],
+            };
+            let to = want.apply_all(&from);
+            let got = Similarity::fit(&from, &to).unwrap();
+            assert!((got.scale - 7.5).abs() < 1e-12, "{got:?}");
+            for i in 0..3 {
+                for j in 0..3 {
+                    assert!(
+                        (got.rotation[i][j] - want.rotation[i][j]).abs() < 1e-12,
+                        "{got:?}"
+                    );
+                }
+            }
+            assert!(residuals(&got, &from, &to).iter().all(|r| *r < 1e-11));
+        }
+    }
+
+    #[test]
+    fn a_mirror_image_gives_a_rotation() {
+        let from = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+        let to: Vec<[f64; 3]> = from.iter().map(|p| [-p[0], p[1], p[2]]).collect();
+        let got = Similarity::fit(&from, &to).unwrap();
+        let R = got.rotation;
+        let det = R[0][0] * (R[1][1] * R[2][2] - R[1][2] * R[2][1])
+            - R[0][1] * (R[1][0] * R[2][2] - R[1][2] * R[2][0])
+            + R[0][2] * (R[1][0] * R[2][1] - R[1][1] * R[2][0]);
+        assert!((det - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn too_few_or_collinear_markers_are_refused() {
+        let e = Similarity::fit(&[[0.0; 3], [1.0; 3]], &[[0.0; 3], [1.0; 3]])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("2 marker pairs") && e.contains("at least 3"),
+            "{e}"
+        );
+        let line = [
+            [0.0, 0.0, 0.0],
+            [1.0, 1.0, 1.0],
+            [2.0, 2.0, 2.0],
+            [5.0, 5.0, 5.0],
+        ];
+        let ok = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+        let e = Similarity::fit(&line, &ok).unwrap_err().to_string();
+        assert!(e.contains("source markers lie on one line"), "{e}");
+        let e = Similarity::fit(&ok, &line).unwrap_err().to_string();
+        assert!(e.contains("target markers lie on one line"), "{e}");
+    }
+
+    #[test]
+    fn outliers_stand_far_above_the_median() {
+        let mut r = vec![0.010, 0.012, 0.011, 0.009, 0.013, 0.010, 0.011];
+        assert!(outliers(&r).is_empty());
+        r.push(0.2);
+        assert_eq!(outliers(&r), vec![7]);
+    }
+}

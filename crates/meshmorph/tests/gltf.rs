@@ -1,0 +1,333 @@
+//! The GLB writer, read back with the `gltf` crate: every frame's positions
+//! to `f32` precision, texture coordinates across seams, target names, the
+//! animation, and clear refusals of bad input.
+
+use std::f64::consts::PI;
+use std::path::Path;
+
+use meshmorph::io::gltf::{estimate_glb_bytes, write_glb, write_glb_to, GltfBase, GltfOptions};
+use meshmorph::shapes::{bend, curl, strip, tube};
+use meshmorph::{Error, Interpolator, InterpolatorOptions};
+
+/// What a GLB holds, as the `gltf` crate reads it.
+struct ReadBack {
+    /// Base positions per glTF vertex.
+    positions: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+    uvs: Option<Vec<[f32; 2]>>,
+    indices: Vec<u32>,
+    /// Per morph target, the position and normal deltas.
+    targets: Vec<(Vec<[f32; 3]>, Vec<[f32; 3]>)>,
+    target_names: Vec<String>,
+    /// Keyframe times and weights of the animation, if any.
+    animation: Option<(Vec<f32>, Vec<f32>)>,
+    weights: Vec<f32>,
+}
+
+fn read_back(bytes: &[u8]) -> ReadBack {
+    let glb = gltf::Gltf::from_slice(bytes).expect("the gltf crate reads the GLB");
+    let blob = glb.blob.as_deref().expect("a binary chunk");
+    let doc = &glb.document;
+    assert_eq!(doc.meshes().count(), 1);
+    let mesh = doc.meshes().next().unwrap();
+    let prim = mesh.primitives().next().unwrap();
+    let reader = prim.reader(|_| Some(blob));
+    let extras: serde_json::Value =
+        serde_json::from_str(mesh.extras().as_ref().expect("mesh extras").get()).unwrap();
+    let target_names = extras["targetNames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap().to_string())
+        .collect();
+    let animation = doc.animations().next().map(|a| {
+        let channel = a.channels().next().unwrap();
+        assert_eq!(
+            channel.target().property(),
+            gltf::animation::Property::MorphTargetWeights
+        );
+        let r = channel.reader(|_| Some(blob));
+        let times: Vec<f32> = r.read_inputs().unwrap().collect();
+        let weights = match r.read_outputs().unwrap() {
+            gltf::animation::util::ReadOutputs::MorphTargetWeights(w) => w.into_f32().collect(),
+            _ => panic!("weights expected"),
+        };
+        (times, weights)
+    });
+    ReadBack {
+        positions: reader.read_positions().unwrap().collect(),
+        normals: reader.read_normals().unwrap().collect(),
+        uvs: reader.read_tex_coords(0).map(|t| t.into_f32().collect()),
+        indices: reader.read_indices().unwrap().into_u32().collect(),
+        targets: reader
+            .read_morph_targets()
+            .map(|(p, n, _)| (p.unwrap().collect(), n.unwrap().collect()))
+            .collect(),
+        target_names,
+        animation,
+        weights: mesh.weights().unwrap_or(&[]).to_vec(),
+    }
+}
+
+fn glb<const D: usize>(
+    base: &GltfBase<'_, D>,
+    frames: &[Vec<[f64; D]>],
+    names: &[String],
+    options: &GltfOptions,
+) -> meshmorph::Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    write_glb_to(
+        &mut bytes,
+        Path::new("test.glb"),
+        base,
+        frames,
+        names,
+        options,
+    )?;
+    Ok(bytes)
+}
+
+fn names(n: usize) -> Vec<String> {
+    (0..n).map(|k| format!("frame_{k:04}")).collect()
+}
+
+/// `|a - b|` within `f32` rounding of numbers of size `scale`.
+fn close(a: f32, b: f64, scale: f64) -> bool {
+    (f64::from(a) - b).abs() <= 4.0 * f64::from(f32::EPSILON) * scale.max(1.0)
+}
+
+/// Asserts that base + delta of target `k` reproduces `frame` at every glTF
+/// vertex, with `original[i]` the frame vertex of glTF vertex `i`.
+fn assert_frames<const D: usize>(back: &ReadBack, frames: &[Vec<[f64; D]>], original: &[usize]) {
+    let scale = frames
+        .iter()
+        .flatten()
+        .flatten()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    assert_eq!(back.targets.len(), frames.len());
+    for (k, frame) in frames.iter().enumerate() {
+        let deltas = &back.targets[k].0;
+        for (i, &v) in original.iter().enumerate() {
+            for c in 0..3 {
+                let want = if c < D { frame[v][c] } else { 0.0 };
+                let got = back.positions[i][c] + deltas[i][c];
+                assert!(
+                    close(got, want, scale),
+                    "frame {k}, vertex {v}, coordinate {c}: {got} vs {want}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn planar_interpolation_reads_back_frame_by_frame() {
+    let bar = strip(6.0, 0.5, 24, 2);
+    let spiral = curl(&bar, 2.0 * PI);
+    let morph = Interpolator::new(&bar, &spiral, &InterpolatorOptions::default()).unwrap();
+    let times = [0.0, 0.25, 0.5, 0.75, 1.0];
+    let frames = morph.frames(&times);
+    let options = GltfOptions::default().with_fps(10.0);
+    let base = GltfBase::new(bar.positions(), bar.triangles());
+    let bytes = glb(&base, &frames, &names(5), &options).unwrap();
+    let back = read_back(&bytes);
+    let identity: Vec<usize> = (0..bar.num_vertices()).collect();
+    assert_eq!(back.positions.len(), bar.num_vertices());
+    assert_frames(&back, &frames, &identity);
+    assert!(back.positions.iter().all(|p| p[2] == 0.0), "planar: z = 0");
+    assert!(
+        back.normals.iter().all(|n| *n == [0.0, 0.0, 1.0]),
+        "+z normals"
+    );
+    assert!(back
+        .targets
+        .iter()
+        .all(|t| t.1.iter().all(|n| *n == [0.0; 3])));
+    let want: Vec<u32> = bar.triangles().iter().flatten().copied().collect();
+    assert_eq!(back.indices, want);
+    assert_eq!(back.target_names, names(5));
+    let (t, w) = back.animation.expect("an animation");
+    assert_eq!(t, vec![0.0, 0.1, 0.2, 0.3, 0.4]);
+    for k in 0..5 {
+        for j in 0..5 {
+            assert_eq!(w[5 * k + j], if j == k { 1.0 } else { 0.0 }, "one-hot");
+        }
+    }
+    // The estimate is close to what was written.
+    let estimate = estimate_glb_bytes(bar.num_vertices(), bar.num_triangles(), 5, false);
+    let ratio = estimate as f64 / bytes.len() as f64;
+    assert!((0.7..1.5).contains(&ratio), "{estimate} vs {}", bytes.len());
+}
+
+/// Texture coordinates of a tube unrolled: u around (0 to 1, so the seam
+/// vertices carry both 0 and 1), v along.
+fn tube_uvs(mesh: &meshmorph::Mesh3) -> Vec<[[f64; 2]; 3]> {
+    let p = mesh.positions();
+    mesh.triangles()
+        .iter()
+        .map(|t| {
+            let angle = |v: u32| {
+                let q = p[v as usize];
+                q[2].atan2(q[1]).rem_euclid(2.0 * PI) / (2.0 * PI)
+            };
+            let mut u = t.map(angle);
+            // Corners past the seam read 1 rather than 0.
+            if u.iter().any(|&x| x > 0.75) {
+                for x in &mut u {
+                    if *x < 0.25 {
+                        *x += 1.0;
+                    }
+                }
+            }
+            std::array::from_fn(|k| [u[k], p[t[k] as usize][0] / 4.0])
+        })
+        .collect()
+}
+
+#[test]
+fn poses_in_space_with_texture_seams_read_back() {
+    let rest = tube(4.0, 0.5, 9, 12);
+    let uvs = tube_uvs(&rest);
+    let poses: Vec<Vec<[f64; 3]>> = [0.3, 0.9, 1.6]
+        .iter()
+        .map(|&a| bend(&rest, 4.0, a).positions().to_vec())
+        .collect();
+    let base = GltfBase::new(rest.positions(), rest.triangles()).with_corner_uvs(&uvs);
+    let pose_names = vec!["a".to_string(), "b".into(), "c".into()];
+    let bytes = glb(&base, &poses, &pose_names, &GltfOptions::default()).unwrap();
+    let back = read_back(&bytes);
+    // The seam splits its vertices: one more ring of 9, and both caps'
+    // centres.
+    assert_eq!(back.positions.len(), rest.num_vertices() + 9 + 2);
+    let uv_back = back.uvs.as_ref().expect("TEXCOORD_0");
+    // Every triangle corner: the original position and the given (u, 1 - v).
+    let mut original = vec![usize::MAX; back.positions.len()];
+    for (t, (tri, corners)) in rest.triangles().iter().zip(&uvs).enumerate() {
+        for k in 0..3 {
+            let i = back.indices[3 * t + k] as usize;
+            let v = tri[k] as usize;
+            original[i] = v;
+            for c in 0..3 {
+                assert!(close(back.positions[i][c], rest.positions()[v][c], 1.0));
+            }
+            assert!(close(uv_back[i][0], corners[k][0], 1.0));
+            assert!(close(uv_back[i][1], 1.0 - corners[k][1], 1.0));
+        }
+    }
+    assert_frames(&back, &poses, &original);
+    // Normals: unit, and base + delta is the pose's normal (unit again).
+    for n in &back.normals {
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        assert!((len - 1.0).abs() < 1e-5);
+    }
+    for (_, dn) in &back.targets {
+        for (n, d) in back.normals.iter().zip(dn) {
+            let m: [f32; 3] = std::array::from_fn(|c| n[c] + d[c]);
+            let len = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
+            assert!((len - 1.0).abs() < 1e-4, "{len}");
+        }
+    }
+    assert_eq!(back.target_names, pose_names);
+}
+
+#[test]
+fn shapes_only_has_no_animation_and_zero_weights() {
+    let rest = tube(4.0, 0.5, 5, 8);
+    let poses = vec![bend(&rest, 4.0, 1.0).positions().to_vec()];
+    let base = GltfBase::new(rest.positions(), rest.triangles());
+    let options = GltfOptions::default().with_animation(false);
+    let back = read_back(&glb(&base, &poses, &["smile".into()], &options).unwrap());
+    assert!(back.animation.is_none());
+    assert_eq!(back.weights, vec![0.0]);
+    assert_eq!(back.target_names, vec!["smile".to_string()]);
+}
+
+#[test]
+fn unused_vertices_are_left_out() {
+    let positions = vec![[0.0, 0.0], [9.0, 9.0], [1.0, 0.0], [0.0, 1.0]];
+    let triangles = vec![[0, 2, 3]];
+    let frames = vec![vec![[0.0, 0.0], [5.0, 5.0], [2.0, 0.0], [0.0, 2.0]]];
+    let base = GltfBase::new(&positions, &triangles);
+    let back = read_back(&glb(&base, &frames, &names(1), &GltfOptions::default()).unwrap());
+    assert_eq!(back.positions.len(), 3);
+    assert_eq!(back.indices, vec![0, 1, 2]);
+    assert_frames(&back, &frames, &[0, 2, 3]);
+}
+
+#[test]
+fn bad_input_is_refused_and_leaves_no_file() {
+    let positions = vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+    let triangles = vec![[0, 1, 2]];
+    let base = GltfBase::new(&positions, &triangles);
+    let good = vec![positions.clone()];
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.glb");
+    let opts = GltfOptions::default();
+    let expect = |r: meshmorph::Result<()>, parts: &[&str]| {
+        let e = r.expect_err("refused").to_string();
+        for p in parts {
+            assert!(e.contains(p), "`{p}` not in: {e}");
+        }
+        assert!(!path.exists());
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            0,
+            "no leftovers"
+        );
+    };
+    let nan = vec![
+        positions.clone(),
+        vec![[0.0, 0.0], [f64::NAN, 0.0], [0.0, 1.0]],
+    ];
+    expect(
+        write_glb(&path, &base, &nan, &names(2), &opts),
+        &[
+            "out.glb",
+            "frame 1",
+            "frame_0001",
+            "vertex 1",
+            "not a finite number",
+        ],
+    );
+    let short = vec![vec![[0.0, 0.0]]];
+    expect(
+        write_glb(&path, &base, &short, &names(1), &opts),
+        &["frame 0", "1 vertices", "3"],
+    );
+    expect(
+        write_glb(&path, &base, &good, &names(1), &opts.clone().with_fps(0.0)),
+        &["frame rate"],
+    );
+    expect(
+        write_glb(
+            &path,
+            &base,
+            &good,
+            &names(1),
+            &opts.clone().with_fps(f64::INFINITY),
+        ),
+        &["frame rate"],
+    );
+    expect(
+        write_glb(&path, &base, &good, &names(2), &opts),
+        &["1 frames but 2 names"],
+    );
+    let none: Vec<Vec<[f64; 2]>> = Vec::new();
+    expect(write_glb(&path, &base, &none, &[], &opts), &["no frames"]);
+    let bad_uvs = [[[0.0, 0.0], [f64::NAN, 0.0], [0.0, 1.0]]];
+    expect(
+        write_glb(
+            &path,
+            &base.with_corner_uvs(&bad_uvs),
+            &good,
+            &names(1),
+            &opts,
+        ),
+        &["triangle 0", "texture coordinates"],
+    );
+    let missing = dir.path().join("no/such/folder/out.glb");
+    let e = write_glb(&missing, &base, &good, &names(1), &opts).unwrap_err();
+    assert!(matches!(e, Error::Io { .. }), "{e}");
+    assert!(e.to_string().contains("no/such/folder/out.glb"), "{e}");
+    assert!(!missing.exists());
+}
