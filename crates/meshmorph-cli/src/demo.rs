@@ -9,7 +9,7 @@ use meshmorph::io::Format;
 use meshmorph::shapes;
 
 use crate::gltf::GltfArgs;
-use crate::interpolate::{animate, FrameArgs, Stretch};
+use crate::interpolate::{animate, animate_sequence, FrameArgs, Stretch};
 use crate::pictures::PictureArgs;
 use crate::transfer::{run_transfer, CorrespondArgs, References, TransferArgs};
 
@@ -18,6 +18,8 @@ use crate::transfer::{run_transfer, CorrespondArgs, References, TransferArgs};
 /// Writes, under DIR:
 ///   spiral.gif, spiral.glb,          a bar curling into a spiral of 540 degrees;
 ///   spiral/frame_*.obj
+///   coil.gif, coil.glb, coil/*      a tube bending through 540 degrees and
+///                                   twisting, through three keys (coil-key*.obj);
 ///   transfer.gif, transfer.png,      a thin tube's bending poses carried over
 ///   transfer.glb, transfer/target/*  to a thicker, differently tessellated tube
 ///   (the inputs are in transfer/input/, to rerun with `meshmorph transfer`).
@@ -33,7 +35,50 @@ pub struct Args {
 
 pub fn run(args: &Args) -> Result<()> {
     spiral(args)?;
+    coil(args)?;
     transfer(args)
+}
+
+/// As-rigid-as-possible interpolation in space: a tube that bends through
+/// 540 degrees while twisting by 180, through a key halfway.
+fn coil(args: &Args) -> Result<()> {
+    let start = Instant::now();
+    let straight = shapes::tube(10.0, 0.35, 81, 16);
+    let key = |a: f64| shapes::bend(&shapes::twist(&straight, 10.0, a / 3.0), 10.0, a);
+    let keys = vec![straight.clone(), key(1.5 * PI), key(3.0 * PI)];
+    let dir = args.output.join("coil");
+    crate::output::make_dir(&dir)?;
+    for (k, m) in keys.iter().enumerate() {
+        meshmorph::io::write_mesh(
+            &args.output.join(format!("coil-key{k}.obj")),
+            m,
+            Format::Obj,
+        )?;
+    }
+    let frames = FrameArgs {
+        frames: 48,
+        times: None,
+        no_consistency: false,
+        turns: 0,
+        stretch: Stretch::Linear,
+        allow_flips: false,
+        gif: Some(args.output.join("coil.gif")),
+        gif_width: 360,
+        gif_height: None,
+        fps: 20.0,
+        no_boomerang: false,
+        svg: false,
+        gltf: GltfArgs {
+            gltf: Some(args.output.join("coil.glb")),
+            max_gltf_mb: 256.0,
+        },
+    };
+    let report = animate_sequence(&keys, false, &frames, &dir, Format::Obj, start)?;
+    if !args.json {
+        println!("== interpolation in space: a tube bending through 540 degrees and twisting, through 3 keys ==");
+    }
+    report.print(args.json);
+    Ok(())
 }
 
 /// As-rigid-as-possible interpolation of a bar into a spiral.

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use meshmorph::io::gltf::{GltfBase, GltfOptions};
-use meshmorph::{Interpolator, InterpolatorOptions, Mesh2, StretchMode};
+use meshmorph::{Interpolator, InterpolatorOptions, Mesh2, Mesh3, Sequence3, StretchMode};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -14,15 +14,20 @@ use crate::output::{self, positive_number, FormatArg};
 use crate::pictures;
 use crate::progress;
 
-/// Interpolate between two planar meshes with the same triangles.
+/// Interpolate through two or more meshes with the same triangles (keys), in
+/// the plane or in space.
 ///
-/// Writes DIR/frame_0000.obj, frame_0001.obj, ... and prints a report.
+/// Writes DIR/frame_0000.obj, frame_0001.obj, ... and prints a report. Key i
+/// is at time t = i; frames pass through every key in order.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The shape at t = 0 (OBJ, OFF or PLY; planar: every z = 0).
-    pub source: PathBuf,
-    /// The shape at t = 1: the same vertices and triangles as SOURCE.
-    pub target: PathBuf,
+    /// The keys, in order (OBJ, OFF or PLY): the first at t = 0, the others
+    /// at t = 1, 2, ...; every key has the first's vertices and triangles.
+    #[arg(num_args = 2.., required = true, value_name = "KEY")]
+    pub keys: Vec<PathBuf>,
+    /// Planar (2) or in space (3) [default: 2 when every z of every key is 0].
+    #[arg(long, value_parser = clap::value_parser!(u8).range(2..=3), value_name = "2|3")]
+    pub dim: Option<u8>,
     /// Directory for the frames (created if missing).
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
@@ -39,11 +44,12 @@ pub struct Args {
 /// Options shared by `interpolate` and `demo`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct FrameArgs {
-    /// Number of frames, t evenly from 0 to 1 inclusive.
+    /// Number of frames, t evenly from the first key (0) to the last (number
+    /// of keys - 1) inclusive.
     #[arg(long, default_value_t = 30, value_name = "N")]
     pub frames: usize,
-    /// Explicit times instead, comma-separated, written in this order
-    /// (values outside [0, 1] extrapolate), e.g. --t 0,0.5,1.5
+    /// Explicit times instead, comma-separated, written in this order (key i
+    /// at t = i; values outside extrapolate), e.g. --t 0,0.5,1.5
     #[arg(
         long = "t",
         value_delimiter = ',',
@@ -58,7 +64,8 @@ pub struct FrameArgs {
     #[arg(long)]
     pub no_consistency: bool,
     /// Add K whole turns (360 degrees each, counter-clockwise for K > 0) to
-    /// every triangle's rotation: the long way round.
+    /// every triangle's rotation: the long way round (two planar keys only:
+    /// in space there is no common axis to turn about).
     #[arg(
         long,
         default_value_t = 0,
@@ -70,7 +77,8 @@ pub struct FrameArgs {
     /// `log` is S^t, which never collapses a triangle when extrapolating.
     #[arg(long, value_enum, default_value_t = Stretch::Linear)]
     pub stretch: Stretch,
-    /// Go on when triangles are reversed between source and target.
+    /// Go on when triangles are reversed between source and target (in
+    /// space: turned over relative to their neighbours).
     #[arg(long)]
     pub allow_flips: bool,
     /// Also write an animated GIF of the frames to FILE.
@@ -106,7 +114,8 @@ pub enum Stretch {
 }
 
 impl FrameArgs {
-    fn times(&self) -> Result<Vec<f64>> {
+    /// The times asked for, over keys `0..=last`.
+    fn times(&self, last: f64) -> Result<Vec<f64>> {
         if let Some(t) = &self.times {
             if t.is_empty() {
                 bail!("--t needs at least one time");
@@ -119,11 +128,11 @@ impl FrameArgs {
         match self.frames {
             0 => bail!("--frames must be at least 1"),
             1 => Ok(vec![0.0]),
-            n => Ok((0..n).map(|k| k as f64 / (n - 1) as f64).collect()),
+            n => Ok((0..n).map(|k| last * k as f64 / (n - 1) as f64).collect()),
         }
     }
 
-    fn options(&self) -> InterpolatorOptions {
+    pub(crate) fn options(&self) -> InterpolatorOptions {
         InterpolatorOptions::default()
             .with_consistency(!self.no_consistency)
             .with_turns(self.turns)
@@ -146,10 +155,24 @@ pub struct Report {
     pub vertices: usize,
     /// Triangles of the mesh.
     pub triangles: usize,
+    /// 2 for planar meshes, 3 for meshes in space.
+    pub dimension: usize,
+    /// Number of keys.
+    pub keys: usize,
+    /// Triangles given whole turns by rotation consistency (beyond their
+    /// principal rotation), summed over the segments between keys; `None`
+    /// for two planar keys.
+    pub triangles_with_whole_turns: Option<usize>,
     /// Building the interpolator: polar decompositions, factorization.
     pub setup_seconds: f64,
-    /// Computing one frame, averaged (frames run in parallel).
+    /// Computing one frame on its thread, averaged over the frames (frames
+    /// run in parallel, so this is not the throughput).
     pub seconds_per_frame: f64,
+    /// Wall time of computing and writing all frames, divided by the number
+    /// of frames: the throughput with `threads` threads.
+    pub wall_seconds_per_frame: f64,
+    /// Threads computing frames.
+    pub threads: usize,
     /// Writing one frame's files, averaged.
     pub write_seconds_per_frame: f64,
     /// Wall time of the whole command.
@@ -186,19 +209,32 @@ impl Report {
             output::human_seconds(self.setup_seconds)
         );
         println!(
-            "time per frame: {} (+ {} writing)",
+            "time per frame: {} on its thread (+ {} writing)",
             output::human_seconds(self.seconds_per_frame),
             output::human_seconds(self.write_seconds_per_frame)
         );
         println!(
+            "throughput:     {} a frame, computed and written (wall time / frames, {} threads)",
+            output::human_seconds(self.wall_seconds_per_frame),
+            self.threads
+        );
+        if let Some(n) = self.triangles_with_whole_turns {
+            println!("whole turns:    {n} triangles (rotation consistency)");
+        }
+        println!(
             "total:          {}",
             output::human_seconds(self.total_seconds)
         );
+        let what = if self.dimension == 3 {
+            "turned-over"
+        } else {
+            "flipped"
+        };
         if self.max_flipped_triangles == 0 {
-            println!("flipped triangles: none in any frame");
+            println!("{what} triangles: none in any frame");
         } else {
             println!(
-                "flipped triangles: at most {} (frame {})",
+                "{what} triangles: at most {} (frame {})",
                 self.max_flipped_triangles, self.max_flipped_frame
             );
         }
@@ -213,24 +249,61 @@ impl Report {
 
 pub fn run(args: &Args) -> Result<()> {
     let start = Instant::now();
-    let source = output::read_mesh_2d(&args.source, "source mesh")?;
-    let target = output::read_mesh_2d(&args.target, "target mesh")?;
-    let format = output::format_or_like(args.format, &args.source)?;
-    let context = || {
-        format!(
-            "interpolating `{}` to `{}`",
-            args.source.display(),
-            args.target.display()
-        )
+    let format = output::format_or_like(args.format, &args.keys[0])?;
+    let mut keys = Vec::with_capacity(args.keys.len());
+    for (i, path) in args.keys.iter().enumerate() {
+        let key = output::read_mesh(path, &format!("key {i}"))?;
+        if let Some(first) = keys.first() {
+            key.check_same_connectivity(
+                first,
+                [
+                    &format!("`{}`", path.display()),
+                    &format!("the first key `{}`", args.keys[0].display()),
+                ],
+            )?;
+        }
+        keys.push(key);
+    }
+    let planar = match args.dim {
+        Some(2) => {
+            for (key, path) in keys.iter().zip(&args.keys) {
+                key.to_2d()
+                    .with_context(|| format!("--dim 2: `{}` is not planar", path.display()))?;
+            }
+            true
+        }
+        Some(_) => false,
+        None => keys
+            .iter()
+            .all(|k| k.positions().iter().all(|p| p[2] == 0.0)),
     };
-    let report = animate(&source, &target, &args.frames, &args.output, format, start)
-        .with_context(context)?;
+    let context = || {
+        let names: Vec<String> = args
+            .keys
+            .iter()
+            .map(|p| format!("`{}`", p.display()))
+            .collect();
+        format!("interpolating {}", names.join(" to "))
+    };
+    let report = if planar && keys.len() == 2 {
+        let source = keys[0].to_2d()?;
+        let target = keys[1].to_2d()?;
+        animate(&source, &target, &args.frames, &args.output, format, start)
+    } else {
+        animate_sequence(&keys, planar, &args.frames, &args.output, format, start).map_err(|e| {
+            match e.downcast::<meshmorph::Error>() {
+                Ok(e) => crate::blend::name_numbered(e, "key", &args.keys[1..]),
+                Err(e) => e,
+            }
+        })
+    }
+    .with_context(context)?;
     report.print(args.json);
     Ok(())
 }
 
-/// Builds the interpolator, writes every frame (and the pictures asked for),
-/// and reports. `start` is when the command began.
+/// Builds the interpolator of two planar keys, writes every frame (and the
+/// pictures asked for), and reports. `start` is when the command began.
 pub fn animate(
     source: &Mesh2,
     target: &Mesh2,
@@ -239,7 +312,7 @@ pub fn animate(
     format: meshmorph::io::Format,
     start: Instant,
 ) -> Result<Report> {
-    let times = args.times()?;
+    let times = args.times(1.0)?;
     args.gltf.check(
         source.num_vertices(),
         source.num_triangles(),
@@ -249,19 +322,180 @@ pub fn animate(
     let setup = Instant::now();
     let morph = Interpolator::new(source, target, &args.options())?;
     let setup_seconds = setup.elapsed().as_secs_f64();
+    let run = Run {
+        args,
+        dir,
+        format,
+        start,
+        times: &times,
+        setup_seconds,
+        keys: 2,
+        whole_turns: None,
+    };
+    write_frames(&morph, source.positions(), &run)
+}
+
+/// The keyframe sequence through `keys` (planar: computed in space and
+/// written in the plane), written and reported as [`animate`] does.
+pub fn animate_sequence(
+    keys: &[Mesh3],
+    planar: bool,
+    args: &FrameArgs,
+    dir: &Path,
+    format: meshmorph::io::Format,
+    start: Instant,
+) -> Result<Report> {
+    if args.turns != 0 {
+        bail!("--turns applies to two planar keys only (in space there is no common axis, and a sequence's turns come from its keys)");
+    }
+    if !planar && args.svg {
+        bail!("--svg draws planar frames only: use --gif or --gltf for meshes in space");
+    }
+    let times = args.times((keys.len() - 1) as f64)?;
+    args.gltf.check(
+        keys[0].num_vertices(),
+        keys[0].num_triangles(),
+        times.len(),
+        false,
+    )?;
+    let setup = Instant::now();
+    let morph = Sequence3::new(keys, &args.options())?;
+    let setup_seconds = setup.elapsed().as_secs_f64();
+    let whole_turns = Some(morph.triangles_with_whole_turns().iter().sum());
+    let run = Run {
+        args,
+        dir,
+        format,
+        start,
+        times: &times,
+        setup_seconds,
+        keys: keys.len(),
+        whole_turns,
+    };
+    if planar {
+        let base: Vec<[f64; 2]> = keys[0].positions().iter().map(|p| [p[0], p[1]]).collect();
+        write_frames(&Planar(morph), &base, &run)
+    } else {
+        write_frames(&morph, keys[0].positions(), &run)
+    }
+}
+
+/// What [`write_frames`] needs of an interpolation of `D`-dimensional meshes.
+trait Frames<const D: usize>: Sync {
+    type Workspace: Send;
+    fn workspace(&self) -> Self::Workspace;
+    fn num_vertices(&self) -> usize;
+    fn triangles(&self) -> &[[u32; 3]];
+    fn frame_into(&self, t: f64, out: &mut [[f64; D]], ws: &mut Self::Workspace);
+    fn count_flipped(&self, positions: &[[f64; D]]) -> usize;
+}
+
+impl Frames<2> for Interpolator {
+    type Workspace = meshmorph::interpolate::FrameWorkspace;
+    fn workspace(&self) -> Self::Workspace {
+        Interpolator::workspace(self)
+    }
+    fn num_vertices(&self) -> usize {
+        Interpolator::num_vertices(self)
+    }
+    fn triangles(&self) -> &[[u32; 3]] {
+        Interpolator::triangles(self)
+    }
+    fn frame_into(&self, t: f64, out: &mut [[f64; 2]], ws: &mut Self::Workspace) {
+        self.at_into(t, out, ws)
+    }
+    fn count_flipped(&self, positions: &[[f64; 2]]) -> usize {
+        Interpolator::count_flipped(self, positions)
+    }
+}
+
+impl Frames<3> for Sequence3 {
+    type Workspace = meshmorph::sequence3::SequenceWorkspace;
+    fn workspace(&self) -> Self::Workspace {
+        Sequence3::workspace(self)
+    }
+    fn num_vertices(&self) -> usize {
+        Sequence3::num_vertices(self)
+    }
+    fn triangles(&self) -> &[[u32; 3]] {
+        Sequence3::triangles(self)
+    }
+    fn frame_into(&self, t: f64, out: &mut [[f64; 3]], ws: &mut Self::Workspace) {
+        self.at_into(t, out, ws)
+    }
+    fn count_flipped(&self, positions: &[[f64; 3]]) -> usize {
+        self.count_turned_over(positions)
+    }
+}
+
+/// A sequence of planar keys, computed in space (z stays 0) and written in
+/// the plane.
+struct Planar(Sequence3);
+
+impl Frames<2> for Planar {
+    type Workspace = (meshmorph::sequence3::SequenceWorkspace, Vec<[f64; 3]>);
+    fn workspace(&self) -> Self::Workspace {
+        (self.0.workspace(), vec![[0.0; 3]; self.0.num_vertices()])
+    }
+    fn num_vertices(&self) -> usize {
+        self.0.num_vertices()
+    }
+    fn triangles(&self) -> &[[u32; 3]] {
+        self.0.triangles()
+    }
+    fn frame_into(&self, t: f64, out: &mut [[f64; 2]], ws: &mut Self::Workspace) {
+        self.0.at_into(t, &mut ws.1, &mut ws.0);
+        for (o, p) in out.iter_mut().zip(&ws.1) {
+            *o = [p[0], p[1]];
+        }
+    }
+    fn count_flipped(&self, positions: &[[f64; 2]]) -> usize {
+        let p: Vec<[f64; 3]> = positions.iter().map(|q| [q[0], q[1], 0.0]).collect();
+        self.0.count_turned_over(&p)
+    }
+}
+
+/// What one run of [`write_frames`] is asked to do.
+struct Run<'a> {
+    args: &'a FrameArgs,
+    dir: &'a Path,
+    format: meshmorph::io::Format,
+    start: Instant,
+    times: &'a [f64],
+    setup_seconds: f64,
+    keys: usize,
+    whole_turns: Option<usize>,
+}
+
+/// Writes every frame (and the pictures asked for) and reports.
+fn write_frames<const D: usize, M: Frames<D>>(
+    morph: &M,
+    base: &[[f64; D]],
+    run: &Run<'_>,
+) -> Result<Report> {
+    let Run {
+        args,
+        dir,
+        format,
+        start,
+        times,
+        setup_seconds,
+        ..
+    } = *run;
     output::make_dir(dir)?;
 
     let bar = progress::bar(times.len() as u64, "frames");
+    let wall = Instant::now();
     let keep = args.gif.is_some() || args.svg || args.gltf.gltf.is_some();
-    let results: Vec<Result<Frame>> = times
+    let results: Vec<Result<Frame<D>>> = times
         .par_iter()
         .enumerate()
         .map_init(
             || morph.workspace(),
             |ws, (k, &t)| {
                 let begin = Instant::now();
-                let mut positions = vec![[0.0; 2]; morph.num_vertices()];
-                morph.at_into(t, &mut positions, ws);
+                let mut positions = vec![[0.0; D]; morph.num_vertices()];
+                morph.frame_into(t, &mut positions, ws);
                 let compute = begin.elapsed().as_secs_f64();
                 let flipped = morph.count_flipped(&positions);
                 let begin = Instant::now();
@@ -279,6 +513,7 @@ pub fn animate(
             },
         )
         .collect();
+    let wall_seconds = wall.elapsed().as_secs_f64();
     bar.finish_and_clear();
     // A run that fails once writing has begun (a frame that cannot be
     // written, an SVG or GIF path that cannot be) removes the frames and
@@ -311,7 +546,7 @@ pub fn animate(
         .collect();
     let mut gltf = None;
     if keep {
-        let positions: Vec<Vec<[f64; 2]>> = frames
+        let positions: Vec<Vec<[f64; D]>> = frames
             .iter_mut()
             .filter_map(|f| f.positions.take())
             .collect();
@@ -327,7 +562,7 @@ pub fn animate(
         let options = GltfOptions::default()
             .with_fps(args.fps)
             .with_name("interpolation");
-        let base = GltfBase::new(source.positions(), source.triangles());
+        let base = GltfBase::new(base, morph.triangles());
         gltf = args
             .gltf
             .write(&base, &positions, &names, &options)
@@ -336,8 +571,9 @@ pub fn animate(
     }
     let mut warnings = Vec::new();
     if max_flipped > 0 {
+        let what = if D == 3 { "turned over" } else { "reversed" };
         warnings.push(format!(
-            "frame {max_flipped_frame} has {max_flipped} triangles reversed relative to the source"
+            "frame {max_flipped_frame} has {max_flipped} triangles {what} relative to the source"
         ));
     }
     output::print_warnings(&warnings);
@@ -347,8 +583,13 @@ pub fn animate(
         frames_written: frames.len(),
         vertices: morph.num_vertices(),
         triangles: morph.triangles().len(),
+        dimension: D,
+        keys: run.keys,
+        triangles_with_whole_turns: run.whole_turns,
         setup_seconds,
         seconds_per_frame: frames.iter().map(|f| f.compute).sum::<f64>() / n,
+        wall_seconds_per_frame: wall_seconds / n,
+        threads: rayon::current_num_threads(),
         write_seconds_per_frame: frames.iter().map(|f| f.write).sum::<f64>() / n,
         total_seconds: start.elapsed().as_secs_f64(),
         max_flipped_triangles: max_flipped,
@@ -362,13 +603,35 @@ pub fn animate(
 
 /// The SVGs and the GIF asked for, of the frames' positions; returns the
 /// files written.
-fn write_pictures(
+fn write_pictures<const D: usize>(
     args: &FrameArgs,
     dir: &Path,
-    positions: &[Vec<[f64; 2]>],
+    positions: &[Vec<[f64; D]>],
     triangles: &[[u32; 3]],
 ) -> Result<Vec<PathBuf>> {
     let mut written = Vec::new();
+    let gif_args = pictures::GifArgs {
+        width: args.gif_width,
+        height: args.gif_height,
+        fps: args.fps,
+        boomerang: !args.no_boomerang,
+    };
+    if D == 3 {
+        if let Some(gif) = &args.gif {
+            let frames: Vec<Vec<[f64; 3]>> = positions
+                .iter()
+                .map(|f| f.iter().map(|p| [p[0], p[1], p[2]]).collect())
+                .collect();
+            pictures::write_gif_3d(gif, &frames, triangles, &gif_args)?;
+            written.push(gif.clone());
+        }
+        return Ok(written);
+    }
+    let positions: Vec<Vec<[f64; 2]>> = positions
+        .iter()
+        .map(|f| f.iter().map(|p| [p[0], p[1]]).collect())
+        .collect();
+    let positions = positions.as_slice();
     if args.svg {
         let paths: Vec<PathBuf> = (0..positions.len())
             .map(|k| output::frame_path(dir, k, positions.len(), "svg"))
@@ -377,21 +640,15 @@ fn write_pictures(
         written.extend(paths);
     }
     if let Some(gif) = &args.gif {
-        let gif_args = pictures::GifArgs {
-            width: args.gif_width,
-            height: args.gif_height,
-            fps: args.fps,
-            boomerang: !args.no_boomerang,
-        };
         pictures::write_gif(gif, positions, triangles, &gif_args)?;
         written.push(gif.clone());
     }
     Ok(written)
 }
 
-struct Frame {
+struct Frame<const D: usize> {
     compute: f64,
     write: f64,
     flipped: usize,
-    positions: Option<Vec<[f64; 2]>>,
+    positions: Option<Vec<[f64; D]>>,
 }

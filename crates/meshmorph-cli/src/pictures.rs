@@ -60,6 +60,33 @@ pub fn write_gif(
         .with_context(|| format!("writing the animation `{}`", path.display()))
 }
 
+/// Writes frames in space as an animated GIF: one flat-shaded view, the
+/// same camera for every frame.
+pub fn write_gif_3d(
+    path: &Path,
+    frames: &[Vec<[f64; 3]>],
+    triangles: &[[u32; 3]],
+    args: &GifArgs,
+) -> Result<()> {
+    let pictures: Vec<Vec<GridRow<'_>>> = frames
+        .iter()
+        .map(|f| {
+            vec![GridRow {
+                triangles,
+                poses: vec![f.as_slice()],
+                style: Style3d::with_ramp(Ramp::BLUE),
+            }]
+        })
+        .collect();
+    let options = GifOptions {
+        fps: args.fps,
+        boomerang: args.boomerang,
+        ..GifOptions::default()
+    };
+    render::write_gif_grid(path, &pictures, &grid_options(args.width), &options)
+        .with_context(|| format!("writing the animation `{}`", path.display()))
+}
+
 /// `--png` and `--gif` of the commands on meshes in space.
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct PictureArgs {

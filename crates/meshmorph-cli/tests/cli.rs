@@ -546,11 +546,122 @@ fn interpolate_non_planar_mesh_names_the_vertex() {
     lifted[6][2] = 0.25;
     let target = Mesh3::new(lifted, curled.triangles().to_vec()).unwrap();
     write(&p.tgt, &target);
-    let err = p.interpolate_fails(&[]);
+    let err = p.interpolate_fails(&["--dim", "2"]);
     assert_mentions(
         &err,
         &[&shown(&p.tgt), "not planar", "vertex 6", "z = 0.25"],
     );
+}
+
+/// Three keys of a tube in space: straight, bent by 270 and by 540 degrees.
+fn tube_keys(dir: &Path) -> (Vec<PathBuf>, Vec<Mesh3>) {
+    let t = tube(4.0, 0.2, 21, 8);
+    let meshes = vec![t.clone(), bend(&t, 4.0, 1.5 * PI), bend(&t, 4.0, 3.0 * PI)];
+    let paths: Vec<PathBuf> = (0..3).map(|k| dir.join(format!("key{k}.obj"))).collect();
+    for (p, m) in paths.iter().zip(&meshes) {
+        write(p, m);
+    }
+    (paths, meshes)
+}
+
+#[test]
+fn interpolate_keys_in_space_pass_through_every_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let (paths, meshes) = tube_keys(dir.path());
+    let out = dir.path().join("out");
+    let gif = dir.path().join("tube.gif");
+    let mut args: Vec<&OsStr> = vec!["interpolate".as_ref()];
+    args.extend(paths.iter().map(|p| p.as_os_str()));
+    args.extend([
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--t".as_ref(),
+        "0,0.5,1,1.5,2".as_ref(),
+    ]);
+    args.extend(["--json".as_ref(), "--gif".as_ref(), gif.as_os_str()]);
+    let report = json(&succeeds(&run(&args)));
+    assert_eq!(uint(&report, "dimension"), 3);
+    assert_eq!(uint(&report, "keys"), 3);
+    assert_eq!(uint(&report, "max_flipped_triangles"), 0);
+    assert!(seconds(&report, "wall_seconds_per_frame") > 0.0);
+    assert!(uint(&report, "triangles_with_whole_turns") > 0);
+    for (k, key) in [(0, &meshes[0]), (2, &meshes[1]), (4, &meshes[2])] {
+        let frame = read(&out.join(format!("frame_{k:04}.obj")));
+        assert!(
+            max_diff(frame.positions(), key.positions()) < 1e-9,
+            "frame {k}"
+        );
+    }
+    assert!(gif.exists());
+
+    // A key whose triangles differ: the file and the triangle are named.
+    let other = dir.path().join("other.obj");
+    let mut tris = meshes[1].triangles().to_vec();
+    tris.swap(3, 4);
+    write(
+        &other,
+        &Mesh3::new(meshes[1].positions().to_vec(), tris).unwrap(),
+    );
+    let out2 = dir.path().join("out2");
+    let err = fails(&run([
+        "interpolate".as_ref(),
+        paths[0].as_os_str(),
+        other.as_os_str(),
+        "-o".as_ref(),
+        out2.as_os_str(),
+    ]));
+    assert_mentions(&err, &[&shown(&other), "triangle 3"]);
+    assert!(!out2.exists());
+    // --turns has no axis in space.
+    let err = fails(&run([
+        "interpolate".as_ref(),
+        paths[0].as_os_str(),
+        paths[1].as_os_str(),
+        "-o".as_ref(),
+        out2.as_os_str(),
+        "--turns".as_ref(),
+        "1".as_ref(),
+    ]));
+    assert_mentions(&err, &["--turns"]);
+}
+
+#[test]
+fn blend_reproduces_a_shape_and_refuses_bad_weights() {
+    let dir = tempfile::tempdir().unwrap();
+    let (paths, meshes) = tube_keys(dir.path());
+    let out = dir.path().join("blend.obj");
+    let shape = |k: usize, w: &str| format!("{}={w}", paths[k].display());
+    let report = json(&succeeds(&run([
+        "blend".to_string(),
+        paths[0].display().to_string(),
+        "--shape".into(),
+        shape(1, "0"),
+        "--shape".into(),
+        shape(2, "1"),
+        "-o".into(),
+        out.display().to_string(),
+        "--json".into(),
+    ])));
+    assert_eq!(uint(&report, "dimension"), 3);
+    assert!(max_diff(read(&out).positions(), meshes[2].positions()) < 1e-9);
+    let err = fails(&run([
+        "blend".to_string(),
+        paths[0].display().to_string(),
+        "--shape".into(),
+        shape(1, "nan"),
+        "-o".into(),
+        dir.path().join("b2.obj").display().to_string(),
+    ]));
+    assert_mentions(&err, &["nan", "not a finite number"]);
+    let err = fails(&run([
+        "blend".to_string(),
+        paths[0].display().to_string(),
+        "--shape".into(),
+        shape(1, "0.5"),
+        "-o".into(),
+        paths[1].display().to_string(),
+    ]));
+    assert_mentions(&err, &["would overwrite"]);
 }
 
 #[test]

@@ -31,10 +31,11 @@
 //!    point nearly opposite ways at a jump); `c_P` is the mean of these over
 //!    the jump edges between `P` and the earlier layers, weighted by the
 //!    edges' lengths, rounded to the nearest whole number of turns along
-//!    its own direction. The patch takes these turns only if they make its
-//!    rotations halfway (`t = 1/2`, where a tear of a whole turn is widest)
-//!    agree better with its decided neighbours' across those edges than no
-//!    turns would; otherwise it keeps its principal rotations.
+//!    its own direction. The patch takes these turns only if they remove a
+//!    tear: halfway (`t = 1/2`, where a tear of a whole turn is widest, half
+//!    a turn) its rotations must agree with its decided neighbours' across
+//!    those edges better by more than a quarter turn on average than with
+//!    no turns; otherwise it keeps its principal rotations.
 //!
 //! Why patches rather than a walk from triangle to triangle: in 3D the axes
 //! of neighbours differ, non-rigid regions rotate a lot relative to each
@@ -192,9 +193,14 @@ pub fn whole_turns_after(
                 [0.0; 3]
             };
             let candidate = nearest_whole_turns(mean);
-            // Adopt the turns only where they make the patch agree better
-            // with its decided neighbours halfway (where a tear of a whole
-            // turn shows most), so that consistency never makes things worse.
+            // Adopt the turns only where they remove a tear: halfway (where
+            // a tear of a whole turn is widest, half a turn) the patch's
+            // rotations must agree with its decided neighbours' better by
+            // more than a quarter turn on average over the jump edges. A
+            // real wrap gains nearly half a turn; where neighbours disagree
+            // anyway (non-rigid regions, where the jump is an accident of
+            // large relative rotations), neither choice is better and the
+            // principal rotations stay.
             let disagreement = |c: [f64; 3]| -> f64 {
                 boundary[start[p]..start[p + 1]]
                     .iter()

@@ -313,6 +313,12 @@ impl Interpolator {
         })
     }
 
+    /// Number of stored values of the Cholesky factor (for measuring a
+    /// frame against the memory traffic of its back-substitution).
+    pub fn factor_len(&self) -> usize {
+        self.system.factor_len()
+    }
+
     /// Number of vertices of every frame.
     pub fn num_vertices(&self) -> usize {
         self.vertex_component.len()

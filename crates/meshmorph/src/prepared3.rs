@@ -130,6 +130,12 @@ impl PreparedSurface {
         })
     }
 
+    /// Number of stored values of the Cholesky factor (for measuring a
+    /// frame against the memory traffic of its back-substitution).
+    pub fn factor_len(&self) -> usize {
+        self.system.factor_len()
+    }
+
     /// The rest mesh.
     pub fn rest(&self) -> &Mesh3 {
         &self.rest

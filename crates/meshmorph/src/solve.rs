@@ -273,6 +273,12 @@ pub struct Cholesky {
 }
 
 impl Cholesky {
+    /// Number of stored values of the factor `L` (each read once by a
+    /// forward and once by a back substitution).
+    pub fn factor_len(&self) -> usize {
+        self.l_values.len()
+    }
+
     /// Factors the symmetric positive definite `matrix`.
     ///
     /// # Errors
@@ -466,6 +472,11 @@ impl PinnedSystem {
     /// Number of unknowns, pinned ones included.
     pub fn dim(&self) -> usize {
         self.n
+    }
+
+    /// Number of stored values of the Cholesky factor.
+    pub fn factor_len(&self) -> usize {
+        self.cholesky.factor_len()
     }
 
     /// The pinned unknowns, in the order given to [`PinnedSystem::new`].

@@ -67,6 +67,22 @@ fn mean_edge_change(m: &Mesh3, rest: &[P], frame: &[P]) -> f64 {
         / a.len() as f64
 }
 
+/// Mean over edges of |length in the frame / ((1−t) length at rest + t
+/// length in the pose) − 1|: the distortion beyond what the keys' own
+/// change of lengths asks for at time `t`.
+fn mean_edge_distortion(m: &Mesh3, rest: &[P], pose: &[P], frame: &[P], t: f64) -> f64 {
+    let (a, b, c) = (
+        edge_lengths(m, rest),
+        edge_lengths(m, pose),
+        edge_lengths(m, frame),
+    );
+    let n = a.len() as f64;
+    (0..a.len())
+        .map(|k| (c[k] / ((1.0 - t) * a[k] + t * b[k]) - 1.0).abs())
+        .sum::<f64>()
+        / n
+}
+
 fn opts() -> InterpolatorOptions {
     InterpolatorOptions::default()
 }
@@ -352,24 +368,47 @@ fn horse_poses_interpolate_without_inversions() {
             .map(|(a, b)| std::array::from_fn(|i| 0.5 * (a[i] + b[i])))
             .collect();
         let e_linear = mean_edge_change(&rest, rest.positions(), &linear);
+        let e_pose = mean_edge_change(&rest, rest.positions(), pose.positions());
+        let d_linear =
+            mean_edge_distortion(&rest, rest.positions(), pose.positions(), &linear, 0.5);
         let with = Sequence3::new(&[rest.clone(), pose.clone()], &opts())
             .unwrap_or_else(|e| panic!("horse-{k:02}: {e}"));
         let f = with.at(0.5);
         let e_with = mean_edge_change(&rest, rest.positions(), &f);
+        let d_with = mean_edge_distortion(&rest, rest.positions(), pose.positions(), &f, 0.5);
         let without =
             Sequence3::new(&[rest.clone(), pose], &opts().with_consistency(false)).unwrap();
         let e_without = mean_edge_change(&rest, rest.positions(), &without.at(0.5));
         println!(
-            "horse-{k:02}: mean relative edge-length change halfway {e_with:.4} (without consistency {e_without:.4}, linear vertex interpolation {e_linear:.4}); turned over {}, linear {}; triangles with whole turns {:?}",
+            "horse-{k:02}: mean relative edge-length change halfway {e_with:.5} (without consistency {e_without:.5}, linear vertex interpolation {e_linear:.5}; the pose itself {e_pose:.5}); turned over {}, linear {}; triangles with whole turns {:?}",
             with.count_turned_over(&f),
             with.count_turned_over(&linear),
             with.triangles_with_whole_turns()
         );
         assert_eq!(with.count_turned_over(&f), 0, "horse-{k:02}");
-        assert!(
-            e_with <= 0.5 * e_linear,
-            "horse-{k:02}: {e_with} against {e_linear}"
+        println!(
+            "    against the keys' lengths interpolated: {d_with:.5} (linear vertex interpolation {d_linear:.5})"
         );
-        assert!(e_with <= e_without * (1.0 + 1e-12), "horse-{k:02}");
+        // The poses change edge lengths themselves (by 0.059 to 0.092 on
+        // average), so halfway lengths change by about half of that
+        // whatever the method (horse-08's linear interpolation changes them
+        // less than the pose does). The distortion beyond the keys' own
+        // change is what separates the methods.
+        assert!(
+            d_with <= 0.5 * d_linear,
+            "horse-{k:02}: {d_with} against {d_linear}"
+        );
+        // Where no rotation crosses a half turn, consistency changes
+        // nothing; horse-07 has a few triangles turned by almost exactly half
+        // a turn (178.6 degrees beside neighbours at -178.4), which take a
+        // whole turn: the figure moves by a hundredth of itself at most.
+        if with.triangles_with_whole_turns() == [0] {
+            assert_eq!(e_with, e_without, "horse-{k:02}");
+        } else {
+            assert!(
+                e_with <= e_without * 1.01,
+                "horse-{k:02}: {e_with} against {e_without}"
+            );
+        }
     }
 }
