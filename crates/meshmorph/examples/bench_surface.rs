@@ -7,8 +7,8 @@
 //! streaming loop in the same run. Medians of several runs.
 //!
 //! `cargo run --release -p meshmorph --example bench_surface [-- MESH...]`
-//! with MESH among horse (../shared/data), tube_100k, tube_1000k and
-//! strip_1000k (the 2D strip of `bench_interpolate`, setup split into its
+//! with MESH among horse (../shared/data), tube_100k, tube_1000k,
+//! fat_tube_100k and strip_1000k (the 2D strip of `bench_interpolate`, setup split into its
 //! steps); default: all.
 
 use std::f64::consts::PI;
@@ -85,12 +85,19 @@ fn pair(name: &str) -> Option<(Mesh3, Mesh3)> {
             let read = |f: &str| io::read_mesh(&dir.join(f)).unwrap();
             Some((read("horse-reference.obj"), read("horse-05.obj")))
         }
-        "tube_100k" | "tube_1000k" => {
-            // A tube 100 long, radius 0.5, bent through 540 degrees (radius
-            // of the bend 100 / 3π ≈ 10.6) and twisted by 180.
-            let rings = if name == "tube_100k" { 501 } else { 5001 };
-            let t = shapes::tube(100.0, 0.5, rings, 100);
-            let b = shapes::bend(&shapes::twist(&t, 100.0, PI), 100.0, 3.0 * PI);
+        "tube_100k" | "tube_1000k" | "fat_tube_100k" => {
+            // A long tube of radius 0.5 with 32 vertices around (square
+            // cells), the surface counterpart of the 2D strips, bent through
+            // 540 degrees and twisted by 180; and a fatter tube, 100 around,
+            // whose factor has more fill-in.
+            let (rings, around) = match name {
+                "tube_100k" => (1563, 32),
+                "tube_1000k" => (15626, 32),
+                _ => (501, 100),
+            };
+            let length = (rings - 1) as f64 * 2.0 * PI * 0.5 / around as f64;
+            let t = shapes::tube(length, 0.5, rings, around);
+            let b = shapes::bend(&shapes::twist(&t, length, PI), length, 3.0 * PI);
             Some((t, b))
         }
         _ => panic!("unknown mesh {name}"),
@@ -148,6 +155,10 @@ fn main() {
             let o = InterpolatorOptions::default();
             let keys = [s.clone(), t.clone()];
             let setup = time(runs, || Sequence3::new(&keys, &o).unwrap());
+            let prepare = time(runs, || {
+                meshmorph::PreparedSurface::new(&s, "rest", o.factor).unwrap()
+            });
+            println!("{name}: setup {}, of which the prepared surface (gradients, Laplacian, factorization) {}", fmt(setup), fmt(prepare));
             let m = Sequence3::new(&keys, &o).unwrap();
             let mut ws = m.workspace();
             let mut out = vec![[0.0; 3]; m.num_vertices()];

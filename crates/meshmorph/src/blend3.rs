@@ -123,7 +123,7 @@ impl Blend3 {
         let shapes = shapes
             .iter()
             .map(|shape| {
-                let maps = frames.decompose(shape);
+                let maps = frames.decompose(rest, shape);
                 let turns = if options.consistency {
                     let seeds = frames.seeds(rest, &maps.rotations);
                     whole_turns(

@@ -52,7 +52,7 @@ impl SymmetricEigen3 {
         for _sweep in 0..64 {
             let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
             let diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
-            if off <= 1e-36 * diag || off == 0.0 {
+            if off <= 1e-32 * diag || off == 0.0 {
                 break;
             }
             for (p, q) in [(0, 1), (0, 2), (1, 2)] {
@@ -62,8 +62,13 @@ impl SymmetricEigen3 {
                 // The rotation in the (p, q) plane that zeroes a[p][q]
                 // (Golub and Van Loan, algorithm 8.4.1, the small root).
                 let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-                let t = theta.signum() / (theta.abs() + theta.hypot(1.0));
-                let c = 1.0 / t.hypot(1.0);
+                // (θ² overflows only for |θ| > 1e154, where t ≈ 1/(2θ).)
+                let t = if theta.abs() < 1e150 {
+                    theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt())
+                } else {
+                    0.5 / theta
+                };
+                let c = 1.0 / (t * t + 1.0).sqrt();
                 let s = t * c;
                 // a ← Jᵀ a J, v ← v J, J the identity with J[p][p] = J[q][q] = c,
                 // J[p][q] = s, J[q][p] = −s.

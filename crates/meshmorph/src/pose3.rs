@@ -5,18 +5,16 @@
 use rayon::prelude::*;
 
 use crate::error::{Error, Result, LIST_LIMIT};
-use crate::frames::{deformation_gradient, frame_inverses, Mat3};
+use crate::frames::{deformation_gradient, Mat3};
 use crate::geometry::{centroid, cross, dot, norm, sub};
 use crate::mesh::Mesh3;
 use crate::polar3::polar_decomposition3;
 use crate::rotation3::{quat_from_matrix, Quat};
 use crate::topology::TriangleAdjacency;
 
-/// What every pose of one rest surface shares: the rest frames' inverses
-/// and the triangle adjacency.
+/// What every pose of one rest surface shares: the triangle adjacency.
 #[derive(Debug)]
 pub(crate) struct RestFrames {
-    pub inverses: Vec<Mat3>,
     pub adjacency: TriangleAdjacency,
 }
 
@@ -30,28 +28,59 @@ pub(crate) struct PoseMaps {
 
 impl RestFrames {
     /// # Errors
-    /// As [`frame_inverses`] (the CLI checks degenerate triangles first).
+    /// [`Error::DegenerateTriangles`] naming zero-area triangles of `rest`
+    /// (called `name`).
     pub fn new(rest: &Mesh3, name: &str) -> Result<Self> {
+        rest.check_no_degenerate_triangles(name)?;
         Ok(Self {
-            inverses: frame_inverses(rest, name)?,
             adjacency: TriangleAdjacency::new(rest.triangles()),
         })
     }
 
-    /// The maps from the rest to `pose`, decomposed (in parallel).
-    pub fn decompose(&self, pose: &Mesh3) -> PoseMaps {
+    /// The maps from `rest` to `pose`, decomposed (in parallel).
+    pub fn decompose(&self, rest: &Mesh3, pose: &Mesh3) -> PoseMaps {
         let (rotations, stretches) = (0..pose.num_triangles())
             .into_par_iter()
             .map(|t| {
-                let p =
-                    polar_decomposition3(deformation_gradient(self.inverses[t], pose.corners(t)));
+                let inverse = crate::frames::inverse3(crate::frames::frame(rest.corners(t)))
+                    .unwrap_or(crate::frames::IDENTITY);
+                let p = polar_decomposition3(deformation_gradient(inverse, pose.corners(t)));
                 (quat_from_matrix(&p.rotation), p.stretch)
             })
             .unzip();
+        let rotations = self.orient_half_turns(rotations);
         PoseMaps {
             rotations,
             stretches,
         }
+    }
+
+    /// A rotation by exactly half a turn has two principal quaternions,
+    /// `(0, ±v)`, and which one rounding gives decides on which side of a
+    /// half-turn jump the triangle falls (see [`crate::consistency3`]).
+    /// Triangles within `1e-12` of a half turn take the sign that agrees
+    /// with most of their neighbours (the rotation moves by at most `4e-12`
+    /// radians), so that a ring of them turning by exactly half a turn
+    /// joins its neighbours rather than splitting at random.
+    fn orient_half_turns(&self, mut rotations: Vec<Quat>) -> Vec<Quat> {
+        let flips: Vec<usize> = (0..rotations.len())
+            .filter(|&t| {
+                rotations[t][0].abs() < 1e-12 && {
+                    let agree: f64 = self
+                        .adjacency
+                        .of(t)
+                        .iter()
+                        .map(|&u| crate::rotation3::quat_dot(rotations[t], rotations[u as usize]))
+                        .sum();
+                    agree < 0.0
+                }
+            })
+            .collect();
+        for t in flips {
+            let q = rotations[t];
+            rotations[t] = [q[0].abs(), -q[1], -q[2], -q[3]];
+        }
+        rotations
     }
 
     /// Triangles of `positions` turned over relative to the rest: collapsed
@@ -73,6 +102,7 @@ impl RestFrames {
         let tiny = 2e-14 * diagonal * diagonal;
         let limit = std::f64::consts::PI * (1.0 - 1e-9);
         (0..pose_normals.len())
+            .into_par_iter()
             .filter(|&t| {
                 if !(norm(pose_normals[t]) > tiny) {
                     return true;

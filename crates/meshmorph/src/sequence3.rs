@@ -175,8 +175,12 @@ impl Sequence3 {
         first.check_no_degenerate_triangles("first key")?;
         let frames = RestFrames::new(first, "first key")?;
         check_poses(first, &frames, &keys[1..], "key", options)?;
-        let surface = Arc::new(PreparedSurface::new(first, "first key", options.factor)?);
-        Self::build(surface, frames, &keys[1..], options)
+        // The factorization and the per-triangle work are independent.
+        let (surface, segments) = rayon::join(
+            || PreparedSurface::new(first, "first key", options.factor),
+            || segments(first, &frames, &keys[1..], options),
+        );
+        Self::build(Arc::new(surface?), frames, &keys[1..], segments?)
     }
 
     /// The sequence from the prepared surface's rest mesh (key 0) through
@@ -192,34 +196,17 @@ impl Sequence3 {
     ) -> Result<Self> {
         let frames = RestFrames::new(surface.rest(), "first key")?;
         check_poses(surface.rest(), &frames, later_keys, "key", options)?;
-        Self::build(surface, frames, later_keys, options)
+        let segments = segments(surface.rest(), &frames, later_keys, options)?;
+        Self::build(surface, frames, later_keys, segments)
     }
 
     fn build(
         surface: Arc<PreparedSurface>,
         frames: RestFrames,
         later: &[Mesh3],
-        options: &InterpolatorOptions,
+        segments: Vec<Segment>,
     ) -> Result<Self> {
-        if later.is_empty() {
-            return Err(Error::InvalidArgument(
-                "a sequence needs at least two keys".into(),
-            ));
-        }
-        if options.turns != 0 {
-            return Err(Error::InvalidArgument(
-                "whole extra turns need a common axis of rotation: they apply to planar meshes only"
-                    .into(),
-            ));
-        }
         let rest = surface.rest();
-        let num_triangles = rest.num_triangles();
-        let areas = rest.triangle_areas();
-        let mut previous_quats: Vec<Quat> = vec![[1.0, 0.0, 0.0, 0.0]; num_triangles];
-        let mut previous_lifted = vec![[0.0; 3]; num_triangles];
-        let mut previous_stretch = vec![IDENTITY; num_triangles];
-        let mut segments = Vec::with_capacity(later.len());
-        let mut centroids = vec![surface.centroids(rest.positions())];
         let loose_of = |p: &[[f64; 3]]| -> Vec<[f64; 3]> {
             surface
                 .loose_vertices()
@@ -227,77 +214,11 @@ impl Sequence3 {
                 .map(|&v| p[v as usize])
                 .collect()
         };
+        let mut centroids = vec![surface.centroids(rest.positions())];
         let mut loose = vec![loose_of(rest.positions())];
-        for (j, key) in later.iter().enumerate() {
-            let maps = frames.decompose(key);
-            let turns = if !options.consistency {
-                vec![[0.0; 3]; num_triangles]
-            } else {
-                let seeds = frames.seeds(rest, &maps.rotations);
-                whole_turns_after(
-                    &maps.rotations,
-                    &frames.adjacency,
-                    |a, b| shared_edge_length(rest, a, b),
-                    &seeds,
-                    (j > 0).then_some((previous_lifted.as_slice(), areas.as_slice())),
-                )
-            };
-            let lifted: Vec<[f64; 3]> = turns
-                .iter()
-                .zip(&maps.rotations)
-                .map(|(&c, &q)| add(c, quat_log(q)))
-                .collect();
-            let rotations: Vec<SegmentRotation> = (0..num_triangles)
-                .into_par_iter()
-                .map(|t| {
-                    let base = previous_quats[t];
-                    let conj = [base[0], -base[1], -base[2], -base[3]];
-                    let e = quat_log(quat_mul(maps.rotations[t], conj));
-                    let c = if options.consistency {
-                        nearest_whole_turns(sub(sub(lifted[t], previous_lifted[t]), e))
-                    } else {
-                        [0.0; 3]
-                    };
-                    SegmentRotation {
-                        base,
-                        principal: AxisAngle::new(e),
-                        turns: AxisAngle::new(c),
-                    }
-                })
-                .collect();
-            let log = |S: &Mat3| SymmetricEigen3::new(*S).map_values(|l| l.max(LOG_FLOOR).ln());
-            let stretches = match options.stretch {
-                StretchMode::Log if j == 0 => SegmentStretches::Power(
-                    maps.stretches
-                        .par_iter()
-                        .map(|S| SymmetricEigen3::new(*S))
-                        .collect(),
-                ),
-                StretchMode::Log => SegmentStretches::LogLinear(
-                    previous_stretch
-                        .par_iter()
-                        .zip(&maps.stretches)
-                        .map(|(a, b)| (log(a), log(b)))
-                        .collect(),
-                ),
-                _ => SegmentStretches::Linear(
-                    previous_stretch
-                        .iter()
-                        .copied()
-                        .zip(maps.stretches.iter().copied())
-                        .collect(),
-                ),
-            };
-            segments.push(Segment {
-                rotations,
-                stretches,
-                has_base: j > 0,
-            });
+        for key in later {
             centroids.push(surface.centroids(key.positions()));
             loose.push(loose_of(key.positions()));
-            previous_quats = maps.rotations;
-            previous_lifted = lifted;
-            previous_stretch = maps.stretches;
         }
         Ok(Self {
             surface,
@@ -439,6 +360,102 @@ impl Sequence3 {
             .turned_over(self.surface.rest(), positions)
             .len()
     }
+}
+
+/// The segments between consecutive keys (see the module documentation).
+fn segments(
+    rest: &Mesh3,
+    frames: &RestFrames,
+    later: &[Mesh3],
+    options: &InterpolatorOptions,
+) -> Result<Vec<Segment>> {
+    if later.is_empty() {
+        return Err(Error::InvalidArgument(
+            "a sequence needs at least two keys".into(),
+        ));
+    }
+    if options.turns != 0 {
+        return Err(Error::InvalidArgument(
+            "whole extra turns need a common axis of rotation: they apply to planar meshes only"
+                .into(),
+        ));
+    }
+    let num_triangles = rest.num_triangles();
+    let areas = rest.triangle_areas();
+    let mut previous_quats: Vec<Quat> = vec![[1.0, 0.0, 0.0, 0.0]; num_triangles];
+    let mut previous_lifted = vec![[0.0; 3]; num_triangles];
+    let mut previous_stretch = vec![IDENTITY; num_triangles];
+    let mut segments = Vec::with_capacity(later.len());
+    for (j, key) in later.iter().enumerate() {
+        let maps = frames.decompose(rest, key);
+        let turns = if !options.consistency {
+            vec![[0.0; 3]; num_triangles]
+        } else {
+            let seeds = frames.seeds(rest, &maps.rotations);
+            whole_turns_after(
+                &maps.rotations,
+                &frames.adjacency,
+                |a, b| shared_edge_length(rest, a, b),
+                &seeds,
+                (j > 0).then_some((previous_lifted.as_slice(), areas.as_slice())),
+            )
+        };
+        let lifted: Vec<[f64; 3]> = turns
+            .iter()
+            .zip(&maps.rotations)
+            .map(|(&c, &q)| add(c, quat_log(q)))
+            .collect();
+        let rotations: Vec<SegmentRotation> = (0..num_triangles)
+            .into_par_iter()
+            .map(|t| {
+                let base = previous_quats[t];
+                let conj = [base[0], -base[1], -base[2], -base[3]];
+                let e = quat_log(quat_mul(maps.rotations[t], conj));
+                let c = if options.consistency {
+                    nearest_whole_turns(sub(sub(lifted[t], previous_lifted[t]), e))
+                } else {
+                    [0.0; 3]
+                };
+                SegmentRotation {
+                    base,
+                    principal: AxisAngle::new(e),
+                    turns: AxisAngle::new(c),
+                }
+            })
+            .collect();
+        let log = |S: &Mat3| SymmetricEigen3::new(*S).map_values(|l| l.max(LOG_FLOOR).ln());
+        let stretches = match options.stretch {
+            StretchMode::Log if j == 0 => SegmentStretches::Power(
+                maps.stretches
+                    .par_iter()
+                    .map(|S| SymmetricEigen3::new(*S))
+                    .collect(),
+            ),
+            StretchMode::Log => SegmentStretches::LogLinear(
+                previous_stretch
+                    .par_iter()
+                    .zip(&maps.stretches)
+                    .map(|(a, b)| (log(a), log(b)))
+                    .collect(),
+            ),
+            _ => SegmentStretches::Linear(
+                previous_stretch
+                    .iter()
+                    .copied()
+                    .zip(maps.stretches.iter().copied())
+                    .collect(),
+            ),
+        };
+        segments.push(Segment {
+            rotations,
+            stretches,
+            has_base: j > 0,
+        });
+        previous_quats = maps.rotations;
+        previous_lifted = lifted;
+        previous_stretch = maps.stretches;
+    }
+    Ok(segments)
 }
 
 /// Checks that each of `poses` has the rest's connectivity and no triangle

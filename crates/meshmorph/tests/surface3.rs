@@ -181,7 +181,7 @@ fn a_tube_twisted_by_540_degrees_is_twisted_by_270_halfway() {
     let d_with = rigid_distance(&with.at(0.5), expected.positions()) / diag;
     let without = Sequence3::new(&[t.clone(), target], &opts().with_consistency(false)).unwrap();
     let d_without = rigid_distance(&without.at(0.5), expected.positions()) / diag;
-    println!("twist 540, halfway against twist 270: {d_with:.2e} with consistency, {d_without:.2e} without");
+    println!("twist 540, halfway against twist 270: {d_with:.2e} with consistency, {d_without:.2e} without; whole turns {:?} of {}", with.triangles_with_whole_turns(), t.num_triangles());
     assert!(d_with < 0.02, "{d_with}");
 }
 
