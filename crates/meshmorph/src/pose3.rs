@@ -104,7 +104,8 @@ impl RestFrames {
         (0..pose_normals.len())
             .into_par_iter()
             .filter(|&t| {
-                if !(norm(pose_normals[t]) > tiny) {
+                let area2 = norm(pose_normals[t]);
+                if area2.is_nan() || area2 <= tiny {
                     return true;
                 }
                 let (mut through, mut total) = (0.0, 0.0);

@@ -337,7 +337,7 @@ fn bad_input_is_named() {
         Err(Error::InvalidArgument(_))
     ));
     assert!(matches!(
-        Sequence3::new(&[t.clone()], &opts()),
+        Sequence3::new(std::slice::from_ref(&t), &opts()),
         Err(Error::InvalidArgument(_))
     ));
     assert!(matches!(
