@@ -184,6 +184,7 @@ fn transfer(args: &Args) -> Result<()> {
             closest_weights: None,
             closest_cutoff: None,
             match_threshold: None,
+            no_align: false,
         },
         correspondence: None,
         save_correspondence: Some(dir.join("thin-to-thick.corr")),

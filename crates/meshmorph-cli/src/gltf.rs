@@ -13,7 +13,8 @@ pub struct GltfArgs {
     /// Also write one binary glTF (FILE.glb) for Blender, three.js or any
     /// glTF viewer: the base mesh with every frame as a morph target and an
     /// animation playing them at --fps. It weighs about 24 bytes x vertices x
-    /// frames (a 10,000-vertex mesh with 100 frames: 24 MB).
+    /// frames (12 for planar meshes): a 10,000-vertex mesh in space with 100
+    /// frames makes 24 MB.
     #[arg(long, value_name = "FILE.glb")]
     pub gltf: Option<PathBuf>,
     /// Refuse to write a GLB heavier than this many megabytes (10^6 bytes).
@@ -24,7 +25,13 @@ pub struct GltfArgs {
 impl GltfArgs {
     /// Refuses, before any work, a GLB path that is not `.glb` or a file
     /// that would weigh more than `--max-gltf-mb`.
-    pub fn check(&self, vertices: usize, triangles: usize, frames: usize, uvs: bool) -> Result<()> {
+    pub fn check<const D: usize>(
+        &self,
+        vertices: usize,
+        triangles: usize,
+        frames: usize,
+        uvs: bool,
+    ) -> Result<()> {
         let Some(path) = &self.gltf else {
             return Ok(());
         };
@@ -37,14 +44,15 @@ impl GltfArgs {
                 path.display()
             );
         }
-        let bytes = estimate_glb_bytes(vertices, triangles, frames, uvs);
+        let bytes = estimate_glb_bytes::<D>(vertices, triangles, frames, uvs);
         let mb = bytes as f64 / 1e6;
         if mb > self.max_gltf_mb {
             bail!(
-                "--gltf `{}` would weigh about {mb:.0} MB ({frames} frames x {vertices} vertices x 24 bytes, \
+                "--gltf `{}` would weigh about {mb:.0} MB ({frames} frames x {vertices} vertices x {} bytes, \
                  plus the base mesh), over the limit of {} MB: write fewer frames, or raise the limit \
                  with --max-gltf-mb {}",
                 path.display(),
+                if D == 3 { 24 } else { 12 },
                 self.max_gltf_mb,
                 mb.ceil()
             );

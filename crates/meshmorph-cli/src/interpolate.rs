@@ -313,7 +313,7 @@ pub fn animate(
     start: Instant,
 ) -> Result<Report> {
     let times = args.times(1.0)?;
-    args.gltf.check(
+    args.gltf.check::<2>(
         source.num_vertices(),
         source.num_triangles(),
         times.len(),
@@ -352,12 +352,14 @@ pub fn animate_sequence(
         bail!("--svg draws planar frames only: use --gif or --gltf for meshes in space");
     }
     let times = args.times((keys.len() - 1) as f64)?;
-    args.gltf.check(
-        keys[0].num_vertices(),
-        keys[0].num_triangles(),
-        times.len(),
-        false,
-    )?;
+    let (vertices, triangles) = (keys[0].num_vertices(), keys[0].num_triangles());
+    if planar {
+        args.gltf
+            .check::<2>(vertices, triangles, times.len(), false)?;
+    } else {
+        args.gltf
+            .check::<3>(vertices, triangles, times.len(), false)?;
+    }
     let setup = Instant::now();
     let morph = Sequence3::new(keys, &args.options())?;
     let setup_seconds = setup.elapsed().as_secs_f64();

@@ -51,6 +51,12 @@ pub fn read_mesh(path: &Path, role: &str) -> Result<meshmorph::Mesh3> {
     meshmorph::io::read_mesh(path).with_context(|| format!("reading {role} `{}`", path.display()))
 }
 
+/// Reads a mesh file kept whole, saying which file and what role on failure.
+pub fn read_mesh_file(path: &Path, role: &str) -> Result<meshmorph::io::MeshFile> {
+    meshmorph::io::MeshFile::read(path)
+        .with_context(|| format!("reading {role} `{}`", path.display()))
+}
+
 /// Seconds as a short human string.
 pub fn human_seconds(s: f64) -> String {
     if s >= 1.0 {

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use meshmorph::io::gltf::{GltfBase, GltfOptions};
+use meshmorph::io::MeshFile;
 use meshmorph::{
     correspond, CorrespondOptions, Correspondence, Markers, Mesh3, Transfer, TransferOptions,
 };
@@ -20,13 +21,20 @@ use crate::progress;
 /// How the triangle correspondence is computed (Sumner and Popovic 2004, section 5).
 #[derive(Debug, Clone, clap::Args)]
 pub struct CorrespondArgs {
-    /// Marker file: one `source target` vertex pair per line (white space or
-    /// a comma between), `#` comments, an optional first line with the count.
+    /// Marker file: one `source target` vertex pair per line, or a point on
+    /// each mesh `sx sy sz tx ty tz` (snapped to the nearest vertex); white
+    /// space or a comma between, `#` comments, an optional first line with
+    /// the count.
     #[arg(long, value_name = "FILE")]
     pub markers: Option<PathBuf>,
-    /// Marker indices start at 1 instead of 0.
+    /// Vertex indices (markers and --pin) start at 1 instead of 0.
     #[arg(long)]
     pub one_based: bool,
+    /// Do not bring the source onto the target by the similarity (rotation,
+    /// uniform scale, translation) that best fits the markers: the two
+    /// references must then already overlap.
+    #[arg(long)]
+    pub no_align: bool,
     /// Weight of the smoothness term w_S [default: 1].
     #[arg(long, value_name = "W")]
     pub smoothness_weight: Option<f64>,
@@ -61,22 +69,28 @@ impl CorrespondArgs {
             .with_closest_weights(self.closest_weights.clone().unwrap_or(d.closest_weights))
             .with_closest_cutoff(self.closest_cutoff.unwrap_or(d.closest_cutoff))
             .with_match_threshold(self.match_threshold.unwrap_or(d.match_threshold))
+            .with_align(!self.no_align)
     }
 
-    /// Reads the markers and computes the correspondence, with a progress bar.
-    /// `refs` name the meshes in error messages.
+    /// Reads the markers (snapping marker points to vertices) and computes
+    /// the correspondence, with a progress bar. `refs` name the meshes in
+    /// error messages; warnings about the markers go to `warnings`.
     fn compute(
         &self,
         refs: &References,
         source: &Mesh3,
         target: &Mesh3,
-    ) -> Result<meshmorph::CorrespondResult> {
+        warnings: &mut Vec<String>,
+    ) -> Result<(meshmorph::CorrespondResult, MarkerReport)> {
         let Some(path) = &self.markers else {
             bail!(
                 "--markers is required to compute a correspondence (or pass --correspondence FILE)"
             );
         };
         let markers = Markers::read(path, self.one_based).context("reading the markers")?;
+        let (markers, snap) = markers
+            .snap(source, target)
+            .context("snapping the marker points to vertices")?;
         let options = self.options();
         let bar = progress::bar(
             meshmorph::correspond::correspond_steps(&options) as u64,
@@ -93,7 +107,79 @@ impl CorrespondArgs {
             )
         })?;
         bar.finish_and_clear();
-        Ok(result)
+        let diagonal = target.bounding_box_diagonal();
+        let r = &result.marker_residuals;
+        let rms = (r.iter().map(|x| x * x).sum::<f64>() / r.len().max(1) as f64).sqrt();
+        let suspicious: Vec<String> = meshmorph::similarity::outliers(r)
+            .into_iter()
+            .map(|k| markers.describe(k))
+            .collect();
+        if !suspicious.is_empty() {
+            warnings.push(format!(
+                "after the alignment, {} far from {} target vertex ({}): {} may be on the wrong feature",
+                if suspicious.len() == 1 { "a marker lies" } else { "markers lie" },
+                if suspicious.len() == 1 { "its" } else { "their" },
+                suspicious.join("; "),
+                if suspicious.len() == 1 { "it" } else { "they" },
+            ));
+        }
+        let report = MarkerReport {
+            markers: markers.pairs().len(),
+            snapped_points: snap.points,
+            largest_snap_source: snap.largest_source,
+            largest_snap_target: snap.largest_target,
+            aligned: options.align,
+            alignment_scale: result.correspondence.alignment().scale,
+            marker_residual_rms: rms / diagonal,
+            marker_residual_max: r.iter().copied().fold(0.0, f64::max) / diagonal,
+            suspicious_markers: suspicious,
+        };
+        Ok((result, report))
+    }
+}
+
+/// How the markers fitted (distances as fractions of the target's diagonal).
+#[derive(Debug, Default, Serialize)]
+pub struct MarkerReport {
+    pub markers: usize,
+    /// Markers given as points and snapped to the nearest vertex.
+    pub snapped_points: usize,
+    pub largest_snap_source: f64,
+    pub largest_snap_target: f64,
+    /// Whether the source was aligned to the target (not --no-align).
+    pub aligned: bool,
+    /// The scale of the alignment (target size over source size).
+    pub alignment_scale: f64,
+    pub marker_residual_rms: f64,
+    pub marker_residual_max: f64,
+    pub suspicious_markers: Vec<String>,
+}
+
+impl MarkerReport {
+    fn print(&self) {
+        let mut line = format!("markers:        {}", self.markers);
+        if self.snapped_points > 0 {
+            line += &format!(
+                " ({} points snapped to vertices, at most {:.3} % of the source's and {:.3} % of the target's diagonal away)",
+                self.snapped_points,
+                100.0 * self.largest_snap_source,
+                100.0 * self.largest_snap_target
+            );
+        }
+        println!("{line}");
+        if self.aligned {
+            println!(
+                "alignment:      scale {:.6}, marker residual {:.3} % of the target's diagonal (RMS), {:.3} % at most",
+                self.alignment_scale,
+                100.0 * self.marker_residual_rms,
+                100.0 * self.marker_residual_max
+            );
+        } else {
+            println!(
+                "alignment:      off, marker distance {:.3} % of the target's diagonal (RMS)",
+                100.0 * self.marker_residual_rms
+            );
+        }
     }
 }
 
@@ -109,10 +195,11 @@ pub struct References {
 }
 
 impl References {
-    fn read(&self) -> Result<(Mesh3, Mesh3)> {
+    /// Both files, kept whole.
+    fn read(&self) -> Result<(MeshFile, MeshFile)> {
         let (s, t) = rayon::join(
-            || output::read_mesh(&self.source_ref, "source reference"),
-            || output::read_mesh(&self.target_ref, "target reference"),
+            || output::read_mesh_file(&self.source_ref, "source reference"),
+            || output::read_mesh_file(&self.target_ref, "target reference"),
         );
         Ok((s?, t?))
     }
@@ -143,8 +230,9 @@ pub struct TransferArgs {
     /// Save the correspondence computed from the markers.
     #[arg(long, value_name = "FILE")]
     pub save_correspondence: Option<PathBuf>,
-    /// Target vertices (comma-separated, 0-based) held at their rest
-    /// positions in every pose, instead of placing the result by its centroid.
+    /// Target vertices (comma-separated, 0-based unless --one-based) held at
+    /// their rest positions in every pose, instead of placing the result by
+    /// its centroid.
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
     pub pin: Vec<u32>,
     /// Directory for the transferred poses (created if missing).
@@ -167,7 +255,8 @@ pub struct TransferArgs {
     pub fps: f64,
     #[command(flatten)]
     pub pictures: PictureArgs,
-    /// Source poses: meshes with the source reference's vertices and triangles.
+    /// Source poses: new positions for the source reference's vertices, with
+    /// its faces (listed in any corner order or winding).
     #[arg(required = true, value_name = "POSE")]
     pub poses: Vec<PathBuf>,
 }
@@ -189,6 +278,14 @@ pub struct TransferReport {
     pub matched_pairs: usize,
     pub unmatched_source_triangles: usize,
     pub unmatched_target_triangles: usize,
+    /// How the markers fitted (absent when the correspondence was loaded).
+    pub markers: Option<MarkerReport>,
+    /// Pose faces that list the reference's corners in another order or winding.
+    pub reordered_pose_faces: usize,
+    /// Target triangles without a partner nearby, kept at their rest shape.
+    pub unpaired_target_triangles: usize,
+    /// Separate parts of the target carried rigidly by the surface around them.
+    pub carried_parts: usize,
     pub total_seconds: f64,
     /// The GLB written, if any.
     pub gltf: Option<PathBuf>,
@@ -203,6 +300,9 @@ impl TransferReport {
         if json {
             output::print_json(self);
             return;
+        }
+        if let Some(m) = &self.markers {
+            m.print();
         }
         println!(
             "wrote {} poses to {}",
@@ -240,9 +340,18 @@ impl TransferReport {
     }
 }
 
+/// How far a pose's size may differ from its reference's before a warning:
+/// more looks like an export in other units.
+const POSE_SIZE_RATIO: f64 = 2.0;
+
+/// One pose done: seconds solving, seconds with reading and writing, what
+/// the output format dropped, the positions (kept for the glTF and pictures).
+type SolvedPose = (f64, f64, Vec<String>, Option<Vec<[f64; 3]>>);
+
 pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let start = Instant::now();
-    let (source, target) = args.refs.read()?;
+    let (source_file, target_file) = args.refs.read()?;
+    let (source, target) = (source_file.mesh(), target_file.mesh());
     let format = output::format_or_like(args.format, &args.refs.target_ref)?;
     let mut inputs: Vec<&Path> = args.poses.iter().map(PathBuf::as_path).collect();
     inputs.extend([
@@ -250,8 +359,9 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         args.refs.target_ref.as_path(),
     ]);
     inputs.extend(args.correspondence.as_deref());
+    inputs.extend(args.correspond.markers.as_deref());
     let outputs = output_paths(&args.poses, &args.output, format.extension(), &inputs)?;
-    args.gltf.check(
+    args.gltf.check::<3>(
         target.num_vertices(),
         target.num_triangles(),
         args.poses.len(),
@@ -260,31 +370,54 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     for extra in args.gltf.gltf.iter().chain(args.pictures.paths()) {
         output::refuse_input(extra, &inputs)?;
     }
+    let pins = pin_positions(&args.pin, args.correspond.one_based, target)?;
+    let mut warnings: Vec<String> = Vec::new();
 
     // Read and check every pose first: a bad pose is reported before the
-    // slow correspondence, and nothing is written.
-    let poses: Vec<(Mesh3, f64)> = args
+    // slow correspondence, and nothing is written. Each pose is new
+    // positions for the reference's faces, split as the reference is.
+    let source_diagonal = source.bounding_box_diagonal();
+    let poses: Vec<(Mesh3, usize, f64)> = args
         .poses
         .par_iter()
         .map(|path| {
             let begin = Instant::now();
-            let pose = output::read_mesh(path, "source pose")?;
-            pose.check_same_connectivity(&source, ["the pose", "the source reference"])
-                .with_context(|| {
-                    format!(
-                        "source pose `{}` does not fit the source reference",
-                        path.display()
-                    )
-                })?;
-            Ok((pose, begin.elapsed().as_secs_f64()))
+            let file = output::read_mesh_file(path, "source pose")?;
+            let (pose, reordered) = source_file.pose(&file).with_context(|| {
+                format!(
+                    "source pose `{}` does not fit the source reference `{}`",
+                    path.display(),
+                    args.refs.source_ref.display()
+                )
+            })?;
+            Ok((pose, reordered, begin.elapsed().as_secs_f64()))
         })
         .collect::<Result<_>>()?;
+    let mut reordered_pose_faces = 0;
+    for ((pose, reordered, _), path) in poses.iter().zip(&args.poses) {
+        reordered_pose_faces += reordered;
+        if *reordered > 0 {
+            warnings.push(format!(
+                "`{}`: {reordered} face{} list the reference's corners in another order or winding: read as the reference's faces",
+                path.display(),
+                if *reordered == 1 { "" } else { "s" }
+            ));
+        }
+        let ratio = pose.bounding_box_diagonal() / source_diagonal;
+        if !(1.0 / POSE_SIZE_RATIO..=POSE_SIZE_RATIO).contains(&ratio) {
+            warnings.push(format!(
+                "`{}` is {ratio:.3} times the size of the source reference: exported in other units?",
+                path.display()
+            ));
+        }
+    }
 
     let begin = Instant::now();
+    let mut marker_report = None;
     let correspondence = match &args.correspondence {
         Some(path) => {
             let c = Correspondence::load(path).context("reading the correspondence")?;
-            c.check_fits(&source, &target).with_context(|| {
+            c.check_fits(source, target).with_context(|| {
                 format!(
                     "correspondence `{}` does not fit these meshes",
                     path.display()
@@ -293,30 +426,19 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
             c
         }
         None => {
-            args.correspond
-                .compute(&args.refs, &source, &target)?
-                .correspondence
+            let (result, report) =
+                args.correspond
+                    .compute(&args.refs, source, target, &mut warnings)?;
+            marker_report = Some(report);
+            result.correspondence
         }
     };
     let correspondence_seconds = begin.elapsed().as_secs_f64();
 
     let begin = Instant::now();
-    let pins = args
-        .pin
-        .iter()
-        .map(|&v| {
-            let p = target.positions().get(v as usize).with_context(|| {
-                format!(
-                    "--pin {v}: the target has {} vertices",
-                    target.num_vertices()
-                )
-            })?;
-            Ok((v, *p))
-        })
-        .collect::<Result<Vec<_>>>()?;
     let transfer = Transfer::new(
-        &source,
-        &target,
+        source,
+        target,
         &correspondence,
         &TransferOptions::default().with_pins(pins),
     )
@@ -333,31 +455,43 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     }
     output::make_dir(&args.output)?;
     let keep = args.gltf.gltf.is_some() || args.pictures.any();
-    let solved: Vec<(f64, f64, Option<Vec<[f64; 3]>>)> = poses
+    let solved: Vec<SolvedPose> = poses
         .par_iter()
         .zip(&outputs)
         .map_init(
             || transfer.workspace(),
-            |ws, ((pose, read), out_path)| {
+            |ws, ((pose, _, read), out_path)| {
                 let begin = Instant::now();
                 let mut out = vec![[0.0; 3]; target.num_vertices()];
                 transfer.apply_into(pose.positions(), &mut out, ws);
                 let solve = begin.elapsed().as_secs_f64();
-                meshmorph::io::write_positions(out_path, &out, target.triangles(), format)
+                let dropped = target_file
+                    .write(out_path, &out, format)
                     .with_context(|| format!("writing `{}`", out_path.display()))?;
                 bar.inc(1);
                 Ok((
                     solve,
                     read + begin.elapsed().as_secs_f64(),
+                    dropped,
                     keep.then_some(out),
                 ))
             },
         )
         .collect::<Result<_>>()?;
     bar.finish_and_clear();
-    let (timings, results): (Vec<(f64, f64)>, Vec<Option<Vec<[f64; 3]>>>) =
-        solved.into_iter().map(|(a, b, r)| ((a, b), r)).unzip();
-    let results: Vec<Vec<[f64; 3]>> = results.into_iter().flatten().collect();
+    if let Some((_, _, dropped, _)) = solved.first() {
+        // The same for every pose: said once, for the directory.
+        for d in dropped {
+            let what = d.split_once(": ").map_or(d.as_str(), |x| x.1);
+            warnings.push(format!("{}: {what}", args.output.display()));
+        }
+    }
+    let mut timings = Vec::with_capacity(solved.len());
+    let mut results = Vec::new();
+    for (solve, with_io, _, result) in solved {
+        timings.push((solve, with_io));
+        results.extend(result);
+    }
     let mut files_written: Vec<PathBuf> = args.save_correspondence.iter().cloned().collect();
     files_written.extend(outputs.iter().cloned());
     let names: Vec<String> = outputs.iter().map(|p| crate::gltf::mesh_name(p)).collect();
@@ -365,11 +499,15 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         .with_fps(args.fps)
         .with_animation(!args.gltf_shapes)
         .with_name(crate::gltf::mesh_name(&args.refs.target_ref));
-    let base = GltfBase::new(target.positions(), target.triangles());
+    let corner_uvs = target_file.triangle_corner_uvs();
+    let mut base = GltfBase::new(target.positions(), target.triangles());
+    if let Some(uvs) = &corner_uvs {
+        base = base.with_corner_uvs(uvs);
+    }
     let gltf = args.gltf.write(&base, &results, &names, &options)?;
     files_written.extend(gltf.clone());
     if args.pictures.any() {
-        let source_poses: Vec<&[[f64; 3]]> = poses.iter().map(|(p, _)| p.positions()).collect();
+        let source_poses: Vec<&[[f64; 3]]> = poses.iter().map(|(p, _, _)| p.positions()).collect();
         let target_poses: Vec<&[[f64; 3]]> = results.iter().map(Vec::as_slice).collect();
         files_written.extend(crate::pictures::write_transfer_pictures(
             &args.pictures,
@@ -378,11 +516,19 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
             (target.triangles(), &target_poses),
         )?);
     }
-    let mut warnings = Vec::new();
-    if correspondence.unmatched_target() > 0 {
+    if transfer.unpaired_triangles() > 0 {
         warnings.push(format!(
-            "{} target triangles have no source partner: they follow their neighbours",
-            correspondence.unmatched_target()
+            "{} target triangles have no source partner nearby: they keep their rest shape and turn with the paired surface",
+            transfer.unpaired_triangles()
+        ));
+    }
+    if transfer.carried_parts() > 0 {
+        warnings.push(format!(
+            "{} separate part{} of the target with few source partners {} carried rigidly by the surface around {}",
+            transfer.carried_parts(),
+            if transfer.carried_parts() == 1 { "" } else { "s" },
+            if transfer.carried_parts() == 1 { "is" } else { "are" },
+            if transfer.carried_parts() == 1 { "it" } else { "them" },
         ));
     }
     output::print_warnings(&warnings);
@@ -398,6 +544,10 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         matched_pairs: correspondence.pairs().len(),
         unmatched_source_triangles: correspondence.unmatched_source(),
         unmatched_target_triangles: correspondence.unmatched_target(),
+        markers: marker_report,
+        reordered_pose_faces,
+        unpaired_target_triangles: transfer.unpaired_triangles(),
+        carried_parts: transfer.carried_parts(),
         total_seconds: start.elapsed().as_secs_f64(),
         gltf,
         files_written,
@@ -405,6 +555,28 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     }
     .print(args.json);
     Ok(())
+}
+
+/// `--pin` vertices (1-based with `--one-based`) at their rest positions.
+fn pin_positions(pins: &[u32], one_based: bool, target: &Mesh3) -> Result<Vec<(u32, [f64; 3])>> {
+    pins.iter()
+        .map(|&given| {
+            let v = if one_based {
+                given.checked_sub(1).with_context(|| {
+                    format!("--pin {given}: with --one-based, 1 is the first vertex")
+                })?
+            } else {
+                given
+            };
+            let p = target.positions().get(v as usize).with_context(|| {
+                format!(
+                    "--pin {given}: the target has {} vertices",
+                    target.num_vertices()
+                )
+            })?;
+            Ok((v, *p))
+        })
+        .collect()
 }
 
 /// DIR/<stem>.<ext> for each pose, refusing two poses with the same stem
@@ -482,6 +654,8 @@ pub struct CorrespondReport {
     pub unmatched_target_triangles: usize,
     /// Every file written, in order.
     pub files_written: Vec<PathBuf>,
+    /// How the markers fitted.
+    pub markers: MarkerReport,
     /// The warnings given (also printed on stderr).
     pub warnings: Vec<String>,
 }
@@ -490,7 +664,8 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
     if args.correspond.markers.is_none() {
         bail!("--markers is required");
     }
-    let (source, target) = args.refs.read()?;
+    let (source_file, target_file) = args.refs.read()?;
+    let (source, target) = (source_file.mesh(), target_file.mesh());
     let begin = Instant::now();
     // Checked before any work, so that a bad name leaves no output behind.
     let deformed_format = args
@@ -505,7 +680,10 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
     for extra in args.pictures.paths() {
         output::refuse_input(extra, &inputs)?;
     }
-    let result = args.correspond.compute(&args.refs, &source, &target)?;
+    let mut warnings = Vec::new();
+    let (result, markers) = args
+        .correspond
+        .compute(&args.refs, source, target, &mut warnings)?;
     let seconds = begin.elapsed().as_secs_f64();
     let c = &result.correspondence;
     c.save(&args.output).context("saving the correspondence")?;
@@ -521,7 +699,6 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         result.deformed_source.positions(),
         (target.triangles(), &[target.positions()]),
     )?);
-    let mut warnings = Vec::new();
     if c.unmatched_target() > 0 {
         warnings.push(format!(
             "{} target triangles have no source partner",
@@ -536,11 +713,13 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         unmatched_source_triangles: c.unmatched_source(),
         unmatched_target_triangles: c.unmatched_target(),
         files_written,
+        markers,
         warnings,
     };
     if args.json {
         output::print_json(&report);
     } else {
+        report.markers.print();
         println!(
             "correspondence: {} pairs in {} (unmatched: {} source, {} target triangles), saved to {}",
             report.matched_pairs,

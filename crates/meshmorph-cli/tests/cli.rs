@@ -1320,3 +1320,166 @@ fn transfer_refuses_to_overwrite_its_inputs() {
     assert_mentions(&err, &["would overwrite the input"]);
     assert_eq!(fs::read(&rig.poses[0]).unwrap(), before);
 }
+
+// ---------------------------------------------------------------------------
+// glTF, pictures, reports, completions and manual pages.
+
+/// Asserts a command-line usage error (clap's exit status 2, no panic) and
+/// returns stderr.
+fn usage_error(out: &Output) -> String {
+    let err = stderr(out);
+    assert_eq!(out.status.code(), Some(2), "stderr:\n{err}");
+    assert!(!err.contains("panicked"), "panic:\n{err}");
+    err
+}
+
+#[test]
+fn interpolate_gltf_and_its_report_list_every_file() {
+    let p = Pair::bar();
+    let glb = p.out.join("a.glb");
+    let report = json(&succeeds(&p.interpolate(&[
+        "--frames",
+        "4",
+        "--json",
+        "--gltf",
+        glb.to_str().unwrap(),
+        "--fps",
+        "10",
+    ])));
+    assert!(fs::read(&glb).unwrap().starts_with(b"glTF"));
+    let files: Vec<String> = report["files_written"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap().to_string())
+        .collect();
+    let mut want: Vec<String> = (0..4)
+        .map(|k| shown(&p.out.join(format!("frame_{k:04}.obj"))))
+        .collect();
+    want.push(shown(&glb));
+    assert_eq!(files, want);
+    assert_eq!(report["warnings"], Value::Array(Vec::new()));
+    assert_eq!(report["gltf"].as_str().unwrap(), shown(&glb));
+}
+
+#[test]
+fn interpolate_bad_gltf_options_are_refused_before_any_output() {
+    let p = Pair::bar();
+    let glb = p.out.join("a.glb");
+    let g = glb.to_str().unwrap();
+    for fps in ["0", "-1", "nan", "inf"] {
+        let err = usage_error(&p.interpolate(&["--gltf", g, &format!("--fps={fps}")]));
+        assert_mentions(&err, &["--fps", "finite number above 0"]);
+        assert!(!p.out.exists());
+    }
+    let err = p.interpolate_fails(&["--gltf", p.out.join("a.gltf").to_str().unwrap()]);
+    assert_mentions(&err, &["a.gltf", ".glb"]);
+    let err = p.interpolate_fails(&["--gltf", g, "--frames", "100", "--max-gltf-mb", "0.01"]);
+    assert_mentions(&err, &["a.glb", "MB", "100 frames", "--max-gltf-mb"]);
+    // A GLB that cannot be written: no frame files left either.
+    let missing = p.out.join("no/such/dir/a.glb");
+    let err = p.interpolate_fails(&["--gltf", missing.to_str().unwrap()]);
+    assert_mentions(&err, &[&shown(&missing), "glTF"]);
+}
+
+#[test]
+fn transfer_writes_a_gltf_pictures_and_lists_them() {
+    let rig = Rig::new();
+    let out = rig.path("out");
+    let glb = rig.path("poses.glb");
+    let png = rig.path("poses.png");
+    let gif = rig.path("poses.gif");
+    let report = json(&succeeds(&rig.transfer_with_markers(
+        &out,
+        &[
+            "--json".as_ref(),
+            "--gltf".as_ref(),
+            glb.as_os_str(),
+            "--gltf-shapes".as_ref(),
+            "--png".as_ref(),
+            png.as_os_str(),
+            "--gif".as_ref(),
+            gif.as_os_str(),
+        ],
+    )));
+    assert!(fs::read(&glb).unwrap().starts_with(b"glTF"));
+    assert!(fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+    assert!(fs::read(&gif).unwrap().starts_with(b"GIF89a"));
+    let files = report["files_written"].as_array().unwrap();
+    assert_eq!(files.len(), rig.poses.len() + 3);
+    for f in [&glb, &gif, &png] {
+        assert!(files.iter().any(|v| v.as_str() == Some(&shown(f))), "{f:?}");
+    }
+    assert!(report["warnings"].is_array());
+}
+
+#[test]
+fn transfer_gltf_shapes_needs_gltf_and_the_gltf_never_overwrites_an_input() {
+    let rig = Rig::new();
+    let out = rig.path("out");
+    let err = usage_error(&rig.transfer_with_markers(&out, &["--gltf-shapes".as_ref()]));
+    assert_mentions(&err, &["--gltf"]);
+    let err =
+        fails(&rig.transfer_with_markers(&out, &["--png".as_ref(), rig.target_ref.as_os_str()]));
+    assert_mentions(&err, &["overwrite", &shown(&rig.target_ref)]);
+    assert!(!out.exists());
+}
+
+#[test]
+fn correspond_draws_the_deformed_source_over_the_target() {
+    let rig = Rig::new();
+    let png = rig.path("fit.png");
+    let gif = rig.path("fit.gif");
+    let corr = rig.path("c.corr");
+    let report = json(&succeeds(&run([
+        "correspond".as_ref(),
+        "--source-ref".as_ref(),
+        rig.source_ref.as_os_str(),
+        "--target-ref".as_ref(),
+        rig.target_ref.as_os_str(),
+        "--markers".as_ref(),
+        rig.markers.as_os_str(),
+        "-o".as_ref(),
+        corr.as_os_str(),
+        "--png".as_ref(),
+        png.as_os_str(),
+        "--gif".as_ref(),
+        gif.as_os_str(),
+        "--json".as_ref(),
+    ])));
+    assert!(fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+    assert!(fs::read(&gif).unwrap().starts_with(b"GIF89a"));
+    let files = report["files_written"].as_array().unwrap();
+    assert_eq!(files.len(), 3, "{files:?}");
+}
+
+#[test]
+fn completions_and_manual_pages_come_from_the_command_line_definitions() {
+    for shell in ["bash", "zsh", "fish", "elvish", "powershell"] {
+        let out = succeeds(&run(["completions", shell]));
+        assert!(out.contains("transfer"), "{shell}: {out}");
+        assert!(out.contains("gltf"), "{shell}");
+    }
+    let page = succeeds(&run(["man"]));
+    assert!(
+        page.starts_with(".ie") || page.contains(".TH meshmorph"),
+        "{page}"
+    );
+    assert_mentions(&page, &["interpolate", "transfer", "correspond"]);
+    let dir = tempfile::tempdir().unwrap();
+    succeeds(&run([
+        "man".as_ref(),
+        "--dir".as_ref(),
+        dir.path().as_os_str(),
+    ]));
+    let pages = names(dir.path());
+    for want in [
+        "meshmorph.1",
+        "meshmorph-transfer.1",
+        "meshmorph-interpolate.1",
+    ] {
+        assert!(pages.iter().any(|p| p == want), "{pages:?}");
+    }
+    let transfer = fs::read_to_string(dir.path().join("meshmorph-transfer.1")).unwrap();
+    assert_mentions(&transfer, &["gltf\\-shapes", "max\\-gltf\\-mb"]);
+}

@@ -9,8 +9,10 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use meshmorph::io::gltf::{write_glb, GltfBase, GltfOptions};
-use meshmorph::shapes::{bend, tube};
+use std::fs;
+
+use meshmorph::io::read_mesh;
+use meshmorph::Mesh3;
 
 fn tools() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tools/gltf-check")
@@ -100,30 +102,28 @@ fn write_glbs(dir: &Path) -> Vec<PathBuf> {
     }
     meshmorph(&args.iter().map(String::as_str).collect::<Vec<_>>());
 
-    // Texture coordinates: u around the tube (0 to 1 across the seam), v along.
-    let rest = tube(4.0, 0.5, 9, 16);
-    let p = rest.positions();
-    let uvs: Vec<[[f64; 2]; 3]> = rest
-        .triangles()
-        .iter()
-        .map(|t| {
-            let mut u = t.map(|v| {
-                let q = p[v as usize];
-                q[2].atan2(q[1]).rem_euclid(std::f64::consts::TAU) / std::f64::consts::TAU
-            });
-            if u.iter().any(|&x| x > 0.75) {
-                u = u.map(|x| if x < 0.25 { x + 1.0 } else { x });
-            }
-            std::array::from_fn(|k| [u[k], p[t[k] as usize][0] / 4.0])
-        })
-        .collect();
-    let poses: Vec<Vec<[f64; 3]>> = (0..6)
-        .map(|k| bend(&rest, 4.0, 0.3 * k as f64).positions().to_vec())
-        .collect();
-    let names: Vec<String> = (0..6).map(|k| format!("bend-{k}")).collect();
+    // The same transfer onto a copy of the target with texture coordinates
+    // (u around the tube, 0 to 1 across a seam, v along it).
+    let textured = dir.join("thick-tube-textured.obj");
+    let thick = read_mesh(&input.join("thick-tube.obj")).unwrap();
+    fs::write(&textured, textured_obj(&thick)).unwrap();
     let uv_glb = dir.join("transfer-uvs.glb");
-    let base = GltfBase::new(rest.positions(), rest.triangles()).with_corner_uvs(&uvs);
-    write_glb(&uv_glb, &base, &poses, &names, &GltfOptions::default()).unwrap();
+    args[4] = textured.to_str().unwrap().into();
+    args[8] = dir.join("uvs").to_str().unwrap().into();
+    args[10] = uv_glb.to_str().unwrap().into();
+    args.retain(|a| a != "--gltf-shapes");
+    meshmorph(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    let glb = gltf::Gltf::open(&uv_glb).unwrap();
+    let mesh = glb.document.meshes().next().unwrap();
+    let prim = mesh.primitives().next().unwrap();
+    let blob = glb.blob.as_deref().unwrap();
+    let uvs: Vec<[f32; 2]> = prim
+        .reader(|_| Some(blob))
+        .read_tex_coords(0)
+        .expect("TEXCOORD_0 from the target's file")
+        .into_f32()
+        .collect();
+    assert!(uvs.len() > thick.num_vertices(), "the seam splits vertices");
 
     vec![
         demo.join("spiral.glb"),
@@ -131,6 +131,33 @@ fn write_glbs(dir: &Path) -> Vec<PathBuf> {
         shapes,
         uv_glb,
     ]
+}
+
+/// An OBJ of a tube along x with a `vt` for every triangle corner: u around
+/// (a seam where it runs from 1 back to 0), v along.
+fn textured_obj(tube: &Mesh3) -> String {
+    use std::f64::consts::TAU;
+    let p = tube.positions();
+    let length = p.iter().map(|q| q[0]).fold(0.0, f64::max);
+    let mut text = String::new();
+    for q in p {
+        text += &format!("v {} {} {}\n", q[0], q[1], q[2]);
+    }
+    for (t, tri) in tube.triangles().iter().enumerate() {
+        let mut u = tri.map(|v| {
+            let q = p[v as usize];
+            q[2].atan2(q[1]).rem_euclid(TAU) / TAU
+        });
+        if u.iter().any(|&x| x > 0.75) {
+            u = u.map(|x| if x < 0.25 { x + 1.0 } else { x });
+        }
+        for k in 0..3 {
+            text += &format!("vt {} {}\n", u[k], p[tri[k] as usize][0] / length);
+        }
+        let c = |k: usize| format!("{}/{}", tri[k] + 1, 3 * t + k + 1);
+        text += &format!("f {} {} {}\n", c(0), c(1), c(2));
+    }
+    text
 }
 
 fn out_dir(name: &str) -> PathBuf {

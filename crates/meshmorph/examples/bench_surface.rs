@@ -145,7 +145,7 @@ fn main() {
                 setup,
                 frame,
                 par,
-                m.factor_len(),
+                m.rest().factor_len(),
             )
         } else {
             let Some((s, t)) = pair(name) else {

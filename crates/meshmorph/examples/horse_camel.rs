@@ -1,103 +1,158 @@
-//! Transfers the ten horse poses of Sumner and Popović's data to the camel
-//! and scores each against Sumner's own camel poses; prints timings.
+//! Transfers the poses of both deformation-transfer pairs of
+//! ../shared/data/dt (Sumner and Popović's horse to camel with both marker
+//! sets, and the face mask onto the whole head) and scores each pose
+//! against Sumner's own result: the RMS vertex distance after centring,
+//! over the target reference's bounding-box diagonal. Prints one markdown
+//! table per pair and marker set, with timings.
 //!
-//! Run with `cargo run --release --example horse_camel [-- MARKERS]`; needs
-//! ../shared/data/dt/horse-camel beside the workspace.
+//! Run with `cargo run --release -p meshmorph --example horse_camel`;
+//! `OUT=dir` also writes every result as OBJ.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use meshmorph::{correspond, io, CorrespondOptions, Markers, Mesh3, Transfer, TransferOptions};
+use meshmorph::io::MeshFile;
+use meshmorph::{correspond, CorrespondOptions, Markers, Transfer, TransferOptions};
+
+/// One evaluation: a pair, a marker file, and (source pose, reference
+/// result) files.
+struct Case {
+    name: &'static str,
+    source_ref: &'static str,
+    target_ref: &'static str,
+    markers: &'static str,
+    poses: Vec<(String, String)>,
+}
+
+fn cases() -> Vec<Case> {
+    let horse_poses: Vec<(String, String)> = (1..=10)
+        .map(|k| {
+            (
+                format!("horse-camel/horse-poses/horse-{k:02}.obj"),
+                format!("horse-camel/camel-poses/camel-{k:02}.obj"),
+            )
+        })
+        .collect();
+    vec![
+        Case {
+            name: "horse -> camel, 107 markers",
+            source_ref: "horse-camel/horse-poses/horse-reference.obj",
+            target_ref: "horse-camel/camel-poses/camel-reference.obj",
+            markers: "horse-camel/markers/horse-camel-107.cons",
+            poses: horse_poses.clone(),
+        },
+        Case {
+            name: "horse -> camel, 124 markers",
+            source_ref: "horse-camel/horse-poses/horse-reference.obj",
+            target_ref: "horse-camel/camel-poses/camel-reference.obj",
+            markers: "horse-camel/markers/horse-camel-124.txt",
+            poses: horse_poses,
+        },
+        Case {
+            name: "face -> head, 51 markers",
+            source_ref: "face-head/face-poses/face-reference.obj",
+            target_ref: "face-head/head-poses/head-reference.obj",
+            markers: "face-head/markers/face-head.txt",
+            poses: vec![(
+                "face-head/face-poses/face-02-cry.obj".into(),
+                "face-head/head-poses/head-02-cry.obj".into(),
+            )],
+        },
+    ]
+}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dir = PathBuf::from(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/dt/horse-camel"
+        "/../../../shared/data/dt"
     ));
     if !dir.is_dir() {
         println!("skipped: {} not found", dir.display());
         return Ok(());
     }
-    let markers_file = std::env::args()
-        .nth(1)
-        .map(PathBuf::from)
-        .unwrap_or(dir.join("markers/horse-camel-107.cons"));
-    let horse = io::read_mesh(&dir.join("horse-poses/horse-reference.obj"))?;
-    let camel = io::read_mesh(&dir.join("camel-poses/camel-reference.obj"))?;
-    let markers = Markers::read(&markers_file, false)?;
+    let out_dir = std::env::var_os("OUT").map(PathBuf::from);
+    for case in cases() {
+        run(&dir, &case, out_dir.as_deref())?;
+    }
+    Ok(())
+}
 
-    let mut opts = CorrespondOptions::default();
-    if let Ok(v) = std::env::var("CUTOFF") {
-        opts = opts.with_closest_cutoff(v.parse()?);
-    }
-    if let Ok(v) = std::env::var("MATCH") {
-        opts = opts.with_match_threshold(v.parse()?);
-    }
-    if let Ok(v) = std::env::var("WC") {
-        opts = opts.with_closest_weights(v.split(',').map(|x| x.parse().unwrap()).collect());
-    }
-    if let Ok(v) = std::env::var("WI") {
-        opts = opts.with_weights(1.0, v.parse()?);
-    }
+fn run(dir: &Path, case: &Case, out_dir: Option<&Path>) -> Result<(), Box<dyn std::error::Error>> {
+    let source = MeshFile::read(&dir.join(case.source_ref))?;
+    let target = MeshFile::read(&dir.join(case.target_ref))?;
+    let markers = Markers::read(&dir.join(case.markers), false)?;
     let t = Instant::now();
-    let result = correspond(&horse, &camel, &markers, &opts, &mut |_| {})?;
+    let found = correspond(
+        source.mesh(),
+        target.mesh(),
+        &markers,
+        &CorrespondOptions::default().with_align(std::env::var_os("NOALIGN").is_none()),
+        &mut |_| {},
+    )?;
     let t_corr = t.elapsed().as_secs_f64();
-    let c = &result.correspondence;
+    let c = &found.correspondence;
+    let t = Instant::now();
+    let transfer = Transfer::new(source.mesh(), target.mesh(), c, &TransferOptions::default())?;
+    let t_setup = t.elapsed().as_secs_f64();
+    let diagonal = target.mesh().bounding_box_diagonal();
+    println!("\n### {}\n", case.name);
+    let r = c.alignment().rotation;
     println!(
-        "correspondence: {:.3} s, {} pairs, unmatched source {}, target {}",
+        "alignment rotation {:.2} degrees",
+        ((r[0][0] + r[1][1] + r[2][2] - 1.0) / 2.0)
+            .clamp(-1.0, 1.0)
+            .acos()
+            .to_degrees()
+    );
+    println!(
+        "correspondence {:.3} s ({} pairs; unmatched: {} source, {} target triangles), \
+         transfer setup {:.3} s, alignment scale {:.4}, carried parts {}\n",
         t_corr,
         c.pairs().len(),
         c.unmatched_source(),
-        c.unmatched_target()
+        c.unmatched_target(),
+        t_setup,
+        c.alignment().scale,
+        transfer.carried_parts()
     );
-
-    if let Ok(d) = std::env::var("OUT") {
-        io::write_mesh(
-            &Path::new(&d).join("deformed-horse.obj"),
-            &result.deformed_source,
-            io::Format::Obj,
-        )?;
-    }
-    let t = Instant::now();
-    let transfer = Transfer::new(&horse, &camel, c, &TransferOptions::default())?;
-    println!("transfer setup: {:.3} s", t.elapsed().as_secs_f64());
-    let diag = camel.bounding_box_diagonal();
-    let mut scores = Vec::new();
+    println!("| pose | error | doing nothing | solve |");
+    println!("|---|---:|---:|---:|");
     let mut ws = transfer.workspace();
-    for k in 1..=10 {
-        let pose = io::read_mesh(&dir.join(format!("horse-poses/horse-{k:02}.obj")))?;
-        let reference = io::read_mesh(&dir.join(format!("camel-poses/camel-{k:02}.obj")))?;
+    let mut scores = Vec::new();
+    for (pose_path, reference_path) in &case.poses {
+        let (pose, _) = source.pose(&MeshFile::read(&dir.join(pose_path))?)?;
+        let reference = MeshFile::read(&dir.join(reference_path))?.into_mesh();
         let t = Instant::now();
-        let mut out = vec![[0.0; 3]; camel.num_vertices()];
+        let mut out = vec![[0.0; 3]; target.mesh().num_vertices()];
         transfer.apply_into(pose.positions(), &mut out, &mut ws);
         let solve = t.elapsed().as_secs_f64();
-        let score = rms_centred(&out, reference.positions()) / diag;
-        println!("pose {k:02}: score {score:.5}  solve {:.2} ms", solve * 1e3);
-        if let Ok(d) = std::env::var("OUT") {
-            io::write_positions(
-                &Path::new(&d).join(format!("camel-{k:02}.obj")),
+        let score = rms_centred(&out, reference.positions()) / diagonal;
+        let nothing = rms_centred(target.mesh().positions(), reference.positions()) / diagonal;
+        let name = Path::new(pose_path)
+            .file_stem()
+            .unwrap_or_default()
+            .to_string_lossy();
+        println!(
+            "| {name} | {score:.5} | {nothing:.4} | {:.1} ms |",
+            solve * 1e3
+        );
+        if let Some(d) = out_dir {
+            target.write(
+                &d.join(format!("{name}.obj")),
                 &out,
-                camel.triangles(),
-                io::Format::Obj,
+                meshmorph::io::Format::Obj,
             )?;
         }
         scores.push(score);
     }
     let mean = scores.iter().sum::<f64>() / scores.len() as f64;
-    let worst = scores.iter().cloned().fold(0.0, f64::max);
-    println!("mean {mean:.5} worst {worst:.5}");
-    let _ = write_if_asked(&camel, &transfer);
+    let worst = scores.iter().copied().fold(0.0, f64::max);
+    println!("| **mean / worst** | **{mean:.5} / {worst:.5}** | | |");
     Ok(())
 }
 
-fn write_if_asked(_camel: &Mesh3, _t: &Transfer) -> Option<()> {
-    let _ = Path::new(".");
-    None
-}
-
 fn rms_centred(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
-    let ca = mean(a);
-    let cb = mean(b);
+    let (ca, cb) = (mean(a), mean(b));
     let s: f64 = a
         .iter()
         .zip(b)

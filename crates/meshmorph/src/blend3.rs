@@ -21,8 +21,8 @@ use std::sync::Arc;
 
 use crate::consistency3::whole_turns;
 use crate::error::{Error, Result};
-use crate::frames::{mul3, Mat3};
 use crate::interpolate::InterpolatorOptions;
+use crate::matrix::{mul as mul3, Mat3};
 use crate::mesh::Mesh3;
 use crate::polar3::SymmetricEigen3;
 use crate::pose3::{shared_edge_length, RestFrames};

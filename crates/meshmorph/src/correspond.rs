@@ -24,13 +24,15 @@ use rayon::prelude::*;
 use crate::closest::{unit_normal, vertex_normals, CentroidIndex, SurfaceIndex};
 use crate::correspondence::Correspondence;
 use crate::error::{Error, Result};
-use crate::frames::{GradientOperators, IDENTITY};
 use crate::geometry::centroid;
+use crate::gradient::weights::{normalise_by_mean, normalised_by_mean, vertex_weights};
+use crate::gradient::{FactoredSystem, GradientOperators, Pins};
 use crate::markers::Markers;
+use crate::matrix::identity;
 use crate::mesh::Mesh3;
-use crate::similarity::{residuals, Similarity};
-use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder};
-use crate::topology::{connected_components, edges};
+use crate::similarity::{fit_robust, residuals, Similarity};
+use crate::solve::{FactorKind, SymmetricBuilder, SymmetricMatrix};
+use crate::topology::{connected_components, edges, Components};
 
 /// Options of [`correspond`]; the defaults follow the paper.
 #[derive(Clone, Debug, PartialEq)]
@@ -185,23 +187,7 @@ pub fn correspond(
     source.check_no_degenerate_triangles("source reference")?;
     target.check_no_degenerate_triangles("target reference")?;
     let components = connected_components(source.num_vertices(), source.triangles());
-    let mut held = vec![false; components.count];
-    for &[s, _] in markers.pairs() {
-        if let Some(c) = components.of_vertex[s as usize] {
-            held[c as usize] = true;
-        }
-    }
-    if let Some(c) = held.iter().position(|h| !h) {
-        let t = components
-            .of_triangle
-            .iter()
-            .position(|&x| x as usize == c)
-            .unwrap_or(0);
-        return Err(Error::InvalidArgument(format!(
-            "part {c} of the source reference (the connected triangles around triangle {t}) has no \
-             marker: every connected part needs at least one"
-        )));
-    }
+    check_every_part_has_a_marker(&components, markers)?;
 
     let marker_points = |mesh: &Mesh3, k: usize| -> Vec<[f64; 3]> {
         markers
@@ -211,8 +197,13 @@ pub fn correspond(
             .collect()
     };
     let (from, to) = (marker_points(source, 0), marker_points(target, 1));
+    // Fitted in a fixed order of the pairs, so that the order of the
+    // markers does not change the last bits.
+    let mut order: Vec<usize> = (0..from.len()).collect();
+    order.sort_unstable_by_key(|&k| markers.pairs()[k]);
+    let sorted = |p: &[[f64; 3]]| -> Vec<[f64; 3]> { order.iter().map(|&k| p[k]).collect() };
     let alignment = if options.align {
-        Similarity::fit(&from, &to)?
+        fit_robust(&sorted(&from), &sorted(&to))?.0
     } else {
         Similarity::IDENTITY
     };
@@ -224,7 +215,7 @@ pub fn correspond(
         aligned = source.with_positions(alignment.apply_all(source.positions()))?;
         &aligned
     };
-    let deformed = deform(source, target, markers, options, progress)?;
+    let deformed = deform(source, target, &components, markers, options, progress)?;
     let deformed_source = source.with_positions(deformed)?;
     // Centroids of two differently tessellated surfaces lie up to about an
     // edge apart even where the surfaces coincide: never ask for less.
@@ -262,109 +253,63 @@ pub fn correspond_steps(options: &CorrespondOptions) -> usize {
     options.closest_weights.len() + 2
 }
 
+/// Fails unless every connected part of the source holds a marker (a part
+/// without one could drift anywhere).
+fn check_every_part_has_a_marker(components: &Components, markers: &Markers) -> Result<()> {
+    let mut held = vec![false; components.count];
+    for &[s, _] in markers.pairs() {
+        if let Some(c) = components.of_vertex[s as usize] {
+            held[c as usize] = true;
+        }
+    }
+    if let Some(c) = held.iter().position(|h| !h) {
+        let t = components
+            .of_triangle
+            .iter()
+            .position(|&x| x as usize == c)
+            .unwrap_or(0);
+        return Err(Error::InvalidArgument(format!(
+            "part {c} of the source reference (the connected triangles around triangle {t}) has no \
+             marker: every connected part needs at least one"
+        )));
+    }
+    Ok(())
+}
+
 /// Deforms the source onto the target; returns the deformed vertex positions.
 fn deform(
     source: &Mesh3,
     target: &Mesh3,
+    components: &Components,
     markers: &Markers,
     options: &CorrespondOptions,
     progress: &mut dyn FnMut(usize),
 ) -> Result<Vec<[f64; 3]>> {
-    let (n, tris) = (source.num_vertices(), source.triangles());
-    let m = n + tris.len();
-    let ops = GradientOperators::new(source, "source reference")?;
-    // Every term counts in proportion to the area it covers (normalised by
-    // the mean area), so the energy does not depend on the tessellation.
-    let areas = source.triangle_areas();
-    let mean_area = areas.iter().sum::<f64>() / areas.len() as f64;
-    let aw = |t: usize| areas[t] / mean_area;
+    let n = source.num_vertices();
+    let ops = GradientOperators::spatial(source, "source reference")?;
+    let weights = normalised_by_mean(&source.triangle_areas());
+    let (base, rhs_identity) = smooth_and_identity_terms(&ops, &weights, options);
     // The closest-point term weighs each vertex by its share of the area,
     // normalised to a mean of 1 over the vertices.
-    let mut vertex_weight = vec![0.0; n];
-    for (t, tri) in tris.iter().enumerate() {
-        for &v in tri {
-            vertex_weight[v as usize] += aw(t) / 3.0;
-        }
-    }
-    let mean_weight = vertex_weight.iter().sum::<f64>() / n as f64;
-    vertex_weight.iter_mut().for_each(|w| *w /= mean_weight);
-    let mut base = SymmetricBuilder::new(m, 40 * tris.len());
-    for v in 0..m {
-        base.add(v, v, 0.0);
-    }
-    let mut rhs_identity = vec![0.0; 3 * m];
-    for e in edges(tris) {
-        for (k, &a) in e.triangles.iter().enumerate() {
-            for &b in &e.triangles[k + 1..] {
-                let (a, b) = (a as usize, b as usize);
-                ops.add_difference(
-                    &mut base,
-                    a,
-                    b,
-                    options.smoothness_weight * 0.5 * (aw(a) + aw(b)),
-                );
-            }
-        }
-    }
-    for t in 0..tris.len() {
-        ops.add_target(
-            &mut base,
-            &mut rhs_identity,
-            t,
-            &IDENTITY,
-            options.identity_weight * aw(t),
-        );
-    }
-    let base = base.build();
-
-    // In a fixed order: the solve sums the pinned values' contributions in
-    // this order, and the last bits of the result decide ties in matching.
-    let mut pairs = markers.pairs().to_vec();
-    pairs.sort_unstable();
-    // Markers are held at their targets; vertices no triangle uses (and no
-    // marker names) have no term at all and stay where they are.
-    let mut held: Vec<(usize, [f64; 3])> = pairs
-        .iter()
-        .map(|&[s, t]| (s as usize, target.positions()[t as usize]))
-        .collect();
-    let mut is_marker = vec![false; n];
-    pairs.iter().for_each(|p| is_marker[p[0] as usize] = true);
-    let mut used = vec![false; n];
-    tris.iter().flatten().for_each(|&v| used[v as usize] = true);
-    held.extend(
-        (0..n)
-            .filter(|&v| !used[v] && !is_marker[v])
-            .map(|v| (v, source.positions()[v])),
-    );
-    let pinned: Vec<usize> = held.iter().map(|h| h.0).collect();
-    let np = pinned.len();
-    let mut pinned_values = vec![0.0; 3 * np];
-    for (q, (_, p)) in held.iter().enumerate() {
-        for i in 0..3 {
-            pinned_values[i * np + q] = p[i];
-        }
-    }
+    let mut vertex_weight = vertex_weights(n, source.triangles(), &weights);
+    normalise_by_mean(&mut vertex_weight);
+    let pins = marker_pins(source, target, components, markers);
 
     let surface = SurfaceIndex::new(target.positions(), target.triangles());
     let cutoff = options.closest_cutoff * target.bounding_box_diagonal();
-    let mut x = vec![0.0; 3 * m];
+    let m = ops.num_unknowns();
     let mut positions: Vec<[f64; 3]> = source.positions().to_vec();
     let rounds = std::iter::once(0.0).chain(options.closest_weights.iter().copied());
-    let mut system: Option<PinnedSystem> = None;
+    let mut system: Option<FactoredSystem<3>> = None;
     for (round, w_c) in rounds.enumerate() {
         let mut rhs = rhs_identity.clone();
-        let matrix = if w_c > 0.0 {
-            let normals = vertex_normals(&positions, tris);
-            let targets: Vec<Option<[f64; 3]>> = (0..n)
-                .into_par_iter()
-                .map(|v| {
-                    surface
-                        .closest_compatible(positions[v], normals[v], cutoff)
-                        .map(|c| c.point)
-                })
-                .collect();
+        let mut matrix = base.clone();
+        if w_c > 0.0 {
             let mut diagonal = vec![0.0; m];
-            for (v, c) in targets.iter().enumerate() {
+            for (v, c) in closest_points(&surface, &positions, source.triangles(), cutoff)
+                .iter()
+                .enumerate()
+            {
                 if let Some(c) = c {
                     let w = w_c * vertex_weight[v];
                     diagonal[v] = w;
@@ -373,12 +318,8 @@ fn deform(
                     }
                 }
             }
-            let mut matrix = base.clone();
             matrix.add_to_diagonal(&diagonal);
-            matrix
-        } else {
-            base.clone()
-        };
+        }
         // One factorization per round, each used once: the supernodal factor
         // is the faster one then, and the symbolic analysis is shared.
         let system = match &mut system {
@@ -386,11 +327,12 @@ fn deform(
                 system.refactor(&matrix)?;
                 system
             }
-            None => system.insert(PinnedSystem::new(&matrix, &pinned, FactorKind::Supernodal)?),
+            None => system.insert(FactoredSystem::new(&matrix, &pins, FactorKind::Supernodal)?),
         };
-        let mut ws = system.workspace(3);
-        system.solve(&rhs, Some(&pinned_values), &mut x, &mut ws);
-        positions = (0..n).map(|v| [x[v], x[m + v], x[2 * m + v]]).collect();
+        let mut ws = system.workspace();
+        ws.rhs = rhs;
+        system.solve(&mut ws);
+        positions = (0..n).map(|v| system.position(&ws, v)).collect();
         if positions.iter().flatten().any(|c| !c.is_finite()) {
             return Err(Error::Solver(
                 "the deformation produced non-finite positions".into(),
@@ -399,6 +341,75 @@ fn deform(
         progress(round + 1);
     }
     Ok(positions)
+}
+
+/// `w_S E_S + w_I E_I`: the normal matrix (with every diagonal entry stored,
+/// for the closest-point term to add to) and the identity term's right-hand
+/// side. Every term counts in proportion to the area it covers (normalised
+/// by the mean area), so the energy does not depend on the tessellation.
+fn smooth_and_identity_terms(
+    ops: &GradientOperators<3, 4>,
+    weights: &[f64],
+    options: &CorrespondOptions,
+) -> (SymmetricMatrix, Vec<f64>) {
+    let (m, tris) = (ops.num_unknowns(), ops.triangles());
+    let mut base = SymmetricBuilder::new(m, 40 * tris.len());
+    for v in 0..m {
+        base.add(v, v, 0.0);
+    }
+    let mut rhs_identity = vec![0.0; 3 * m];
+    ops.add_smoothness(
+        &mut base,
+        &edges(tris),
+        weights,
+        options.smoothness_weight,
+        |_, _| true,
+    );
+    for t in 0..tris.len() {
+        let w = options.identity_weight * weights[t];
+        ops.add_fit_to(&mut base, &mut rhs_identity, t, &identity(), w);
+    }
+    (base.build(), rhs_identity)
+}
+
+/// Markers held at their targets (in a fixed order: the solve sums the
+/// pinned values' contributions in this order, and the last bits of the
+/// result decide ties in matching); vertices no triangle uses (and no marker
+/// names) have no term at all and stay where they are.
+fn marker_pins(
+    source: &Mesh3,
+    target: &Mesh3,
+    components: &Components,
+    markers: &Markers,
+) -> Pins<3> {
+    let mut pairs = markers.pairs().to_vec();
+    pairs.sort_unstable();
+    let mut pins = Pins::new(source.num_vertices());
+    for [s, t] in pairs {
+        let pinned = pins.pin(s as usize, target.positions()[t as usize]);
+        debug_assert!(pinned, "markers are validated");
+    }
+    pins.hold_free_parts(components, |v| source.positions()[v]);
+    pins
+}
+
+/// The closest compatible point of the target surface to each vertex, if
+/// one lies within `cutoff`.
+fn closest_points(
+    surface: &SurfaceIndex,
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    cutoff: f64,
+) -> Vec<Option<[f64; 3]>> {
+    let normals = vertex_normals(positions, triangles);
+    (0..positions.len())
+        .into_par_iter()
+        .map(|v| {
+            surface
+                .closest_compatible(positions[v], normals[v], cutoff)
+                .map(|c| c.point)
+        })
+        .collect()
 }
 
 /// Pairs each triangle of `source` with the nearest compatible triangle of

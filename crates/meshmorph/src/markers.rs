@@ -106,7 +106,7 @@ impl Markers {
             .enumerate()
             {
                 let (v, d) = nearest(mesh.positions(), used, point);
-                if !(d <= SNAP_LIMIT * diagonal) {
+                if d.is_nan() || d > SNAP_LIMIT * diagonal {
                     return Err(Error::InvalidArgument(format!(
                         "{name}: the {which} point {point:?} is {:.3} % of the {which} mesh's diagonal from its nearest vertex ({v}); \
                          marker points must lie on the mesh (within {} %)",
@@ -271,6 +271,13 @@ impl Markers {
             seen.insert(s, k);
         }
         Ok(())
+    }
+
+    /// Marker `k` for messages: "marker 3 (source vertex 10, target vertex
+    /// 52)" or "`file.cons`, line 5 (...)".
+    pub fn describe(&self, k: usize) -> String {
+        let [s, t] = self.pairs[k];
+        format!("{} (source vertex {s}, target vertex {t})", self.name(k))
     }
 
     /// "marker 3" or "`file.cons`, line 5".

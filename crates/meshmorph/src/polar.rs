@@ -4,8 +4,7 @@
 //! Matrices are row-major `[[a00, a01], [a10, a11]]`.
 #![allow(non_snake_case)]
 
-/// A 2×2 matrix, row-major.
-pub type Mat2 = [[f64; 2]; 2];
+use crate::matrix::{det2, Mat2};
 
 /// `A = R(θ) S` with `R(θ)` the rotation by `angle` (radians,
 /// counter-clockwise) and `S` the remaining factor.
@@ -24,27 +23,6 @@ pub fn rotation(angle: f64) -> Mat2 {
     [[c, -s], [s, c]]
 }
 
-/// `A B`.
-#[inline]
-pub fn mul(A: Mat2, B: Mat2) -> Mat2 {
-    [
-        [
-            A[0][0] * B[0][0] + A[0][1] * B[1][0],
-            A[0][0] * B[0][1] + A[0][1] * B[1][1],
-        ],
-        [
-            A[1][0] * B[0][0] + A[1][1] * B[1][0],
-            A[1][0] * B[0][1] + A[1][1] * B[1][1],
-        ],
-    ]
-}
-
-/// Determinant.
-#[inline]
-pub fn det(A: Mat2) -> f64 {
-    A[0][0] * A[1][1] - A[0][1] * A[1][0]
-}
-
 /// Polar decomposition `A = R(θ) S` (Alexa et al. 2000, section 3).
 ///
 /// The rotation is the one closest to `A` in the Frobenius norm:
@@ -60,7 +38,7 @@ pub fn polar_decomposition(A: Mat2) -> Polar2 {
         [c * A[0][0] + s * A[1][0], c * A[0][1] + s * A[1][1]],
         [-s * A[0][0] + c * A[1][0], -s * A[0][1] + c * A[1][1]],
     ];
-    if det(A) >= 0.0 {
+    if det2(A) >= 0.0 {
         // Symmetric up to rounding: make it exactly so.
         let off = 0.5 * (S[0][1] + S[1][0]);
         S[0][1] = off;
@@ -107,6 +85,7 @@ impl SymmetricEigen2 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::matrix::mul;
 
     fn close(A: Mat2, B: Mat2, tol: f64) -> bool {
         (0..2).all(|i| (0..2).all(|j| (A[i][j] - B[i][j]).abs() <= tol))
@@ -126,7 +105,7 @@ mod tests {
             let p = polar_decomposition(A);
             assert!(close(mul(rotation(p.angle), p.stretch), A, 1e-12));
             assert!(p.angle > -std::f64::consts::PI && p.angle <= std::f64::consts::PI);
-            if det(A) > 0.0 {
+            if det2(A) > 0.0 {
                 let S = p.stretch;
                 assert_eq!(S[0][1], S[1][0]);
                 let e = SymmetricEigen2::new(S);

@@ -9,7 +9,10 @@
 //! when `A` is singular or reverses orientation.
 #![allow(non_snake_case)]
 
-use crate::frames::{det3, Mat3, IDENTITY};
+use crate::matrix::{det3, Mat3};
+
+/// The identity matrix.
+const IDENTITY: Mat3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 use crate::geometry::{cross, dot, norm, scale, sub};
 
 /// `Aᵀ`.
@@ -199,7 +202,7 @@ pub fn polar_decomposition3(A: Mat3) -> Polar3 {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::frames::mul3;
+    use crate::matrix::mul as mul3;
 
     pub(crate) fn rng(seed: u64) -> impl FnMut() -> f64 {
         let mut s = seed;

@@ -5,8 +5,9 @@
 use rayon::prelude::*;
 
 use crate::error::{Error, Result, LIST_LIMIT};
-use crate::frames::{deformation_gradient, Mat3};
 use crate::geometry::{centroid, cross, dot, norm, sub};
+use crate::gradient::spatial::{deformation_gradient, frame};
+use crate::matrix::{identity, inverse3, Mat3};
 use crate::mesh::Mesh3;
 use crate::polar3::polar_decomposition3;
 use crate::rotation3::{quat_from_matrix, Quat};
@@ -42,8 +43,7 @@ impl RestFrames {
         let (rotations, stretches) = (0..pose.num_triangles())
             .into_par_iter()
             .map(|t| {
-                let inverse = crate::frames::inverse3(crate::frames::frame(rest.corners(t)))
-                    .unwrap_or(crate::frames::IDENTITY);
+                let inverse = inverse3(frame(rest.corners(t))).unwrap_or(identity());
                 let p = polar_decomposition3(deformation_gradient(inverse, pose.corners(t)));
                 (quat_from_matrix(&p.rotation), p.stretch)
             })

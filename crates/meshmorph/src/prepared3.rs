@@ -14,8 +14,8 @@
 #![allow(non_snake_case)]
 
 use crate::error::Result;
-use crate::frames::Mat3;
 use crate::geometry::{cross, norm, scale, sub};
+use crate::matrix::Mat3;
 use crate::mesh::Mesh3;
 use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder, Workspace};
 use crate::topology::connected_components;

@@ -8,7 +8,7 @@
 //! `w ≥ 0`.
 #![allow(non_snake_case)]
 
-use crate::frames::Mat3;
+use crate::matrix::Mat3;
 
 /// A unit quaternion `[w, x, y, z]`, scalar first.
 pub type Quat = [f64; 4];
@@ -208,7 +208,7 @@ mod tests {
     fn quaternion_products_compose_rotations() {
         let (a, b) = ([0.3, -1.0, 2.0], [1.5, 0.2, -0.4]);
         let ab = quat_to_matrix(quat_mul(quat_exp(a), quat_exp(b)));
-        let m = crate::frames::mul3(exp_rotation(a), exp_rotation(b));
+        let m = crate::matrix::mul(exp_rotation(a), exp_rotation(b));
         assert!(max_diff(ab, m) < 1e-14);
         let q = quat_axis_angle([0.0, 0.0, 1.0], 0.5);
         assert!(max_diff(quat_to_matrix(q), exp_rotation([0.0, 0.0, 0.5])) < 1e-15);

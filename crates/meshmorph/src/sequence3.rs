@@ -34,9 +34,9 @@ use rayon::prelude::*;
 
 use crate::consistency3::{nearest_whole_turns, whole_turns_after};
 use crate::error::{Error, Result};
-use crate::frames::{mul3, Mat3, IDENTITY};
 use crate::geometry::{add, norm, sub};
 use crate::interpolate::{InterpolatorOptions, StretchMode};
+use crate::matrix::{identity, mul as mul3, Mat3};
 use crate::mesh::Mesh3;
 use crate::polar3::SymmetricEigen3;
 use crate::pose3::{shared_edge_length, RestFrames};
@@ -384,7 +384,7 @@ fn segments(
     let areas = rest.triangle_areas();
     let mut previous_quats: Vec<Quat> = vec![[1.0, 0.0, 0.0, 0.0]; num_triangles];
     let mut previous_lifted = vec![[0.0; 3]; num_triangles];
-    let mut previous_stretch = vec![IDENTITY; num_triangles];
+    let mut previous_stretch = vec![identity::<3>(); num_triangles];
     let mut segments = Vec::with_capacity(later.len());
     for (j, key) in later.iter().enumerate() {
         let maps = frames.decompose(rest, key);

@@ -102,7 +102,7 @@ impl Similarity {
             }
             xx += dot(x, x);
         }
-        let rotation = horn_rotation(&M);
+        let rotation = best_rotation(&M);
         let fit = Similarity {
             rotation,
             scale: 1.0,
@@ -125,6 +125,33 @@ impl Similarity {
             scale: s,
             translation,
         })
+    }
+}
+
+/// [`Similarity::fit`], then fitted again without the pairs whose residual
+/// stands out ([`outliers`]), so that a wrong marker does not turn the
+/// whole source; the outliers are returned with the fit (indices into the
+/// pairs, increasing).
+///
+/// # Errors
+/// As [`Similarity::fit`] (on all pairs).
+pub fn fit_robust(from: &[[f64; 3]], to: &[[f64; 3]]) -> Result<(Similarity, Vec<usize>)> {
+    let first = Similarity::fit(from, to)?;
+    let bad = outliers(&residuals(&first, from, to));
+    if bad.is_empty() {
+        return Ok((first, bad));
+    }
+    let keep = |p: &[[f64; 3]]| -> Vec<[f64; 3]> {
+        p.iter()
+            .enumerate()
+            .filter(|(i, _)| bad.binary_search(i).is_err())
+            .map(|(_, q)| *q)
+            .collect()
+    };
+    match Similarity::fit(&keep(from), &keep(to)) {
+        Ok(fit) => Ok((fit, bad)),
+        // The others alone cannot fix it: keep the fit of all.
+        Err(_) => Ok((first, bad)),
     }
 }
 
@@ -151,9 +178,17 @@ fn is_on_a_line(points: &[[f64; 3]], c: [f64; 3]) -> bool {
     !(values[0] > 0.0 && values[1] > 1e-10 * values[0])
 }
 
+/// The rotation closest to `A` in the Frobenius norm (the rotation factor
+/// of its polar decomposition when `det A > 0`; always a proper rotation).
+pub fn closest_rotation(A: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    // Σ y·R x = tr(R M) for M = Σ x yᵀ; tr(Rᵀ A) = tr(R Aᵀ).
+    let At: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| A[j][i]));
+    best_rotation(&At)
+}
+
 /// Horn's rotation from the cross-covariance `M = Σ x yᵀ` of centred
 /// points: the unit quaternion maximising `Σ y·R x`.
-fn horn_rotation(M: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+pub(crate) fn best_rotation(M: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
     let (sxx, sxy, sxz) = (M[0][0], M[0][1], M[0][2]);
     let (syx, syy, syz) = (M[1][0], M[1][1], M[1][2]);
     let (szx, szy, szz) = (M[2][0], M[2][1], M[2][2]);
@@ -265,7 +300,7 @@ pub fn outliers(residuals: &[f64]) -> Vec<usize> {
     };
     let m = median(&mut residuals.to_vec());
     let mad = median(&mut residuals.iter().map(|r| (r - m).abs()).collect());
-    if !(mad > 0.0) {
+    if mad.is_nan() || mad <= 0.0 {
         return Vec::new();
     }
     (0..residuals.len())

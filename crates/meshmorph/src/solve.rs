@@ -200,14 +200,13 @@ impl SymmetricBuilder {
     }
 
     /// Adds `weight · Σ_j c_j c_jᵀ` where `c_j` is column `j` of the
-    /// `idx.len() × 3` coefficient block `coef` over the unknowns `idx` (an
+    /// `idx.len() × D` coefficient block `coef` over the unknowns `idx` (an
     /// unknown may appear more than once). This is the normal-matrix block of
-    /// three rows `Σ_k coef[k][j] x[idx[k]]`, j = 0, 1, 2, as deformation
-    /// gradients give.
-    pub fn add_gram(&mut self, idx: &[usize], coef: &[[f64; 3]], weight: f64) {
+    /// `D` rows `Σ_k coef[k][j] x[idx[k]]`, j = 0..D, as gradients give.
+    pub fn add_gram<const D: usize>(&mut self, idx: &[usize], coef: &[[f64; D]], weight: f64) {
         for p in 0..idx.len() {
             for q in p..idx.len() {
-                let g: f64 = (0..3).map(|j| coef[p][j] * coef[q][j]).sum::<f64>() * weight;
+                let g: f64 = (0..D).map(|j| coef[p][j] * coef[q][j]).sum::<f64>() * weight;
                 let factor = if p != q && idx[p] == idx[q] { 2.0 } else { 1.0 };
                 self.add(idx[p], idx[q], factor * g);
             }

@@ -18,11 +18,17 @@
 //! weights bring the mean error against his own results from 0.017 to 0.015
 //! and the worst from 0.023 to 0.022.)
 //!
-//! Target triangles in no pair take the deformation of their neighbours
-//! (a smoothness term across their edges). Those that cannot reach a paired
-//! triangle across edges also get a faint pull towards their rest shape, so
-//! that a part with no pair at all keeps its shape; the pull is left out
-//! elsewhere, where it would bias the result towards the rest pose.
+//! Target triangles in no pair near a paired one (within
+//! [`TransferOptions::gap_distance`]) are gaps of the matching: they take
+//! the deformation of their neighbours (a smoothness term across their
+//! edges). Farther ones have no partner (the back of a head under a face
+//! mask, a neck): each keeps its rest shape, turned by a rotation spread
+//! from the paired triangles ([`RotationField`]: harmonic interpolation of
+//! the paired triangles' rotations, projected onto rotations). They join the
+//! paired region smoothly, a rigid motion of the whole source still moves
+//! the whole target rigidly, and a local deformation of the source leaves
+//! them as they are. Separate parts with few pairs (eyes, teeth) are carried
+//! rigidly by the surface around them ([`CarriedParts`]).
 //!
 //! The energy does not see translations. Each connected part of the target
 //! is placed so that, in the area-weighted mean over its pairs, the centroid
@@ -37,17 +43,23 @@
 
 use rayon::prelude::*;
 
+use crate::carried_parts::CarriedParts;
 use crate::correspondence::Correspondence;
 use crate::error::{Error, Result};
-use crate::frames::{deformation_gradient, frame_inverses, GradientOperators, Mat3, IDENTITY};
 use crate::geometry::centroid;
+use crate::gradient::spatial::{deformation_gradient, frame_inverses};
+use crate::gradient::weights::{normalised_by_mean, vertex_weights};
+use crate::gradient::{FactoredSystem, GradientOperators, Pins, Placement, SolveWorkspace};
+use crate::matrix::{identity, Mat3};
 use crate::mesh::Mesh3;
+use crate::rotation_field::{FieldWorkspace, RotationField};
+use crate::similarity::closest_rotation;
 use crate::similarity::Similarity;
-use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder, Workspace};
-use crate::topology::{connected_components, edges, TriangleAdjacency};
+use crate::solve::{FactorKind, SymmetricBuilder};
+use crate::topology::{connected_components, edges, Edge, TriangleAdjacency};
 
 /// Options of [`Transfer::new`].
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct TransferOptions {
     /// Target vertices held at the given positions in every pose. The parts
@@ -56,6 +68,24 @@ pub struct TransferOptions {
     pub pins: Vec<(u32, [f64; 3])>,
     /// Which Cholesky variant factors the system. Default [`FactorKind::Auto`].
     pub factor: FactorKind,
+    /// Unpaired target triangles whose centroid lies within this fraction
+    /// of the target's bounding-box diagonal (and never less than its mean
+    /// edge length) of a paired triangle's centroid are gaps of the
+    /// matching and take their neighbours' deformation; farther ones keep
+    /// their rest shape, turned with the paired surface. Default 0.01, the
+    /// default [`CorrespondOptions::match_threshold`](crate::CorrespondOptions::match_threshold):
+    /// the distance within which the correspondence pairs triangles at all.
+    pub gap_distance: f64,
+}
+
+impl Default for TransferOptions {
+    fn default() -> Self {
+        Self {
+            pins: Vec::new(),
+            factor: FactorKind::Auto,
+            gap_distance: 0.01,
+        }
+    }
 }
 
 impl TransferOptions {
@@ -72,11 +102,6 @@ impl TransferOptions {
     }
 }
 
-/// Weight pulling unpaired target triangles that reach no paired triangle
-/// across edges towards their rest shape, relative to the weight 1 of a pair
-/// and of a smoothness term.
-const UNPAIRED_REST_WEIGHT: f64 = 1e-6;
-
 /// Deformation transfer from one source reference to one target reference,
 /// factored once; see the [module documentation](self).
 #[derive(Debug)]
@@ -87,29 +112,78 @@ pub struct Transfer {
     source_ref: Mesh3,
     /// `V⁻¹` of every source reference triangle.
     source_frames_inv: Vec<Mat3>,
-    target_vertices: usize,
-    target_triangles: Vec<[u32; 3]>,
     /// `G = D V⁻¹` of every target reference triangle.
-    target_gradients: GradientOperators,
-    /// `(source triangle, weight)` of the pairs of each target triangle,
-    /// compressed rows.
-    paired_ptr: Vec<usize>,
-    paired: Vec<(u32, f64)>,
-    /// Constant part of the right-hand side (rest pull of unpaired triangles).
-    rhs_rest: Vec<f64>,
-    system: PinnedSystem,
-    /// Column-major `#pinned × 3` values.
-    pinned_values: Vec<f64>,
-    placements: Vec<Placement>,
-    /// Part of each target vertex, `u32::MAX` if it is not moved by a placement.
-    vertex_part: Vec<u32>,
-    /// Area weight of each target vertex.
-    vertex_weight: Vec<f64>,
+    target_gradients: GradientOperators<3, 4>,
+    pairs: PairsByTarget,
+    /// The weight of each target triangle (its area over the mean).
+    weights: Vec<f64>,
+    /// Rotations for the unpaired triangles.
+    field: RotationField,
+    /// The unpaired triangles that are not gaps: held to their rest shape,
+    /// turned.
+    unpaired: Vec<u32>,
+    /// Separate parts carried by the surface around them.
+    carried: CarriedParts,
+    /// The target reference's positions (carried parts move them rigidly).
+    target_rest: Vec<[f64; 3]>,
+    system: FactoredSystem<3>,
+    /// The target's parts not held by a pin.
+    placement: Placement<3>,
+    /// How each placed part follows the source, by placed part.
+    anchors: Vec<PartAnchor>,
 }
 
-/// How one connected part of the target is placed.
+/// The source triangles paired with each target triangle, with their
+/// weights: compressed rows `(source triangle, weight)`.
 #[derive(Clone, Debug)]
-struct Placement {
+struct PairsByTarget {
+    ptr: Vec<usize>,
+    pairs: Vec<(u32, f64)>,
+}
+
+impl PairsByTarget {
+    /// Each target triangle counts in proportion to its weight (area over
+    /// the mean area) and takes the area-weighted mean gradient of its
+    /// partners: pair (s, t) weighs `weight_t · area_s / Σ area_partners`.
+    fn new(correspondence: &Correspondence, source_areas: &[f64], target_weights: &[f64]) -> Self {
+        let num_targets = target_weights.len();
+        let mut ptr = vec![0usize; num_targets + 1];
+        for p in correspondence.pairs() {
+            ptr[p[1] as usize + 1] += 1;
+        }
+        for t in 0..num_targets {
+            ptr[t + 1] += ptr[t];
+        }
+        let mut fill = ptr.clone();
+        let mut pairs = vec![(0u32, 0.0); correspondence.pairs().len()];
+        for p in correspondence.pairs() {
+            pairs[fill[p[1] as usize]] = (p[0], source_areas[p[0] as usize]);
+            fill[p[1] as usize] += 1;
+        }
+        for t in 0..num_targets {
+            let partners = &mut pairs[ptr[t]..ptr[t + 1]];
+            let total: f64 = partners.iter().map(|p| p.1).sum();
+            partners
+                .iter_mut()
+                .for_each(|p| p.1 *= target_weights[t] / total);
+        }
+        Self { ptr, pairs }
+    }
+
+    /// The partners of target triangle `t`.
+    #[inline]
+    fn of(&self, t: usize) -> &[(u32, f64)] {
+        &self.pairs[self.ptr[t]..self.ptr[t + 1]]
+    }
+
+    fn is_paired(&self, t: usize) -> bool {
+        self.ptr[t + 1] > self.ptr[t]
+    }
+}
+
+/// How one connected part of the target follows the source.
+#[derive(Clone, Debug, Default)]
+struct PartAnchor {
     /// The pairs `(source triangle, target triangle, weight)` in the part.
     pairs: Vec<(u32, u32, f64)>,
     /// For each pair, the offset from the centroid of its source triangle to
@@ -120,20 +194,20 @@ struct Placement {
     /// The part's own area-weighted centroid in the target reference, where
     /// a part without pairs stays.
     target_rest: [f64; 3],
-    total_weight: f64,
 }
 
 /// Per-thread scratch for [`Transfer::apply_into`].
 #[derive(Debug)]
 pub struct PoseWorkspace {
-    solve: Workspace,
+    solve: SolveWorkspace,
     /// The pose brought onto the target by the alignment.
     aligned: Vec<[f64; 3]>,
     gradients: Vec<Mat3>,
-    rhs: Vec<f64>,
-    x: Vec<f64>,
     /// One vector per placed part: its centroid, then its shift.
     parts: Vec<[f64; 3]>,
+    /// Rotation of each unpaired target triangle.
+    rotations: Vec<Mat3>,
+    field: FieldWorkspace,
 }
 
 impl Transfer {
@@ -162,218 +236,75 @@ impl Transfer {
         };
         source_ref.check_no_degenerate_triangles("source reference")?;
         target_ref.check_no_degenerate_triangles("target reference")?;
-        let (n, tris) = (target_ref.num_vertices(), target_ref.triangles());
-        let m = n + tris.len();
         let source_frames_inv = frame_inverses(source_ref, "source reference")?;
-        let target_gradients = GradientOperators::new(target_ref, "target reference")?;
-        let unknowns = |t: usize| target_gradients.unknowns(t);
-
-        // Pairs grouped by target triangle.
-        let mut paired_ptr = vec![0usize; tris.len() + 1];
-        for p in correspondence.pairs() {
-            paired_ptr[p[1] as usize + 1] += 1;
-        }
-        for t in 0..tris.len() {
-            paired_ptr[t + 1] += paired_ptr[t];
-        }
-        let count = |t: usize| paired_ptr[t + 1] - paired_ptr[t];
-        // Each target triangle counts in proportion to its area (normalised
-        // by the mean area) and takes the area-weighted mean gradient of its
-        // partners: pair (s, t) weighs weight_t · area_s / Σ area_partners.
-        let target_areas: Vec<f64> = target_ref.triangle_areas();
-        let mean_area = target_areas.iter().sum::<f64>() / target_areas.len() as f64;
-        let weight: Vec<f64> = target_areas.iter().map(|a| a / mean_area).collect();
-        let source_areas = source_ref.triangle_areas();
-        let mut fill = paired_ptr.clone();
-        let mut paired = vec![(0u32, 0.0); correspondence.pairs().len()];
-        for p in correspondence.pairs() {
-            paired[fill[p[1] as usize]] = (p[0], source_areas[p[0] as usize]);
-            fill[p[1] as usize] += 1;
-        }
-        for t in 0..tris.len() {
-            let partners = &mut paired[paired_ptr[t]..paired_ptr[t + 1]];
-            let total: f64 = partners.iter().map(|p| p.1).sum();
-            partners.iter_mut().for_each(|p| p.1 *= weight[t] / total);
-        }
-
-        // Unpaired triangles that reach a paired one across edges take its
-        // deformation through the smoothness terms; only those that reach
-        // none need the rest pull (which would bias the others towards the
-        // identity: a rotated source would give a target not quite rotated).
-        let tri_edges = edges(tris);
-        let adjacency = TriangleAdjacency::from_edges(tris.len(), &tri_edges);
-        let mut reached: Vec<bool> = (0..tris.len()).map(|t| count(t) > 0).collect();
-        let mut stack: Vec<usize> = (0..tris.len()).filter(|&t| reached[t]).collect();
-        while let Some(t) = stack.pop() {
-            for &u in adjacency.of(t) {
-                if !std::mem::replace(&mut reached[u as usize], true) {
-                    stack.push(u as usize);
-                }
-            }
-        }
-
-        let mut builder = SymmetricBuilder::new(m, 12 * tris.len());
-        let mut rhs_rest = vec![0.0; 3 * m];
-        for t in 0..tris.len() {
-            if count(t) > 0 {
-                builder.add_gram(&unknowns(t), target_gradients.operator(t), weight[t]);
-            } else if !reached[t] {
-                let w = UNPAIRED_REST_WEIGHT * weight[t];
-                target_gradients.add_target(&mut builder, &mut rhs_rest, t, &IDENTITY, w);
-            }
-        }
-        for e in &tri_edges {
-            for (k, &a) in e.triangles.iter().enumerate() {
-                for &b in &e.triangles[k + 1..] {
-                    let (a, b) = (a as usize, b as usize);
-                    if count(a) == 0 || count(b) == 0 {
-                        target_gradients.add_difference(
-                            &mut builder,
-                            a,
-                            b,
-                            0.5 * (weight[a] + weight[b]),
-                        );
-                    }
-                }
-            }
-        }
-
-        // Translation: pins, else one held vertex per part, moved afterwards.
-        let components = connected_components(n, tris);
-        let mut pinned: Vec<usize> = Vec::new();
-        let mut values: Vec<[f64; 3]> = Vec::new();
-        let mut pinned_part = vec![false; components.count];
-        let mut is_pinned = vec![false; n];
-        for &(v, p) in &options.pins {
-            let v = v as usize;
-            if v >= n || is_pinned[v] {
-                return Err(Error::InvalidArgument(format!(
-                    "pinned target vertex {v} is out of range (the target has {n} vertices) or repeated"
-                )));
-            }
-            if p.iter().any(|c| !c.is_finite()) {
-                return Err(Error::InvalidArgument(format!(
-                    "pinned target vertex {v} has a non-finite position"
-                )));
-            }
-            is_pinned[v] = true;
-            pinned.push(v);
-            values.push(p);
-            if let Some(c) = components.of_vertex[v] {
-                pinned_part[c as usize] = true;
-            }
-        }
-        let mut anchored = pinned_part.clone();
-        for (v, c) in components.of_vertex.iter().enumerate() {
-            let hold = match c {
-                Some(c) => !std::mem::replace(&mut anchored[*c as usize], true),
-                None => !is_pinned[v],
-            };
-            if hold {
-                pinned.push(v);
-                values.push(target_ref.positions()[v]);
-            }
-        }
-        let system = PinnedSystem::new(&builder.build(), &pinned, options.factor)?;
-        let np = pinned.len();
-        let mut pinned_values = vec![0.0; 3 * np];
-        for (q, p) in values.iter().enumerate() {
-            for i in 0..3 {
-                pinned_values[i * np + q] = p[i];
-            }
-        }
-
-        // Placement of each part not held by a pin.
-        let mut vertex_weight = vec![0.0; n];
-        for (tri, a) in tris.iter().zip(&target_areas) {
-            for &v in tri {
-                vertex_weight[v as usize] += a / 3.0;
-            }
-        }
-        let mut placements: Vec<Placement> = Vec::new();
-        let mut part_slot = vec![u32::MAX; components.count];
-        for c in 0..components.count {
-            if !pinned_part[c] {
-                part_slot[c] = placements.len() as u32;
-                placements.push(Placement {
-                    pairs: Vec::new(),
-                    offsets: Vec::new(),
-                    pair_weight: 0.0,
-                    target_rest: [0.0; 3],
-                    total_weight: 0.0,
-                });
-            }
-        }
-        for (t, partners) in paired_ptr
-            .windows(2)
-            .map(|r| &paired[r[0]..r[1]])
-            .enumerate()
-        {
-            let slot = part_slot[components.of_triangle[t] as usize];
-            for &(s, w) in partners.iter().filter(|_| slot != u32::MAX) {
-                let pl = &mut placements[slot as usize];
-                let (cs, ct) = (
-                    centroid(source_ref.corners(s as usize)),
-                    centroid(target_ref.corners(t)),
-                );
-                pl.pairs.push((s, t as u32, w));
-                pl.offsets.push(std::array::from_fn(|i| ct[i] - cs[i]));
-                pl.pair_weight += w;
-            }
-        }
-        let vertex_part: Vec<u32> = components
-            .of_vertex
-            .iter()
-            .map(|c| c.map_or(u32::MAX, |c| part_slot[c as usize]))
+        let target_gradients = GradientOperators::spatial(target_ref, "target reference")?;
+        let target_areas = target_ref.triangle_areas();
+        let weights = normalised_by_mean(&target_areas);
+        let pairs = PairsByTarget::new(correspondence, &source_ref.triangle_areas(), &weights);
+        let tri_edges: Vec<Edge> = edges(target_ref.triangles());
+        let adjacency = TriangleAdjacency::from_edges(target_ref.num_triangles(), &tri_edges);
+        let paired: Vec<bool> = (0..target_ref.num_triangles())
+            .map(|t| pairs.is_paired(t))
             .collect();
-        let mut weights = vec![0.0; placements.len()];
-        for v in 0..n {
-            if vertex_part[v] != u32::MAX {
-                let pl = &mut placements[vertex_part[v] as usize];
-                for i in 0..3 {
-                    pl.target_rest[i] += vertex_weight[v] * target_ref.positions()[v][i];
-                }
-                weights[vertex_part[v] as usize] += vertex_weight[v];
-            }
-        }
-        for (pl, w) in placements.iter_mut().zip(weights) {
-            pl.total_weight = w;
-            pl.target_rest = pl.target_rest.map(|x| x / w);
-        }
-
+        let gap_distance = (options.gap_distance * target_ref.bounding_box_diagonal())
+            .max(crate::correspond::mean_edge_length(target_ref));
+        let is_gap = gaps(target_ref, &paired, gap_distance);
+        let field = RotationField::new(&adjacency, &paired, &weights)?;
+        let unpaired: Vec<u32> = (0..target_ref.num_triangles() as u32)
+            .filter(|&t| !paired[t as usize] && !is_gap[t as usize])
+            .collect();
+        let matrix = normal_equations(&target_gradients, &tri_edges, &is_gap, &weights);
+        let components = connected_components(target_ref.num_vertices(), target_ref.triangles());
+        let carried =
+            CarriedParts::new(target_ref.positions(), &components, &paired, &target_areas);
+        let mut pins = target_pins(&options.pins, target_ref.num_vertices())?;
+        let held_by_pin = pins.hold_free_parts(&components, |v| target_ref.positions()[v]);
+        let system = FactoredSystem::new(&matrix, &pins, options.factor)?;
+        let placement = Placement::new(
+            &components,
+            |c| !held_by_pin[c],
+            vertex_weights(
+                target_ref.num_vertices(),
+                target_ref.triangles(),
+                &target_areas,
+            ),
+        );
+        let anchors = part_anchors(&placement, &pairs, source_ref, target_ref);
         Ok(Self {
             alignment,
             source_ref: source_ref.clone(),
             source_frames_inv,
-            target_vertices: n,
-            target_triangles: tris.to_vec(),
             target_gradients,
-            paired_ptr,
-            paired,
-            rhs_rest,
+            pairs,
+            weights,
+            field,
+            unpaired,
+            carried,
+            target_rest: target_ref.positions().to_vec(),
             system,
-            pinned_values,
-            placements,
-            vertex_part,
-            vertex_weight,
+            placement,
+            anchors,
         })
     }
 
     /// The target's triangles, shared by every output.
     pub fn target_triangles(&self) -> &[[u32; 3]] {
-        &self.target_triangles
+        self.target_gradients.triangles()
+    }
+
+    fn target_vertices(&self) -> usize {
+        self.target_gradients.num_vertices()
     }
 
     /// Scratch for [`Transfer::apply_into`]; one per thread.
     pub fn workspace(&self) -> PoseWorkspace {
-        let m = self.target_vertices + self.target_triangles.len();
         PoseWorkspace {
-            solve: self.system.workspace(3),
+            solve: self.system.workspace(),
             aligned: Vec::new(),
             gradients: vec![[[0.0; 3]; 3]; self.source_ref.num_triangles()],
-            rhs: vec![0.0; 3 * m],
-            x: vec![0.0; 3 * m],
-            parts: vec![[0.0; 3]; self.placements.len()],
+            parts: vec![[0.0; 3]; self.placement.count()],
+            rotations: vec![identity(); self.target_triangles().len()],
+            field: self.field.workspace(),
         }
     }
 
@@ -391,7 +322,7 @@ impl Transfer {
     /// [`Error::Mismatch`] if `pose` does not have the source's connectivity.
     pub fn apply(&self, pose: &Mesh3) -> Result<Vec<[f64; 3]>> {
         self.check_pose(pose)?;
-        let mut out = vec![[0.0; 3]; self.target_vertices];
+        let mut out = vec![[0.0; 3]; self.target_vertices()];
         self.apply_into(pose.positions(), &mut out, &mut self.workspace());
         Ok(out)
     }
@@ -410,7 +341,7 @@ impl Transfer {
             .map_init(
                 || self.workspace(),
                 |ws, pose| {
-                    let mut out = vec![[0.0; 3]; self.target_vertices];
+                    let mut out = vec![[0.0; 3]; self.target_vertices()];
                     self.apply_into(pose.positions(), &mut out, ws);
                     out
                 },
@@ -432,11 +363,9 @@ impl Transfer {
         );
         assert_eq!(
             out.len(),
-            self.target_vertices,
+            self.target_vertices(),
             "output has the wrong number of vertices"
         );
-        let n = self.target_vertices;
-        let m = n + self.target_triangles.len();
         let mut aligned = std::mem::take(&mut ws.aligned);
         let pose = if self.alignment.is_identity() {
             pose
@@ -453,31 +382,69 @@ impl Transfer {
         {
             *Q = deformation_gradient(*V_inv, tri.map(|v| pose[v as usize]));
         }
-        ws.rhs.copy_from_slice(&self.rhs_rest);
-        for t in 0..self.target_triangles.len() {
-            let sources = &self.paired[self.paired_ptr[t]..self.paired_ptr[t + 1]];
-            if sources.is_empty() {
-                continue;
+        ws.solve.rhs.fill(0.0);
+        for t in 0..self.target_triangles().len() {
+            if let Some(sum) = self.partner_gradient(t, &ws.gradients) {
+                self.target_gradients
+                    .add_fit_rhs(&mut ws.solve.rhs, t, &sum, 1.0);
             }
-            let mut sum = [[0.0; 3]; 3];
-            for &(s, w) in sources {
-                let Q = &ws.gradients[s as usize];
-                for i in 0..3 {
-                    for j in 0..3 {
-                        sum[i][j] += w * Q[i][j];
-                    }
-                }
-            }
-            self.target_gradients
-                .add_target_rhs(&mut ws.rhs, t, &sum, 1.0);
         }
-        self.system
-            .solve(&ws.rhs, Some(&self.pinned_values), &mut ws.x, &mut ws.solve);
+        if !self.unpaired.is_empty() {
+            let gradients = &ws.gradients;
+            self.field.fill(
+                |t| closest_rotation(&self.partner_gradient(t, gradients).unwrap_or(identity())),
+                &mut ws.rotations,
+                &mut ws.field,
+            );
+            for &t in &self.unpaired {
+                let t = t as usize;
+                self.target_gradients.add_fit_rhs(
+                    &mut ws.solve.rhs,
+                    t,
+                    &ws.rotations[t],
+                    self.weights[t],
+                );
+            }
+        }
+        self.system.solve(&mut ws.solve);
         for (v, o) in out.iter_mut().enumerate() {
-            *o = [ws.x[v], ws.x[m + v], ws.x[2 * m + v]];
+            *o = self.system.position(&ws.solve, v);
         }
         self.place(pose, &ws.gradients, out, &mut ws.parts);
+        self.carried.carry(&self.target_rest, out);
         ws.aligned = aligned;
+    }
+
+    /// Number of separate parts of the target carried rigidly by the
+    /// surface around them (see [`CarriedParts`]).
+    pub fn carried_parts(&self) -> usize {
+        self.carried.len()
+    }
+
+    /// Number of target triangles without a partner nearby (held to their
+    /// rest shape, turned by the spread rotation).
+    pub fn unpaired_triangles(&self) -> usize {
+        self.unpaired.len()
+    }
+
+    /// The weighted sum of the gradients of triangle `t`'s partners (its
+    /// target, times its weight), `None` without partners.
+    #[inline]
+    fn partner_gradient(&self, t: usize, gradients: &[Mat3]) -> Option<Mat3> {
+        let sources = self.pairs.of(t);
+        if sources.is_empty() {
+            return None;
+        }
+        let mut sum = [[0.0; 3]; 3];
+        for &(s, w) in sources {
+            let Q = &gradients[s as usize];
+            for i in 0..3 {
+                for j in 0..3 {
+                    sum[i][j] += w * Q[i][j];
+                }
+            }
+        }
+        Some(sum)
     }
 
     /// Moves each unpinned part so that its paired triangles' centroids
@@ -493,40 +460,128 @@ impl Transfer {
         out: &mut [[f64; 3]],
         parts: &mut [[f64; 3]],
     ) {
-        parts.fill([0.0; 3]);
-        for (v, p) in out.iter().enumerate() {
-            let c = self.vertex_part[v];
-            if c != u32::MAX {
-                for i in 0..3 {
-                    parts[c as usize][i] += self.vertex_weight[v] * p[i];
-                }
-            }
-        }
-        for (pl, part) in self.placements.iter().zip(parts.iter_mut()) {
-            if pl.pairs.is_empty() {
-                *part = std::array::from_fn(|i| pl.target_rest[i] - part[i] / pl.total_weight);
+        self.placement.centroids(out, parts);
+        for (anchor, part) in self.anchors.iter().zip(parts.iter_mut()) {
+            if anchor.pairs.is_empty() {
+                *part = std::array::from_fn(|i| anchor.target_rest[i] - part[i]);
                 continue;
             }
             let mut shift = [0.0; 3];
-            for (&(s, t, w), o) in pl.pairs.iter().zip(&pl.offsets) {
+            for (&(s, t, w), o) in anchor.pairs.iter().zip(&anchor.offsets) {
                 let cs =
                     centroid(self.source_ref.triangles()[s as usize].map(|v| pose[v as usize]));
-                let ct = centroid(self.target_triangles[t as usize].map(|v| out[v as usize]));
+                let ct = centroid(self.target_triangles()[t as usize].map(|v| out[v as usize]));
                 let Q = &gradients[s as usize];
                 for i in 0..3 {
                     let moved = Q[i][0] * o[0] + Q[i][1] * o[1] + Q[i][2] * o[2];
                     shift[i] += w * (cs[i] + moved - ct[i]);
                 }
             }
-            *part = shift.map(|x| x / pl.pair_weight);
+            *part = shift.map(|x| x / anchor.pair_weight);
         }
-        for (v, p) in out.iter_mut().enumerate() {
-            let c = self.vertex_part[v];
-            if c != u32::MAX {
-                for i in 0..3 {
-                    p[i] += parts[c as usize][i];
-                }
-            }
+        self.placement.translate(out, parts);
+    }
+}
+
+/// The normal matrix over the target's vertices and fourth vertices: every
+/// triangle fitted to a target (its partners' gradient, or its rest shape
+/// turned), except the gaps of the matching, which take their neighbours'
+/// deformation through smoothness across their edges.
+fn normal_equations(
+    operators: &GradientOperators<3, 4>,
+    tri_edges: &[Edge],
+    is_gap: &[bool],
+    weights: &[f64],
+) -> crate::solve::SymmetricMatrix {
+    let n = operators.triangles().len();
+    let mut builder = SymmetricBuilder::new(operators.num_unknowns(), 12 * n);
+    for t in 0..n {
+        if !is_gap[t] {
+            operators.add_fit(&mut builder, t, weights[t]);
         }
     }
+    operators.add_smoothness(&mut builder, tri_edges, weights, 1.0, |a, b| {
+        is_gap[a] || is_gap[b]
+    });
+    builder.build()
+}
+
+/// Which unpaired triangles of `mesh` have their centroid within `distance`
+/// of a paired triangle's centroid.
+fn gaps(mesh: &Mesh3, paired: &[bool], distance: f64) -> Vec<bool> {
+    use rstar::primitives::GeomWithData;
+    let centroids: Vec<[f64; 3]> = (0..mesh.num_triangles())
+        .map(|t| centroid(mesh.corners(t)))
+        .collect();
+    let items: Vec<GeomWithData<[f64; 3], ()>> = centroids
+        .iter()
+        .zip(paired)
+        .filter(|(_, p)| **p)
+        .map(|(c, _)| GeomWithData::new(*c, ()))
+        .collect();
+    let tree = rstar::RTree::bulk_load(items);
+    let d2 = distance * distance;
+    centroids
+        .par_iter()
+        .zip(paired)
+        .map(|(c, &p)| {
+            !p && tree
+                .nearest_neighbor_iter_with_distance_2(*c)
+                .next()
+                .is_some_and(|(_, d)| d <= d2)
+        })
+        .collect()
+}
+
+/// The user's pins, checked.
+fn target_pins(pins: &[(u32, [f64; 3])], n: usize) -> Result<Pins<3>> {
+    let mut out = Pins::new(n);
+    for &(v, p) in pins {
+        let v = v as usize;
+        if v >= n || out.is_pinned(v) {
+            return Err(Error::InvalidArgument(format!(
+                "pinned target vertex {v} is out of range (the target has {n} vertices) or repeated"
+            )));
+        }
+        if p.iter().any(|c| !c.is_finite()) {
+            return Err(Error::InvalidArgument(format!(
+                "pinned target vertex {v} has a non-finite position"
+            )));
+        }
+        let pinned = out.pin(v, p);
+        debug_assert!(pinned);
+    }
+    Ok(out)
+}
+
+/// For each placed part: its pairs with their rest offsets, and its rest
+/// centroid.
+fn part_anchors(
+    placement: &Placement<3>,
+    pairs: &PairsByTarget,
+    source_ref: &Mesh3,
+    target_ref: &Mesh3,
+) -> Vec<PartAnchor> {
+    let mut anchors = vec![PartAnchor::default(); placement.count()];
+    for (t, tri) in target_ref.triangles().iter().enumerate() {
+        let Some(part) = placement.part_of_vertex(tri[0] as usize) else {
+            continue;
+        };
+        let anchor = &mut anchors[part];
+        for &(s, w) in pairs.of(t) {
+            let (cs, ct) = (
+                centroid(source_ref.corners(s as usize)),
+                centroid(target_ref.corners(t)),
+            );
+            anchor.pairs.push((s, t as u32, w));
+            anchor.offsets.push(std::array::from_fn(|i| ct[i] - cs[i]));
+            anchor.pair_weight += w;
+        }
+    }
+    let mut rest = vec![[0.0; 3]; placement.count()];
+    placement.centroids(target_ref.positions(), &mut rest);
+    for (anchor, c) in anchors.iter_mut().zip(rest) {
+        anchor.target_rest = c;
+    }
+    anchors
 }

@@ -117,8 +117,10 @@ pub struct GltfBase<'a, const D: usize> {
     /// `#T` triangles, counter-clockwise seen from the front.
     pub triangles: &'a [[u32; 3]],
     /// `#T × 3` texture coordinates `(u, v)`, one per triangle corner
-    /// (OBJ's convention: v up; written with glTF's v down).
-    pub corner_uvs: Option<&'a [[[f64; 2]; 3]]>,
+    /// (OBJ's convention: v up; written with glTF's v down), as
+    /// [`MeshFile::triangle_corner_uvs`](crate::io::MeshFile::triangle_corner_uvs)
+    /// gives them.
+    pub corner_uvs: Option<&'a [[[f32; 2]; 3]]>,
 }
 
 impl<'a, const D: usize> GltfBase<'a, D> {
@@ -132,22 +134,30 @@ impl<'a, const D: usize> GltfBase<'a, D> {
     }
 
     /// Adds texture coordinates per triangle corner.
-    pub fn with_corner_uvs(mut self, corner_uvs: &'a [[[f64; 2]; 3]]) -> Self {
+    pub fn with_corner_uvs(mut self, corner_uvs: &'a [[[f32; 2]; 3]]) -> Self {
         self.corner_uvs = Some(corner_uvs);
         self
     }
 }
 
 /// About how many bytes a GLB of `frames` frames of a mesh with `vertices`
-/// vertices and `triangles` triangles weighs: 24 bytes per vertex and frame
-/// plus the base mesh, the animation and the JSON (texture seams, which split
-/// vertices, add a little).
-pub fn estimate_glb_bytes(vertices: usize, triangles: usize, frames: usize, uvs: bool) -> u64 {
+/// vertices, `triangles` triangles and `D` coordinates weighs: 24 bytes per
+/// vertex and frame in space, 12 in the plane, plus the base mesh, the
+/// animation and the JSON (texture seams, which split vertices, add a
+/// little).
+pub fn estimate_glb_bytes<const D: usize>(
+    vertices: usize,
+    triangles: usize,
+    frames: usize,
+    uvs: bool,
+) -> u64 {
     let (v, t, f) = (vertices as u64, triangles as u64, frames as u64);
-    let base = 12 * t + v * (24 + if uvs { 8 } else { 0 });
+    let per_frame = if D == 3 { 24 } else { 12 };
+    let planar_normals = if D == 3 { 0 } else { 12 * v };
+    let base = 12 * t + v * (24 + if uvs { 8 } else { 0 }) + planar_normals;
     let animation = 4 * f * (f + 1);
     let json = 1500 + 300 * f;
-    base + 24 * v * f + animation + json
+    base + per_frame * v * f + animation + json
 }
 
 /// Writes a GLB atomically (see [`write_atomic`]): the base mesh, one morph
@@ -785,7 +795,7 @@ fn split_vertices<const D: usize>(
         )));
     }
     // glTF's v runs down the image, OBJ's up.
-    let gltf_uv = |uv: [f64; 2]| [uv[0] as f32, (1.0 - uv[1]) as f32];
+    let gltf_uv = |uv: [f32; 2]| [uv[0], 1.0 - uv[1]];
     let mut first: Vec<Option<[f32; 2]>> = vec![None; n];
     for (t, c) in base.triangles.iter().zip(corner_uvs) {
         for k in 0..3 {

@@ -369,6 +369,10 @@ impl MeshFile {
                 Slot::Normal(n, k) => normals[n as usize][k as usize],
             };
             match p.coding {
+                // A value that was not a number in the file stays as written.
+                Coding::Text if !value.is_finite() => {
+                    buf.extend_from_slice(&self.bytes[p.bytes.clone()])
+                }
                 Coding::Text => push_f64(&mut buf, value),
                 Coding::Appended => {
                     buf.push(b' ');
@@ -470,7 +474,7 @@ fn newell_normal(vertices: &[u32], positions: &[[f64; 3]]) -> [f64; 3] {
 /// (unchanged when either is zero or they coincide; for opposite
 /// directions, the half turn about an axis orthogonal to `from`).
 fn turn(v: [f64; 3], from: [f64; 3], to: [f64; 3]) -> [f64; 3] {
-    if from == to || norm(from) == 0.0 || norm(to) == 0.0 {
+    if from == to || v.iter().any(|x| !x.is_finite()) || norm(from) == 0.0 || norm(to) == 0.0 {
         return v;
     }
     let c = dot(from, to);

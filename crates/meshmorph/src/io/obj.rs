@@ -101,7 +101,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
                 let mut n = [0.0; 3];
                 let mut count = 0;
                 for tok in toks.take(3) {
-                    n[count] = parse_f64(tok).filter(|x| x.is_finite()).ok_or_else(|| {
+                    n[count] = parse_f64(tok).ok_or_else(|| {
                         err(
                             line_no,
                             format!("`{}` is not a normal coordinate", show(tok)),

@@ -35,6 +35,10 @@ pub struct GifOptions {
     pub boomerang: bool,
     /// Loop forever (true) rather than play once.
     pub loop_forever: bool,
+    /// Anti-aliasing of planar animations: each pixel is the mean of
+    /// `supersample²` samples (3; 1 for none). Grids of meshes in space use
+    /// [`GridOptions::supersample`](super::GridOptions::supersample).
+    pub supersample: u32,
 }
 
 impl Default for GifOptions {
@@ -47,6 +51,7 @@ impl Default for GifOptions {
             hold_ends: Duration::from_millis(500),
             boomerang: true,
             loop_forever: true,
+            supersample: 3,
         }
     }
 }
@@ -260,14 +265,27 @@ pub fn write_gif_2d<F: AsRef<[[f64; 2]]>>(
             first.len()
         )));
     }
-    let view = View2d::fitting(
+    // Drawn `s` times larger, then reduced: anti-aliased.
+    let s = options.supersample.clamp(1, 8);
+    let size = View2d::fitting(
         frames.iter().map(AsRef::as_ref),
         options.width,
         options.height,
         options.margin_px,
     );
+    let (width, height) = (size.width, size.height);
+    let view = View2d::fitting(
+        frames.iter().map(AsRef::as_ref),
+        width.saturating_mul(s),
+        Some(height.saturating_mul(s)),
+        options.margin_px.saturating_mul(s),
+    );
     let edges = EdgeSets::new(triangles, first.len());
-    let mode = style.resolve_edges(frames.iter().map(AsRef::as_ref), triangles, view.scale);
+    let mode = style.resolve_edges(
+        frames.iter().map(AsRef::as_ref),
+        triangles,
+        view.scale / f64::from(s),
+    );
     let mut canvas = Canvas::with_style(view.width, view.height, style);
     let palette = canvas.palette.clone();
     let mut scratch = Default::default();
@@ -285,13 +303,19 @@ pub fn write_gif_2d<F: AsRef<[[f64; 2]]>>(
                 &view,
                 style,
                 &mut scratch,
+                s,
             );
-            (canvas.pixels.clone(), duration)
+            let pixels = if s == 1 {
+                canvas.pixels.clone()
+            } else {
+                super::resample::downsample(&canvas, s, width, height).pixels
+            };
+            (pixels, duration)
         });
     write_gif(
         path,
-        view.width,
-        view.height,
+        width,
+        height,
         &palette,
         options.loop_forever,
         pictures,
@@ -403,12 +427,27 @@ mod tests {
         let path = dir.path().join("bar.gif");
         let (_, t) = bar(8, 0.0);
         let frames: Vec<Vec<[f64; 2]>> = (0..5).map(|k| bar(8, 0.5 * f64::from(k)).0).collect();
+        // Anti-aliased (the default): the same size, and blended colours
+        // along the edges besides background, fill and edge.
+        let aa = dir.path().join("aa.gif");
         let options = GifOptions {
             width: 160,
             ..GifOptions::default()
         };
+        write_gif_2d(&aa, &frames, &t, &options, &Style2d::default()).unwrap();
+        let (aw, ah, smooth) = decode(&aa);
+        let mut colours = smooth[0].1.clone();
+        colours.sort_unstable();
+        colours.dedup();
+        assert!(colours.len() > 3, "{colours:?}");
+        // Without anti-aliasing: exactly the picture draw_mesh_2d makes.
+        let options = GifOptions {
+            supersample: 1,
+            ..options
+        };
         write_gif_2d(&path, &frames, &t, &options, &Style2d::default()).unwrap();
         let (w, h, decoded) = decode(&path);
+        assert_eq!((aw, ah), (w, h));
         let view = View2d::fitting(frames.iter().map(Vec::as_slice), 160, None, 16);
         assert_eq!((w, h), (160, view.height as u16));
         // Boomerang: 0 1 2 3 4 3 2 1.

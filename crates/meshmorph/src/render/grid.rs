@@ -38,6 +38,9 @@ pub struct GridOptions {
     pub up: [f64; 3],
     /// The palette of the picture ([`Palette::standard`]).
     pub palette: Palette,
+    /// Anti-aliasing: each pixel is the mean of `supersample²` samples (3;
+    /// 1 for none).
+    pub supersample: u32,
 }
 
 impl Default for GridOptions {
@@ -50,6 +53,7 @@ impl Default for GridOptions {
             direction: cam.forward,
             up: cam.up,
             palette: Palette::standard(),
+            supersample: 3,
         }
     }
 }
@@ -72,6 +76,8 @@ pub struct GridLayout {
     pub cameras: Vec<Camera3d>,
     /// The palette of the pictures.
     pub palette: Palette,
+    /// Samples per pixel in each direction (anti-aliasing).
+    pub supersample: u32,
 }
 
 impl GridLayout {
@@ -120,6 +126,7 @@ impl GridLayout {
             margin_px: options.margin_px,
             cameras,
             palette: options.palette.clone(),
+            supersample: options.supersample.clamp(1, 8),
         }
     }
 
@@ -146,7 +153,8 @@ impl GridLayout {
     /// Rows beyond those the layout was fitted with are left empty.
     pub fn render(&self, rows: &[GridRow<'_>]) -> Canvas {
         let (w, h) = self.size();
-        let mut canvas = Canvas::new(w, h, self.palette.clone());
+        let s = self.supersample.max(1);
+        let mut canvas = Canvas::new(w * s, h * s, self.palette.clone());
         for ((r, row), camera) in rows.iter().enumerate().zip(&self.cameras) {
             for (k, pose) in row.poses.iter().enumerate() {
                 let cell = self.cell(r as u32, k as u32);
@@ -154,15 +162,19 @@ impl GridLayout {
                     .margin_px
                     .min(cell.width.min(cell.height).saturating_sub(1) / 2);
                 let inner = Rect {
-                    x: cell.x + m,
-                    y: cell.y + m,
-                    width: cell.width - 2 * m,
-                    height: cell.height - 2 * m,
+                    x: (cell.x + m) * s,
+                    y: (cell.y + m) * s,
+                    width: (cell.width - 2 * m) * s,
+                    height: (cell.height - 2 * m) * s,
                 };
                 draw_mesh_3d(&mut canvas, pose, row.triangles, camera, inner, &row.style);
             }
         }
-        canvas
+        if s == 1 {
+            canvas
+        } else {
+            super::resample::downsample(&canvas, s, w, h)
+        }
     }
 }
 

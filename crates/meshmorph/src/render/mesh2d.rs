@@ -39,6 +39,7 @@ pub fn draw_mesh_2d(
         view,
         style,
         &mut scratch,
+        1,
     );
 }
 
@@ -63,6 +64,7 @@ pub(crate) fn draw_prepared(
     view: &View2d,
     style: &Style2d,
     scratch: &mut Scratch,
+    line_width: u32,
 ) {
     let Scratch { px, fixed } = scratch;
     px.clear();
@@ -93,7 +95,13 @@ pub(crate) fn draw_prepared(
     let list = if all { &edges.all } else { &edges.boundary };
     for &[a, b] in list {
         if (a as usize) < n && (b as usize) < n {
-            canvas.draw_line(px[a as usize], px[b as usize], slot::EDGE, None);
+            draw_wide_line(
+                canvas,
+                px[a as usize],
+                px[b as usize],
+                slot::EDGE,
+                line_width,
+            );
         }
     }
     if all {
@@ -104,9 +112,26 @@ pub(crate) fn draw_prepared(
         {
             for k in 0..3 {
                 let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
-                canvas.draw_line(px[a], px[b], slot::FLIPPED_EDGE, None);
+                draw_wide_line(canvas, px[a], px[b], slot::FLIPPED_EDGE, line_width);
             }
         }
+    }
+}
+
+/// A line `width` pixels wide: that many one-pixel lines side by side,
+/// offset across the line (the edges of a supersampled picture).
+fn draw_wide_line(canvas: &mut Canvas, a: [f64; 2], b: [f64; 2], index: u8, width: u32) {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len = dx.hypot(dy);
+    if width <= 1 || len.is_nan() || len <= 0.0 {
+        canvas.draw_line(a, b, index, None);
+        return;
+    }
+    let n = [-dy / len, dx / len];
+    for k in 0..width {
+        let o = f64::from(k) - f64::from(width - 1) / 2.0;
+        let shift = |p: [f64; 2]| [p[0] + o * n[0], p[1] + o * n[1]];
+        canvas.draw_line(shift(a), shift(b), index, None);
     }
 }
 

@@ -25,7 +25,9 @@
 //! [`Palette`] (layout in [`slot`] and [`Ramp`]), so GIF frames need no
 //! colour quantisation and encode fast. The rasteriser samples pixel
 //! centres with an exact fill rule: a tessellation is drawn with no gaps
-//! between triangles and no pixel drawn twice. There is no anti-aliasing.
+//! between triangles and no pixel drawn twice. Grids of meshes in space are
+//! anti-aliased by supersampling ([`GridOptions::supersample`]): drawn larger,
+//! averaged in linear light and matched to the nearest palette colour.
 //!
 //! ```no_run
 //! use meshmorph::render::{svg_frame, write_gif_2d, GifOptions, Style2d, View2d};
@@ -39,14 +41,13 @@
 //! ```
 
 mod canvas;
-#[cfg(test)]
-mod check;
 mod gif;
 mod grid;
 mod mesh2d;
 mod palette;
 mod png;
 mod raster;
+mod resample;
 mod shade3d;
 mod style;
 mod svg;

@@ -33,6 +33,10 @@ pub mod slot {
     pub const EDGE_3D: u8 = 8;
 }
 
+/// The first palette entry of the blends of the flat colours (see
+/// [`Palette::with_style`]).
+const BLENDS_FIRST: u8 = 9;
+
 /// A run of palette entries holding shades of one colour, darkest first:
 /// entry `first + k` is lit at level `k / (len - 1)`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -123,13 +127,35 @@ impl Palette {
         Palette { colors }.with_style(&Style2d::default())
     }
 
-    /// This palette with the flat [`slot`]s set to the colours of `style`.
+    /// This palette with the flat [`slot`]s set to the colours of `style`,
+    /// and entries 9 to 63 to blends of them (in linear light), so that
+    /// anti-aliased planar pictures keep smooth edges: background to fill,
+    /// fill to edge, background to edge, and the flipped colours likewise.
     pub fn with_style(mut self, style: &Style2d) -> Self {
         self.colors[slot::BACKGROUND as usize] = style.background;
         self.colors[slot::FILL as usize] = style.fill;
         self.colors[slot::EDGE as usize] = style.edge;
         self.colors[slot::FLIPPED_FILL as usize] = style.flipped_fill;
         self.colors[slot::FLIPPED_EDGE as usize] = style.flipped_edge;
+        let pairs: [(Rgb, Rgb, u8); 6] = [
+            (style.background, style.fill, 7),
+            (style.fill, style.edge, 15),
+            (style.background, style.edge, 15),
+            (style.flipped_fill, style.flipped_edge, 7),
+            (style.background, style.flipped_fill, 5),
+            (style.fill, style.flipped_fill, 5),
+        ];
+        let mut next = BLENDS_FIRST as usize;
+        for (a, b, steps) in pairs {
+            for k in 1..=steps {
+                let t = f64::from(k) / f64::from(steps + 1);
+                self.colors[next] = std::array::from_fn(|c| {
+                    from_linear((1.0 - t) * to_linear(a[c]) + t * to_linear(b[c]))
+                });
+                next += 1;
+            }
+        }
+        debug_assert!(next <= 64);
         self
     }
 
@@ -168,7 +194,7 @@ pub(crate) fn hex(c: Rgb) -> String {
     format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
 }
 
-fn to_linear(c: u8) -> f64 {
+pub(crate) fn to_linear(c: u8) -> f64 {
     let c = f64::from(c) / 255.0;
     if c <= 0.04045 {
         c / 12.92
@@ -177,7 +203,7 @@ fn to_linear(c: u8) -> f64 {
     }
 }
 
-fn from_linear(l: f64) -> u8 {
+pub(crate) fn from_linear(l: f64) -> u8 {
     let l = l.clamp(0.0, 1.0);
     let c = if l <= 0.003_130_8 {
         12.92 * l

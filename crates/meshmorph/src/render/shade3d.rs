@@ -157,6 +157,74 @@ impl Projector {
     }
 }
 
+/// Triangles meeting at a larger angle than this (60°, as its cosine) are
+/// shaded apart: a crease.
+const CREASE_COS: f64 = 0.5;
+
+/// The unit normal at each corner of each triangle: the area-weighted mean
+/// of the normals of the triangles around the corner's vertex that meet
+/// this triangle at less than 60°. Smooth surfaces shade smoothly; creases
+/// (a cube's edges) stay sharp. Zero for a degenerate triangle.
+fn corner_normals(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[[f64; 3]; 3]> {
+    let area_normals: Vec<[f64; 3]> = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| positions[i as usize]);
+            cross(sub(b, a), sub(c, a))
+        })
+        .collect();
+    let units: Vec<Option<[f64; 3]>> = area_normals.iter().map(|&n| normalized(n)).collect();
+    // Triangles around each vertex, as offsets into one list.
+    let mut start = vec![0usize; positions.len() + 1];
+    for t in triangles {
+        for &v in t {
+            start[v as usize + 1] += 1;
+        }
+    }
+    for v in 0..positions.len() {
+        start[v + 1] += start[v];
+    }
+    let mut next = start.clone();
+    let mut around = vec![0u32; start[positions.len()]];
+    for (k, t) in triangles.iter().enumerate() {
+        for &v in t {
+            around[next[v as usize]] = k as u32;
+            next[v as usize] += 1;
+        }
+    }
+    triangles
+        .iter()
+        .zip(&units)
+        .map(|(t, own)| {
+            t.map(|v| {
+                let Some(own) = own else {
+                    return [0.0; 3];
+                };
+                let mut sum = [0.0; 3];
+                for &k in &around[start[v as usize]..start[v as usize + 1]] {
+                    let k = k as usize;
+                    // Either orientation: both sides are lit the same.
+                    let Some(u) = units[k] else { continue };
+                    let d = dot(u, *own);
+                    if d.abs() >= CREASE_COS {
+                        let n = area_normals[k];
+                        sum = [0, 1, 2].map(|c| sum[c] + d.signum() * n[c]);
+                    }
+                }
+                normalized(sum).unwrap_or(*own)
+            })
+        })
+        .collect()
+}
+
+/// The threshold of pixel `(x, y)` in a 4 × 4 ordered (Bayer) dither, in
+/// `(0, 1)`.
+#[inline]
+fn bayer(x: usize, y: usize) -> f64 {
+    const M: [[u8; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
+    (f64::from(M[y % 4][x % 4]) + 0.5) / 16.0
+}
+
 fn normalized(v: [f64; 3]) -> Option<[f64; 3]> {
     let n = norm(v);
     (n > 0.0 && n.is_finite()).then(|| scale(v, 1.0 / n))
@@ -209,9 +277,10 @@ impl Style3d {
 
 /// Draws a mesh in space into `viewport` of `canvas` through `camera`:
 /// hidden surfaces removed with a depth buffer (of the viewport, cleared
-/// on each call), each triangle flat shaded by Lambert's law from its
-/// normal, quantised into `style.ramp`. Both sides of a triangle are lit
-/// the same, so open meshes and inconsistent orientations look right.
+/// on each call), smooth shaded (Gouraud: Lambert's law at the vertices from
+/// area-weighted vertex normals, interpolated across each triangle) and
+/// dithered (4 × 4 ordered dither) into the shades of `style.ramp`. Both
+/// sides are lit the same, so open meshes look right.
 ///
 /// Nothing is drawn outside `viewport` (clipped to the canvas). Triangles
 /// with an index out of range or a non-finite coordinate are skipped.
@@ -248,28 +317,54 @@ pub fn draw_mesh_3d(
     };
     let w = canvas.width as usize;
     let n = positions.len();
-    for t in triangles {
-        if !super::style::valid(t, n) {
-            continue;
-        }
+    // Gouraud shading: Lambert's law at each vertex from its area-weighted
+    // normal, interpolated over the triangle, then an ordered dither between
+    // the ramp's two nearest shades (no bands, even with 32 shades).
+    let finite: Vec<[f64; 3]> = positions
+        .iter()
+        .map(|p| {
+            if p.iter().all(|x| x.is_finite()) {
+                *p
+            } else {
+                [0.0; 3]
+            }
+        })
+        .collect();
+    let valid: Vec<[u32; 3]> = triangles
+        .iter()
+        .copied()
+        .filter(|t| super::style::valid(t, n))
+        .collect();
+    let shade: Vec<[f64; 3]> = corner_normals(&finite, &valid)
+        .iter()
+        .map(|c| c.map(|nn| ambient + (1.0 - ambient) * dot(nn, light).abs()))
+        .collect();
+    let levels = f64::from(style.ramp.len.max(1) - 1);
+    let first = style.ramp.first;
+    for (t, corner_shade) in valid.iter().zip(&shade) {
         let [a, b, c] = t.map(|i| i as usize);
         let normal = cross(
             sub(positions[b], positions[a]),
             sub(positions[c], positions[a]),
         );
-        let lambert = normalized(normal).map_or(0.0, |nn| dot(nn, light).abs());
-        let color = style.ramp.index(ambient + (1.0 - ambient) * lambert);
+        // A triangle without a normal keeps the flat ambient shade.
+        let flat = normalized(normal).is_none();
         let (pa, pb, pc) = (q[a], q[b], q[c]);
-        // Depth as a plane over the screen, clamped to the corners' range
-        // (slivers seen edge-on have wild gradients).
+        // Depth and shade as planes over the screen, clamped to the corners'
+        // range (slivers seen edge-on have wild gradients).
         let det = (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pc[0] - pa[0]) * (pb[1] - pa[1]);
         if det == 0.0 || !det.is_finite() {
             continue;
         }
-        let gx = ((pb[2] - pa[2]) * (pc[1] - pa[1]) - (pc[2] - pa[2]) * (pb[1] - pa[1])) / det;
-        let gy = ((pc[2] - pa[2]) * (pb[0] - pa[0]) - (pb[2] - pa[2]) * (pc[0] - pa[0])) / det;
-        let zmin = pa[2].min(pb[2]).min(pc[2]) as f32;
-        let zmax = pa[2].max(pb[2]).max(pc[2]) as f32;
+        let plane = |va: f64, vb: f64, vc: f64| {
+            let gx = ((vb - va) * (pc[1] - pa[1]) - (vc - va) * (pb[1] - pa[1])) / det;
+            let gy = ((vc - va) * (pb[0] - pa[0]) - (vb - va) * (pc[0] - pa[0])) / det;
+            (gx, gy, va.min(vb).min(vc), va.max(vb).max(vc))
+        };
+        let (gx, gy, zmin, zmax) = plane(pa[2], pb[2], pc[2]);
+        let (zmin, zmax) = (zmin as f32, zmax as f32);
+        let [sa, sb, sc] = if flat { [ambient; 3] } else { *corner_shade };
+        let (hx, hy, smin, smax) = plane(sa, sb, sc);
         let gx32 = gx as f32;
         let pixels = &mut canvas.pixels;
         let corners = [[pa[0], pa[1]], [pb[0], pb[1]], [pc[0], pc[1]]];
@@ -278,15 +373,18 @@ pub fn draw_mesh_3d(
             corners,
             &clip,
             |y, x0, x1| {
-                let row_z =
-                    (pa[2] + gx * (x0 as f64 + 0.5 - pa[0]) + gy * (y as f64 + 0.5 - pa[1])) as f32;
+                let (dx, dy) = (x0 as f64 + 0.5 - pa[0], y as f64 + 0.5 - pa[1]);
+                let row_z = (pa[2] + gx * dx + gy * dy) as f32;
+                let row_s = sa + hx * dx + hy * dy;
                 let zrow = &mut depth[(y - vy0) * vw..(y - vy0 + 1) * vw];
                 let prow = &mut pixels[y * w..(y + 1) * w];
                 for (i, x) in (x0..x1).enumerate() {
                     let z = (row_z + gx32 * i as f32).clamp(zmin, zmax);
                     if z < zrow[x - vx0] {
                         zrow[x - vx0] = z;
-                        prow[x] = color;
+                        let s = (row_s + hx * i as f64).clamp(smin, smax).clamp(0.0, 1.0);
+                        let level = (s * levels + bayer(x, y)).floor().clamp(0.0, levels);
+                        prow[x] = first.saturating_add(level as u8);
                     }
                 }
             },
@@ -389,11 +487,15 @@ pub(crate) mod tests {
         let mut canvas = Canvas::new(40, 40, Palette::standard());
         let vp = canvas.bounds();
         draw_mesh_3d(&mut canvas, &p, &t, &cam, vp, &Style3d::default());
-        // Front view of a cube: one face fills the viewport, one shade.
-        let first = canvas.pixels[0];
-        assert!(canvas.pixels.iter().all(|&i| i == first));
+        // Front view of a cube: one face fills the viewport, one shade (the
+        // creases keep the sides' normals out), dithered between two
+        // neighbouring levels.
+        let lo = *canvas.pixels.iter().min().unwrap();
+        let hi = *canvas.pixels.iter().max().unwrap();
+        assert!(hi - lo <= 1, "{lo} {hi}");
         let r = Ramp::BLUE;
-        assert!((r.first..r.first + r.len).contains(&first));
+        assert!((r.first..r.first + r.len).contains(&lo));
+        assert!((r.first..r.first + r.len).contains(&hi));
         // Depth test: a square facing the camera in front of a tilted one
         // drawn after it in the same call keeps the middle of the picture.
         let sq = [
@@ -439,10 +541,12 @@ pub(crate) mod tests {
             },
             &Style3d::default(),
         );
+        // Three faces: three shades, each dithered between two neighbouring
+        // levels, and the background.
         let mut shades: Vec<u8> = c.pixels.clone();
         shades.sort_unstable();
         shades.dedup();
-        assert_eq!(shades.len(), 4, "{shades:?}");
+        assert!((4..=7).contains(&shades.len()), "{shades:?}");
         assert_eq!(c.get(2, 2), Some(slot::BACKGROUND));
         let mut d = Canvas::new(60, 60, Palette::standard());
         let sand = Style3d::with_ramp(Ramp::SAND).with_edges();

@@ -1,4 +1,5 @@
-//! Rotation consistency: choosing the 2π branch of every triangle's angle.
+//! Rotation consistency: choosing the branch (whole turns) of every
+//! triangle's rotation.
 //!
 //! `atan2` returns angles in (−π, π]. A part of a shape that turns by more
 //! than half a turn gets neighbouring triangles whose principal angles differ
@@ -9,25 +10,29 @@
 //! section 4.2).
 
 use std::collections::VecDeque;
-use std::f64::consts::TAU;
 
 use crate::topology::TriangleAdjacency;
 
-/// `angle + 2πk` for the integer `k` that brings it nearest to `reference`.
-#[inline]
-pub fn nearest_branch(angle: f64, reference: f64) -> f64 {
-    angle + TAU * ((reference - angle) / TAU).round()
-}
-
-/// Makes `angles` continuous over the triangle adjacency, in place.
+/// Makes the rotations `logs` continuous over the triangle adjacency, in
+/// place, with `branch(log, reference)` choosing the branch of a triangle's
+/// rotation given the one of the triangle it is reached from (for example
+/// [`Rotations::nearest_branch`](super::Rotations::nearest_branch)).
 ///
-/// Each seed keeps its angle; a breadth-first walk from it over the
-/// triangles it reaches gives each one the branch of its angle nearest to the
-/// angle of the triangle it was reached from. Give one seed per connected
-/// component; triangles no seed reaches keep their angles.
-pub fn make_consistent(angles: &mut [f64], adjacency: &TriangleAdjacency, seeds: &[usize]) {
-    assert_eq!(angles.len(), adjacency.len(), "one angle per triangle");
-    let mut visited = vec![false; angles.len()];
+/// Each seed keeps its rotation; a breadth-first walk from it over the
+/// triangles it reaches gives each one the branch `branch` chooses from the
+/// triangle it was reached from. Give one seed per part connected across
+/// edges; triangles no seed reaches keep their rotations.
+///
+/// # Panics
+/// If there is not one rotation per triangle.
+pub fn make_consistent<L>(
+    logs: &mut [L],
+    adjacency: &TriangleAdjacency,
+    seeds: &[usize],
+    branch: impl Fn(&L, &L) -> L,
+) {
+    assert_eq!(logs.len(), adjacency.len(), "one rotation per triangle");
+    let mut visited = vec![false; logs.len()];
     let mut queue = VecDeque::new();
     for &seed in seeds {
         if visited[seed] {
@@ -40,7 +45,7 @@ pub fn make_consistent(angles: &mut [f64], adjacency: &TriangleAdjacency, seeds:
                 let n = n as usize;
                 if !visited[n] {
                     visited[n] = true;
-                    angles[n] = nearest_branch(angles[n], angles[t]);
+                    logs[n] = branch(&logs[n], &logs[t]);
                     queue.push_back(n);
                 }
             }
@@ -51,14 +56,8 @@ pub fn make_consistent(angles: &mut [f64], adjacency: &TriangleAdjacency, seeds:
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::rotation::planar::nearest_branch;
     use std::f64::consts::PI;
-
-    #[test]
-    fn branches() {
-        assert!((nearest_branch(-0.9 * PI, 0.95 * PI) - 1.1 * PI).abs() < 1e-12);
-        assert!((nearest_branch(0.1, 4.0 * PI) - (0.1 + 4.0 * PI)).abs() < 1e-12);
-        assert_eq!(nearest_branch(0.5, 0.4), 0.5);
-    }
 
     #[test]
     fn unwraps_a_chain_of_triangles() {
@@ -67,7 +66,7 @@ mod tests {
         let adj = TriangleAdjacency::new(&tris);
         let truth: Vec<f64> = (0..10).map(|i| 0.4 * PI * i as f64).collect();
         let mut a: Vec<f64> = truth.iter().map(|&x| nearest_branch(x, 0.0)).collect();
-        make_consistent(&mut a, &adj, &[0]);
+        make_consistent(&mut a, &adj, &[0], |&a, &r| nearest_branch(a, r));
         for (x, y) in a.iter().zip(&truth) {
             assert!((x - y).abs() < 1e-12, "{a:?}");
         }

@@ -1,20 +1,32 @@
-//! Pictures to look at and timings (ignored tests):
+//! A gallery of the pictures meshmorph draws, to look at: planar meshes
+//! (PNG, GIF, SVG) and shaded meshes in space (PNG, GIF).
 //!
 //! ```text
-//! cargo test -p meshmorph --lib render::check -- --ignored --nocapture
+//! cargo run --release -p meshmorph --example render_gallery [-- DIR]
 //! ```
 //!
-//! writes PNG, GIF and SVG files into `/tmp/render_check/`.
+//! writes into DIR (default `render-gallery/`). Its one test, that SVG paths
+//! hold the triangles the raster draws, runs with
+//! `cargo test -p meshmorph --example render_gallery -- --ignored`.
 
-use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::path::PathBuf;
+use std::time::Instant;
 
-use super::*;
+use meshmorph::render::*;
 
 fn out(name: &str) -> PathBuf {
-    let dir = Path::new("/tmp/render_check");
-    std::fs::create_dir_all(dir).unwrap();
+    let dir = PathBuf::from(
+        std::env::args()
+            .nth(1)
+            .unwrap_or_else(|| "render-gallery".into()),
+    );
+    std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
+}
+
+fn main() {
+    pictures_2d();
+    pictures_3d();
 }
 
 /// An annulus of `rings` × `sectors` quads split into triangles,
@@ -160,8 +172,6 @@ fn annulus_frames(n: usize) -> (Vec<Vec<[f64; 2]>>, Vec<[u32; 3]>) {
     (frames, t)
 }
 
-#[test]
-#[ignore = "writes pictures into /tmp/render_check to look at"]
 fn pictures_2d() {
     let (frames, t) = annulus_frames(31);
     let style = Style2d::default();
@@ -205,8 +215,6 @@ fn pictures_2d() {
     std::fs::write(out("dense_grid.svg"), svg).unwrap();
 }
 
-#[test]
-#[ignore = "writes pictures into /tmp/render_check to look at"]
 fn pictures_3d() {
     let (tp, tt) = torus(1.0, 0.38, 72, 28, 0.0);
     let (bent, _) = torus(1.0, 0.38, 72, 28, 0.35);
@@ -303,6 +311,7 @@ fn pictures_3d() {
 }
 
 /// Parses the triangles back out of the fill paths of `svg_frame`.
+#[cfg(test)]
 fn svg_triangles(svg: &str) -> Vec<[[f64; 2]; 3]> {
     let mut tris = vec![];
     for line in svg.lines().filter(|l| l.starts_with("<path fill=\"#")) {
@@ -348,126 +357,4 @@ fn svg_paths_hold_the_same_triangles() {
         // Rounding to 0.01 pixel moves few pixel centres across an edge.
         assert!(covered.abs_diff(want) * 200 <= want, "{covered} vs {want}");
     }
-}
-
-/// The fastest of `runs` calls (the machine is shared: the minimum is the
-/// least disturbed).
-fn time(runs: u32, mut f: impl FnMut()) -> Duration {
-    f();
-    (0..runs)
-        .map(|_| {
-            let start = Instant::now();
-            f();
-            start.elapsed()
-        })
-        .min()
-        .unwrap()
-}
-
-#[test]
-#[ignore = "timing: run alone, with --nocapture"]
-fn timing_100k_triangles_at_640x480() {
-    let (p, t) = grid(224);
-    println!("{} triangles, {} vertices", t.len(), p.len());
-    let view = View2d::fitting([p.as_slice()], 640, Some(480), 8);
-    let mut c = Canvas::with_style(640, 480, &Style2d::default());
-    let fill_only = Style2d {
-        edges: Edges::None,
-        ..Style2d::default()
-    };
-    let all = Style2d {
-        edges: Edges::All,
-        ..Style2d::default()
-    };
-    let d = time(20, || draw_mesh_2d(&mut c, &p, &t, &view, &fill_only));
-    println!("draw_mesh_2d, fill only:              {d:?}");
-    let d = time(20, || {
-        draw_mesh_2d(&mut c, &p, &t, &view, &Style2d::default())
-    });
-    println!("draw_mesh_2d, auto edges (outline):   {d:?}");
-    let d = time(10, || draw_mesh_2d(&mut c, &p, &t, &view, &all));
-    println!("draw_mesh_2d, every edge:             {d:?}");
-    let edges = super::style::EdgeSets::new(&t, p.len());
-    let mut scratch = Default::default();
-    let d = time(20, || {
-        super::mesh2d::draw_prepared(
-            &mut c,
-            &p,
-            &t,
-            &edges,
-            None,
-            &view,
-            &fill_only,
-            &mut scratch,
-        )
-    });
-    println!("fill only, edge list prepared:        {d:?}");
-    let d = time(10, || {
-        let _ = super::style::EdgeSets::new(&t, p.len());
-    });
-    println!("edge list alone:                      {d:?}");
-    let mut px = vec![];
-    let mut fixed = vec![];
-    let d = time(20, || {
-        px.clear();
-        px.extend(p.iter().map(|&q| view.to_pixel(q)));
-        fixed.clear();
-        fixed.extend(px.iter().map(|&q| super::raster::snap_point(q)));
-    });
-    println!("  of which vertex transform + snap:   {d:?}");
-    let d = time(20, || {
-        let _ = fill_only.flipped_mask(&p, &t);
-    });
-    println!("  of which flipped mask:              {d:?}");
-    let mut pixels = 0usize;
-    let d = time(20, || {
-        let clip = c.clip(c.bounds());
-        let w = c.width as usize;
-        let pix = &mut c.pixels;
-        for tri in &t {
-            let [a, b, cc] = tri.map(|i| i as usize);
-            super::raster::fill_snapped(
-                [fixed[a], fixed[b], fixed[cc]],
-                [px[a], px[b], px[cc]],
-                &clip,
-                |y, x0, x1| pix[y * w + x0..y * w + x1].fill(1),
-            );
-        }
-    });
-    println!("  of which scan conversion:           {d:?}");
-    let d = time(20, || {
-        let clip = c.clip(c.bounds());
-        for tri in &t {
-            let q = tri.map(|i| view.to_pixel(p[i as usize]));
-            super::raster::fill_triangle(q, &clip, |_, x0, x1| pixels += x1 - x0);
-        }
-    });
-    println!(
-        "raster::fill_triangle, no drawing:    {d:?} ({} px/frame)",
-        pixels / 21
-    );
-    let s = time(5, || {
-        let _ = svg_frame(&p, &t, &view, &fill_only);
-    });
-    println!("svg_frame:                            {s:?}");
-
-    let (sp, st) = torus(1.0, 0.38, 500, 100, 0.0);
-    let cam = Camera3d::orbit(30.0, 25.0).fitted([sp.as_slice()]);
-    let mut c = Canvas::new(640, 480, Palette::standard());
-    let d = time(10, || {
-        draw_mesh_3d(
-            &mut c,
-            &sp,
-            &st,
-            &cam,
-            Rect {
-                x: 0,
-                y: 0,
-                width: 640,
-                height: 480,
-            },
-            &Style3d::default(),
-        )
-    });
-    println!("draw_mesh_3d, {} triangles:       {d:?}", st.len());
 }

@@ -1,0 +1,131 @@
+//! The gradient operators of every triangle of a rest mesh, and the
+//! least-squares terms built from them.
+//!
+//! Triangle `t` has `K` unknowns (its three corners, and in space also a
+//! fourth vertex of its own) and a `K × D` operator `G_t`: the gradient of
+//! the piecewise-linear map that sends the rest mesh to positions `X` is,
+//! on `t`, the `D × D` matrix `X_t G_t` with `X_t` the `D × K` matrix of the
+//! triangle's unknowns. Every coordinate has the same coefficients, so the
+//! normal matrix is assembled once for all `D` coordinates and a right-hand
+//! side has `D` columns (column-major, `#unknowns × D`).
+#![allow(non_snake_case)]
+
+use crate::matrix::Mat;
+use crate::solve::SymmetricBuilder;
+
+/// The operators `G_t` (`K × D`) of the triangles of a rest mesh over its
+/// unknowns: the `#V` vertices, then (for `K = 4`) one fourth vertex per
+/// triangle.
+#[derive(Clone, Debug)]
+pub(crate) struct GradientOperators<const D: usize, const K: usize> {
+    num_vertices: usize,
+    triangles: Vec<[u32; 3]>,
+    operators: Vec<[[f64; D]; K]>,
+}
+
+impl<const D: usize, const K: usize> GradientOperators<D, K> {
+    /// Operators `operators[t]` of the `triangles` over `num_vertices` vertices.
+    pub(crate) fn from_parts(
+        num_vertices: usize,
+        triangles: Vec<[u32; 3]>,
+        operators: Vec<[[f64; D]; K]>,
+    ) -> Self {
+        const { assert!(K == 3 || K == 4, "three corners, and maybe a fourth vertex") };
+        debug_assert_eq!(triangles.len(), operators.len());
+        Self {
+            num_vertices,
+            triangles,
+            operators,
+        }
+    }
+
+    /// Number of unknowns: vertices, and fourth vertices when `K = 4`.
+    #[inline]
+    pub(crate) fn num_unknowns(&self) -> usize {
+        self.num_vertices + (K - 3) * self.triangles.len()
+    }
+
+    /// Number of vertices of the rest mesh.
+    #[inline]
+    pub(crate) fn num_vertices(&self) -> usize {
+        self.num_vertices
+    }
+
+    /// The triangles of the rest mesh.
+    #[inline]
+    pub(crate) fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
+    /// The operator `G` (`K × D`) of triangle `t`.
+    #[inline]
+    pub(crate) fn operator(&self, t: usize) -> &[[f64; D]; K] {
+        &self.operators[t]
+    }
+
+    /// The unknowns of triangle `t`: its corners, then its fourth vertex.
+    #[inline]
+    pub(crate) fn unknowns(&self, t: usize) -> [usize; K] {
+        let [a, b, c] = self.triangles[t];
+        std::array::from_fn(|k| match k {
+            0 => a as usize,
+            1 => b as usize,
+            2 => c as usize,
+            _ => self.num_vertices + t,
+        })
+    }
+
+    /// `weight · ‖X G_t‖²_F`, the matrix part of a fit of triangle `t`.
+    #[inline]
+    pub(crate) fn add_fit(&self, builder: &mut SymmetricBuilder, t: usize, weight: f64) {
+        builder.add_gram(&self.unknowns(t), &self.operators[t], weight);
+    }
+
+    /// `weight · ‖X G_t − Q‖²_F`: adds the matrix part to `builder` and the
+    /// right-hand side part to the column-major `#unknowns × D` `rhs`.
+    pub(crate) fn add_fit_to(
+        &self,
+        builder: &mut SymmetricBuilder,
+        rhs: &mut [f64],
+        t: usize,
+        Q: &Mat<D>,
+        weight: f64,
+    ) {
+        self.add_fit(builder, t, weight);
+        self.add_fit_rhs(rhs, t, Q, weight);
+    }
+
+    /// The right-hand side part of [`GradientOperators::add_fit_to`] alone:
+    /// `weight · G_t Qᵀ`, which is all a new target `Q` changes.
+    #[inline]
+    pub(crate) fn add_fit_rhs(&self, rhs: &mut [f64], t: usize, Q: &Mat<D>, weight: f64) {
+        let m = self.num_unknowns();
+        let G = &self.operators[t];
+        for (k, u) in self.unknowns(t).into_iter().enumerate() {
+            for i in 0..D {
+                rhs[i * m + u] += weight * (0..D).map(|j| G[k][j] * Q[i][j]).sum::<f64>();
+            }
+        }
+    }
+
+    /// `weight · ‖X G_a − X G_b‖²_F` (no right-hand side): triangles `a`
+    /// and `b` asked to deform alike.
+    pub(crate) fn add_difference(
+        &self,
+        builder: &mut SymmetricBuilder,
+        a: usize,
+        b: usize,
+        weight: f64,
+    ) {
+        let (ua, ub) = (self.unknowns(a), self.unknowns(b));
+        let mut idx = [0usize; 8];
+        let mut coef = [[0.0; D]; 8];
+        for k in 0..K {
+            idx[k] = ua[k];
+            idx[K + k] = ub[k];
+            coef[k] = self.operators[a][k];
+            coef[K + k] = self.operators[b][k].map(|x| -x);
+        }
+        builder.add_gram(&idx[..2 * K], &coef[..2 * K], weight);
+    }
+}

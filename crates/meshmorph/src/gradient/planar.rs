@@ -1,0 +1,43 @@
+//! Planar triangles: signed areas and the gradients of the three hat
+//! functions (piecewise-linear interpolation) of each triangle.
+
+use super::TriangleMaps;
+use crate::geometry::signed_area2;
+use crate::matrix::Mat2;
+use crate::Space;
+
+impl TriangleMaps<2> for Space<2> {
+    #[inline]
+    fn area(p: &[[f64; 2]; 3]) -> f64 {
+        signed_area2(p[0], p[1], p[2])
+    }
+
+    /// `∇φ_i = rot90(p_{i+2} − p_{i+1}) / (2 area)`.
+    #[inline]
+    fn hat_gradients(p: &[[f64; 2]; 3], signed_area: f64) -> [[f64; 2]; 3] {
+        let inv = 0.5 / signed_area;
+        std::array::from_fn(|i| {
+            let (a, b) = (p[(i + 1) % 3], p[(i + 2) % 3]);
+            [-(b[1] - a[1]) * inv, (b[0] - a[0]) * inv]
+        })
+    }
+
+    /// `A = Σ_k q_k ∇φ_kᵀ`.
+    #[inline]
+    fn linear_map(_: &[[f64; 2]; 3], gradients: &[[f64; 2]; 3], q: &[[f64; 2]; 3]) -> Mat2 {
+        let mut a = [[0.0; 2]; 2];
+        for (g, qk) in gradients.iter().zip(q) {
+            for i in 0..2 {
+                for j in 0..2 {
+                    a[i][j] += qk[i] * g[j];
+                }
+            }
+        }
+        a
+    }
+
+    #[inline]
+    fn reversed(rest: &[[f64; 2]; 3], corners: &[[f64; 2]; 3]) -> bool {
+        Self::area(rest) * Self::area(corners) <= 0.0
+    }
+}

@@ -1,0 +1,79 @@
+//! The normal matrix of a gradient-domain energy with its pinned unknowns
+//! eliminated, factored once, and its solves.
+
+use super::Pins;
+use crate::error::Result;
+use crate::solve::{FactorKind, PinnedSystem, SymmetricMatrix, Workspace};
+
+/// A factored system over `D` coordinate columns with pinned values.
+#[derive(Debug)]
+pub(crate) struct FactoredSystem<const D: usize> {
+    system: PinnedSystem,
+    /// Column-major `#pinned × D`.
+    pinned_values: Vec<f64>,
+}
+
+/// Per-thread scratch for [`FactoredSystem::solve`].
+#[derive(Debug)]
+pub(crate) struct SolveWorkspace {
+    solve: Workspace,
+    /// Column-major `#unknowns × D`: the right-hand side, then the solution.
+    pub(crate) rhs: Vec<f64>,
+    pub(crate) x: Vec<f64>,
+}
+
+impl<const D: usize> FactoredSystem<D> {
+    /// Eliminates the `pins` from `matrix` and factors the rest.
+    ///
+    /// # Errors
+    /// [`Error::Solver`](crate::Error::Solver) when what remains is not
+    /// positive definite.
+    pub(crate) fn new(matrix: &SymmetricMatrix, pins: &Pins<D>, kind: FactorKind) -> Result<Self> {
+        Ok(Self {
+            system: PinnedSystem::new(matrix, pins.vertices(), kind)?,
+            pinned_values: pins.packed_values(),
+        })
+    }
+
+    /// Factors a new matrix with the same pattern and pins.
+    ///
+    /// # Errors
+    /// As [`FactoredSystem::new`].
+    pub(crate) fn refactor(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
+        self.system.refactor(matrix)
+    }
+
+    /// Number of unknowns, pinned ones included.
+    pub(crate) fn num_unknowns(&self) -> usize {
+        self.system.dim()
+    }
+
+    /// Number of stored values of the Cholesky factor.
+    pub(crate) fn factor_len(&self) -> usize {
+        self.system.factor_len()
+    }
+
+    /// Scratch for [`FactoredSystem::solve`]; one per thread.
+    pub(crate) fn workspace(&self) -> SolveWorkspace {
+        let m = self.num_unknowns();
+        SolveWorkspace {
+            solve: self.system.workspace(D),
+            rhs: vec![0.0; D * m],
+            x: vec![0.0; D * m],
+        }
+    }
+
+    /// Solves for the right-hand side in `ws.rhs` into `ws.x` (column-major
+    /// `#unknowns × D`, the pinned unknowns at their values).
+    pub(crate) fn solve(&self, ws: &mut SolveWorkspace) {
+        self.system
+            .solve(&ws.rhs, Some(&self.pinned_values), &mut ws.x, &mut ws.solve);
+    }
+
+    /// Vertex `v` of the solution in `ws.x`.
+    #[inline]
+    pub(crate) fn position(&self, ws: &SolveWorkspace, v: usize) -> [f64; D] {
+        let m = self.num_unknowns();
+        std::array::from_fn(|i| ws.x[i * m + v])
+    }
+}

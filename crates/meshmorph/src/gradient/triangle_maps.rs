@@ -1,0 +1,24 @@
+//! The maps of single triangles from a rest shape to a deformed one, in a
+//! form that does not depend on the dimension.
+
+use crate::matrix::Mat;
+
+/// The per-triangle geometry of `D`-dimensional meshes that interpolation
+/// needs (implemented by [`Space<2>`](crate::Space)).
+pub trait TriangleMaps<const D: usize> {
+    /// The area of a triangle: in the plane signed, positive when
+    /// counter-clockwise.
+    fn area(corners: &[[f64; D]; 3]) -> f64;
+    /// Gradients (one row per corner) of the three hat functions of a rest
+    /// triangle of the given (non-zero) `area`, within its plane.
+    fn hat_gradients(rest: &[[f64; D]; 3], area: f64) -> [[f64; D]; 3];
+    /// The linear part (`D × D`) of the affine map that takes a rest
+    /// triangle, whose hat gradients are `gradients`, to `corners`.
+    fn linear_map(
+        rest: &[[f64; D]; 3],
+        gradients: &[[f64; D]; 3],
+        corners: &[[f64; D]; 3],
+    ) -> Mat<D>;
+    /// Whether `corners` is reversed (or collapsed) relative to `rest`.
+    fn reversed(rest: &[[f64; D]; 3], corners: &[[f64; D]; 3]) -> bool;
+}

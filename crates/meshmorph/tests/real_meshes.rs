@@ -1,0 +1,320 @@
+//! Transfer on the meshes people have: polygon files kept whole, poses as
+//! new positions for the reference's faces, sources that are not aligned
+//! with the target, parts without partners.
+
+use std::path::Path;
+
+use meshmorph::io::{Format, MeshFile};
+use meshmorph::shapes::{bend, nearest_vertex_pairs, tube};
+use meshmorph::{correspond, CorrespondOptions, Correspondence, Error, Markers, Mesh3, Transfer};
+
+type P3 = [f64; 3];
+
+fn file(text: &str, name: &str) -> MeshFile {
+    let format = Format::from_path(Path::new(name)).unwrap();
+    MeshFile::parse(text.as_bytes().to_vec(), format, Path::new(name))
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A bumpy grid of `n × n` quads in OBJ, with texture coordinates, normals,
+/// groups, materials and comments; `lift` moves every vertex up by a
+/// function of its place, so that the quads' best diagonals change.
+fn quad_grid_obj(n: usize, lift: impl Fn(usize, usize) -> f64) -> String {
+    sheared_grid_obj(n, 0.0, lift)
+}
+
+/// [`quad_grid_obj`] with x sheared by `shear` times y.
+fn sheared_grid_obj(n: usize, shear: f64, lift: impl Fn(usize, usize) -> f64) -> String {
+    let mut s = String::from("# a grid of quads\nmtllib grid.mtl\no grid\n");
+    for j in 0..=n {
+        for i in 0..=n {
+            let z = lift(i, j);
+            let (x, y) = (i as f64 * 0.5, j as f64 * 0.25);
+            s += &format!("v {} {y} {z}\n", x + shear * y);
+        }
+    }
+    for j in 0..=n {
+        for i in 0..=n {
+            s += &format!("vt {} {}\n", i as f64 / n as f64, j as f64 / n as f64);
+        }
+    }
+    s += "vn 0 0 1\n";
+    s += "g top\nusemtl skin\ns 1\n";
+    let at = |i: usize, j: usize| j * (n + 1) + i + 1;
+    for j in 0..n {
+        for i in 0..n {
+            let c = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
+            s += "f";
+            for v in c {
+                s += &format!(" {v}/{v}/1");
+            }
+            s += "\n";
+        }
+    }
+    s += "# end\n";
+    s
+}
+
+#[test]
+fn poses_of_a_quad_mesh_use_the_references_split() {
+    let reference = file(&quad_grid_obj(6, |_, _| 0.0), "ref.obj");
+    // A shear makes the other diagonal the shorter one.
+    let lifted = file(&sheared_grid_obj(6, 1.5, |_, _| 0.0), "pose.obj");
+    assert_ne!(
+        lifted.mesh().triangles(),
+        reference.mesh().triangles(),
+        "the pose alone would split its quads otherwise"
+    );
+    let (pose, reordered) = reference.pose(&lifted).unwrap();
+    assert_eq!(reordered, 0);
+    assert_eq!(pose.triangles(), reference.mesh().triangles());
+    assert_eq!(pose.positions(), lifted.mesh().positions());
+    assert_eq!(reference.num_faces(), 36);
+    assert_eq!(reference.mesh().num_triangles(), 72);
+    let uvs = reference
+        .triangle_corner_uvs()
+        .expect("every corner has a vt");
+    assert_eq!(uvs.len(), 72);
+    for (t, tri) in reference.mesh().triangles().iter().enumerate() {
+        for k in 0..3 {
+            let p = reference.mesh().positions()[tri[k] as usize];
+            // (The rest grid: x = 0.5 i, y = 0.25 j, uv = (i, j) / 6.)
+            assert!((f64::from(uvs[t][k][0]) - p[0] / 3.0).abs() < 1e-6);
+            assert!((f64::from(uvs[t][k][1]) - p[1] / 1.5).abs() < 1e-6);
+        }
+    }
+}
+
+#[test]
+fn rewound_faces_are_the_same_faces_and_other_faces_are_named() {
+    let text = quad_grid_obj(3, |_, _| 0.0);
+    let reference = file(&text, "ref.obj");
+    // Face 2 listed backwards, face 4 from another corner.
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let faces: Vec<usize> = (0..lines.len())
+        .filter(|&k| lines[k].starts_with("f "))
+        .collect();
+    let rewind = |line: &str, how: fn(&mut Vec<&str>)| {
+        let mut c: Vec<&str> = line.split_whitespace().skip(1).collect();
+        how(&mut c);
+        format!("f {}", c.join(" "))
+    };
+    lines[faces[2]] = rewind(&lines[faces[2]], |c| c.reverse());
+    lines[faces[4]] = rewind(&lines[faces[4]], |c| c.rotate_left(1));
+    let pose = file(&(lines.join("\n") + "\n"), "rewound.obj");
+    let (mesh, reordered) = reference.pose(&pose).unwrap();
+    assert_eq!(reordered, 2);
+    assert_eq!(mesh.triangles(), reference.mesh().triangles());
+
+    // A face with another corner: refused, naming the file, face and line.
+    let mut bad = lines.clone();
+    bad[faces[5]] = "f 1 2 3 4".into();
+    let e = reference
+        .pose(&file(&(bad.join("\n") + "\n"), "other.obj"))
+        .unwrap_err();
+    let msg = e.to_string();
+    assert!(matches!(e, Error::Mismatch(_)), "{e:?}");
+    assert!(
+        msg.contains("other.obj")
+            && msg.contains("face 5")
+            && msg.contains(&format!("line {}", faces[5] + 1)),
+        "{msg}"
+    );
+    // Another vertex count: refused.
+    let e = reference
+        .pose(&file("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "small.obj"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("small.obj") && e.contains("3 vertices"), "{e}");
+}
+
+/// The file with its numbers read as numbers, its other tokens as text.
+fn tokens(text: &str) -> Vec<Vec<Result<f64, String>>> {
+    text.lines()
+        .map(|l| {
+            l.split_whitespace()
+                .map(|t| t.parse::<f64>().map_err(|_| t.to_string()))
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn a_reference_transferred_onto_itself_writes_back_its_own_file() {
+    let text = quad_grid_obj(5, |i, j| 0.1 * (i as f64).sin() * (j as f64).cos());
+    let reference = file(&text, "ref.obj");
+    let mesh = reference.mesh();
+    let transfer = Transfer::new(
+        mesh,
+        mesh,
+        &Correspondence::identity(mesh),
+        &Default::default(),
+    )
+    .unwrap();
+    let out = transfer.apply(mesh).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.obj");
+    let dropped = reference.write(&path, &out, Format::Obj).unwrap();
+    assert!(dropped.is_empty(), "{dropped:?}");
+    let written = std::fs::read_to_string(&path).unwrap();
+    let (a, b) = (tokens(&text), tokens(&written));
+    assert_eq!(a.len(), b.len());
+    for (la, lb) in a.iter().zip(&b) {
+        assert_eq!(la.len(), lb.len(), "{la:?} / {lb:?}");
+        for (x, y) in la.iter().zip(lb) {
+            match (x, y) {
+                (Ok(x), Ok(y)) => assert!((x - y).abs() < 1e-9, "{x} / {y}"),
+                _ => assert_eq!(x, y),
+            }
+        }
+    }
+    // In another format the polygons stay and the rest is named as dropped.
+    let ply = dir.path().join("out.ply");
+    let dropped = reference.write(&ply, &out, Format::Ply).unwrap();
+    let all = dropped.join("\n");
+    for what in ["texture coordinates", "normals", "groups", "materials"] {
+        assert!(all.contains(what), "{what} not in {all}");
+    }
+    let back = MeshFile::read(&ply).unwrap();
+    assert_eq!(back.num_faces(), 25);
+}
+
+#[test]
+fn ply_and_off_files_keep_their_other_data() {
+    let ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+               property float z\nproperty uchar red\nproperty float nx\nproperty float ny\nproperty float nz\n\
+               element face 1\nproperty list uchar int vertex_indices\nproperty uchar flags\n\
+               element extra 1\nproperty int id\nend_header\n\
+               0 0 0 255 0 0 1\n1 0 0 128 0 0 1\n1 1 0 7 0 0 1\n0 1 0 9 0 0 1\n4 0 1 2 3 5\n42\n";
+    let f = file(ply, "quad.ply");
+    assert_eq!(f.num_faces(), 1);
+    assert!(f.has_normals());
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("turned.ply");
+    // Turned a quarter turn about x: positions and normals turn, the rest stays.
+    let turned: Vec<P3> = f
+        .mesh()
+        .positions()
+        .iter()
+        .map(|p| [p[0], -p[2], p[1]])
+        .collect();
+    f.write(&path, &turned, Format::Ply).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let body: Vec<&str> = text
+        .lines()
+        .skip_while(|l| *l != "end_header")
+        .skip(1)
+        .collect();
+    assert_eq!(body[2], "1 -0 1 7 0 -1 0", "{text}");
+    assert_eq!(body[4], "4 0 1 2 3 5");
+    assert_eq!(body[5], "42");
+
+    let off =
+        "COFF\n4 1 0\n0 0 0 1 0 0\n1 0 0 0 1 0\n1 1 0 0 0 1\n0 1 0 1 1 1\n4 0 1 2 3 0.5 0.5 0.5\n";
+    let f = file(off, "quad.off");
+    let path = dir.path().join("moved.off");
+    let moved: Vec<P3> = f
+        .mesh()
+        .positions()
+        .iter()
+        .map(|p| [p[0] + 1.0, p[1], p[2]])
+        .collect();
+    f.write(&path, &moved, Format::Off).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert_eq!(
+        text,
+        "COFF\n4 1 0\n1 0 0 1 0 0\n2 0 0 0 1 0\n2 1 0 0 0 1\n1 1 0 1 1 1\n4 0 1 2 3 0.5 0.5 0.5\n"
+    );
+}
+
+fn turn_scale_move(p: P3) -> P3 {
+    let (c, s) = (0.6_f64, 0.8_f64);
+    let q = [c * p[0] - s * p[1], s * p[0] + c * p[1], p[2]];
+    let (c, s) = (0.28_f64, 0.96_f64);
+    let q = [q[0], c * q[1] - s * q[2], s * q[1] + c * q[2]];
+    [7.5 * q[0] + 3.0, 7.5 * q[1] - 20.0, 7.5 * q[2] + 0.5]
+}
+
+fn mapped(m: &Mesh3, f: impl Fn(P3) -> P3) -> Mesh3 {
+    m.with_positions(m.positions().iter().map(|&p| f(p)).collect())
+        .unwrap()
+}
+
+#[test]
+fn moving_turning_and_scaling_the_source_changes_nothing() {
+    let thin = tube(4.0, 0.25, 17, 12);
+    let thick = tube(4.0, 0.5, 11, 16);
+    let widened: Vec<P3> = thin
+        .positions()
+        .iter()
+        .map(|p| [p[0], 2.0 * p[1], 2.0 * p[2]])
+        .collect();
+    let ends = [0, 3, 6, 9, 96, 99, 102, 105, 192, 195, 198, 201];
+    let markers = Markers::new(nearest_vertex_pairs(&widened, thick.positions(), &ends));
+    let pose = bend(&thin, 4.0, 1.0);
+    let run = |source: &Mesh3, pose: &Mesh3| {
+        let found = correspond(
+            source,
+            &thick,
+            &markers,
+            &CorrespondOptions::default(),
+            &mut |_| {},
+        )
+        .unwrap();
+        Transfer::new(source, &thick, &found.correspondence, &Default::default())
+            .unwrap()
+            .apply(pose)
+            .unwrap()
+    };
+    let here = run(&thin, &pose);
+    let elsewhere = run(
+        &mapped(&thin, turn_scale_move),
+        &mapped(&pose, turn_scale_move),
+    );
+    let diagonal = thick.bounding_box_diagonal();
+    let worst = here
+        .iter()
+        .zip(&elsewhere)
+        .map(|(a, b)| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-8 * diagonal, "moved by {worst}");
+}
+
+#[test]
+fn markers_that_cannot_fix_a_similarity_are_refused() {
+    let thin = tube(4.0, 0.25, 17, 12);
+    let thick = tube(4.0, 0.5, 11, 16);
+    // Three markers on one line along the tube.
+    let markers = Markers::new(vec![[0, 0], [48, 30], [96, 64]]);
+    let e = correspond(
+        &thin,
+        &thick,
+        &markers,
+        &CorrespondOptions::default(),
+        &mut |_| {},
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("on one line"), "{e}");
+}
+
+#[test]
+fn marker_points_snap_to_the_nearest_vertex_and_far_points_are_refused() {
+    let thin = tube(4.0, 0.25, 17, 12);
+    let thick = tube(4.0, 0.5, 11, 16);
+    let nudge = |p: P3| [p[0] + 1e-3, p[1], p[2]];
+    let points = vec![
+        [nudge(thin.positions()[5]), nudge(thick.positions()[7])],
+        [thin.positions()[100], thick.positions()[90]],
+    ];
+    let (snapped, snap) = Markers::from_points(points).snap(&thin, &thick).unwrap();
+    assert_eq!(snapped.pairs(), &[[5, 7], [100, 90]]);
+    assert!((snap.largest_source - 1e-3 / thin.bounding_box_diagonal()).abs() < 1e-9);
+    let text = "0 0 0 0 0 0\n5 5 5 0 0 0\n";
+    let m = Markers::parse(text, Path::new("picks.txt"), false).unwrap();
+    let e = m.snap(&thin, &thick).unwrap_err().to_string();
+    assert!(
+        e.contains("picks.txt") && e.contains("line 2") && e.contains("source point"),
+        "{e}"
+    );
+}
