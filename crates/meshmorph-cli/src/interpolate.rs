@@ -250,15 +250,20 @@ impl Report {
 pub fn run(args: &Args) -> Result<()> {
     let start = Instant::now();
     let format = output::format_or_like(args.format, &args.keys[0])?;
-    let mut keys = Vec::with_capacity(args.keys.len());
+    let mut keys: Vec<Mesh3> = Vec::with_capacity(args.keys.len());
     for (i, path) in args.keys.iter().enumerate() {
-        let key = output::read_mesh(path, &format!("key {i}"))?;
+        let role = match (args.keys.len(), i) {
+            (2, 0) => "source mesh".to_string(),
+            (2, _) => "target mesh".to_string(),
+            _ => format!("key {i}"),
+        };
+        let key = output::read_mesh(path, &role)?;
         if let Some(first) = keys.first() {
-            key.check_same_connectivity(
-                first,
+            first.check_same_connectivity(
+                &key,
                 [
-                    &format!("`{}`", path.display()),
                     &format!("the first key `{}`", args.keys[0].display()),
+                    &format!("`{}`", path.display()),
                 ],
             )?;
         }

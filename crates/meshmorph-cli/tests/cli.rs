@@ -644,7 +644,7 @@ fn blend_reproduces_a_shape_and_refuses_bad_weights() {
     ])));
     assert_eq!(uint(&report, "dimension"), 3);
     assert!(max_diff(read(&out).positions(), meshes[2].positions()) < 1e-9);
-    let err = fails(&run([
+    let err = stderr(&run([
         "blend".to_string(),
         paths[0].display().to_string(),
         "--shape".into(),
