@@ -42,8 +42,10 @@
 // Numeric kernels index small fixed-size arrays by position, as the papers do.
 #![allow(clippy::needless_range_loop)]
 
+mod blend3;
 pub mod carried_parts;
 mod closest;
+mod consistency3;
 mod correspond;
 mod correspondence;
 mod error;
@@ -55,15 +57,21 @@ mod markers;
 mod matrix;
 mod mesh;
 mod polar;
+pub mod polar3;
+mod pose3;
+mod prepared3;
 pub mod render;
 mod rotation;
+pub mod rotation3;
 pub mod rotation_field;
+mod sequence3;
 pub mod shapes;
 pub mod similarity;
 mod solve;
 pub mod topology;
 mod transfer;
 
+pub use blend3::Blend3;
 pub use correspond::{
     correspond, correspond_steps, CorrespondOptions, CorrespondResult, MIN_MARKERS,
 };
@@ -74,7 +82,9 @@ pub use interpolate::{FrameWorkspace, Interpolator, InterpolatorOptions, RestSys
 pub use markers::{Markers, Snap, SNAP_LIMIT};
 pub use matrix::Mat;
 pub use mesh::{Mesh, Mesh2, Mesh3};
+pub use prepared3::PreparedSurface;
 pub use rotation::{Rotations, Space};
+pub use sequence3::Sequence3;
 pub use similarity::Similarity;
 pub use solve::FactorKind;
 pub use transfer::{PoseWorkspace, Transfer, TransferOptions};

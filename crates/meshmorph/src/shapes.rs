@@ -150,6 +150,39 @@ pub fn bend(mesh: &Mesh3, length: f64, angle: f64) -> Mesh3 {
         .expect("bending keeps coordinates finite")
 }
 
+/// Twists a mesh lying along the x axis from 0 to `length` about that axis:
+/// the point at `x` turns about the x axis by `angle · (x / length)`
+/// radians (counter-clockwise seen from +x), so a straight tube becomes a
+/// twisted one.
+pub fn twist(mesh: &Mesh3, length: f64, angle: f64) -> Mesh3 {
+    let positions = mesh
+        .positions()
+        .iter()
+        .map(|&[x, y, z]| {
+            let (s, c) = (angle * (x / length)).sin_cos();
+            [x, c * y - s * z, s * y + c * z]
+        })
+        .collect();
+    mesh.with_positions(positions)
+        .expect("twisting keeps coordinates finite")
+}
+
+/// Applies the rotation matrix `rotation` (row-major) about the origin and
+/// then `translation` to every vertex.
+pub fn rigid_motion3(mesh: &Mesh3, rotation: [[f64; 3]; 3], translation: [f64; 3]) -> Mesh3 {
+    let positions = mesh
+        .positions()
+        .iter()
+        .map(|p| {
+            std::array::from_fn(|i| {
+                (0..3).map(|k| rotation[i][k] * p[k]).sum::<f64>() + translation[i]
+            })
+        })
+        .collect();
+    mesh.with_positions(positions)
+        .expect("a rigid motion keeps coordinates finite")
+}
+
 /// For each of `source_vertices`, the index of the nearest of `target`
 /// positions: marker pairs for meshes that are already aligned (by brute
 /// force: meant for a few dozen markers).

@@ -269,6 +269,12 @@ pub struct Cholesky {
 }
 
 impl Cholesky {
+    /// Number of stored values of the factor `L` (each read once by a
+    /// forward and once by a back substitution).
+    pub fn factor_len(&self) -> usize {
+        self.l_values.len()
+    }
+
     /// Factors the symmetric positive definite `matrix`.
     ///
     /// # Errors
@@ -462,6 +468,11 @@ impl PinnedSystem {
     /// Number of unknowns, pinned ones included.
     pub fn dim(&self) -> usize {
         self.n
+    }
+
+    /// Number of stored values of the Cholesky factor.
+    pub fn factor_len(&self) -> usize {
+        self.cholesky.factor_len()
     }
 
     /// Scratch for solving `ncols` right-hand sides at once; one per thread.

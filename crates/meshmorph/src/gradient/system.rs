@@ -48,6 +48,11 @@ impl<const D: usize> FactoredSystem<D> {
         self.system.dim()
     }
 
+    /// Number of stored values of the Cholesky factor.
+    pub(crate) fn factor_len(&self) -> usize {
+        self.system.factor_len()
+    }
+
     /// Scratch for [`FactoredSystem::solve`]; one per thread.
     pub(crate) fn workspace(&self) -> SolveWorkspace {
         let m = self.num_unknowns();

@@ -80,6 +80,12 @@ where
         })
     }
 
+    /// Number of stored values of the Cholesky factor (for measuring a
+    /// frame against the memory traffic of its back-substitution).
+    pub fn factor_len(&self) -> usize {
+        self.system.factor_len()
+    }
+
     /// The source mesh.
     pub fn source(&self) -> &Mesh<D> {
         &self.source

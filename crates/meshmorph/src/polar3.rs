@@ -1,0 +1,308 @@
+//! Polar decomposition of 3×3 matrices and powers of symmetric 3×3
+//! matrices.
+//!
+//! Matrices are row-major `[[a00, a01, a02], ...]`. The decomposition goes
+//! through the symmetric eigen decomposition of `AᵀA` (cyclic Jacobi
+//! rotations, which are accurate to the last bits for any symmetric matrix),
+//! i.e. through the singular value decomposition `A = U Σ Vᵀ`; the rotation is
+//! `R = U Vᵀ` with `U` and `V` made proper, so that `R` is a rotation even
+//! when `A` is singular or reverses orientation.
+#![allow(non_snake_case)]
+
+use crate::matrix::{det3, Mat3};
+
+/// The identity matrix.
+const IDENTITY: Mat3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+use crate::geometry::{cross, dot, norm, scale, sub};
+
+/// `Aᵀ`.
+#[inline]
+pub fn transpose3(A: Mat3) -> Mat3 {
+    std::array::from_fn(|i| std::array::from_fn(|j| A[j][i]))
+}
+
+/// `A x`.
+#[inline]
+pub fn mul3_vec(A: &Mat3, x: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|i| A[i][0] * x[0] + A[i][1] * x[1] + A[i][2] * x[2])
+}
+
+/// `Aᵀ B`.
+#[inline]
+fn mul3_tn(A: &Mat3, B: &Mat3) -> Mat3 {
+    std::array::from_fn(|i| {
+        std::array::from_fn(|j| A[0][i] * B[0][j] + A[1][i] * B[1][j] + A[2][i] * B[2][j])
+    })
+}
+
+/// Eigen decomposition of a symmetric 3×3 matrix,
+/// `S = Σ_k λ_k v_k v_kᵀ`, eigenvalues in decreasing order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SymmetricEigen3 {
+    /// `λ₁ ≥ λ₂ ≥ λ₃`.
+    pub values: [f64; 3],
+    /// The eigenvectors as the columns `v_k` (`vectors[i][k]` is component `i`
+    /// of `v_k`), orthonormal, with determinant +1.
+    pub vectors: Mat3,
+}
+
+impl SymmetricEigen3 {
+    /// Decomposes the symmetric part of `S` by cyclic Jacobi rotations.
+    pub fn new(S: Mat3) -> Self {
+        let mut a: Mat3 =
+            std::array::from_fn(|i| std::array::from_fn(|j| 0.5 * (S[i][j] + S[j][i])));
+        let mut v = IDENTITY;
+        for _sweep in 0..64 {
+            let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+            let diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
+            if off <= 1e-32 * diag || off == 0.0 {
+                break;
+            }
+            for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+                if a[p][q] == 0.0 {
+                    continue;
+                }
+                // The rotation in the (p, q) plane that zeroes a[p][q]
+                // (Golub and Van Loan, algorithm 8.4.1, the small root).
+                let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                // (θ² overflows only for |θ| > 1e154, where t ≈ 1/(2θ).)
+                let t = if theta.abs() < 1e150 {
+                    theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt())
+                } else {
+                    0.5 / theta
+                };
+                let c = 1.0 / (t * t + 1.0).sqrt();
+                let s = t * c;
+                // a ← Jᵀ a J, v ← v J, J the identity with J[p][p] = J[q][q] = c,
+                // J[p][q] = s, J[q][p] = −s.
+                for k in 0..3 {
+                    let (akp, akq) = (a[k][p], a[k][q]);
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for k in 0..3 {
+                    let (apk, aqk) = (a[p][k], a[q][k]);
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+                a[p][q] = 0.0;
+                a[q][p] = 0.0;
+                for k in 0..3 {
+                    let (vkp, vkq) = (v[k][p], v[k][q]);
+                    v[k][p] = c * vkp - s * vkq;
+                    v[k][q] = s * vkp + c * vkq;
+                }
+            }
+        }
+        let mut order = [0, 1, 2];
+        order.sort_by(|&i, &j| a[j][j].total_cmp(&a[i][i]));
+        let values = order.map(|k| a[k][k]);
+        let mut vectors: Mat3 = std::array::from_fn(|i| order.map(|k| v[i][k]));
+        if det3(vectors) < 0.0 {
+            for row in &mut vectors {
+                row[2] = -row[2];
+            }
+        }
+        Self { values, vectors }
+    }
+
+    /// Eigenvector `k` (a column of [`SymmetricEigen3::vectors`]).
+    #[inline]
+    pub fn vector(&self, k: usize) -> [f64; 3] {
+        [self.vectors[0][k], self.vectors[1][k], self.vectors[2][k]]
+    }
+
+    /// `Σ_k f(λ_k) v_k v_kᵀ`.
+    #[inline]
+    pub fn map_values(&self, f: impl Fn(f64) -> f64) -> Mat3 {
+        let l = self.values.map(f);
+        let V = &self.vectors;
+        std::array::from_fn(|i| {
+            std::array::from_fn(|j| {
+                l[0] * V[i][0] * V[j][0] + l[1] * V[i][1] * V[j][1] + l[2] * V[i][2] * V[j][2]
+            })
+        })
+    }
+
+    /// `Sᵗ = Σ_k λ_kᵗ v_k v_kᵀ`, with eigenvalues below `floor` raised to it
+    /// first so that every power is defined and positive definite.
+    #[inline]
+    pub fn power(&self, t: f64, floor: f64) -> Mat3 {
+        self.map_values(|l| l.max(floor).powf(t))
+    }
+}
+
+/// `A = R S` with `R` a proper rotation (`RᵀR = I`, `det R = +1`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Polar3 {
+    /// The proper rotation nearest to `A` in the Frobenius norm among those
+    /// that make `S` symmetric.
+    pub rotation: Mat3,
+    /// `S = Rᵀ A`, symmetric; positive semi-definite when `det A ≥ 0`, with
+    /// one negative eigenvalue (the direction `A` reverses) when `det A < 0`.
+    pub stretch: Mat3,
+}
+
+/// Polar decomposition `A = R S` with `R` a proper rotation.
+///
+/// From the eigen decomposition `AᵀA = V Σ² Vᵀ` (with `det V = +1`):
+/// `u₁ = A v₁ / σ₁`, `u₂` the unit part of `A v₂` orthogonal to `u₁`,
+/// `u₃ = u₁ × u₂`, and `R = U Vᵀ`. The third column never divides by the
+/// smallest singular value, so a matrix that flattens a direction (rank 2)
+/// still gets an exact rotation; for `det A < 0` the rotation is the
+/// nearest proper one and `S` carries the reflection as a negative
+/// eigenvalue. Rank 0 and rank 1 get any rotation that satisfies `A = R S`
+/// with `S` symmetric (the identity for `A = 0`).
+pub fn polar_decomposition3(A: Mat3) -> Polar3 {
+    let eig = SymmetricEigen3::new(mul3_tn(&A, &A));
+    let (v1, v2) = (eig.vector(0), eig.vector(1));
+    let a1 = mul3_vec(&A, v1);
+    let n1 = norm(a1);
+    let scale_a = A.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    let tiny = 1e-300f64.max(scale_a * 1e-15);
+    if n1 <= tiny {
+        return Polar3 {
+            rotation: IDENTITY,
+            stretch: A,
+        };
+    }
+    let u1 = scale(a1, 1.0 / n1);
+    let a2 = mul3_vec(&A, v2);
+    let mut w2 = sub(a2, scale(u1, dot(u1, a2)));
+    if norm(w2) <= tiny {
+        // Rank 1: any unit vector orthogonal to u₁.
+        let e = if u1[0].abs() < 0.6 {
+            [1.0, 0.0, 0.0]
+        } else {
+            [0.0, 1.0, 0.0]
+        };
+        w2 = cross(u1, e);
+    }
+    let u2 = scale(w2, 1.0 / norm(w2));
+    let u3 = cross(u1, u2);
+    let v3 = eig.vector(2);
+    // R = u₁v₁ᵀ + u₂v₂ᵀ + u₃v₃ᵀ.
+    let R: Mat3 = std::array::from_fn(|i| {
+        std::array::from_fn(|j| u1[i] * v1[j] + u2[i] * v2[j] + u3[i] * v3[j])
+    });
+    let mut S = mul3_tn(&R, &A);
+    for i in 0..3 {
+        for j in i + 1..3 {
+            let m = 0.5 * (S[i][j] + S[j][i]);
+            S[i][j] = m;
+            S[j][i] = m;
+        }
+    }
+    Polar3 {
+        rotation: R,
+        stretch: S,
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::matrix::mul as mul3;
+
+    pub(crate) fn rng(seed: u64) -> impl FnMut() -> f64 {
+        let mut s = seed;
+        move || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        }
+    }
+
+    pub(crate) fn max_diff(A: Mat3, B: Mat3) -> f64 {
+        (0..3)
+            .flat_map(|i| (0..3).map(move |j| (i, j)))
+            .map(|(i, j)| (A[i][j] - B[i][j]).abs())
+            .fold(0.0, f64::max)
+    }
+
+    fn assert_rotation(R: Mat3) {
+        assert!(max_diff(mul3_tn(&R, &R), IDENTITY) < 1e-13, "{R:?}");
+        assert!((det3(R) - 1.0).abs() < 1e-13);
+    }
+
+    #[test]
+    fn eigen_decomposition_reconstructs() {
+        let mut r = rng(3);
+        for _ in 0..1000 {
+            let B: Mat3 = std::array::from_fn(|_| std::array::from_fn(|_| r()));
+            let S = mul3_tn(&B, &B);
+            let e = SymmetricEigen3::new(S);
+            assert!(e.values[0] >= e.values[1] && e.values[1] >= e.values[2]);
+            assert!(max_diff(e.map_values(|l| l), S) < 1e-13);
+            assert!(max_diff(mul3_tn(&e.vectors, &e.vectors), IDENTITY) < 1e-13);
+            assert!((det3(e.vectors) - 1.0).abs() < 1e-13);
+            assert!(max_diff(e.power(1.0, 0.0), S) < 1e-12);
+            assert!(max_diff(e.power(0.0, 0.0), IDENTITY) < 1e-12);
+            let h = e.power(0.5, 0.0);
+            assert!(max_diff(mul3(h, h), S) < 1e-9);
+        }
+        // Repeated eigenvalues.
+        let e = SymmetricEigen3::new([[2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 1.0]]);
+        assert_eq!(e.values, [2.0, 2.0, 1.0]);
+    }
+
+    #[test]
+    fn polar_reconstructs_with_proper_rotations() {
+        let mut r = rng(11);
+        for _ in 0..2000 {
+            let A: Mat3 = std::array::from_fn(|_| std::array::from_fn(|_| 2.0 * r()));
+            let p = polar_decomposition3(A);
+            assert_rotation(p.rotation);
+            assert!(max_diff(mul3(p.rotation, p.stretch), A) < 1e-12);
+            let e = SymmetricEigen3::new(p.stretch);
+            if det3(A) > 0.0 {
+                assert!(e.values[2] > -1e-12, "{e:?}");
+            } else {
+                assert!(e.values[2] < 1e-12, "{e:?}");
+                assert!(e.values[1] > -1e-12, "{e:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn polar_of_a_rotation_times_a_stretch() {
+        let R = crate::rotation3::exp_rotation([0.3, -2.0, 1.1]);
+        let S = [[2.0, 0.3, 0.1], [0.3, 0.5, 0.0], [0.1, 0.0, 1.5]];
+        let p = polar_decomposition3(mul3(R, S));
+        assert!(max_diff(p.rotation, R) < 1e-13);
+        assert!(max_diff(p.stretch, S) < 1e-13);
+    }
+
+    #[test]
+    fn near_singular_and_degenerate_matrices() {
+        // A triangle flattened onto a line in one direction: rank 2 and
+        // nearly rank 2.
+        let R = crate::rotation3::exp_rotation([1.0, 2.0, -0.5]);
+        for eps in [0.0, 1e-300, 1e-14, 1e-8] {
+            let A = mul3(R, [[2.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, eps]]);
+            let p = polar_decomposition3(A);
+            assert_rotation(p.rotation);
+            assert!(max_diff(mul3(p.rotation, p.stretch), A) < 1e-14);
+            assert!(max_diff(p.rotation, R) < 1e-12, "{eps}");
+        }
+        // Rank 1 and zero.
+        let A = [[1.0, 2.0, 3.0], [0.0; 3], [0.0; 3]];
+        let p = polar_decomposition3(A);
+        assert_rotation(p.rotation);
+        assert!(max_diff(mul3(p.rotation, p.stretch), A) < 1e-14);
+        let p = polar_decomposition3([[0.0; 3]; 3]);
+        assert_eq!(p.rotation, IDENTITY);
+    }
+
+    #[test]
+    fn reflections_keep_a_proper_rotation() {
+        let R = crate::rotation3::exp_rotation([0.2, 0.1, 0.4]);
+        let A = mul3(R, [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, -0.5]]);
+        let p = polar_decomposition3(A);
+        assert_rotation(p.rotation);
+        assert!(max_diff(p.rotation, R) < 1e-13);
+        let e = SymmetricEigen3::new(p.stretch);
+        assert!((e.values[2] + 0.5).abs() < 1e-13);
+    }
+}
