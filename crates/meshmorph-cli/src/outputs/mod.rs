@@ -34,7 +34,7 @@
 //!   and any other file are left alone.
 //! - **Interrupts.** On SIGINT or SIGTERM, writes in progress finish, then
 //!   every staged file and created folder is removed and the process exits
-//!   (130 or 143) saying nothing was written: an interrupted run leaves the
+//!   (status 130) saying nothing was written: an interrupted run leaves the
 //!   output folders as they were. An interrupt during the commit waits for
 //!   it (a few renames) and the finished outputs are kept.
 //! - **Messages name the user's path**, never a temporary one.
