@@ -380,7 +380,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let format = output::format_or_like(args.format, &args.refs.target_ref)?;
     // Every output is checked against every input (by resolved path) before
     // anything is read or computed.
-    let outputs = output_paths(&args.poses, &args.output, format.extension(), &[])?;
+    let outputs = output_paths(&args.poses, &args.output, format.extension())?;
     let mut plan = Plan::new();
     for pose in &args.poses {
         plan.input(pose, "source pose");
@@ -691,20 +691,10 @@ fn pin_positions(pins: &[u32], one_based: bool, target: &Mesh3) -> Result<Vec<(u
         .collect()
 }
 
-/// DIR/<stem>.<ext> for each pose, refusing two poses with the same stem
-/// and any output that would overwrite one of the `inputs`.
-fn output_paths(
-    poses: &[PathBuf],
-    dir: &Path,
-    ext: &str,
-    inputs: &[&Path],
-) -> Result<Vec<PathBuf>> {
+/// DIR/<stem>.<ext> for each pose, refusing two poses with the same stem.
+/// (Clashes with inputs are the output plan's to refuse.)
+fn output_paths(poses: &[PathBuf], dir: &Path, ext: &str) -> Result<Vec<PathBuf>> {
     let mut seen = HashSet::new();
-    let inputs: Vec<PathBuf> = inputs
-        .iter()
-        .filter_map(|p| p.canonicalize().ok())
-        .collect();
-    let dir_now = dir.canonicalize().ok();
     poses
         .iter()
         .map(|p| {
@@ -717,18 +707,7 @@ fn output_paths(
                     stem.to_string_lossy()
                 );
             }
-            let out = dir.join(stem).with_extension(ext);
-            if let Some(d) = &dir_now {
-                let resolved = d.join(out.file_name().expect("a file name was just set"));
-                if let Some(input) = inputs.iter().find(|i| **i == resolved) {
-                    bail!(
-                        "the output `{}` would overwrite the input `{}`: choose another -o directory or --format",
-                        out.display(),
-                        input.display()
-                    );
-                }
-            }
-            Ok(out)
+            Ok(dir.join(stem).with_extension(ext))
         })
         .collect()
 }
