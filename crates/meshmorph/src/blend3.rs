@@ -72,8 +72,9 @@ impl Blend3 {
     ///
     /// # Errors
     /// - [`Error::InvalidArgument`] when there is no shape;
-    /// - [`Error::Mismatch`] naming the first shape whose vertex count or
-    ///   triangles differ from the base's, and the first differing triangle;
+    /// - [`Error::Mismatch`] naming the first shape whose vertex or triangle
+    ///   count differs from the base's, [`Error::TriangleMismatch`] the first
+    ///   shape and triangle whose corners differ;
     /// - [`Error::DegenerateTriangles`] for zero-area triangles of the base;
     /// - [`Error::ReflectedTriangles`] for triangles of a shape turned over
     ///   relative to the base (unless [`InterpolatorOptions::allow_flips`]);

@@ -49,6 +49,61 @@ pub enum Error {
     #[error("{0}")]
     Mismatch(String),
 
+    /// A vertex that breaks an invariant (a coordinate that is not finite,
+    /// a non-zero z where a planar mesh is required).
+    #[error("{message}")]
+    InvalidVertex {
+        /// The vertex, 0-based.
+        vertex: usize,
+        /// What was wrong, naming the vertex.
+        message: String,
+    },
+
+    /// A triangle that breaks an invariant (a vertex index out of range, a
+    /// repeated vertex, no invertible frame, an area out of range).
+    #[error("{message}")]
+    InvalidTriangle {
+        /// The triangle, 0-based.
+        triangle: usize,
+        /// What was wrong, naming the triangle.
+        message: String,
+    },
+
+    /// Two meshes that must have the same triangles differ first at this
+    /// triangle.
+    #[error("{message}")]
+    TriangleMismatch {
+        /// The first triangle that differs, 0-based.
+        triangle: usize,
+        /// Which meshes and how they differ.
+        message: String,
+    },
+
+    /// A pose file whose faces differ from its reference's, first at this
+    /// face.
+    #[error("{message}")]
+    FaceMismatch {
+        /// The first face that differs, 0-based.
+        face: usize,
+        /// Its 1-based line in the pose file, for text formats.
+        line: Option<usize>,
+        /// Which files and how they differ.
+        message: String,
+    },
+
+    /// A marker pair that cannot be used (out of range, repeated, paired
+    /// twice, a point off the mesh, not yet snapped).
+    #[error("{message}")]
+    InvalidMarker {
+        /// The marker, 0-based, in the order given.
+        marker: usize,
+        /// Its 1-based line, when read from a file.
+        line: Option<usize>,
+        /// What was wrong, naming the marker (file and line when read from
+        /// a file).
+        message: String,
+    },
+
     /// Triangles of zero (or numerically zero) area where the method needs a
     /// proper frame.
     #[error("{count} degenerate (zero-area) triangle{} in the {mesh}: {}", plural(*count), list(first, *count))]

@@ -27,9 +27,10 @@ impl<const D: usize> Mesh<D> {
     /// Builds a mesh from `#V × D` positions and `#T × 3` vertex indices.
     ///
     /// # Errors
-    /// [`Error::InvalidMesh`] naming the first offending vertex or triangle
-    /// when the mesh is empty, a coordinate is NaN or infinite, an index is
-    /// out of range or a triangle repeats a vertex.
+    /// [`Error::InvalidMesh`] when the mesh is empty,
+    /// [`Error::InvalidVertex`] naming the first vertex with a coordinate
+    /// that is NaN or infinite, [`Error::InvalidTriangle`] the first
+    /// triangle with an index out of range or a repeated vertex.
     pub fn new(positions: Vec<[f64; D]>, triangles: Vec<[u32; 3]>) -> Result<Self> {
         if triangles.is_empty() {
             return Err(Error::InvalidMesh("the mesh has no triangles".into()));
@@ -65,7 +66,8 @@ impl<const D: usize> Mesh<D> {
     /// The same connectivity with new positions.
     ///
     /// # Errors
-    /// [`Error::InvalidMesh`] if the count differs or a coordinate is not finite.
+    /// [`Error::InvalidMesh`] if the count differs, [`Error::InvalidVertex`]
+    /// if a coordinate is not finite.
     pub fn with_positions(&self, positions: Vec<[f64; D]>) -> Result<Self> {
         if positions.len() != self.positions.len() {
             return Err(Error::InvalidMesh(format!(
@@ -86,7 +88,8 @@ impl<const D: usize> Mesh<D> {
     /// the two meshes are, for the message ("the source", "the target").
     ///
     /// # Errors
-    /// [`Error::Mismatch`] naming the counts or the first triangle that differs.
+    /// [`Error::Mismatch`] naming the counts, or [`Error::TriangleMismatch`]
+    /// the first triangle that differs.
     pub fn check_same_connectivity<const E: usize>(
         &self,
         other: &Mesh<E>,
@@ -108,11 +111,14 @@ impl<const D: usize> Mesh<D> {
             )));
         }
         match (0..self.num_triangles()).find(|&t| self.triangles[t] != other.triangles()[t]) {
-            Some(t) => Err(Error::Mismatch(format!(
-                "triangle {t} is {:?} in {mine} but {:?} in {theirs}: they must have the same triangles",
-                self.triangles[t],
-                other.triangles()[t]
-            ))),
+            Some(t) => Err(Error::TriangleMismatch {
+                triangle: t,
+                message: format!(
+                    "triangle {t} is {:?} in {mine} but {:?} in {theirs}: they must have the same triangles",
+                    self.triangles[t],
+                    other.triangles()[t]
+                ),
+            }),
             None => Ok(()),
         }
     }
@@ -151,13 +157,16 @@ impl Mesh3 {
     /// The planar mesh, if every z coordinate is exactly 0.
     ///
     /// # Errors
-    /// [`Error::InvalidMesh`] naming the first vertex with a non-zero z.
+    /// [`Error::InvalidVertex`] naming the first vertex with a non-zero z.
     pub fn to_2d(&self) -> Result<Mesh2> {
         if let Some(v) = self.positions.iter().position(|p| p[2] != 0.0) {
-            return Err(Error::InvalidMesh(format!(
-                "vertex {v} has z = {} but a planar mesh (every z = 0) is required",
-                self.positions[v][2]
-            )));
+            return Err(Error::InvalidVertex {
+                vertex: v,
+                message: format!(
+                    "vertex {v} has z = {} but a planar mesh (every z = 0) is required",
+                    self.positions[v][2]
+                ),
+            });
         }
         Ok(Mesh2 {
             positions: self.positions.iter().map(|p| [p[0], p[1]]).collect(),
@@ -208,9 +217,12 @@ pub(crate) fn check_areas(areas: &[f64], diagonal: f64, name: &str) -> Result<()
     // Coordinates are finite (checked by `Mesh::new`): an area that is not
     // comes from overflow in its products.
     if let Some(t) = areas.iter().position(|a| !a.is_finite()) {
-        return Err(Error::InvalidMesh(format!(
-            "the {name}'s triangle {t} overflows: its area exceeds the range of floating-point numbers; scale the mesh down"
-        )));
+        return Err(Error::InvalidTriangle {
+            triangle: t,
+            message: format!(
+                "the {name}'s triangle {t} overflows: its area exceeds the range of floating-point numbers; scale the mesh down"
+            ),
+        });
     }
     let tiny = 1e-14 * diagonal * diagonal;
     let bad: Vec<usize> = (0..areas.len())
@@ -315,10 +327,13 @@ fn check_finite<const D: usize>(positions: &[[f64; D]]) -> Result<()> {
         .iter()
         .position(|p| p.iter().any(|x| !x.is_finite()))
     {
-        Some(v) => Err(Error::InvalidMesh(format!(
-            "vertex {v} has a coordinate that is not a finite number: {:?}",
-            positions[v]
-        ))),
+        Some(v) => Err(Error::InvalidVertex {
+            vertex: v,
+            message: format!(
+                "vertex {v} has a coordinate that is not a finite number: {:?}",
+                positions[v]
+            ),
+        }),
         None => Ok(()),
     }
 }
@@ -326,14 +341,18 @@ fn check_finite<const D: usize>(positions: &[[f64; D]]) -> Result<()> {
 fn check_indices(num_vertices: usize, triangles: &[[u32; 3]]) -> Result<()> {
     for (t, tri) in triangles.iter().enumerate() {
         if let Some(&i) = tri.iter().find(|&&i| i as usize >= num_vertices) {
-            return Err(Error::InvalidMesh(format!(
-                "triangle {t} uses vertex {i} but the mesh has {num_vertices} vertices"
-            )));
+            return Err(Error::InvalidTriangle {
+                triangle: t,
+                message: format!(
+                    "triangle {t} uses vertex {i} but the mesh has {num_vertices} vertices"
+                ),
+            });
         }
         if tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] {
-            return Err(Error::InvalidMesh(format!(
-                "triangle {t} repeats a vertex: {tri:?}"
-            )));
+            return Err(Error::InvalidTriangle {
+                triangle: t,
+                message: format!("triangle {t} repeats a vertex: {tri:?}"),
+            });
         }
     }
     Ok(())
@@ -353,14 +372,20 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("triangle 0 uses vertex 3"), "{e}");
-        let e = Mesh2::new(p.clone(), vec![[0, 1, 2], [1, 1, 2]])
-            .unwrap_err()
-            .to_string();
+        let e = Mesh2::new(p.clone(), vec![[0, 1, 2], [1, 1, 2]]).unwrap_err();
+        assert!(matches!(e, Error::InvalidTriangle { triangle: 1, .. }));
+        let e = e.to_string();
         assert!(e.contains("triangle 1 repeats"), "{e}");
         let mut q = p.clone();
         q[2][1] = f64::NAN;
-        let e = Mesh2::new(q, vec![[0, 1, 2]]).unwrap_err().to_string();
+        let e = Mesh2::new(q, vec![[0, 1, 2]]).unwrap_err();
+        assert!(matches!(e, Error::InvalidVertex { vertex: 2, .. }));
+        let e = e.to_string();
         assert!(e.contains("vertex 2"), "{e}");
+        let m = Mesh2::new(p.clone(), vec![[0, 1, 2]]).unwrap();
+        let other = Mesh2::new(p, vec![[0, 2, 1]]).unwrap();
+        let e = m.check_same_connectivity(&other, ["a", "b"]).unwrap_err();
+        assert!(matches!(e, Error::TriangleMismatch { triangle: 0, .. }));
     }
 
     #[test]

@@ -159,9 +159,9 @@ impl Sequence3 {
     /// # Errors
     /// - [`Error::InvalidArgument`] for fewer than two keys, or `turns` other
     ///   than 0 (whole extra turns need a common axis: planar meshes only);
-    /// - [`Error::Mismatch`] naming the first key whose vertex count or
-    ///   triangles differ from the first key's, and the first differing
-    ///   triangle;
+    /// - [`Error::Mismatch`] naming the first key whose vertex or triangle
+    ///   count differs from the first key's, [`Error::TriangleMismatch`] the
+    ///   first key and triangle whose corners differ;
     /// - [`Error::DegenerateTriangles`] for zero-area triangles of the first key;
     /// - [`Error::ReflectedTriangles`] for triangles of a key turned over
     ///   relative to the first (unless [`InterpolatorOptions::allow_flips`]);

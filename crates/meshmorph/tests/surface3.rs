@@ -309,7 +309,10 @@ fn bad_input_is_named() {
     tris.swap(5, 6);
     let other = Mesh3::new(b.positions().to_vec(), tris).unwrap();
     let e = Sequence3::new(&[t.clone(), b.clone(), other], &opts()).unwrap_err();
-    assert!(matches!(e, Error::Mismatch(_)), "{e}");
+    assert!(
+        matches!(e, Error::TriangleMismatch { triangle: 5, .. }),
+        "{e}"
+    );
     assert!(
         e.to_string().contains("key 2") && e.to_string().contains("triangle 5"),
         "{e}"

@@ -707,13 +707,16 @@ fn pose_order_does_not_matter_and_batches_equal_single_poses() {
 // ---------------------------------------------------------------------------
 
 fn is_mismatch(e: &Error) -> bool {
-    matches!(e, Error::Mismatch(_))
+    matches!(e, Error::Mismatch(_) | Error::TriangleMismatch { .. })
 }
 fn is_invalid_argument(e: &Error) -> bool {
-    matches!(e, Error::InvalidArgument(_))
+    matches!(e, Error::InvalidArgument(_) | Error::InvalidMarker { .. })
 }
 fn is_invalid_mesh(e: &Error) -> bool {
-    matches!(e, Error::InvalidMesh(_))
+    matches!(
+        e,
+        Error::InvalidMesh(_) | Error::InvalidVertex { .. } | Error::InvalidTriangle { .. }
+    )
 }
 fn is_parse(e: &Error) -> bool {
     matches!(e, Error::Parse { .. })

@@ -84,18 +84,19 @@ impl GradientOperators<3, 4> {
 /// `V⁻¹` of every triangle of `mesh`.
 ///
 /// # Errors
-/// [`Error::InvalidMesh`] naming the first
+/// [`Error::InvalidTriangle`] naming the first
 /// triangle whose frame cannot be inverted: a zero-area triangle, or
 /// coordinates so large or small that the determinant leaves the range of
 /// `f64`.
 pub(crate) fn frame_inverses(mesh: &Mesh3, name: &str) -> Result<Vec<Mat3>> {
     (0..mesh.num_triangles())
         .map(|t| {
-            inverse3(frame(mesh.corners(t))).ok_or_else(|| {
-                Error::InvalidMesh(format!(
+            inverse3(frame(mesh.corners(t))).ok_or_else(|| Error::InvalidTriangle {
+                triangle: t,
+                message: format!(
                     "triangle {t} of the {name} has no invertible frame (zero area, or \
-                     coordinates too large or too small: rescale the mesh)"
-                ))
+                         coordinates too large or too small: rescale the mesh)"
+                ),
             })
         })
         .collect()

@@ -103,7 +103,9 @@ where
     /// Prepares the interpolation from `source` (t = 0) to `target` (t = 1).
     ///
     /// # Errors
-    /// - [`Error::Mismatch`] when the meshes differ in vertex count or triangles;
+    /// - [`Error::Mismatch`] when the meshes differ in vertex or triangle
+    ///   count, [`Error::TriangleMismatch`] naming the first triangle whose
+    ///   corners differ;
     /// - [`Error::DegenerateTriangles`] for zero-area source triangles;
     /// - [`Error::FlippedTriangles`] for triangles reversed (or collapsed to
     ///   zero area) between source and target, unless

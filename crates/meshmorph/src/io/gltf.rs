@@ -168,9 +168,11 @@ pub fn estimate_glb_bytes<const D: usize>(
 /// [`Error::InvalidArgument`] when `names` and `frames` differ in length,
 /// there are no frames, `D` is not 2 or 3, the fps is not a finite positive
 /// number, the corner texture coordinates do not match the triangles or are
-/// not finite, or the file would pass 4 GiB; [`Error::InvalidMesh`] naming the
-/// frame and the vertex when a frame has the wrong number of vertices or a
-/// coordinate that is not finite, or a triangle index is out of range;
+/// not finite ([`Error::InvalidTriangle`]), or the file would pass 4 GiB;
+/// [`Error::InvalidMesh`] naming the frame when it has the wrong number of
+/// vertices, [`Error::InvalidVertex`] the frame and the vertex with a
+/// coordinate that is not finite, [`Error::InvalidTriangle`] a triangle
+/// whose index is out of range;
 /// [`Error::Io`] naming the file when it cannot be written. Nothing is left
 /// at `path` when an error occurs.
 ///
@@ -213,6 +215,14 @@ fn prefix(e: Error, what: &str) -> Error {
     match e {
         Error::InvalidArgument(m) => Error::InvalidArgument(format!("{what}: {m}")),
         Error::InvalidMesh(m) => Error::InvalidMesh(format!("{what}: {m}")),
+        Error::InvalidVertex { vertex, message } => Error::InvalidVertex {
+            vertex,
+            message: format!("{what}: {message}"),
+        },
+        Error::InvalidTriangle { triangle, message } => Error::InvalidTriangle {
+            triangle,
+            message: format!("{what}: {message}"),
+        },
         other => other,
     }
 }
@@ -728,10 +738,13 @@ fn check_positions<const D: usize>(
         .iter()
         .position(|t| t.iter().any(|&i| i as usize >= n))
     {
-        return Err(Error::InvalidMesh(format!(
-            "{what}: triangle {t} {:?} uses a vertex index out of range (the mesh has {n} vertices)",
-            triangles[t]
-        )));
+        return Err(Error::InvalidTriangle {
+            triangle: t,
+            message: format!(
+                "{what}: triangle {t} {:?} uses a vertex index out of range (the mesh has {n} vertices)",
+                triangles[t]
+            ),
+        });
     }
     Ok(())
 }
@@ -741,10 +754,13 @@ fn check_finite<const D: usize>(positions: &[[f64; D]], what: &str) -> Result<()
         .iter()
         .position(|p| p.iter().any(|x| !x.is_finite()))
     {
-        Some(v) => Err(Error::InvalidMesh(format!(
-            "{what}: vertex {v} has a coordinate that is not a finite number: {:?}",
-            positions[v]
-        ))),
+        Some(v) => Err(Error::InvalidVertex {
+            vertex: v,
+            message: format!(
+                "{what}: vertex {v} has a coordinate that is not a finite number: {:?}",
+                positions[v]
+            ),
+        }),
         None => Ok(()),
     }
 }
@@ -789,10 +805,13 @@ fn split_vertices<const D: usize>(
         .iter()
         .position(|c| c.iter().flatten().any(|x| !x.is_finite()))
     {
-        return Err(Error::InvalidArgument(format!(
-            "triangle {t}'s texture coordinates are not finite numbers: {:?}",
-            corner_uvs[t]
-        )));
+        return Err(Error::InvalidTriangle {
+            triangle: t,
+            message: format!(
+                "triangle {t}'s texture coordinates are not finite numbers: {:?}",
+                corner_uvs[t]
+            ),
+        });
     }
     // glTF's v runs down the image, OBJ's up.
     let gltf_uv = |uv: [f32; 2]| [uv[0], 1.0 - uv[1]];

@@ -396,9 +396,9 @@ impl MeshFile {
     /// is returned with the mesh.
     ///
     /// # Errors
-    /// [`Error::Mismatch`] naming `pose`'s file and its first face (1-based
-    /// line, for text formats) when the vertex or face counts differ or a
-    /// face has other corners.
+    /// [`Error::Mismatch`] naming `pose`'s file when the vertex or face
+    /// counts differ; [`Error::FaceMismatch`] naming the file and its first
+    /// face (and 1-based line, for text formats) with other corners.
     pub fn pose(&self, pose: &MeshFile) -> Result<(Mesh3, usize)> {
         let (mine, theirs) = (self.path.display(), pose.path.display());
         if pose.mesh.num_vertices() != self.mesh.num_vertices() {
@@ -436,11 +436,15 @@ impl MeshFile {
                     Format::Ply => format!("face {f}"),
                     _ => format!("face {f} (line {})", pose.faces.line(f)),
                 };
-                return Err(Error::Mismatch(format!(
-                    "`{theirs}`, {place}: vertices {} (1-based) but face {f} of `{mine}` has {}: a pose has the reference's faces",
-                    show_face(other),
-                    show_face(own)
-                )));
+                return Err(Error::FaceMismatch {
+                    face: f,
+                    line: (pose.format != Format::Ply).then(|| pose.faces.line(f)),
+                    message: format!(
+                        "`{theirs}`, {place}: vertices {} (1-based) but face {f} of `{mine}` has {}: a pose has the reference's faces",
+                        show_face(other),
+                        show_face(own)
+                    ),
+                });
             }
             reordered += 1;
         }

@@ -11,8 +11,9 @@
 //!   groups, materials, other PLY properties and elements, colours) beside
 //!   the triangle mesh derived from it, and writes it back with new
 //!   positions: what deformation transfer writes for the target.
-//! - The files of deformation transfer: marker pairs
-//!   ([`Markers::read`](crate::Markers::read)) and triangle correspondences
+//! - The files of deformation transfer (`markers.rs`, `correspondence.rs`):
+//!   marker pairs ([`Markers::read`](crate::Markers::read),
+//!   [`Markers::parse`](crate::Markers::parse)) and triangle correspondences
 //!   ([`Correspondence::save`](crate::Correspondence::save) and
 //!   [`Correspondence::load`](crate::Correspondence::load)).
 //!
@@ -43,7 +44,9 @@
 //! `f64`, so reading a written mesh gives back exactly the same mesh.
 
 mod atomic;
+mod correspondence;
 pub mod gltf;
+mod markers;
 mod mesh_file;
 mod obj;
 mod off;
@@ -223,22 +226,28 @@ fn check_writable<const D: usize>(
         .iter()
         .position(|p| p.iter().any(|x| !x.is_finite()))
     {
-        return Err(Error::InvalidMesh(format!(
-            "cannot write `{}`: vertex {v} has a coordinate that is not a finite number: {:?}",
-            path.display(),
-            positions[v]
-        )));
+        return Err(Error::InvalidVertex {
+            vertex: v,
+            message: format!(
+                "cannot write `{}`: vertex {v} has a coordinate that is not a finite number: {:?}",
+                path.display(),
+                positions[v]
+            ),
+        });
     }
     let n = positions.len();
     if let Some(t) = triangles
         .iter()
         .position(|tri| tri.iter().any(|&i| i as usize >= n))
     {
-        return Err(Error::InvalidMesh(format!(
-            "cannot write `{}`: triangle {t} {:?} uses a vertex index out of range (the mesh has {n} vertices)",
-            path.display(),
-            triangles[t]
-        )));
+        return Err(Error::InvalidTriangle {
+            triangle: t,
+            message: format!(
+                "cannot write `{}`: triangle {t} {:?} uses a vertex index out of range (the mesh has {n} vertices)",
+                path.display(),
+                triangles[t]
+            ),
+        });
     }
     Ok(())
 }
@@ -257,7 +266,9 @@ fn finish(path: &Path, positions: Vec<[f64; 3]>, triangles: Vec<[u32; 3]>) -> Re
         ));
     }
     Mesh3::new(positions, triangles).map_err(|e| match e {
-        Error::InvalidMesh(msg) => Error::parse(path, None, msg),
+        Error::InvalidMesh(message)
+        | Error::InvalidVertex { message, .. }
+        | Error::InvalidTriangle { message, .. } => Error::parse(path, None, message),
         other => other,
     })
 }

@@ -1,0 +1,160 @@
+//! The correspondence file format: a header, the signatures of the meshes
+//! the map was made for, the alignment, then one triangle pair per line.
+
+use std::path::Path;
+
+use crate::correspondence::{Correspondence, MeshSignature};
+use crate::error::{Error, Result};
+use crate::similarity::Similarity;
+
+const MAGIC: &str = "meshmorph-correspondence 1";
+
+impl Correspondence {
+    /// Writes the map as text, atomically.
+    ///
+    /// # Errors
+    /// [`Error::Io`] when the file cannot be written.
+    pub fn save(&self, path: &Path) -> Result<()> {
+        crate::io::write_atomic(path, |w| {
+            writeln!(w, "{MAGIC}")?;
+            writeln!(w, "# pairs of (source triangle, target triangle), 0-based")?;
+            for (name, s) in [("source", self.source), ("target", self.target)] {
+                writeln!(w, "{name} {} {} {:016x}", s.vertices, s.triangles, s.hash)?;
+            }
+            let a = &self.alignment;
+            write!(w, "alignment {:?}", a.scale)?;
+            for x in a.rotation.iter().flatten().chain(&a.translation) {
+                write!(w, " {x:?}")?;
+            }
+            writeln!(w)?;
+            writeln!(w, "pairs {}", self.pairs.len())?;
+            for [s, t] in &self.pairs {
+                writeln!(w, "{s} {t}")?;
+            }
+            Ok(())
+        })
+    }
+
+    /// Reads a map written by [`Correspondence::save`].
+    ///
+    /// # Errors
+    /// [`Error::Io`] when the file cannot be read, [`Error::Parse`] naming
+    /// the line that does not parse.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        Self::parse(&text, path)
+    }
+
+    /// [`Correspondence::load`] on text already in memory; `path` names it
+    /// in errors. A leading UTF-8 byte-order mark is skipped.
+    ///
+    /// # Errors
+    /// [`Error::Parse`] naming the line that does not parse.
+    pub fn parse(text: &str, path: &Path) -> Result<Self> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .map(|(k, l)| (k + 1, l.trim()))
+            .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+        let mut next = |what: &str| {
+            lines
+                .next()
+                .ok_or_else(|| Error::parse(path, None, format!("the file ends before {what}")))
+        };
+        let (line, magic) = next("the header")?;
+        if magic != MAGIC {
+            return Err(Error::parse(
+                path,
+                Some(line),
+                format!("not a meshmorph correspondence (expected `{MAGIC}`)"),
+            ));
+        }
+        let mut signature = |name: &str| -> Result<MeshSignature> {
+            let (line, l) = next(name)?;
+            let f: Vec<&str> = l.split_whitespace().collect();
+            let bad = || {
+                Error::parse(
+                    path,
+                    Some(line),
+                    format!("expected `{name} VERTICES TRIANGLES HASH`"),
+                )
+            };
+            if f.len() != 4 || f[0] != name {
+                return Err(bad());
+            }
+            Ok(MeshSignature {
+                vertices: f[1].parse().map_err(|_| bad())?,
+                triangles: f[2].parse().map_err(|_| bad())?,
+                hash: u64::from_str_radix(f[3], 16).map_err(|_| bad())?,
+            })
+        };
+        let source = signature("source")?;
+        let target = signature("target")?;
+        let (mut line, mut l) = next("the pair count")?;
+        let mut alignment = Similarity::IDENTITY;
+        if let Some(values) = l.strip_prefix("alignment ") {
+            let v: Vec<f64> = values
+                .split_whitespace()
+                .map(str::parse)
+                .collect::<std::result::Result<_, _>>()
+                .ok()
+                .filter(|v: &Vec<f64>| v.len() == 13 && v.iter().all(|x| x.is_finite()) && v[0] > 0.0)
+                .ok_or_else(|| {
+                    Error::parse(
+                        path,
+                        Some(line),
+                        "expected `alignment SCALE R00 R01 ... R22 T0 T1 T2` (13 finite numbers, scale above 0)",
+                    )
+                })?;
+            alignment = Similarity {
+                scale: v[0],
+                rotation: [[v[1], v[2], v[3]], [v[4], v[5], v[6]], [v[7], v[8], v[9]]],
+                translation: [v[10], v[11], v[12]],
+            };
+            (line, l) = next("the pair count")?;
+        }
+        let count: usize = l
+            .strip_prefix("pairs ")
+            .and_then(|c| c.trim().parse().ok())
+            .ok_or_else(|| Error::parse(path, Some(line), "expected `pairs COUNT`"))?;
+        let mut pairs = Vec::with_capacity(count.min(1 << 24));
+        for _ in 0..count {
+            let (line, l) = next("all pairs are listed")?;
+            let mut f = l.split_whitespace().map(|x| x.parse::<u32>());
+            let pair = match (f.next(), f.next(), f.next()) {
+                (Some(Ok(s)), Some(Ok(t)), None) => [s, t],
+                _ => {
+                    return Err(Error::parse(
+                        path,
+                        Some(line),
+                        format!("expected `SOURCE TARGET`, found `{l}`"),
+                    ))
+                }
+            };
+            if pair[0] as usize >= source.triangles || pair[1] as usize >= target.triangles {
+                return Err(Error::parse(
+                    path,
+                    Some(line),
+                    format!("triangle pair {} {} is out of range", pair[0], pair[1]),
+                ));
+            }
+            pairs.push(pair);
+        }
+        if let Some((line, _)) = lines.next() {
+            return Err(Error::parse(
+                path,
+                Some(line),
+                format!("more lines than the {count} pairs announced"),
+            ));
+        }
+        pairs.sort_unstable();
+        pairs.dedup();
+        Ok(Self {
+            pairs,
+            source,
+            target,
+            alignment,
+        })
+    }
+}
