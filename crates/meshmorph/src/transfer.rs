@@ -107,7 +107,9 @@ impl TransferOptions {
 }
 
 /// Deformation transfer from one source reference to one target reference,
-/// factored once; see the [module documentation](self).
+/// factored once: each pose is a right-hand side and a back-substitution
+/// (Sumner and Popović 2004, section 4; the choices are described with
+/// [`Transfer::new`] and [`TransferOptions`]).
 #[derive(Debug)]
 pub struct Transfer {
     /// What brings the source onto the target (applied to every pose).
