@@ -1425,7 +1425,7 @@ fn the_face_masks_cry_transfers_to_the_head_close_to_sumners() {
     let score = rms_centred(&out, sumner.positions()) / head.bounding_box_diagonal();
     let nothing = rms_centred(head.positions(), sumner.positions()) / head.bounding_box_diagonal();
     println!("cry: score {score:.5}, doing nothing {nothing:.5}");
-    assert!(score < 0.0090, "score {score:.5}");
+    assert!(score < 0.0088, "score {score:.5}");
 }
 
 #[test]
