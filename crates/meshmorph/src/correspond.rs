@@ -40,7 +40,21 @@ use crate::topology::{connected_components, edges, Components};
 pub struct CorrespondOptions {
     /// `w_S`, weight of the smoothness term. Default 1.
     pub smoothness_weight: f64,
-    /// `w_I`, weight of the identity term. Default 0.001.
+    /// `w_I`, weight of the identity term. Default 0.1 (the paper's is
+    /// 0.001).
+    ///
+    /// The term asks the source to keep its own shape where the markers and
+    /// closest points would pull it into another (eyelids and lips into
+    /// each other, a body bent where only a few markers sit). It measures
+    /// each triangle's change from the source as it stands, which means
+    /// something only once the source overlaps the target, as it does after
+    /// the alignment (or, with the alignment off, by hand): the paper
+    /// started from sources that did not, where every triangle's turn and
+    /// scale counted as change, and the term had to be faint. Stronger, it
+    /// also keeps the markers from reshaping a source whose proportions
+    /// differ from the target's: 0.1 still lets them make a tube twice too
+    /// thin as thick as its target (`tests/real_meshes.rs`; from 0.3 on
+    /// they no longer do).
     pub identity_weight: f64,
     /// `w_C` of each closest-point round, in order (a first round without
     /// closest points always runs before them). Default `[1, 1667.33,
@@ -65,7 +79,7 @@ impl Default for CorrespondOptions {
     fn default() -> Self {
         Self {
             smoothness_weight: 1.0,
-            identity_weight: 0.001,
+            identity_weight: 0.1,
             closest_weights: (0..4)
                 .map(|k| 1.0 + (5000.0 - 1.0) * k as f64 / 3.0)
                 .collect(),
@@ -349,7 +363,12 @@ fn deform(
     let n = source.num_vertices();
     let ops = GradientOperators::spatial(source, "source reference")?;
     let weights = normalised_by_mean(&source.triangle_areas());
-    let (base, rhs_identity) = smooth_and_identity_terms(&ops, &weights, options);
+    let (base, rhs_identity) = smooth_and_identity_terms(
+        &ops,
+        &weights,
+        options.smoothness_weight,
+        options.identity_weight,
+    );
     // The closest-point term weighs each vertex by its share of the area,
     // normalised to a mean of 1 over the vertices.
     let mut vertex_weight = vertex_weights(n, source.triangles(), &weights);
@@ -411,7 +430,8 @@ fn deform(
 fn smooth_and_identity_terms(
     ops: &GradientOperators<3, 4>,
     weights: &[f64],
-    options: &CorrespondOptions,
+    smoothness_weight: f64,
+    identity_weight: f64,
 ) -> (SymmetricMatrix, Vec<f64>) {
     let (m, tris) = (ops.num_unknowns(), ops.triangles());
     let mut base = SymmetricBuilder::new(m, 40 * tris.len());
@@ -423,11 +443,11 @@ fn smooth_and_identity_terms(
         &mut base,
         &edges(tris),
         weights,
-        options.smoothness_weight,
+        smoothness_weight,
         |_, _| true,
     );
     for t in 0..tris.len() {
-        let w = options.identity_weight * weights[t];
+        let w = identity_weight * weights[t];
         ops.add_fit_to(&mut base, &mut rhs_identity, t, &identity(), w);
     }
     (base.build(), rhs_identity)

@@ -107,7 +107,9 @@ impl TransferOptions {
 }
 
 /// Deformation transfer from one source reference to one target reference,
-/// factored once; see the [module documentation](self).
+/// factored once: each pose is a right-hand side and a back-substitution
+/// (Sumner and Popović 2004, section 4; the choices are described with
+/// [`Transfer::new`] and [`TransferOptions`]).
 #[derive(Debug)]
 pub struct Transfer {
     /// What brings the source onto the target (applied to every pose).
@@ -550,8 +552,10 @@ fn gaps(mesh: &Mesh3, paired: &[bool], distance: f64) -> Vec<bool> {
 ///   source's boundary (one with a corner on a boundary edge): the edge of
 ///   an open source (a face mask) runs along it;
 /// - or it reaches farther from the paired triangles around it than those
-///   lie from their own centre: it stands out of the paired surface (the
-///   far half of a target under a source that covers half of it);
+///   are wide (twice their largest distance from their own centre): it is
+///   deeper than wide, and stands out of the paired surface (the far half of
+///   a target under a source that covers half of it) rather than filling a
+///   hole in it (an eye between its lids);
 /// - or it borders no paired triangle at all.
 ///
 /// The others are holes of the matching that the paired surface around
@@ -618,6 +622,7 @@ fn beyond_the_source(
                     centre = crate::geometry::add(centre, centroids[u]);
                 }
                 let centre = centre.map(|x| x / border.len() as f64);
+                // Half the width of the paired surface around the region.
                 let span = border
                     .iter()
                     .map(|&u| norm(sub(centroids[u], centre)))
@@ -631,7 +636,7 @@ fn beyond_the_source(
                 region.iter().any(|&t| {
                     tree.nearest_neighbor_iter_with_distance_2(centroids[t])
                         .next()
-                        .is_some_and(|(_, d2)| d2 > span * span)
+                        .is_some_and(|(_, d2)| d2 > 4.0 * span * span)
                 })
             };
         if out {
