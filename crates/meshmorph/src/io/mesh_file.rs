@@ -107,8 +107,17 @@ impl Parsed {
 }
 
 /// A mesh file kept whole, with the triangle mesh derived from it (each
-/// polygon split once, along the split the file's own shape gives); see the
-/// [module documentation](self).
+/// polygon split once, along the split the file's own shape gives).
+///
+/// Deformation transfer and interpolation change positions only. A result
+/// written in the format of the file it came from is that file with new
+/// positions (and normals turned with the surface): in OBJ the `vt`, `vn`,
+/// `g`, `o`, `s`, `mtllib` and `usemtl` statements, the comments and the
+/// polygons stay as they were, in their order; in PLY every other property
+/// and element, in its type and encoding; in OFF the polygons, colours and
+/// comments. Only the numbers that change are rewritten (with the shortest
+/// representation that reads back to the same `f64`; in binary PLY in the
+/// property's own type).
 #[derive(Clone, Debug)]
 pub struct MeshFile {
     path: PathBuf,
