@@ -16,9 +16,13 @@
 //!    threads.
 //!
 //! # Performance
-//! Solves always run with `Par::Seq`: faer's supernodal solve with a parallel
-//! `Par` and several right-hand-side columns is about 30 times slower on small
-//! machines. Parallelism comes from solving independent frames at once.
+//! Solves are sequential: parallelism comes from solving independent frames
+//! at once (faer's supernodal solve with a parallel `Par` and several
+//! right-hand-side columns is about 30 times slower on small machines).
+//! Up to 4 right-hand-side columns, [`PinnedSystem::solve`] gathers them
+//! side by side into the factor's row order and substitutes with
+//! `substitution.rs` (one cache line per row, and no dense kernel calls per
+//! supernode); more columns go through faer's solve, column by column.
 
 mod substitution;
 
