@@ -8,8 +8,9 @@ use anyhow::Result;
 use meshmorph::io::Format;
 use meshmorph::shapes;
 
+use crate::animation::FrameOutputs;
 use crate::gltf::GltfArgs;
-use crate::interpolate::{animate, FrameArgs, FrameOutputs, Stretch};
+use crate::interpolate::{animate, FrameArgs, Stretch};
 use crate::outputs::Plan;
 use crate::pictures::PictureArgs;
 use crate::transfer::{run_transfer, CorrespondArgs, References, TransferArgs};
@@ -23,6 +24,9 @@ use crate::transfer::{run_transfer, CorrespondArgs, References, TransferArgs};
 /// Writes, under DIR:
 ///   spiral.gif, spiral.glb,          a bar curling into a spiral of 540 degrees;
 ///   spiral/frame_*.obj
+///   coil.gif, coil.png, coil.glb,    a tube bending through 540 degrees while
+///   coil/frame_*.obj                 twisting by 90, through three keys
+///                                    (coil-key0.obj, coil-key1.obj, coil-key2.obj);
 ///   transfer.gif, transfer.png,      a thin tube's bending poses carried over
 ///   transfer.glb, transfer/target/*  to a thicker, differently tessellated tube
 ///   (the inputs are in transfer/input/, to rerun with `meshmorph transfer`).
@@ -38,6 +42,7 @@ pub struct Args {
 
 pub fn run(args: &Args) -> Result<()> {
     spiral(args)?;
+    coil(args)?;
     transfer(args)
 }
 
@@ -59,12 +64,13 @@ fn spiral(args: &Args) -> Result<()> {
         fps: 25.0,
         no_boomerang: false,
         svg: false,
+        png: None,
         gltf: GltfArgs {
             gltf: Some(args.output.join("spiral.glb")),
             max_gltf_mb: 256.0,
         },
     };
-    let times = frames.times()?;
+    let times = frames.times(1)?;
     let dir = args.output.join("spiral");
     let mut plan = Plan::new();
     let meshes = [
@@ -84,19 +90,64 @@ fn spiral(args: &Args) -> Result<()> {
             Ok(meshmorph::io::write_mesh(path, mesh, Format::Obj)?)
         })?;
     }
-    let mut report = animate(
-        &bar,
-        &spiral,
-        &frames,
-        &times,
-        &outputs,
-        &staging,
-        Format::Obj,
-        start,
-    )?;
+    let keys = [bar.to_3d(), spiral.to_3d()];
+    let mut report = animate(&keys, true, &frames, &times, &outputs, &staging, start)?;
     report.surplus_frames_removed = staging.commit()?;
     if !args.json {
         println!("== interpolation: a bar curling into a spiral of 540 degrees ==");
+    }
+    report.print(args.json);
+    Ok(())
+}
+
+/// As-rigid-as-possible interpolation in space through three keys: a tube
+/// that bends through 540 degrees while twisting by 90.
+fn coil(args: &Args) -> Result<()> {
+    let start = Instant::now();
+    let straight = shapes::tube(10.0, 0.35, 81, 16);
+    let key = |a: f64| shapes::bend(&shapes::twist(&straight, 10.0, a / 6.0), 10.0, a);
+    let keys = [straight.clone(), key(1.5 * PI), key(3.0 * PI)];
+    let frames = FrameArgs {
+        frames: 48,
+        times: None,
+        no_consistency: false,
+        turns: 0,
+        stretch: Stretch::Linear,
+        allow_flips: false,
+        gif: Some(args.output.join("coil.gif")),
+        gif_width: 360,
+        gif_height: None,
+        fps: 20.0,
+        no_boomerang: false,
+        svg: false,
+        png: Some(args.output.join("coil.png")),
+        gltf: GltfArgs {
+            gltf: Some(args.output.join("coil.glb")),
+            max_gltf_mb: 256.0,
+        },
+    };
+    let times = frames.times(keys.len() - 1)?;
+    let dir = args.output.join("coil");
+    let mut plan = Plan::new();
+    let key_outputs: Vec<_> = keys
+        .iter()
+        .enumerate()
+        .map(|(k, mesh)| {
+            let path = args.output.join(format!("coil-key{k}.obj"));
+            (plan.file(&path, "demo mesh"), mesh)
+        })
+        .collect();
+    let outputs = FrameOutputs::plan(&mut plan, &frames, &dir, times.len(), Format::Obj);
+    let staging = plan.prepare()?;
+    for (output, mesh) in key_outputs {
+        staging.write(output, |path| {
+            Ok(meshmorph::io::write_mesh(path, mesh, Format::Obj)?)
+        })?;
+    }
+    let mut report = animate(&keys, false, &frames, &times, &outputs, &staging, start)?;
+    report.surplus_frames_removed = staging.commit()?;
+    if !args.json {
+        println!("\n== interpolation in space: a tube bending through 540 degrees while twisting by 90, through 3 keys ==");
     }
     report.print(args.json);
     Ok(())

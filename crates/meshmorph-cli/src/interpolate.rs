@@ -4,21 +4,21 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use meshmorph::io::gltf::{GltfBase, GltfOptions};
-use meshmorph::{Interpolator, InterpolatorOptions, Mesh2, StretchMode};
-use rayon::prelude::*;
-use serde::Serialize;
+use meshmorph::{Interpolator, InterpolatorOptions, Mesh3, Sequence3, StretchMode};
 
+use crate::animation::{write_frames, FrameOutputs, Planar, Report, Run, Setup};
 use crate::gltf::GltfArgs;
 use crate::memory;
 use crate::output::{self, positive_number, FormatArg};
-use crate::outputs::{Output, Plan, Staging};
-use crate::pictures;
-use crate::progress;
+use crate::outputs::{Plan, Staging};
 
-/// Interpolate between two planar meshes with the same triangles.
+/// Interpolate through two or more meshes with the same triangles (keys),
+/// planar or surfaces in space.
 ///
-/// Writes DIR/frame_0000.obj, frame_0001.obj, ... and prints a report.
+/// Writes DIR/frame_0000.obj, frame_0001.obj, ... and prints a report. Key
+/// i is at time t = i; the frames pass through every key in order, with one
+/// factorization for all of them. Planar when every z of every key is 0
+/// (--dim forces it); two planar keys use the planar interpolator.
 ///
 /// Inputs are never written: an output that would land on an input is
 /// refused before any work. All or nothing: every file is written under a
@@ -29,16 +29,20 @@ use crate::progress;
 /// run did not write are removed; no other file is touched.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The shape at t = 0 (OBJ, OFF or PLY; planar: every z = 0).
-    pub source: PathBuf,
-    /// The shape at t = 1: the same vertices and triangles as SOURCE.
-    pub target: PathBuf,
+    /// The keys, in order (OBJ, OFF or PLY): the first at t = 0, the
+    /// others at t = 1, 2, ...; every key has the first's vertices and
+    /// triangles.
+    #[arg(num_args = 2.., required = true, value_name = "KEY")]
+    pub keys: Vec<PathBuf>,
+    /// Planar (2) or in space (3) [default: 2 when every z of every key is 0].
+    #[arg(long, value_parser = clap::value_parser!(u8).range(2..=3), value_name = "2|3")]
+    pub dim: Option<u8>,
     /// Directory for the frames (created if missing).
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
     #[command(flatten)]
     pub frames: FrameArgs,
-    /// Output mesh format [default: the source's].
+    /// Output mesh format [default: the first key's].
     #[arg(long, value_enum)]
     pub format: Option<FormatArg>,
     /// Print the report as one JSON object on stdout.
@@ -49,11 +53,12 @@ pub struct Args {
 /// Options shared by `interpolate` and `demo`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct FrameArgs {
-    /// Number of frames, t evenly from 0 to 1 inclusive (at most 1000000).
+    /// Number of frames, t evenly from the first key (0) to the last (the
+    /// number of keys - 1) inclusive (at most 1000000).
     #[arg(long, default_value_t = 30, value_name = "N", value_parser = frame_count)]
     pub frames: usize,
-    /// Explicit times instead, comma-separated, written in this order
-    /// (values outside [0, 1] extrapolate), e.g. --t 0,0.5,1.5
+    /// Explicit times instead, comma-separated, written in this order (key
+    /// i at t = i; values outside extrapolate), e.g. --t 0,0.5,1.5
     #[arg(
         long = "t",
         value_delimiter = ',',
@@ -68,7 +73,9 @@ pub struct FrameArgs {
     #[arg(long)]
     pub no_consistency: bool,
     /// Add K whole turns (360 degrees each, counter-clockwise for K > 0) to
-    /// every triangle's rotation: the long way round.
+    /// every triangle's rotation: the long way round (two planar keys only:
+    /// in space there is no common axis to turn about, and a sequence's
+    /// turns come from its keys).
     #[arg(
         long,
         default_value_t = 0,
@@ -80,7 +87,8 @@ pub struct FrameArgs {
     /// `log` is S^t, which never collapses a triangle when extrapolating.
     #[arg(long, value_enum, default_value_t = Stretch::Linear)]
     pub stretch: Stretch,
-    /// Go on when triangles are reversed between source and target.
+    /// Go on when triangles are reversed between the keys (in space: turned
+    /// over relative to their neighbours in the first key).
     #[arg(long)]
     pub allow_flips: bool,
     /// Also write an animated GIF of the frames to FILE.
@@ -99,9 +107,13 @@ pub struct FrameArgs {
     #[arg(long)]
     pub no_boomerang: bool,
     /// Also write each frame as an SVG beside the mesh files (one view that
-    /// holds every frame, --gif-width pixels wide).
+    /// holds every frame, --gif-width pixels wide; planar frames only).
     #[arg(long)]
     pub svg: bool,
+    /// Also write a still picture of the first, middle and last frames side
+    /// by side (each half --gif-width pixels wide).
+    #[arg(long, value_name = "FILE.png")]
+    pub png: Option<PathBuf>,
     #[command(flatten)]
     pub gltf: GltfArgs,
 }
@@ -130,7 +142,8 @@ pub enum Stretch {
 }
 
 impl FrameArgs {
-    pub fn times(&self) -> Result<Vec<f64>> {
+    /// The times asked for, over keys at `0..=last`.
+    pub fn times(&self, last: usize) -> Result<Vec<f64>> {
         if let Some(t) = &self.times {
             if t.is_empty() {
                 bail!("--t needs at least one time");
@@ -147,11 +160,13 @@ impl FrameArgs {
             0 => bail!("--frames must be at least 1"),
             n if n > MAX_FRAMES => bail!("--frames {n} is too many (at most {MAX_FRAMES})"),
             1 => Ok(vec![0.0]),
-            n => Ok((0..n).map(|k| k as f64 / (n - 1) as f64).collect()),
+            n => Ok((0..n)
+                .map(|k| last as f64 * k as f64 / (n - 1) as f64)
+                .collect()),
         }
     }
 
-    fn options(&self) -> InterpolatorOptions {
+    pub fn options(&self) -> InterpolatorOptions {
         InterpolatorOptions::default()
             .with_consistency(!self.no_consistency)
             .with_turns(self.turns)
@@ -163,354 +178,172 @@ impl FrameArgs {
     }
 }
 
-/// What a run did, for people and (with --json) for programs.
-#[derive(Debug, Serialize)]
-pub struct Report {
-    /// Where the frames went.
-    pub output: PathBuf,
-    /// Number of frame files written.
-    pub frames_written: usize,
-    /// Vertices and triangles of the mesh.
-    pub vertices: usize,
-    /// Triangles of the mesh.
-    pub triangles: usize,
-    /// Building the interpolator: polar decompositions, factorization.
-    pub setup_seconds: f64,
-    /// Computing one frame, averaged (frames run in parallel).
-    pub seconds_per_frame: f64,
-    /// Writing one frame's files, averaged.
-    pub write_seconds_per_frame: f64,
-    /// Wall time of the whole command.
-    pub total_seconds: f64,
-    /// The largest number of triangles reversed relative to the source in any frame.
-    pub max_flipped_triangles: usize,
-    /// The frame (index) where that happened.
-    pub max_flipped_frame: usize,
-    /// The GIF written, if any.
-    pub gif: Option<PathBuf>,
-    /// The GLB written, if any.
-    pub gltf: Option<PathBuf>,
-    /// Every file written, in order.
-    pub files_written: Vec<PathBuf>,
-    /// The warnings given (also printed on stderr).
-    pub warnings: Vec<String>,
-    /// Frame files of an earlier run removed from the output folder.
-    pub surplus_frames_removed: usize,
-    /// Vertices no triangle uses: they move on the straight line from their
-    /// source to their target position and count in no scale.
-    pub unused_vertices: usize,
-}
-
-impl Report {
-    pub fn print(&self, json: bool) {
-        if json {
-            output::print_json(self);
-            return;
-        }
-        println!(
-            "wrote {} frames ({} vertices, {} triangles) to {}",
-            self.frames_written,
-            self.vertices,
-            self.triangles,
-            self.output.display()
-        );
-        println!(
-            "setup:          {}",
-            output::human_seconds(self.setup_seconds)
-        );
-        println!(
-            "time per frame: {} (+ {} writing)",
-            output::human_seconds(self.seconds_per_frame),
-            output::human_seconds(self.write_seconds_per_frame)
-        );
-        println!(
-            "total:          {}",
-            output::human_seconds(self.total_seconds)
-        );
-        if self.max_flipped_triangles == 0 {
-            println!("flipped triangles: none in any frame");
-        } else {
-            println!(
-                "flipped triangles: at most {} (frame {})",
-                self.max_flipped_triangles, self.max_flipped_frame
-            );
-        }
-        if let Some(g) = &self.gif {
-            println!("animation: {}", g.display());
-        }
-        if let Some(g) = &self.gltf {
-            println!("glTF:      {}", g.display());
-        }
-        if self.unused_vertices > 0 {
-            println!(
-                "unused vertices: {} (in no triangle; carried along unchanged)",
-                self.unused_vertices
-            );
-        }
-        if self.surplus_frames_removed > 0 {
-            println!(
-                "removed {} frame files of an earlier run",
-                self.surplus_frames_removed
-            );
-        }
-    }
-}
-
 pub fn run(args: &Args) -> Result<()> {
     let start = Instant::now();
-    let times = args.frames.times()?;
-    let format = output::format_or_like(args.format, &args.source)?;
+    let last = args.keys.len() - 1;
+    let times = args.frames.times(last)?;
+    let format = output::format_or_like(args.format, &args.keys[0])?;
+    let roles = key_roles(args.keys.len());
     let mut plan = Plan::new();
-    plan.input(&args.source, "source mesh");
-    plan.input(&args.target, "target mesh");
+    for (path, role) in args.keys.iter().zip(&roles) {
+        plan.input(path, role);
+    }
     let outputs = FrameOutputs::plan(&mut plan, &args.frames, &args.output, times.len(), format);
     let staging = plan.prepare()?;
-    memory::check_reading(&[&args.source, &args.target])?;
-    let source = output::read_mesh_2d(&args.source, "source mesh")?;
-    let target = output::read_mesh_2d(&args.target, "target mesh")?;
+    let paths: Vec<&Path> = args.keys.iter().map(PathBuf::as_path).collect();
+    memory::check_reading(&paths)?;
+    let keys = read_keys(&args.keys, &roles)?;
+    let planar = match args.dim {
+        Some(2) => {
+            for ((key, path), role) in keys.iter().zip(&args.keys).zip(&roles) {
+                key.to_2d().with_context(|| {
+                    format!("--dim 2: the {role} `{}` is not planar", path.display())
+                })?;
+            }
+            true
+        }
+        Some(_) => false,
+        None => keys
+            .iter()
+            .all(|k| k.positions().iter().all(|p| p[2] == 0.0)),
+    };
     let context = || {
-        format!(
-            "interpolating `{}` to `{}`",
-            args.source.display(),
-            args.target.display()
-        )
+        let names: Vec<String> = args
+            .keys
+            .iter()
+            .map(|p| format!("`{}`", p.display()))
+            .collect();
+        format!("interpolating {}", names.join(" to "))
     };
     let mut report = animate(
-        &source,
-        &target,
+        &keys,
+        planar,
         &args.frames,
         &times,
         &outputs,
         &staging,
-        format,
         start,
     )
+    .map_err(|e| name_key_files(e, &args.keys))
     .with_context(context)?;
     report.surplus_frames_removed = staging.commit()?;
     report.print(args.json);
     Ok(())
 }
 
-/// The files of an animation: one mesh per frame, and the pictures asked for.
-pub struct FrameOutputs {
-    dir: PathBuf,
-    meshes: Vec<Output>,
-    svgs: Vec<Output>,
-    gif: Option<Output>,
-    gltf: Option<Output>,
+/// What the keys are called in messages: source and target when there are
+/// two (as for any interpolation), else key 0, key 1, ...
+fn key_roles(count: usize) -> Vec<String> {
+    (0..count)
+        .map(|i| match (count, i) {
+            (2, 0) => "source mesh".to_string(),
+            (2, _) => "target mesh".to_string(),
+            _ => format!("key {i}"),
+        })
+        .collect()
 }
 
-impl FrameOutputs {
-    /// Adds the frames (and SVGs, GIF, GLB) of `count` frames in `dir` to `plan`.
-    pub fn plan(
-        plan: &mut Plan,
-        args: &FrameArgs,
-        dir: &Path,
-        count: usize,
-        format: meshmorph::io::Format,
-    ) -> Self {
-        Self {
-            dir: dir.to_path_buf(),
-            meshes: plan.frames(dir, count, format.extension()),
-            svgs: if args.svg {
-                plan.frames(dir, count, "svg")
-            } else {
-                Vec::new()
-            },
-            gif: args.gif.as_deref().map(|g| plan.file(g, "animation")),
-            gltf: args.gltf.gltf.as_deref().map(|g| plan.file(g, "glTF file")),
+/// Reads the keys, refusing one whose vertex count or triangles differ
+/// from the first's (naming both files and the first differing triangle).
+fn read_keys(paths: &[PathBuf], roles: &[String]) -> Result<Vec<Mesh3>> {
+    let mut keys: Vec<Mesh3> = Vec::with_capacity(paths.len());
+    for (path, role) in paths.iter().zip(roles) {
+        let key = output::read_mesh(path, role)?;
+        if let Some(first) = keys.first() {
+            first.check_same_connectivity(
+                &key,
+                [
+                    &format!("the {} `{}`", roles[0], paths[0].display()),
+                    &format!("the {role} `{}`", path.display()),
+                ],
+            )?;
         }
+        keys.push(key);
     }
+    Ok(keys)
 }
 
-/// Builds the interpolator, writes every frame (and the pictures asked for)
-/// through `staging`, and reports. `start` is when the command began.
-#[allow(clippy::too_many_arguments)]
+/// The library numbers the keys after the first ("key 1", ...) and calls
+/// the first "the first key"; say the files instead.
+fn name_key_files(e: anyhow::Error, paths: &[PathBuf]) -> anyhow::Error {
+    let Some(lib) = e.downcast_ref::<meshmorph::Error>() else {
+        return e;
+    };
+    let mut text = lib.to_string();
+    for (k, path) in paths.iter().enumerate().skip(1).rev() {
+        text = text.replace(&format!("key {k} "), &format!("key `{}` ", path.display()));
+        text = text.replace(&format!("key {k}:"), &format!("key `{}`:", path.display()));
+    }
+    text = text.replace(
+        "the first key",
+        &format!("the first key `{}`", paths[0].display()),
+    );
+    anyhow::anyhow!(text)
+}
+
+/// Builds the interpolation through `keys` (two planar keys: the planar
+/// interpolator; otherwise a keyframe sequence, written in the plane when
+/// `planar`) and writes its frames through `staging`.
 pub fn animate(
-    source: &Mesh2,
-    target: &Mesh2,
+    keys: &[Mesh3],
+    planar: bool,
     args: &FrameArgs,
     times: &[f64],
     outputs: &FrameOutputs,
     staging: &Staging,
-    format: meshmorph::io::Format,
     start: Instant,
 ) -> Result<Report> {
-    let dir = outputs.dir.as_path();
-    args.gltf.check::<2>(
-        source.num_vertices(),
-        source.num_triangles(),
-        times.len(),
-        false,
-    )?;
-    memory::check_setup(source.num_triangles(), "the interpolation")?;
-    let setup = Instant::now();
-    let morph = Interpolator::new(source, target, &args.options())?;
-    let setup_seconds = setup.elapsed().as_secs_f64();
-
-    let bar = progress::bar(times.len() as u64, "frames");
-    let keep = outputs.gif.is_some() || !outputs.svgs.is_empty() || outputs.gltf.is_some();
-    if keep {
-        memory::check_held(
-            times.len(),
-            morph.num_vertices() * std::mem::size_of::<[f64; 2]>(),
-            "holding every frame for the pictures",
-        )?;
-    }
-    let results: Vec<Result<Frame>> = times
-        .par_iter()
-        .enumerate()
-        .map_init(
-            || morph.workspace(),
-            |ws, (k, &t)| {
-                let begin = Instant::now();
-                let mut positions = vec![[0.0; 2]; morph.num_vertices()];
-                morph.at_into(t, &mut positions, ws);
-                let compute = begin.elapsed().as_secs_f64();
-                let flipped = morph.count_flipped(&positions);
-                let begin = Instant::now();
-                staging.write(outputs.meshes[k], |path| {
-                    check_finite(&positions, k, t)?;
-                    Ok(meshmorph::io::write_positions(
-                        path,
-                        &positions,
-                        morph.triangles(),
-                        format,
-                    )?)
-                })?;
-                let write = begin.elapsed().as_secs_f64();
-                bar.inc(1);
-                Ok(Frame {
-                    compute,
-                    write,
-                    flipped,
-                    positions: keep.then_some(positions),
-                })
-            },
-        )
-        .collect();
-    bar.finish_and_clear();
-    let mut frames = results.into_iter().collect::<Result<Vec<_>>>()?;
-    let (max_flipped_frame, max_flipped) = frames
-        .iter()
-        .enumerate()
-        .map(|(k, f)| (k, f.flipped))
-        .max_by_key(|&(k, f)| (f, std::cmp::Reverse(k)))
-        .unwrap_or((0, 0));
-    let mut files_written: Vec<PathBuf> = (0..times.len())
-        .map(|k| crate::outputs::frame_path(dir, k, times.len(), format.extension()))
-        .collect();
-    let mut gltf = None;
-    if keep {
-        let positions: Vec<Vec<[f64; 2]>> = frames
-            .iter_mut()
-            .filter_map(|f| f.positions.take())
-            .collect();
-        files_written.extend(write_pictures(
-            args,
-            outputs,
-            staging,
-            &positions,
-            morph.triangles(),
-        )?);
-        if let Some(output) = outputs.gltf {
-            let names: Vec<String> = (0..times.len())
-                .map(|k| {
-                    let path = crate::outputs::frame_path(dir, k, times.len(), format.extension());
-                    crate::gltf::mesh_name(&path)
-                })
-                .collect();
-            let options = GltfOptions::default()
-                .with_fps(args.fps)
-                .with_name("interpolation");
-            let base = GltfBase::new(source.positions(), source.triangles());
-            staging.write(output, |path| {
-                let mut staged = args.gltf.clone();
-                staged.gltf = Some(path.to_path_buf());
-                staged.write(&base, &positions, &names, &options)?;
-                Ok(())
-            })?;
-            gltf = args.gltf.gltf.clone();
-            files_written.extend(gltf.clone());
+    let first = &keys[0];
+    let (vertices, triangles) = (first.num_vertices(), first.num_triangles());
+    if planar {
+        args.gltf
+            .check::<2>(vertices, triangles, times.len(), false)?;
+    } else {
+        if args.svg {
+            bail!("--svg draws planar frames only: use --gif, --png or --gltf for meshes in space");
         }
+        args.gltf
+            .check::<3>(vertices, triangles, times.len(), false)?;
     }
-    let mut warnings = Vec::new();
-    if max_flipped > 0 {
-        warnings.push(format!(
-            "frame {max_flipped_frame} has {max_flipped} triangles reversed relative to the source"
-        ));
-    }
-    output::print_warnings(&warnings);
-    let n = frames.len() as f64;
-    Ok(Report {
-        output: dir.to_path_buf(),
-        frames_written: frames.len(),
-        vertices: morph.num_vertices(),
-        triangles: morph.triangles().len(),
-        setup_seconds,
-        seconds_per_frame: frames.iter().map(|f| f.compute).sum::<f64>() / n,
-        write_seconds_per_frame: frames.iter().map(|f| f.write).sum::<f64>() / n,
-        total_seconds: start.elapsed().as_secs_f64(),
-        max_flipped_triangles: max_flipped,
-        max_flipped_frame,
-        gif: args.gif.clone(),
-        gltf,
-        files_written,
-        warnings,
-        surplus_frames_removed: 0,
-        unused_vertices: source.num_unused_vertices(),
-    })
-}
-
-/// Refuses a frame whose coordinates overflowed (inputs near the largest
-/// representable number, or far extrapolation).
-fn check_finite(positions: &[[f64; 2]], frame: usize, t: f64) -> Result<()> {
-    if let Some(v) = positions
-        .iter()
-        .position(|p| !(p[0].is_finite() && p[1].is_finite()))
-    {
+    if args.turns != 0 && !(planar && keys.len() == 2) {
         bail!(
-            "frame {frame} (t = {t}): vertex {v} overflows (its coordinates exceed the range of floating-point numbers); scale the meshes down"
+            "--turns applies to two planar keys only: in space there is no common axis to turn about, and a sequence's whole turns come from its keys"
         );
     }
-    Ok(())
-}
-
-/// The SVGs and the GIF asked for, of the frames' positions; returns the
-/// files (as the user will find them).
-fn write_pictures(
-    args: &FrameArgs,
-    outputs: &FrameOutputs,
-    staging: &Staging,
-    positions: &[Vec<[f64; 2]>],
-    triangles: &[[u32; 3]],
-) -> Result<Vec<PathBuf>> {
-    let mut written = Vec::new();
-    if !outputs.svgs.is_empty() {
-        pictures::write_svgs(staging, &outputs.svgs, positions, triangles, args.gif_width)?;
-        written.extend(
-            (0..positions.len())
-                .map(|k| crate::outputs::frame_path(&outputs.dir, k, positions.len(), "svg")),
-        );
-    }
-    if let (Some(output), Some(gif)) = (outputs.gif, &args.gif) {
-        let gif_args = pictures::GifArgs {
-            width: args.gif_width,
-            height: args.gif_height,
-            fps: args.fps,
-            boomerang: !args.no_boomerang,
+    memory::check_setup(triangles, "the interpolation")?;
+    let run = Run {
+        args,
+        times,
+        outputs,
+        staging,
+        start,
+    };
+    let begin = Instant::now();
+    let unused_vertices = first.num_unused_vertices();
+    if planar && keys.len() == 2 {
+        let source = keys[0].to_2d()?;
+        let target = keys[1].to_2d()?;
+        let morph = Interpolator::new(&source, &target, &args.options())?;
+        let setup = Setup {
+            keys: 2,
+            seconds: begin.elapsed().as_secs_f64(),
+            whole_turns: None,
+            unused_vertices,
         };
-        staging.write(output, |path| {
-            pictures::write_gif(path, positions, triangles, &gif_args)
-        })?;
-        written.push(gif.clone());
+        return write_frames(&morph, source.positions(), &run, &setup);
     }
-    Ok(written)
-}
-
-struct Frame {
-    compute: f64,
-    write: f64,
-    flipped: usize,
-    positions: Option<Vec<[f64; 2]>>,
+    memory::check_sequence(triangles, keys.len() - 1)?;
+    let morph = Sequence3::new(keys, &args.options())?;
+    let setup = Setup {
+        keys: keys.len(),
+        seconds: begin.elapsed().as_secs_f64(),
+        whole_turns: Some(morph.triangles_with_whole_turns().iter().sum()),
+        unused_vertices,
+    };
+    if planar {
+        let base: Vec<[f64; 2]> = first.positions().iter().map(|p| [p[0], p[1]]).collect();
+        write_frames(&Planar(morph), &base, &run, &setup)
+    } else {
+        write_frames(&morph, first.positions(), &run, &setup)
+    }
 }

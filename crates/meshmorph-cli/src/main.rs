@@ -3,6 +3,8 @@
 //! A thin layer over the `meshmorph` library: each subcommand parses its
 //! arguments, reads files, reports progress and calls the library.
 
+mod animation;
+mod blend;
 mod demo;
 mod gltf;
 mod interpolate;
@@ -32,8 +34,10 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Interpolate between two planar meshes with the same triangles.
+    /// Interpolate through meshes with the same triangles, planar or in space.
     Interpolate(interpolate::Args),
+    /// Blend shapes of a base mesh with weights, planar or in space.
+    Blend(blend::Args),
     /// Carry the poses of a source mesh over to a different target mesh.
     Transfer(transfer::TransferArgs),
     /// Compute the triangle correspondence between two meshes and save it.
@@ -55,6 +59,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Interpolate(args) => interpolate::run(&args),
+        Command::Blend(args) => blend::run(&args),
         Command::Transfer(args) => transfer::run_transfer(&args),
         Command::Correspond(args) => transfer::run_correspond(&args),
         Command::Demo(args) => demo::run(&args),

@@ -62,6 +62,23 @@ pub fn check_setup(triangles: usize, what: &str) -> Result<()> {
     )
 }
 
+/// Bytes per triangle and segment of a keyframe sequence or per shape of a
+/// blend, counted from what is kept (a segment's rotation: 12 numbers; its
+/// stretches: 18) and what is built beside it (the key's polar
+/// decompositions and whole turns), with a margin.
+const SEGMENT_BYTES_PER_TRIANGLE: u64 = 480;
+
+/// The per-triangle data of `segments` segments (or blend shapes) over
+/// `triangles` triangles.
+pub fn check_sequence(triangles: usize, segments: usize) -> Result<()> {
+    check(
+        (triangles as u64)
+            .saturating_mul(segments as u64)
+            .saturating_mul(SEGMENT_BYTES_PER_TRIANGLE),
+        "the rotations and stretches of the keys",
+    )
+}
+
 /// `count` items of `bytes_each`, held at once.
 pub fn check_held(count: usize, bytes_each: usize, what: &str) -> Result<()> {
     check((count as u64).saturating_mul(bytes_each as u64), what)

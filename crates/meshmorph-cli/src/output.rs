@@ -45,13 +45,6 @@ pub fn read_mesh_file(path: &Path, role: &str) -> Result<meshmorph::io::MeshFile
         .with_context(|| format!("reading {role} `{}`", path.display()))
 }
 
-/// Reads a planar mesh (every z = 0).
-pub fn read_mesh_2d(path: &Path, role: &str) -> Result<meshmorph::Mesh2> {
-    read_mesh(path, role)?
-        .to_2d()
-        .with_context(|| format!("{role} `{}` is not planar", path.display()))
-}
-
 /// Seconds as a short human string.
 pub fn human_seconds(s: f64) -> String {
     if s >= 1.0 {

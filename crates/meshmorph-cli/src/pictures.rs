@@ -40,7 +40,7 @@ pub fn write_svgs(
     Ok(())
 }
 
-/// Options of an animation of planar frames.
+/// Options of an animation of frames.
 pub struct GifArgs {
     pub width: u32,
     pub height: Option<u32>,
@@ -48,10 +48,35 @@ pub struct GifArgs {
     pub boomerang: bool,
 }
 
-/// Writes the frames as an animated GIF with one view that holds them all.
+/// The frames of an animation, planar or in space.
+pub enum AnyFrames<'a> {
+    Planar(&'a [Vec<[f64; 2]>]),
+    Space(&'a [Vec<[f64; 3]>]),
+}
+
+impl<'a> AnyFrames<'a> {
+    /// The frames of an animation of `D`-dimensional meshes (2 or 3).
+    ///
+    /// # Panics
+    /// For another `D`.
+    #[allow(clippy::ptr_arg)] // told apart by their type, which a slice cannot be
+    pub fn new<const D: usize>(frames: &'a Vec<Vec<[f64; D]>>) -> Self {
+        let any: &dyn std::any::Any = frames;
+        if let Some(p) = any.downcast_ref::<Vec<Vec<[f64; 2]>>>() {
+            AnyFrames::Planar(p)
+        } else if let Some(s) = any.downcast_ref::<Vec<Vec<[f64; 3]>>>() {
+            AnyFrames::Space(s)
+        } else {
+            panic!("frames of {D} coordinates")
+        }
+    }
+}
+
+/// Writes the frames as an animated GIF: planar frames through one view
+/// that holds them all, frames in space flat-shaded through one camera.
 pub fn write_gif(
     path: &Path,
-    frames: &[Vec<[f64; 2]>],
+    frames: &AnyFrames<'_>,
     triangles: &[[u32; 3]],
     args: &GifArgs,
 ) -> Result<()> {
@@ -62,13 +87,70 @@ pub fn write_gif(
         boomerang: args.boomerang,
         ..GifOptions::default()
     };
-    Ok(render::write_gif_2d(
-        path,
-        frames,
+    match frames {
+        AnyFrames::Planar(frames) => Ok(render::write_gif_2d(
+            path,
+            frames,
+            triangles,
+            &options,
+            &style_2d(),
+        )?),
+        AnyFrames::Space(frames) => {
+            let pictures: Vec<Vec<GridRow<'_>>> = frames
+                .iter()
+                .map(|f| vec![space_row(triangles, vec![f.as_slice()])])
+                .collect();
+            let grid = grid_options(args.width);
+            Ok(render::write_gif_grid(path, &pictures, &grid, &options)?)
+        }
+    }
+}
+
+/// A still picture (PNG) of the first, middle and last frames side by
+/// side, each `cell_width` pixels wide.
+pub fn write_png(
+    path: &Path,
+    frames: &AnyFrames<'_>,
+    triangles: &[[u32; 3]],
+    cell_width: u32,
+) -> Result<()> {
+    let (n, lifted);
+    let poses: Vec<&[[f64; 3]]> = match frames {
+        AnyFrames::Space(f) => {
+            n = f.len();
+            picks(n).iter().map(|&k| f[k].as_slice()).collect()
+        }
+        AnyFrames::Planar(f) => {
+            n = f.len();
+            lifted = picks(n)
+                .iter()
+                .map(|&k| f[k].iter().map(|p| [p[0], p[1], 0.0]).collect())
+                .collect::<Vec<Vec<[f64; 3]>>>();
+            lifted.iter().map(Vec::as_slice).collect()
+        }
+    };
+    let mut options = grid_options(cell_width);
+    if matches!(frames, AnyFrames::Planar(_)) {
+        options.direction = [0.0, 0.0, -1.0];
+    }
+    let canvas = render::render_grid_3d(&[space_row(triangles, poses)], &options);
+    Ok(render::write_png(path, &canvas)?)
+}
+
+/// The first, middle and last of `n` frames (fewer when they coincide).
+fn picks(n: usize) -> Vec<usize> {
+    let mut picks = vec![0, n / 2, n.saturating_sub(1)];
+    picks.dedup();
+    picks
+}
+
+/// One row of poses in space, in the interpolation's colour.
+fn space_row<'a>(triangles: &'a [[u32; 3]], poses: Vec<&'a [[f64; 3]]>) -> GridRow<'a> {
+    GridRow {
         triangles,
-        &options,
-        &style_2d(),
-    )?)
+        poses,
+        style: Style3d::with_ramp(Ramp::BLUE),
+    }
 }
 
 /// `--png` and `--gif` of the commands on meshes in space.

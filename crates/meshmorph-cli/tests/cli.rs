@@ -163,8 +163,11 @@ fn line_starting(path: &Path, prefix: &str) -> usize {
 #[test]
 fn help_lists_commands_and_flags() {
     let top = succeeds(&run(["--help"]));
-    assert_mentions(&top, &["interpolate", "transfer", "correspond", "demo"]);
-    let cases: [(&str, &[&str]); 4] = [
+    assert_mentions(
+        &top,
+        &["interpolate", "blend", "transfer", "correspond", "demo"],
+    );
+    let cases: [(&str, &[&str]); 5] = [
         (
             "interpolate",
             &[
@@ -179,6 +182,22 @@ fn help_lists_commands_and_flags() {
                 "--no-consistency",
                 "--turns",
                 "--stretch",
+                "--dim",
+                "--png",
+                "--gltf",
+            ],
+        ),
+        (
+            "blend",
+            &[
+                "--shape",
+                "--output",
+                "--dim",
+                "--allow-flips",
+                "--png",
+                "--gif",
+                "--gltf",
+                "--json",
             ],
         ),
         (
@@ -546,7 +565,7 @@ fn interpolate_non_planar_mesh_names_the_vertex() {
     lifted[6][2] = 0.25;
     let target = Mesh3::new(lifted, curled.triangles().to_vec()).unwrap();
     write(&p.tgt, &target);
-    let err = p.interpolate_fails(&[]);
+    let err = p.interpolate_fails(&["--dim", "2"]);
     assert_mentions(
         &err,
         &[&shown(&p.tgt), "not planar", "vertex 6", "z = 0.25"],
@@ -602,6 +621,341 @@ fn interpolate_bad_frame_options() {
     assert_empty(&p.out);
     let err = p.interpolate_fails(&["--t", "0,nan"]);
     assert_mentions(&err, &["--t", "NaN"]);
+}
+
+// ---------------------------------------------------------------------------
+// interpolate: keys, surfaces in space; blend.
+
+/// Three keys of a tube in space: straight, bent by 270 and by 540 degrees.
+fn tube_keys(dir: &Path) -> (Vec<PathBuf>, Vec<Mesh3>) {
+    let t = tube(4.0, 0.2, 21, 8);
+    let meshes = vec![t.clone(), bend(&t, 4.0, 1.5 * PI), bend(&t, 4.0, 3.0 * PI)];
+    let paths: Vec<PathBuf> = (0..3).map(|k| dir.join(format!("key{k}.obj"))).collect();
+    for (p, m) in paths.iter().zip(&meshes) {
+        write(p, m);
+    }
+    (paths, meshes)
+}
+
+/// `interpolate KEYS... -o OUT` followed by `extra`.
+fn interpolate_keys(keys: &[PathBuf], out: &Path, extra: &[&str]) -> Output {
+    let mut args: Vec<&OsStr> = vec!["interpolate".as_ref()];
+    args.extend(keys.iter().map(|p| p.as_os_str()));
+    args.extend(["-o".as_ref(), out.as_os_str()]);
+    args.extend(extra.iter().map(OsStr::new));
+    run(args)
+}
+
+#[test]
+fn interpolate_keys_in_space_pass_through_every_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let (paths, meshes) = tube_keys(dir.path());
+    let out = dir.path().join("out");
+    let gif = dir.path().join("tube.gif");
+    let png = dir.path().join("tube.png");
+    let glb = dir.path().join("tube.glb");
+    let report = json(&succeeds(&interpolate_keys(
+        &paths,
+        &out,
+        &[
+            "--t",
+            "0,0.5,1,1.5,2",
+            "--json",
+            "--gif",
+            gif.to_str().unwrap(),
+            "--png",
+            png.to_str().unwrap(),
+            "--gltf",
+            glb.to_str().unwrap(),
+        ],
+    )));
+    assert_eq!(uint(&report, "dimension"), 3);
+    assert_eq!(uint(&report, "keys"), 3);
+    assert_eq!(uint(&report, "frames_written"), 5);
+    assert_eq!(uint(&report, "max_flipped_triangles"), 0);
+    assert!(uint(&report, "triangles_with_whole_turns") > 0);
+    assert!(seconds(&report, "throughput_seconds_per_frame") > 0.0);
+    assert!(seconds(&report, "seconds_per_frame") > 0.0);
+    assert!(uint(&report, "threads") >= 1);
+    let diagonal = meshes[0].bounding_box_diagonal();
+    for (k, key) in [(0, &meshes[0]), (2, &meshes[1]), (4, &meshes[2])] {
+        let frame = read(&out.join(format!("frame_{k:04}.obj")));
+        let d = max_diff(frame.positions(), key.positions());
+        assert!(d < 1e-9 * diagonal, "frame {k}: {d}");
+    }
+    assert!(fs::read(&gif).unwrap().starts_with(b"GIF89a"));
+    assert!(fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+    assert!(fs::read(&glb).unwrap().starts_with(b"glTF"));
+    // --frames spreads over the whole sequence: 5 frames hit the keys.
+    let out5 = dir.path().join("out5");
+    succeeds(&interpolate_keys(&paths, &out5, &["--frames", "5"]));
+    for k in 0..5 {
+        assert_eq!(
+            fs::read(out5.join(format!("frame_{k:04}.obj"))).unwrap(),
+            fs::read(out.join(format!("frame_{k:04}.obj"))).unwrap(),
+            "frame {k}"
+        );
+    }
+    let text = succeeds(&interpolate_keys(&paths, &out5, &["--frames", "3"]));
+    assert_mentions(
+        &text,
+        &[
+            "in space, 3 keys",
+            "time per frame:",
+            "one frame on its own thread",
+            "throughput:",
+            "wall time of all frames / frames",
+        ],
+    );
+}
+
+#[test]
+fn interpolate_keys_that_cannot_be_used_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let (paths, meshes) = tube_keys(dir.path());
+    let out = dir.path().join("out");
+    // A key whose triangles differ: the file and the triangle are named.
+    let other = dir.path().join("other.obj");
+    let mut tris = meshes[1].triangles().to_vec();
+    tris.swap(3, 4);
+    write(
+        &other,
+        &Mesh3::new(meshes[1].positions().to_vec(), tris).unwrap(),
+    );
+    let keys = [paths[0].clone(), paths[1].clone(), other.clone()];
+    let err = fails(&interpolate_keys(&keys, &out, &[]));
+    assert_mentions(
+        &err,
+        &[&shown(&other), &shown(&paths[0]), "triangle 3", "key 2"],
+    );
+    assert_empty(&out);
+    // A key with fewer vertices.
+    let short = dir.path().join("short.obj");
+    write(&short, &tube(4.0, 0.2, 20, 8));
+    let err = fails(&interpolate_keys(
+        &[paths[0].clone(), short.clone()],
+        &out,
+        &[],
+    ));
+    assert_mentions(&err, &[&shown(&short), "vertices"]);
+    assert_empty(&out);
+    // --turns has no axis in space, nor in a sequence of planar keys.
+    let err = fails(&interpolate_keys(&paths[..2], &out, &["--turns", "1"]));
+    assert_mentions(&err, &["--turns", "two planar keys only"]);
+    assert_empty(&out);
+    // --svg draws planar frames only.
+    let err = fails(&interpolate_keys(&paths[..2], &out, &["--svg"]));
+    assert_mentions(&err, &["--svg", "planar frames only"]);
+    assert_empty(&out);
+    // A degenerate triangle in the first key: the file is named.
+    let mut p = meshes[0].positions().to_vec();
+    p[1] = p[0];
+    let flat = dir.path().join("flat.obj");
+    write(&flat, &meshes[0].with_positions(p).unwrap());
+    let err = fails(&interpolate_keys(
+        &[flat.clone(), paths[1].clone()],
+        &out,
+        &[],
+    ));
+    assert_mentions(&err, &[&shown(&flat), "degenerate", "triangles 0"]);
+    assert_empty(&out);
+}
+
+/// A planar sheet, and the same sheet with one vertex pushed past its
+/// neighbour: in space, the triangles between them are folded back.
+fn sheet_and_fold(dir: &Path) -> [PathBuf; 2] {
+    let sheet = strip(4.0, 1.0, 8, 4);
+    let mut p = sheet.positions().to_vec();
+    p[2 * 9 + 4][0] += 0.8;
+    let folded = sheet.with_positions(p).unwrap();
+    let paths = [dir.join("sheet.obj"), dir.join("folded.obj")];
+    write(&paths[0], &sheet);
+    write(&paths[1], &folded);
+    paths
+}
+
+#[test]
+fn interpolate_a_key_turned_over_in_space_needs_allow_flips() {
+    let dir = tempfile::tempdir().unwrap();
+    let paths = sheet_and_fold(dir.path());
+    let out = dir.path().join("out");
+    let err = fails(&interpolate_keys(&paths, &out, &["--dim", "3"]));
+    assert_mentions(&err, &[&shown(&paths[1]), "turned over", "--allow-flips"]);
+    assert_empty(&out);
+    let report = json(&succeeds(&interpolate_keys(
+        &paths,
+        &out,
+        &["--dim", "3", "--allow-flips", "--frames", "3", "--json"],
+    )));
+    assert_eq!(uint(&report, "dimension"), 3);
+    assert!(uint(&report, "max_flipped_triangles") > 0);
+}
+
+#[test]
+fn interpolate_planar_keys_through_a_sequence() {
+    let (bar, curled) = bar_and_curl();
+    let halfway = Mesh2::new(
+        meshmorph::Interpolator::new(&bar, &curled, &Default::default())
+            .unwrap()
+            .at(0.5),
+        bar.triangles().to_vec(),
+    )
+    .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let paths: Vec<PathBuf> = (0..3)
+        .map(|k| dir.path().join(format!("k{k}.obj")))
+        .collect();
+    for (p, m) in paths.iter().zip([&bar, &halfway, &curled]) {
+        write(p, m);
+    }
+    let out = dir.path().join("out");
+    let svg_gif = dir.path().join("a.gif");
+    let report = json(&succeeds(&interpolate_keys(
+        &paths,
+        &out,
+        &[
+            "--t",
+            "0,1,2",
+            "--svg",
+            "--gif",
+            svg_gif.to_str().unwrap(),
+            "--json",
+        ],
+    )));
+    assert_eq!(uint(&report, "dimension"), 2);
+    assert_eq!(uint(&report, "keys"), 3);
+    for (k, key) in [&bar, &halfway, &curled].into_iter().enumerate() {
+        let frame = read(&out.join(format!("frame_{k:04}.obj")));
+        assert!(
+            max_diff(frame.positions(), key.to_3d().positions()) < 1e-9,
+            "key {k}"
+        );
+        assert!(out.join(format!("frame_{k:04}.svg")).is_file());
+    }
+    // A sequence has no common number of extra turns.
+    let err = fails(&interpolate_keys(
+        &paths,
+        &dir.path().join("o2"),
+        &["--turns", "1"],
+    ));
+    assert_mentions(&err, &["--turns"]);
+}
+
+/// `blend BASE --shape ... -o OUT` with `extra`.
+fn blend(base: &Path, shapes: &[(&Path, &str)], out: &Path, extra: &[&str]) -> Output {
+    let mut args: Vec<String> = vec!["blend".into(), shown(base)];
+    for (p, w) in shapes {
+        args.push("--shape".into());
+        args.push(format!("{}={w}", p.display()));
+    }
+    args.extend(["-o".into(), shown(out)]);
+    args.extend(extra.iter().map(|s| s.to_string()));
+    run(args)
+}
+
+#[test]
+fn blend_reproduces_a_shape_and_extrapolates() {
+    let dir = tempfile::tempdir().unwrap();
+    let (paths, meshes) = tube_keys(dir.path());
+    let out = dir.path().join("blend.obj");
+    let report = json(&succeeds(&blend(
+        &paths[0],
+        &[(&paths[1], "0"), (&paths[2], "1")],
+        &out,
+        &["--json"],
+    )));
+    assert_eq!(uint(&report, "dimension"), 3);
+    assert_eq!(uint(&report, "shapes"), 2);
+    let diagonal = meshes[0].bounding_box_diagonal();
+    assert!(max_diff(read(&out).positions(), meshes[2].positions()) < 1e-9 * diagonal);
+    // Negative weights and weights above 1, with every picture.
+    let out2 = dir.path().join("b/extra.ply");
+    let (png, gif, glb) = (
+        dir.path().join("p/b.png"),
+        dir.path().join("p/b.gif"),
+        dir.path().join("p/b.glb"),
+    );
+    let report = json(&succeeds(&blend(
+        &paths[0],
+        &[(&paths[1], "1.4"), (&paths[2], "-0.3")],
+        &out2,
+        &[
+            "--json",
+            "--png",
+            png.to_str().unwrap(),
+            "--gif",
+            gif.to_str().unwrap(),
+            "--gltf",
+            glb.to_str().unwrap(),
+        ],
+    )));
+    assert_eq!(uint(&report, "turned_over_triangles"), 0);
+    assert!(read(&out2)
+        .positions()
+        .iter()
+        .all(|p| p.iter().all(|x| x.is_finite())));
+    assert!(fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+    assert!(fs::read(&gif).unwrap().starts_with(b"GIF89a"));
+    assert!(fs::read(&glb).unwrap().starts_with(b"glTF"));
+    // Planar: weight 1 reproduces the curled bar.
+    let (bar, curled) = bar_and_curl();
+    let p = Pair::new(&bar, &curled);
+    let flat_out = dir.path().join("flat.obj");
+    let report = json(&succeeds(&blend(
+        &p.src,
+        &[(&p.tgt, "1")],
+        &flat_out,
+        &["--json"],
+    )));
+    assert_eq!(uint(&report, "dimension"), 2);
+    assert!(max_diff(read(&flat_out).positions(), curled.to_3d().positions()) < 1e-9);
+}
+
+#[test]
+fn blend_refuses_bad_shapes_and_weights() {
+    let dir = tempfile::tempdir().unwrap();
+    let (paths, meshes) = tube_keys(dir.path());
+    let out = dir.path().join("blend.obj");
+    for w in ["nan", "inf", "x"] {
+        let o = blend(&paths[0], &[(&paths[1], w)], &out, &[]);
+        assert_eq!(o.status.code(), Some(2), "{w}");
+        assert_mentions(&stderr(&o), &[w, "not a finite number"]);
+    }
+    let err = fails(&blend(&paths[0], &[(&paths[1], "0.5")], &paths[1], &[]));
+    assert_mentions(
+        &err,
+        &["would overwrite the blend shape", &shown(&paths[1])],
+    );
+    let other = dir.path().join("other.obj");
+    let mut tris = meshes[1].triangles().to_vec();
+    tris.swap(3, 4);
+    write(
+        &other,
+        &Mesh3::new(meshes[1].positions().to_vec(), tris).unwrap(),
+    );
+    let err = fails(&blend(
+        &paths[0],
+        &[(&paths[1], "0.5"), (&other, "0.5")],
+        &out,
+        &[],
+    ));
+    assert_mentions(&err, &[&shown(&other), "triangle 3"]);
+    assert!(!out.exists());
+    let folded = sheet_and_fold(dir.path());
+    let err = fails(&blend(
+        &folded[0],
+        &[(&folded[1], "1")],
+        &out,
+        &["--dim", "3"],
+    ));
+    assert_mentions(&err, &[&shown(&folded[1]), "turned over", "--allow-flips"]);
+    assert!(!out.exists());
+    succeeds(&blend(
+        &folded[0],
+        &[(&folded[1], "1")],
+        &out,
+        &["--dim", "3", "--allow-flips"],
+    ));
 }
 
 // ---------------------------------------------------------------------------
@@ -1177,6 +1531,13 @@ fn demo_writes_everything_and_json_lines() {
 
     let gif = fs::read(out.join("spiral.gif")).unwrap();
     assert!(gif.starts_with(b"GIF89a"));
+    for file in ["coil.gif", "coil.png", "coil.glb", "coil-key2.obj"] {
+        assert!(out.join(file).is_file(), "{file}");
+    }
+    assert_eq!(names(&out.join("coil")).len(), 48);
+    assert!(reports.iter().any(|r| r["dimension"].as_u64() == Some(3)
+        && r["keys"].as_u64() == Some(3)
+        && r["max_flipped_triangles"].as_u64() == Some(0)));
     assert!(out.join("spiral").join("frame_0000.obj").is_file());
     let transfer = out.join("transfer");
     let gif = fs::read(transfer.join("transfer.gif")).unwrap();

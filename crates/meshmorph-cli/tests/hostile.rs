@@ -261,6 +261,32 @@ fn mkdir(d: &Path, name: &str) {
     fs::create_dir_all(d.join(name)).unwrap();
 }
 
+/// `to`: `from` with its first two faces swapped.
+fn swap_faces(d: &Path, from: &str, to: &str) {
+    let text = fs::read_to_string(d.join(from)).unwrap();
+    let mut lines: Vec<&str> = text.lines().collect();
+    let faces: Vec<usize> = (0..lines.len())
+        .filter(|&k| lines[k].starts_with("f "))
+        .collect();
+    lines.swap(faces[0], faces[1]);
+    fs::write(d.join(to), lines.join("\n")).unwrap();
+}
+
+/// A planar sheet and the same sheet with one vertex pushed past its
+/// neighbour (in space, the triangles between them fold back).
+fn sheet_and_fold(d: &Path) {
+    let sheet = strip(4.0, 1.0, 8, 4);
+    let mut p = sheet.positions().to_vec();
+    p[2 * 9 + 4][0] += 0.8;
+    write_mesh(&d.join("sheet.obj"), &sheet, Format::Obj).unwrap();
+    write_mesh(
+        &d.join("folded.obj"),
+        &sheet.with_positions(p).unwrap(),
+        Format::Obj,
+    )
+    .unwrap();
+}
+
 fn exists(d: &Path, name: &str) -> bool {
     d.join(name).exists()
 }
@@ -269,6 +295,7 @@ fn exists(d: &Path, name: &str) -> bool {
 // The catalogue.
 
 const I: &str = "interpolate";
+const B: &str = "blend";
 const T: &str = "transfer";
 
 #[rustfmt::skip]
@@ -358,7 +385,7 @@ fn catalogue() -> Vec<Case> {
         with_setup(case("zero-area triangle", &[I, "flat.obj", "flat.obj", "-o", "out"], 1, &["degenerate", "triangle 0"]),
             |d| obj_with(d, "flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")),
         case("different meshes", &[I, "src.obj", "thin.obj", "-o", "out"], 1, &["thin.obj"]),
-        case("a mesh that is not planar", &[I, "thin.obj", "thin.obj", "-o", "out"], 1, &["not planar", "vertex"]),
+        case("--dim 2 with a mesh that is not planar", &[I, "thin.obj", "thin.obj", "-o", "out", "--dim", "2"], 1, &["not planar", "vertex", "thin.obj"]),
         with_setup(case("empty file", &[I, "empty.obj", "dst.obj", "-o", "out"], 1, &["empty.obj"]),
             |d| obj_with(d, "empty.obj", "")),
         with_setup(case("PLY with an absurd element count", &[I, "huge.ply", "dst.obj", "-o", "out"], 1, &["huge.ply", "too large"]),
@@ -428,6 +455,45 @@ fn catalogue() -> Vec<Case> {
         case("correspond --png onto the markers", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "x.corr", "--png", "markers.txt"], 1, &["would overwrite the marker file"]),
         with_after(case("transfer writes its GLB and pictures", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "--gltf", "p/poses.glb", "--png", "p/poses.png", "--gif", "p/poses.gif", "-o", "out", "pose1.obj", "pose2.obj"], 0, &["wrote 2 poses"]),
             |d| assert!(exists(d, "p/poses.glb") && exists(d, "p/poses.png") && exists(d, "p/poses.gif"))),
+        // interpolate: keys, surfaces in space
+        with_after(case("three keys in space", &[I, "thin.obj", "pose1.obj", "pose2.obj", "-o", "out", "--frames", "3"], 0, &["wrote 3 frames", "in space, 3 keys", "throughput:"]),
+            |d| assert!(exists(d, "out/frame_0002.obj"))),
+        case("a key of another mesh", &[I, "thin.obj", "pose1.obj", "thick.obj", "-o", "out"], 1, &["thick.obj", "thin.obj", "vertices"]),
+        with_setup(case("a key with other triangles", &[I, "thin.obj", "pose1.obj", "swapped.obj", "-o", "out"], 1, &["swapped.obj", "triangle"]),
+            |d| swap_faces(d, "pose2.obj", "swapped.obj")),
+        case("--turns with keys in space", &[I, "thin.obj", "pose1.obj", "-o", "out", "--turns", "1"], 1, &["--turns", "two planar keys only"]),
+        case("--turns with three planar keys", &[I, "src.obj", "dst.obj", "src.obj", "-o", "out", "--turns", "1"], 1, &["--turns"]),
+        case("--svg with keys in space", &[I, "thin.obj", "pose1.obj", "-o", "out", "--svg"], 1, &["planar frames only"]),
+        case("--dim 4", &[I, "thin.obj", "pose1.obj", "-o", "out", "--dim", "4"], 2, &["4"]),
+        case("a single key", &[I, "thin.obj", "-o", "out"], 2, &[]),
+        case("--gif onto a key", &[I, "thin.obj", "pose1.obj", "pose2.obj", "-o", "out", "--gif", "pose2.obj"], 1, &["would overwrite the key 2 `pose2.obj`"]),
+        case("--png onto a key", &[I, "thin.obj", "pose1.obj", "-o", "out", "--png", "thin.obj"], 1, &["would overwrite the source mesh `thin.obj`"]),
+        with_setup(case("a key turned over in space", &[I, "sheet.obj", "folded.obj", "-o", "out", "--dim", "3"], 1, &["folded.obj", "turned over", "--allow-flips"]),
+            sheet_and_fold),
+        with_setup(case("a key turned over in space, --allow-flips", &[I, "sheet.obj", "folded.obj", "-o", "out", "--dim", "3", "--allow-flips", "--frames", "2"], 0, &["wrote 2 frames"]),
+            sheet_and_fold),
+        with_setup(case("degenerate first key in space", &[I, "flat3.obj", "flat3.obj", "-o", "out"], 1, &["degenerate", "flat3.obj"]),
+            |d| obj_with(d, "flat3.obj", "v 0 0 0\nv 1 0 1\nv 2 0 2\nv 0 1 1\nf 1 2 3\nf 1 2 4\n")),
+        case("--t with NaN over keys in space", &[I, "thin.obj", "pose1.obj", "pose2.obj", "-o", "out", "--t", "0,NaN"], 1, &["not a finite number"]),
+        with_after(case("three keys in space with every picture", &[I, "thin.obj", "pose1.obj", "pose2.obj", "-o", "out", "--frames", "3", "--gif", "p/a.gif", "--png", "p/a.png", "--gltf", "p/a.glb"], 0, &["wrote 3 frames"]),
+            |d| assert!(exists(d, "p/a.gif") && exists(d, "p/a.png") && exists(d, "p/a.glb"))),
+        // blend
+        with_after(case("blend with negative weights", &[B, "thin.obj", "--shape", "pose1.obj=1.3", "--shape", "pose2.obj=-0.2", "-o", "b.obj"], 0, &["wrote b.obj"]),
+            |d| assert!(exists(d, "b.obj"))),
+        case("blend onto the base", &[B, "thin.obj", "--shape", "pose1.obj=0.5", "-o", "thin.obj"], 1, &["would overwrite the base mesh `thin.obj`"]),
+        case("blend --png onto a shape", &[B, "thin.obj", "--shape", "pose1.obj=0.5", "-o", "b.obj", "--png", "pose1.obj"], 1, &["would overwrite the blend shape `pose1.obj`"]),
+        case("blend --gltf equal to --gif", &[B, "thin.obj", "--shape", "pose1.obj=0.5", "-o", "b.obj", "--gif", "a.glb", "--gltf", "a.glb"], 1, &["are the same file"]),
+        case("blend weight NaN", &[B, "thin.obj", "--shape", "pose1.obj=NaN", "-o", "b.obj"], 2, &["not a finite number"]),
+        case("blend weight inf", &[B, "thin.obj", "--shape", "pose1.obj=inf", "-o", "b.obj"], 2, &["not a finite number"]),
+        case("blend shape without a weight", &[B, "thin.obj", "--shape", "pose1.obj", "-o", "b.obj"], 2, &["FILE=WEIGHT"]),
+        case("blend without shapes", &[B, "thin.obj", "-o", "b.obj"], 2, &["--shape"]),
+        case("blend a shape of another mesh", &[B, "thin.obj", "--shape", "thick.obj=1", "-o", "b.obj"], 1, &["thick.obj", "vertices"]),
+        with_setup(case("blend a shape with other triangles", &[B, "thin.obj", "--shape", "pose1.obj=0.5", "--shape", "swapped.obj=0.5", "-o", "b.obj"], 1, &["swapped.obj", "triangle"]),
+            |d| swap_faces(d, "pose2.obj", "swapped.obj")),
+        with_setup(case("blend a shape turned over", &[B, "sheet.obj", "--shape", "folded.obj=1", "-o", "b.obj", "--dim", "3"], 1, &["folded.obj", "turned over", "--allow-flips"]),
+            sheet_and_fold),
+        case("blend an overflowing weight", &[B, "thin.obj", "--shape", "pose2.obj=1e300", "-o", "b.obj"], 1, &["overflow"]),
+        case("blend a missing shape", &[B, "thin.obj", "--shape", "nosuch.obj=1", "-o", "b.obj"], 1, &["nosuch.obj"]),
         // demo
         case("demo -o onto a file", &["demo", "-o", "thin.obj"], 1, &["is a file, not a folder"]),
         case("an unknown command", &["morph"], 2, &["morph"]),

@@ -84,7 +84,7 @@ pub use markers::{Markers, Snap, SNAP_LIMIT};
 pub use matrix::Mat;
 pub use mesh::{Mesh, Mesh2, Mesh3};
 pub use rotation::{Rotations, Space};
-pub use sequence3::Sequence3;
+pub use sequence3::{Sequence3, SequenceWorkspace};
 pub use similarity::Similarity;
 pub use solve::FactorKind;
 pub use transfer::{PoseWorkspace, Transfer, TransferOptions};

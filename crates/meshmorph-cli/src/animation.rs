@@ -1,0 +1,502 @@
+//! Writing an animation: every frame of an interpolation (planar or in
+//! space, two keys or more) through the run's staging, the pictures asked
+//! for, and the report.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{bail, Result};
+use meshmorph::io::gltf::{write_glb, GltfBase, GltfOptions};
+use meshmorph::io::Format;
+use meshmorph::{Interpolator, Sequence3};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::interpolate::FrameArgs;
+use crate::output;
+use crate::outputs::{Output, Plan, Staging};
+use crate::pictures;
+use crate::progress;
+
+/// What the frame loop needs of an interpolation of `D`-dimensional meshes.
+pub trait Frames<const D: usize>: Sync {
+    type Workspace: Send;
+    fn workspace(&self) -> Self::Workspace;
+    fn num_vertices(&self) -> usize;
+    fn triangles(&self) -> &[[u32; 3]];
+    fn frame_into(&self, t: f64, out: &mut [[f64; D]], ws: &mut Self::Workspace);
+    /// Triangles reversed (planar) or turned over (in space) relative to
+    /// the first key.
+    fn count_flipped(&self, positions: &[[f64; D]]) -> usize;
+}
+
+impl Frames<2> for Interpolator {
+    type Workspace = meshmorph::FrameWorkspace;
+    fn workspace(&self) -> Self::Workspace {
+        Interpolator::workspace(self)
+    }
+    fn num_vertices(&self) -> usize {
+        Interpolator::num_vertices(self)
+    }
+    fn triangles(&self) -> &[[u32; 3]] {
+        Interpolator::triangles(self)
+    }
+    fn frame_into(&self, t: f64, out: &mut [[f64; 2]], ws: &mut Self::Workspace) {
+        self.at_into(t, out, ws)
+    }
+    fn count_flipped(&self, positions: &[[f64; 2]]) -> usize {
+        Interpolator::count_flipped(self, positions)
+    }
+}
+
+/// Scratch of a keyframe sequence, and a frame in space for planar output.
+pub struct SequenceScratch {
+    sequence: meshmorph::SequenceWorkspace,
+    lifted: Vec<[f64; 3]>,
+}
+
+impl Frames<3> for Sequence3 {
+    type Workspace = SequenceScratch;
+    fn workspace(&self) -> Self::Workspace {
+        SequenceScratch {
+            sequence: Sequence3::workspace(self),
+            lifted: Vec::new(),
+        }
+    }
+    fn num_vertices(&self) -> usize {
+        Sequence3::num_vertices(self)
+    }
+    fn triangles(&self) -> &[[u32; 3]] {
+        Sequence3::triangles(self)
+    }
+    fn frame_into(&self, t: f64, out: &mut [[f64; 3]], ws: &mut Self::Workspace) {
+        self.at_into(t, out, &mut ws.sequence)
+    }
+    fn count_flipped(&self, positions: &[[f64; 3]]) -> usize {
+        self.count_turned_over(positions)
+    }
+}
+
+/// A sequence of planar keys, computed in space (z stays 0) and written in
+/// the plane.
+pub struct Planar(pub Sequence3);
+
+impl Frames<2> for Planar {
+    type Workspace = SequenceScratch;
+    fn workspace(&self) -> Self::Workspace {
+        SequenceScratch {
+            sequence: self.0.workspace(),
+            lifted: vec![[0.0; 3]; self.0.num_vertices()],
+        }
+    }
+    fn num_vertices(&self) -> usize {
+        self.0.num_vertices()
+    }
+    fn triangles(&self) -> &[[u32; 3]] {
+        self.0.triangles()
+    }
+    fn frame_into(&self, t: f64, out: &mut [[f64; 2]], ws: &mut Self::Workspace) {
+        self.0.at_into(t, &mut ws.lifted, &mut ws.sequence);
+        for (o, p) in out.iter_mut().zip(&ws.lifted) {
+            *o = [p[0], p[1]];
+        }
+    }
+    fn count_flipped(&self, positions: &[[f64; 2]]) -> usize {
+        let lifted: Vec<[f64; 3]> = positions.iter().map(|q| [q[0], q[1], 0.0]).collect();
+        self.0.count_turned_over(&lifted)
+    }
+}
+
+/// The files of an animation: one mesh per frame, and the pictures asked for.
+pub struct FrameOutputs {
+    dir: PathBuf,
+    count: usize,
+    format: Format,
+    meshes: Vec<Output>,
+    svgs: Vec<Output>,
+    gif: Option<Output>,
+    png: Option<Output>,
+    gltf: Option<Output>,
+}
+
+impl FrameOutputs {
+    /// Adds the frames (and SVGs, GIF, PNG, GLB) of `count` frames in `dir`
+    /// to `plan`.
+    pub fn plan(
+        plan: &mut Plan,
+        args: &FrameArgs,
+        dir: &Path,
+        count: usize,
+        format: Format,
+    ) -> Self {
+        Self {
+            dir: dir.to_path_buf(),
+            count,
+            format,
+            meshes: plan.frames(dir, count, format.extension()),
+            svgs: if args.svg {
+                plan.frames(dir, count, "svg")
+            } else {
+                Vec::new()
+            },
+            gif: args.gif.as_deref().map(|g| plan.file(g, "animation")),
+            png: args.png.as_deref().map(|g| plan.file(g, "picture")),
+            gltf: args.gltf.gltf.as_deref().map(|g| plan.file(g, "glTF file")),
+        }
+    }
+
+    /// Where frame `k`'s mesh goes.
+    fn mesh_path(&self, k: usize) -> PathBuf {
+        crate::outputs::frame_path(&self.dir, k, self.count, self.format.extension())
+    }
+}
+
+/// What the frames are: how many keys, how the setup went.
+pub struct Setup {
+    /// Number of keys (2 for an interpolation between two meshes).
+    pub keys: usize,
+    /// Seconds spent building the interpolation.
+    pub seconds: f64,
+    /// Triangles given whole turns by rotation consistency, summed over
+    /// the segments (keyframe sequences only).
+    pub whole_turns: Option<usize>,
+    /// Vertices in no triangle.
+    pub unused_vertices: usize,
+}
+
+/// What a run did, for people and (with --json) for programs.
+#[derive(Debug, Serialize)]
+pub struct Report {
+    /// Where the frames went.
+    pub output: PathBuf,
+    /// Number of frame files written.
+    pub frames_written: usize,
+    /// Vertices of the mesh.
+    pub vertices: usize,
+    /// Triangles of the mesh.
+    pub triangles: usize,
+    /// 2 for planar meshes, 3 for meshes in space.
+    pub dimension: usize,
+    /// Number of keys.
+    pub keys: usize,
+    /// Triangles given whole turns by rotation consistency (beyond their
+    /// principal rotation), summed over the segments between keys; absent
+    /// for two planar keys.
+    pub triangles_with_whole_turns: Option<usize>,
+    /// Building the interpolator: decompositions, factorization.
+    pub setup_seconds: f64,
+    /// Time per frame: computing one frame on its own thread, averaged over
+    /// the frames. Frames run in parallel, so this is not the throughput.
+    pub seconds_per_frame: f64,
+    /// Throughput: the wall time of computing and writing all frames,
+    /// divided by the number of frames (with `threads` threads).
+    pub throughput_seconds_per_frame: f64,
+    /// Threads computing frames.
+    pub threads: usize,
+    /// Writing one frame's files, averaged.
+    pub write_seconds_per_frame: f64,
+    /// Wall time of the whole command.
+    pub total_seconds: f64,
+    /// The largest number of triangles reversed (planar) or turned over (in
+    /// space) relative to the first key in any frame.
+    pub max_flipped_triangles: usize,
+    /// The frame (index) where that happened.
+    pub max_flipped_frame: usize,
+    /// The GIF written, if any.
+    pub gif: Option<PathBuf>,
+    /// The PNG written, if any.
+    pub png: Option<PathBuf>,
+    /// The GLB written, if any.
+    pub gltf: Option<PathBuf>,
+    /// Every file written, in order.
+    pub files_written: Vec<PathBuf>,
+    /// The warnings given (also printed on stderr).
+    pub warnings: Vec<String>,
+    /// Frame files of an earlier run removed from the output folder.
+    pub surplus_frames_removed: usize,
+    /// Vertices no triangle uses: they move on straight lines between
+    /// their positions in the keys and count in no scale.
+    pub unused_vertices: usize,
+}
+
+impl Report {
+    pub fn print(&self, json: bool) {
+        if json {
+            output::print_json(self);
+            return;
+        }
+        let space = if self.dimension == 3 {
+            "in space"
+        } else {
+            "planar"
+        };
+        println!(
+            "wrote {} frames ({} vertices, {} triangles, {space}, {} keys) to {}",
+            self.frames_written,
+            self.vertices,
+            self.triangles,
+            self.keys,
+            self.output.display()
+        );
+        println!(
+            "setup:          {}",
+            output::human_seconds(self.setup_seconds)
+        );
+        println!(
+            "time per frame: {} (one frame on its own thread; + {} writing)",
+            output::human_seconds(self.seconds_per_frame),
+            output::human_seconds(self.write_seconds_per_frame)
+        );
+        println!(
+            "throughput:     {} a frame (wall time of all frames / frames, {} threads)",
+            output::human_seconds(self.throughput_seconds_per_frame),
+            self.threads
+        );
+        if let Some(n) = self.triangles_with_whole_turns {
+            println!("whole turns:    {n} triangles (rotation consistency)");
+        }
+        println!(
+            "total:          {}",
+            output::human_seconds(self.total_seconds)
+        );
+        let what = if self.dimension == 3 {
+            "turned-over"
+        } else {
+            "flipped"
+        };
+        if self.max_flipped_triangles == 0 {
+            println!("{what} triangles: none in any frame");
+        } else {
+            println!(
+                "{what} triangles: at most {} (frame {})",
+                self.max_flipped_triangles, self.max_flipped_frame
+            );
+        }
+        for (label, file) in [
+            ("animation:", &self.gif),
+            ("picture:  ", &self.png),
+            ("glTF:     ", &self.gltf),
+        ] {
+            if let Some(f) = file {
+                println!("{label} {}", f.display());
+            }
+        }
+        if self.unused_vertices > 0 {
+            println!(
+                "unused vertices: {} (in no triangle; carried along unchanged)",
+                self.unused_vertices
+            );
+        }
+        if self.surplus_frames_removed > 0 {
+            println!(
+                "removed {} frame files of an earlier run",
+                self.surplus_frames_removed
+            );
+        }
+    }
+}
+
+/// What one run asks for: the frame options, the times, where the files
+/// go, and when the command began.
+pub struct Run<'a> {
+    pub args: &'a FrameArgs,
+    pub times: &'a [f64],
+    pub outputs: &'a FrameOutputs,
+    pub staging: &'a Staging,
+    pub start: Instant,
+}
+
+/// Writes every frame of `morph` at the run's times (and the pictures
+/// asked for) through its staging, and reports. `base` is the first key
+/// (the glTF base mesh).
+pub fn write_frames<const D: usize, M: Frames<D>>(
+    morph: &M,
+    base: &[[f64; D]],
+    run: &Run<'_>,
+    setup: &Setup,
+) -> Result<Report> {
+    let Run {
+        args,
+        times,
+        outputs,
+        staging,
+        start,
+    } = *run;
+    let keep = outputs.gif.is_some()
+        || outputs.png.is_some()
+        || !outputs.svgs.is_empty()
+        || outputs.gltf.is_some();
+    if keep {
+        crate::memory::check_held(
+            times.len(),
+            morph.num_vertices() * std::mem::size_of::<[f64; D]>(),
+            "holding every frame for the pictures",
+        )?;
+    }
+    let bar = progress::bar(times.len() as u64, "frames");
+    let wall = Instant::now();
+    let results: Vec<Result<Frame<D>>> = times
+        .par_iter()
+        .enumerate()
+        .map_init(
+            || morph.workspace(),
+            |ws, (k, &t)| {
+                let begin = Instant::now();
+                let mut positions = vec![[0.0; D]; morph.num_vertices()];
+                morph.frame_into(t, &mut positions, ws);
+                let compute = begin.elapsed().as_secs_f64();
+                let flipped = morph.count_flipped(&positions);
+                let begin = Instant::now();
+                staging.write(outputs.meshes[k], |path| {
+                    check_finite(&positions, k, t)?;
+                    Ok(meshmorph::io::write_positions(
+                        path,
+                        &positions,
+                        morph.triangles(),
+                        outputs.format,
+                    )?)
+                })?;
+                let write = begin.elapsed().as_secs_f64();
+                bar.inc(1);
+                Ok(Frame {
+                    compute,
+                    write,
+                    flipped,
+                    positions: keep.then_some(positions),
+                })
+            },
+        )
+        .collect();
+    let wall_seconds = wall.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    let mut frames = results.into_iter().collect::<Result<Vec<_>>>()?;
+    let (max_flipped_frame, max_flipped) = frames
+        .iter()
+        .enumerate()
+        .map(|(k, f)| (k, f.flipped))
+        .max_by_key(|&(k, f)| (f, std::cmp::Reverse(k)))
+        .unwrap_or((0, 0));
+    let mut files_written: Vec<PathBuf> = (0..times.len()).map(|k| outputs.mesh_path(k)).collect();
+    if keep {
+        let positions: Vec<Vec<[f64; D]>> = frames
+            .iter_mut()
+            .filter_map(|f| f.positions.take())
+            .collect();
+        files_written.extend(write_pictures(
+            args,
+            outputs,
+            staging,
+            &positions,
+            morph.triangles(),
+        )?);
+        if let Some(output) = outputs.gltf {
+            let names: Vec<String> = (0..times.len())
+                .map(|k| crate::gltf::mesh_name(&outputs.mesh_path(k)))
+                .collect();
+            let options = GltfOptions::default()
+                .with_fps(args.fps)
+                .with_name("interpolation");
+            let base = GltfBase::new(base, morph.triangles());
+            staging.write(output, |path| {
+                Ok(write_glb(path, &base, &positions, &names, &options)?)
+            })?;
+            files_written.extend(args.gltf.gltf.clone());
+        }
+    }
+    let mut warnings = Vec::new();
+    if max_flipped > 0 {
+        let what = if D == 3 { "turned over" } else { "reversed" };
+        warnings.push(format!(
+            "frame {max_flipped_frame} has {max_flipped} triangles {what} relative to the first key"
+        ));
+    }
+    output::print_warnings(&warnings);
+    let n = frames.len() as f64;
+    Ok(Report {
+        output: outputs.dir.clone(),
+        frames_written: frames.len(),
+        vertices: morph.num_vertices(),
+        triangles: morph.triangles().len(),
+        dimension: D,
+        keys: setup.keys,
+        triangles_with_whole_turns: setup.whole_turns,
+        setup_seconds: setup.seconds,
+        seconds_per_frame: frames.iter().map(|f| f.compute).sum::<f64>() / n,
+        throughput_seconds_per_frame: wall_seconds / n,
+        threads: rayon::current_num_threads(),
+        write_seconds_per_frame: frames.iter().map(|f| f.write).sum::<f64>() / n,
+        total_seconds: start.elapsed().as_secs_f64(),
+        max_flipped_triangles: max_flipped,
+        max_flipped_frame,
+        gif: args.gif.clone(),
+        png: args.png.clone(),
+        gltf: args.gltf.gltf.clone(),
+        files_written,
+        warnings,
+        surplus_frames_removed: 0,
+        unused_vertices: setup.unused_vertices,
+    })
+}
+
+/// Refuses a frame whose coordinates overflowed (inputs near the largest
+/// representable number, or far extrapolation).
+fn check_finite<const D: usize>(positions: &[[f64; D]], frame: usize, t: f64) -> Result<()> {
+    if let Some(v) = positions
+        .iter()
+        .position(|p| !p.iter().all(|x| x.is_finite()))
+    {
+        bail!(
+            "frame {frame} (t = {t}): vertex {v} overflows (its coordinates exceed the range of floating-point numbers); scale the meshes down"
+        );
+    }
+    Ok(())
+}
+
+/// The SVGs, GIF and PNG asked for, of the frames' positions; returns the
+/// files (as the user will find them).
+fn write_pictures<const D: usize>(
+    args: &FrameArgs,
+    outputs: &FrameOutputs,
+    staging: &Staging,
+    positions: &Vec<Vec<[f64; D]>>,
+    triangles: &[[u32; 3]],
+) -> Result<Vec<PathBuf>> {
+    let mut written = Vec::new();
+    let gif_args = pictures::GifArgs {
+        width: args.gif_width,
+        height: args.gif_height,
+        fps: args.fps,
+        boomerang: !args.no_boomerang,
+    };
+    let frames = pictures::AnyFrames::new(positions);
+    if !outputs.svgs.is_empty() {
+        let pictures::AnyFrames::Planar(planar) = &frames else {
+            bail!("--svg draws planar frames only: use --gif, --png or --gltf for meshes in space");
+        };
+        pictures::write_svgs(staging, &outputs.svgs, planar, triangles, args.gif_width)?;
+        written.extend(
+            (0..positions.len())
+                .map(|k| crate::outputs::frame_path(&outputs.dir, k, positions.len(), "svg")),
+        );
+    }
+    if let (Some(output), Some(gif)) = (outputs.gif, &args.gif) {
+        staging.write(output, |path| {
+            pictures::write_gif(path, &frames, triangles, &gif_args)
+        })?;
+        written.push(gif.clone());
+    }
+    if let (Some(output), Some(png)) = (outputs.png, &args.png) {
+        staging.write(output, |path| {
+            pictures::write_png(path, &frames, triangles, args.gif_width / 2)
+        })?;
+        written.push(png.clone());
+    }
+    Ok(written)
+}
+
+struct Frame<const D: usize> {
+    compute: f64,
+    write: f64,
+    flipped: usize,
+    positions: Option<Vec<[f64; D]>>,
+}

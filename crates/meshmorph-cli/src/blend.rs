@@ -1,0 +1,376 @@
+//! `meshmorph blend`.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use meshmorph::io::gltf::{write_glb, GltfBase, GltfOptions};
+use meshmorph::{Blend3, InterpolatorOptions, Mesh3};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::gltf::GltfArgs;
+use crate::memory;
+use crate::output::{self, FormatArg};
+use crate::outputs::{Output, Plan};
+use crate::pictures::{self, AnyFrames, GifArgs, PictureArgs};
+
+/// Blend shapes of a base mesh with weights, as rigidly as possible, in the
+/// plane or in space.
+///
+/// Writes OUT: BASE moved by SHAPE1 x W1 + SHAPE2 x W2 + ... Per triangle
+/// the rotations (as rotation vectors) and the logarithms of the stretches
+/// from the base to each shape are combined with the weights (Baxter,
+/// Barla and Anjyo 2008), then one least-squares solve places the
+/// vertices. A weight of 1 on one shape and 0 on the others gives that
+/// shape; weights may be negative or above 1 (extrapolation): stretches
+/// always combine by their logarithms (the S^t rule of `interpolate
+/// --stretch log`), so nothing collapses.
+///
+/// Inputs are never written, and OUT (with the pictures) is written all or
+/// nothing, as for every command.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The base mesh (OBJ, OFF or PLY).
+    pub base: PathBuf,
+    /// A shape and its weight, FILE=WEIGHT (repeat for more shapes; the
+    /// weight any finite number); every shape has the base's vertices and
+    /// triangles.
+    #[arg(long = "shape", required = true, value_name = "FILE=WEIGHT", value_parser = parse_shape, allow_hyphen_values = true)]
+    pub shapes: Vec<(PathBuf, f64)>,
+    /// The blended mesh to write.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+    /// Output mesh format [default: from OUT's extension].
+    #[arg(long, value_enum)]
+    pub format: Option<FormatArg>,
+    /// Planar (2) or in space (3) [default: 2 when every z of every mesh is 0].
+    #[arg(long, value_parser = clap::value_parser!(u8).range(2..=3), value_name = "2|3")]
+    pub dim: Option<u8>,
+    /// Combine each triangle's principal rotations as they are, without
+    /// making them continuous across neighbours.
+    #[arg(long)]
+    pub no_consistency: bool,
+    /// Go on when a shape has triangles turned over relative to the base.
+    #[arg(long)]
+    pub allow_flips: bool,
+    /// The PNG shows the base, the halfway blend and the blend; the GIF
+    /// (and the GLB, as morph targets) the base turning into the blend, the
+    /// weights growing from 0 to theirs.
+    #[command(flatten)]
+    pub pictures: PictureArgs,
+    #[command(flatten)]
+    pub gltf: GltfArgs,
+    /// Print the report as one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Steps of the pictures and of the GLB, from the base to the blend.
+const STEPS: usize = 24;
+
+/// `FILE=WEIGHT`, split at the last `=`; the weight a finite number.
+fn parse_shape(text: &str) -> Result<(PathBuf, f64), String> {
+    let Some((file, weight)) = text.rsplit_once('=') else {
+        return Err(format!(
+            "`{text}`: expected FILE=WEIGHT, e.g. smile.obj=0.5"
+        ));
+    };
+    if file.is_empty() {
+        return Err(format!("`{text}`: no file before `=`"));
+    }
+    match weight.trim().parse::<f64>() {
+        Ok(w) if w.is_finite() => Ok((PathBuf::from(file), w)),
+        _ => Err(format!(
+            "`{text}`: the weight `{weight}` is not a finite number"
+        )),
+    }
+}
+
+/// What a run did.
+#[derive(Debug, Serialize)]
+pub struct Report {
+    /// The file written.
+    pub output: PathBuf,
+    /// 2 for planar meshes, 3 for meshes in space.
+    pub dimension: usize,
+    /// Vertices of the mesh.
+    pub vertices: usize,
+    /// Triangles of the mesh.
+    pub triangles: usize,
+    /// Number of shapes blended.
+    pub shapes: usize,
+    /// Preparing the blend: decompositions, factorization.
+    pub setup_seconds: f64,
+    /// Computing the blend.
+    pub blend_seconds: f64,
+    /// Wall time of the whole command.
+    pub total_seconds: f64,
+    /// Triangles of the result turned over relative to the base.
+    pub turned_over_triangles: usize,
+    /// Every file written.
+    pub files_written: Vec<PathBuf>,
+    /// The warnings given (also printed on stderr).
+    pub warnings: Vec<String>,
+}
+
+impl Report {
+    fn print(&self, json: bool) {
+        if json {
+            output::print_json(self);
+            return;
+        }
+        println!(
+            "wrote {} ({} vertices, {} triangles, {} shapes, {})",
+            self.output.display(),
+            self.vertices,
+            self.triangles,
+            self.shapes,
+            if self.dimension == 3 {
+                "in space"
+            } else {
+                "planar"
+            }
+        );
+        println!("setup: {}", output::human_seconds(self.setup_seconds));
+        println!("blend: {}", output::human_seconds(self.blend_seconds));
+        println!("total: {}", output::human_seconds(self.total_seconds));
+        println!("turned-over triangles: {}", self.turned_over_triangles);
+        for f in self.files_written.iter().skip(1) {
+            println!("also:  {}", f.display());
+        }
+    }
+}
+
+/// The outputs of a blend.
+struct Outputs {
+    mesh: Output,
+    png: Option<Output>,
+    gif: Option<Output>,
+    gltf: Option<Output>,
+}
+
+pub fn run(args: &Args) -> Result<()> {
+    let start = Instant::now();
+    let format = output::format_or_like(args.format, &args.output)?;
+    let mut plan = Plan::new();
+    plan.input(&args.base, "base mesh");
+    for (path, _) in &args.shapes {
+        plan.input(path, "blend shape");
+    }
+    let outputs = Outputs {
+        mesh: plan.file(&args.output, "blend"),
+        png: args
+            .pictures
+            .png
+            .as_deref()
+            .map(|p| plan.file(p, "picture")),
+        gif: args
+            .pictures
+            .gif
+            .as_deref()
+            .map(|p| plan.file(p, "animation")),
+        gltf: args.gltf.gltf.as_deref().map(|p| plan.file(p, "glTF file")),
+    };
+    let staging = plan.prepare()?;
+    let mut paths: Vec<&Path> = vec![&args.base];
+    paths.extend(args.shapes.iter().map(|(p, _)| p.as_path()));
+    memory::check_reading(&paths)?;
+    let base = output::read_mesh(&args.base, "base mesh")?;
+    let mut shapes = Vec::with_capacity(args.shapes.len());
+    for (path, _) in &args.shapes {
+        let shape = output::read_mesh(path, "blend shape")?;
+        base.check_same_connectivity(
+            &shape,
+            [
+                &format!("the base mesh `{}`", args.base.display()),
+                &format!("the blend shape `{}`", path.display()),
+            ],
+        )?;
+        shapes.push(shape);
+    }
+    let planar = is_planar(args, &base, &shapes)?;
+    let (vertices, triangles) = (base.num_vertices(), base.num_triangles());
+    if planar {
+        args.gltf.check::<2>(vertices, triangles, STEPS, false)?;
+    } else {
+        args.gltf.check::<3>(vertices, triangles, STEPS, false)?;
+    }
+    memory::check_setup(triangles, "the blend")?;
+    memory::check_sequence(triangles, shapes.len())?;
+    let options = InterpolatorOptions::default()
+        .with_consistency(!args.no_consistency)
+        .with_allow_flips(args.allow_flips);
+    let context = || format!("blending `{}`", args.base.display());
+    let setup = Instant::now();
+    let blend = Blend3::new(&base, &shapes, &options)
+        .map_err(|e| name_shape_files(e, &args.base, &args.shapes))
+        .with_context(context)?;
+    let setup_seconds = setup.elapsed().as_secs_f64();
+    let weights: Vec<f64> = args.shapes.iter().map(|(_, w)| *w).collect();
+    let begin = Instant::now();
+    let result = blend.at(&weights);
+    let blend_seconds = begin.elapsed().as_secs_f64();
+    if let Some(v) = result.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
+        bail!("the blend's vertex {v} overflows (its coordinates exceed the range of floating-point numbers): use smaller weights");
+    }
+    let turned_over = blend.count_turned_over(&result);
+    let mut files_written = vec![args.output.clone()];
+    if planar {
+        let flat = planar_frames(std::slice::from_ref(&result)).remove(0);
+        staging.write(outputs.mesh, |path| {
+            Ok(meshmorph::io::write_positions(
+                path,
+                &flat,
+                blend.triangles(),
+                format,
+            )?)
+        })?;
+    } else {
+        staging.write(outputs.mesh, |path| {
+            Ok(meshmorph::io::write_positions(
+                path,
+                &result,
+                blend.triangles(),
+                format,
+            )?)
+        })?;
+    }
+    if outputs.png.is_some() || outputs.gif.is_some() || outputs.gltf.is_some() {
+        let steps = steps(&blend, &weights);
+        if planar {
+            let flat = planar_frames(&steps);
+            let base = planar_frames(std::slice::from_ref(&base.positions().to_vec())).remove(0);
+            files_written.extend(write_pictures(
+                args,
+                &outputs,
+                &staging,
+                &flat,
+                &base,
+                blend.triangles(),
+            )?);
+        } else {
+            files_written.extend(write_pictures(
+                args,
+                &outputs,
+                &staging,
+                &steps,
+                base.positions(),
+                blend.triangles(),
+            )?);
+        }
+    }
+    let mut warnings = Vec::new();
+    if turned_over > 0 {
+        warnings.push(format!(
+            "the blend has {turned_over} triangles turned over relative to the base"
+        ));
+    }
+    output::print_warnings(&warnings);
+    staging.commit()?;
+    Report {
+        output: args.output.clone(),
+        dimension: if planar { 2 } else { 3 },
+        vertices: blend.num_vertices(),
+        triangles: blend.triangles().len(),
+        shapes: shapes.len(),
+        setup_seconds,
+        blend_seconds,
+        total_seconds: start.elapsed().as_secs_f64(),
+        turned_over_triangles: turned_over,
+        files_written,
+        warnings,
+    }
+    .print(args.json);
+    Ok(())
+}
+
+/// Planar when `--dim 2`, or without `--dim` when every z of every mesh is
+/// 0; `--dim 2` with a mesh that is not planar is refused, naming it.
+fn is_planar(args: &Args, base: &Mesh3, shapes: &[Mesh3]) -> Result<bool> {
+    let flat = |m: &Mesh3| m.positions().iter().all(|p| p[2] == 0.0);
+    match args.dim {
+        Some(2) => {
+            let paths = std::iter::once(&args.base).chain(args.shapes.iter().map(|(p, _)| p));
+            for (mesh, path) in std::iter::once(base).chain(shapes).zip(paths) {
+                mesh.to_2d()
+                    .with_context(|| format!("--dim 2: `{}` is not planar", path.display()))?;
+            }
+            Ok(true)
+        }
+        Some(_) => Ok(false),
+        None => Ok(flat(base) && shapes.iter().all(flat)),
+    }
+}
+
+/// The blends at weights `s · weights` for `s` from 0 (the base) to 1.
+fn steps(blend: &Blend3, weights: &[f64]) -> Vec<Vec<[f64; 3]>> {
+    (0..STEPS)
+        .into_par_iter()
+        .map(|k| {
+            let s = k as f64 / (STEPS - 1) as f64;
+            let scaled: Vec<f64> = weights.iter().map(|w| s * w).collect();
+            blend.at(&scaled)
+        })
+        .collect()
+}
+
+fn planar_frames(frames: &[Vec<[f64; 3]>]) -> Vec<Vec<[f64; 2]>> {
+    frames
+        .iter()
+        .map(|f| f.iter().map(|p| [p[0], p[1]]).collect())
+        .collect()
+}
+
+/// The PNG, GIF and GLB asked for, of the steps from the base to the blend.
+fn write_pictures<const D: usize>(
+    args: &Args,
+    outputs: &Outputs,
+    staging: &crate::outputs::Staging,
+    steps: &Vec<Vec<[f64; D]>>,
+    base: &[[f64; D]],
+    triangles: &[[u32; 3]],
+) -> Result<Vec<PathBuf>> {
+    let frames = AnyFrames::new(steps);
+    let mut written = Vec::new();
+    if let (Some(output), Some(path)) = (outputs.png, &args.pictures.png) {
+        staging.write(output, |p| pictures::write_png(p, &frames, triangles, 320))?;
+        written.push(path.clone());
+    }
+    if let (Some(output), Some(path)) = (outputs.gif, &args.pictures.gif) {
+        let gif = GifArgs {
+            width: 480,
+            height: None,
+            fps: 12.0,
+            boomerang: true,
+        };
+        staging.write(output, |p| pictures::write_gif(p, &frames, triangles, &gif))?;
+        written.push(path.clone());
+    }
+    if let (Some(output), Some(path)) = (outputs.gltf, &args.gltf.gltf) {
+        let names: Vec<String> = (0..STEPS).map(|k| format!("blend_{k:02}")).collect();
+        let options = GltfOptions::default().with_fps(12.0).with_name("blend");
+        let base = GltfBase::new(base, triangles);
+        staging.write(output, |p| {
+            Ok(write_glb(p, &base, steps, &names, &options)?)
+        })?;
+        written.push(path.clone());
+    }
+    Ok(written)
+}
+
+/// The library numbers the shapes ("blend shape 1", ...) and calls the
+/// base "the base"; say the files instead.
+fn name_shape_files(e: meshmorph::Error, base: &Path, shapes: &[(PathBuf, f64)]) -> anyhow::Error {
+    let mut text = e.to_string();
+    for (k, (path, _)) in shapes.iter().enumerate().rev() {
+        let label = format!("blend shape {}", k + 1);
+        for end in [" ", ":"] {
+            text = text.replace(
+                &format!("{label}{end}"),
+                &format!("blend shape `{}`{end}", path.display()),
+            );
+        }
+    }
+    anyhow::anyhow!(text.replace("the base", &format!("the base `{}`", base.display())))
+}
