@@ -69,12 +69,6 @@ fn read_bandwidth() -> f64 {
     bytes / s
 }
 
-/// Bytes of a factor with `len` stored values: the values and, for the
-/// simplicial factor, one row index each (8 bytes apiece).
-fn factor_bytes(len: usize) -> f64 {
-    16.0 * len as f64
-}
-
 fn pair(name: &str) -> Option<(Mesh3, Mesh3)> {
     match name {
         "horse" => {
@@ -118,7 +112,7 @@ fn main() {
         bandwidth / 1e9
     );
     println!();
-    println!("| mesh | triangles | vertices | setup | frame (`at_into`) | per frame, {threads} threads (`frames`, wall / frames) | factor values | floor (factor read twice) | frame / floor |");
+    println!("| mesh | triangles | vertices | setup | frame (`at_into`) | per frame, {threads} threads (`frames`, wall / frames) | factor bytes | floor (factor read twice) | frame / floor |");
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     for name in meshes {
         let big = name.ends_with("1000k");
@@ -145,7 +139,7 @@ fn main() {
                 setup,
                 frame,
                 par,
-                m.rest().factor_len(),
+                m.rest().factor_bytes(),
             )
         } else {
             let Some((s, t)) = pair(name) else {
@@ -172,10 +166,10 @@ fn main() {
                 setup,
                 frame,
                 par,
-                m.surface().factor_len(),
+                m.surface().factor_bytes(),
             )
         };
-        let floor = 2.0 * factor_bytes(len) / bandwidth;
+        let floor = 2.0 * len as f64 / bandwidth;
         println!(
             "| {name} | {triangles} | {vertices} | {} | {} | {} | {len} | {} | {:.2}x |",
             fmt(setup),

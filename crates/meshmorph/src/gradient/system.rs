@@ -53,6 +53,11 @@ impl<const D: usize> FactoredSystem<D> {
         self.system.factor_len()
     }
 
+    /// Bytes a solve reads from the Cholesky factor.
+    pub(crate) fn factor_bytes(&self) -> usize {
+        self.system.factor_bytes()
+    }
+
     /// Scratch for [`FactoredSystem::solve`]; one per thread.
     pub(crate) fn workspace(&self) -> SolveWorkspace {
         let m = self.num_unknowns();

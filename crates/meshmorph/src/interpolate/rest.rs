@@ -109,6 +109,12 @@ where
         self.system.factor_len()
     }
 
+    /// Bytes a frame's solve reads from the Cholesky factor, once forward
+    /// and once back: its values and their row indices.
+    pub fn factor_bytes(&self) -> usize {
+        self.system.factor_bytes()
+    }
+
     /// The source mesh.
     pub fn source(&self) -> &Mesh<D> {
         &self.source

@@ -16,15 +16,21 @@
 //!    threads.
 //!
 //! # Performance
-//! Solves always run with `Par::Seq`: faer's supernodal solve with a parallel
-//! `Par` and several right-hand-side columns is about 30 times slower on small
-//! machines. Parallelism comes from solving independent frames at once.
+//! Solves are sequential: parallelism comes from solving independent frames
+//! at once (faer's supernodal solve with a parallel `Par` and several
+//! right-hand-side columns is about 30 times slower on small machines).
+//! Up to 4 right-hand-side columns, [`PinnedSystem::solve`] gathers them
+//! side by side into the factor's row order and substitutes with
+//! `substitution.rs` (one cache line per row, and no dense kernel calls per
+//! supernode); more columns go through faer's solve, column by column.
+
+mod substitution;
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
-    SymmetricOrdering,
+    SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
@@ -36,27 +42,26 @@ use crate::error::{Error, Result};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum FactorKind {
-    /// Simplicial up to [`FactorKind::SIMPLICIAL_LIMIT`] unknowns; up to
-    /// [`FactorKind::SUPERNODAL_LIMIT`], simplicial while the factorization
-    /// is cheap for its size (little fill, as in long strips), else
-    /// supernodal; supernodal above.
+    /// Simplicial up to [`FactorKind::SIMPLICIAL_LIMIT`] unknowns,
+    /// supernodal above.
     #[default]
     Auto,
-    /// Column-by-column factor: slower to factor, about twice as fast to solve.
-    /// Pays back after a few solves.
+    /// Column-by-column factor: slower to factor large systems; the
+    /// fastest solves of small ones.
     Simplicial,
-    /// Blocked factor: fast to factor large systems, slower solves.
+    /// Blocked factor: fast to factor large systems, and (with the
+    /// substitution of `solve/substitution.rs`) solves within about 10 % of
+    /// the simplicial factor's at a million triangles.
     Supernodal,
 }
 
 impl FactorKind {
-    /// Systems up to this many unknowns always get the simplicial factor
-    /// under [`FactorKind::Auto`]: their factorization is cheap either way
-    /// and the faster solve wins over many frames.
+    /// Systems up to this many unknowns get the simplicial factor under
+    /// [`FactorKind::Auto`]: their factorization is cheap either way and the
+    /// faster solve wins over many frames. Above it the simplicial
+    /// factorization takes seconds (2.3 s at 500k unknowns on a strip, 5.7 s
+    /// on a square sheet) and the supernodal one about half of that or less.
     pub const SIMPLICIAL_LIMIT: usize = 150_000;
-    /// Systems above this many unknowns always get the supernodal factor
-    /// under [`FactorKind::Auto`]: the simplicial one would take seconds.
-    pub const SUPERNODAL_LIMIT: usize = 600_000;
 
     /// faer's threshold on the ratio of factorization flops to factor
     /// entries above which it chooses the supernodal factor.
@@ -67,11 +72,6 @@ impl FactorKind {
             FactorKind::Auto if n <= Self::SIMPLICIAL_LIMIT => {
                 SupernodalThreshold::FORCE_SIMPLICIAL
             }
-            // Measured (BENCHMARKS.md): a 1M-triangle strip (500k unknowns)
-            // factors simplicially in 2.4 s and solves twice as fast; a
-            // square sheet of the same size takes 5.7 s, and faer's flop
-            // ratio tells the two apart at this threshold.
-            FactorKind::Auto if n <= Self::SUPERNODAL_LIMIT => SupernodalThreshold(4.0),
             FactorKind::Auto => SupernodalThreshold::FORCE_SUPERNODAL,
         }
     }
@@ -350,6 +350,37 @@ impl Cholesky {
         self.symbolic.nrows()
     }
 
+    /// Bytes a solve reads from the factor: its values and the row indices
+    /// that go with them (one per value for the simplicial factor, one per
+    /// row of each supernode for the supernodal one).
+    pub fn factor_bytes(&self) -> usize {
+        let indices = match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(s) => s.row_idx().len(),
+            SymbolicCholeskyRaw::Supernodal(s) => s.row_idx().len(),
+        };
+        8 * (self.l_values.len() + indices)
+    }
+
+    /// The fill-reducing ordering: row `i` of the factored system is row
+    /// `permutation[i]` of the matrix (`None`: the identity).
+    pub fn permutation(&self) -> Option<&[usize]> {
+        self.symbolic.perm().map(|p| p.arrays().0)
+    }
+
+    /// Overwrites `rows` (`K` right-hand sides side by side, rows in the
+    /// order of [`Cholesky::permutation`]) with the solution, in that order.
+    ///
+    /// # Panics
+    /// If `rows.len()` is not the dimension.
+    #[track_caller]
+    pub fn solve_rows<const K: usize>(&self, rows: &mut [[f64; K]]) {
+        assert_eq!(rows.len(), self.dim(), "right-hand side has the wrong size");
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(s) => substitution::simplicial(s, &self.l_values, rows),
+            SymbolicCholeskyRaw::Supernodal(s) => substitution::supernodal(s, &self.l_values, rows),
+        }
+    }
+
     /// Scratch space needed to solve `ncols` right-hand sides at once.
     pub fn solve_scratch(&self, ncols: usize) -> StackReq {
         self.symbolic.solve_in_place_scratch::<f64>(ncols, Par::Seq)
@@ -378,6 +409,8 @@ impl Cholesky {
 pub struct Workspace {
     mem: MemBuffer,
     reduced: Vec<f64>,
+    /// `Vec<[f64; ncols]>` of one row per free unknown, for 1 to 4 columns.
+    rows: Box<dyn std::any::Any + Send + Sync>,
     ncols: usize,
 }
 
@@ -406,6 +439,11 @@ pub struct PinnedSystem {
     coupling_ptr: Vec<usize>,
     coupling: Vec<(u32, f64)>,
     cholesky: Cholesky,
+    /// The unknown at each row of the factored system (free unknowns in
+    /// the factor's ordering).
+    order: Vec<u32>,
+    /// The row of the factored system of each free unknown (by reduced index).
+    row_of_reduced: Vec<u32>,
 }
 
 impl PinnedSystem {
@@ -436,6 +474,7 @@ impl PinnedSystem {
         let pinned: Vec<u32> = pinned.iter().map(|&p| p as u32).collect();
         let (reduced, coupling_ptr, coupling) = split(matrix, &reduced_of, &free, &pinned);
         let cholesky = Cholesky::new(&reduced, kind)?;
+        let (order, row_of_reduced) = ordering(&cholesky, &free);
         Ok(Self {
             n,
             reduced_of,
@@ -444,6 +483,8 @@ impl PinnedSystem {
             coupling_ptr,
             coupling,
             cholesky,
+            order,
+            row_of_reduced,
         })
     }
 
@@ -460,6 +501,7 @@ impl PinnedSystem {
         let (reduced, coupling_ptr, coupling) =
             split(matrix, &self.reduced_of, &self.free, &self.pinned);
         self.cholesky.refactor(&reduced)?;
+        (self.order, self.row_of_reduced) = ordering(&self.cholesky, &self.free);
         self.coupling_ptr = coupling_ptr;
         self.coupling = coupling;
         Ok(())
@@ -475,11 +517,30 @@ impl PinnedSystem {
         self.cholesky.factor_len()
     }
 
+    /// Bytes a solve reads from the factor ([`Cholesky::factor_bytes`]).
+    pub fn factor_bytes(&self) -> usize {
+        self.cholesky.factor_bytes()
+    }
+
     /// Scratch for solving `ncols` right-hand sides at once; one per thread.
     pub fn workspace(&self, ncols: usize) -> Workspace {
+        let m = self.free.len();
+        let rows: Box<dyn std::any::Any + Send + Sync> = match ncols {
+            1 => Box::new(vec![[0.0; 1]; m]),
+            2 => Box::new(vec![[0.0; 2]; m]),
+            3 => Box::new(vec![[0.0; 3]; m]),
+            4 => Box::new(vec![[0.0; 4]; m]),
+            _ => Box::new(()),
+        };
+        let columns = if ncols <= 4 { 0 } else { m * ncols };
         Workspace {
-            mem: MemBuffer::new(self.cholesky.solve_scratch(ncols)),
-            reduced: vec![0.0; self.free.len() * ncols],
+            mem: MemBuffer::new(if ncols <= 4 {
+                StackReq::EMPTY
+            } else {
+                self.cholesky.solve_scratch(ncols)
+            }),
+            reduced: vec![0.0; columns],
+            rows,
             ncols,
         }
     }
@@ -506,6 +567,13 @@ impl PinnedSystem {
             b.len() == n * k && x.len() == n * k,
             "right-hand side has the wrong size"
         );
+        match k {
+            1 => return self.solve_rows::<1>(b, pinned_values, x, ws),
+            2 => return self.solve_rows::<2>(b, pinned_values, x, ws),
+            3 => return self.solve_rows::<3>(b, pinned_values, x, ws),
+            4 => return self.solve_rows::<4>(b, pinned_values, x, ws),
+            _ => {}
+        }
         let np = self.pinned.len();
         for c in 0..k {
             let (bc, rc) = (&b[c * n..(c + 1) * n], &mut ws.reduced[c * m..(c + 1) * m]);
@@ -539,6 +607,51 @@ impl PinnedSystem {
         }
     }
 
+    /// [`PinnedSystem::solve`] for `K` columns: gathered straight into the
+    /// factor's row order with the columns side by side, substituted, and
+    /// scattered back (three passes over the unknowns).
+    fn solve_rows<const K: usize>(
+        &self,
+        b: &[f64],
+        pinned_values: Option<&[f64]>,
+        x: &mut [f64],
+        ws: &mut Workspace,
+    ) {
+        let (n, np) = (self.n, self.pinned.len());
+        let rows = ws
+            .rows
+            .downcast_mut::<Vec<[f64; K]>>()
+            .expect("workspace made for this number of columns");
+        for (row, &i) in rows.iter_mut().zip(&self.order) {
+            *row = std::array::from_fn(|c| b[c * n + i as usize]);
+        }
+        if let Some(values) = pinned_values {
+            assert_eq!(values.len(), np * K, "pinned values have the wrong size");
+            for q in 0..np {
+                let xp: [f64; K] = std::array::from_fn(|c| values[c * np + q]);
+                if xp != [0.0; K] {
+                    for &(r, a) in &self.coupling[self.coupling_ptr[q]..self.coupling_ptr[q + 1]] {
+                        let row = &mut rows[self.row_of_reduced[r as usize] as usize];
+                        for c in 0..K {
+                            row[c] -= a * xp[c];
+                        }
+                    }
+                }
+            }
+        }
+        self.cholesky.solve_rows(rows);
+        for (row, &i) in rows.iter().zip(&self.order) {
+            for c in 0..K {
+                x[c * n + i as usize] = row[c];
+            }
+        }
+        for (q, &p) in self.pinned.iter().enumerate() {
+            for c in 0..K {
+                x[c * n + p as usize] = pinned_values.map_or(0.0, |v| v[c * np + q]);
+            }
+        }
+    }
+
     /// Reduced index of unknown `i`, `None` if it is pinned.
     #[cfg(test)]
     pub fn reduced_index(&self, i: usize) -> Option<usize> {
@@ -547,6 +660,27 @@ impl PinnedSystem {
             r => Some(r as usize),
         }
     }
+}
+
+/// The unknown at each row of the factored system, and the row of each
+/// free unknown (by reduced index).
+fn ordering(cholesky: &Cholesky, free: &[u32]) -> (Vec<u32>, Vec<u32>) {
+    let order: Vec<u32> = match cholesky.permutation() {
+        Some(p) => p.iter().map(|&r| free[r]).collect(),
+        None => free.to_vec(),
+    };
+    let mut row_of_reduced = vec![0u32; free.len()];
+    match cholesky.permutation() {
+        Some(p) => p
+            .iter()
+            .enumerate()
+            .for_each(|(row, &r)| row_of_reduced[r] = row as u32),
+        None => row_of_reduced
+            .iter_mut()
+            .enumerate()
+            .for_each(|(row, r)| *r = row as u32),
+    }
+    (order, row_of_reduced)
 }
 
 /// The free-free block of `matrix` and the free-pinned coupling, by pinned
@@ -696,6 +830,54 @@ mod tests {
         s.solve(&b, Some(&[0.0]), &mut x, &mut ws);
         let r = bigger.mul_vec(&x);
         assert!((1..n).all(|i| (r[i] - b[i]).abs() < 1e-9));
+    }
+
+    /// Laplacian of an `n × n` grid graph (whose factors have supernodes
+    /// wider than one column).
+    fn grid_laplacian(n: usize) -> SymmetricMatrix {
+        let mut b = SymmetricBuilder::new(n * n, 8 * n * n);
+        for i in 0..n {
+            for j in 0..n {
+                let v = i * n + j;
+                if i + 1 < n {
+                    b.add_row_outer(&[(v, 1.0), (v + n, -1.0)], 1.0);
+                }
+                if j + 1 < n {
+                    b.add_row_outer(&[(v, 1.0), (v + 1, -1.0)], 1.0);
+                }
+            }
+        }
+        b.build()
+    }
+
+    #[test]
+    fn every_column_count_and_factor_kind_solves_with_pins() {
+        let n = 30;
+        let m = grid_laplacian(n);
+        let dim = n * n;
+        let pinned = [0, dim - 1, 37];
+        for kind in [FactorKind::Simplicial, FactorKind::Supernodal] {
+            let s = PinnedSystem::new(&m, &pinned, kind).unwrap();
+            // The rows path (1 to 4 columns) and column by column (5).
+            for k in 1..=5 {
+                let b: Vec<f64> = (0..dim * k).map(|i| (i as f64 * 0.71).sin()).collect();
+                let values: Vec<f64> = (0..pinned.len() * k).map(|i| i as f64 - 2.0).collect();
+                let mut ws = s.workspace(k);
+                let mut x = vec![0.0; dim * k];
+                s.solve(&b, Some(&values), &mut x, &mut ws);
+                for c in 0..k {
+                    let xc = &x[c * dim..(c + 1) * dim];
+                    for (q, &p) in pinned.iter().enumerate() {
+                        assert_eq!(xc[p], values[c * pinned.len() + q]);
+                    }
+                    let r = m.mul_vec(xc);
+                    for i in (0..dim).filter(|i| !pinned.contains(i)) {
+                        let e = (r[i] - b[c * dim + i]).abs();
+                        assert!(e < 1e-9, "{kind:?}, {k} columns: row {i} off by {e}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]
