@@ -122,8 +122,9 @@ impl Blend3 {
         };
         let shapes = shapes
             .iter()
-            .map(|shape| {
-                let maps = frames.decompose(rest, shape);
+            .enumerate()
+            .map(|(k, shape)| {
+                let maps = frames.decompose(rest, shape, &format!("blend shape {}", k + 1))?;
                 let turns = if options.consistency {
                     let seeds = frames.seeds(rest, &maps.rotations);
                     whole_turns(
@@ -135,7 +136,7 @@ impl Blend3 {
                 } else {
                     vec![[0.0; 3]; rest.num_triangles()]
                 };
-                BlendShape {
+                Ok(BlendShape {
                     turns,
                     logs: maps.rotations.iter().map(|&q| quat_log(q)).collect(),
                     stretch_logs: maps
@@ -145,9 +146,9 @@ impl Blend3 {
                         .collect(),
                     centroids: surface.centroids(shape.positions()),
                     loose: loose_of(shape.positions()),
-                }
+                })
             })
-            .collect();
+            .collect::<Result<_>>()?;
         Ok(Self {
             base_centroids: surface.centroids(rest.positions()),
             base_loose: loose_of(rest.positions()),

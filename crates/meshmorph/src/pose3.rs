@@ -38,9 +38,15 @@ impl RestFrames {
         })
     }
 
-    /// The maps from `rest` to `pose`, decomposed (in parallel).
-    pub fn decompose(&self, rest: &Mesh3, pose: &Mesh3) -> PoseMaps {
-        let (rotations, stretches) = (0..pose.num_triangles())
+    /// The maps from `rest` to `pose` (called `name`), decomposed (in
+    /// parallel).
+    ///
+    /// # Errors
+    /// [`Error::InvalidTriangle`] for the first triangle whose map is too
+    /// large to decompose in floating point (its squares overflow): a pose
+    /// far larger than the rest.
+    pub fn decompose(&self, rest: &Mesh3, pose: &Mesh3, name: &str) -> Result<PoseMaps> {
+        let (rotations, stretches): (Vec<Quat>, Vec<Mat3>) = (0..pose.num_triangles())
             .into_par_iter()
             .map(|t| {
                 let inverse = inverse3(frame(rest.corners(t))).unwrap_or(identity());
@@ -48,11 +54,25 @@ impl RestFrames {
                 (quat_from_matrix(&p.rotation), p.stretch)
             })
             .unzip();
+        let finite = |t: &usize| {
+            rotations[*t]
+                .iter()
+                .chain(stretches[*t].iter().flatten())
+                .all(|x| x.is_finite())
+        };
+        if let Some(t) = (0..rotations.len()).find(|t| !finite(t)) {
+            return Err(Error::InvalidTriangle {
+                triangle: t,
+                message: format!(
+                    "the {name}'s triangle {t} overflows: its map from the first mesh exceeds the range of floating-point numbers; scale the meshes down"
+                ),
+            });
+        }
         let rotations = self.orient_half_turns(rotations);
-        PoseMaps {
+        Ok(PoseMaps {
             rotations,
             stretches,
-        }
+        })
     }
 
     /// A rotation by exactly half a turn has two principal quaternions,

@@ -386,7 +386,7 @@ fn segments(
     let mut previous_stretch = vec![identity::<3>(); num_triangles];
     let mut segments = Vec::with_capacity(later.len());
     for (j, key) in later.iter().enumerate() {
-        let maps = frames.decompose(rest, key);
+        let maps = frames.decompose(rest, key, &format!("key {}", j + 1))?;
         let turns = if !options.consistency {
             vec![[0.0; 3]; num_triangles]
         } else {

@@ -371,6 +371,27 @@ fn bad_input_is_named() {
             "{e}"
         );
     }
+    // Coordinates whose triangles' areas fit but whose maps from the first
+    // key square past the range (found by fuzzing: NaN frames).
+    let mut p = b.positions().to_vec();
+    p[7][2] = -1e251;
+    let far = b.with_positions(p).unwrap();
+    for (e, name) in [
+        (
+            Sequence3::new(&[t.clone(), far.clone()], &opts().with_allow_flips(true)).unwrap_err(),
+            "key 1",
+        ),
+        (
+            Blend3::new(&t, &[far], &opts().with_allow_flips(true)).unwrap_err(),
+            "blend shape 1",
+        ),
+    ] {
+        assert!(matches!(e, Error::InvalidTriangle { .. }), "{e}");
+        assert!(
+            e.to_string().contains(name) && e.to_string().contains("overflows"),
+            "{e}"
+        );
+    }
 }
 
 fn horse_dir() -> Option<PathBuf> {
