@@ -4,8 +4,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use meshmorph::io::gltf::{write_glb, GltfBase, GltfOptions};
-use meshmorph::{Blend3, InterpolatorOptions, Mesh3};
+use meshmorph::io::gltf::{write_glb_frames, GltfBase, GltfOptions};
+use meshmorph::{Blend3, FrameSource, InterpolatorOptions, Mesh3};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -13,7 +13,7 @@ use crate::gltf::GltfArgs;
 use crate::memory;
 use crate::output::{self, FormatArg};
 use crate::outputs::{Output, Plan};
-use crate::pictures::{self, AnyFrames, GifArgs, PictureArgs};
+use crate::pictures::{self, GifArgs, PictureArgs};
 
 /// Blend shapes of a base mesh with weights, as rigidly as possible, in the
 /// plane or in space.
@@ -327,14 +327,13 @@ fn write_pictures<const D: usize>(
     args: &Args,
     outputs: &Outputs,
     staging: &crate::outputs::Staging,
-    steps: &Vec<Vec<[f64; D]>>,
+    steps: &dyn FrameSource<D>,
     base: &[[f64; D]],
     triangles: &[[u32; 3]],
 ) -> Result<Vec<PathBuf>> {
-    let frames = AnyFrames::new(steps);
     let mut written = Vec::new();
     if let (Some(output), Some(path)) = (outputs.png, &args.pictures.png) {
-        staging.write(output, |p| pictures::write_png(p, &frames, triangles, 320))?;
+        staging.write(output, |p| pictures::write_png(p, steps, triangles, 320))?;
         written.push(path.clone());
     }
     if let (Some(output), Some(path)) = (outputs.gif, &args.pictures.gif) {
@@ -344,7 +343,7 @@ fn write_pictures<const D: usize>(
             fps: 12.0,
             boomerang: true,
         };
-        staging.write(output, |p| pictures::write_gif(p, &frames, triangles, &gif))?;
+        staging.write(output, |p| pictures::write_gif(p, steps, triangles, &gif))?;
         written.push(path.clone());
     }
     if let (Some(output), Some(path)) = (outputs.gltf, &args.gltf.gltf) {
@@ -352,7 +351,7 @@ fn write_pictures<const D: usize>(
         let options = GltfOptions::default().with_fps(12.0).with_name("blend");
         let base = GltfBase::new(base, triangles);
         staging.write(output, |p| {
-            Ok(write_glb(p, &base, steps, &names, &options)?)
+            Ok(write_glb_frames(p, &base, steps, &names, &options)?)
         })?;
         written.push(path.clone());
     }
