@@ -156,7 +156,7 @@ fn main() {
             let keys = [s.clone(), t.clone()];
             let setup = time(runs, || Sequence3::new(&keys, &o).unwrap());
             let prepare = time(runs, || {
-                meshmorph::PreparedSurface::new(&s, "rest", o.factor).unwrap()
+                meshmorph::PreparedSurface::new(&s, o.factor).unwrap()
             });
             println!("{name}: setup {}, of which the prepared surface (gradients, Laplacian, factorization) {}", fmt(setup), fmt(prepare));
             let m = Sequence3::new(&keys, &o).unwrap();

@@ -106,14 +106,16 @@ fn run(dir: &Path, case: &Case, out_dir: Option<&Path>) -> Result<(), Box<dyn st
     );
     println!(
         "correspondence {:.3} s ({} pairs; unmatched: {} source, {} target triangles), \
-         transfer setup {:.3} s, alignment scale {:.4}, carried parts {}\n",
+         transfer setup {:.3} s, alignment scale {:.4}, carried parts {}, \
+         target triangles held at rest shape {}\n",
         t_corr,
         c.pairs().len(),
         c.unmatched_source(),
         c.unmatched_target(),
         t_setup,
         c.alignment().scale,
-        transfer.carried_parts()
+        transfer.carried_parts(),
+        transfer.unpaired_triangles()
     );
     println!("| pose | error | doing nothing | solve |");
     println!("|---|---:|---:|---:|");

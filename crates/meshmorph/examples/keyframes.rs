@@ -25,7 +25,7 @@ fn main() -> Result<(), meshmorph::Error> {
     ];
 
     // What depends on the first key alone is factored once and shared.
-    let surface = Arc::new(PreparedSurface::new(&keys[0], "tube", options.factor)?);
+    let surface = Arc::new(PreparedSurface::new(&keys[0], options.factor)?);
     let sequence = Sequence3::with_surface(surface.clone(), &keys[1..], &options)?;
     let blend = Blend3::with_surface(surface, &keys[1..], &options)?;
 

@@ -21,12 +21,11 @@ use std::sync::Arc;
 
 use crate::consistency3::whole_turns;
 use crate::error::{Error, Result};
-use crate::interpolate::InterpolatorOptions;
+use crate::interpolate::{InterpolatorOptions, PreparedSurface};
 use crate::matrix::{mul as mul3, Mat3};
 use crate::mesh::Mesh3;
 use crate::polar3::SymmetricEigen3;
 use crate::pose3::{shared_edge_length, RestFrames};
-use crate::prepared3::PreparedSurface;
 use crate::rotation3::{quat_exp, quat_log, quat_mul, quat_to_matrix};
 use crate::sequence3::{check_poses, SequenceWorkspace, LOG_FLOOR};
 
@@ -83,7 +82,7 @@ impl Blend3 {
         base.check_no_degenerate_triangles("base")?;
         let frames = RestFrames::new(base, "base")?;
         check_poses(base, &frames, shapes, "blend shape", options)?;
-        let surface = Arc::new(PreparedSurface::new(base, "base", options.factor)?);
+        let surface = Arc::new(PreparedSurface::named(base, "base", options.factor)?);
         Self::build(surface, frames, shapes, options)
     }
 
@@ -97,8 +96,8 @@ impl Blend3 {
         shapes: &[Mesh3],
         options: &InterpolatorOptions,
     ) -> Result<Self> {
-        let frames = RestFrames::new(surface.rest(), "base")?;
-        check_poses(surface.rest(), &frames, shapes, "blend shape", options)?;
+        let frames = RestFrames::new(surface.source(), "base")?;
+        check_poses(surface.source(), &frames, shapes, "blend shape", options)?;
         Self::build(surface, frames, shapes, options)
     }
 
@@ -113,7 +112,7 @@ impl Blend3 {
                 "a blend needs at least one shape".into(),
             ));
         }
-        let rest = surface.rest();
+        let rest = surface.source();
         let loose_of = |p: &[[f64; 3]]| -> Vec<[f64; 3]> {
             surface
                 .loose_vertices()
@@ -170,7 +169,7 @@ impl Blend3 {
 
     /// The triangles shared by every blend.
     pub fn triangles(&self) -> &[[u32; 3]] {
-        self.surface.rest().triangles()
+        self.surface.source().triangles()
     }
 
     /// The prepared base surface, to share with sequences and other blends.
@@ -249,7 +248,7 @@ impl Blend3 {
     /// Number of triangles of `positions` turned over relative to the base.
     pub fn count_turned_over(&self, positions: &[[f64; 3]]) -> usize {
         self.frames
-            .turned_over(self.surface.rest(), positions)
+            .turned_over(self.surface.source(), positions)
             .len()
     }
 }

@@ -24,13 +24,13 @@ use rayon::prelude::*;
 use crate::closest::{unit_normal, vertex_normals, CentroidIndex, SurfaceIndex};
 use crate::correspondence::Correspondence;
 use crate::error::{Error, Result};
-use crate::geometry::centroid;
+use crate::geometry::{add, centroid, scale, sub};
 use crate::gradient::weights::{normalise_by_mean, normalised_by_mean, vertex_weights};
 use crate::gradient::{FactoredSystem, GradientOperators, Pins};
 use crate::markers::Markers;
 use crate::matrix::identity;
 use crate::mesh::Mesh3;
-use crate::similarity::{fit_robust, residuals, Similarity};
+use crate::similarity::{fit_robust, residuals, robust_rotation, Similarity};
 use crate::solve::{FactorKind, SymmetricBuilder, SymmetricMatrix};
 use crate::topology::{connected_components, edges, Components};
 
@@ -147,7 +147,15 @@ impl CorrespondOptions {
 pub struct CorrespondResult {
     /// The triangle map.
     pub correspondence: Correspondence,
-    /// The source reference deformed onto the target reference.
+    /// The similarity fitted to the markers, which brought the source
+    /// reference onto the target reference before it was deformed onto it
+    /// (the identity without alignment). The correspondence's own
+    /// [`alignment`](Correspondence::alignment), which the transfer
+    /// applies, has the same scale, turned to the orientation of the matched
+    /// surface.
+    pub marker_fit: Similarity,
+    /// The source reference (brought onto the target by
+    /// [`CorrespondResult::marker_fit`]) deformed onto the target reference.
     pub deformed_source: Mesh3,
     /// The distance between each marker's target vertex and its source
     /// vertex brought onto the target by the alignment (in the order of the
@@ -222,14 +230,67 @@ pub fn correspond(
     let threshold = (options.match_threshold * target.bounding_box_diagonal())
         .max(mean_edge_length(&deformed_source))
         .max(mean_edge_length(target));
-    let correspondence =
-        match_triangles(&deformed_source, target, threshold).with_alignment(alignment);
+    let matched = match_triangles(&deformed_source, target, threshold);
+    // The markers' fit reads every difference of shape between the two as a
+    // turn of the whole source: the transfer works in the orientation the
+    // matched surface agrees on instead.
+    let transfer_alignment = if options.align {
+        alignment.then(&matched_orientation(source, target, &matched))
+    } else {
+        Similarity::IDENTITY
+    };
+    let correspondence = matched.with_alignment(transfer_alignment);
     progress(correspond_steps(options));
     Ok(CorrespondResult {
         correspondence,
+        marker_fit: alignment,
         deformed_source,
         marker_residuals,
     })
+}
+
+/// The turn that best brings the source's triangles to face the same way as
+/// their partners on the target, about the source's area-weighted centroid.
+///
+/// The markers fix the similarity that brings the source near the target,
+/// but where the shapes differ (a camel's neck stands higher than a
+/// horse's) their least-squares fit reads the difference as a turn of the
+/// whole source, and every transferred deformation would be turned by as
+/// much. Here the turn is fitted to the unit normals of all matched pairs
+/// instead ([`robust_rotation`], each pair weighing the smaller of its two
+/// areas): the whole surface takes part, no lever arm lets a long neck
+/// dominate, and the L1 fit follows the orientation most of the surface
+/// agrees on. It depends only on the source brought onto the target and on
+/// the target, so moving, turning or scaling the source still changes
+/// nothing. Where the normals leave a turn free (a flat source), the
+/// markers' orientation stands.
+fn matched_orientation(source: &Mesh3, target: &Mesh3, matched: &Correspondence) -> Similarity {
+    let (source_areas, target_areas) = (source.triangle_areas(), target.triangle_areas());
+    let n = matched.pairs().len();
+    let (mut from, mut to, mut weights) = (
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+    );
+    for &[s, t] in matched.pairs() {
+        from.push(unit_normal(source.corners(s as usize)));
+        to.push(unit_normal(target.corners(t as usize)));
+        weights.push(source_areas[s as usize].min(target_areas[t as usize]));
+    }
+    let turn = Similarity {
+        rotation: robust_rotation(&from, &to, &weights),
+        scale: 1.0,
+        translation: [0.0; 3],
+    };
+    let mut centre = [0.0; 3];
+    for (t, a) in source_areas.iter().enumerate() {
+        centre = add(centre, scale(centroid(source.corners(t)), *a));
+    }
+    let centre = scale(centre, 1.0 / source_areas.iter().sum::<f64>());
+    Similarity {
+        translation: sub(centre, turn.rotate(centre)),
+        ..turn
+    }
 }
 
 /// Mean length of the edges of a mesh.

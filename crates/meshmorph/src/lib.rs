@@ -60,7 +60,6 @@ mod mesh;
 mod polar;
 pub mod polar3;
 mod pose3;
-mod prepared3;
 pub mod render;
 mod rotation;
 pub mod rotation3;
@@ -80,11 +79,12 @@ pub use correspondence::Correspondence;
 pub use error::{Error, Result};
 pub use frame_source::FrameSource;
 pub use gradient::TriangleMaps;
-pub use interpolate::{FrameWorkspace, Interpolator, InterpolatorOptions, RestSystem, StretchMode};
+pub use interpolate::{
+    FrameWorkspace, Interpolator, InterpolatorOptions, PreparedSurface, RestSystem, StretchMode,
+};
 pub use markers::{Markers, Snap, SNAP_LIMIT};
 pub use matrix::Mat;
 pub use mesh::{Mesh, Mesh2, Mesh3};
-pub use prepared3::PreparedSurface;
 pub use rotation::{Rotations, Space};
 pub use sequence3::{Sequence3, SequenceWorkspace};
 pub use similarity::Similarity;

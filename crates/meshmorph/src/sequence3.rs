@@ -35,12 +35,11 @@ use rayon::prelude::*;
 use crate::consistency3::{nearest_whole_turns, whole_turns_after};
 use crate::error::{Error, Result};
 use crate::geometry::{add, norm, sub};
-use crate::interpolate::{InterpolatorOptions, StretchMode};
+use crate::interpolate::{FrameWorkspace, InterpolatorOptions, PreparedSurface, StretchMode};
 use crate::matrix::{identity, mul as mul3, Mat3};
 use crate::mesh::Mesh3;
 use crate::polar3::SymmetricEigen3;
 use crate::pose3::{shared_edge_length, RestFrames};
-use crate::prepared3::{PreparedSurface, SurfaceWorkspace};
 use crate::rotation3::{quat_axis_angle, quat_log, quat_mul, quat_to_matrix, Quat};
 
 /// Eigenvalues of stretches below this are raised to it before logarithms
@@ -148,7 +147,7 @@ pub struct Sequence3 {
 /// Per-thread scratch for [`Sequence3::at_into`] and [`crate::Blend3::at_into`].
 #[derive(Debug)]
 pub struct SequenceWorkspace {
-    pub(crate) surface: SurfaceWorkspace,
+    pub(crate) surface: FrameWorkspace<3>,
     pub(crate) centroids: Vec<[f64; 3]>,
 }
 
@@ -177,7 +176,7 @@ impl Sequence3 {
         check_poses(first, &frames, &keys[1..], "key", options)?;
         // The factorization and the per-triangle work are independent.
         let (surface, segments) = rayon::join(
-            || PreparedSurface::new(first, "first key", options.factor),
+            || PreparedSurface::named(first, "first key", options.factor),
             || segments(first, &frames, &keys[1..], options),
         );
         Self::build(Arc::new(surface?), frames, &keys[1..], segments?)
@@ -194,9 +193,9 @@ impl Sequence3 {
         later_keys: &[Mesh3],
         options: &InterpolatorOptions,
     ) -> Result<Self> {
-        let frames = RestFrames::new(surface.rest(), "first key")?;
-        check_poses(surface.rest(), &frames, later_keys, "key", options)?;
-        let segments = segments(surface.rest(), &frames, later_keys, options)?;
+        let frames = RestFrames::new(surface.source(), "first key")?;
+        check_poses(surface.source(), &frames, later_keys, "key", options)?;
+        let segments = segments(surface.source(), &frames, later_keys, options)?;
         Self::build(surface, frames, later_keys, segments)
     }
 
@@ -206,7 +205,7 @@ impl Sequence3 {
         later: &[Mesh3],
         segments: Vec<Segment>,
     ) -> Result<Self> {
-        let rest = surface.rest();
+        let rest = surface.source();
         let loose_of = |p: &[[f64; 3]]| -> Vec<[f64; 3]> {
             surface
                 .loose_vertices()
@@ -256,7 +255,7 @@ impl Sequence3 {
 
     /// The triangles shared by every frame.
     pub fn triangles(&self) -> &[[u32; 3]] {
-        self.surface.rest().triangles()
+        self.surface.source().triangles()
     }
 
     /// Scratch for [`Sequence3::at_into`]; one per thread.
@@ -357,7 +356,7 @@ impl Sequence3 {
     /// key (folded back onto their neighbours, or collapsed).
     pub fn count_turned_over(&self, positions: &[[f64; 3]]) -> usize {
         self.frames
-            .turned_over(self.surface.rest(), positions)
+            .turned_over(self.surface.source(), positions)
             .len()
     }
 }

@@ -55,6 +55,30 @@ impl Similarity {
         [dot(R[0], v), dot(R[1], v), dot(R[2], v)]
     }
 
+    /// `other ∘ self`: this similarity, then `other`.
+    pub fn then(&self, other: &Similarity) -> Similarity {
+        let R: [[f64; 3]; 3] = std::array::from_fn(|i| {
+            std::array::from_fn(|j| {
+                (0..3)
+                    .map(|k| other.rotation[i][k] * self.rotation[k][j])
+                    .sum()
+            })
+        });
+        Similarity {
+            rotation: R,
+            scale: other.scale * self.scale,
+            translation: other.apply(self.translation),
+        }
+    }
+
+    /// The angle of the rotation, in radians.
+    pub fn angle(&self) -> f64 {
+        let R = &self.rotation;
+        ((R[0][0] + R[1][1] + R[2][2] - 1.0) / 2.0)
+            .clamp(-1.0, 1.0)
+            .acos()
+    }
+
     /// Every point mapped.
     pub fn apply_all(&self, points: &[[f64; 3]]) -> Vec<[f64; 3]> {
         points.iter().map(|&p| self.apply(p)).collect()
@@ -184,6 +208,51 @@ pub fn closest_rotation(A: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
     // Σ y·R x = tr(R M) for M = Σ x yᵀ; tr(Rᵀ A) = tr(R Aᵀ).
     let At: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| A[j][i]));
     best_rotation(&At)
+}
+
+/// The rotation `R` minimising `Σ wᵢ |R xᵢ − yᵢ|` (not squared: a robust,
+/// L1 fit of directions), by iteratively reweighted least squares started
+/// from the least-squares fit: each round is Horn's fit with the weights
+/// `wᵢ / |R xᵢ − yᵢ|` of the previous rotation (Weiszfeld's iteration). A
+/// minority of pairs far from the others' rotation does not pull it.
+pub fn robust_rotation(from: &[[f64; 3]], to: &[[f64; 3]], weights: &[f64]) -> [[f64; 3]; 3] {
+    let fit = |weight: &dyn Fn(usize) -> f64| {
+        let mut M = [[0.0; 3]; 3];
+        let mut total = 0.0;
+        for (k, (x, y)) in from.iter().zip(to).enumerate() {
+            let w = weight(k);
+            total += w;
+            for i in 0..3 {
+                for j in 0..3 {
+                    M[i][j] += w * x[i] * y[j];
+                }
+            }
+        }
+        // A tie between turns the directions leave free (all of them
+        // parallel) goes to no turn at all.
+        for (i, row) in M.iter_mut().enumerate() {
+            row[i] += 1e-9 * total;
+        }
+        best_rotation(&M)
+    };
+    let mut R = fit(&|k| weights[k]);
+    for _ in 0..100 {
+        let at = Similarity {
+            rotation: R,
+            scale: 1.0,
+            translation: [0.0; 3],
+        };
+        let next = fit(&|k| weights[k] / norm(sub(at.rotate(from[k]), to[k])).max(1e-9));
+        let step: f64 = (0..3)
+            .flat_map(|i| (0..3).map(move |j| (i, j)))
+            .map(|(i, j)| (next[i][j] - R[i][j]).powi(2))
+            .sum();
+        R = next;
+        if step < 1e-24 {
+            break;
+        }
+    }
+    R
 }
 
 /// Horn's rotation from the cross-covariance `M = Σ x yᵀ` of centred
@@ -411,6 +480,52 @@ mod tests {
         assert!(e.contains("source markers lie on one line"), "{e}");
         let e = Similarity::fit(&ok, &line).unwrap_err().to_string();
         assert!(e.contains("target markers lie on one line"), "{e}");
+    }
+
+    #[test]
+    fn the_robust_rotation_follows_the_majority() {
+        let want = turn([1.0, -2.0, 0.5], 0.7);
+        let fit = Similarity {
+            rotation: want,
+            scale: 1.0,
+            translation: [0.0; 3],
+        };
+        let mut rng = crate::polar3::tests::rng(5);
+        let from: Vec<[f64; 3]> = (0..200)
+            .map(|_| {
+                let v = [rng() - 0.5, rng() - 0.5, rng() - 0.5];
+                scale(v, 1.0 / norm(v))
+            })
+            .collect();
+        // A fifth of the directions turned another way as well.
+        let other = turn([0.0, 0.0, 1.0], 0.5);
+        let to: Vec<[f64; 3]> = from
+            .iter()
+            .enumerate()
+            .map(|(k, &x)| {
+                let y = fit.rotate(x);
+                if k % 5 == 0 {
+                    std::array::from_fn(|i| dot(other[i], y))
+                } else {
+                    y
+                }
+            })
+            .collect();
+        let got = robust_rotation(&from, &to, &vec![1.0; from.len()]);
+        for i in 0..3 {
+            for j in 0..3 {
+                assert!((got[i][j] - want[i][j]).abs() < 1e-6, "{got:?}");
+            }
+        }
+        // Parallel directions leave the turn about them free: none is taken.
+        let up = vec![[0.0, 0.0, 1.0]; 4];
+        let got = robust_rotation(&up, &up, &[1.0; 4]);
+        for i in 0..3 {
+            for j in 0..3 {
+                let id = if i == j { 1.0 } else { 0.0 };
+                assert!((got[i][j] - id).abs() < 1e-9, "{got:?}");
+            }
+        }
     }
 
     #[test]

@@ -18,11 +18,14 @@
 //! weights bring the mean error against his own results from 0.017 to 0.015
 //! and the worst from 0.023 to 0.022.)
 //!
-//! Target triangles in no pair near a paired one (within
-//! [`TransferOptions::gap_distance`]) are gaps of the matching: they take
-//! the deformation of their neighbours (a smoothness term across their
-//! edges). Farther ones have no partner (the back of a head under a face
-//! mask, a neck): each keeps its rest shape, turned by a rotation spread
+//! Target triangles in no pair are gaps of the matching when the paired
+//! surface encloses them (no source triangle on the source's boundary is
+//! paired along their edge: the source covers them, as a horse's back
+//! covers a camel's hump) or when they lie near a paired one (within
+//! [`TransferOptions::gap_distance`]): they take the deformation of their
+//! neighbours (a smoothness term across their edges). The others lie beyond
+//! the edge of the source and have no partner (the back of a head under a
+//! face mask, a neck): each keeps its rest shape, turned by a rotation spread
 //! from the paired triangles ([`RotationField`]: harmonic interpolation of
 //! the paired triangles' rotations, projected onto rotations). They join the
 //! paired region smoothly, a rigid motion of the whole source still moves
@@ -71,8 +74,9 @@ pub struct TransferOptions {
     /// Unpaired target triangles whose centroid lies within this fraction
     /// of the target's bounding-box diagonal (and never less than its mean
     /// edge length) of a paired triangle's centroid are gaps of the
-    /// matching and take their neighbours' deformation; farther ones keep
-    /// their rest shape, turned with the paired surface. Default 0.01, the
+    /// matching and take their neighbours' deformation, as do those the
+    /// paired surface encloses; farther ones beyond the edge of the source
+    /// keep their rest shape, turned with the paired surface. Default 0.01, the
     /// default [`CorrespondOptions::match_threshold`](crate::CorrespondOptions::match_threshold):
     /// the distance within which the correspondence pairs triangles at all.
     pub gap_distance: f64,
@@ -248,7 +252,13 @@ impl Transfer {
             .collect();
         let gap_distance = (options.gap_distance * target_ref.bounding_box_diagonal())
             .max(crate::correspond::mean_edge_length(target_ref));
-        let is_gap = gaps(target_ref, &paired, gap_distance);
+        let beyond = beyond_the_source(target_ref, source_ref, &pairs, &adjacency, &paired);
+        let is_gap: Vec<bool> = gaps(target_ref, &paired, gap_distance)
+            .into_iter()
+            .zip(&paired)
+            .zip(&beyond)
+            .map(|((near, &p), &b)| !p && (near || !b))
+            .collect();
         let field = RotationField::new(&adjacency, &paired, &weights)?;
         let unpaired: Vec<u32> = (0..target_ref.num_triangles() as u32)
             .filter(|&t| !paired[t as usize] && !is_gap[t as usize])
@@ -531,6 +541,106 @@ fn gaps(mesh: &Mesh3, paired: &[bool], distance: f64) -> Vec<bool> {
                 .is_some_and(|(_, d)| d <= d2)
         })
         .collect()
+}
+
+/// Which unpaired target triangles lie beyond the source, by region (the
+/// unpaired triangles connected through shared edges). A region lies beyond
+/// the source when
+/// - it borders a target triangle paired with a source triangle on the
+///   source's boundary (one with a corner on a boundary edge): the edge of
+///   an open source (a face mask) runs along it;
+/// - or it reaches farther from the paired triangles around it than those
+///   lie from their own centre: it stands out of the paired surface (the
+///   far half of a target under a source that covers half of it);
+/// - or it borders no paired triangle at all.
+///
+/// The others are holes of the matching that the paired surface around
+/// them spans (a camel's hump under a horse's back, lips whose shapes
+/// differ): the source covers them, and they take their neighbours'
+/// deformation, however wide.
+fn beyond_the_source(
+    target: &Mesh3,
+    source: &Mesh3,
+    pairs: &PairsByTarget,
+    adjacency: &TriangleAdjacency,
+    paired: &[bool],
+) -> Vec<bool> {
+    use crate::geometry::{norm, sub};
+    use rstar::primitives::GeomWithData;
+    let mut on_rim = vec![false; source.num_vertices()];
+    for e in edges(source.triangles()) {
+        if e.triangles.len() == 1 {
+            on_rim[e.vertices[0] as usize] = true;
+            on_rim[e.vertices[1] as usize] = true;
+        }
+    }
+    let rim_source = |s: u32| {
+        source.triangles()[s as usize]
+            .iter()
+            .any(|&v| on_rim[v as usize])
+    };
+    let n = paired.len();
+    let centroids: Vec<[f64; 3]> = (0..n).map(|t| centroid(target.corners(t))).collect();
+    let mut beyond = vec![false; n];
+    let mut seen = vec![false; n];
+    let mut border_seen = vec![false; n];
+    for start in 0..n {
+        if paired[start] || seen[start] {
+            continue;
+        }
+        seen[start] = true;
+        let (mut region, mut border) = (vec![start], Vec::new());
+        let mut k = 0;
+        while k < region.len() {
+            let t = region[k];
+            k += 1;
+            for &u in adjacency.of(t) {
+                let u = u as usize;
+                if paired[u] {
+                    if !std::mem::replace(&mut border_seen[u], true) {
+                        border.push(u);
+                    }
+                } else if !std::mem::replace(&mut seen[u], true) {
+                    region.push(u);
+                }
+            }
+        }
+        for &u in &border {
+            border_seen[u] = false;
+        }
+        let out = border.is_empty()
+            || border
+                .iter()
+                .any(|&u| pairs.of(u).iter().any(|&(s, _)| rim_source(s)))
+            || {
+                let mut centre = [0.0; 3];
+                for &u in &border {
+                    centre = crate::geometry::add(centre, centroids[u]);
+                }
+                let centre = centre.map(|x| x / border.len() as f64);
+                let span = border
+                    .iter()
+                    .map(|&u| norm(sub(centroids[u], centre)))
+                    .fold(0.0, f64::max);
+                let tree = rstar::RTree::bulk_load(
+                    border
+                        .iter()
+                        .map(|&u| GeomWithData::new(centroids[u], ()))
+                        .collect(),
+                );
+                region.iter().any(|&t| {
+                    tree.nearest_neighbor_iter_with_distance_2(centroids[t])
+                        .next()
+                        .is_some_and(|(_, d2)| d2 > span * span)
+                })
+            };
+        if out {
+            for t in region {
+                beyond[t] = true;
+            }
+        }
+    }
+    beyond
 }
 
 /// The user's pins, checked.

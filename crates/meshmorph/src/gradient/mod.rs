@@ -13,8 +13,9 @@
 //! a right-hand side and a back-substitution. The pieces:
 //!
 //! - [`GradientOperators`]: `G_t` of every triangle (hat-function gradients
-//!   through [`TriangleMaps`], or in space Sumner and Popović's fourth vertex,
-//!   [`spatial`]), and the fit and difference terms built from them;
+//!   through [`TriangleMaps`], in the plane or within each triangle's plane
+//!   in space, or Sumner and Popović's fourth vertex, [`spatial`]), and the
+//!   fit and difference terms built from them;
 //! - [`smoothness`]: the difference terms across every edge;
 //! - [`weights`]: area weights of triangles and vertices;
 //! - [`Pins`]: pinned vertices, one held vertex in every otherwise free part;
@@ -27,6 +28,7 @@ mod placement;
 mod planar;
 mod smoothness;
 pub(crate) mod spatial;
+mod surface;
 mod system;
 mod triangle_maps;
 pub(crate) mod weights;

@@ -68,11 +68,21 @@ impl<const D: usize> Placement<D> {
     /// # Panics
     /// If `out` does not have one entry per placed part.
     pub(crate) fn centroids(&self, positions: &[[f64; D]], out: &mut [[f64; D]]) {
+        self.centroids_by(|v| positions[v], out);
+    }
+
+    /// [`Placement::centroids`] of the positions `position(v)` of the
+    /// vertices `v` (read once each, in order).
+    ///
+    /// # Panics
+    /// If `out` does not have one entry per placed part.
+    #[inline]
+    pub(crate) fn centroids_by(&self, position: impl Fn(usize) -> [f64; D], out: &mut [[f64; D]]) {
         assert_eq!(out.len(), self.count(), "one centroid per part");
         out.fill([0.0; D]);
-        for (v, p) in positions.iter().enumerate() {
-            let c = self.vertex_part[v];
+        for (v, &c) in self.vertex_part.iter().enumerate() {
             if c != u32::MAX {
+                let p = position(v);
                 for i in 0..D {
                     out[c as usize][i] += self.vertex_weight[v] * p[i];
                 }

@@ -4,10 +4,10 @@
 use crate::matrix::Mat;
 
 /// The per-triangle geometry of `D`-dimensional meshes that interpolation
-/// needs (implemented by [`Space<2>`](crate::Space)).
+/// needs (implemented by [`Space<2>`](crate::Space) and [`Space<3>`](crate::Space)).
 pub trait TriangleMaps<const D: usize> {
     /// The area of a triangle: in the plane signed, positive when
-    /// counter-clockwise.
+    /// counter-clockwise; in space at least 0.
     fn area(corners: &[[f64; D]; 3]) -> f64;
     /// Gradients (one row per corner) of the three hat functions of a rest
     /// triangle of the given (non-zero) `area`, within its plane.

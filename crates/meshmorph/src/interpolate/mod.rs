@@ -33,7 +33,7 @@ use crate::topology::TriangleAdjacency;
 use crate::Space;
 
 pub use options::{InterpolatorOptions, StretchMode};
-pub use rest::RestSystem;
+pub use rest::{PreparedSurface, RestSystem};
 
 /// A rotation's logarithm in `D` dimensions.
 type Log<const D: usize> = <Space<D> as Rotations<D>>::Log;
@@ -88,7 +88,8 @@ where
     loose_targets: Vec<[f64; D]>,
 }
 
-/// Per-thread scratch for [`Interpolator::at_into`].
+/// Per-thread scratch for [`Interpolator::at_into`] and
+/// [`RestSystem::solve_into`].
 #[derive(Debug)]
 pub struct FrameWorkspace<const D: usize = 2> {
     solve: SolveWorkspace,
@@ -179,10 +180,7 @@ where
 
     /// Scratch for [`Interpolator::at_into`]; one per thread.
     pub fn workspace(&self) -> FrameWorkspace<D> {
-        FrameWorkspace {
-            solve: self.rest.system.workspace(),
-            parts: vec![[0.0; D]; self.centroid_paths.len()],
-        }
+        self.rest.workspace()
     }
 
     /// Vertex positions at time `t`: the source at 0, the target at 1, any
@@ -214,28 +212,17 @@ where
     /// If `out.len()` is not the number of vertices.
     #[track_caller]
     pub fn at_into(&self, t: f64, out: &mut [[f64; D]], ws: &mut FrameWorkspace<D>) {
-        assert_eq!(
-            out.len(),
-            self.num_vertices(),
-            "output has the wrong number of vertices"
-        );
         let rest = &*self.rest;
-        ws.solve.rhs.fill(0.0);
-        for (k, (rotation, stretch)) in self.rotations.iter().zip(&self.stretches).enumerate() {
-            let A = map_at::<D>(t, rotation, stretch);
-            rest.operators
-                .add_fit_rhs(&mut ws.solve.rhs, k, &A, rest.weights[k]);
-        }
-        rest.system.solve(&mut ws.solve);
-        for (v, o) in out.iter_mut().enumerate() {
-            *o = rest.system.position(&ws.solve, v);
-        }
-        // Move each part so its centroid is on its straight path.
-        rest.placement.centroids(out, &mut ws.parts);
-        for (c, (cs, ct)) in ws.parts.iter_mut().zip(&self.centroid_paths) {
-            *c = std::array::from_fn(|i| (1.0 - t) * cs[i] + t * ct[i] - c[i]);
-        }
-        rest.placement.translate(out, &ws.parts);
+        // Each part's centroid is on its straight path.
+        rest.solve_frame(
+            |k| map_at::<D>(t, &self.rotations[k], &self.stretches[k]),
+            |c| {
+                let (cs, ct) = &self.centroid_paths[c];
+                std::array::from_fn(|i| (1.0 - t) * cs[i] + t * ct[i])
+            },
+            out,
+            ws,
+        );
         for (&v, b) in rest.loose.iter().zip(&self.loose_targets) {
             let a = rest.source.positions()[v as usize];
             // A vertex that does not move stays exactly where it is.

@@ -25,7 +25,7 @@ pub enum StretchMode {
     Log,
 }
 
-/// Options of [`Interpolator::new`].
+/// Options of [`Interpolator::new`](crate::Interpolator::new).
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct InterpolatorOptions {

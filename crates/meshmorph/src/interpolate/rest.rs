@@ -1,8 +1,21 @@
-//! What interpolation from one source mesh needs whatever the target.
+//! What interpolation from one source mesh needs whatever the target, in
+//! the plane and in space.
+//!
+//! A frame is given by one `D × D` map `A_T` per triangle (the map from the
+//! source triangle to the frame's triangle); its vertices minimise
+//! `Σ_T area_T ‖J_T(x) − A_T‖²_F` in the plane (Alexa et al. 2000) and
+//! `Σ_T area_T ‖J_T(x) − A_T P_T‖²_F` in space, where `J_T(x)` is the
+//! (surface) gradient of the piecewise-linear map that sends the source to
+//! `x` and `P_T` projects onto the source triangle's plane. Either way the
+//! normal matrix is the cotangent Laplacian of the source, the same for
+//! every coordinate and every frame: one factorization, `D` right-hand
+//! sides.
 
+use super::FrameWorkspace;
 use crate::error::Result;
 use crate::gradient::weights::vertex_weights;
 use crate::gradient::{FactoredSystem, GradientOperators, Pins, Placement, TriangleMaps};
+use crate::matrix::Mat;
 use crate::mesh::{check_areas, Mesh};
 use crate::solve::{FactorKind, SymmetricBuilder};
 use crate::topology::connected_components;
@@ -13,7 +26,8 @@ use crate::Space;
 /// connected parts: everything an interpolation from it needs whatever the
 /// target. Build it once and share it behind an [`Arc`](std::sync::Arc)
 /// between any number of interpolations from the same source
-/// ([`Interpolator::with_rest`](crate::Interpolator::with_rest)).
+/// ([`Interpolator::with_rest`](crate::Interpolator::with_rest)), and in
+/// space between sequences and blends ([`PreparedSurface`]).
 #[derive(Debug)]
 pub struct RestSystem<const D: usize = 2> {
     pub(super) source: Mesh<D>,
@@ -44,11 +58,20 @@ where
     /// Linear in the number of triangles apart from one sparse Cholesky
     /// factorization of a `#V × #V` matrix.
     pub fn new(source: &Mesh<D>, factor: FactorKind) -> Result<Self> {
+        Self::named(source, "source", factor)
+    }
+
+    /// [`RestSystem::new`], the source called `name` in error messages
+    /// ("first key", "base", ...).
+    ///
+    /// # Errors
+    /// As [`RestSystem::new`].
+    pub fn named(source: &Mesh<D>, name: &str, factor: FactorKind) -> Result<Self> {
         let (n, tris) = (source.num_vertices(), source.triangles());
         let areas: Vec<f64> = (0..tris.len())
             .map(|t| Space::<D>::area(&source.corners(t)))
             .collect();
-        check_areas(&areas, source.bounding_box_diagonal(), "source")?;
+        check_areas(&areas, source.bounding_box_diagonal(), name)?;
         let operators = GradientOperators::from_parts(
             n,
             tris.to_vec(),
@@ -91,8 +114,106 @@ where
         &self.source
     }
 
+    /// Number of vertices of every frame.
+    pub fn num_vertices(&self) -> usize {
+        self.source.num_vertices()
+    }
+
+    /// Number of connected parts (triangles sharing vertices).
+    pub fn num_components(&self) -> usize {
+        self.placement.count()
+    }
+
+    /// Vertices no triangle uses: frames place them themselves.
+    pub fn loose_vertices(&self) -> &[u32] {
+        &self.loose
+    }
+
+    /// The area-weighted centroid of each connected part of `positions`
+    /// (positions of the source's vertices in some pose).
+    pub fn centroids(&self, positions: &[[f64; D]]) -> Vec<[f64; D]> {
+        let mut out = vec![[0.0; D]; self.num_components()];
+        self.placement.centroids(positions, &mut out);
+        out
+    }
+
+    /// Scratch for [`RestSystem::solve_into`]; one per thread.
+    pub fn workspace(&self) -> FrameWorkspace<D> {
+        FrameWorkspace {
+            solve: self.system.workspace(),
+            parts: vec![[0.0; D]; self.num_components()],
+        }
+    }
+
+    /// The frame whose triangle `t` has the map `map(t)`, each part moved so
+    /// that its centroid is `centroids[part]`. Vertices no triangle uses are
+    /// left as they are in `out`.
+    ///
+    /// # Panics
+    /// If `out` or `centroids` has the wrong length.
+    #[track_caller]
+    pub fn solve_into(
+        &self,
+        map: impl Fn(usize) -> Mat<D>,
+        centroids: &[[f64; D]],
+        out: &mut [[f64; D]],
+        ws: &mut FrameWorkspace<D>,
+    ) {
+        assert_eq!(
+            centroids.len(),
+            self.num_components(),
+            "one centroid per part"
+        );
+        self.solve_frame(map, |c| centroids[c], out, ws);
+    }
+
+    /// [`RestSystem::solve_into`] with the centroid of part `c` given by
+    /// `centroid(c)`: one pass over the solution for the parts' centroids,
+    /// one to write each vertex moved with its part.
+    #[track_caller]
+    pub(super) fn solve_frame(
+        &self,
+        map: impl Fn(usize) -> Mat<D>,
+        centroid: impl Fn(usize) -> [f64; D],
+        out: &mut [[f64; D]],
+        ws: &mut FrameWorkspace<D>,
+    ) {
+        assert_eq!(
+            out.len(),
+            self.num_vertices(),
+            "output has the wrong number of vertices"
+        );
+        let solve = &mut ws.solve;
+        solve.rhs.fill(0.0);
+        for (t, &w) in self.weights.iter().enumerate() {
+            self.operators.add_fit_rhs(&mut solve.rhs, t, &map(t), w);
+        }
+        self.system.solve(solve);
+        let solve = &ws.solve;
+        self.placement
+            .centroids_by(|v| self.system.position(solve, v), &mut ws.parts);
+        for (c, shift) in ws.parts.iter_mut().enumerate() {
+            let target = centroid(c);
+            *shift = std::array::from_fn(|i| target[i] - shift[i]);
+        }
+        for (v, o) in out.iter_mut().enumerate() {
+            if let Some(c) = self.placement.part_of_vertex(v) {
+                let x = self.system.position(solve, v);
+                *o = std::array::from_fn(|i| x[i] + ws.parts[c][i]);
+            }
+        }
+    }
+
     /// The linear map of triangle `t` from the source to `corners`.
     pub(super) fn linear_map(&self, t: usize, corners: &[[f64; D]; 3]) -> crate::matrix::Mat<D> {
         Space::<D>::linear_map(&self.source.corners(t), self.operators.operator(t), corners)
     }
 }
+
+/// The rest system of a surface in space: what sequences ([`Sequence3`])
+/// and blends ([`Blend3`]) of poses of one rest mesh share, built once
+/// (for example behind an [`Arc`](std::sync::Arc)).
+///
+/// [`Sequence3`]: crate::Sequence3
+/// [`Blend3`]: crate::Blend3
+pub type PreparedSurface = RestSystem<3>;
