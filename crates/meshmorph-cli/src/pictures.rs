@@ -72,14 +72,16 @@ impl<const D: usize, const E: usize> FrameSource<E> for InDim<'_, D> {
     }
 
     fn with_frame(&self, k: usize, use_frame: &mut dyn FnMut(&[[f64; E]])) {
-        self.0.with_frame(k, &mut |f| {
-            let converted: Vec<[f64; E]> = f
-                .iter()
-                .map(|p| std::array::from_fn(|c| if c < D { p[c] } else { 0.0 }))
-                .collect();
-            use_frame(&converted)
-        })
+        self.0.with_frame(k, &mut |f| use_frame(&in_dim(f)))
     }
+}
+
+/// Positions with `D` coordinates given `E`: z = 0 added, or z dropped.
+pub fn in_dim<const D: usize, const E: usize>(positions: &[[f64; D]]) -> Vec<[f64; E]> {
+    positions
+        .iter()
+        .map(|p| std::array::from_fn(|c| if c < D { p[c] } else { 0.0 }))
+        .collect()
 }
 
 /// Writes the frames as an animated GIF: planar frames through one view
