@@ -14,7 +14,7 @@ seconds="${1:?usage: fuzz/run.sh SECONDS [TARGET...]}"
 shift
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-    targets=(obj off ply markers correspondence interpolate transfer)
+    targets=(obj off ply markers correspondence interpolate transfer surface)
 fi
 # The library is safe Rust: no sanitizer needed, and the runs are faster.
 cargo +nightly fuzz build -s none

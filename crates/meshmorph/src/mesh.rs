@@ -202,6 +202,12 @@ impl Mesh3 {
     pub fn check_no_degenerate_triangles(&self, name: &str) -> Result<()> {
         check_areas(&self.triangle_areas(), self.bounding_box_diagonal(), name)
     }
+
+    /// Fails when coordinates are so large that the mesh's extent or a
+    /// triangle's area overflows; `name` says which mesh it is.
+    pub(crate) fn check_no_overflow(&self, name: &str) -> Result<()> {
+        check_overflow(&self.triangle_areas(), self.bounding_box_diagonal(), name)
+    }
 }
 
 /// Fails on triangles whose (absolute) area is at most `1e-14 · diagonal²`
@@ -209,6 +215,25 @@ impl Mesh3 {
 /// Coordinates so large that the box or an area is not a finite number
 /// are named as overflow, not as degenerate triangles.
 pub(crate) fn check_areas(areas: &[f64], diagonal: f64, name: &str) -> Result<()> {
+    check_overflow(areas, diagonal, name)?;
+    let tiny = 1e-14 * diagonal * diagonal;
+    let bad: Vec<usize> = (0..areas.len())
+        .filter(|&t| areas[t].abs() <= tiny || areas[t].is_nan())
+        .collect();
+    if bad.is_empty() {
+        return Ok(());
+    }
+    Err(Error::DegenerateTriangles {
+        mesh: name.into(),
+        count: bad.len(),
+        first: bad.into_iter().take(crate::error::LIST_LIMIT).collect(),
+    })
+}
+
+/// Fails when the used vertices' box (its `diagonal`) or a triangle's area
+/// is not a finite number: coordinates so large that products of them
+/// overflow.
+pub(crate) fn check_overflow(areas: &[f64], diagonal: f64, name: &str) -> Result<()> {
     if !diagonal.is_finite() {
         return Err(Error::InvalidMesh(format!(
             "the {name}'s coordinates overflow: its extent exceeds the range of floating-point numbers (about 1.8e308); scale it down"
@@ -224,18 +249,7 @@ pub(crate) fn check_areas(areas: &[f64], diagonal: f64, name: &str) -> Result<()
             ),
         });
     }
-    let tiny = 1e-14 * diagonal * diagonal;
-    let bad: Vec<usize> = (0..areas.len())
-        .filter(|&t| areas[t].abs() <= tiny || areas[t].is_nan())
-        .collect();
-    if bad.is_empty() {
-        return Ok(());
-    }
-    Err(Error::DegenerateTriangles {
-        mesh: name.into(),
-        count: bad.len(),
-        first: bad.into_iter().take(crate::error::LIST_LIMIT).collect(),
-    })
+    Ok(())
 }
 
 impl Mesh2 {

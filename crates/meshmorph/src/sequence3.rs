@@ -470,6 +470,7 @@ pub(crate) fn check_poses(
     for (k, pose) in poses.iter().enumerate() {
         let name = format!("{role} {}", k + 1);
         rest.check_same_connectivity(pose, ["the first mesh", &name])?;
+        pose.check_no_overflow(&name)?;
         if !options.allow_flips {
             frames.check_pose(rest, pose, &name)?;
         }

@@ -347,6 +347,30 @@ fn bad_input_is_named() {
         Blend3::new(&t, &[], &opts()),
         Err(Error::InvalidArgument(_))
     ));
+    // A later key or a blend shape with coordinates whose products overflow
+    // (found by fuzzing: its frames were infinite) is named as overflow.
+    let mut p = b.positions().to_vec();
+    p[7][0] = -1.7976931340154918e308;
+    let huge = b.with_positions(p).unwrap();
+    for (e, name) in [
+        (
+            Sequence3::new(&[t.clone(), huge.clone()], &opts().with_allow_flips(true)).unwrap_err(),
+            "key 1",
+        ),
+        (
+            Blend3::new(&t, &[b.clone(), huge], &opts().with_allow_flips(true)).unwrap_err(),
+            "blend shape 2",
+        ),
+    ] {
+        assert!(
+            matches!(e, Error::InvalidTriangle { triangle: 12, .. }),
+            "{e}"
+        );
+        assert!(
+            e.to_string().contains(name) && e.to_string().contains("overflow"),
+            "{e}"
+        );
+    }
 }
 
 fn horse_dir() -> Option<PathBuf> {
