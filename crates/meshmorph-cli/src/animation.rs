@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Result};
-use meshmorph::io::gltf::{write_glb, GltfBase, GltfOptions};
+use meshmorph::io::gltf::{write_glb_frames, GltfBase, GltfOptions};
 use meshmorph::io::Format;
-use meshmorph::{Interpolator, Sequence3};
+use meshmorph::{FrameSource, Interpolator, Sequence3};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -322,20 +322,15 @@ pub fn write_frames<const D: usize, M: Frames<D>>(
         staging,
         start,
     } = *run;
-    let keep = outputs.gif.is_some()
-        || outputs.png.is_some()
-        || !outputs.svgs.is_empty()
-        || outputs.gltf.is_some();
-    if keep {
-        crate::memory::check_held(
-            times.len(),
-            morph.num_vertices() * std::mem::size_of::<[f64; D]>(),
-            "holding every frame for the pictures",
-        )?;
-    }
+    crate::memory::check_frames_in_flight(
+        morph.num_vertices(),
+        D,
+        rayon::current_num_threads(),
+        times.len(),
+    )?;
     let bar = progress::bar(times.len() as u64, "frames");
     let wall = Instant::now();
-    let results: Vec<Result<Frame<D>>> = times
+    let results: Vec<Result<Frame>> = times
         .par_iter()
         .enumerate()
         .map_init(
@@ -362,14 +357,13 @@ pub fn write_frames<const D: usize, M: Frames<D>>(
                     compute,
                     write,
                     flipped,
-                    positions: keep.then_some(positions),
                 })
             },
         )
         .collect();
     let wall_seconds = wall.elapsed().as_secs_f64();
     bar.finish_and_clear();
-    let mut frames = results.into_iter().collect::<Result<Vec<_>>>()?;
+    let frames = results.into_iter().collect::<Result<Vec<_>>>()?;
     let (max_flipped_frame, max_flipped) = frames
         .iter()
         .enumerate()
@@ -377,31 +371,33 @@ pub fn write_frames<const D: usize, M: Frames<D>>(
         .max_by_key(|&(k, f)| (f, std::cmp::Reverse(k)))
         .unwrap_or((0, 0));
     let mut files_written: Vec<PathBuf> = (0..times.len()).map(|k| outputs.mesh_path(k)).collect();
-    if keep {
-        let positions: Vec<Vec<[f64; D]>> = frames
-            .iter_mut()
-            .filter_map(|f| f.positions.take())
+    // Pictures and the GLB recompute the frames they draw or write.
+    let recomputed = Recomputed { morph, times };
+    files_written.extend(write_pictures(
+        args,
+        outputs,
+        staging,
+        &recomputed,
+        morph.triangles(),
+    )?);
+    if let Some(output) = outputs.gltf {
+        let names: Vec<String> = (0..times.len())
+            .map(|k| crate::gltf::mesh_name(&outputs.mesh_path(k)))
             .collect();
-        files_written.extend(write_pictures(
-            args,
-            outputs,
-            staging,
-            &positions,
-            morph.triangles(),
-        )?);
-        if let Some(output) = outputs.gltf {
-            let names: Vec<String> = (0..times.len())
-                .map(|k| crate::gltf::mesh_name(&outputs.mesh_path(k)))
-                .collect();
-            let options = GltfOptions::default()
-                .with_fps(args.fps)
-                .with_name("interpolation");
-            let base = GltfBase::new(base, morph.triangles());
-            staging.write(output, |path| {
-                Ok(write_glb(path, &base, &positions, &names, &options)?)
-            })?;
-            files_written.extend(args.gltf.gltf.clone());
-        }
+        let options = GltfOptions::default()
+            .with_fps(args.fps)
+            .with_name("interpolation");
+        let base = GltfBase::new(base, morph.triangles());
+        staging.write(output, |path| {
+            Ok(write_glb_frames(
+                path,
+                &base,
+                &recomputed,
+                &names,
+                &options,
+            )?)
+        })?;
+        files_written.extend(args.gltf.gltf.clone());
     }
     let mut warnings = Vec::new();
     if max_flipped > 0 {
@@ -452,13 +448,34 @@ fn check_finite<const D: usize>(positions: &[[f64; D]], frame: usize, t: f64) ->
     Ok(())
 }
 
-/// The SVGs, GIF and PNG asked for, of the frames' positions; returns the
-/// files (as the user will find them).
+/// The frames of an interpolation at `times`, recomputed (one
+/// back-substitution each) whenever a writer of pictures or of the GLB
+/// asks: memory for frames stays that of the few being drawn or written.
+struct Recomputed<'a, M> {
+    morph: &'a M,
+    times: &'a [f64],
+}
+
+impl<const D: usize, M: Frames<D>> FrameSource<D> for Recomputed<'_, M> {
+    fn num_frames(&self) -> usize {
+        self.times.len()
+    }
+
+    fn with_frame(&self, k: usize, use_frame: &mut dyn FnMut(&[[f64; D]])) {
+        let mut positions = vec![[0.0; D]; self.morph.num_vertices()];
+        self.morph
+            .frame_into(self.times[k], &mut positions, &mut self.morph.workspace());
+        use_frame(&positions)
+    }
+}
+
+/// The SVGs, GIF and PNG asked for, of the frames; returns the files (as
+/// the user will find them).
 fn write_pictures<const D: usize>(
     args: &FrameArgs,
     outputs: &FrameOutputs,
     staging: &Staging,
-    positions: &Vec<Vec<[f64; D]>>,
+    frames: &dyn FrameSource<D>,
     triangles: &[[u32; 3]],
 ) -> Result<Vec<PathBuf>> {
     let mut written = Vec::new();
@@ -468,35 +485,33 @@ fn write_pictures<const D: usize>(
         fps: args.fps,
         boomerang: !args.no_boomerang,
     };
-    let frames = pictures::AnyFrames::new(positions);
+    let count = frames.num_frames();
     if !outputs.svgs.is_empty() {
-        let pictures::AnyFrames::Planar(planar) = &frames else {
+        if D != 2 {
             bail!("--svg draws planar frames only: use --gif, --png or --gltf for meshes in space");
-        };
-        pictures::write_svgs(staging, &outputs.svgs, planar, triangles, args.gif_width)?;
-        written.extend(
-            (0..positions.len())
-                .map(|k| crate::outputs::frame_path(&outputs.dir, k, positions.len(), "svg")),
-        );
+        }
+        let planar = pictures::InDim(frames);
+        pictures::write_svgs(staging, &outputs.svgs, &planar, triangles, args.gif_width)?;
+        written
+            .extend((0..count).map(|k| crate::outputs::frame_path(&outputs.dir, k, count, "svg")));
     }
     if let (Some(output), Some(gif)) = (outputs.gif, &args.gif) {
         staging.write(output, |path| {
-            pictures::write_gif(path, &frames, triangles, &gif_args)
+            pictures::write_gif(path, frames, triangles, &gif_args)
         })?;
         written.push(gif.clone());
     }
     if let (Some(output), Some(png)) = (outputs.png, &args.png) {
         staging.write(output, |path| {
-            pictures::write_png(path, &frames, triangles, args.gif_width / 2)
+            pictures::write_png(path, frames, triangles, args.gif_width / 2)
         })?;
         written.push(png.clone());
     }
     Ok(written)
 }
 
-struct Frame<const D: usize> {
+struct Frame {
     compute: f64,
     write: f64,
     flipped: usize,
-    positions: Option<Vec<[f64; D]>>,
 }

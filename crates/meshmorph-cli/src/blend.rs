@@ -4,16 +4,17 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use meshmorph::io::gltf::{write_glb, GltfBase, GltfOptions};
-use meshmorph::{Blend3, InterpolatorOptions, Mesh3};
-use rayon::prelude::*;
+use meshmorph::io::gltf::{write_glb_frames, GltfBase, GltfOptions};
+use meshmorph::io::Format;
+use meshmorph::{Blend3, FrameSource, InterpolatorOptions, Mesh3};
 use serde::Serialize;
 
 use crate::gltf::GltfArgs;
 use crate::memory;
 use crate::output::{self, FormatArg};
+use crate::outputs::Staging;
 use crate::outputs::{Output, Plan};
-use crate::pictures::{self, AnyFrames, GifArgs, PictureArgs};
+use crate::pictures::{self, in_dim, GifArgs, InDim, PictureArgs};
 
 /// Blend shapes of a base mesh with weights, as rigidly as possible, in the
 /// plane or in space.
@@ -215,51 +216,17 @@ pub fn run(args: &Args) -> Result<()> {
         bail!("the blend's vertex {v} overflows (its coordinates exceed the range of floating-point numbers): use smaller weights");
     }
     let turned_over = blend.count_turned_over(&result);
-    let mut files_written = vec![args.output.clone()];
-    if planar {
-        let flat = planar_frames(std::slice::from_ref(&result)).remove(0);
-        staging.write(outputs.mesh, |path| {
-            Ok(meshmorph::io::write_positions(
-                path,
-                &flat,
-                blend.triangles(),
-                format,
-            )?)
-        })?;
+    let blended = Blended {
+        blend: &blend,
+        weights: &weights,
+        result: &result,
+        base: base.positions(),
+    };
+    let files_written = if planar {
+        write_outputs::<2>(args, &outputs, &staging, &blended, format)?
     } else {
-        staging.write(outputs.mesh, |path| {
-            Ok(meshmorph::io::write_positions(
-                path,
-                &result,
-                blend.triangles(),
-                format,
-            )?)
-        })?;
-    }
-    if outputs.png.is_some() || outputs.gif.is_some() || outputs.gltf.is_some() {
-        let steps = steps(&blend, &weights);
-        if planar {
-            let flat = planar_frames(&steps);
-            let base = planar_frames(std::slice::from_ref(&base.positions().to_vec())).remove(0);
-            files_written.extend(write_pictures(
-                args,
-                &outputs,
-                &staging,
-                &flat,
-                &base,
-                blend.triangles(),
-            )?);
-        } else {
-            files_written.extend(write_pictures(
-                args,
-                &outputs,
-                &staging,
-                &steps,
-                base.positions(),
-                blend.triangles(),
-            )?);
-        }
-    }
+        write_outputs::<3>(args, &outputs, &staging, &blended, format)?
+    };
     let mut warnings = Vec::new();
     if turned_over > 0 {
         warnings.push(format!(
@@ -303,38 +270,51 @@ fn is_planar(args: &Args, base: &Mesh3, shapes: &[Mesh3]) -> Result<bool> {
     }
 }
 
-/// The blends at weights `s · weights` for `s` from 0 (the base) to 1.
-fn steps(blend: &Blend3, weights: &[f64]) -> Vec<Vec<[f64; 3]>> {
-    (0..STEPS)
-        .into_par_iter()
-        .map(|k| {
-            let s = k as f64 / (STEPS - 1) as f64;
-            let scaled: Vec<f64> = weights.iter().map(|w| s * w).collect();
-            blend.at(&scaled)
-        })
-        .collect()
+/// A blend computed: the result, and the way from the base to it.
+struct Blended<'a> {
+    blend: &'a Blend3,
+    weights: &'a [f64],
+    result: &'a [[f64; 3]],
+    base: &'a [[f64; 3]],
 }
 
-fn planar_frames(frames: &[Vec<[f64; 3]>]) -> Vec<Vec<[f64; 2]>> {
-    frames
-        .iter()
-        .map(|f| f.iter().map(|p| [p[0], p[1]]).collect())
-        .collect()
+/// The way from the base to the blend in [`STEPS`] frames (weights `s ·
+/// weights` for `s` from 0 to 1), each computed when a picture or the GLB
+/// asks for it.
+impl FrameSource<3> for Blended<'_> {
+    fn num_frames(&self) -> usize {
+        STEPS
+    }
+
+    fn with_frame(&self, k: usize, use_frame: &mut dyn FnMut(&[[f64; 3]])) {
+        let s = k as f64 / (STEPS - 1) as f64;
+        let scaled: Vec<f64> = self.weights.iter().map(|w| s * w).collect();
+        use_frame(&self.blend.at(&scaled))
+    }
 }
 
-/// The PNG, GIF and GLB asked for, of the steps from the base to the blend.
-fn write_pictures<const D: usize>(
+/// Writes the blend (with `D` coordinates) and the PNG, GIF and GLB asked
+/// for, of the way from the base to it; returns the files written.
+fn write_outputs<const D: usize>(
     args: &Args,
     outputs: &Outputs,
-    staging: &crate::outputs::Staging,
-    steps: &Vec<Vec<[f64; D]>>,
-    base: &[[f64; D]],
-    triangles: &[[u32; 3]],
+    staging: &Staging,
+    blended: &Blended<'_>,
+    format: Format,
 ) -> Result<Vec<PathBuf>> {
-    let frames = AnyFrames::new(steps);
-    let mut written = Vec::new();
+    let triangles = blended.blend.triangles();
+    let result: Vec<[f64; D]> = in_dim(blended.result);
+    staging.write(outputs.mesh, |path| {
+        Ok(meshmorph::io::write_positions(
+            path, &result, triangles, format,
+        )?)
+    })?;
+    let mut written = vec![args.output.clone()];
+    let steps = InDim(blended);
     if let (Some(output), Some(path)) = (outputs.png, &args.pictures.png) {
-        staging.write(output, |p| pictures::write_png(p, &frames, triangles, 320))?;
+        staging.write(output, |p| {
+            pictures::write_png::<D>(p, &steps, triangles, 320)
+        })?;
         written.push(path.clone());
     }
     if let (Some(output), Some(path)) = (outputs.gif, &args.pictures.gif) {
@@ -344,15 +324,18 @@ fn write_pictures<const D: usize>(
             fps: 12.0,
             boomerang: true,
         };
-        staging.write(output, |p| pictures::write_gif(p, &frames, triangles, &gif))?;
+        staging.write(output, |p| {
+            pictures::write_gif::<D>(p, &steps, triangles, &gif)
+        })?;
         written.push(path.clone());
     }
     if let (Some(output), Some(path)) = (outputs.gltf, &args.gltf.gltf) {
         let names: Vec<String> = (0..STEPS).map(|k| format!("blend_{k:02}")).collect();
         let options = GltfOptions::default().with_fps(12.0).with_name("blend");
-        let base = GltfBase::new(base, triangles);
+        let base: Vec<[f64; D]> = in_dim(blended.base);
+        let base = GltfBase::new(&base, triangles);
         staging.write(output, |p| {
-            Ok(write_glb(p, &base, steps, &names, &options)?)
+            Ok(write_glb_frames(p, &base, &steps, &names, &options)?)
         })?;
         written.push(path.clone());
     }

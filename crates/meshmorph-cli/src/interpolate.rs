@@ -341,7 +341,7 @@ pub fn animate(
         unused_vertices,
     };
     if planar {
-        let base: Vec<[f64; 2]> = first.positions().iter().map(|p| [p[0], p[1]]).collect();
+        let base: Vec<[f64; 2]> = crate::pictures::in_dim(first.positions());
         write_frames(&Planar(morph), &base, &run, &setup)
     } else {
         write_frames(&morph, first.positions(), &run, &setup)

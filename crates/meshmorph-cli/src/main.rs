@@ -34,9 +34,8 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Interpolate through meshes with the same triangles, planar or in space.
+    // `interpolate` and `blend` take their help from their arguments' docs.
     Interpolate(interpolate::Args),
-    /// Blend shapes of a base mesh with weights, planar or in space.
     Blend(blend::Args),
     /// Carry the poses of a source mesh over to a different target mesh.
     Transfer(transfer::TransferArgs),

@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use anyhow::{bail, Result};
+use meshmorph::io::gltf::FRAMES_IN_FLIGHT_PER_THREAD;
 
 /// Bytes a run may still allocate: the smaller of the memory the system
 /// reports available (`MemAvailable` on Linux) and what the address-space
@@ -79,10 +80,32 @@ pub fn check_sequence(triangles: usize, segments: usize) -> Result<()> {
     )
 }
 
-/// `count` items of `bytes_each`, held at once.
-pub fn check_held(count: usize, bytes_each: usize, what: &str) -> Result<()> {
-    check((count as u64).saturating_mul(bytes_each as u64), what)
+/// What an animation holds of its frames: with frames streamed to their
+/// files (and recomputed for the pictures and the GLB), each thread holds
+/// about a frame's positions, its solver scratch (about as large again, for
+/// a few right-hand sides) and, writing a GLB, the bytes of
+/// [`FRAMES_IN_FLIGHT_PER_THREAD`] frames (24 per vertex); the run also
+/// keeps about a kilobyte per frame file (names, timings, the report).
+pub fn check_frames_in_flight(
+    vertices: usize,
+    dim: usize,
+    threads: usize,
+    frames: usize,
+) -> Result<()> {
+    let per_thread = (vertices as u64)
+        .saturating_mul(8 * dim as u64 * 4 + 24 * FRAMES_IN_FLIGHT_PER_THREAD as u64);
+    let bookkeeping = (frames as u64).saturating_mul(FRAME_FILE_BYTES);
+    check(
+        per_thread
+            .saturating_mul(threads.max(1) as u64)
+            .saturating_add(bookkeeping),
+        "the frames in flight",
+    )
 }
+
+/// What a run keeps per frame file: its path (planned, staged, resolved),
+/// its timings and its line of the report.
+const FRAME_FILE_BYTES: u64 = 1024;
 
 fn human_bytes(b: u64) -> String {
     let b = b as f64;

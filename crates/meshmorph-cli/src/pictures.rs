@@ -7,6 +7,8 @@ use anyhow::{Context, Result};
 use meshmorph::render::{
     self, Flipped, GifOptions, GridOptions, GridRow, Ramp, Style2d, Style3d, View2d,
 };
+use meshmorph::FrameSource;
+use rayon::prelude::*;
 
 use crate::outputs::{Output, Staging};
 
@@ -19,25 +21,37 @@ pub fn style_2d() -> Style2d {
     }
 }
 
-/// Writes each frame as an SVG, all through one view that holds every frame.
+/// Writes each frame as an SVG, all through one view that holds every
+/// frame. Frames are asked for twice (for the view, then to draw), in
+/// parallel; each is held only while it is drawn.
 pub fn write_svgs(
     staging: &Staging,
     outputs: &[Output],
-    frames: &[Vec<[f64; 2]>],
+    frames: &dyn FrameSource<2>,
     triangles: &[[u32; 3]],
     width: u32,
 ) -> Result<()> {
-    let view = View2d::fitting(frames.iter().map(Vec::as_slice), width, None, 16);
+    let corners: Vec<[[f64; 2]; 2]> = (0..frames.num_frames())
+        .into_par_iter()
+        .map(|k| {
+            let mut bounds = [[0.0; 2]; 2];
+            frames.with_frame(k, &mut |f| bounds = View2d::bounds([f]));
+            bounds
+        })
+        .collect();
+    let view = View2d::fitting(corners.iter().map(|c| c.as_slice()), width, None, 16);
     let style = style_2d();
-    for (&output, frame) in outputs.iter().zip(frames) {
-        let svg = render::svg_frame(frame, triangles, &view, &style);
+    outputs.par_iter().enumerate().try_for_each(|(k, &output)| {
+        let mut svg = String::new();
+        frames.with_frame(k, &mut |f| {
+            svg = render::svg_frame(f, triangles, &view, &style)
+        });
         staging.write(output, |path| {
             Ok(meshmorph::io::write_atomic(path, |w| {
                 w.write_all(svg.as_bytes())
             })?)
-        })?;
-    }
-    Ok(())
+        })
+    })
 }
 
 /// Options of an animation of frames.
@@ -48,35 +62,34 @@ pub struct GifArgs {
     pub boomerang: bool,
 }
 
-/// The frames of an animation, planar or in space.
-pub enum AnyFrames<'a> {
-    Planar(&'a [Vec<[f64; 2]>]),
-    Space(&'a [Vec<[f64; 3]>]),
+/// The frames of a source of `D`-dimensional frames with `E` coordinates:
+/// planar frames lifted to z = 0, or frames in space seen from above.
+pub struct InDim<'a, const D: usize>(pub &'a dyn FrameSource<D>);
+
+impl<const D: usize, const E: usize> FrameSource<E> for InDim<'_, D> {
+    fn num_frames(&self) -> usize {
+        self.0.num_frames()
+    }
+
+    fn with_frame(&self, k: usize, use_frame: &mut dyn FnMut(&[[f64; E]])) {
+        self.0.with_frame(k, &mut |f| use_frame(&in_dim(f)))
+    }
 }
 
-impl<'a> AnyFrames<'a> {
-    /// The frames of an animation of `D`-dimensional meshes (2 or 3).
-    ///
-    /// # Panics
-    /// For another `D`.
-    #[allow(clippy::ptr_arg)] // told apart by their type, which a slice cannot be
-    pub fn new<const D: usize>(frames: &'a Vec<Vec<[f64; D]>>) -> Self {
-        let any: &dyn std::any::Any = frames;
-        if let Some(p) = any.downcast_ref::<Vec<Vec<[f64; 2]>>>() {
-            AnyFrames::Planar(p)
-        } else if let Some(s) = any.downcast_ref::<Vec<Vec<[f64; 3]>>>() {
-            AnyFrames::Space(s)
-        } else {
-            panic!("frames of {D} coordinates")
-        }
-    }
+/// Positions with `D` coordinates given `E`: z = 0 added, or z dropped.
+pub fn in_dim<const D: usize, const E: usize>(positions: &[[f64; D]]) -> Vec<[f64; E]> {
+    positions
+        .iter()
+        .map(|p| std::array::from_fn(|c| if c < D { p[c] } else { 0.0 }))
+        .collect()
 }
 
 /// Writes the frames as an animated GIF: planar frames through one view
 /// that holds them all, frames in space flat-shaded through one camera.
-pub fn write_gif(
+/// Each frame is held only while it is drawn.
+pub fn write_gif<const D: usize>(
     path: &Path,
-    frames: &AnyFrames<'_>,
+    frames: &dyn FrameSource<D>,
     triangles: &[[u32; 3]],
     args: &GifArgs,
 ) -> Result<()> {
@@ -87,53 +100,40 @@ pub fn write_gif(
         boomerang: args.boomerang,
         ..GifOptions::default()
     };
-    match frames {
-        AnyFrames::Planar(frames) => Ok(render::write_gif_2d(
-            path,
-            frames,
-            triangles,
-            &options,
-            &style_2d(),
-        )?),
-        AnyFrames::Space(frames) => {
-            let pictures: Vec<Vec<GridRow<'_>>> = frames
-                .iter()
-                .map(|f| vec![space_row(triangles, vec![f.as_slice()])])
-                .collect();
-            let grid = grid_options(args.width);
-            Ok(render::write_gif_grid(path, &pictures, &grid, &options)?)
-        }
+    let frames = InDim(frames);
+    if D == 2 {
+        render::write_gif_2d_frames(path, &frames, triangles, &options, &style_2d())?;
+    } else {
+        let style = Style3d::with_ramp(Ramp::BLUE);
+        let grid = grid_options(args.width);
+        render::write_gif_3d_frames(path, &frames, triangles, style, &grid, &options)?;
     }
+    Ok(())
 }
 
 /// A still picture (PNG) of the first, middle and last frames side by
-/// side, each `cell_width` pixels wide.
-pub fn write_png(
+/// side, each `cell_width` pixels wide (planar frames seen from above).
+pub fn write_png<const D: usize>(
     path: &Path,
-    frames: &AnyFrames<'_>,
+    frames: &dyn FrameSource<D>,
     triangles: &[[u32; 3]],
     cell_width: u32,
 ) -> Result<()> {
-    let (n, lifted);
-    let poses: Vec<&[[f64; 3]]> = match frames {
-        AnyFrames::Space(f) => {
-            n = f.len();
-            picks(n).iter().map(|&k| f[k].as_slice()).collect()
-        }
-        AnyFrames::Planar(f) => {
-            n = f.len();
-            lifted = picks(n)
-                .iter()
-                .map(|&k| f[k].iter().map(|p| [p[0], p[1], 0.0]).collect())
-                .collect::<Vec<Vec<[f64; 3]>>>();
-            lifted.iter().map(Vec::as_slice).collect()
-        }
-    };
+    let lifted = InDim(frames);
+    let poses: Vec<Vec<[f64; 3]>> = picks(frames.num_frames())
+        .into_iter()
+        .map(|k| {
+            let mut pose = Vec::new();
+            lifted.with_frame(k, &mut |f: &[[f64; 3]]| pose = f.to_vec());
+            pose
+        })
+        .collect();
     let mut options = grid_options(cell_width);
-    if matches!(frames, AnyFrames::Planar(_)) {
+    if D == 2 {
         options.direction = [0.0, 0.0, -1.0];
     }
-    let canvas = render::render_grid_3d(&[space_row(triangles, poses)], &options);
+    let row = space_row(triangles, poses.iter().map(Vec::as_slice).collect());
+    let canvas = render::render_grid_3d(&[row], &options);
     Ok(render::write_png(path, &canvas)?)
 }
 

@@ -185,6 +185,8 @@ fn help_lists_commands_and_flags() {
                 "--dim",
                 "--png",
                 "--gltf",
+                "Inputs are never written",
+                "files of an earlier run",
             ],
         ),
         (

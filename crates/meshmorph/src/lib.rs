@@ -49,6 +49,7 @@ mod consistency3;
 mod correspond;
 mod correspondence;
 mod error;
+mod frame_source;
 mod geometry;
 mod gradient;
 mod interpolate;
@@ -76,6 +77,7 @@ pub use correspond::{
 };
 pub use correspondence::Correspondence;
 pub use error::{Error, Result};
+pub use frame_source::FrameSource;
 pub use gradient::TriangleMaps;
 pub use interpolate::{
     FrameWorkspace, Interpolator, InterpolatorOptions, PreparedSurface, RestSystem, StretchMode,

@@ -5,9 +5,11 @@
 use std::f64::consts::PI;
 use std::path::Path;
 
-use meshmorph::io::gltf::{estimate_glb_bytes, write_glb, write_glb_to, GltfBase, GltfOptions};
+use meshmorph::io::gltf::{
+    estimate_glb_bytes, write_glb, write_glb_frames, write_glb_to, GltfBase, GltfOptions,
+};
 use meshmorph::shapes::{bend, curl, strip, tube};
-use meshmorph::{Error, Interpolator, InterpolatorOptions};
+use meshmorph::{Error, FrameSource, Interpolator, InterpolatorOptions};
 
 /// A morph target's position and normal deltas.
 type Deltas = (Vec<[f32; 3]>, Vec<[f32; 3]>);
@@ -332,4 +334,48 @@ fn bad_input_is_refused_and_leaves_no_file() {
     assert!(matches!(e, Error::Io { .. }), "{e}");
     assert!(e.to_string().contains("no/such/folder/out.glb"), "{e}");
     assert!(!missing.exists());
+}
+
+/// An interpolation's frames, computed each time they are asked for,
+/// counting the requests.
+struct OnDemand<'a> {
+    morph: &'a Interpolator,
+    times: &'a [f64],
+    asked: std::sync::atomic::AtomicUsize,
+}
+
+impl FrameSource<2> for OnDemand<'_> {
+    fn num_frames(&self) -> usize {
+        self.times.len()
+    }
+    fn with_frame(&self, k: usize, use_frame: &mut dyn FnMut(&[[f64; 2]])) {
+        self.asked
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        use_frame(&self.morph.at(self.times[k]))
+    }
+}
+
+#[test]
+fn frames_on_demand_write_the_same_file_as_frames_in_memory() {
+    let bar = strip(6.0, 0.5, 24, 2);
+    let spiral = curl(&bar, 2.0 * PI);
+    let morph = Interpolator::new(&bar, &spiral, &InterpolatorOptions::default()).unwrap();
+    let times: Vec<f64> = (0..13).map(|k| k as f64 / 12.0).collect();
+    let base = GltfBase::new(bar.positions(), bar.triangles());
+    let options = GltfOptions::default();
+    let held = glb(&base, &morph.frames(&times), &names(13), &options).unwrap();
+    let dir = std::env::temp_dir().join(format!("meshmorph-gltf-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("streamed.glb");
+    let source = OnDemand {
+        morph: &morph,
+        times: &times,
+        asked: 0.into(),
+    };
+    write_glb_frames(&path, &base, &source, &names(13), &options).unwrap();
+    let streamed = std::fs::read(&path).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(held, streamed);
+    // Once for the bounds, once for the data.
+    assert_eq!(source.asked.into_inner(), 2 * 13);
 }

@@ -54,6 +54,7 @@ use rayon::prelude::*;
 
 use crate::closest::vertex_normals;
 use crate::error::{Error, Result};
+use crate::frame_source::{map_frame, FrameSource};
 use crate::io::{write_atomic, xyz};
 
 /// How a GLB is written.
@@ -186,6 +187,23 @@ pub fn write_glb<const D: usize, F: AsRef<[[f64; D]]> + Sync>(
     names: &[String],
     options: &GltfOptions,
 ) -> Result<()> {
+    write_glb_frames(path, base, frames, names, options)
+}
+
+/// [`write_glb`] with frames produced on demand: each frame is asked for
+/// twice, once for the bounds of its position deltas (which the JSON at the
+/// head of the file needs) and once to stream its deltas, a few frames at a
+/// time. Memory for frames stays bounded however many there are.
+///
+/// # Errors
+/// As [`write_glb`].
+pub fn write_glb_frames<const D: usize, S: FrameSource<D> + ?Sized>(
+    path: &Path,
+    base: &GltfBase<'_, D>,
+    frames: &S,
+    names: &[String],
+    options: &GltfOptions,
+) -> Result<()> {
     let layout = Layout::new(base, frames, names, options)
         .map_err(|e| prefix(e, &format!("cannot write `{}`", path.display())))?;
     write_atomic(path, |w| layout.write(w, frames))
@@ -248,24 +266,24 @@ struct Layout<'a, const D: usize> {
 }
 
 impl<'a, const D: usize> Layout<'a, D> {
-    fn new<F: AsRef<[[f64; D]]> + Sync>(
+    fn new<S: FrameSource<D> + ?Sized>(
         base: &GltfBase<'a, D>,
-        frames: &[F],
+        frames: &S,
         names: &[String],
         options: &GltfOptions,
     ) -> Result<Self> {
+        let count = frames.num_frames();
         if D != 2 && D != 3 {
             return Err(Error::InvalidArgument(format!(
                 "glTF meshes have 2 or 3 coordinates per vertex, not {D}"
             )));
         }
-        if frames.is_empty() {
+        if count == 0 {
             return Err(Error::InvalidArgument("no frames to write".into()));
         }
-        if names.len() != frames.len() {
+        if names.len() != count {
             return Err(Error::InvalidArgument(format!(
-                "{} frames but {} names",
-                frames.len(),
+                "{count} frames but {} names",
                 names.len()
             )));
         }
@@ -276,18 +294,6 @@ impl<'a, const D: usize> Layout<'a, D> {
             )));
         }
         check_positions(base.positions, base.triangles, "the base mesh")?;
-        frames.par_iter().enumerate().try_for_each(|(k, f)| {
-            let f = f.as_ref();
-            if f.len() != base.positions.len() {
-                return Err(Error::InvalidMesh(format!(
-                    "frame {k} (`{}`) has {} vertices, the base mesh {}",
-                    names[k],
-                    f.len(),
-                    base.positions.len()
-                )));
-            }
-            check_finite(f, &format!("frame {k} (`{}`)", names[k]))
-        })?;
         let (original, indices, uvs) = split_vertices(base)?;
         let base_positions: Vec<[f32; 3]> = original
             .iter()
@@ -295,23 +301,25 @@ impl<'a, const D: usize> Layout<'a, D> {
             .collect();
         let base_normals = gltf_normals::<D>(base.positions, base.triangles, &original);
 
-        // Position deltas' bounds, which the JSON needs before any data.
-        let bounds: Vec<([f32; 3], [f32; 3])> = frames
-            .par_iter()
-            .map(|f| {
-                let f = f.as_ref();
-                let mut lo = [f32::INFINITY; 3];
-                let mut hi = [f32::NEG_INFINITY; 3];
-                for &v in &original {
-                    let d = delta(f[v as usize], base.positions[v as usize]);
-                    for k in 0..3 {
-                        lo[k] = lo[k].min(d[k]);
-                        hi[k] = hi[k].max(d[k]);
+        // Each frame checked, and its position deltas' bounds, which the
+        // JSON needs before any data.
+        let bounds: Vec<([f32; 3], [f32; 3])> = (0..count)
+            .into_par_iter()
+            .map(|k| {
+                map_frame(frames, k, |f| {
+                    if f.len() != base.positions.len() {
+                        return Err(Error::InvalidMesh(format!(
+                            "frame {k} (`{}`) has {} vertices, the base mesh {}",
+                            names[k],
+                            f.len(),
+                            base.positions.len()
+                        )));
                     }
-                }
-                (lo, hi)
+                    check_finite(f, &format!("frame {k} (`{}`)", names[k]))?;
+                    Ok(delta_bounds(f, base.positions, &original))
+                })
             })
-            .collect();
+            .collect::<Result<_>>()?;
 
         let mut layout = Layout {
             base: base.positions,
@@ -562,11 +570,12 @@ impl<'a, const D: usize> Layout<'a, D> {
 
     /// Streams the GLB: header, JSON chunk, binary chunk, in the order
     /// [`Layout::root`] laid the buffer views out.
-    fn write<F: AsRef<[[f64; D]]> + Sync>(
+    fn write<S: FrameSource<D> + ?Sized>(
         &self,
         w: &mut dyn Write,
-        frames: &[F],
+        frames: &S,
     ) -> std::io::Result<()> {
+        let count = frames.num_frames();
         let total = 12 + 8 + self.json.len() as u64 + 8 + self.bin_length;
         w.write_all(b"glTF")?;
         w.write_all(&2u32.to_le_bytes())?;
@@ -591,18 +600,18 @@ impl<'a, const D: usize> Layout<'a, D> {
             write_f32s(w, std::iter::repeat_n(0.0, 3 * self.vertex_count()))?;
         }
         // A batch of frames is prepared in parallel, then written in order.
-        let batch = 2 * rayon::current_num_threads();
-        for chunk in frames.chunks(batch) {
-            let blocks: Vec<Vec<u8>> = chunk
-                .par_iter()
-                .map(|f| self.frame_bytes(f.as_ref()))
+        let batch = FRAMES_IN_FLIGHT_PER_THREAD * rayon::current_num_threads();
+        for first in (0..count).step_by(batch) {
+            let blocks: Vec<Vec<u8>> = (first..(first + batch).min(count))
+                .into_par_iter()
+                .map(|k| map_frame(frames, k, |f| self.frame_bytes(f)))
                 .collect();
             for b in blocks {
                 w.write_all(&b)?;
             }
         }
         if self.animation {
-            let n = frames.len();
+            let n = count;
             write_f32s(w, (0..n).map(|k| (k as f64 / self.fps) as f32))?;
             write_f32s(
                 w,
@@ -632,6 +641,28 @@ impl<'a, const D: usize> Layout<'a, D> {
         }
         out
     }
+}
+
+/// Frames a GLB writer prepares at once, per thread: their bytes (24 per
+/// vertex in space, 12 in the plane) are all it holds of the frames.
+pub const FRAMES_IN_FLIGHT_PER_THREAD: usize = 2;
+
+/// Bounds of a frame's position deltas from `base` over the glTF vertices.
+fn delta_bounds<const D: usize>(
+    frame: &[[f64; D]],
+    base: &[[f64; D]],
+    original: &[u32],
+) -> ([f32; 3], [f32; 3]) {
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for &v in original {
+        let d = delta(frame[v as usize], base[v as usize]);
+        for k in 0..3 {
+            lo[k] = lo[k].min(d[k]);
+            hi[k] = hi[k].max(d[k]);
+        }
+    }
+    (lo, hi)
 }
 
 /// Writes `f32`s little-endian through a buffer.

@@ -10,9 +10,12 @@ use super::canvas::Canvas;
 use super::grid::{GridLayout, GridOptions, GridRow};
 use super::mesh2d::draw_prepared;
 use super::palette::Palette;
-use super::style::{EdgeSets, Style2d};
+use super::shade3d::{Camera3d, Style3d};
+use super::style::{mean_area, EdgeSets, Style2d};
 use super::view::View2d;
 use crate::error::{Error, Result};
+use crate::frame_source::{map_frame, FrameSource};
+use rayon::prelude::*;
 
 /// Size and timing of an animation.
 #[derive(Clone, Debug, PartialEq)]
@@ -246,57 +249,78 @@ fn sub_frame(
 /// [`Error::InvalidArgument`] for no frames or a bad size,
 /// [`Error::Mismatch`] when the frames have different numbers of vertices,
 /// [`Error::Io`] when writing fails.
-pub fn write_gif_2d<F: AsRef<[[f64; 2]]>>(
+pub fn write_gif_2d<F: AsRef<[[f64; 2]]> + Sync>(
     path: &Path,
     frames: &[F],
     triangles: &[[u32; 3]],
     options: &GifOptions,
     style: &Style2d,
 ) -> Result<()> {
-    let Some(first) = frames.first().map(AsRef::as_ref) else {
+    write_gif_2d_frames(path, frames, triangles, options, style)
+}
+
+/// [`write_gif_2d`] with frames produced on demand: each frame is asked for
+/// once to fit the view (in parallel) and once for each time the schedule
+/// shows it; only the frame being drawn is held.
+///
+/// # Errors
+/// As [`write_gif_2d`].
+pub fn write_gif_2d_frames<S: FrameSource<2> + ?Sized>(
+    path: &Path,
+    frames: &S,
+    triangles: &[[u32; 3]],
+    options: &GifOptions,
+    style: &Style2d,
+) -> Result<()> {
+    let count = frames.num_frames();
+    if count == 0 {
         return Err(Error::InvalidArgument(
             "an animation needs at least one frame".into(),
         ));
-    };
-    if let Some(k) = frames.iter().position(|f| f.as_ref().len() != first.len()) {
+    }
+    // Per frame: its vertex count, bounds and mean triangle area.
+    let summaries: Vec<(usize, [[f64; 2]; 2], f64)> = (0..count)
+        .into_par_iter()
+        .map(|k| {
+            map_frame(frames, k, |f| {
+                let bounds = View2d::bounds(std::iter::once(f));
+                (f.len(), bounds, mean_area(f, triangles))
+            })
+        })
+        .collect();
+    let vertices = summaries[0].0;
+    if let Some(k) = summaries.iter().position(|s| s.0 != vertices) {
         return Err(Error::Mismatch(format!(
-            "frame {k} has {} vertices but frame 0 has {}",
-            frames[k].as_ref().len(),
-            first.len()
+            "frame {k} has {} vertices but frame 0 has {vertices}",
+            summaries[k].0
         )));
     }
+    // Each frame's bounds as two points: the view fits all of them.
+    let corners: Vec<[[f64; 2]; 2]> = summaries.iter().map(|s| s.1).collect();
+    let fit = |width: u32, height: Option<u32>, margin: u32| {
+        View2d::fitting(corners.iter().map(|c| c.as_slice()), width, height, margin)
+    };
     // Drawn `s` times larger, then reduced: anti-aliased.
     let s = options.supersample.clamp(1, 8);
-    let size = View2d::fitting(
-        frames.iter().map(AsRef::as_ref),
-        options.width,
-        options.height,
-        options.margin_px,
-    );
+    let size = fit(options.width, options.height, options.margin_px);
     let (width, height) = (size.width, size.height);
-    let view = View2d::fitting(
-        frames.iter().map(AsRef::as_ref),
+    let view = fit(
         width.saturating_mul(s),
         Some(height.saturating_mul(s)),
         options.margin_px.saturating_mul(s),
     );
-    let edges = EdgeSets::new(triangles, first.len());
-    let mode = style.resolve_edges(
-        frames.iter().map(AsRef::as_ref),
-        triangles,
-        view.scale / f64::from(s),
-    );
+    let edges = EdgeSets::new(triangles, vertices);
+    let smallest = summaries.iter().map(|s| s.2).fold(f64::INFINITY, f64::min);
+    let mode = style.resolve_edges(smallest, view.scale / f64::from(s));
     let mut canvas = Canvas::with_style(view.width, view.height, style);
     let palette = canvas.palette.clone();
     let mut scratch = Default::default();
-    let pictures = options
-        .schedule(frames.len())
-        .into_iter()
-        .map(|(i, duration)| {
-            canvas.clear(super::palette::slot::BACKGROUND);
+    let pictures = options.schedule(count).into_iter().map(|(i, duration)| {
+        canvas.clear(super::palette::slot::BACKGROUND);
+        frames.with_frame(i, &mut |f| {
             draw_prepared(
                 &mut canvas,
-                frames[i].as_ref(),
+                f,
                 triangles,
                 &edges,
                 mode,
@@ -304,14 +328,15 @@ pub fn write_gif_2d<F: AsRef<[[f64; 2]]>>(
                 style,
                 &mut scratch,
                 s,
-            );
-            let pixels = if s == 1 {
-                canvas.pixels.clone()
-            } else {
-                super::resample::downsample(&canvas, s, width, height).pixels
-            };
-            (pixels, duration)
+            )
         });
+        let pixels = if s == 1 {
+            canvas.pixels.clone()
+        } else {
+            super::resample::downsample(&canvas, s, width, height).pixels
+        };
+        (pixels, duration)
+    });
     write_gif(
         path,
         width,
@@ -374,6 +399,79 @@ pub fn write_gif_grid(
     write_gif(path, w, h, &layout.palette, options.loop_forever, pictures)
 }
 
+/// Writes an animated GIF of a mesh in space moving through `frames`, one
+/// flat-shaded view in `style` through a camera looking along
+/// `grid.direction` (one cell of `grid`'s size), fitted once over every
+/// frame so that it stays still; the frames are shown per
+/// [`GifOptions::schedule`]. Frames are produced on demand: each is asked
+/// for once to fit the camera (in parallel) and once for each time the
+/// schedule shows it; only the frame being drawn is held.
+///
+/// # Errors
+/// [`Error::InvalidArgument`] for no frames or a picture too large for a
+/// GIF, [`Error::Io`] when writing fails.
+pub fn write_gif_3d_frames<S: FrameSource<3> + ?Sized>(
+    path: &Path,
+    frames: &S,
+    triangles: &[[u32; 3]],
+    style: Style3d,
+    grid: &GridOptions,
+    options: &GifOptions,
+) -> Result<()> {
+    let count = frames.num_frames();
+    if count == 0 {
+        return Err(Error::InvalidArgument(
+            "an animation needs at least one frame".into(),
+        ));
+    }
+    // A camera fitted to the points of a frame that are extreme along its
+    // axes is the camera fitted to all of the frame's points.
+    let camera = Camera3d::looking(grid.direction, grid.up);
+    let extremes: Vec<Vec<[f64; 3]>> = (0..count)
+        .into_par_iter()
+        .map(|k| map_frame(frames, k, |f| extreme_points(f, &camera)))
+        .collect();
+    let fitted = [GridRow {
+        triangles,
+        poses: extremes.iter().map(Vec::as_slice).collect(),
+        style,
+    }];
+    let mut layout = GridLayout::fit(&fitted, grid);
+    layout.columns = 1;
+    let (w, h) = layout.size();
+    let pictures = options.schedule(count).into_iter().map(|(i, duration)| {
+        let mut pixels = Vec::new();
+        frames.with_frame(i, &mut |f| {
+            let row = GridRow {
+                triangles,
+                poses: vec![f],
+                style,
+            };
+            pixels = layout.render(&[row]).pixels;
+        });
+        (pixels, duration)
+    });
+    write_gif(path, w, h, &layout.palette, options.loop_forever, pictures)
+}
+
+/// The finite points of `points` lowest and highest along each of the
+/// camera's axes (at most six).
+fn extreme_points(points: &[[f64; 3]], camera: &Camera3d) -> Vec<[f64; 3]> {
+    let axes = [camera.right, camera.up, camera.forward];
+    let mut best: Vec<Option<(f64, [f64; 3])>> = vec![None; 6];
+    for p in points.iter().filter(|p| p.iter().all(|x| x.is_finite())) {
+        for (a, axis) in axes.iter().enumerate() {
+            let d = p[0] * axis[0] + p[1] * axis[1] + p[2] * axis[2];
+            for (slot, sign) in [(2 * a, 1.0), (2 * a + 1, -1.0)] {
+                if best[slot].is_none_or(|(b, _)| sign * d < sign * b) {
+                    best[slot] = Some((d, *p));
+                }
+            }
+        }
+    }
+    best.into_iter().flatten().map(|(_, p)| p).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -419,6 +517,69 @@ mod tests {
             }
         }
         (p, t)
+    }
+
+    /// Frames in memory, counting how often a writer asks for one.
+    struct Counting<'a, const D: usize>(&'a [Vec<[f64; D]>], std::sync::atomic::AtomicUsize);
+
+    impl<const D: usize> FrameSource<D> for Counting<'_, D> {
+        fn num_frames(&self) -> usize {
+            self.0.len()
+        }
+        fn with_frame(&self, k: usize, use_frame: &mut dyn FnMut(&[[f64; D]])) {
+            self.1.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            use_frame(&self.0[k])
+        }
+    }
+
+    #[test]
+    fn frames_on_demand_draw_what_frames_in_memory_draw() {
+        let dir = tempfile::tempdir().unwrap();
+        let options = GifOptions::default();
+        // In space: the camera fitted to each frame's extreme points is
+        // the one fitted to all points.
+        let tube = crate::shapes::tube(4.0, 0.3, 17, 8);
+        let frames: Vec<Vec<[f64; 3]>> = [0.0, 1.0, 2.5]
+            .iter()
+            .map(|&a| crate::shapes::bend(&tube, 4.0, a).positions().to_vec())
+            .collect();
+        let grid = GridOptions {
+            cell_width: 120,
+            ..GridOptions::default()
+        };
+        let style = Style3d::default();
+        let rows: Vec<Vec<GridRow<'_>>> = frames
+            .iter()
+            .map(|f| {
+                vec![GridRow {
+                    triangles: tube.triangles(),
+                    poses: vec![f.as_slice()],
+                    style,
+                }]
+            })
+            .collect();
+        let (held, streamed) = (dir.path().join("a.gif"), dir.path().join("b.gif"));
+        write_gif_grid(&held, &rows, &grid, &options).unwrap();
+        let source = Counting(&frames, 0.into());
+        write_gif_3d_frames(&streamed, &source, tube.triangles(), style, &grid, &options).unwrap();
+        assert_eq!(
+            std::fs::read(&held).unwrap(),
+            std::fs::read(&streamed).unwrap()
+        );
+        // Once to fit, then once per picture of the schedule.
+        let asked = source.1.into_inner();
+        assert_eq!(asked, 3 + options.schedule(3).len());
+        // In the plane: the same pictures as frames in memory give.
+        let (_, t) = bar(8, 0.0);
+        let planar: Vec<Vec<[f64; 2]>> = (0..4).map(|k| bar(8, 0.6 * f64::from(k)).0).collect();
+        let source = Counting(&planar, 0.into());
+        write_gif_2d(&held, &planar, &t, &options, &Style2d::default()).unwrap();
+        write_gif_2d_frames(&streamed, &source, &t, &options, &Style2d::default()).unwrap();
+        assert_eq!(
+            std::fs::read(&held).unwrap(),
+            std::fs::read(&streamed).unwrap()
+        );
+        assert_eq!(source.1.into_inner(), 4 + options.schedule(4).len());
     }
 
     #[test]

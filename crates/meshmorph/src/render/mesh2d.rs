@@ -24,7 +24,7 @@ pub fn draw_mesh_2d(
     view: &View2d,
     style: &Style2d,
 ) {
-    let mode = style.resolve_edges([positions], triangles, view.scale);
+    let mode = style.resolve_edges(super::style::mean_area(positions, triangles), view.scale);
     let edges = match mode {
         Some(_) => EdgeSets::new(triangles, positions.len()),
         None => EdgeSets::default(),

@@ -54,7 +54,9 @@ mod svg;
 mod view;
 
 pub use self::canvas::Canvas;
-pub use self::gif::{write_gif, write_gif_2d, write_gif_grid, GifOptions};
+pub use self::gif::{
+    write_gif, write_gif_2d, write_gif_2d_frames, write_gif_3d_frames, write_gif_grid, GifOptions,
+};
 pub use self::grid::{render_grid_3d, GridLayout, GridOptions, GridRow};
 pub use self::mesh2d::draw_mesh_2d;
 pub use self::palette::{slot, Palette, Ramp, Rgb};

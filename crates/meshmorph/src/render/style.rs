@@ -169,36 +169,36 @@ impl Style2d {
     }
 
     /// Whether every edge is drawn (`true`), only the boundary (`false`),
-    /// or none (`None`), for triangles drawn at `scale` pixels per unit in
-    /// every one of `frames` (so that an animation does not switch).
-    pub(crate) fn resolve_edges<'a>(
-        &self,
-        frames: impl IntoIterator<Item = &'a [[f64; 2]]>,
-        triangles: &[[u32; 3]],
-        scale: f64,
-    ) -> Option<bool> {
+    /// or none (`None`), for triangles drawn at `scale` pixels per unit,
+    /// `smallest_mean_area` being the smallest of the frames' mean triangle
+    /// areas ([`mean_area`]), so that an animation does not switch.
+    pub(crate) fn resolve_edges(&self, smallest_mean_area: f64, scale: f64) -> Option<bool> {
         match self.edges {
             Edges::All => Some(true),
             Edges::Boundary => Some(false),
             Edges::None => None,
-            Edges::Auto => {
-                // Root mean area in pixels: about 0.66 times the edge length
-                // of an equilateral triangle; 4 pixels is an edge of 6.
-                let mut smallest = f64::INFINITY;
-                for positions in frames {
-                    let (mut sum, mut n) = (0.0, 0usize);
-                    for t in triangles {
-                        let a = signed_area(positions, t).abs();
-                        if a.is_finite() {
-                            sum += a;
-                            n += 1;
-                        }
-                    }
-                    smallest = smallest.min(if n == 0 { 0.0 } else { sum / n as f64 });
-                }
-                Some(smallest.sqrt() * scale >= 4.0)
-            }
+            // Root mean area in pixels: about 0.66 times the edge length of
+            // an equilateral triangle; 4 pixels is an edge of 6.
+            Edges::Auto => Some(smallest_mean_area.sqrt() * scale >= 4.0),
         }
+    }
+}
+
+/// The mean absolute area of the triangles of one frame (those whose area
+/// is a finite number; 0 without any).
+pub(crate) fn mean_area(positions: &[[f64; 2]], triangles: &[[u32; 3]]) -> f64 {
+    let (mut sum, mut n) = (0.0, 0usize);
+    for t in triangles {
+        let a = signed_area(positions, t).abs();
+        if a.is_finite() {
+            sum += a;
+            n += 1;
+        }
+    }
+    if n == 0 {
+        0.0
+    } else {
+        sum / n as f64
     }
 }
 

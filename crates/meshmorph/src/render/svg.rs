@@ -49,7 +49,7 @@ pub fn svg_frame(
         Some([q[t[0] as usize]?, q[t[1] as usize]?, q[t[2] as usize]?])
     };
     let flipped = style.flipped_mask(positions, triangles);
-    let mode = style.resolve_edges([positions], triangles, view.scale);
+    let mode = style.resolve_edges(super::style::mean_area(positions, triangles), view.scale);
     let stroke = |color| {
         format!(
             " stroke=\"{}\" stroke-width=\"{}\" stroke-linejoin=\"round\" stroke-linecap=\"round\"",

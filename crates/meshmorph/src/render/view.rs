@@ -40,6 +40,13 @@ impl View2d {
         height: Option<u32>,
         margin_px: u32,
     ) -> Self {
+        let [lo, hi] = Self::bounds(frames);
+        Self::fitting_bounds(lo, hi, width, height, margin_px)
+    }
+
+    /// The lowest and highest coordinates of the finite points of
+    /// `frames`; the unit square when there is none.
+    pub fn bounds<'a>(frames: impl IntoIterator<Item = &'a [[f64; 2]]>) -> [[f64; 2]; 2] {
         let mut lo = [f64::INFINITY; 2];
         let mut hi = [f64::NEG_INFINITY; 2];
         for frame in frames {
@@ -53,9 +60,9 @@ impl View2d {
             }
         }
         if lo[0] > hi[0] {
-            (lo, hi) = ([0.0; 2], [1.0; 2]);
+            return [[0.0; 2], [1.0; 2]];
         }
-        Self::fitting_bounds(lo, hi, width, height, margin_px)
+        [lo, hi]
     }
 
     /// [`View2d::fitting`] for the box from `lo` to `hi` (finite, `lo <= hi`).
