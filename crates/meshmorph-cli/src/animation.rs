@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Result};
 use meshmorph::io::gltf::{write_glb_frames, GltfBase, GltfOptions};
-use meshmorph::io::Format;
+use meshmorph::io::{Format, MeshFile};
 use meshmorph::{FrameSource, Interpolator, Sequence3};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -304,6 +304,11 @@ pub struct Run<'a> {
     pub outputs: &'a FrameOutputs,
     pub staging: &'a Staging,
     pub start: Instant,
+    /// The first key's file: each frame is written as that file with new
+    /// positions (in its format; in another, what that format holds).
+    pub file: Option<&'a MeshFile>,
+    /// Warnings of reading the keys, reported with the run's.
+    pub read_warnings: &'a [String],
 }
 
 /// Writes every frame of `morph` at the run's times (and the pictures
@@ -321,6 +326,8 @@ pub fn write_frames<const D: usize, M: Frames<D>>(
         outputs,
         staging,
         start,
+        file,
+        read_warnings,
     } = *run;
     crate::memory::check_frames_in_flight(
         morph.num_vertices(),
@@ -342,14 +349,25 @@ pub fn write_frames<const D: usize, M: Frames<D>>(
                 let compute = begin.elapsed().as_secs_f64();
                 let flipped = morph.count_flipped(&positions);
                 let begin = Instant::now();
+                let mut dropped = Vec::new();
                 staging.write(outputs.meshes[k], |path| {
                     check_finite(&positions, k, t)?;
-                    Ok(meshmorph::io::write_positions(
-                        path,
-                        &positions,
-                        morph.triangles(),
-                        outputs.format,
-                    )?)
+                    match file {
+                        Some(file) => {
+                            let lifted: Vec<[f64; 3]> = positions
+                                .iter()
+                                .map(|p| std::array::from_fn(|i| if i < D { p[i] } else { 0.0 }))
+                                .collect();
+                            dropped = file.write(path, &lifted, outputs.format)?;
+                        }
+                        None => meshmorph::io::write_positions(
+                            path,
+                            &positions,
+                            morph.triangles(),
+                            outputs.format,
+                        )?,
+                    }
+                    Ok(())
                 })?;
                 let write = begin.elapsed().as_secs_f64();
                 bar.inc(1);
@@ -357,6 +375,7 @@ pub fn write_frames<const D: usize, M: Frames<D>>(
                     compute,
                     write,
                     flipped,
+                    dropped,
                 })
             },
         )
@@ -399,7 +418,12 @@ pub fn write_frames<const D: usize, M: Frames<D>>(
         })?;
         files_written.extend(args.gltf.gltf.clone());
     }
-    let mut warnings = Vec::new();
+    let mut warnings = read_warnings.to_vec();
+    // What the output format cannot hold of the first key's file is the
+    // same for every frame: said once, for the first.
+    if let Some(first) = frames.first() {
+        warnings.extend(output::dropped_for(&outputs.dir, &first.dropped));
+    }
     if max_flipped > 0 {
         let what = if D == 3 { "turned over" } else { "reversed" };
         warnings.push(format!(
@@ -514,4 +538,6 @@ struct Frame {
     compute: f64,
     write: f64,
     flipped: usize,
+    /// What the output format could not hold of the first key's file.
+    dropped: Vec<String>,
 }

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use meshmorph::io::gltf::{write_glb_frames, GltfBase, GltfOptions};
-use meshmorph::io::Format;
+use meshmorph::io::{Format, MeshFile};
 use meshmorph::{Blend3, FrameSource, InterpolatorOptions, Mesh3};
 use serde::Serialize;
 
@@ -177,19 +177,11 @@ pub fn run(args: &Args) -> Result<()> {
     let mut paths: Vec<&Path> = vec![&args.base];
     paths.extend(args.shapes.iter().map(|(p, _)| p.as_path()));
     memory::check_reading(&paths)?;
-    let base = output::read_mesh(&args.base, "base mesh")?;
-    let mut shapes = Vec::with_capacity(args.shapes.len());
-    for (path, _) in &args.shapes {
-        let shape = output::read_mesh(path, "blend shape")?;
-        base.check_same_connectivity(
-            &shape,
-            [
-                &format!("the base mesh `{}`", args.base.display()),
-                &format!("the blend shape `{}`", path.display()),
-            ],
-        )?;
-        shapes.push(shape);
-    }
+    let mut roles = vec!["base mesh"];
+    roles.extend(args.shapes.iter().map(|_| "blend shape"));
+    let mut warnings = Vec::new();
+    let (base_file, mut shapes) = output::read_poses(&paths, &roles, &mut warnings)?;
+    let base = shapes.remove(0);
     let planar = is_planar(args, &base, &shapes)?;
     let (vertices, triangles) = (base.num_vertices(), base.num_triangles());
     if planar {
@@ -222,12 +214,12 @@ pub fn run(args: &Args) -> Result<()> {
         result: &result,
         base: base.positions(),
     };
+    let file = (&base_file, format);
     let files_written = if planar {
-        write_outputs::<2>(args, &outputs, &staging, &blended, format)?
+        write_outputs::<2>(args, &outputs, &staging, &blended, file, &mut warnings)
     } else {
-        write_outputs::<3>(args, &outputs, &staging, &blended, format)?
-    };
-    let mut warnings = Vec::new();
+        write_outputs::<3>(args, &outputs, &staging, &blended, file, &mut warnings)
+    }?;
     if turned_over > 0 {
         warnings.push(format!(
             "the blend has {turned_over} triangles turned over relative to the base"
@@ -294,20 +286,22 @@ impl FrameSource<3> for Blended<'_> {
 }
 
 /// Writes the blend (with `D` coordinates) and the PNG, GIF and GLB asked
-/// for, of the way from the base to it; returns the files written.
+/// for, of the way from the base to it; returns the files written, and adds
+/// to `warnings` what the output format could not hold of the base's file.
 fn write_outputs<const D: usize>(
     args: &Args,
     outputs: &Outputs,
     staging: &Staging,
     blended: &Blended<'_>,
-    format: Format,
+    (file, format): (&MeshFile, Format),
+    warnings: &mut Vec<String>,
 ) -> Result<Vec<PathBuf>> {
     let triangles = blended.blend.triangles();
-    let result: Vec<[f64; D]> = in_dim(blended.result);
+    // The base's file with the blend's positions (z = 0 in the plane).
     staging.write(outputs.mesh, |path| {
-        Ok(meshmorph::io::write_positions(
-            path, &result, triangles, format,
-        )?)
+        let dropped = file.write(path, blended.result, format)?;
+        warnings.extend(output::dropped_for(&args.output, &dropped));
+        Ok(())
     })?;
     let mut written = vec![args.output.clone()];
     let steps = InDim(blended);

@@ -10,7 +10,7 @@ use meshmorph::shapes;
 
 use crate::animation::FrameOutputs;
 use crate::gltf::GltfArgs;
-use crate::interpolate::{animate, FrameArgs, Stretch};
+use crate::interpolate::{animate, FrameArgs, Keys, Stretch};
 use crate::outputs::Plan;
 use crate::pictures::PictureArgs;
 use crate::transfer::{run_transfer, CorrespondArgs, References, TransferArgs};
@@ -91,7 +91,15 @@ fn spiral(args: &Args) -> Result<()> {
         })?;
     }
     let keys = [bar.to_3d(), spiral.to_3d()];
-    let mut report = animate(&keys, true, &frames, &times, &outputs, &staging, start)?;
+    let mut report = animate(
+        Keys::made(&keys),
+        true,
+        &frames,
+        &times,
+        &outputs,
+        &staging,
+        start,
+    )?;
     report.surplus_frames_removed = staging.commit()?;
     if !args.json {
         println!("== interpolation: a bar curling into a spiral of 540 degrees ==");
@@ -144,7 +152,15 @@ fn coil(args: &Args) -> Result<()> {
             Ok(meshmorph::io::write_mesh(path, mesh, Format::Obj)?)
         })?;
     }
-    let mut report = animate(&keys, false, &frames, &times, &outputs, &staging, start)?;
+    let mut report = animate(
+        Keys::made(&keys),
+        false,
+        &frames,
+        &times,
+        &outputs,
+        &staging,
+        start,
+    )?;
     report.surplus_frames_removed = staging.commit()?;
     if !args.json {
         println!("\n== interpolation in space: a tube bending through 540 degrees while twisting by 90, through 3 keys ==");

@@ -11,6 +11,7 @@ use crate::gltf::GltfArgs;
 use crate::memory;
 use crate::output::{self, positive_number, FormatArg};
 use crate::outputs::{Plan, Staging};
+use meshmorph::io::MeshFile;
 
 /// Interpolate through two or more meshes with the same triangles (keys),
 /// planar or surfaces in space.
@@ -192,7 +193,9 @@ pub fn run(args: &Args) -> Result<()> {
     let staging = plan.prepare()?;
     let paths: Vec<&Path> = args.keys.iter().map(PathBuf::as_path).collect();
     memory::check_reading(&paths)?;
-    let keys = read_keys(&args.keys, &roles)?;
+    let role_names: Vec<&str> = roles.iter().map(String::as_str).collect();
+    let mut warnings = Vec::new();
+    let (first_file, keys) = output::read_poses(&paths, &role_names, &mut warnings)?;
     let planar = match args.dim {
         Some(2) => {
             for ((key, path), role) in keys.iter().zip(&args.keys).zip(&roles) {
@@ -215,8 +218,13 @@ pub fn run(args: &Args) -> Result<()> {
             .collect();
         format!("interpolating {}", names.join(" to "))
     };
+    let keys = Keys {
+        meshes: &keys,
+        file: Some(&first_file),
+        warnings: &warnings,
+    };
     let mut report = animate(
-        &keys,
+        keys,
         planar,
         &args.frames,
         &times,
@@ -243,26 +251,6 @@ fn key_roles(count: usize) -> Vec<String> {
         .collect()
 }
 
-/// Reads the keys, refusing one whose vertex count or triangles differ
-/// from the first's (naming both files and the first differing triangle).
-fn read_keys(paths: &[PathBuf], roles: &[String]) -> Result<Vec<Mesh3>> {
-    let mut keys: Vec<Mesh3> = Vec::with_capacity(paths.len());
-    for (path, role) in paths.iter().zip(roles) {
-        let key = output::read_mesh(path, role)?;
-        if let Some(first) = keys.first() {
-            first.check_same_connectivity(
-                &key,
-                [
-                    &format!("the {} `{}`", roles[0], paths[0].display()),
-                    &format!("the {role} `{}`", path.display()),
-                ],
-            )?;
-        }
-        keys.push(key);
-    }
-    Ok(keys)
-}
-
 /// The library numbers the keys after the first ("key 1", ...) and calls
 /// the first "the first key"; say the files instead.
 fn name_key_files(e: anyhow::Error, paths: &[PathBuf]) -> anyhow::Error {
@@ -281,11 +269,32 @@ fn name_key_files(e: anyhow::Error, paths: &[PathBuf]) -> anyhow::Error {
     anyhow::anyhow!(text)
 }
 
+/// The keys of an interpolation, and where they came from.
+pub struct Keys<'a> {
+    pub meshes: &'a [Mesh3],
+    /// The first key's file, when the keys were read: each frame is that
+    /// file with new positions.
+    pub file: Option<&'a MeshFile>,
+    /// Warnings of reading the keys.
+    pub warnings: &'a [String],
+}
+
+impl<'a> Keys<'a> {
+    /// Keys made in memory (the demo's).
+    pub fn made(meshes: &'a [Mesh3]) -> Self {
+        Self {
+            meshes,
+            file: None,
+            warnings: &[],
+        }
+    }
+}
+
 /// Builds the interpolation through `keys` (two planar keys: the planar
 /// interpolator; otherwise a keyframe sequence, written in the plane when
 /// `planar`) and writes its frames through `staging`.
 pub fn animate(
-    keys: &[Mesh3],
+    keys: Keys<'_>,
     planar: bool,
     args: &FrameArgs,
     times: &[f64],
@@ -293,6 +302,7 @@ pub fn animate(
     staging: &Staging,
     start: Instant,
 ) -> Result<Report> {
+    let (file, read_warnings, keys) = (keys.file, keys.warnings, keys.meshes);
     let first = &keys[0];
     let (vertices, triangles) = (first.num_vertices(), first.num_triangles());
     if planar {
@@ -317,6 +327,8 @@ pub fn animate(
         outputs,
         staging,
         start,
+        file,
+        read_warnings,
     };
     let begin = Instant::now();
     let unused_vertices = first.num_unused_vertices();

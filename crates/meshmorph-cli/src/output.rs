@@ -34,15 +34,63 @@ pub fn format_or_like(asked: Option<FormatArg>, like: &Path) -> Result<Format> {
     }
 }
 
-/// Reads a mesh, saying which file and what role on failure.
-pub fn read_mesh(path: &Path, role: &str) -> Result<meshmorph::Mesh3> {
-    meshmorph::io::read_mesh(path).with_context(|| format!("reading {role} `{}`", path.display()))
-}
-
 /// Reads a mesh file kept whole, saying which file and what role on failure.
 pub fn read_mesh_file(path: &Path, role: &str) -> Result<meshmorph::io::MeshFile> {
     meshmorph::io::MeshFile::read(path)
         .with_context(|| format!("reading {role} `{}`", path.display()))
+}
+
+/// Reads `paths` (called `roles`): the first kept whole, every later one as
+/// new positions for the first's faces (each polygon split once, as the
+/// first splits it). A face that lists the first's corners in another
+/// order or winding is the same face; such faces are counted in `warnings`.
+/// A file whose vertex count or faces differ is refused, naming both files
+/// and the first differing face.
+pub fn read_poses(
+    paths: &[&Path],
+    roles: &[&str],
+    warnings: &mut Vec<String>,
+) -> Result<(meshmorph::io::MeshFile, Vec<meshmorph::Mesh3>)> {
+    let first = read_mesh_file(paths[0], roles[0])?;
+    let mut meshes = vec![first.mesh().clone()];
+    for (path, role) in paths.iter().zip(roles).skip(1) {
+        let file = read_mesh_file(path, role)?;
+        let (mesh, reordered) = first.pose(&file).with_context(|| {
+            format!(
+                "the {role} `{}` does not fit the {} `{}`",
+                path.display(),
+                roles[0],
+                paths[0].display()
+            )
+        })?;
+        if reordered > 0 {
+            let (faces, list, their) = if reordered == 1 {
+                ("face", "lists", "its")
+            } else {
+                ("faces", "list", "their")
+            };
+            warnings.push(format!(
+                "`{}`: {reordered} {faces} {list} {their} corners in another order or winding than in `{}`: read as the same {faces}",
+                path.display(),
+                paths[0].display()
+            ));
+        }
+        meshes.push(mesh);
+    }
+    Ok((first, meshes))
+}
+
+/// The library's warnings of what an output format could not hold of a
+/// file (each naming the file it wrote, here a staged one), said for
+/// `output`, the name the user gave.
+pub fn dropped_for(output: &Path, dropped: &[String]) -> Vec<String> {
+    dropped
+        .iter()
+        .map(|d| {
+            let what = d.split_once(": ").map_or(d.as_str(), |x| x.1);
+            format!("{}: {what}", output.display())
+        })
+        .collect()
 }
 
 /// Seconds as a short human string.

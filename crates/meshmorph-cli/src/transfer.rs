@@ -533,10 +533,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     bar.finish_and_clear();
     if let Some((_, _, dropped, _)) = solved.first() {
         // The same for every pose: said once, for the directory.
-        for d in dropped {
-            let what = d.split_once(": ").map_or(d.as_str(), |x| x.1);
-            warnings.push(format!("{}: {what}", args.output.display()));
-        }
+        warnings.extend(output::dropped_for(&args.output, dropped));
     }
     let mut timings = Vec::with_capacity(solved.len());
     let mut results = Vec::new();

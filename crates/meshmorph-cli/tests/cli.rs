@@ -488,23 +488,40 @@ fn interpolate_different_vertex_counts() {
         &[
             &shown(&p.src),
             &shown(&p.tgt),
-            &format!("{} vertices", bar.num_vertices()),
-            &format!("{}", other.num_vertices()),
+            &format!("{} vertices", other.num_vertices()),
+            &format!("has {}", bar.num_vertices()),
         ],
     );
 }
 
 #[test]
-fn interpolate_same_count_different_triangles() {
+fn interpolate_accepts_a_face_listed_from_another_corner() {
     let (bar, curled) = bar_and_curl();
     let mut triangles = curled.triangles().to_vec();
-    // Same orientation, another starting corner: still another triangle list.
+    // Same orientation, another starting corner: the same face, read as
+    // the source's (with a warning).
     let [a, b, c] = triangles[7];
     triangles[7] = [b, c, a];
     let target = Mesh2::new(curled.positions().to_vec(), triangles).unwrap();
     let p = Pair::new(&bar, &target);
-    let err = p.interpolate_fails(&[]);
-    assert_mentions(&err, &[&shown(&p.src), &shown(&p.tgt), "triangle 7"]);
+    let out = p.interpolate(&["--frames", "3"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_mentions(
+        &stderr,
+        &[
+            &shown(&p.tgt),
+            "1 face lists its corners",
+            "read as the same face",
+        ],
+    );
+    // The last frame is the target.
+    let last = meshmorph::io::read_mesh(&p.out.join("frame_0002.obj")).unwrap();
+    assert!(max_diff(last.positions(), curled.to_3d().positions()) < 1e-9);
 }
 
 #[test]
@@ -728,7 +745,7 @@ fn interpolate_keys_that_cannot_be_used_are_refused() {
     let err = fails(&interpolate_keys(&keys, &out, &[]));
     assert_mentions(
         &err,
-        &[&shown(&other), &shown(&paths[0]), "triangle 3", "key 2"],
+        &[&shown(&other), &shown(&paths[0]), "face 3", "key 2"],
     );
     assert_empty(&out);
     // A key with fewer vertices.
@@ -941,7 +958,7 @@ fn blend_refuses_bad_shapes_and_weights() {
         &out,
         &[],
     ));
-    assert_mentions(&err, &[&shown(&other), "triangle 3"]);
+    assert_mentions(&err, &[&shown(&other), "face 3"]);
     assert!(!out.exists());
     let folded = sheet_and_fold(dir.path());
     let err = fails(&blend(
@@ -1743,4 +1760,73 @@ fn completions_and_manual_pages_come_from_the_command_line_definitions() {
     }
     let transfer = fs::read_to_string(dir.path().join("meshmorph-transfer.1")).unwrap();
     assert_mentions(&transfer, &["gltf\\-shapes", "max\\-gltf\\-mb"]);
+}
+
+/// A quad sheet with texture coordinates, an object and a material, and a
+/// key of it bent out of the plane whose first face starts at another
+/// corner.
+fn textured_quad_keys(dir: &Path) -> [PathBuf; 2] {
+    let head = "# a quad sheet\nmtllib sheet.mtl\no sheet\n";
+    let tail = "vt 0 0\nvt 0.5 0\nvt 1 0\nvt 0 1\nvt 0.5 1\nvt 1 1\nusemtl skin\n";
+    let flat = "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\n";
+    let bent = "v 0 0 0\nv 1 0 0\nv 1.8 0 0.6\nv 0 1 0\nv 1 1 0\nv 1.8 1 0.6\n";
+    let k0 = dir.join("k0.obj");
+    let k1 = dir.join("k1.obj");
+    fs::write(
+        &k0,
+        format!("{head}{flat}{tail}f 1/1 2/2 5/5 4/4\nf 2/2 3/3 6/6 5/5\n"),
+    )
+    .unwrap();
+    fs::write(
+        &k1,
+        format!("{head}{bent}{tail}f 2/2 5/5 4/4 1/1\nf 2/2 3/3 6/6 5/5\n"),
+    )
+    .unwrap();
+    [k0, k1]
+}
+
+/// The lines of an OBJ file other than its positions.
+fn all_but_positions(path: &Path) -> Vec<String> {
+    fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with("v "))
+        .map(String::from)
+        .collect()
+}
+
+#[test]
+fn interpolation_and_blend_keep_the_first_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let keys = textured_quad_keys(dir.path());
+    let out = dir.path().join("out");
+    succeeds(&interpolate_keys(&keys, &out, &["--frames", "3"]));
+    let expected = all_but_positions(&keys[0]);
+    for k in 0..3 {
+        let frame = out.join(format!("frame_000{k}.obj"));
+        // Quads, texture coordinates, the object and the material stay.
+        assert_eq!(all_but_positions(&frame), expected, "frame {k}");
+    }
+    let last = meshmorph::io::read_mesh(&out.join("frame_0002.obj")).unwrap();
+    let k1 = meshmorph::io::read_mesh(&keys[1]).unwrap();
+    assert!(max_diff(last.positions(), k1.positions()) < 1e-9);
+    let blended = dir.path().join("blend.obj");
+    succeeds(&blend(&keys[0], &[(&keys[1], "1")], &blended, &[]));
+    assert_eq!(all_but_positions(&blended), expected);
+    let b = meshmorph::io::read_mesh(&blended).unwrap();
+    assert!(max_diff(b.positions(), k1.positions()) < 1e-9);
+    // Into another format, what it cannot hold is said, once.
+    let ply = dir.path().join("ply");
+    let run = interpolate_keys(&keys, &ply, &["--frames", "3", "--format", "ply"]);
+    let stderr = String::from_utf8_lossy(&run.stderr).to_string();
+    assert!(run.status.success(), "{stderr}");
+    assert_eq!(stderr.matches("texture coordinates").count(), 1, "{stderr}");
+    assert_mentions(
+        &stderr,
+        &[
+            &shown(&ply),
+            "cannot be carried over to ply",
+            "1 face lists its corners",
+        ],
+    );
 }
