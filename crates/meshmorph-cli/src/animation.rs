@@ -406,7 +406,12 @@ pub fn write_frames<const D: usize, M: Frames<D>>(
         let options = GltfOptions::default()
             .with_fps(args.fps)
             .with_name("interpolation");
-        let base = GltfBase::new(base, morph.triangles());
+        // The first key's texture coordinates, when its file has them.
+        let corner_uvs = file.and_then(MeshFile::triangle_corner_uvs);
+        let mut base = GltfBase::new(base, morph.triangles());
+        if let Some(uvs) = &corner_uvs {
+            base = base.with_corner_uvs(uvs);
+        }
         staging.write(output, |path| {
             Ok(write_glb_frames(
                 path,

@@ -184,10 +184,11 @@ pub fn run(args: &Args) -> Result<()> {
     let base = shapes.remove(0);
     let planar = is_planar(args, &base, &shapes)?;
     let (vertices, triangles) = (base.num_vertices(), base.num_triangles());
+    let has_uvs = base_file.has_corner_uvs();
     if planar {
-        args.gltf.check::<2>(vertices, triangles, STEPS, false)?;
+        args.gltf.check::<2>(vertices, triangles, STEPS, has_uvs)?;
     } else {
-        args.gltf.check::<3>(vertices, triangles, STEPS, false)?;
+        args.gltf.check::<3>(vertices, triangles, STEPS, has_uvs)?;
     }
     memory::check_setup(triangles, "the blend")?;
     memory::check_sequence(triangles, shapes.len())?;
@@ -327,7 +328,12 @@ fn write_outputs<const D: usize>(
         let names: Vec<String> = (0..STEPS).map(|k| format!("blend_{k:02}")).collect();
         let options = GltfOptions::default().with_fps(12.0).with_name("blend");
         let base: Vec<[f64; D]> = in_dim(blended.base);
-        let base = GltfBase::new(&base, triangles);
+        // The base's texture coordinates, when its file has them.
+        let corner_uvs = file.triangle_corner_uvs();
+        let mut base = GltfBase::new(&base, triangles);
+        if let Some(uvs) = &corner_uvs {
+            base = base.with_corner_uvs(uvs);
+        }
         staging.write(output, |p| {
             Ok(write_glb_frames(p, &base, &steps, &names, &options)?)
         })?;

@@ -305,15 +305,16 @@ pub fn animate(
     let (file, read_warnings, keys) = (keys.file, keys.warnings, keys.meshes);
     let first = &keys[0];
     let (vertices, triangles) = (first.num_vertices(), first.num_triangles());
+    let has_uvs = file.is_some_and(MeshFile::has_corner_uvs);
     if planar {
         args.gltf
-            .check::<2>(vertices, triangles, times.len(), false)?;
+            .check::<2>(vertices, triangles, times.len(), has_uvs)?;
     } else {
         if args.svg {
             bail!("--svg draws planar frames only: use --gif, --png or --gltf for meshes in space");
         }
         args.gltf
-            .check::<3>(vertices, triangles, times.len(), false)?;
+            .check::<3>(vertices, triangles, times.len(), has_uvs)?;
     }
     if args.turns != 0 && !(planar && keys.len() == 2) {
         bail!(

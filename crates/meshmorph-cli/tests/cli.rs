@@ -1810,8 +1810,30 @@ fn interpolation_and_blend_keep_the_first_file() {
     let last = meshmorph::io::read_mesh(&out.join("frame_0002.obj")).unwrap();
     let k1 = meshmorph::io::read_mesh(&keys[1]).unwrap();
     assert!(max_diff(last.positions(), k1.positions()) < 1e-9);
+    // The GLBs carry the first file's texture coordinates.
+    let glb = dir.path().join("frames.glb");
+    let with_glb = interpolate_keys(
+        &keys,
+        &dir.path().join("o2"),
+        &["--frames", "3", "--gltf", &shown(&glb)],
+    );
+    succeeds(&with_glb);
+    let blend_glb = dir.path().join("blend.glb");
     let blended = dir.path().join("blend.obj");
-    succeeds(&blend(&keys[0], &[(&keys[1], "1")], &blended, &[]));
+    succeeds(&blend(
+        &keys[0],
+        &[(&keys[1], "1")],
+        &blended,
+        &["--gltf", &shown(&blend_glb)],
+    ));
+    for g in [&glb, &blend_glb] {
+        let bytes = fs::read(g).unwrap();
+        assert!(
+            bytes.windows(10).any(|w| w == b"TEXCOORD_0"),
+            "{}",
+            g.display()
+        );
+    }
     assert_eq!(all_but_positions(&blended), expected);
     let b = meshmorph::io::read_mesh(&blended).unwrap();
     assert!(max_diff(b.positions(), k1.positions()) < 1e-9);

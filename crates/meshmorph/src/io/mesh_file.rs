@@ -233,7 +233,7 @@ impl MeshFile {
     /// `None` when the file has no texture coordinates or some corner lacks
     /// them. (glTF's `TEXCOORD_0` wants `v` flipped: `1 - v`.)
     pub fn triangle_corner_uvs(&self) -> Option<Vec<[[f32; 2]; 3]>> {
-        if self.corner_uv.is_empty() || self.corner_uv.contains(&NONE) {
+        if !self.has_corner_uvs() {
             return None;
         }
         Some(
@@ -248,6 +248,12 @@ impl MeshFile {
                 })
                 .collect(),
         )
+    }
+
+    /// Whether every corner of every face has texture coordinates (then
+    /// [`MeshFile::triangle_corner_uvs`] gives them).
+    pub fn has_corner_uvs(&self) -> bool {
+        !self.corner_uv.is_empty() && !self.corner_uv.contains(&NONE)
     }
 
     /// Whether the file holds normals (which are turned with the surface
