@@ -125,10 +125,11 @@ pub enum Error {
         first: Vec<usize>,
     },
 
-    /// Triangles of a 3D pose turned over relative to the source: folded
-    /// back onto their neighbours (their normal now points against most of
-    /// theirs while it did not in the source), or collapsed to zero area.
-    #[error("{count} triangle{} of the {mesh} turned over relative to the source or collapsed: {} (set `allow_flips`, or pass --allow-flips on the command line, to go on anyway)", plural(*count), list(first, *count))]
+    /// Triangles of a 3D pose (a later key, a blend shape) turned over
+    /// relative to the first mesh: folded back onto their neighbours (their
+    /// normal now points against most of theirs while it did not in the
+    /// first mesh), or collapsed to zero area.
+    #[error("{count} triangle{} of the {mesh} turned over relative to the first mesh or collapsed: {} (set `allow_flips`, or pass --allow-flips on the command line, to go on anyway)", plural(*count), list(first, *count))]
     ReflectedTriangles {
         /// Which mesh ("key 2", "blend shape 1", ...).
         mesh: String,
