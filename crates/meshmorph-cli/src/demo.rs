@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use anyhow::Result;
 use meshmorph::io::Format;
-use meshmorph::shapes;
+use meshmorph::{shapes, Mesh3};
 
 use crate::animation::FrameOutputs;
 use crate::gltf::GltfArgs;
@@ -70,42 +70,16 @@ fn spiral(args: &Args) -> Result<()> {
             max_gltf_mb: 256.0,
         },
     };
-    let times = frames.times(1)?;
-    let dir = args.output.join("spiral");
-    let mut plan = Plan::new();
-    let meshes = [
-        (
-            plan.file(&args.output.join("spiral-source.obj"), "demo mesh"),
-            &bar,
-        ),
-        (
-            plan.file(&args.output.join("spiral-target.obj"), "demo mesh"),
-            &spiral,
-        ),
-    ];
-    let outputs = FrameOutputs::plan(&mut plan, &frames, &dir, times.len(), Format::Obj);
-    let staging = plan.prepare()?;
-    for (output, mesh) in meshes {
-        staging.write(output, |path| {
-            Ok(meshmorph::io::write_mesh(path, mesh, Format::Obj)?)
-        })?;
-    }
     let keys = [bar.to_3d(), spiral.to_3d()];
-    let mut report = animate(
-        Keys::made(&keys),
+    animate_demo(
+        args,
+        (&keys, &["spiral-source.obj", "spiral-target.obj"]),
         true,
         &frames,
-        &times,
-        &outputs,
-        &staging,
+        "spiral",
+        "== interpolation: a bar curling into a spiral of 540 degrees ==",
         start,
-    )?;
-    report.surplus_frames_removed = staging.commit()?;
-    if !args.json {
-        println!("== interpolation: a bar curling into a spiral of 540 degrees ==");
-    }
-    report.print(args.json);
-    Ok(())
+    )
 }
 
 /// As-rigid-as-possible interpolation in space through three keys: a tube
@@ -134,28 +108,48 @@ fn coil(args: &Args) -> Result<()> {
             max_gltf_mb: 256.0,
         },
     };
+    animate_demo(
+        args,
+        (&keys, &["coil-key0.obj", "coil-key1.obj", "coil-key2.obj"]),
+        false,
+        &frames,
+        "coil",
+        "\n== interpolation in space: a tube bending through 540 degrees while twisting by 90, through 3 keys ==",
+        start,
+    )
+}
+
+/// Writes the demo's `keys` (as the files named beside them in the demo
+/// folder) and the interpolation through them (frames in the folder `name`,
+/// with the pictures and GLB `frames` asks for), all or nothing, then prints
+/// `heading` and the report.
+fn animate_demo(
+    args: &Args,
+    (keys, files): (&[Mesh3], &[&str]),
+    planar: bool,
+    frames: &FrameArgs,
+    name: &str,
+    heading: &str,
+    start: Instant,
+) -> Result<()> {
     let times = frames.times(keys.len() - 1)?;
-    let dir = args.output.join("coil");
+    let dir = args.output.join(name);
     let mut plan = Plan::new();
-    let key_outputs: Vec<_> = keys
+    let key_outputs: Vec<_> = files
         .iter()
-        .enumerate()
-        .map(|(k, mesh)| {
-            let path = args.output.join(format!("coil-key{k}.obj"));
-            (plan.file(&path, "demo mesh"), mesh)
-        })
+        .map(|file| plan.file(&args.output.join(file), "demo mesh"))
         .collect();
-    let outputs = FrameOutputs::plan(&mut plan, &frames, &dir, times.len(), Format::Obj);
+    let outputs = FrameOutputs::plan(&mut plan, frames, &dir, times.len(), Format::Obj);
     let staging = plan.prepare()?;
-    for (output, mesh) in key_outputs {
+    for (output, mesh) in key_outputs.into_iter().zip(keys) {
         staging.write(output, |path| {
             Ok(meshmorph::io::write_mesh(path, mesh, Format::Obj)?)
         })?;
     }
     let mut report = animate(
-        Keys::made(&keys),
-        false,
-        &frames,
+        Keys::made(keys),
+        planar,
+        frames,
         &times,
         &outputs,
         &staging,
@@ -163,7 +157,7 @@ fn coil(args: &Args) -> Result<()> {
     )?;
     report.surplus_frames_removed = staging.commit()?;
     if !args.json {
-        println!("\n== interpolation in space: a tube bending through 540 degrees while twisting by 90, through 3 keys ==");
+        println!("{heading}");
     }
     report.print(args.json);
     Ok(())

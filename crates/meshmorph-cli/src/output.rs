@@ -40,12 +40,47 @@ pub fn read_mesh_file(path: &Path, role: &str) -> Result<meshmorph::io::MeshFile
         .with_context(|| format!("reading {role} `{}`", path.display()))
 }
 
-/// Reads `paths` (called `roles`): the first kept whole, every later one as
-/// new positions for the first's faces (each polygon split once, as the
-/// first splits it). A face that lists the first's corners in another
-/// order or winding is the same face; such faces are counted in `warnings`.
-/// A file whose vertex count or faces differ is refused, naming both files
-/// and the first differing face.
+/// Reads `path` (called `role`) as new positions for the faces of `first`
+/// (called `first_role`), each polygon split once, as `first` splits it. A
+/// face that lists `first`'s corners in another order or winding is the
+/// same face; their count is returned with the mesh. A file whose vertex
+/// count or faces differ is refused, naming both files and the first
+/// differing face.
+pub fn read_pose(
+    first: &meshmorph::io::MeshFile,
+    first_role: &str,
+    path: &Path,
+    role: &str,
+) -> Result<(meshmorph::Mesh3, usize)> {
+    let file = read_mesh_file(path, role)?;
+    first.pose(&file).with_context(|| {
+        format!(
+            "the {role} `{}` does not fit the {first_role} `{}`",
+            path.display(),
+            first.path().display()
+        )
+    })
+}
+
+/// The warning for `reordered` faces of the pose `path` that list the
+/// corners of `first`'s faces in another order or winding.
+pub fn reordered_faces_warning(path: &Path, first: &Path, reordered: usize) -> Option<String> {
+    (reordered > 0).then(|| {
+        let (faces, list, their) = if reordered == 1 {
+            ("face", "lists", "its")
+        } else {
+            ("faces", "list", "their")
+        };
+        format!(
+            "`{}`: {reordered} {faces} {list} {their} corners in another order or winding than in `{}`: read as the same {faces}",
+            path.display(),
+            first.display()
+        )
+    })
+}
+
+/// Reads `paths` (called `roles`): the first kept whole, every later one
+/// as a pose of it ([`read_pose`]), re-listed faces said in `warnings`.
 pub fn read_poses(
     paths: &[&Path],
     roles: &[&str],
@@ -54,27 +89,8 @@ pub fn read_poses(
     let first = read_mesh_file(paths[0], roles[0])?;
     let mut meshes = vec![first.mesh().clone()];
     for (path, role) in paths.iter().zip(roles).skip(1) {
-        let file = read_mesh_file(path, role)?;
-        let (mesh, reordered) = first.pose(&file).with_context(|| {
-            format!(
-                "the {role} `{}` does not fit the {} `{}`",
-                path.display(),
-                roles[0],
-                paths[0].display()
-            )
-        })?;
-        if reordered > 0 {
-            let (faces, list, their) = if reordered == 1 {
-                ("face", "lists", "its")
-            } else {
-                ("faces", "list", "their")
-            };
-            warnings.push(format!(
-                "`{}`: {reordered} {faces} {list} {their} corners in another order or winding than in `{}`: read as the same {faces}",
-                path.display(),
-                paths[0].display()
-            ));
-        }
+        let (mesh, reordered) = read_pose(&first, roles[0], path, role)?;
+        warnings.extend(reordered_faces_warning(path, paths[0], reordered));
         meshes.push(mesh);
     }
     Ok((first, meshes))

@@ -430,27 +430,19 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         .par_iter()
         .map(|path| {
             let begin = Instant::now();
-            let file = output::read_mesh_file(path, "source pose")?;
-            let (pose, reordered) = source_file.pose(&file).with_context(|| {
-                format!(
-                    "source pose `{}` does not fit the source reference `{}`",
-                    path.display(),
-                    args.refs.source_ref.display()
-                )
-            })?;
+            let (pose, reordered) =
+                output::read_pose(&source_file, "source reference", path, "source pose")?;
             Ok((pose, reordered, begin.elapsed().as_secs_f64()))
         })
         .collect::<Result<_>>()?;
     let mut reordered_pose_faces = 0;
     for ((pose, reordered, _), path) in poses.iter().zip(&args.poses) {
         reordered_pose_faces += reordered;
-        if *reordered > 0 {
-            warnings.push(format!(
-                "`{}`: {reordered} face{} list the reference's corners in another order or winding: read as the reference's faces",
-                path.display(),
-                if *reordered == 1 { "" } else { "s" }
-            ));
-        }
+        warnings.extend(output::reordered_faces_warning(
+            path,
+            &args.refs.source_ref,
+            *reordered,
+        ));
         let ratio = pose.bounding_box_diagonal() / source_diagonal;
         if !(1.0 / POSE_SIZE_RATIO..=POSE_SIZE_RATIO).contains(&ratio) {
             warnings.push(format!(

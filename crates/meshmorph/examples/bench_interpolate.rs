@@ -8,10 +8,12 @@
 //! these four), square_100k, square_1000k (square sheets, a rigid turn). The divan benchmarks (`cargo bench -p meshmorph --bench
 //! interpolate`) measure the same things; this table puts them side by side.
 
+#[path = "support/timing.rs"]
+mod timing;
+use timing::{fmt, time};
+
 use std::f64::consts::PI;
-use std::hint::black_box;
 use std::path::Path;
-use std::time::Instant;
 
 use meshmorph::FactorKind;
 use meshmorph::{io, shapes, Interpolator, InterpolatorOptions, Mesh2};
@@ -54,34 +56,6 @@ fn pair(name: &str) -> Option<(Mesh2, Mesh2)> {
     let s = shapes::strip(10.0, 0.5, 10 * ny, ny);
     let t = shapes::curl(&s, 3.0 * PI);
     Some((s, t))
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
-/// Median seconds of `runs` calls of `f`.
-fn time<T>(runs: usize, mut f: impl FnMut() -> T) -> f64 {
-    median(
-        (0..runs)
-            .map(|_| {
-                let t = Instant::now();
-                black_box(f());
-                t.elapsed().as_secs_f64()
-            })
-            .collect(),
-    )
-}
-
-fn fmt(s: f64) -> String {
-    if s < 1e-3 {
-        format!("{:.1} µs", s * 1e6)
-    } else if s < 1.0 {
-        format!("{:.2} ms", s * 1e3)
-    } else {
-        format!("{:.2} s", s)
-    }
 }
 
 fn main() {

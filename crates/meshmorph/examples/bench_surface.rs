@@ -11,10 +11,12 @@
 //! fat_tube_100k and strip_1000k (the 2D strip of `bench_interpolate`, setup split into its
 //! steps); default: all.
 
+#[path = "support/timing.rs"]
+mod timing;
+use timing::{fmt, time};
+
 use std::f64::consts::PI;
-use std::hint::black_box;
 use std::path::Path;
-use std::time::Instant;
 
 use meshmorph::{io, shapes, Interpolator, InterpolatorOptions, Mesh3, Sequence3};
 
@@ -22,34 +24,6 @@ const HORSE: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../../../shared/data/dt/horse-camel/horse-poses"
 );
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
-/// Median seconds of `runs` calls of `f`.
-fn time<T>(runs: usize, mut f: impl FnMut() -> T) -> f64 {
-    median(
-        (0..runs)
-            .map(|_| {
-                let t = Instant::now();
-                black_box(f());
-                t.elapsed().as_secs_f64()
-            })
-            .collect(),
-    )
-}
-
-fn fmt(s: f64) -> String {
-    if s < 1e-3 {
-        format!("{:.1} µs", s * 1e6)
-    } else if s < 1.0 {
-        format!("{:.2} ms", s * 1e3)
-    } else {
-        format!("{:.2} s", s)
-    }
-}
 
 /// Single-thread read bandwidth, bytes per second: the median of summing a
 /// 256 MB array (far larger than any cache) several times.
