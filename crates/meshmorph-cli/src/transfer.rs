@@ -579,8 +579,16 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         warnings.push(format!(
             "{} of the target with few source partners {} carried rigidly by the surface around {}",
             output::count(transfer.carried_parts(), "separate part"),
-            if transfer.carried_parts() == 1 { "is" } else { "are" },
-            if transfer.carried_parts() == 1 { "it" } else { "them" },
+            if transfer.carried_parts() == 1 {
+                "is"
+            } else {
+                "are"
+            },
+            if transfer.carried_parts() == 1 {
+                "it"
+            } else {
+                "them"
+            },
         ));
     }
     output::print_warnings(&warnings);
