@@ -197,32 +197,22 @@ pub fn run(args: &Args) -> Result<()> {
     let options = InterpolatorOptions::default()
         .with_consistency(!args.no_consistency)
         .with_allow_flips(args.allow_flips);
-    let file = (&base_file, format);
+    let run = BlendRun {
+        args,
+        outputs: &outputs,
+        staging: &staging,
+        options: &options,
+        file: (&base_file, format),
+    };
     let blended = if planar {
         let base = base.to_2d()?;
         let shapes = shapes
             .iter()
             .map(Mesh3::to_2d)
             .collect::<meshmorph::Result<Vec<Mesh2>>>()?;
-        blend_and_write(
-            args,
-            &outputs,
-            &staging,
-            (&base, &shapes),
-            &options,
-            file,
-            &mut warnings,
-        )
+        blend_and_write(&run, &base, &shapes, &mut warnings)
     } else {
-        blend_and_write(
-            args,
-            &outputs,
-            &staging,
-            (&base, &shapes),
-            &options,
-            file,
-            &mut warnings,
-        )
+        blend_and_write(&run, &base, &shapes, &mut warnings)
     }?;
     let Blended {
         turned_over,
@@ -272,6 +262,16 @@ fn is_planar(args: &Args, base: &Mesh3, shapes: &[Mesh3]) -> Result<bool> {
     }
 }
 
+/// What writing a blend needs besides its meshes.
+struct BlendRun<'a> {
+    args: &'a Args,
+    outputs: &'a Outputs,
+    staging: &'a Staging,
+    options: &'a InterpolatorOptions,
+    /// The base's file, and the format of the output.
+    file: (&'a MeshFile, Format),
+}
+
 /// What the report says of a blend written.
 struct Blended {
     turned_over: usize,
@@ -285,17 +285,21 @@ struct Blended {
 /// way from the base to it; adds to `warnings` what the output format could
 /// not hold of the base's file.
 fn blend_and_write<const D: usize>(
-    args: &Args,
-    outputs: &Outputs,
-    staging: &Staging,
-    (base, shapes): (&Mesh<D>, &[Mesh<D>]),
-    options: &InterpolatorOptions,
-    (file, format): (&MeshFile, Format),
+    run: &BlendRun<'_>,
+    base: &Mesh<D>,
+    shapes: &[Mesh<D>],
     warnings: &mut Vec<String>,
 ) -> Result<Blended>
 where
     Space<D>: Rotations<D> + TriangleMaps<D>,
 {
+    let BlendRun {
+        args,
+        outputs,
+        staging,
+        options,
+        file: (file, format),
+    } = *run;
     let context = || format!("blending `{}`", args.base.display());
     let setup = Instant::now();
     let blend = Blend::new(base, shapes, options)

@@ -59,7 +59,7 @@ enum SegmentStretches<const D: usize>
 where
     Space<D>: Rotations<D>,
 {
-    /// `S_1`, for `(1−u) I + u S_1` (first segment, linear mode).
+    /// `S_1`, for `(1−u) I + u S_1` (first segment).
     FromIdentity(Vec<Mat<D>>),
     /// `(S_j, S_{j+1})`, interpolated linearly.
     Linear(Vec<(Mat<D>, Mat<D>)>),
@@ -423,8 +423,8 @@ where
                     .map(|(a, b)| (log(a), log(b)))
                     .collect(),
             ),
-            _ if j == 0 => SegmentStretches::FromIdentity(maps.stretches.clone()),
-            _ => SegmentStretches::Linear(
+            StretchMode::Linear if j == 0 => SegmentStretches::FromIdentity(maps.stretches.clone()),
+            StretchMode::Linear => SegmentStretches::Linear(
                 previous_stretch
                     .iter()
                     .copied()

@@ -70,8 +70,9 @@ pub trait Rotations<const D: usize> {
     /// principal branch at the seed, or, given `previous` (the logarithms of
     /// the previous key of a sequence and the triangles' areas), the branch
     /// nearest to it. `edge_weight(i, j)` weighs the edge between
-    /// neighbours `i` and `j` (its length). Called through
-    /// [`consistent_rotations`].
+    /// neighbours `i` and `j` (its length). The interpolation calls it
+    /// through one entry point that chooses the seeds (the triangle of each
+    /// part that turns least) the same way in every dimension.
     fn choose_branches(
         rotations: &[Self::Principal],
         adjacency: &TriangleAdjacency,

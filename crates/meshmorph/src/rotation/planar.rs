@@ -49,7 +49,7 @@ impl Rotations<2> for Space<2> {
         *angle
     }
 
-    /// The walk over the adjacency ([`make_consistent`]): each triangle
+    /// The walk over the adjacency (Baxter et al. 2008): each triangle
     /// takes the branch nearest to the one of the triangle it is reached
     /// from; each seed keeps its principal angle, or takes the branch
     /// nearest to its previous angle.

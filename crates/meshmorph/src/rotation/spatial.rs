@@ -114,7 +114,7 @@ impl Rotations<3> for Space<3> {
 
     /// A rotation by exactly half a turn has two principal quaternions,
     /// `(0, ±v)`, and which one rounding gives decides on which side of a
-    /// half-turn jump the triangle falls (see [`super::patches`]).
+    /// half-turn jump the triangle falls (see `choose_branches`).
     /// Triangles within `1e-12` of a half turn take the sign that agrees
     /// with most of their neighbours (the rotation moves by at most `4e-12`
     /// radians), so that a ring of them turning by exactly half a turn
@@ -145,7 +145,11 @@ impl Rotations<3> for Space<3> {
         }
     }
 
-    /// Whole turns of the patches between jumps ([`super::patches`]).
+    /// Whole turns of the patches between the edges across which the
+    /// principal rotations jump: each region between jumps takes one
+    /// whole-turn vector, decided from all its boundary at once, and only
+    /// where it removes a tear (a walk from triangle to triangle adds up
+    /// errors in space, where neighbours' axes differ).
     fn choose_branches(
         rotations: &[Quat],
         adjacency: &TriangleAdjacency,
