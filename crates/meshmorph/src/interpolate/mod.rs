@@ -75,8 +75,9 @@ where
     rotations: Vec<Log<D>>,
 }
 
-/// Per-thread scratch for [`Interpolator::at_into`] and
-/// [`RestSystem::solve_into`].
+/// Per-thread scratch for the frames of interpolations, sequences and
+/// blends ([`Interpolator::at_into`], [`Sequence::at_into`],
+/// [`Blend::at_into`]) and [`RestSystem::solve_into`].
 #[derive(Debug)]
 pub struct FrameWorkspace<const D: usize = 2> {
     solve: SolveWorkspace,

@@ -81,7 +81,8 @@ pub trait Rotations<const D: usize> {
         previous: Option<(&[Self::Log], &[f64])>,
     ) -> Vec<Self::Log>;
     /// `log` with `turns` whole turns added (counter-clockwise in the
-    /// plane, about the rotation's own axis in space).
+    /// plane; in space about the rotation's own axis, the x axis for the
+    /// identity).
     fn add_turns(log: &Self::Log, turns: i32) -> Self::Log;
     /// The rotation of one triangle from key `j` (`from`: its principal
     /// rotation and logarithm) to key `j + 1` (`to`). With `whole_turns` it
