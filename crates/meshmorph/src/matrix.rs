@@ -77,6 +77,12 @@ pub fn inverse3(m: Mat3) -> Option<Mat3> {
     ])
 }
 
+/// `(1 − t) A + t B`.
+#[inline]
+pub fn lerp<const D: usize>(A: &Mat<D>, B: &Mat<D>, t: f64) -> Mat<D> {
+    std::array::from_fn(|i| std::array::from_fn(|j| (1.0 - t) * A[i][j] + t * B[i][j]))
+}
+
 /// `(1 − t) I + t S`.
 #[inline]
 pub fn lerp_from_identity<const D: usize>(S: &Mat<D>, t: f64) -> Mat<D> {

@@ -38,7 +38,7 @@ use super::poses::{check_poses, decompose};
 use super::{FrameWorkspace, InterpolatorOptions, RestSystem, StretchMode};
 use crate::error::{Error, Result};
 use crate::gradient::TriangleMaps;
-use crate::matrix::{identity, lerp_from_identity, mul, Mat};
+use crate::matrix::{identity, lerp, lerp_from_identity, mul, Mat};
 use crate::mesh::Mesh;
 use crate::rotation::{consistent_rotations, Rotations};
 use crate::topology::TriangleAdjacency;
@@ -287,12 +287,12 @@ where
         };
         let u = s - j as f64;
         let seg = &self.segments[j];
-        let lerp = |a: [f64; D], b: [f64; D]| -> [f64; D] {
+        let between = |a: [f64; D], b: [f64; D]| -> [f64; D] {
             std::array::from_fn(|k| (1.0 - u) * a[k] + u * b[k])
         };
         // Each part's centroid is on its straight path.
         let (from, to) = (&self.centroids[j], &self.centroids[j + 1]);
-        let centroid = |c: usize| lerp(from[c], to[c]);
+        let centroid = |c: usize| between(from[c], to[c]);
         let rot = |t: usize| Space::<D>::segment_at(&seg.rotations[t], u, seg.first);
         let rest = &*self.rest;
         match &seg.stretches {
@@ -305,10 +305,7 @@ where
             SegmentStretches::Linear(v) => rest.solve_frame(
                 |t| {
                     let (a, b) = &v[t];
-                    let S: Mat<D> = std::array::from_fn(|r| {
-                        std::array::from_fn(|c| (1.0 - u) * a[r][c] + u * b[r][c])
-                    });
-                    mul(rot(t), S)
+                    mul(rot(t), lerp(a, b, u))
                 },
                 centroid,
                 out,
@@ -323,10 +320,7 @@ where
             SegmentStretches::LogLinear(v) => rest.solve_frame(
                 |t| {
                     let (a, b) = &v[t];
-                    let L: Mat<D> = std::array::from_fn(|r| {
-                        std::array::from_fn(|c| (1.0 - u) * a[r][c] + u * b[r][c])
-                    });
-                    mul(rot(t), Space::<D>::stretch_exp(&L))
+                    mul(rot(t), Space::<D>::stretch_exp(&lerp(a, b, u)))
                 },
                 centroid,
                 out,
@@ -337,7 +331,7 @@ where
             let (a, b) = (self.loose[j][k], self.loose[j + 1][k]);
             // A vertex that does not move stays exactly where it is.
             out[v as usize] =
-                std::array::from_fn(|i| if a[i] == b[i] { a[i] } else { lerp(a, b)[i] });
+                std::array::from_fn(|i| if a[i] == b[i] { a[i] } else { between(a, b)[i] });
         }
     }
 
