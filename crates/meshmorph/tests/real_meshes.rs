@@ -573,15 +573,38 @@ fn flat_faces_sharing_one_normal_get_their_own_when_they_turn_apart() {
     let back = MeshFile::read(&path).unwrap();
     assert_eq!(back.mesh().positions(), &folded[..]);
 
-    // Shaded smooth, the faces share their vertices' normal: one group,
-    // one normal, turned with the strip as a whole.
+    // Shaded smooth, each vertex takes the mean of its faces' normals,
+    // shared by the corners around it.
     let smooth = file(&shared_normal_strip(n, "1"), "smooth.obj");
     let path = dir.path().join("smooth.obj");
     smooth.write(&path, &folded, Format::Obj).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     let (normals, faces) = normals_by_face(&text);
-    assert_eq!(normals.len(), 1, "{text}");
-    assert!(faces.iter().flatten().all(|&c| c == 0));
+    assert_eq!(normals.len(), n + 1, "one per column of vertices\n{text}");
+    let face_normal = |i: usize| {
+        let a = i as f64 * step;
+        [-a.sin(), 0.0, a.cos()]
+    };
+    for (i, corners) in faces.iter().enumerate() {
+        // Corners 0 and 3 lie on the column of the face's start, 1 and 2 on
+        // its end.
+        for (k, &c) in corners.iter().enumerate() {
+            let column = if k == 0 || k == 3 { i } else { i + 1 };
+            let around: Vec<usize> = [column.wrapping_sub(1), column]
+                .into_iter()
+                .filter(|&f| f < n)
+                .collect();
+            let sum = around.iter().fold([0.0; 3], |s, &f| {
+                std::array::from_fn(|j| s[j] + face_normal(f)[j])
+            });
+            let len = sum.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let got = normals[c];
+            let d = (0..3)
+                .map(|j| (got[j] - sum[j] / len).abs())
+                .fold(0.0, f64::max);
+            assert!(d < 1e-12, "face {i} corner {k}: {got:?}\n{text}");
+        }
+    }
 }
 
 #[test]

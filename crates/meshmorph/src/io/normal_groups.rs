@@ -2,17 +2,15 @@
 //! shape.
 //!
 //! An OBJ file indexes its normals, and exporters write each distinct normal
-//! once (Blender rounds them and shares one `vn` among every corner that
-//! faces the same way): the corners around a smooth vertex, the corners of
-//! a flat face, but also flat faces far apart that happen to be parallel. A
-//! new shape turns those apart. So the uses of a normal are grouped: the
-//! corners that use it in one face belong together, and so do those that
-//! use it at one vertex (a smooth fan; a flat region of a smooth surface),
-//! unless the file shades their faces flat (OBJ's `s off`), where each face
-//! keeps a normal of its own. Each group is turned
-//! with the faces around it, and where the groups of one normal no longer
-//! agree, every group but the first gets a normal of its own, written right
-//! after the file's.
+//! once: Blender shares one `vn` among every corner that faces the same way,
+//! the corners of a flat face, the corners around a smooth vertex, and also
+//! parallel faces and vertices far apart (a flat grid has one `vn`,
+//! whether shaded flat or smooth). A new shape turns those apart. So the
+//! uses of a normal are grouped: in a face the file shades flat (OBJ's
+//! `s off` or `s 0`) the corners of the face are a group; elsewhere the
+//! corners at one vertex (a smooth fan). Each group is turned with the faces
+//! around it; where the groups of one normal no longer agree, the others
+//! than the first get normals of their own, written right after it.
 //!
 //! In the file's own shape every group agrees with its normal, so nothing is
 //! added and the file is written back as it was. Formats with one normal per
@@ -23,6 +21,11 @@ use std::collections::HashMap;
 use super::mesh_file::NONE;
 use super::triangulate::Polygons;
 use crate::geometry::{add, cross, dot, norm, scale, sub};
+
+/// Turned normals whose coordinates agree to this are one normal: far below
+/// what shading shows (exporters round normals to 4 to 6 digits), far above
+/// the rounding of a solve that gives back the file's own shape.
+const AGREE: f64 = 1e-9;
 
 /// The groups of corners that share a normal (see the module
 /// documentation).
@@ -56,9 +59,8 @@ pub(super) struct ShapeNormals {
 impl NormalGroups {
     /// Groups the corners of `faces` by the normal each uses
     /// (`corner_normal`, [`NONE`] for none; empty when the file has none):
-    /// corners using one normal in one polygon are one group, and so are
-    /// those using it at one vertex, except in faces that `flat_faces` marks
-    /// (empty: none marked).
+    /// per face in the faces `flat_faces` marks (empty: none), per vertex
+    /// elsewhere.
     pub(super) fn new(
         faces: &Polygons,
         corner_normal: &[u32],
@@ -69,38 +71,27 @@ impl NormalGroups {
             return Self::default();
         }
         let corners = faces.corner_vertices();
-        let mut parent: Vec<u32> = (0..corners.len() as u32).collect();
-        let mut first_at_vertex: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut corner_group = vec![NONE; corners.len()];
+        let mut normal_of = Vec::new();
+        // (normal, face or vertex, whether a face) -> group
+        let mut group_of: HashMap<(u32, u32, bool), u32> = HashMap::new();
         for f in 0..faces.len() {
-            let range = faces.range(f);
-            for c in range.clone() {
+            let flat = flat_faces.get(f).copied().unwrap_or(false);
+            for c in faces.range(f) {
                 let n = corner_normal[c];
                 if n == NONE {
                     continue;
                 }
-                // The first corner of this face with the same normal.
-                if let Some(d) = range.clone().find(|&d| corner_normal[d] == n) {
-                    union(&mut parent, c as u32, d as u32);
-                }
-                if !flat_faces.get(f).copied().unwrap_or(false) {
-                    let at = *first_at_vertex.entry((n, corners[c])).or_insert(c as u32);
-                    union(&mut parent, c as u32, at);
-                }
+                let key = if flat {
+                    (n, f as u32, true)
+                } else {
+                    (n, corners[c], false)
+                };
+                corner_group[c] = *group_of.entry(key).or_insert_with(|| {
+                    normal_of.push(n);
+                    normal_of.len() as u32 - 1
+                });
             }
-        }
-        let mut group_of_root = vec![NONE; corners.len()];
-        let mut corner_group = vec![NONE; corners.len()];
-        let mut normal_of = Vec::new();
-        for c in 0..corners.len() {
-            if corner_normal[c] == NONE {
-                continue;
-            }
-            let root = find(&mut parent, c as u32) as usize;
-            if group_of_root[root] == NONE {
-                group_of_root[root] = normal_of.len() as u32;
-                normal_of.push(corner_normal[c]);
-            }
-            corner_group[c] = group_of_root[root];
         }
         let mut groups = NormalGroups {
             corner_group,
@@ -166,16 +157,23 @@ impl NormalGroups {
         };
         // Each group's place: the file's normal for a normal's first group
         // and for the groups that still agree with it, else an added one.
+        // Groups of one normal that turn alike (to `AGREE`) share it, or
+        // share one added normal.
+        let alike = |v: [f64; 3]| v.map(|x| (x / AGREE).round() as i64);
         let mut first_group = vec![NONE; normals.len()];
         let mut slot_of_group = vec![None; turned.len()];
+        let mut slot_of_value: HashMap<(u32, [i64; 3]), usize> = HashMap::new();
         for (g, &n) in self.normal_of.iter().enumerate() {
             let first = &mut first_group[n as usize];
             if *first == NONE {
                 *first = g as u32;
                 out.normals[n as usize] = turned[g];
-            } else if turned[g] != turned[*first as usize] {
-                slot_of_group[g] = Some(out.added.len());
-                out.added.push((n, turned[g]));
+            } else if alike(turned[g]) != alike(turned[*first as usize]) {
+                let key = (n, alike(turned[g]));
+                slot_of_group[g] = Some(*slot_of_value.entry(key).or_insert_with(|| {
+                    out.added.push((n, turned[g]));
+                    out.added.len() - 1
+                }));
             }
         }
         if out.added.is_empty() {
@@ -211,24 +209,6 @@ impl NormalGroups {
             .collect();
         out.added = order.iter().map(|&a| out.added[a]).collect();
         out
-    }
-}
-
-/// The representative of `x`'s set, compressing the path.
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        let up = parent[parent[x as usize] as usize];
-        parent[x as usize] = up;
-        x = up;
-    }
-    x
-}
-
-/// Joins the sets of `a` and `b`.
-fn union(parent: &mut [u32], a: u32, b: u32) {
-    let (ra, rb) = (find(parent, a), find(parent, b));
-    if ra != rb {
-        parent[ra.max(rb) as usize] = ra.min(rb);
     }
 }
 
