@@ -106,8 +106,21 @@ where
     /// factorization of a `#V × #V` matrix ([`RestSystem::new`]).
     pub fn new(source: &Mesh<D>, target: &Mesh<D>, options: &InterpolatorOptions) -> Result<Self> {
         source.check_same_connectivity(target, ["the source", "the target"])?;
-        let rest = Arc::new(RestSystem::new(source, options.factor)?);
-        Self::with_rest(rest, target, options)
+        RestSystem::check_rest(source, "source")?;
+        let adjacency = TriangleAdjacency::new(source.triangles());
+        check_flips(source, &adjacency, target, options.allow_flips)?;
+        // The factorization runs beside the per-triangle work.
+        let (sequence, rotations) = Sequence::with_checked_first(
+            source,
+            "source",
+            adjacency,
+            std::slice::from_ref(target),
+            options,
+        )?;
+        Ok(Self {
+            sequence,
+            rotations,
+        })
     }
 
     /// The interpolation from the source of `rest` to `target`, sharing the

@@ -146,17 +146,28 @@ where
         RestSystem::check_rest(first, "first key")?;
         let adjacency = TriangleAdjacency::new(first.triangles());
         check_poses(first, &adjacency, &keys[1..], "key", options)?;
+        Self::with_checked_first(first, "first key", adjacency, &keys[1..], options).map(|(s, _)| s)
+    }
+
+    /// The sequence from `first` (called `name` in messages, its triangles
+    /// checked) through `later_keys` (checked against it), factoring the
+    /// system of `first` while the per-triangle work runs beside it; with
+    /// the logarithms of the last key's rotations.
+    pub(super) fn with_checked_first(
+        first: &Mesh<D>,
+        name: &str,
+        adjacency: TriangleAdjacency,
+        later_keys: &[Mesh<D>],
+        options: &InterpolatorOptions,
+    ) -> Result<(Self, Vec<Log<D>>)> {
         // The factorization and the per-triangle work are independent.
         let (rest, segments) = rayon::join(
-            || RestSystem::named(first, "first key", options.factor),
-            || segments(first, &adjacency, &keys[1..], options),
+            || RestSystem::named(first, name, options.factor),
+            || segments(first, &adjacency, later_keys, options),
         );
-        Ok(Self::build(
-            Arc::new(rest?),
-            adjacency,
-            &keys[1..],
-            segments?.0,
-        ))
+        let rest = Arc::new(rest?);
+        let (segments, last) = segments?;
+        Ok((Self::build(rest, adjacency, later_keys, segments), last))
     }
 
     /// The sequence from the rest system's source (key 0) through
