@@ -222,7 +222,10 @@ impl Report {
             self.threads
         );
         if let Some(n) = self.triangles_with_whole_turns {
-            println!("whole turns:    {n} triangles (rotation consistency)");
+            println!(
+                "whole turns:    {} (rotation consistency)",
+                output::count(n, "triangle")
+            );
         }
         println!(
             "total:          {}",

@@ -124,11 +124,11 @@ impl Report {
             return;
         }
         println!(
-            "wrote {} ({} vertices, {} triangles, {} shapes, {})",
+            "wrote {} ({} vertices, {} triangles, {}, {})",
             self.output.display(),
             self.vertices,
             self.triangles,
-            self.shapes,
+            output::count(self.shapes, "shape"),
             if self.dimension == 3 {
                 "in space"
             } else {
@@ -222,7 +222,8 @@ pub fn run(args: &Args) -> Result<()> {
     } = blended;
     if turned_over > 0 {
         warnings.push(format!(
-            "the blend has {turned_over} triangles turned over relative to the base"
+            "the blend has {} turned over relative to the base",
+            output::count(turned_over, "triangle")
         ));
     }
     output::print_warnings(&warnings);

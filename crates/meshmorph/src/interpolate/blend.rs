@@ -92,6 +92,7 @@ where
     ///   relative to the base (unless [`InterpolatorOptions::allow_flips`]);
     /// - [`Error::Solver`] if the system cannot be factored.
     pub fn new(base: &Mesh<D>, shapes: &[Mesh<D>], options: &InterpolatorOptions) -> Result<Self> {
+        check_shape_count(shapes)?;
         RestSystem::check_rest(base, "base")?;
         let adjacency = TriangleAdjacency::new(base.triangles());
         check_poses(base, &adjacency, shapes, "blend shape", options)?;
@@ -120,11 +121,7 @@ where
         shapes: &[Mesh<D>],
         options: &InterpolatorOptions,
     ) -> Result<Self> {
-        if shapes.is_empty() {
-            return Err(Error::InvalidArgument(
-                "a blend needs at least one shape".into(),
-            ));
-        }
+        check_shape_count(shapes)?;
         let base = rest.source();
         let shapes = shapes
             .iter()
@@ -247,4 +244,14 @@ where
     pub fn count_turned_over(&self, positions: &[[f64; D]]) -> usize {
         Space::<D>::turned_over(self.rest.source(), &self.adjacency, positions).len()
     }
+}
+
+/// Refuses a blend of no shape.
+fn check_shape_count<const D: usize>(shapes: &[Mesh<D>]) -> Result<()> {
+    if shapes.is_empty() {
+        return Err(Error::InvalidArgument(
+            "a blend needs at least one shape".into(),
+        ));
+    }
+    Ok(())
 }

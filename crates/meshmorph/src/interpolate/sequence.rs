@@ -160,6 +160,7 @@ where
         later_keys: &[Mesh<D>],
         options: &InterpolatorOptions,
     ) -> Result<(Self, Vec<Log<D>>)> {
+        check_arguments::<D>(later_keys.len(), options)?;
         // The factorization and the per-triangle work are independent.
         let (rest, segments) = rayon::join(
             || RestSystem::named(first, name, options.factor),
@@ -341,8 +342,8 @@ where
         for (k, &v) in rest.loose_vertices().iter().enumerate() {
             let (a, b) = (self.loose[j][k], self.loose[j + 1][k]);
             // A vertex that does not move stays exactly where it is.
-            out[v as usize] =
-                std::array::from_fn(|i| if a[i] == b[i] { a[i] } else { between(a, b)[i] });
+            let c = between(a, b);
+            out[v as usize] = std::array::from_fn(|i| if a[i] == b[i] { a[i] } else { c[i] });
         }
     }
 
@@ -356,6 +357,23 @@ where
 
 /// The segments between consecutive keys (see the module documentation),
 /// and the logarithms of the last key's rotations.
+/// Refuses what no sequence of `later` keys after the first can take:
+/// none, or `turns` beyond two planar keys.
+fn check_arguments<const D: usize>(later: usize, options: &InterpolatorOptions) -> Result<()> {
+    if later == 0 {
+        return Err(Error::InvalidArgument(
+            "a sequence needs at least two keys".into(),
+        ));
+    }
+    if options.turns != 0 && (D != 2 || later > 1) {
+        return Err(Error::InvalidArgument(
+            "whole extra turns need a common axis of rotation and apply to one interpolation: two planar keys only"
+                .into(),
+        ));
+    }
+    Ok(())
+}
+
 fn segments<const D: usize>(
     rest: &Mesh<D>,
     adjacency: &TriangleAdjacency,
@@ -365,17 +383,7 @@ fn segments<const D: usize>(
 where
     Space<D>: Rotations<D> + TriangleMaps<D>,
 {
-    if later.is_empty() {
-        return Err(Error::InvalidArgument(
-            "a sequence needs at least two keys".into(),
-        ));
-    }
-    if options.turns != 0 && (D != 2 || later.len() > 1) {
-        return Err(Error::InvalidArgument(
-            "whole extra turns need a common axis of rotation and apply to one interpolation: two planar keys only"
-                .into(),
-        ));
-    }
+    check_arguments::<D>(later.len(), options)?;
     let num_triangles = rest.num_triangles();
     let areas: Vec<f64> = (0..num_triangles)
         .map(|t| Space::<D>::area(&rest.corners(t)).abs())

@@ -15,6 +15,7 @@
 use std::io::Write;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 use super::normal_groups::{NormalGroups, ShapeNormals};
 use super::ply::Scalar;
@@ -99,8 +100,8 @@ pub(super) struct Parsed {
     pub(super) normals: Vec<[f64; 3]>,
     /// The normal of each flat corner; empty when the file has none.
     pub(super) corner_normal: Vec<u32>,
-    /// Whether each face is shaded flat (OBJ's `s off`); empty when the
-    /// file does not say.
+    /// Whether each face is shaded flat (OBJ's `s off` or `s 0`); empty
+    /// when the file does not say.
     pub(super) flat_faces: Vec<bool>,
     /// What the file holds beyond positions and polygons, for the warnings
     /// when it is written in another format.
@@ -142,8 +143,12 @@ pub struct MeshFile {
     corner_uv: Vec<u32>,
     normals: Vec<[f64; 3]>,
     corner_normal: Vec<u32>,
-    /// The corners that share each normal, turned together in a new shape.
-    normal_groups: NormalGroups,
+    /// Whether each face is shaded flat (see [`Parsed::flat_faces`]).
+    flat_faces: Vec<bool>,
+    /// The corners that share each normal, turned together in a new shape;
+    /// found at the first write in the file's own format (poses are read
+    /// as files too, and never written).
+    normal_groups: OnceLock<NormalGroups>,
     extras: Vec<String>,
 }
 
@@ -178,7 +183,7 @@ impl MeshFile {
         };
         let split = parsed.faces.triangulate(&parsed.positions);
         let mesh = super::finish(path, parsed.positions, split.triangles.clone())?;
-        let mut file = MeshFile {
+        let file = MeshFile {
             path: path.to_path_buf(),
             format,
             bytes,
@@ -190,15 +195,10 @@ impl MeshFile {
             corner_uv: parsed.corner_uv,
             normals: parsed.normals,
             corner_normal: parsed.corner_normal,
-            normal_groups: NormalGroups::default(),
+            flat_faces: parsed.flat_faces,
+            normal_groups: OnceLock::new(),
             extras: parsed.extras,
         };
-        file.normal_groups = NormalGroups::new(
-            &file.faces,
-            &file.corner_normal,
-            &parsed.flat_faces,
-            file.mesh.positions(),
-        );
         Ok(file)
     }
 
@@ -309,9 +309,15 @@ impl MeshFile {
         }
         super::check_writable(path, positions, &[])?;
         if format == self.format {
-            let normals = self
-                .normal_groups
-                .for_shape(&self.normals, &self.faces, positions);
+            let groups = self.normal_groups.get_or_init(|| {
+                NormalGroups::new(
+                    &self.faces,
+                    &self.corner_normal,
+                    &self.flat_faces,
+                    self.mesh.positions(),
+                )
+            });
+            let normals = groups.for_shape(&self.normals, &self.faces, positions);
             write_atomic(path, |w| self.write_patched(w, positions, &normals))?;
             return Ok(Vec::new());
         }

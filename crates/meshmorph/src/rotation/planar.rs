@@ -98,7 +98,8 @@ impl Rotations<2> for Space<2> {
     }
 
     fn has_whole_turns(segment: &AngleSegment) -> bool {
-        nearest_branch(segment.turn, 0.0) != segment.turn
+        // Beyond half a turn (exactly half a turn is either way).
+        segment.turn.abs() > std::f64::consts::PI
     }
 
     #[inline]
