@@ -8,9 +8,7 @@ use std::time::Instant;
 use anyhow::{bail, Result};
 use meshmorph::io::gltf::{write_glb_frames, GltfBase, GltfOptions};
 use meshmorph::io::{Format, MeshFile};
-use meshmorph::{
-    FrameSource, FrameWorkspace, Interpolator, Rotations, Sequence, Space, TriangleMaps,
-};
+use meshmorph::{FrameSource, Rotations, Sequence, Space, TriangleMaps};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -19,62 +17,6 @@ use crate::output;
 use crate::outputs::{Output, Plan, Staging};
 use crate::pictures;
 use crate::progress;
-
-/// What the frame loop needs of an interpolation of `D`-dimensional meshes.
-pub trait Frames<const D: usize>: Sync {
-    type Workspace: Send;
-    fn workspace(&self) -> Self::Workspace;
-    fn num_vertices(&self) -> usize;
-    fn triangles(&self) -> &[[u32; 3]];
-    fn frame_into(&self, t: f64, out: &mut [[f64; D]], ws: &mut Self::Workspace);
-    /// Triangles reversed (planar) or turned over (in space) relative to
-    /// the first key.
-    fn count_flipped(&self, positions: &[[f64; D]]) -> usize;
-}
-
-impl<const D: usize> Frames<D> for Interpolator<D>
-where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
-{
-    type Workspace = FrameWorkspace<D>;
-    fn workspace(&self) -> Self::Workspace {
-        Interpolator::workspace(self)
-    }
-    fn num_vertices(&self) -> usize {
-        Interpolator::num_vertices(self)
-    }
-    fn triangles(&self) -> &[[u32; 3]] {
-        Interpolator::triangles(self)
-    }
-    fn frame_into(&self, t: f64, out: &mut [[f64; D]], ws: &mut Self::Workspace) {
-        self.at_into(t, out, ws)
-    }
-    fn count_flipped(&self, positions: &[[f64; D]]) -> usize {
-        Interpolator::count_flipped(self, positions)
-    }
-}
-
-impl<const D: usize> Frames<D> for Sequence<D>
-where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
-{
-    type Workspace = FrameWorkspace<D>;
-    fn workspace(&self) -> Self::Workspace {
-        Sequence::workspace(self)
-    }
-    fn num_vertices(&self) -> usize {
-        Sequence::num_vertices(self)
-    }
-    fn triangles(&self) -> &[[u32; 3]] {
-        Sequence::triangles(self)
-    }
-    fn frame_into(&self, t: f64, out: &mut [[f64; D]], ws: &mut Self::Workspace) {
-        self.at_into(t, out, ws)
-    }
-    fn count_flipped(&self, positions: &[[f64; D]]) -> usize {
-        self.count_turned_over(positions)
-    }
-}
 
 /// The files of an animation: one mesh per frame, and the pictures asked for.
 pub struct FrameOutputs {
@@ -286,12 +228,15 @@ pub struct Run<'a> {
 /// Writes every frame of `morph` at the run's times (and the pictures
 /// asked for) through its staging, and reports. `base` is the first key
 /// (the glTF base mesh).
-pub fn write_frames<const D: usize, M: Frames<D>>(
-    morph: &M,
+pub fn write_frames<const D: usize>(
+    morph: &Sequence<D>,
     base: &[[f64; D]],
     run: &Run<'_>,
     setup: &Setup,
-) -> Result<Report> {
+) -> Result<Report>
+where
+    Space<D>: Rotations<D> + TriangleMaps<D>,
+{
     let Run {
         args,
         times,
@@ -317,9 +262,9 @@ pub fn write_frames<const D: usize, M: Frames<D>>(
             |ws, (k, &t)| {
                 let begin = Instant::now();
                 let mut positions = vec![[0.0; D]; morph.num_vertices()];
-                morph.frame_into(t, &mut positions, ws);
+                morph.at_into(t, &mut positions, ws);
                 let compute = begin.elapsed().as_secs_f64();
-                let flipped = morph.count_flipped(&positions);
+                let flipped = morph.count_turned_over(&positions);
                 let begin = Instant::now();
                 let mut dropped = Vec::new();
                 staging.write(outputs.meshes[k], |path| {
@@ -452,12 +397,18 @@ fn check_finite<const D: usize>(positions: &[[f64; D]], frame: usize, t: f64) ->
 /// The frames of an interpolation at `times`, recomputed (one
 /// back-substitution each) whenever a writer of pictures or of the GLB
 /// asks: memory for frames stays that of the few being drawn or written.
-struct Recomputed<'a, M> {
-    morph: &'a M,
+struct Recomputed<'a, const D: usize>
+where
+    Space<D>: Rotations<D> + TriangleMaps<D>,
+{
+    morph: &'a Sequence<D>,
     times: &'a [f64],
 }
 
-impl<const D: usize, M: Frames<D>> FrameSource<D> for Recomputed<'_, M> {
+impl<const D: usize> FrameSource<D> for Recomputed<'_, D>
+where
+    Space<D>: Rotations<D> + TriangleMaps<D>,
+{
     fn num_frames(&self) -> usize {
         self.times.len()
     }
@@ -465,7 +416,7 @@ impl<const D: usize, M: Frames<D>> FrameSource<D> for Recomputed<'_, M> {
     fn with_frame(&self, k: usize, use_frame: &mut dyn FnMut(&[[f64; D]])) {
         let mut positions = vec![[0.0; D]; self.morph.num_vertices()];
         self.morph
-            .frame_into(self.times[k], &mut positions, &mut self.morph.workspace());
+            .at_into(self.times[k], &mut positions, &mut self.morph.workspace());
         use_frame(&positions)
     }
 }

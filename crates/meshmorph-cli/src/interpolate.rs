@@ -349,7 +349,7 @@ pub fn animate(
                 whole_turns: None,
                 unused_vertices,
             };
-            return write_frames(&morph, keys[0].positions(), &run, &setup);
+            return write_frames(morph.sequence(), keys[0].positions(), &run, &setup);
         }
         return animate_sequence(&keys, args, &run, begin, unused_vertices);
     }
