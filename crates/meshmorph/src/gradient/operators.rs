@@ -81,22 +81,9 @@ impl<const D: usize, const K: usize> GradientOperators<D, K> {
         builder.add_gram(&self.unknowns(t), &self.operators[t], weight);
     }
 
-    /// `weight · ‖X G_t − Q‖²_F`: adds the matrix part to `builder` and the
-    /// right-hand side part to the column-major `#unknowns × D` `rhs`.
-    pub(crate) fn add_fit_to(
-        &self,
-        builder: &mut SymmetricBuilder,
-        rhs: &mut [f64],
-        t: usize,
-        Q: &Mat<D>,
-        weight: f64,
-    ) {
-        self.add_fit(builder, t, weight);
-        self.add_fit_rhs(rhs, t, Q, weight);
-    }
-
-    /// The right-hand side part of [`GradientOperators::add_fit_to`] alone:
-    /// `weight · G_t Qᵀ`, which is all a new target `Q` changes.
+    /// The right-hand side part of `weight · ‖X G_t − Q‖²_F` (whose matrix
+    /// part is [`GradientOperators::add_fit`]): `weight · G_t Qᵀ`, which is
+    /// all a new target `Q` changes.
     #[inline]
     pub(crate) fn add_fit_rhs(&self, rhs: &mut [f64], t: usize, Q: &Mat<D>, weight: f64) {
         let m = self.num_unknowns();
