@@ -571,3 +571,53 @@ pub fn match_triangles(source: &Mesh3, target: &Mesh3, threshold: f64) -> Corres
     pairs.dedup();
     Correspondence::new(pairs, source, target)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gradient::spatial::fourth_vertex;
+    use crate::matrix::mul;
+    use crate::shapes::{bend, tube};
+
+    #[test]
+    fn a_similar_copy_gives_every_triangle_its_similarity_as_shape_target() {
+        let rest = bend(&tube(2.0, 0.3, 7, 8), 2.0, 1.0);
+        let ops = GradientOperators::spatial(&rest, "rest").unwrap();
+        let (a, b) = (0.6f64, -1.1f64);
+        let about_z = [
+            [a.cos(), -a.sin(), 0.0],
+            [a.sin(), a.cos(), 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+        let about_x = [
+            [1.0, 0.0, 0.0],
+            [0.0, b.cos(), -b.sin()],
+            [0.0, b.sin(), b.cos()],
+        ];
+        let R = mul(about_z, about_x);
+        let s = 1.7;
+        let map = |p: [f64; 3]| -> [f64; 3] {
+            std::array::from_fn(|i| {
+                s * (R[i][0] * p[0] + R[i][1] * p[1] + R[i][2] * p[2]) + [0.3, -1.0, 2.0][i]
+            })
+        };
+        let (n, m) = (rest.num_vertices(), ops.num_unknowns());
+        let mut x = vec![0.0; 3 * m];
+        let moved = (0..n)
+            .map(|v| map(rest.positions()[v]))
+            .chain((0..rest.num_triangles()).map(|t| map(fourth_vertex(rest.corners(t)))));
+        for (u, q) in moved.enumerate() {
+            for i in 0..3 {
+                x[i * m + u] = q[i];
+            }
+        }
+        for (t, S) in nearest_similarities(&ops, &x).iter().enumerate() {
+            for i in 0..3 {
+                for j in 0..3 {
+                    let d = (S[i][j] - s * R[i][j]).abs();
+                    assert!(d < 1e-9, "triangle {t}: entry ({i}, {j}) off by {d}");
+                }
+            }
+        }
+    }
+}
