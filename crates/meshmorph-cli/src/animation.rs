@@ -231,8 +231,8 @@ impl Report {
             "planar"
         };
         println!(
-            "wrote {} frames ({} vertices, {} triangles, {space}, {} keys) to {}",
-            self.frames_written,
+            "wrote {} ({} vertices, {} triangles, {space}, {} keys) to {}",
+            output::count(self.frames_written, "frame"),
             self.vertices,
             self.triangles,
             self.keys,

@@ -109,6 +109,15 @@ pub fn dropped_for(output: &Path, dropped: &[String]) -> Vec<String> {
         .collect()
 }
 
+/// `n` and the noun, plural unless `n` is 1: "1 pose", "2 poses".
+pub fn count(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 /// Seconds as a short human string.
 pub fn human_seconds(s: f64) -> String {
     if s >= 1.0 {

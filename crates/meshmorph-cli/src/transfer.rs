@@ -327,8 +327,8 @@ impl TransferReport {
             m.print();
         }
         println!(
-            "wrote {} poses to {}",
-            self.poses_written,
+            "wrote {} to {}",
+            output::count(self.poses_written, "pose"),
             self.output.display()
         );
         println!(
@@ -578,11 +578,18 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     }
     if transfer.carried_parts() > 0 {
         warnings.push(format!(
-            "{} separate part{} of the target with few source partners {} carried rigidly by the surface around {}",
-            transfer.carried_parts(),
-            if transfer.carried_parts() == 1 { "" } else { "s" },
-            if transfer.carried_parts() == 1 { "is" } else { "are" },
-            if transfer.carried_parts() == 1 { "it" } else { "them" },
+            "{} of the target with few source partners {} carried rigidly by the surface around {}",
+            output::count(transfer.carried_parts(), "separate part"),
+            if transfer.carried_parts() == 1 {
+                "is"
+            } else {
+                "are"
+            },
+            if transfer.carried_parts() == 1 {
+                "it"
+            } else {
+                "them"
+            },
         ));
     }
     output::print_warnings(&warnings);

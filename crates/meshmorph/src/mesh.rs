@@ -35,7 +35,7 @@ impl<const D: usize> Mesh<D> {
         if triangles.is_empty() {
             return Err(Error::InvalidMesh("the mesh has no triangles".into()));
         }
-        check_finite(&positions)?;
+        check_finite(&positions, "")?;
         check_indices(positions.len(), &triangles)?;
         Ok(Self {
             positions,
@@ -76,7 +76,7 @@ impl<const D: usize> Mesh<D> {
                 self.positions.len()
             )));
         }
-        check_finite(&positions)?;
+        check_finite(&positions, "")?;
         Ok(Self {
             positions,
             triangles: self.triangles.clone(),
@@ -336,7 +336,9 @@ pub fn bounding_box_diagonal<const D: usize>(points: &[[f64; D]]) -> f64 {
             .sqrt()
 }
 
-fn check_finite<const D: usize>(positions: &[[f64; D]]) -> Result<()> {
+/// The first vertex of `positions` with a coordinate that is not finite, as
+/// an error; `what` (when not empty) says whose positions they are.
+pub(crate) fn check_finite<const D: usize>(positions: &[[f64; D]], what: &str) -> Result<()> {
     match positions
         .iter()
         .position(|p| p.iter().any(|x| !x.is_finite()))
@@ -344,7 +346,8 @@ fn check_finite<const D: usize>(positions: &[[f64; D]]) -> Result<()> {
         Some(v) => Err(Error::InvalidVertex {
             vertex: v,
             message: format!(
-                "vertex {v} has a coordinate that is not a finite number: {:?}",
+                "{what}{}vertex {v} has a coordinate that is not a finite number: {:?}",
+                if what.is_empty() { "" } else { ": " },
                 positions[v]
             ),
         }),

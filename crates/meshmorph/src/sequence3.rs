@@ -36,7 +36,7 @@ use crate::consistency3::{nearest_whole_turns, whole_turns_after};
 use crate::error::{Error, Result};
 use crate::geometry::{add, norm, sub};
 use crate::interpolate::{FrameWorkspace, InterpolatorOptions, PreparedSurface, StretchMode};
-use crate::matrix::{identity, mul as mul3, Mat3};
+use crate::matrix::{identity, lerp_from_identity, mul as mul3, Mat3};
 use crate::mesh::Mesh3;
 use crate::polar3::SymmetricEigen3;
 use crate::pose3::{shared_edge_length, RestFrames};
@@ -100,6 +100,8 @@ impl SegmentRotation {
 
 #[derive(Debug)]
 enum SegmentStretches {
+    /// `S_1`, for `(1−u) I + u S_1` (first segment).
+    FromIdentity(Vec<Mat3>),
     /// `(S_j, S_{j+1})`, interpolated linearly.
     Linear(Vec<(Mat3, Mat3)>),
     /// `S_1ᵘ` (first segment, log mode).
@@ -316,6 +318,12 @@ impl Sequence3 {
         let rot = |t: usize| seg.rotations[t].at(u, seg.has_base);
         let (surface, centroids) = (&mut ws.surface, &ws.centroids);
         match &seg.stretches {
+            SegmentStretches::FromIdentity(v) => self.surface.solve_into(
+                |t| mul3(rot(t), lerp_from_identity(&v[t], u)),
+                centroids,
+                out,
+                surface,
+            ),
             SegmentStretches::Linear(v) => self.surface.solve_into(
                 |t| {
                     let (a, b) = &v[t];
@@ -437,7 +445,8 @@ fn segments(
                     .map(|(a, b)| (log(a), log(b)))
                     .collect(),
             ),
-            _ => SegmentStretches::Linear(
+            StretchMode::Linear if j == 0 => SegmentStretches::FromIdentity(maps.stretches.clone()),
+            StretchMode::Linear => SegmentStretches::Linear(
                 previous_stretch
                     .iter()
                     .copied()

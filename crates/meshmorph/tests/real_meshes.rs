@@ -484,3 +484,159 @@ fn a_source_covering_half_the_target_leaves_the_other_half_at_rest() {
         assert!(d < 1e-8 * diagonal, "vertex {v}: {d} off a rigid motion");
     }
 }
+
+/// A strip of `n` unit quads along x at z = 0, shaded flat or smooth (`s`),
+/// every corner using the one normal `vn 0 0 1`, as exporters write the
+/// parallel faces' shared normal once.
+fn shared_normal_strip(n: usize, smoothing: &str) -> String {
+    let mut s = String::new();
+    for i in 0..=n {
+        s += &format!("v {i} 0 0\nv {i} 1 0\n");
+    }
+    s += &format!("vn 0 0 1\ns {smoothing}\n");
+    for i in 0..n {
+        let (a, b, c, d) = (2 * i + 1, 2 * i + 3, 2 * i + 4, 2 * i + 2);
+        s += &format!("f {a}//1 {b}//1 {c}//1 {d}//1\n");
+    }
+    s
+}
+
+/// The strip's vertices folded about the y axis: quad `i` turned by
+/// `i · step` radians, each quad still flat.
+fn folded_strip(n: usize, step: f64) -> Vec<P3> {
+    let mut out = Vec::new();
+    let (mut x, mut z) = (0.0, 0.0);
+    for i in 0..=n {
+        out.push([x, 0.0, z]);
+        out.push([x, 1.0, z]);
+        let a = i as f64 * step;
+        x += a.cos();
+        z += a.sin();
+    }
+    out
+}
+
+/// The `vn` lines and, per face, the normal each corner uses, of an OBJ text.
+fn normals_by_face(text: &str) -> (Vec<P3>, Vec<Vec<usize>>) {
+    let mut normals = Vec::new();
+    let mut faces = Vec::new();
+    for line in text.lines() {
+        let mut t = line.split_whitespace();
+        match t.next() {
+            Some("vn") => {
+                let v: Vec<f64> = t.map(|x| x.parse().unwrap()).collect();
+                normals.push([v[0], v[1], v[2]]);
+            }
+            Some("f") => faces.push(
+                t.map(|c| c.rsplit('/').next().unwrap().parse::<usize>().unwrap() - 1)
+                    .collect(),
+            ),
+            _ => {}
+        }
+    }
+    (normals, faces)
+}
+
+#[test]
+fn flat_faces_sharing_one_normal_get_their_own_when_they_turn_apart() {
+    let n = 4;
+    let step = 0.4;
+    let dir = tempfile::tempdir().unwrap();
+    let flat = file(&shared_normal_strip(n, "off"), "flat.obj");
+    let folded = folded_strip(n, step);
+
+    // The file's own shape writes the file back.
+    let same = dir.path().join("same.obj");
+    flat.write(&same, flat.mesh().positions(), Format::Obj)
+        .unwrap();
+    assert_eq!(
+        std::fs::read_to_string(&same).unwrap(),
+        shared_normal_strip(n, "off")
+    );
+
+    // Folded, each flat face's corners use its own face normal.
+    let path = dir.path().join("folded.obj");
+    flat.write(&path, &folded, Format::Obj).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (normals, faces) = normals_by_face(&text);
+    assert_eq!(normals.len(), n, "{text}");
+    for (i, corners) in faces.iter().enumerate() {
+        let a = i as f64 * step;
+        let want = [-a.sin(), 0.0, a.cos()];
+        for &c in corners {
+            let got = normals[c];
+            let d = (0..3).map(|k| (got[k] - want[k]).abs()).fold(0.0, f64::max);
+            assert!(d < 1e-12, "face {i}: {got:?} against {want:?}\n{text}");
+        }
+    }
+    // It reads back, with the folded positions.
+    let back = MeshFile::read(&path).unwrap();
+    assert_eq!(back.mesh().positions(), &folded[..]);
+
+    // Shaded smooth, each vertex takes the mean of its faces' normals,
+    // shared by the corners around it.
+    let smooth = file(&shared_normal_strip(n, "1"), "smooth.obj");
+    let path = dir.path().join("smooth.obj");
+    smooth.write(&path, &folded, Format::Obj).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (normals, faces) = normals_by_face(&text);
+    assert_eq!(normals.len(), n + 1, "one per column of vertices\n{text}");
+    let face_normal = |i: usize| {
+        let a = i as f64 * step;
+        [-a.sin(), 0.0, a.cos()]
+    };
+    for (i, corners) in faces.iter().enumerate() {
+        // Corners 0 and 3 lie on the column of the face's start, 1 and 2 on
+        // its end.
+        for (k, &c) in corners.iter().enumerate() {
+            let column = if k == 0 || k == 3 { i } else { i + 1 };
+            let around: Vec<usize> = [column.wrapping_sub(1), column]
+                .into_iter()
+                .filter(|&f| f < n)
+                .collect();
+            let sum = around.iter().fold([0.0; 3], |s, &f| {
+                std::array::from_fn(|j| s[j] + face_normal(f)[j])
+            });
+            let len = sum.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let got = normals[c];
+            let d = (0..3)
+                .map(|j| (got[j] - sum[j] / len).abs())
+                .fold(0.0, f64::max);
+            assert!(d < 1e-12, "face {i} corner {k}: {got:?}\n{text}");
+        }
+    }
+}
+
+#[test]
+fn parallel_faces_apart_sharing_one_normal_are_told_apart() {
+    // Two quads that share no vertex but one `vn` (no `s` statement): one
+    // turned a quarter turn, the other not.
+    let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 5 0 0\nv 6 0 0\nv 6 1 0\nv 5 1 0\n\
+                vn 0 0 1\nvn 1 0 0\nf 1//1 2//1 3//1 4//1\nf 5//1 6//1 7//1 8//1\n";
+    let f = file(text, "two.obj");
+    let turned: Vec<P3> = f
+        .mesh()
+        .positions()
+        .iter()
+        .enumerate()
+        .map(|(v, &p)| if v < 4 { p } else { [p[0], -p[2], p[1]] })
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.obj");
+    f.write(&path, &turned, Format::Obj).unwrap();
+    let out = std::fs::read_to_string(&path).unwrap();
+    let (normals, faces) = normals_by_face(&out);
+    // The added normal stands right after its own, so `vn 1 0 0` is now
+    // the third and nothing uses it.
+    assert_eq!(normals.len(), 3, "{out}");
+    assert_eq!(normals[2], [1.0, 0.0, 0.0], "{out}");
+    assert!(
+        faces[0].iter().all(|&c| normals[c] == [0.0, 0.0, 1.0]),
+        "{out}"
+    );
+    assert!(faces[1].iter().all(|&c| c == 1), "{out}");
+    let d = (0..3)
+        .map(|k| (normals[1][k] - [0.0, -1.0, 0.0][k]).abs())
+        .fold(0.0, f64::max);
+    assert!(d < 1e-15, "{out}");
+}

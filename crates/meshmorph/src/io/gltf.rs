@@ -56,6 +56,7 @@ use crate::closest::vertex_normals;
 use crate::error::{Error, Result};
 use crate::frame_source::{map_frame, FrameSource};
 use crate::io::{write_atomic, xyz};
+use crate::mesh::check_finite;
 
 /// How a GLB is written.
 #[derive(Clone, Debug, PartialEq)]
@@ -778,22 +779,6 @@ fn check_positions<const D: usize>(
         });
     }
     Ok(())
-}
-
-fn check_finite<const D: usize>(positions: &[[f64; D]], what: &str) -> Result<()> {
-    match positions
-        .iter()
-        .position(|p| p.iter().any(|x| !x.is_finite()))
-    {
-        Some(v) => Err(Error::InvalidVertex {
-            vertex: v,
-            message: format!(
-                "{what}: vertex {v} has a coordinate that is not a finite number: {:?}",
-                positions[v]
-            ),
-        }),
-        None => Ok(()),
-    }
 }
 
 /// glTF's vertices: one per used original vertex and distinct texture

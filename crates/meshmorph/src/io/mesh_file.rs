@@ -16,11 +16,11 @@ use std::io::Write;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use super::normal_groups::{NormalGroups, ShapeNormals};
 use super::ply::Scalar;
 use super::triangulate::{Polygons, Split};
 use super::{push_f64, write_atomic, Format};
 use crate::error::{Error, Result};
-use crate::geometry::{add, cross, dot, norm, scale, sub};
 use crate::mesh::Mesh3;
 
 /// No index (a corner without texture coordinates or normal).
@@ -39,6 +39,12 @@ pub(super) enum Slot {
     Position(u32, u8),
     /// Coordinate `axis` of normal `n`.
     Normal(u32, u8),
+    /// The normal index of flat corner `c` (OBJ), rewritten only when
+    /// normals are added.
+    CornerNormal(u32),
+    /// Where normals added after normal `n` go (an empty range at the start
+    /// of the next line; `true` when the file ends its lines with CR LF).
+    NormalsAfter(u32, bool),
 }
 
 /// How a patched number is written.
@@ -93,6 +99,9 @@ pub(super) struct Parsed {
     pub(super) normals: Vec<[f64; 3]>,
     /// The normal of each flat corner; empty when the file has none.
     pub(super) corner_normal: Vec<u32>,
+    /// Whether each face is shaded flat (OBJ's `s off`); empty when the
+    /// file does not say.
+    pub(super) flat_faces: Vec<bool>,
     /// What the file holds beyond positions and polygons, for the warnings
     /// when it is written in another format.
     pub(super) extras: Vec<String>,
@@ -111,7 +120,9 @@ impl Parsed {
 ///
 /// Deformation transfer and interpolation change positions only. A result
 /// written in the format of the file it came from is that file with new
-/// positions (and normals turned with the surface): in OBJ the `vt`, `vn`,
+/// positions (and normals turned with the surface; where faces that shared
+/// one OBJ normal turn apart, the extra normals they need are written right
+/// after it and their corners renumbered): in OBJ the `vt`, `vn`,
 /// `g`, `o`, `s`, `mtllib` and `usemtl` statements, the comments and the
 /// polygons stay as they were, in their order; in PLY every other property
 /// and element, in its type and encoding; in OFF the polygons, colours and
@@ -131,10 +142,8 @@ pub struct MeshFile {
     corner_uv: Vec<u32>,
     normals: Vec<[f64; 3]>,
     corner_normal: Vec<u32>,
-    /// Each normal's direction computed from the faces that use it, in the
-    /// file's shape: a new shape turns each normal by the rotation that
-    /// takes this direction to the new one.
-    rest_normal_directions: Vec<[f64; 3]>,
+    /// The corners that share each normal, turned together in a new shape.
+    normal_groups: NormalGroups,
     extras: Vec<String>,
 }
 
@@ -181,10 +190,15 @@ impl MeshFile {
             corner_uv: parsed.corner_uv,
             normals: parsed.normals,
             corner_normal: parsed.corner_normal,
-            rest_normal_directions: Vec::new(),
+            normal_groups: NormalGroups::default(),
             extras: parsed.extras,
         };
-        file.rest_normal_directions = file.normal_directions(file.mesh.positions());
+        file.normal_groups = NormalGroups::new(
+            &file.faces,
+            &file.corner_normal,
+            &parsed.flat_faces,
+            file.mesh.positions(),
+        );
         Ok(file)
     }
 
@@ -268,54 +282,6 @@ impl MeshFile {
         &self.extras
     }
 
-    /// The file's normals for a new shape: each normal of the file turned by
-    /// the smallest rotation that takes the direction of the faces around it
-    /// (the area-weighted mean normal of the polygons whose corners use it)
-    /// from the file's shape to the new one. Authored normals and hard edges
-    /// (a normal used by one side only) stay as they were relative to the
-    /// surface, and the file's own shape gives back its own normals.
-    ///
-    /// # Panics
-    /// If `positions` does not have one entry per vertex.
-    pub fn normals_for(&self, positions: &[[f64; 3]]) -> Vec<[f64; 3]> {
-        assert_eq!(positions.len(), self.mesh.num_vertices());
-        let now = self.normal_directions(positions);
-        self.normals
-            .iter()
-            .zip(&self.rest_normal_directions)
-            .zip(&now)
-            .map(|((&n, &from), &to)| turn(n, from, to))
-            .collect()
-    }
-
-    /// The area-weighted mean polygon normal around each normal of the file
-    /// (unit length, or zero where no face uses it).
-    fn normal_directions(&self, positions: &[[f64; 3]]) -> Vec<[f64; 3]> {
-        let mut sums = vec![[0.0; 3]; self.normals.len()];
-        if self.corner_normal.is_empty() {
-            return sums;
-        }
-        for f in 0..self.faces.len() {
-            let range = self.faces.range(f);
-            let vertices = &self.faces.corner_vertices()[range.clone()];
-            let area = newell_normal(vertices, positions);
-            for &n in &self.corner_normal[range] {
-                if n != NONE {
-                    sums[n as usize] = add(sums[n as usize], area);
-                }
-            }
-        }
-        for s in &mut sums {
-            let len = norm(*s);
-            *s = if len > 0.0 {
-                scale(*s, 1.0 / len)
-            } else {
-                [0.0; 3]
-            };
-        }
-        sums
-    }
-
     /// Writes the file with new `positions` in `format`, atomically. In the
     /// file's own format everything but the positions (and normals, turned
     /// with the surface) is kept byte for byte. In another format the
@@ -343,7 +309,9 @@ impl MeshFile {
         }
         super::check_writable(path, positions, &[])?;
         if format == self.format {
-            let normals = self.normals_for(positions);
+            let normals = self
+                .normal_groups
+                .for_shape(&self.normals, &self.faces, positions);
             write_atomic(path, |w| self.write_patched(w, positions, &normals))?;
             return Ok(Vec::new());
         }
@@ -372,16 +340,45 @@ impl MeshFile {
         &self,
         w: &mut dyn Write,
         positions: &[[f64; 3]],
-        normals: &[[f64; 3]],
+        normals: &ShapeNormals,
     ) -> std::io::Result<()> {
         let mut buf: Vec<u8> = Vec::with_capacity(super::CHUNK + 1024);
         let mut at = 0;
+        let mut added = normals.added.iter().peekable();
         for p in &self.patches {
             buf.extend_from_slice(&self.bytes[at..p.bytes.start]);
             at = p.bytes.end;
             let value = match p.slot {
                 Slot::Position(v, k) => positions[v as usize][k as usize],
-                Slot::Normal(n, k) => normals[n as usize][k as usize],
+                Slot::Normal(n, k) => normals.normals[n as usize][k as usize],
+                Slot::CornerNormal(c) => {
+                    let old = &self.bytes[p.bytes.clone()];
+                    match normals.corner_index.get(c as usize) {
+                        Some(&i) => {
+                            buf.extend_from_slice((u64::from(i) + 1).to_string().as_bytes())
+                        }
+                        None => buf.extend_from_slice(old),
+                    }
+                    continue;
+                }
+                Slot::NormalsAfter(n, crlf) => {
+                    while let Some((_, v)) = added.next_if(|&&(m, _)| m == n) {
+                        if self.bytes[..p.bytes.start]
+                            .last()
+                            .is_some_and(|&b| b != b'\n')
+                        {
+                            // After the file's last line, which has no line end.
+                            buf.extend_from_slice(if crlf { b"\r\n" } else { b"\n" });
+                        }
+                        buf.extend_from_slice(b"vn");
+                        for x in v {
+                            buf.push(b' ');
+                            push_f64(&mut buf, *x);
+                        }
+                        buf.extend_from_slice(if crlf { b"\r\n" } else { b"\n" });
+                    }
+                    continue;
+                }
             };
             match p.coding {
                 // A value that was not a number in the file stays as written.
@@ -475,61 +472,4 @@ fn show_face(face: &[u32]) -> String {
         .map(|i| (u64::from(*i) + 1).to_string())
         .collect();
     format!("[{}]", items.join(", "))
-}
-
-/// Twice the area vector of a polygon (Newell's formula).
-fn newell_normal(vertices: &[u32], positions: &[[f64; 3]]) -> [f64; 3] {
-    let mut n = [0.0; 3];
-    let origin = positions[vertices[0] as usize];
-    for k in 1..vertices.len().saturating_sub(1) {
-        let a = sub(positions[vertices[k] as usize], origin);
-        let b = sub(positions[vertices[k + 1] as usize], origin);
-        n = add(n, cross(a, b));
-    }
-    n
-}
-
-/// `v` turned by the smallest rotation taking unit `from` to unit `to`
-/// (unchanged when either is zero or they coincide; for opposite
-/// directions, the half turn about an axis orthogonal to `from`).
-fn turn(v: [f64; 3], from: [f64; 3], to: [f64; 3]) -> [f64; 3] {
-    if from == to || v.iter().any(|x| !x.is_finite()) || norm(from) == 0.0 || norm(to) == 0.0 {
-        return v;
-    }
-    let c = dot(from, to);
-    let axis = cross(from, to);
-    if c <= -1.0 + 1e-12 {
-        // Half turn about any axis orthogonal to `from`.
-        let e = if from[0].abs() < 0.9 {
-            [1.0, 0.0, 0.0]
-        } else {
-            [0.0, 1.0, 0.0]
-        };
-        let k = cross(from, e);
-        let k = scale(k, 1.0 / norm(k));
-        return sub(scale(k, 2.0 * dot(k, v)), v);
-    }
-    // Rodrigues with the unnormalised axis: v c + (a × v) + a (a·v) / (1 + c).
-    add(
-        add(scale(v, c), cross(axis, v)),
-        scale(axis, dot(axis, v) / (1.0 + c)),
-    )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn turn_takes_from_to_to() {
-        let from = [0.0, 0.0, 1.0];
-        let to = [0.0, 1.0, 0.0];
-        let got = turn(from, from, to);
-        assert!(norm(sub(got, to)) < 1e-15, "{got:?}");
-        let other = turn([1.0, 0.0, 0.0], from, to);
-        assert!(norm(sub(other, [1.0, 0.0, 0.0])) < 1e-15, "{other:?}");
-        let back = turn(from, from, [0.0, 0.0, -1.0]);
-        assert!(norm(sub(back, [0.0, 0.0, -1.0])) < 1e-15, "{back:?}");
-        assert_eq!(turn([0.3, 0.1, 0.2], to, to), [0.3, 0.1, 0.2]);
-    }
 }

@@ -48,6 +48,7 @@ mod correspondence;
 pub mod gltf;
 mod markers;
 mod mesh_file;
+mod normal_groups;
 mod obj;
 mod off;
 mod ply;

@@ -37,6 +37,9 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
     let mut max_index: i64 = 0;
     let mut max_uv: i64 = 0;
     let mut max_normal: i64 = 0;
+    // Whether each face is shaded flat (`s off` or `s 0` before it).
+    let mut flat = false;
+    let mut flat_faces: Vec<bool> = Vec::new();
 
     for (line_no, line) in Lines::new(bytes) {
         let mut toks = tokens(strip_comment(line));
@@ -120,6 +123,13 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
                         format!("a normal needs 3 coordinates (`vn x y z`), found {count}"),
                     ));
                 }
+                // Where normals of the new shape that this one splits into
+                // are written: at the start of the next line.
+                let end = offset_in(bytes, line) + line.len();
+                out.patches.push(Patch::text(
+                    (end + 1).min(bytes.len())..(end + 1).min(bytes.len()),
+                    Slot::NormalsAfter(normal, line.ends_with(b"\r")),
+                ));
                 out.normals.push(n);
             }
             Some(b"f") => {
@@ -180,8 +190,16 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
                         &mut max_uv,
                         "texture coordinate",
                     )?;
+                    let normal_part = parts.next();
                     let normal =
-                        optional(parts.next(), out.normals.len(), &mut max_normal, "normal")?;
+                        optional(normal_part, out.normals.len(), &mut max_normal, "normal")?;
+                    if let Some(t) = normal_part.filter(|t| !t.is_empty()) {
+                        let start = offset_in(bytes, t);
+                        out.patches.push(Patch::text(
+                            start..start + t.len(),
+                            Slot::CornerNormal(corner_normal.len() as u32),
+                        ));
+                    }
                     corner_uv.push(uv);
                     corner_normal.push(normal);
                 }
@@ -202,10 +220,14 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
                 }
                 debug_assert_eq!(corner_uv.len() - first_corner, face.len());
                 out.faces.push(&face, line_no);
+                flat_faces.push(flat);
             }
             Some(b"g") => out.note_extra("groups (`g`)"),
             Some(b"o") => out.note_extra("objects (`o`)"),
-            Some(b"s") => out.note_extra("smoothing groups (`s`)"),
+            Some(b"s") => {
+                out.note_extra("smoothing groups (`s`)");
+                flat = matches!(toks.next(), Some(b"off" | b"0"));
+            }
             Some(b"usemtl" | b"mtllib") => out.note_extra("materials (`mtllib`, `usemtl`)"),
             Some(b"l" | b"p") => out.note_extra("lines and points (`l`, `p`)"),
             // vp, curves, unknown statements, comments: kept when written
@@ -272,6 +294,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
     }
     if !out.normals.is_empty() && corner_normal.iter().any(|&i| i != NONE) {
         out.corner_normal = corner_normal;
+        out.flat_faces = flat_faces;
         out.note_extra("normals (`vn`)");
     }
     Ok(out)

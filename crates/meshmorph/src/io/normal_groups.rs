@@ -1,0 +1,270 @@
+//! Where a file's normals are used, and what each use becomes in a new
+//! shape.
+//!
+//! An OBJ file indexes its normals, and exporters write each distinct normal
+//! once: Blender shares one `vn` among every corner that faces the same way,
+//! the corners of a flat face, the corners around a smooth vertex, and also
+//! parallel faces and vertices far apart (a flat grid has one `vn`,
+//! whether shaded flat or smooth). A new shape turns those apart. So the
+//! uses of a normal are grouped: in a face the file shades flat (OBJ's
+//! `s off` or `s 0`) the corners of the face are a group; elsewhere the
+//! corners at one vertex (a smooth fan). Each group is turned with the faces
+//! around it; where the groups of one normal no longer agree, the others
+//! than the first get normals of their own, written right after it.
+//!
+//! In the file's own shape every group agrees with its normal, so nothing is
+//! added and the file is written back as it was. Formats with one normal per
+//! vertex (PLY, OFF) have one group per normal, so they never add any.
+
+use std::collections::HashMap;
+
+use super::mesh_file::NONE;
+use super::triangulate::Polygons;
+use crate::geometry::{add, cross, dot, norm, scale, sub};
+
+/// Turned normals whose coordinates agree to this are one normal: far below
+/// what shading shows (exporters round normals to 4 to 6 digits), far above
+/// the rounding of a solve that gives back the file's own shape.
+const AGREE: f64 = 1e-9;
+
+/// The groups of corners that share a normal (see the module
+/// documentation).
+#[derive(Clone, Debug, Default)]
+pub(super) struct NormalGroups {
+    /// The group of each flat corner ([`NONE`] for a corner without a
+    /// normal); empty when the file has no normals.
+    corner_group: Vec<u32>,
+    /// The normal each group uses; groups are numbered in the order of their
+    /// first corner, so a normal's first group comes before its others.
+    normal_of: Vec<u32>,
+    /// Each group's direction in the file's shape: the area-weighted mean
+    /// normal of the polygons of its corners (unit, or zero).
+    rest_directions: Vec<[f64; 3]>,
+}
+
+/// The normals of a file in a new shape.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct ShapeNormals {
+    /// One per normal of the file: its first group's.
+    pub(super) normals: Vec<[f64; 3]>,
+    /// The normals added after each normal of the file, in file order:
+    /// `(normal of the file, new normal)`.
+    pub(super) added: Vec<(u32, [f64; 3])>,
+    /// The 0-based index each corner's normal has in the written file
+    /// (counting the added normals where they stand); empty when nothing is
+    /// added and every corner keeps its index.
+    pub(super) corner_index: Vec<u32>,
+}
+
+impl NormalGroups {
+    /// Groups the corners of `faces` by the normal each uses
+    /// (`corner_normal`, [`NONE`] for none; empty when the file has none):
+    /// per face in the faces `flat_faces` marks (empty: none), per vertex
+    /// elsewhere.
+    pub(super) fn new(
+        faces: &Polygons,
+        corner_normal: &[u32],
+        flat_faces: &[bool],
+        positions: &[[f64; 3]],
+    ) -> Self {
+        if corner_normal.is_empty() {
+            return Self::default();
+        }
+        let corners = faces.corner_vertices();
+        let mut corner_group = vec![NONE; corners.len()];
+        let mut normal_of = Vec::new();
+        // (normal, face or vertex, whether a face) -> group
+        let mut group_of: HashMap<(u32, u32, bool), u32> = HashMap::new();
+        for f in 0..faces.len() {
+            let flat = flat_faces.get(f).copied().unwrap_or(false);
+            for c in faces.range(f) {
+                let n = corner_normal[c];
+                if n == NONE {
+                    continue;
+                }
+                let key = if flat {
+                    (n, f as u32, true)
+                } else {
+                    (n, corners[c], false)
+                };
+                corner_group[c] = *group_of.entry(key).or_insert_with(|| {
+                    normal_of.push(n);
+                    normal_of.len() as u32 - 1
+                });
+            }
+        }
+        let mut groups = NormalGroups {
+            corner_group,
+            normal_of,
+            rest_directions: Vec::new(),
+        };
+        groups.rest_directions = groups.directions(faces, positions);
+        groups
+    }
+
+    /// The area-weighted mean polygon normal of each group in `positions`
+    /// (unit length, or zero).
+    fn directions(&self, faces: &Polygons, positions: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        let mut sums = vec![[0.0; 3]; self.normal_of.len()];
+        if sums.is_empty() {
+            return sums;
+        }
+        for f in 0..faces.len() {
+            let range = faces.range(f);
+            let area = newell_normal(&faces.corner_vertices()[range.clone()], positions);
+            for &g in &self.corner_group[range] {
+                if g != NONE {
+                    sums[g as usize] = add(sums[g as usize], area);
+                }
+            }
+        }
+        for s in &mut sums {
+            let len = norm(*s);
+            *s = if len > 0.0 {
+                scale(*s, 1.0 / len)
+            } else {
+                [0.0; 3]
+            };
+        }
+        sums
+    }
+
+    /// The file's `normals` for the shape `positions`: each group's normal
+    /// turned by the smallest rotation that takes the group's direction from
+    /// the file's shape to the new one. Authored normals and hard edges stay
+    /// as they were relative to the surface, and the file's own shape gives
+    /// back its own normals with nothing added.
+    pub(super) fn for_shape(
+        &self,
+        normals: &[[f64; 3]],
+        faces: &Polygons,
+        positions: &[[f64; 3]],
+    ) -> ShapeNormals {
+        let now = self.directions(faces, positions);
+        let turned: Vec<[f64; 3]> = (0..self.normal_of.len())
+            .map(|g| {
+                turn(
+                    normals[self.normal_of[g] as usize],
+                    self.rest_directions[g],
+                    now[g],
+                )
+            })
+            .collect();
+        let mut out = ShapeNormals {
+            normals: normals.to_vec(),
+            added: Vec::new(),
+            corner_index: Vec::new(),
+        };
+        // Each group's place: the file's normal for a normal's first group
+        // and for the groups that still agree with it, else an added one.
+        // Groups of one normal that turn alike (to `AGREE`) share it, or
+        // share one added normal.
+        let alike = |v: [f64; 3]| v.map(|x| (x / AGREE).round() as i64);
+        let mut first_group = vec![NONE; normals.len()];
+        let mut slot_of_group = vec![None; turned.len()];
+        let mut slot_of_value: HashMap<(u32, [i64; 3]), usize> = HashMap::new();
+        for (g, &n) in self.normal_of.iter().enumerate() {
+            let first = &mut first_group[n as usize];
+            if *first == NONE {
+                *first = g as u32;
+                out.normals[n as usize] = turned[g];
+            } else if alike(turned[g]) != alike(turned[*first as usize]) {
+                let key = (n, alike(turned[g]));
+                slot_of_group[g] = Some(*slot_of_value.entry(key).or_insert_with(|| {
+                    out.added.push((n, turned[g]));
+                    out.added.len() - 1
+                }));
+            }
+        }
+        if out.added.is_empty() {
+            return out;
+        }
+        // The added normals stand right after their own, in group order, so
+        // the numbers of the file's later normals move up by the count
+        // added before them.
+        let mut order: Vec<usize> = (0..out.added.len()).collect();
+        order.sort_by_key(|&a| out.added[a].0);
+        let mut index_of_normal = vec![0u32; normals.len()];
+        let mut index_of_added = vec![0u32; out.added.len()];
+        let (mut next, mut k) = (0u32, 0);
+        for (n, index) in index_of_normal.iter_mut().enumerate() {
+            *index = next;
+            next += 1;
+            while k < order.len() && out.added[order[k]].0 as usize == n {
+                index_of_added[order[k]] = next;
+                next += 1;
+                k += 1;
+            }
+        }
+        out.corner_index = self
+            .corner_group
+            .iter()
+            .map(|&g| match g {
+                NONE => NONE,
+                g => match slot_of_group[g as usize] {
+                    Some(a) => index_of_added[a],
+                    None => index_of_normal[self.normal_of[g as usize] as usize],
+                },
+            })
+            .collect();
+        out.added = order.iter().map(|&a| out.added[a]).collect();
+        out
+    }
+}
+
+/// Twice the area vector of a polygon (Newell's formula).
+fn newell_normal(vertices: &[u32], positions: &[[f64; 3]]) -> [f64; 3] {
+    let mut n = [0.0; 3];
+    let origin = positions[vertices[0] as usize];
+    for k in 1..vertices.len().saturating_sub(1) {
+        let a = sub(positions[vertices[k] as usize], origin);
+        let b = sub(positions[vertices[k + 1] as usize], origin);
+        n = add(n, cross(a, b));
+    }
+    n
+}
+
+/// `v` turned by the smallest rotation taking unit `from` to unit `to`
+/// (unchanged when either is zero or they coincide; for opposite
+/// directions, the half turn about an axis orthogonal to `from`).
+fn turn(v: [f64; 3], from: [f64; 3], to: [f64; 3]) -> [f64; 3] {
+    if from == to || v.iter().any(|x| !x.is_finite()) || norm(from) == 0.0 || norm(to) == 0.0 {
+        return v;
+    }
+    let c = dot(from, to);
+    let axis = cross(from, to);
+    if c <= -1.0 + 1e-12 {
+        // Half turn about any axis orthogonal to `from`.
+        let e = if from[0].abs() < 0.9 {
+            [1.0, 0.0, 0.0]
+        } else {
+            [0.0, 1.0, 0.0]
+        };
+        let k = cross(from, e);
+        let k = scale(k, 1.0 / norm(k));
+        return sub(scale(k, 2.0 * dot(k, v)), v);
+    }
+    // Rodrigues with the unnormalised axis: v c + (a × v) + a (a·v) / (1 + c).
+    add(
+        add(scale(v, c), cross(axis, v)),
+        scale(axis, dot(axis, v) / (1.0 + c)),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn turn_takes_from_to_to() {
+        let from = [0.0, 0.0, 1.0];
+        let to = [0.0, 1.0, 0.0];
+        let got = turn(from, from, to);
+        assert!(norm(sub(got, to)) < 1e-15, "{got:?}");
+        let other = turn([1.0, 0.0, 0.0], from, to);
+        assert!(norm(sub(other, [1.0, 0.0, 0.0])) < 1e-15, "{other:?}");
+        let back = turn(from, from, [0.0, 0.0, -1.0]);
+        assert!(norm(sub(back, [0.0, 0.0, -1.0])) < 1e-15, "{back:?}");
+        assert_eq!(turn([0.3, 0.1, 0.2], to, to), [0.3, 0.1, 0.2]);
+    }
+}
