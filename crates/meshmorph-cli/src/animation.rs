@@ -8,7 +8,9 @@ use std::time::Instant;
 use anyhow::{bail, Result};
 use meshmorph::io::gltf::{write_glb_frames, GltfBase, GltfOptions};
 use meshmorph::io::{Format, MeshFile};
-use meshmorph::{FrameSource, Interpolator, Sequence3};
+use meshmorph::{
+    FrameSource, FrameWorkspace, Interpolator, Rotations, Sequence, Space, TriangleMaps,
+};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -30,8 +32,11 @@ pub trait Frames<const D: usize>: Sync {
     fn count_flipped(&self, positions: &[[f64; D]]) -> usize;
 }
 
-impl Frames<2> for Interpolator {
-    type Workspace = meshmorph::FrameWorkspace;
+impl<const D: usize> Frames<D> for Interpolator<D>
+where
+    Space<D>: Rotations<D> + TriangleMaps<D>,
+{
+    type Workspace = FrameWorkspace<D>;
     fn workspace(&self) -> Self::Workspace {
         Interpolator::workspace(self)
     }
@@ -41,69 +46,33 @@ impl Frames<2> for Interpolator {
     fn triangles(&self) -> &[[u32; 3]] {
         Interpolator::triangles(self)
     }
-    fn frame_into(&self, t: f64, out: &mut [[f64; 2]], ws: &mut Self::Workspace) {
+    fn frame_into(&self, t: f64, out: &mut [[f64; D]], ws: &mut Self::Workspace) {
         self.at_into(t, out, ws)
     }
-    fn count_flipped(&self, positions: &[[f64; 2]]) -> usize {
+    fn count_flipped(&self, positions: &[[f64; D]]) -> usize {
         Interpolator::count_flipped(self, positions)
     }
 }
 
-/// Scratch of a keyframe sequence, and a frame in space for planar output.
-pub struct SequenceScratch {
-    sequence: meshmorph::SequenceWorkspace,
-    lifted: Vec<[f64; 3]>,
-}
-
-impl Frames<3> for Sequence3 {
-    type Workspace = SequenceScratch;
+impl<const D: usize> Frames<D> for Sequence<D>
+where
+    Space<D>: Rotations<D> + TriangleMaps<D>,
+{
+    type Workspace = FrameWorkspace<D>;
     fn workspace(&self) -> Self::Workspace {
-        SequenceScratch {
-            sequence: Sequence3::workspace(self),
-            lifted: Vec::new(),
-        }
+        Sequence::workspace(self)
     }
     fn num_vertices(&self) -> usize {
-        Sequence3::num_vertices(self)
+        Sequence::num_vertices(self)
     }
     fn triangles(&self) -> &[[u32; 3]] {
-        Sequence3::triangles(self)
+        Sequence::triangles(self)
     }
-    fn frame_into(&self, t: f64, out: &mut [[f64; 3]], ws: &mut Self::Workspace) {
-        self.at_into(t, out, &mut ws.sequence)
+    fn frame_into(&self, t: f64, out: &mut [[f64; D]], ws: &mut Self::Workspace) {
+        self.at_into(t, out, ws)
     }
-    fn count_flipped(&self, positions: &[[f64; 3]]) -> usize {
+    fn count_flipped(&self, positions: &[[f64; D]]) -> usize {
         self.count_turned_over(positions)
-    }
-}
-
-/// A sequence of planar keys, computed in space (z stays 0) and written in
-/// the plane.
-pub struct Planar(pub Sequence3);
-
-impl Frames<2> for Planar {
-    type Workspace = SequenceScratch;
-    fn workspace(&self) -> Self::Workspace {
-        SequenceScratch {
-            sequence: self.0.workspace(),
-            lifted: vec![[0.0; 3]; self.0.num_vertices()],
-        }
-    }
-    fn num_vertices(&self) -> usize {
-        self.0.num_vertices()
-    }
-    fn triangles(&self) -> &[[u32; 3]] {
-        self.0.triangles()
-    }
-    fn frame_into(&self, t: f64, out: &mut [[f64; 2]], ws: &mut Self::Workspace) {
-        self.0.at_into(t, &mut ws.lifted, &mut ws.sequence);
-        for (o, p) in out.iter_mut().zip(&ws.lifted) {
-            *o = [p[0], p[1]];
-        }
-    }
-    fn count_flipped(&self, positions: &[[f64; 2]]) -> usize {
-        let lifted: Vec<[f64; 3]> = positions.iter().map(|q| [q[0], q[1], 0.0]).collect();
-        self.0.count_turned_over(&lifted)
     }
 }
 

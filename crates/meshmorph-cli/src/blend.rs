@@ -6,7 +6,9 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use meshmorph::io::gltf::{write_glb_frames, GltfBase, GltfOptions};
 use meshmorph::io::{Format, MeshFile};
-use meshmorph::{Blend3, FrameSource, InterpolatorOptions, Mesh3};
+use meshmorph::{
+    Blend, FrameSource, InterpolatorOptions, Mesh, Mesh2, Mesh3, Rotations, Space, TriangleMaps,
+};
 use serde::Serialize;
 
 use crate::gltf::GltfArgs;
@@ -14,7 +16,7 @@ use crate::memory;
 use crate::output::{self, FormatArg};
 use crate::outputs::Staging;
 use crate::outputs::{Output, Plan};
-use crate::pictures::{self, in_dim, GifArgs, InDim, PictureArgs};
+use crate::pictures::{self, GifArgs, PictureArgs};
 
 /// Blend shapes of a base mesh with weights, as rigidly as possible, in the
 /// plane or in space.
@@ -195,32 +197,29 @@ pub fn run(args: &Args) -> Result<()> {
     let options = InterpolatorOptions::default()
         .with_consistency(!args.no_consistency)
         .with_allow_flips(args.allow_flips);
-    let context = || format!("blending `{}`", args.base.display());
-    let setup = Instant::now();
-    let blend = Blend3::new(&base, &shapes, &options)
-        .map_err(|e| name_shape_files(e, &args.base, &args.shapes))
-        .with_context(context)?;
-    let setup_seconds = setup.elapsed().as_secs_f64();
-    let weights: Vec<f64> = args.shapes.iter().map(|(_, w)| *w).collect();
-    let begin = Instant::now();
-    let result = blend.at(&weights);
-    let blend_seconds = begin.elapsed().as_secs_f64();
-    if let Some(v) = result.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
-        bail!("the blend's vertex {v} overflows (its coordinates exceed the range of floating-point numbers): use smaller weights");
-    }
-    let turned_over = blend.count_turned_over(&result);
-    let blended = Blended {
-        blend: &blend,
-        weights: &weights,
-        result: &result,
-        base: base.positions(),
+    let run = BlendRun {
+        args,
+        outputs: &outputs,
+        staging: &staging,
+        options: &options,
+        file: (&base_file, format),
     };
-    let file = (&base_file, format);
-    let files_written = if planar {
-        write_outputs::<2>(args, &outputs, &staging, &blended, file, &mut warnings)
+    let blended = if planar {
+        let base = base.to_2d()?;
+        let shapes = shapes
+            .iter()
+            .map(Mesh3::to_2d)
+            .collect::<meshmorph::Result<Vec<Mesh2>>>()?;
+        blend_and_write(&run, &base, &shapes, &mut warnings)
     } else {
-        write_outputs::<3>(args, &outputs, &staging, &blended, file, &mut warnings)
+        blend_and_write(&run, &base, &shapes, &mut warnings)
     }?;
+    let Blended {
+        turned_over,
+        files_written,
+        setup_seconds,
+        blend_seconds,
+    } = blended;
     if turned_over > 0 {
         warnings.push(format!(
             "the blend has {turned_over} triangles turned over relative to the base"
@@ -231,8 +230,8 @@ pub fn run(args: &Args) -> Result<()> {
     Report {
         output: args.output.clone(),
         dimension: if planar { 2 } else { 3 },
-        vertices: blend.num_vertices(),
-        triangles: blend.triangles().len(),
+        vertices,
+        triangles,
         shapes: shapes.len(),
         setup_seconds,
         blend_seconds,
@@ -263,49 +262,70 @@ fn is_planar(args: &Args, base: &Mesh3, shapes: &[Mesh3]) -> Result<bool> {
     }
 }
 
-/// A blend computed: the result, and the way from the base to it.
-struct Blended<'a> {
-    blend: &'a Blend3,
-    weights: &'a [f64],
-    result: &'a [[f64; 3]],
-    base: &'a [[f64; 3]],
+/// What writing a blend needs besides its meshes.
+struct BlendRun<'a> {
+    args: &'a Args,
+    outputs: &'a Outputs,
+    staging: &'a Staging,
+    options: &'a InterpolatorOptions,
+    /// The base's file, and the format of the output.
+    file: (&'a MeshFile, Format),
 }
 
-/// The way from the base to the blend in [`STEPS`] frames (weights `s ·
-/// weights` for `s` from 0 to 1), each computed when a picture or the GLB
-/// asks for it.
-impl FrameSource<3> for Blended<'_> {
-    fn num_frames(&self) -> usize {
-        STEPS
-    }
-
-    fn with_frame(&self, k: usize, use_frame: &mut dyn FnMut(&[[f64; 3]])) {
-        let s = k as f64 / (STEPS - 1) as f64;
-        let scaled: Vec<f64> = self.weights.iter().map(|w| s * w).collect();
-        use_frame(&self.blend.at(&scaled))
-    }
+/// What the report says of a blend written.
+struct Blended {
+    turned_over: usize,
+    files_written: Vec<PathBuf>,
+    setup_seconds: f64,
+    blend_seconds: f64,
 }
 
-/// Writes the blend (with `D` coordinates) and the PNG, GIF and GLB asked
-/// for, of the way from the base to it; returns the files written, and adds
-/// to `warnings` what the output format could not hold of the base's file.
-fn write_outputs<const D: usize>(
-    args: &Args,
-    outputs: &Outputs,
-    staging: &Staging,
-    blended: &Blended<'_>,
-    (file, format): (&MeshFile, Format),
+/// Blends `shapes` onto `base` with the weights asked for, and writes the
+/// blend (with `D` coordinates) and the PNG, GIF and GLB asked for, of the
+/// way from the base to it; adds to `warnings` what the output format could
+/// not hold of the base's file.
+fn blend_and_write<const D: usize>(
+    run: &BlendRun<'_>,
+    base: &Mesh<D>,
+    shapes: &[Mesh<D>],
     warnings: &mut Vec<String>,
-) -> Result<Vec<PathBuf>> {
-    let triangles = blended.blend.triangles();
+) -> Result<Blended>
+where
+    Space<D>: Rotations<D> + TriangleMaps<D>,
+{
+    let BlendRun {
+        args,
+        outputs,
+        staging,
+        options,
+        file: (file, format),
+    } = *run;
+    let context = || format!("blending `{}`", args.base.display());
+    let setup = Instant::now();
+    let blend = Blend::new(base, shapes, options)
+        .map_err(|e| name_shape_files(e, &args.base, &args.shapes))
+        .with_context(context)?;
+    let setup_seconds = setup.elapsed().as_secs_f64();
+    let weights: Vec<f64> = args.shapes.iter().map(|(_, w)| *w).collect();
+    let begin = Instant::now();
+    let result = blend.at(&weights);
+    let blend_seconds = begin.elapsed().as_secs_f64();
+    if let Some(v) = result.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
+        bail!("the blend's vertex {v} overflows (its coordinates exceed the range of floating-point numbers): use smaller weights");
+    }
+    let turned_over = blend.count_turned_over(&result);
+    let triangles = blend.triangles();
     // The base's file with the blend's positions (z = 0 in the plane).
     staging.write(outputs.mesh, |path| {
-        let dropped = file.write(path, blended.result, format)?;
+        let dropped = file.write(path, &pictures::in_dim::<D, 3>(&result), format)?;
         warnings.extend(output::dropped_for(&args.output, &dropped));
         Ok(())
     })?;
     let mut written = vec![args.output.clone()];
-    let steps = InDim(blended);
+    let steps = Steps {
+        blend: &blend,
+        weights: &weights,
+    };
     if let (Some(output), Some(path)) = (outputs.png, &args.pictures.png) {
         staging.write(output, |p| {
             pictures::write_png::<D>(p, &steps, triangles, 320)
@@ -327,19 +347,49 @@ fn write_outputs<const D: usize>(
     if let (Some(output), Some(path)) = (outputs.gltf, &args.gltf.gltf) {
         let names: Vec<String> = (0..STEPS).map(|k| format!("blend_{k:02}")).collect();
         let options = GltfOptions::default().with_fps(12.0).with_name("blend");
-        let base: Vec<[f64; D]> = in_dim(blended.base);
         // The base's texture coordinates, when its file has them.
         let corner_uvs = file.triangle_corner_uvs();
-        let mut base = GltfBase::new(&base, triangles);
+        let mut gltf_base = GltfBase::new(base.positions(), triangles);
         if let Some(uvs) = &corner_uvs {
-            base = base.with_corner_uvs(uvs);
+            gltf_base = gltf_base.with_corner_uvs(uvs);
         }
         staging.write(output, |p| {
-            Ok(write_glb_frames(p, &base, &steps, &names, &options)?)
+            Ok(write_glb_frames(p, &gltf_base, &steps, &names, &options)?)
         })?;
         written.push(path.clone());
     }
-    Ok(written)
+    Ok(Blended {
+        turned_over,
+        files_written: written,
+        setup_seconds,
+        blend_seconds,
+    })
+}
+
+/// The way from the base to the blend in [`STEPS`] frames (weights `s ·
+/// weights` for `s` from 0 to 1), each computed when a picture or the GLB
+/// asks for it.
+struct Steps<'a, const D: usize>
+where
+    Space<D>: Rotations<D>,
+{
+    blend: &'a Blend<D>,
+    weights: &'a [f64],
+}
+
+impl<const D: usize> FrameSource<D> for Steps<'_, D>
+where
+    Space<D>: Rotations<D> + TriangleMaps<D>,
+{
+    fn num_frames(&self) -> usize {
+        STEPS
+    }
+
+    fn with_frame(&self, k: usize, use_frame: &mut dyn FnMut(&[[f64; D]])) {
+        let s = k as f64 / (STEPS - 1) as f64;
+        let scaled: Vec<f64> = self.weights.iter().map(|w| s * w).collect();
+        use_frame(&self.blend.at(&scaled))
+    }
 }
 
 /// The library numbers the shapes ("blend shape 1", ...) and calls the

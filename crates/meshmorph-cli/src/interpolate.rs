@@ -4,9 +4,12 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use meshmorph::{Interpolator, InterpolatorOptions, Mesh3, Sequence3, StretchMode};
+use meshmorph::{
+    Interpolator, InterpolatorOptions, Mesh, Mesh2, Mesh3, Rotations, Sequence, Space, StretchMode,
+    TriangleMaps,
+};
 
-use crate::animation::{write_frames, FrameOutputs, Planar, Report, Run, Setup};
+use crate::animation::{write_frames, FrameOutputs, Report, Run, Setup};
 use crate::gltf::GltfArgs;
 use crate::memory;
 use crate::output::{self, positive_number, FormatArg};
@@ -19,7 +22,7 @@ use meshmorph::io::MeshFile;
 /// Writes DIR/frame_0000.obj, frame_0001.obj, ... and prints a report. Key
 /// i is at time t = i; the frames pass through every key in order, with one
 /// factorization for all of them. Planar when every z of every key is 0
-/// (--dim forces it); two planar keys use the planar interpolator.
+/// (--dim forces it): planar keys are interpolated in the plane.
 ///
 /// Inputs are never written: an output that would land on an input is
 /// refused before any work. All or nothing: every file is written under a
@@ -290,9 +293,9 @@ impl<'a> Keys<'a> {
     }
 }
 
-/// Builds the interpolation through `keys` (two planar keys: the planar
-/// interpolator; otherwise a keyframe sequence, written in the plane when
-/// `planar`) and writes its frames through `staging`.
+/// Builds the interpolation through `keys`, in the plane when `planar`
+/// (two keys: an interpolation; more: a keyframe sequence), and writes its
+/// frames through `staging`.
 pub fn animate(
     keys: Keys<'_>,
     planar: bool,
@@ -333,30 +336,44 @@ pub fn animate(
     };
     let begin = Instant::now();
     let unused_vertices = first.num_unused_vertices();
-    if planar && keys.len() == 2 {
-        let source = keys[0].to_2d()?;
-        let target = keys[1].to_2d()?;
-        let morph = Interpolator::new(&source, &target, &args.options())?;
-        let setup = Setup {
-            keys: 2,
-            seconds: begin.elapsed().as_secs_f64(),
-            whole_turns: None,
-            unused_vertices,
-        };
-        return write_frames(&morph, source.positions(), &run, &setup);
+    if planar {
+        let keys = keys
+            .iter()
+            .map(Mesh3::to_2d)
+            .collect::<meshmorph::Result<Vec<Mesh2>>>()?;
+        if keys.len() == 2 {
+            let morph = Interpolator::new(&keys[0], &keys[1], &args.options())?;
+            let setup = Setup {
+                keys: 2,
+                seconds: begin.elapsed().as_secs_f64(),
+                whole_turns: None,
+                unused_vertices,
+            };
+            return write_frames(&morph, keys[0].positions(), &run, &setup);
+        }
+        return animate_sequence(&keys, args, &run, begin, unused_vertices);
     }
-    memory::check_sequence(triangles, keys.len() - 1)?;
-    let morph = Sequence3::new(keys, &args.options())?;
+    animate_sequence(keys, args, &run, begin, unused_vertices)
+}
+
+/// Builds the keyframe sequence through `keys` and writes its frames.
+fn animate_sequence<const D: usize>(
+    keys: &[Mesh<D>],
+    args: &FrameArgs,
+    run: &Run<'_>,
+    begin: Instant,
+    unused_vertices: usize,
+) -> Result<Report>
+where
+    Space<D>: Rotations<D> + TriangleMaps<D>,
+{
+    memory::check_sequence(keys[0].num_triangles(), keys.len() - 1)?;
+    let morph = Sequence::new(keys, &args.options())?;
     let setup = Setup {
         keys: keys.len(),
         seconds: begin.elapsed().as_secs_f64(),
         whole_turns: Some(morph.triangles_with_whole_turns().iter().sum()),
         unused_vertices,
     };
-    if planar {
-        let base: Vec<[f64; 2]> = crate::pictures::in_dim(first.positions());
-        write_frames(&Planar(morph), &base, &run, &setup)
-    } else {
-        write_frames(&morph, first.positions(), &run, &setup)
-    }
+    write_frames(&morph, keys[0].positions(), run, &setup)
 }

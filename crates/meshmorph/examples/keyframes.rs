@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use meshmorph::io::{write_positions, Format};
 use meshmorph::render::{render_grid_3d, write_png, GridOptions, GridRow, Ramp, Style3d};
-use meshmorph::{shapes, Blend3, InterpolatorOptions, PreparedSurface, Sequence3};
+use meshmorph::{shapes, Blend, InterpolatorOptions, RestSystem, Sequence};
 
 fn main() -> Result<(), meshmorph::Error> {
     let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| ".".into()));
@@ -25,9 +25,10 @@ fn main() -> Result<(), meshmorph::Error> {
     ];
 
     // What depends on the first key alone is factored once and shared.
-    let surface = Arc::new(PreparedSurface::new(&keys[0], options.factor)?);
-    let sequence = Sequence3::with_surface(surface.clone(), &keys[1..], &options)?;
-    let blend = Blend3::with_surface(surface, &keys[1..], &options)?;
+    // (The same types serve planar meshes: `Sequence<2>`, `Blend<2>`.)
+    let surface = Arc::new(RestSystem::new(&keys[0], options.factor)?);
+    let sequence = Sequence::with_surface(surface.clone(), &keys[1..], &options)?;
+    let blend = Blend::with_surface(surface, &keys[1..], &options)?;
 
     // The keys (s = 0, 1, 2) and the frames halfway between them.
     let times = [0.0, 0.5, 1.0, 1.5, 2.0];

@@ -2,10 +2,12 @@
 //!
 //! Gradient-domain shape animation on triangle meshes:
 //!
-//! - [`Interpolator`]: as-rigid-as-possible shape interpolation of planar
-//!   meshes (Alexa, Cohen-Or and Levin, SIGGRAPH 2000) with rotation
-//!   consistency and a system factored once (Baxter, Barla and Anjyo,
-//!   NPAR 2008).
+//! - [`Interpolator`], [`Sequence`] and [`Blend`]: as-rigid-as-possible
+//!   shape interpolation of planar meshes and of surfaces in space (Alexa,
+//!   Cohen-Or and Levin, SIGGRAPH 2000), between two keys, through any
+//!   number of keys, and blends of shapes with weights, with rotation
+//!   consistency and a system factored once (Baxter, Barla and Anjyo, NPAR
+//!   2008); one machinery for both dimensions.
 //! - [`correspond()`] and [`Transfer`]: deformation transfer (Sumner and
 //!   Popović, SIGGRAPH 2004): a triangle correspondence from a few marker
 //!   vertex pairs, then any number of source poses carried over to a target.
@@ -32,20 +34,20 @@
 //! weights, the normal matrix factored once with pinned unknowns
 //! eliminated, and the placement of each connected part. What depends on
 //! the rest mesh alone is a value of its own ([`RestSystem`] for
-//! interpolation), shared between targets. The dimension-dependent algebra
-//! of interpolation is behind two traits implemented by [`Space`]:
-//! [`Rotations`] (polar decomposition, rotation logarithm and exponential,
-//! branch choice) and [`TriangleMaps`] (areas, hat-function gradients,
-//! per-triangle maps).
+//! interpolation), shared between targets, sequences and blends. The
+//! dimension-dependent algebra of interpolation is behind two traits
+//! implemented by [`Space`]: [`Rotations`] (polar decomposition, rotation
+//! logarithm and exponential, a rotation's path between two keys, the choice
+//! of rotation branches over the triangle adjacency) and [`TriangleMaps`]
+//! (areas, hat-function gradients, per-triangle maps, turned-over
+//! triangles).
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 // Numeric kernels index small fixed-size arrays by position, as the papers do.
 #![allow(clippy::needless_range_loop)]
 
-mod blend3;
 pub mod carried_parts;
 mod closest;
-mod consistency3;
 mod correspond;
 mod correspondence;
 mod error;
@@ -59,19 +61,16 @@ mod matrix;
 mod mesh;
 mod polar;
 pub mod polar3;
-mod pose3;
 pub mod render;
 mod rotation;
 pub mod rotation3;
 pub mod rotation_field;
-mod sequence3;
 pub mod shapes;
 pub mod similarity;
 mod solve;
 pub mod topology;
 mod transfer;
 
-pub use blend3::Blend3;
 pub use correspond::{
     correspond, correspond_steps, CorrespondOptions, CorrespondResult, MIN_MARKERS,
 };
@@ -80,13 +79,13 @@ pub use error::{Error, Result};
 pub use frame_source::FrameSource;
 pub use gradient::TriangleMaps;
 pub use interpolate::{
-    FrameWorkspace, Interpolator, InterpolatorOptions, PreparedSurface, RestSystem, StretchMode,
+    Blend, Blend3, FrameWorkspace, Interpolator, InterpolatorOptions, PreparedSurface, RestSystem,
+    Sequence, Sequence3, SequenceWorkspace, StretchMode,
 };
 pub use markers::{Markers, Snap, SNAP_LIMIT};
 pub use matrix::Mat;
 pub use mesh::{Mesh, Mesh2, Mesh3};
-pub use rotation::{Rotations, Space};
-pub use sequence3::{Sequence3, SequenceWorkspace};
+pub use rotation::{RotationLog3, Rotations, Space};
 pub use similarity::Similarity;
 pub use solve::FactorKind;
 pub use transfer::{PoseWorkspace, Transfer, TransferOptions};

@@ -23,6 +23,18 @@ pub fn mul<const D: usize>(A: Mat<D>, B: Mat<D>) -> Mat<D> {
     std::array::from_fn(|i| std::array::from_fn(|j| (0..D).map(|k| A[i][k] * B[k][j]).sum()))
 }
 
+/// `Aᵀ B`.
+#[inline]
+pub fn mul_tn<const D: usize>(A: &Mat<D>, B: &Mat<D>) -> Mat<D> {
+    std::array::from_fn(|i| std::array::from_fn(|j| (0..D).map(|k| A[k][i] * B[k][j]).sum()))
+}
+
+/// `A x`.
+#[inline]
+pub fn mul_vec<const D: usize>(A: &Mat<D>, x: [f64; D]) -> [f64; D] {
+    std::array::from_fn(|i| (0..D).map(|k| A[i][k] * x[k]).sum())
+}
+
 /// Determinant of a 2×2 matrix.
 #[inline]
 pub fn det2(A: Mat2) -> f64 {
@@ -63,6 +75,12 @@ pub fn inverse3(m: Mat3) -> Option<Mat3> {
             c(0, 1, 0, 1) * inv,
         ],
     ])
+}
+
+/// `(1 − t) A + t B`.
+#[inline]
+pub fn lerp<const D: usize>(A: &Mat<D>, B: &Mat<D>, t: f64) -> Mat<D> {
+    std::array::from_fn(|i| std::array::from_fn(|j| (1.0 - t) * A[i][j] + t * B[i][j]))
 }
 
 /// `(1 − t) I + t S`.

@@ -202,12 +202,6 @@ impl Mesh3 {
     pub fn check_no_degenerate_triangles(&self, name: &str) -> Result<()> {
         check_areas(&self.triangle_areas(), self.bounding_box_diagonal(), name)
     }
-
-    /// Fails when coordinates are so large that the mesh's extent or a
-    /// triangle's area overflows; `name` says which mesh it is.
-    pub(crate) fn check_no_overflow(&self, name: &str) -> Result<()> {
-        check_overflow(&self.triangle_areas(), self.bounding_box_diagonal(), name)
-    }
 }
 
 /// Fails on triangles whose (absolute) area is at most `1e-14 · diagonal²`

@@ -70,6 +70,15 @@ impl SymmetricEigen2 {
         }
     }
 
+    /// `f(λ₁) u uᵀ + f(λ₂) w wᵀ`.
+    pub fn map_values(&self, f: impl Fn(f64) -> f64) -> Mat2 {
+        let (l1, l2) = (f(self.values[0]), f(self.values[1]));
+        let (s, c) = self.angle.sin_cos();
+        let (cc, ss, cs) = (c * c, s * s, c * s);
+        let off = (l1 - l2) * cs;
+        [[l1 * cc + l2 * ss, off], [off, l1 * ss + l2 * cc]]
+    }
+
     /// `S^t = λ₁ᵗ u uᵀ + λ₂ᵗ w wᵀ`, with eigenvalues below `floor` raised to
     /// it first so that every power is defined and positive definite.
     pub fn power(&self, t: f64, floor: f64) -> Mat2 {

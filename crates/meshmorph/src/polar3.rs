@@ -9,31 +9,11 @@
 //! when `A` is singular or reverses orientation.
 #![allow(non_snake_case)]
 
-use crate::matrix::{det3, Mat3};
+use crate::matrix::{det3, mul_tn, mul_vec, Mat3};
 
 /// The identity matrix.
 const IDENTITY: Mat3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 use crate::geometry::{cross, dot, norm, scale, sub};
-
-/// `Aᵀ`.
-#[inline]
-pub fn transpose3(A: Mat3) -> Mat3 {
-    std::array::from_fn(|i| std::array::from_fn(|j| A[j][i]))
-}
-
-/// `A x`.
-#[inline]
-pub fn mul3_vec(A: &Mat3, x: [f64; 3]) -> [f64; 3] {
-    std::array::from_fn(|i| A[i][0] * x[0] + A[i][1] * x[1] + A[i][2] * x[2])
-}
-
-/// `Aᵀ B`.
-#[inline]
-fn mul3_tn(A: &Mat3, B: &Mat3) -> Mat3 {
-    std::array::from_fn(|i| {
-        std::array::from_fn(|j| A[0][i] * B[0][j] + A[1][i] * B[1][j] + A[2][i] * B[2][j])
-    })
-}
 
 /// Eigen decomposition of a symmetric 3×3 matrix,
 /// `S = Σ_k λ_k v_k v_kᵀ`, eigenvalues in decreasing order.
@@ -154,9 +134,9 @@ pub struct Polar3 {
 /// eigenvalue. Rank 0 and rank 1 get any rotation that satisfies `A = R S`
 /// with `S` symmetric (the identity for `A = 0`).
 pub fn polar_decomposition3(A: Mat3) -> Polar3 {
-    let eig = SymmetricEigen3::new(mul3_tn(&A, &A));
+    let eig = SymmetricEigen3::new(mul_tn(&A, &A));
     let (v1, v2) = (eig.vector(0), eig.vector(1));
-    let a1 = mul3_vec(&A, v1);
+    let a1 = mul_vec(&A, v1);
     let n1 = norm(a1);
     let scale_a = A.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
     let tiny = 1e-300f64.max(scale_a * 1e-15);
@@ -167,7 +147,7 @@ pub fn polar_decomposition3(A: Mat3) -> Polar3 {
         };
     }
     let u1 = scale(a1, 1.0 / n1);
-    let a2 = mul3_vec(&A, v2);
+    let a2 = mul_vec(&A, v2);
     let mut w2 = sub(a2, scale(u1, dot(u1, a2)));
     if norm(w2) <= tiny {
         // Rank 1: any unit vector orthogonal to u₁.
@@ -185,7 +165,7 @@ pub fn polar_decomposition3(A: Mat3) -> Polar3 {
     let R: Mat3 = std::array::from_fn(|i| {
         std::array::from_fn(|j| u1[i] * v1[j] + u2[i] * v2[j] + u3[i] * v3[j])
     });
-    let mut S = mul3_tn(&R, &A);
+    let mut S = mul_tn(&R, &A);
     for i in 0..3 {
         for j in i + 1..3 {
             let m = 0.5 * (S[i][j] + S[j][i]);
@@ -222,7 +202,7 @@ pub(crate) mod tests {
     }
 
     fn assert_rotation(R: Mat3) {
-        assert!(max_diff(mul3_tn(&R, &R), IDENTITY) < 1e-13, "{R:?}");
+        assert!(max_diff(mul_tn(&R, &R), IDENTITY) < 1e-13, "{R:?}");
         assert!((det3(R) - 1.0).abs() < 1e-13);
     }
 
@@ -231,11 +211,11 @@ pub(crate) mod tests {
         let mut r = rng(3);
         for _ in 0..1000 {
             let B: Mat3 = std::array::from_fn(|_| std::array::from_fn(|_| r()));
-            let S = mul3_tn(&B, &B);
+            let S = mul_tn(&B, &B);
             let e = SymmetricEigen3::new(S);
             assert!(e.values[0] >= e.values[1] && e.values[1] >= e.values[2]);
             assert!(max_diff(e.map_values(|l| l), S) < 1e-13);
-            assert!(max_diff(mul3_tn(&e.vectors, &e.vectors), IDENTITY) < 1e-13);
+            assert!(max_diff(mul_tn(&e.vectors, &e.vectors), IDENTITY) < 1e-13);
             assert!((det3(e.vectors) - 1.0).abs() < 1e-13);
             assert!(max_diff(e.power(1.0, 0.0), S) < 1e-12);
             assert!(max_diff(e.power(0.0, 0.0), IDENTITY) < 1e-12);

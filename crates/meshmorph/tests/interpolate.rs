@@ -438,3 +438,47 @@ fn parts_joined_at_a_single_vertex_are_each_made_consistent() {
     let m = Interpolator::new(&source, &target, &InterpolatorOptions::default()).unwrap();
     assert_eq!(max_flipped(&m, 101), 0);
 }
+
+/// A planar keyframe sequence and a planar blend give what the same keys
+/// give embedded in space with z = 0 (one machinery for both dimensions),
+/// and two planar keys as a sequence give the interpolation exactly.
+#[test]
+fn planar_sequences_and_blends_agree_with_the_same_keys_in_space() {
+    use meshmorph::{Blend, Sequence};
+    let lift = |m: &Mesh2| m.to_3d();
+    let flat = |p: &[[f64; 3]]| -> Vec<[f64; 2]> { p.iter().map(|q| [q[0], q[1]]).collect() };
+    for (name, source, target) in family() {
+        let third = rigid_motion(&curl(&source, 1.2), 2.5, [1.0, 0.0], [0.5, 2.0]);
+        let keys = [source.clone(), target.clone(), third.clone()];
+        let keys3: Vec<_> = keys.iter().map(lift).collect();
+        let tol = 1e-9 * source.bounding_box_diagonal();
+        for stretch in [StretchMode::Linear, StretchMode::Log] {
+            for consistency in [true, false] {
+                let o = InterpolatorOptions::default()
+                    .with_stretch(stretch)
+                    .with_consistency(consistency)
+                    .with_allow_flips(true);
+                let plane = Sequence::new(&keys, &o).unwrap();
+                let space = Sequence::new(&keys3, &o).unwrap();
+                for s in [-0.3, 0.0, 0.25, 0.5, 1.0, 1.4, 2.0, 2.5] {
+                    let d = max_distance(&plane.at(s), &flat(&space.at(s)));
+                    assert!(d < tol, "{name} {stretch:?} {consistency} s = {s}: {d}");
+                }
+                let two = Interpolator::new(&source, &target, &o).unwrap();
+                let pair = Sequence::new(&keys[..2], &o).unwrap();
+                for t in [0.0, 0.3, 0.5, 1.0, 1.7] {
+                    assert_eq!(two.at(t), pair.at(t), "{name} {stretch:?} t = {t}");
+                }
+            }
+        }
+        let o = InterpolatorOptions::default().with_allow_flips(true);
+        let plane = Blend::new(&source, &keys[1..], &o).unwrap();
+        let space = Blend::new(&keys3[0], &keys3[1..], &o).unwrap();
+        for w in [[0.5, 0.0], [1.0, 0.0], [0.3, 0.6], [-0.4, 1.3]] {
+            let d = max_distance(&plane.at(&w), &flat(&space.at(&w)));
+            assert!(d < tol, "{name} blend {w:?}: {d}");
+        }
+        let d = max_distance(&plane.at(&[0.0, 1.0]), third.positions());
+        assert!(d < tol, "{name} blend reproduces a shape: {d}");
+    }
+}

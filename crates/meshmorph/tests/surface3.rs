@@ -460,3 +460,22 @@ fn horse_poses_interpolate_without_inversions() {
         }
     }
 }
+
+/// Two keys in space through `Interpolator<3>` are the two-key sequence.
+#[test]
+fn the_interpolator_in_space_is_the_two_key_sequence() {
+    use meshmorph::Interpolator;
+    let t = tube(4.0, 0.3, 21, 10);
+    let b = bend(&t, 4.0, 3.0 * PI);
+    let two = Interpolator::<3>::new(&t, &b, &opts()).unwrap();
+    let seq = Sequence3::new(&[t.clone(), b.clone()], &opts()).unwrap();
+    for s in [0.0, 0.3, 0.5, 1.0, 1.2] {
+        assert_eq!(two.at(s), seq.at(s), "s = {s}");
+    }
+    assert_eq!(two.count_flipped(&two.at(0.5)), 0);
+    // Whole turns where the tube bends beyond half a turn.
+    assert!(two
+        .rotations()
+        .iter()
+        .any(|r| r.turns.iter().any(|&c| c != 0.0)));
+}

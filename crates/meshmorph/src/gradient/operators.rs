@@ -57,12 +57,6 @@ impl<const D: usize, const K: usize> GradientOperators<D, K> {
         &self.triangles
     }
 
-    /// The operator `G` (`K × D`) of triangle `t`.
-    #[inline]
-    pub(crate) fn operator(&self, t: usize) -> &[[f64; D]; K] {
-        &self.operators[t]
-    }
-
     /// The unknowns of triangle `t`: its corners, then its fourth vertex.
     #[inline]
     pub(crate) fn unknowns(&self, t: usize) -> [usize; K] {

@@ -4,6 +4,8 @@
 use super::TriangleMaps;
 use crate::geometry::signed_area2;
 use crate::matrix::Mat2;
+use crate::mesh::Mesh2;
+use crate::topology::TriangleAdjacency;
 use crate::Space;
 
 impl TriangleMaps<2> for Space<2> {
@@ -39,5 +41,14 @@ impl TriangleMaps<2> for Space<2> {
     #[inline]
     fn reversed(rest: &[[f64; 2]; 3], corners: &[[f64; 2]; 3]) -> bool {
         Self::area(rest) * Self::area(corners) <= 0.0
+    }
+
+    fn turned_over(rest: &Mesh2, _: &TriangleAdjacency, positions: &[[f64; 2]]) -> Vec<usize> {
+        (0..rest.num_triangles())
+            .filter(|&t| {
+                let corners = rest.triangles()[t].map(|v| positions[v as usize]);
+                Self::reversed(&rest.corners(t), &corners)
+            })
+            .collect()
     }
 }

@@ -13,6 +13,8 @@ use super::spatial::{deformation_gradient, frame};
 use super::TriangleMaps;
 use crate::geometry::{cross, norm, scale, sub};
 use crate::matrix::{identity, inverse3, Mat3};
+use crate::mesh::Mesh3;
+use crate::topology::TriangleAdjacency;
 use crate::Space;
 
 impl TriangleMaps<3> for Space<3> {
@@ -39,9 +41,19 @@ impl TriangleMaps<3> for Space<3> {
 
     /// A triangle in space has no inside to turn: only a collapse (zero
     /// area) counts. Turning over relative to the neighbours is checked
-    /// over the adjacency (`pose3`).
+    /// over the adjacency ([`TriangleMaps::turned_over`]).
     #[inline]
     fn reversed(_: &[[f64; 3]; 3], corners: &[[f64; 3]; 3]) -> bool {
         Self::area(corners) <= 0.0
+    }
+
+    /// Collapsed, or folded back through their neighbours (the signed
+    /// dihedral angles of their shared edges).
+    fn turned_over(
+        rest: &Mesh3,
+        adjacency: &TriangleAdjacency,
+        positions: &[[f64; 3]],
+    ) -> Vec<usize> {
+        crate::interpolate::turned_over_in_space(rest, adjacency, positions)
     }
 }

@@ -2,6 +2,8 @@
 //! form that does not depend on the dimension.
 
 use crate::matrix::Mat;
+use crate::mesh::Mesh;
+use crate::topology::TriangleAdjacency;
 
 /// The per-triangle geometry of `D`-dimensional meshes that interpolation
 /// needs (implemented by [`Space<2>`](crate::Space) and [`Space<3>`](crate::Space)).
@@ -21,4 +23,13 @@ pub trait TriangleMaps<const D: usize> {
     ) -> Mat<D>;
     /// Whether `corners` is reversed (or collapsed) relative to `rest`.
     fn reversed(rest: &[[f64; D]; 3], corners: &[[f64; D]; 3]) -> bool;
+    /// The triangles of `positions` (a pose of `rest`) turned over relative
+    /// to `rest`: in the plane those reversed or collapsed; in space those
+    /// collapsed or folded back through their neighbours (`adjacency`, the
+    /// rest's triangle adjacency).
+    fn turned_over(
+        rest: &Mesh<D>,
+        adjacency: &TriangleAdjacency,
+        positions: &[[f64; D]],
+    ) -> Vec<usize>;
 }

@@ -25,9 +25,10 @@ use crate::Space;
 /// matrix (the cotangent Laplacian) factored once, and the placement of its
 /// connected parts: everything an interpolation from it needs whatever the
 /// target. Build it once and share it behind an [`Arc`](std::sync::Arc)
-/// between any number of interpolations from the same source
-/// ([`Interpolator::with_rest`](crate::Interpolator::with_rest)), and in
-/// space between sequences and blends ([`PreparedSurface`]).
+/// between any number of interpolations, sequences and blends from the same
+/// source ([`Interpolator::with_rest`](crate::Interpolator::with_rest),
+/// [`Sequence::with_surface`](crate::Sequence::with_surface),
+/// [`Blend::with_surface`](crate::Blend::with_surface)).
 #[derive(Debug)]
 pub struct RestSystem<const D: usize = 2> {
     pub(super) source: Mesh<D>,
@@ -68,10 +69,7 @@ where
     /// As [`RestSystem::new`].
     pub fn named(source: &Mesh<D>, name: &str, factor: FactorKind) -> Result<Self> {
         let (n, tris) = (source.num_vertices(), source.triangles());
-        let areas: Vec<f64> = (0..tris.len())
-            .map(|t| Space::<D>::area(&source.corners(t)))
-            .collect();
-        check_areas(&areas, source.bounding_box_diagonal(), name)?;
+        let areas = Self::check_rest(source, name)?;
         let operators = GradientOperators::from_parts(
             n,
             tris.to_vec(),
@@ -101,6 +99,20 @@ where
             placement,
             loose,
         })
+    }
+
+    /// The (signed, in the plane) area of each triangle of `source`, after
+    /// checking that none is degenerate.
+    ///
+    /// # Errors
+    /// [`Error::DegenerateTriangles`](crate::Error::DegenerateTriangles)
+    /// naming zero-area triangles of `source` (called `name`).
+    pub(crate) fn check_rest(source: &Mesh<D>, name: &str) -> Result<Vec<f64>> {
+        let areas: Vec<f64> = (0..source.num_triangles())
+            .map(|t| Space::<D>::area(&source.corners(t)))
+            .collect();
+        check_areas(&areas, source.bounding_box_diagonal(), name)?;
+        Ok(areas)
     }
 
     /// Number of stored values of the Cholesky factor (for measuring a
@@ -133,6 +145,11 @@ where
     /// Vertices no triangle uses: frames place them themselves.
     pub fn loose_vertices(&self) -> &[u32] {
         &self.loose
+    }
+
+    /// The positions in `positions` of the vertices no triangle uses.
+    pub(crate) fn loose_positions(&self, positions: &[[f64; D]]) -> Vec<[f64; D]> {
+        self.loose.iter().map(|&v| positions[v as usize]).collect()
     }
 
     /// The area-weighted centroid of each connected part of `positions`
@@ -209,17 +226,7 @@ where
             }
         }
     }
-
-    /// The linear map of triangle `t` from the source to `corners`.
-    pub(super) fn linear_map(&self, t: usize, corners: &[[f64; D]; 3]) -> crate::matrix::Mat<D> {
-        Space::<D>::linear_map(&self.source.corners(t), self.operators.operator(t), corners)
-    }
 }
 
-/// The rest system of a surface in space: what sequences ([`Sequence3`])
-/// and blends ([`Blend3`]) of poses of one rest mesh share, built once
-/// (for example behind an [`Arc`](std::sync::Arc)).
-///
-/// [`Sequence3`]: crate::Sequence3
-/// [`Blend3`]: crate::Blend3
+/// The rest system of a surface in space.
 pub type PreparedSurface = RestSystem<3>;

@@ -1,57 +1,114 @@
 //! Rotations as the interpolation needs them, for any dimension through the
 //! [`Rotations`] trait: the polar decomposition of a triangle's map, the
 //! rotation's logarithm (with its branch: whole turns count) and
-//! exponential, and the consistency walk that chooses every triangle's
-//! branch from its neighbours' (Baxter, Barla and Anjyo, NPAR 2008).
+//! exponential, a triangle's rotation along a segment between two keys, and
+//! the choice of every triangle's branch from its neighbours' (Baxter, Barla
+//! and Anjyo, NPAR 2008), in the plane by a walk over the adjacency
+//! ([`planar`]), in space by whole turns of the patches between jumps
+//! ([`patches`]), both behind one entry point ([`consistent_rotations`]).
 
 mod consistency;
+mod patches;
 mod planar;
+mod spatial;
 
 use std::fmt::Debug;
 
 use crate::matrix::Mat;
+use crate::topology::TriangleAdjacency;
 
+pub(crate) use consistency::consistent_rotations;
 pub use consistency::make_consistent;
+pub use spatial::RotationLog3;
 
 /// `D`-dimensional space, the type that carries the dimension-dependent
 /// algebra ([`Rotations`], [`TriangleMaps`](crate::TriangleMaps)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Space<const D: usize>;
 
-/// The rotations of `D`-dimensional space.
+/// The rotations of `D`-dimensional space, as interpolation, keyframe
+/// sequences and blends use them.
 ///
-/// A rotation is held through its logarithm with its branch chosen: in the
-/// plane an angle in radians, counter-clockwise, where `θ` and `θ + 2π` are
-/// the same rotation but interpolate differently; in space it would be an
-/// axis-angle vector whose angle may exceed `π` (whole turns about its own
-/// axis).
+/// A triangle's rotation comes from the polar decomposition of its map as a
+/// *principal* rotation (in the plane an angle in (−π, π], in space a unit
+/// quaternion with scalar part ≥ 0), and is interpolated through its
+/// *logarithm with a branch*: in the plane an angle in radians,
+/// counter-clockwise, where `θ` and `θ + 2π` are the same rotation but
+/// interpolate differently; in space a whole-turn vector and a principal
+/// rotation vector ([`RotationLog3`]). Which branch each triangle takes is
+/// chosen over the triangle adjacency by [`Rotations::choose_branches`].
 pub trait Rotations<const D: usize> {
-    /// A rotation's logarithm with its branch.
-    type Log: Copy + Debug + PartialEq + Send + Sync + 'static;
+    /// A principal rotation, as the polar decomposition gives it.
+    type Principal: Copy + Debug + Send + Sync + 'static;
+    /// A rotation's logarithm with its branch; the default value is the
+    /// identity.
+    type Log: Copy + Debug + Default + PartialEq + Send + Sync + 'static;
+    /// One triangle's rotation along a segment from one key to the next,
+    /// prepared for [`Rotations::segment_at`].
+    type Segment: Copy + Debug + Send + Sync + 'static;
     /// A symmetric positive definite stretch prepared for real powers.
     type StretchPowers: Copy + Debug + Send + Sync + 'static;
 
-    /// Polar decomposition `A = R S` of `map`: the principal logarithm of
-    /// `R`, the rotation closest to `A` in the Frobenius norm, and `S = Rᵀ A`
-    /// (symmetric, and positive definite when `det A > 0`).
-    fn polar(map: &Mat<D>) -> (Self::Log, Mat<D>);
-    /// `exp(t · log)`: the rotation by the fraction `t` of `log`, as a matrix.
-    fn exp(log: &Self::Log, t: f64) -> Mat<D>;
-    /// The principal logarithm of the rotation matrix `rotation`.
-    fn log(rotation: &Mat<D>) -> Self::Log;
-    /// The principal logarithm of the rotation from `from` to `to`:
-    /// `log(exp(from)⁻¹ exp(to))`.
-    fn relative(from: &Self::Log, to: &Self::Log) -> Self::Log;
-    /// The logarithm of the same rotation as `log`, whole turns added, nearest
-    /// to `reference`: the branch choice of the consistency walk.
-    fn nearest_branch(log: &Self::Log, reference: &Self::Log) -> Self::Log;
-    /// `log` with `turns` whole turns added (counter-clockwise in the plane).
+    /// The identity rotation.
+    const IDENTITY: Self::Principal;
+
+    /// Polar decomposition `A = R S` of `map`: the principal rotation `R`
+    /// (the proper rotation closest to `A` that makes `S` symmetric), and
+    /// `S = Rᵀ A` (positive definite when `det A > 0`).
+    fn polar(map: &Mat<D>) -> (Self::Principal, Mat<D>);
+    /// The angle of a principal rotation, radians, in `[0, π]` (not a number
+    /// when the rotation is not).
+    fn angle(rotation: &Self::Principal) -> f64;
+    /// Settles rotations whose principal form is ambiguous (exactly half a
+    /// turn) by their neighbours, before branches are chosen. Nothing to
+    /// settle by default.
+    fn settle_half_turns(_rotations: &mut [Self::Principal], _adjacency: &TriangleAdjacency) {}
+    /// The principal logarithm: no whole turns.
+    fn principal_log(rotation: &Self::Principal) -> Self::Log;
+    /// The logarithms of `rotations` (one per triangle) with branches that
+    /// make them consistent over `adjacency`, each seed's part taking the
+    /// principal branch at the seed, or, given `previous` (the logarithms of
+    /// the previous key of a sequence and the triangles' areas), the branch
+    /// nearest to it. `edge_weight(i, j)` weighs the edge between
+    /// neighbours `i` and `j` (its length). The interpolation calls it
+    /// through one entry point that chooses the seeds (the triangle of each
+    /// part that turns least) the same way in every dimension.
+    fn choose_branches(
+        rotations: &[Self::Principal],
+        adjacency: &TriangleAdjacency,
+        edge_weight: &dyn Fn(usize, usize) -> f64,
+        seeds: &[usize],
+        previous: Option<(&[Self::Log], &[f64])>,
+    ) -> Vec<Self::Log>;
+    /// `log` with `turns` whole turns added (counter-clockwise in the
+    /// plane; in space about the rotation's own axis, the x axis for the
+    /// identity).
     fn add_turns(log: &Self::Log, turns: i32) -> Self::Log;
-    /// The rotation angle of `log`, radians, at least 0.
-    fn angle(log: &Self::Log) -> f64;
+    /// The rotation of one triangle from key `j` (`from`: its principal
+    /// rotation and logarithm) to key `j + 1` (`to`). With `whole_turns` it
+    /// takes the whole turns by which the branches of the two logarithms
+    /// differ; without, it goes the shortest way.
+    fn segment(
+        from: (&Self::Principal, &Self::Log),
+        to: (&Self::Principal, &Self::Log),
+        whole_turns: bool,
+    ) -> Self::Segment;
+    /// The rotation matrix a fraction `u` along `segment`; `first` when the
+    /// segment starts from key 0 (the identity).
+    fn segment_at(segment: &Self::Segment, u: f64, first: bool) -> Mat<D>;
+    /// Whether `segment` takes whole turns beyond the shortest way.
+    fn has_whole_turns(segment: &Self::Segment) -> bool;
+    /// `sum + w · log`, for blends (Baxter et al. 2008, section 5).
+    fn add_scaled(sum: &mut Self::Log, w: f64, log: &Self::Log);
+    /// The rotation matrix `exp(log)`.
+    fn exp(log: &Self::Log) -> Mat<D>;
     /// Prepares the symmetric stretch `S` for [`Rotations::stretch_power`].
     fn stretch_powers(stretch: &Mat<D>) -> Self::StretchPowers;
     /// `Sᵗ`, with eigenvalues below `floor` raised to it first so that every
     /// power is defined and positive definite.
     fn stretch_power(stretch: &Self::StretchPowers, t: f64, floor: f64) -> Mat<D>;
+    /// `log S` of a symmetric `S`, eigenvalues below `floor` raised to it.
+    fn stretch_log(stretch: &Mat<D>, floor: f64) -> Mat<D>;
+    /// `exp L` of a symmetric `L`.
+    fn stretch_exp(log: &Mat<D>) -> Mat<D>;
 }

@@ -1,11 +1,16 @@
 //! Rotations of the plane: angles.
+//!
+//! A triangle's rotation along the segment from key `j` to `j + 1` is the
+//! rotation by `θ_j + u (θ_{j+1} − θ_j)`, the angles with their branches;
+//! from key 0 (`θ_0 = 0`) this is `R(u θ)`, as in Alexa et al. 2000.
 #![allow(non_snake_case)]
 
 use std::f64::consts::TAU;
 
-use super::{Rotations, Space};
+use super::{make_consistent, Rotations, Space};
 use crate::matrix::Mat2;
 use crate::polar::{polar_decomposition, rotation, SymmetricEigen2};
+use crate::topology::TriangleAdjacency;
 
 /// `angle + 2πk` for the integer `k` that brings it nearest to `reference`.
 #[inline]
@@ -13,39 +18,97 @@ pub(crate) fn nearest_branch(angle: f64, reference: f64) -> f64 {
     angle + TAU * ((reference - angle) / TAU).round()
 }
 
+/// One triangle's rotation along one segment: the angle at its start and
+/// the angle it turns through.
+#[derive(Clone, Copy, Debug)]
+pub struct AngleSegment {
+    start: f64,
+    turn: f64,
+}
+
 impl Rotations<2> for Space<2> {
+    /// Radians, counter-clockwise, in (−π, π].
+    type Principal = f64;
     /// Radians, counter-clockwise.
     type Log = f64;
+    type Segment = AngleSegment;
     type StretchPowers = SymmetricEigen2;
+
+    const IDENTITY: f64 = 0.0;
 
     fn polar(A: &Mat2) -> (f64, Mat2) {
         let p = polar_decomposition(*A);
         (p.angle, p.stretch)
     }
 
-    #[inline]
-    fn exp(angle: &f64, t: f64) -> Mat2 {
-        rotation(t * angle)
+    fn angle(angle: &f64) -> f64 {
+        angle.abs()
     }
 
-    fn log(R: &Mat2) -> f64 {
-        R[1][0].atan2(R[0][0])
+    fn principal_log(angle: &f64) -> f64 {
+        *angle
     }
 
-    fn relative(from: &f64, to: &f64) -> f64 {
-        nearest_branch(to - from, 0.0)
-    }
-
-    fn nearest_branch(angle: &f64, reference: &f64) -> f64 {
-        nearest_branch(*angle, *reference)
+    /// The walk over the adjacency (Baxter et al. 2008): each triangle
+    /// takes the branch nearest to the one of the triangle it is reached
+    /// from; each seed keeps its principal angle, or takes the branch
+    /// nearest to its previous angle.
+    fn choose_branches(
+        angles: &[f64],
+        adjacency: &TriangleAdjacency,
+        _edge_weight: &dyn Fn(usize, usize) -> f64,
+        seeds: &[usize],
+        previous: Option<(&[f64], &[f64])>,
+    ) -> Vec<f64> {
+        let mut logs = angles.to_vec();
+        if let Some((previous, _)) = previous {
+            for &s in seeds {
+                logs[s] = nearest_branch(logs[s], previous[s]);
+            }
+        }
+        make_consistent(&mut logs, adjacency, seeds, |&a, &r| nearest_branch(a, r));
+        logs
     }
 
     fn add_turns(angle: &f64, turns: i32) -> f64 {
         angle + TAU * turns as f64
     }
 
-    fn angle(angle: &f64) -> f64 {
-        angle.abs()
+    /// With `whole_turns`, from one angle to the other; without, the
+    /// shortest way.
+    fn segment(
+        (_, &from): (&f64, &f64),
+        (_, &to): (&f64, &f64),
+        whole_turns: bool,
+    ) -> AngleSegment {
+        let turn = to - from;
+        AngleSegment {
+            start: from,
+            turn: if whole_turns {
+                turn
+            } else {
+                nearest_branch(turn, 0.0)
+            },
+        }
+    }
+
+    #[inline]
+    fn segment_at(segment: &AngleSegment, u: f64, _first: bool) -> Mat2 {
+        rotation(segment.start + u * segment.turn)
+    }
+
+    fn has_whole_turns(segment: &AngleSegment) -> bool {
+        nearest_branch(segment.turn, 0.0) != segment.turn
+    }
+
+    #[inline]
+    fn add_scaled(sum: &mut f64, w: f64, angle: &f64) {
+        *sum += w * angle;
+    }
+
+    #[inline]
+    fn exp(angle: &f64) -> Mat2 {
+        rotation(*angle)
     }
 
     fn stretch_powers(S: &Mat2) -> SymmetricEigen2 {
@@ -55,6 +118,15 @@ impl Rotations<2> for Space<2> {
     #[inline]
     fn stretch_power(S: &SymmetricEigen2, t: f64, floor: f64) -> Mat2 {
         S.power(t, floor)
+    }
+
+    fn stretch_log(S: &Mat2, floor: f64) -> Mat2 {
+        SymmetricEigen2::new(*S).map_values(|l| l.max(floor).ln())
+    }
+
+    #[inline]
+    fn stretch_exp(L: &Mat2) -> Mat2 {
+        SymmetricEigen2::new(*L).map_values(f64::exp)
     }
 }
 
@@ -71,11 +143,17 @@ mod tests {
     }
 
     #[test]
-    fn log_exp_and_relative() {
+    fn segments_exp_and_turns() {
         type P = Space<2>;
         for a in [-3.0, -0.5, 0.0, 1.0, 3.1] {
-            assert!((P::log(&P::exp(&a, 1.0)) - a).abs() < 1e-14);
-            assert!((P::relative(&a, &(a + 0.3 + 2.0 * TAU)) - 0.3).abs() < 1e-12);
+            let (angle, _) = P::polar(&P::exp(&a));
+            assert!((angle - a).abs() < 1e-14);
+            // From the identity, bit for bit R(u θ).
+            let s = P::segment((&0.0, &0.0), (&a, &(a + TAU)), true);
+            assert_eq!(P::segment_at(&s, 0.3, true), rotation(0.3 * (a + TAU)));
+            assert!(P::has_whole_turns(&s));
+            let short = P::segment((&0.0, &2.0), (&a, &(a + TAU)), false);
+            assert!(!P::has_whole_turns(&short));
         }
         assert_eq!(P::add_turns(&0.25, -1), 0.25 - TAU);
         assert_eq!(P::angle(&-0.25), 0.25);

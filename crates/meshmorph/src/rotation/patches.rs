@@ -1,5 +1,8 @@
-//! Rotation consistency in space: which whole turns each triangle's rotation
+//! The branch choice in space ([`Rotations::choose_branches`] of
+//! [`Space<3>`](crate::Space)): which whole turns each triangle's rotation
 //! takes, so that parts turning by more than half a turn do not tear.
+//!
+//! [`Rotations::choose_branches`]: super::Rotations::choose_branches
 //!
 //! Every triangle's rotation `R_i` has a principal rotation vector `e_i`
 //! (angle in `[0, π]`). Interpolating `exp(t e_i)` is right as long as the
@@ -11,7 +14,7 @@
 //! shortest path is `−q_j`, whose scalar part is negative, i.e. whose angle is
 //! beyond π. For planar rotations this is the familiar `|θ_i − θ_j| > π`.
 //!
-//! The method (one choice for 2D and 3D):
+//! The method:
 //!
 //! 1. Mark the edges across which the principal rotation jumps. Triangles
 //!    connected without crossing such an edge form a *patch*; within a patch
@@ -45,7 +48,9 @@
 //! where the principal rotation actually jumps, one decision for each
 //! connected region between jumps, from all its boundary at once. A mesh
 //! whose neighbouring rotations never straddle a half turn has one patch per
-//! part and is interpolated exactly as without consistency.
+//! part and is interpolated exactly as without consistency. (In the plane
+//! all axes are one and a turn's neighbours agree on it, so the walk of
+//! [`super::make_consistent`] is the plane's choice.)
 //!
 //! And why a whole-turn vector of the patch rather than whole turns along
 //! each triangle's own axis: where a part has turned by about a full turn
@@ -68,24 +73,16 @@ use crate::topology::TriangleAdjacency;
 /// neighbours `i` and `j` (their shared edge's length); `seeds` holds one
 /// triangle per part connected across edges. Triangles no seed reaches keep
 /// a zero vector.
-pub fn whole_turns(
-    rotations: &[Quat],
-    adjacency: &TriangleAdjacency,
-    edge_weight: impl Fn(usize, usize) -> f64,
-    seeds: &[usize],
-) -> Vec<[f64; 3]> {
-    whole_turns_after(rotations, adjacency, edge_weight, seeds, None)
-}
-
-/// [`whole_turns`] for a later key of a sequence, continuing the previous
+///
+/// For a later key of a sequence, `previous` continues the previous
 /// key: each seed's patch takes, instead of no turns, the whole turns
 /// nearest to the previous key's lifted rotation vectors over the patch
 /// (`previous.0[i]`, whole-turn vector plus principal vector), weighted by
 /// `previous.1` (the triangles' areas); the other patches follow from it as
-/// in [`whole_turns`]. A part that keeps turning from key to key keeps
+/// above. A part that keeps turning from key to key keeps
 /// turning the same way, as long as the seeds' patches turn by less than
 /// half a turn between two keys.
-pub fn whole_turns_after(
+pub fn whole_turns(
     rotations: &[Quat],
     adjacency: &TriangleAdjacency,
     edge_weight: impl Fn(usize, usize) -> f64,
@@ -312,7 +309,7 @@ mod tests {
         let axis = [0.0, 0.6, 0.8];
         let truth: Vec<f64> = (0..n).map(|i| 0.1 * PI * i as f64).collect();
         let q: Vec<Quat> = truth.iter().map(|&a| principal(scale(axis, a))).collect();
-        let c = whole_turns(&q, &chain(n as u32), |_, _| 1.0, &[0]);
+        let c = whole_turns(&q, &chain(n as u32), |_, _| 1.0, &[0], None);
         for i in 0..n {
             let l = lifted(q[i], c[i]);
             let want = scale(axis, truth[i]);
@@ -335,7 +332,7 @@ mod tests {
                 principal(scale(w, 0.45 * PI / 3f64.sqrt()))
             })
             .collect();
-        let c = whole_turns(&q, &chain(n as u32), |_, _| 1.0, &[0]);
+        let c = whole_turns(&q, &chain(n as u32), |_, _| 1.0, &[0], None);
         assert!(c.iter().all(|&v| v == [0.0; 3]));
     }
 
@@ -357,7 +354,7 @@ mod tests {
                 principal(quat_log(quat_mul(quat_exp(scale(x, a)), quat_exp(shear))))
             })
             .collect();
-        let c = whole_turns(&q, &chain(n as u32), |_, _| 1.0, &[0]);
+        let c = whole_turns(&q, &chain(n as u32), |_, _| 1.0, &[0], None);
         for i in 0..n {
             let turns = norm(c[i]) / TAU;
             let want = ((expected[i] - PI) / TAU).ceil().max(0.0);

@@ -1,0 +1,250 @@
+//! Blends of poses of a mesh, in the plane and in space: a base mesh and any
+//! number of shapes (the same triangles), combined with real weights
+//! (Baxter, Barla and Anjyo, "Rigid shape interpolation using normal
+//! equations", NPAR 2008, section 5).
+//!
+//! Per triangle, the map from the base to shape `k` is split as
+//! `A_k = R_k S_k`; with weights `w_k` the blended map is
+//! `exp(Σ w_k log R_k) · exp(Σ w_k log S_k)`, the rotations' logarithms with
+//! their branches chosen by rotation consistency as for a two-key
+//! interpolation ([`Rotations::choose_branches`](crate::Rotations::choose_branches));
+//! in space `exp(Σ w_k c_k) exp(Σ w_k e_k)` with `e_k` the principal
+//! rotation vectors and `c_k` their whole turns. Stretches combine by their
+//! logarithms (the `Sᵗ` rule of [`StretchMode::Log`](crate::StretchMode::Log)),
+//! so any weights, negative or above 1, give positive definite stretches:
+//! nothing collapses. One weight 1 and the others 0 gives that shape's maps
+//! exactly; a single shape with weight `t` is the interpolation to it with
+//! `Sᵗ`. Each connected part's centroid is the base's plus the weighted sum
+//! of the shapes' displacements of it; the system is factored once for
+//! every weight vector.
+#![allow(non_snake_case)]
+
+use std::sync::Arc;
+
+use super::poses::{check_poses, decompose};
+use super::sequence::{Log, LOG_FLOOR};
+use super::{FrameWorkspace, InterpolatorOptions, RestSystem};
+use crate::error::{Error, Result};
+use crate::gradient::TriangleMaps;
+use crate::matrix::{mul, Mat};
+use crate::mesh::Mesh;
+use crate::rotation::{consistent_rotations, Rotations};
+use crate::topology::TriangleAdjacency;
+use crate::Space;
+
+#[derive(Debug)]
+struct BlendShape<const D: usize>
+where
+    Space<D>: Rotations<D>,
+{
+    /// The rotation of each triangle, its branch chosen.
+    logs: Vec<Log<D>>,
+    /// `log S` of each triangle.
+    stretch_logs: Vec<Mat<D>>,
+    centroids: Vec<[f64; D]>,
+    loose: Vec<[f64; D]>,
+}
+
+/// A base mesh and shapes to blend with weights, in the plane (`D = 2`) or
+/// in space (`D = 3`) (see the module documentation).
+///
+/// ```
+/// use meshmorph::{shapes, Blend, InterpolatorOptions};
+///
+/// let tube = shapes::tube(4.0, 0.3, 17, 8);
+/// let bent = shapes::bend(&tube, 4.0, 1.5);
+/// let blend = Blend::new(&tube, &[bent.clone()], &InterpolatorOptions::default())?;
+/// let again = blend.at(&[1.0]);
+/// let err = again.iter().zip(bent.positions()).map(|(a, b)| (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max)).fold(0.0, f64::max);
+/// assert!(err < 1e-9);
+/// # Ok::<(), meshmorph::Error>(())
+/// ```
+#[derive(Debug)]
+pub struct Blend<const D: usize>
+where
+    Space<D>: Rotations<D>,
+{
+    rest: Arc<RestSystem<D>>,
+    adjacency: TriangleAdjacency,
+    shapes: Vec<BlendShape<D>>,
+    base_centroids: Vec<[f64; D]>,
+    base_loose: Vec<[f64; D]>,
+}
+
+/// Blends of surfaces in space.
+pub type Blend3 = Blend<3>;
+
+impl<const D: usize> Blend<D>
+where
+    Space<D>: Rotations<D> + TriangleMaps<D>,
+{
+    /// Prepares blends of `shapes` relative to `base`, factoring the base's
+    /// system. Of the options, `consistency`, `allow_flips` and `factor`
+    /// apply (stretches always combine by logarithms).
+    ///
+    /// # Errors
+    /// - [`Error::InvalidArgument`] when there is no shape;
+    /// - [`Error::Mismatch`] naming the first shape whose vertex or triangle
+    ///   count differs from the base's, [`Error::TriangleMismatch`] the first
+    ///   shape and triangle whose corners differ;
+    /// - [`Error::DegenerateTriangles`] for zero-area triangles of the base;
+    /// - [`Error::ReflectedTriangles`] for triangles of a shape turned over
+    ///   relative to the base (unless [`InterpolatorOptions::allow_flips`]);
+    /// - [`Error::Solver`] if the system cannot be factored.
+    pub fn new(base: &Mesh<D>, shapes: &[Mesh<D>], options: &InterpolatorOptions) -> Result<Self> {
+        RestSystem::check_rest(base, "base")?;
+        let adjacency = TriangleAdjacency::new(base.triangles());
+        check_poses(base, &adjacency, shapes, "blend shape", options)?;
+        let rest = Arc::new(RestSystem::named(base, "base", options.factor)?);
+        Self::build(rest, adjacency, shapes, options)
+    }
+
+    /// Blends relative to the rest system's source, sharing its
+    /// factorization.
+    ///
+    /// # Errors
+    /// As [`Blend::new`].
+    pub fn with_surface(
+        rest: Arc<RestSystem<D>>,
+        shapes: &[Mesh<D>],
+        options: &InterpolatorOptions,
+    ) -> Result<Self> {
+        let adjacency = TriangleAdjacency::new(rest.source().triangles());
+        check_poses(rest.source(), &adjacency, shapes, "blend shape", options)?;
+        Self::build(rest, adjacency, shapes, options)
+    }
+
+    fn build(
+        rest: Arc<RestSystem<D>>,
+        adjacency: TriangleAdjacency,
+        shapes: &[Mesh<D>],
+        options: &InterpolatorOptions,
+    ) -> Result<Self> {
+        if shapes.is_empty() {
+            return Err(Error::InvalidArgument(
+                "a blend needs at least one shape".into(),
+            ));
+        }
+        let base = rest.source();
+        let shapes = shapes
+            .iter()
+            .enumerate()
+            .map(|(k, shape)| {
+                let maps = decompose(base, &adjacency, shape, &format!("blend shape {}", k + 1))?;
+                let logs = if options.consistency {
+                    consistent_rotations(base, &adjacency, &maps.rotations, None)
+                } else {
+                    maps.rotations
+                        .iter()
+                        .map(Space::<D>::principal_log)
+                        .collect()
+                };
+                Ok(BlendShape {
+                    logs,
+                    stretch_logs: maps
+                        .stretches
+                        .iter()
+                        .map(|S| Space::<D>::stretch_log(S, LOG_FLOOR))
+                        .collect(),
+                    centroids: rest.centroids(shape.positions()),
+                    loose: rest.loose_positions(shape.positions()),
+                })
+            })
+            .collect::<Result<_>>()?;
+        Ok(Self {
+            base_centroids: rest.centroids(base.positions()),
+            base_loose: rest.loose_positions(base.positions()),
+            rest,
+            adjacency,
+            shapes,
+        })
+    }
+
+    /// Number of shapes (the length of every weight vector).
+    pub fn num_shapes(&self) -> usize {
+        self.shapes.len()
+    }
+
+    /// Number of vertices of every blend.
+    pub fn num_vertices(&self) -> usize {
+        self.rest.num_vertices()
+    }
+
+    /// The triangles shared by every blend.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        self.rest.source().triangles()
+    }
+
+    /// The rest system (the base's), to share with sequences and other
+    /// blends.
+    pub fn surface(&self) -> &Arc<RestSystem<D>> {
+        &self.rest
+    }
+
+    /// Scratch for [`Blend::at_into`]; one per thread.
+    pub fn workspace(&self) -> FrameWorkspace<D> {
+        self.rest.workspace()
+    }
+
+    /// The blend with one weight per shape (any real numbers; all zero is
+    /// the base).
+    ///
+    /// # Panics
+    /// If `weights.len()` is not the number of shapes.
+    #[track_caller]
+    pub fn at(&self, weights: &[f64]) -> Vec<[f64; D]> {
+        let mut out = vec![[0.0; D]; self.num_vertices()];
+        self.at_into(weights, &mut out, &mut self.workspace());
+        out
+    }
+
+    /// [`Blend::at`] into a caller's buffer, with a caller's scratch.
+    ///
+    /// # Panics
+    /// If `weights` or `out` has the wrong length.
+    #[track_caller]
+    pub fn at_into(&self, weights: &[f64], out: &mut [[f64; D]], ws: &mut FrameWorkspace<D>) {
+        assert_eq!(weights.len(), self.shapes.len(), "one weight per shape");
+        let active: Vec<(f64, &BlendShape<D>)> = weights
+            .iter()
+            .zip(&self.shapes)
+            .filter(|(w, _)| **w != 0.0)
+            .map(|(&w, s)| (w, s))
+            .collect();
+        // The base's point plus the weighted displacements of the shapes'.
+        let blended = |base: [f64; D], of_shape: &dyn Fn(&BlendShape<D>) -> [f64; D]| {
+            let mut p = base;
+            for (w, s) in &active {
+                let q = of_shape(s);
+                for k in 0..D {
+                    p[k] += w * (q[k] - base[k]);
+                }
+            }
+            p
+        };
+        let centroid = |c: usize| blended(self.base_centroids[c], &|s| s.centroids[c]);
+        let map = |t: usize| {
+            let (mut R, mut L) = (Log::<D>::default(), [[0.0; D]; D]);
+            for (w, s) in &active {
+                Space::<D>::add_scaled(&mut R, *w, &s.logs[t]);
+                for k in 0..D {
+                    for m in 0..D {
+                        L[k][m] += w * s.stretch_logs[t][k][m];
+                    }
+                }
+            }
+            mul(Space::<D>::exp(&R), Space::<D>::stretch_exp(&L))
+        };
+        self.rest.solve_frame(map, centroid, out, ws);
+        for (k, &v) in self.rest.loose_vertices().iter().enumerate() {
+            out[v as usize] = blended(self.base_loose[k], &|s| s.loose[k]);
+        }
+    }
+
+    /// Number of triangles of `positions` turned over relative to the base
+    /// (in the plane reversed; in space folded back onto their neighbours;
+    /// or collapsed).
+    pub fn count_turned_over(&self, positions: &[[f64; D]]) -> usize {
+        Space::<D>::turned_over(self.rest.source(), &self.adjacency, positions).len()
+    }
+}

@@ -1,0 +1,196 @@
+//! The per-triangle maps from a rest mesh to its poses (later keys, blend
+//! shapes), decomposed into rotations and stretches, and the checks a pose
+//! must pass, in the plane and in space.
+#![allow(non_snake_case)]
+
+use rayon::prelude::*;
+
+use super::InterpolatorOptions;
+use crate::error::{Error, Result, LIST_LIMIT};
+use crate::geometry::{cross, dot, norm, sub};
+use crate::gradient::TriangleMaps;
+use crate::matrix::Mat;
+use crate::mesh::{check_overflow, Mesh, Mesh3};
+use crate::rotation::Rotations;
+use crate::topology::TriangleAdjacency;
+use crate::Space;
+
+/// A pose's principal rotations and symmetric stretches `S`, `A = R S`
+/// for the map `A` of each triangle from the rest.
+#[derive(Debug)]
+pub(crate) struct PoseMaps<const D: usize>
+where
+    Space<D>: Rotations<D>,
+{
+    pub rotations: Vec<<Space<D> as Rotations<D>>::Principal>,
+    pub stretches: Vec<Mat<D>>,
+}
+
+/// The maps from `rest` to `pose` (called `name`), decomposed (in
+/// parallel); rotations of exactly half a turn settled by their neighbours
+/// over `adjacency`.
+///
+/// # Errors
+/// [`Error::InvalidTriangle`] for the first triangle whose map is too
+/// large to decompose in floating point (its squares overflow): a pose
+/// far larger than the rest.
+pub(crate) fn decompose<const D: usize>(
+    rest: &Mesh<D>,
+    adjacency: &TriangleAdjacency,
+    pose: &Mesh<D>,
+    name: &str,
+) -> Result<PoseMaps<D>>
+where
+    Space<D>: Rotations<D> + TriangleMaps<D>,
+{
+    type S<const D: usize> = Space<D>;
+    let (mut rotations, stretches): (Vec<_>, Vec<Mat<D>>) = (0..pose.num_triangles())
+        .into_par_iter()
+        .map(|t| {
+            let corners = rest.corners(t);
+            let gradients = S::<D>::hat_gradients(&corners, S::<D>::area(&corners));
+            let map = S::<D>::linear_map(&corners, &gradients, &pose.corners(t));
+            S::<D>::polar(&map)
+        })
+        .unzip();
+    let finite = |t: &usize| {
+        S::<D>::angle(&rotations[*t]).is_finite()
+            && stretches[*t].iter().flatten().all(|x| x.is_finite())
+    };
+    if let Some(t) = (0..rotations.len()).find(|t| !finite(t)) {
+        return Err(Error::InvalidTriangle {
+            triangle: t,
+            message: format!(
+                "the {name}'s triangle {t} overflows: its map from the first mesh exceeds the range of floating-point numbers; scale the meshes down"
+            ),
+        });
+    }
+    S::<D>::settle_half_turns(&mut rotations, adjacency);
+    Ok(PoseMaps {
+        rotations,
+        stretches,
+    })
+}
+
+/// Checks that each of `poses` has the rest's connectivity, coordinates
+/// whose products do not overflow, and no triangle turned over (unless
+/// allowed); `role` names them ("key", "blend shape"), numbered from 1.
+pub(crate) fn check_poses<const D: usize>(
+    rest: &Mesh<D>,
+    adjacency: &TriangleAdjacency,
+    poses: &[Mesh<D>],
+    role: &str,
+    options: &InterpolatorOptions,
+) -> Result<()>
+where
+    Space<D>: TriangleMaps<D>,
+{
+    for (k, pose) in poses.iter().enumerate() {
+        let name = format!("{role} {}", k + 1);
+        rest.check_same_connectivity(pose, ["the first mesh", &name])?;
+        let areas: Vec<f64> = (0..pose.num_triangles())
+            .map(|t| Space::<D>::area(&pose.corners(t)))
+            .collect();
+        check_overflow(&areas, pose.bounding_box_diagonal(), &name)?;
+        if !options.allow_flips {
+            let bad = Space::<D>::turned_over(rest, adjacency, pose.positions());
+            if !bad.is_empty() {
+                return Err(Error::ReflectedTriangles {
+                    mesh: name,
+                    count: bad.len(),
+                    first: bad.into_iter().take(LIST_LIMIT).collect(),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Triangles of `positions` turned over relative to the rest: collapsed
+/// to (numerically) zero area, or folded back through their neighbours.
+/// A triangle has folded through a neighbour when the signed dihedral
+/// angle of their shared edge has passed a half turn on the shortest way
+/// from its rest value (the two triangles went through each other); it
+/// is turned over when that holds for more than half of its shared edges
+/// (weighted by their rest lengths). In the plane this is a triangle
+/// whose orientation reversed (its normal opposite to its neighbours');
+/// in space it is the same thing relative to its surroundings (a single
+/// triangle in space can always be turned rigidly, so only its
+/// neighbours tell whether it was turned over). A hinge that closes, even
+/// to a sharp fold, is not turned over.
+pub(crate) fn turned_over_in_space(
+    rest: &Mesh3,
+    adjacency: &TriangleAdjacency,
+    positions: &[[f64; 3]],
+) -> Vec<usize> {
+    let pose_normals = raw_normals(positions, rest.triangles());
+    let rest_normals = raw_normals(rest.positions(), rest.triangles());
+    let diagonal = crate::mesh::bounding_box_diagonal(positions);
+    let tiny = 2e-14 * diagonal * diagonal;
+    let limit = std::f64::consts::PI * (1.0 - 1e-9);
+    (0..pose_normals.len())
+        .into_par_iter()
+        .filter(|&t| {
+            let area2 = norm(pose_normals[t]);
+            if area2.is_nan() || area2 <= tiny {
+                return true;
+            }
+            let (mut through, mut total) = (0.0, 0.0);
+            for &u in adjacency.of(t) {
+                let u = u as usize;
+                let Some([a, b]) = shared_edge(rest.triangles()[t], rest.triangles()[u]) else {
+                    continue;
+                };
+                let w = norm(sub(
+                    rest.positions()[b as usize],
+                    rest.positions()[a as usize],
+                ));
+                total += w;
+                let dihedral = |n: &[[f64; 3]], p: &[[f64; 3]]| {
+                    let e = sub(p[b as usize], p[a as usize]);
+                    let c = cross(n[t], n[u]);
+                    dot(c, e).atan2(dot(n[t], n[u]) * norm(e))
+                };
+                let at_rest = dihedral(&rest_normals, rest.positions());
+                let change = wrap(dihedral(&pose_normals, positions) - at_rest);
+                if (at_rest + change).abs() >= limit {
+                    through += w;
+                }
+            }
+            through > 0.5 * total
+        })
+        .collect()
+}
+
+/// Twice the area vector of every triangle.
+fn raw_normals(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[f64; 3]> {
+    triangles
+        .iter()
+        .map(|&[a, b, c]| {
+            let (a, b, c) = (
+                positions[a as usize],
+                positions[b as usize],
+                positions[c as usize],
+            );
+            cross(sub(b, a), sub(c, a))
+        })
+        .collect()
+}
+
+/// An angle moved into (−π, π].
+fn wrap(a: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let w = a - TAU * (a / TAU).round();
+    if w <= -PI {
+        w + TAU
+    } else {
+        w
+    }
+}
+
+/// The edge triangles `ta` and `tb` share, in `ta`'s winding order.
+fn shared_edge(ta: [u32; 3], tb: [u32; 3]) -> Option<[u32; 2]> {
+    (0..3)
+        .map(|k| [ta[k], ta[(k + 1) % 3]])
+        .find(|[a, b]| tb.contains(a) && tb.contains(b))
+}

@@ -1,0 +1,450 @@
+//! As-rigid-as-possible interpolation through any number of keys, in the
+//! plane and in space.
+//!
+//! Each key `K_j` is a pose of the first key `K_0` (the same triangles).
+//! Per triangle the `D × D` map from `K_0` to `K_j` (in space Sumner and
+//! Popović's, with a fourth vertex off the triangle's plane) is split by
+//! the polar decomposition `A_j = R_j S_j`, `R_j` a proper rotation. Within
+//! the segment from key `j` to `j + 1`, at `u ∈ [0, 1]`:
+//!
+//! - the rotation goes from `R_j` to `R_{j+1}` along the difference of
+//!   their logarithms with branches ([`Rotations::segment`]): in the plane
+//!   the rotation by `θ_j + u (θ_{j+1} − θ_j)`; in space `exp(u c) exp(u e)
+//!   R_j`, where `e` is the principal rotation vector of `R_{j+1} R_jᵀ` and
+//!   `c` its whole turns. In the first segment (`R_0 = I`) this is `R(t)`
+//!   interpolated along its axis by angle (Alexa et al. 2000), with whole
+//!   turns where a part turns by more than half a turn;
+//! - the stretch is `(1−u) S_j + u S_{j+1}` ([`StretchMode::Linear`], with
+//!   `S_0 = I`: Alexa et al. 2000), or `exp((1−u) log S_j + u log S_{j+1})`
+//!   ([`StretchMode::Log`]; `S_1ᵘ` in the first segment), which never
+//!   collapses a triangle;
+//! - the vertices are the least-squares fit of these maps ([`RestSystem`],
+//!   factored once for every segment), each connected part placed with its
+//!   area-weighted centroid on the straight line between the keys'
+//!   centroids.
+//!
+//! Rotations are measured from `K_0` and continue across keys: each key's
+//! branches are chosen by rotation consistency over the mesh
+//! ([`Rotations::choose_branches`]), and the seed of a later key takes the
+//! branch nearest to the previous key's, so a part that keeps turning keeps
+//! turning the same way. Key `j` is at time `s = j`.
+#![allow(non_snake_case)]
+
+use std::sync::Arc;
+
+use rayon::prelude::*;
+
+use super::poses::{check_poses, decompose};
+use super::{FrameWorkspace, InterpolatorOptions, RestSystem, StretchMode};
+use crate::error::{Error, Result};
+use crate::gradient::TriangleMaps;
+use crate::matrix::{identity, lerp, lerp_from_identity, mul, Mat};
+use crate::mesh::Mesh;
+use crate::rotation::{consistent_rotations, Rotations};
+use crate::topology::TriangleAdjacency;
+use crate::Space;
+
+/// Eigenvalues of stretches below this are raised to it before logarithms
+/// and powers.
+pub(crate) const LOG_FLOOR: f64 = 1e-12;
+
+/// A rotation's logarithm in `D` dimensions.
+pub(crate) type Log<const D: usize> = <Space<D> as Rotations<D>>::Log;
+type Principal<const D: usize> = <Space<D> as Rotations<D>>::Principal;
+type SegmentRotation<const D: usize> = <Space<D> as Rotations<D>>::Segment;
+type StretchPowers<const D: usize> = <Space<D> as Rotations<D>>::StretchPowers;
+
+#[derive(Debug)]
+enum SegmentStretches<const D: usize>
+where
+    Space<D>: Rotations<D>,
+{
+    /// `S_1`, for `(1−u) I + u S_1` (first segment).
+    FromIdentity(Vec<Mat<D>>),
+    /// `(S_j, S_{j+1})`, interpolated linearly.
+    Linear(Vec<(Mat<D>, Mat<D>)>),
+    /// `S_1ᵘ` (first segment, log mode).
+    Power(Vec<StretchPowers<D>>),
+    /// `(log S_j, log S_{j+1})`, interpolated linearly, then exponentiated.
+    LogLinear(Vec<(Mat<D>, Mat<D>)>),
+}
+
+#[derive(Debug)]
+struct Segment<const D: usize>
+where
+    Space<D>: Rotations<D>,
+{
+    rotations: Vec<SegmentRotation<D>>,
+    stretches: SegmentStretches<D>,
+    /// Whether the segment starts at key 0.
+    first: bool,
+}
+
+/// A keyframe sequence of meshes in the plane (`D = 2`) or surfaces in
+/// space (`D = 3`): as-rigid-as-possible frames through every key (see the
+/// module documentation). Two keys make an interpolation from the first
+/// (`s = 0`) to the second (`s = 1`), the same as [`Interpolator`](crate::Interpolator).
+///
+/// Everything that does not depend on `s` is computed in
+/// [`Sequence::new`]; [`Sequence::at`] cannot fail.
+///
+/// ```
+/// use meshmorph::{shapes, InterpolatorOptions, Sequence};
+///
+/// // A tube bent through 540 degrees: the frame halfway is bent through 270.
+/// let tube = shapes::tube(10.0, 0.2, 81, 8);
+/// let bent = shapes::bend(&tube, 10.0, 3.0 * std::f64::consts::PI);
+/// let morph = Sequence::new(&[tube, bent], &InterpolatorOptions::default())?;
+/// let halfway = morph.at(0.5);
+/// assert_eq!(morph.count_turned_over(&halfway), 0);
+/// # Ok::<(), meshmorph::Error>(())
+/// ```
+#[derive(Debug)]
+pub struct Sequence<const D: usize>
+where
+    Space<D>: Rotations<D>,
+{
+    rest: Arc<RestSystem<D>>,
+    adjacency: TriangleAdjacency,
+    segments: Vec<Segment<D>>,
+    /// Centroid of each part in each key.
+    centroids: Vec<Vec<[f64; D]>>,
+    /// Positions of the vertices no triangle uses, in each key.
+    loose: Vec<Vec<[f64; D]>>,
+}
+
+/// A keyframe sequence of surfaces in space.
+pub type Sequence3 = Sequence<3>;
+
+/// Per-thread scratch of sequences and blends of surfaces in space.
+pub type SequenceWorkspace = FrameWorkspace<3>;
+
+impl<const D: usize> Sequence<D>
+where
+    Space<D>: Rotations<D> + TriangleMaps<D>,
+{
+    /// Prepares the sequence through `keys` (at least two), factoring the
+    /// system of the first.
+    ///
+    /// # Errors
+    /// - [`Error::InvalidArgument`] for fewer than two keys, or `turns` other
+    ///   than 0 with more than two keys or in space (whole extra turns need
+    ///   a common axis: two planar keys only);
+    /// - [`Error::Mismatch`] naming the first key whose vertex or triangle
+    ///   count differs from the first key's, [`Error::TriangleMismatch`] the
+    ///   first key and triangle whose corners differ;
+    /// - [`Error::DegenerateTriangles`] for zero-area triangles of the first key;
+    /// - [`Error::ReflectedTriangles`] for triangles of a key turned over
+    ///   relative to the first (unless [`InterpolatorOptions::allow_flips`]);
+    /// - [`Error::Solver`] if the system cannot be factored.
+    pub fn new(keys: &[Mesh<D>], options: &InterpolatorOptions) -> Result<Self> {
+        let Some(first) = keys.first() else {
+            return Err(Error::InvalidArgument(
+                "a sequence needs at least two keys".into(),
+            ));
+        };
+        RestSystem::check_rest(first, "first key")?;
+        let adjacency = TriangleAdjacency::new(first.triangles());
+        check_poses(first, &adjacency, &keys[1..], "key", options)?;
+        Self::with_checked_first(first, "first key", adjacency, &keys[1..], options).map(|(s, _)| s)
+    }
+
+    /// The sequence from `first` (called `name` in messages, its triangles
+    /// checked) through `later_keys` (checked against it), factoring the
+    /// system of `first` while the per-triangle work runs beside it; with
+    /// the logarithms of the last key's rotations.
+    pub(super) fn with_checked_first(
+        first: &Mesh<D>,
+        name: &str,
+        adjacency: TriangleAdjacency,
+        later_keys: &[Mesh<D>],
+        options: &InterpolatorOptions,
+    ) -> Result<(Self, Vec<Log<D>>)> {
+        // The factorization and the per-triangle work are independent.
+        let (rest, segments) = rayon::join(
+            || RestSystem::named(first, name, options.factor),
+            || segments(first, &adjacency, later_keys, options),
+        );
+        let rest = Arc::new(rest?);
+        let (segments, last) = segments?;
+        Ok((Self::build(rest, adjacency, later_keys, segments), last))
+    }
+
+    /// The sequence from the rest system's source (key 0) through
+    /// `later_keys`: any number of sequences, blends and interpolations can
+    /// share one factorization.
+    ///
+    /// # Errors
+    /// As [`Sequence::new`].
+    pub fn with_surface(
+        rest: Arc<RestSystem<D>>,
+        later_keys: &[Mesh<D>],
+        options: &InterpolatorOptions,
+    ) -> Result<Self> {
+        let adjacency = TriangleAdjacency::new(rest.source().triangles());
+        check_poses(rest.source(), &adjacency, later_keys, "key", options)?;
+        Self::with_checked_keys(rest, adjacency, later_keys, options).map(|(s, _)| s)
+    }
+
+    /// [`Sequence::with_surface`] for keys already checked, with the
+    /// logarithms of the last key's rotations.
+    pub(super) fn with_checked_keys(
+        rest: Arc<RestSystem<D>>,
+        adjacency: TriangleAdjacency,
+        later_keys: &[Mesh<D>],
+        options: &InterpolatorOptions,
+    ) -> Result<(Self, Vec<Log<D>>)> {
+        let (segments, last) = segments(rest.source(), &adjacency, later_keys, options)?;
+        Ok((Self::build(rest, adjacency, later_keys, segments), last))
+    }
+
+    fn build(
+        rest: Arc<RestSystem<D>>,
+        adjacency: TriangleAdjacency,
+        later: &[Mesh<D>],
+        segments: Vec<Segment<D>>,
+    ) -> Self {
+        let source = rest.source();
+        let mut centroids = vec![rest.centroids(source.positions())];
+        let mut loose = vec![rest.loose_positions(source.positions())];
+        for key in later {
+            centroids.push(rest.centroids(key.positions()));
+            loose.push(rest.loose_positions(key.positions()));
+        }
+        Self {
+            rest,
+            adjacency,
+            segments,
+            centroids,
+            loose,
+        }
+    }
+
+    /// The rest system (key 0's), to share with other sequences, blends and
+    /// interpolations.
+    pub fn surface(&self) -> &Arc<RestSystem<D>> {
+        &self.rest
+    }
+
+    /// For each segment (key `j` to `j + 1`), how many triangles take whole
+    /// turns beyond the shortest way: 0 wherever no part turns by more than
+    /// half a turn.
+    pub fn triangles_with_whole_turns(&self) -> Vec<usize> {
+        self.segments
+            .iter()
+            .map(|s| {
+                s.rotations
+                    .iter()
+                    .filter(|r| Space::<D>::has_whole_turns(r))
+                    .count()
+            })
+            .collect()
+    }
+
+    /// Number of keys (the last one is at `s = num_keys() − 1`).
+    pub fn num_keys(&self) -> usize {
+        self.segments.len() + 1
+    }
+
+    /// Number of vertices of every frame.
+    pub fn num_vertices(&self) -> usize {
+        self.rest.num_vertices()
+    }
+
+    /// The triangles shared by every frame.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        self.rest.source().triangles()
+    }
+
+    /// Scratch for [`Sequence::at_into`]; one per thread.
+    pub fn workspace(&self) -> FrameWorkspace<D> {
+        self.rest.workspace()
+    }
+
+    /// Vertex positions at time `s`: key `j` at `s = j`; times before 0 or
+    /// after the last key extrapolate the first or last segment.
+    pub fn at(&self, s: f64) -> Vec<[f64; D]> {
+        let mut out = vec![[0.0; D]; self.num_vertices()];
+        self.at_into(s, &mut out, &mut self.workspace());
+        out
+    }
+
+    /// Frames at each of `times`, computed in parallel.
+    pub fn frames(&self, times: &[f64]) -> Vec<Vec<[f64; D]>> {
+        times
+            .par_iter()
+            .map_init(
+                || self.workspace(),
+                |ws, &s| {
+                    let mut out = vec![[0.0; D]; self.num_vertices()];
+                    self.at_into(s, &mut out, ws);
+                    out
+                },
+            )
+            .collect()
+    }
+
+    /// [`Sequence::at`] into a caller's buffer, with a caller's scratch.
+    ///
+    /// # Panics
+    /// If `out.len()` is not the number of vertices.
+    #[track_caller]
+    pub fn at_into(&self, s: f64, out: &mut [[f64; D]], ws: &mut FrameWorkspace<D>) {
+        let last = self.segments.len() - 1;
+        let j = if s.is_nan() {
+            0
+        } else {
+            (s.floor().max(0.0) as usize).min(last)
+        };
+        let u = s - j as f64;
+        let seg = &self.segments[j];
+        let between = |a: [f64; D], b: [f64; D]| -> [f64; D] {
+            std::array::from_fn(|k| (1.0 - u) * a[k] + u * b[k])
+        };
+        // Each part's centroid is on its straight path.
+        let (from, to) = (&self.centroids[j], &self.centroids[j + 1]);
+        let centroid = |c: usize| between(from[c], to[c]);
+        let rot = |t: usize| Space::<D>::segment_at(&seg.rotations[t], u, seg.first);
+        let rest = &*self.rest;
+        match &seg.stretches {
+            SegmentStretches::FromIdentity(v) => rest.solve_frame(
+                |t| mul(rot(t), lerp_from_identity(&v[t], u)),
+                centroid,
+                out,
+                ws,
+            ),
+            SegmentStretches::Linear(v) => rest.solve_frame(
+                |t| {
+                    let (a, b) = &v[t];
+                    mul(rot(t), lerp(a, b, u))
+                },
+                centroid,
+                out,
+                ws,
+            ),
+            SegmentStretches::Power(v) => rest.solve_frame(
+                |t| mul(rot(t), Space::<D>::stretch_power(&v[t], u, LOG_FLOOR)),
+                centroid,
+                out,
+                ws,
+            ),
+            SegmentStretches::LogLinear(v) => rest.solve_frame(
+                |t| {
+                    let (a, b) = &v[t];
+                    mul(rot(t), Space::<D>::stretch_exp(&lerp(a, b, u)))
+                },
+                centroid,
+                out,
+                ws,
+            ),
+        }
+        for (k, &v) in rest.loose_vertices().iter().enumerate() {
+            let (a, b) = (self.loose[j][k], self.loose[j + 1][k]);
+            // A vertex that does not move stays exactly where it is.
+            out[v as usize] =
+                std::array::from_fn(|i| if a[i] == b[i] { a[i] } else { between(a, b)[i] });
+        }
+    }
+
+    /// Number of triangles of `positions` turned over relative to the first
+    /// key (in the plane reversed; in space folded back onto their
+    /// neighbours; or collapsed).
+    pub fn count_turned_over(&self, positions: &[[f64; D]]) -> usize {
+        Space::<D>::turned_over(self.rest.source(), &self.adjacency, positions).len()
+    }
+}
+
+/// The segments between consecutive keys (see the module documentation),
+/// and the logarithms of the last key's rotations.
+fn segments<const D: usize>(
+    rest: &Mesh<D>,
+    adjacency: &TriangleAdjacency,
+    later: &[Mesh<D>],
+    options: &InterpolatorOptions,
+) -> Result<(Vec<Segment<D>>, Vec<Log<D>>)>
+where
+    Space<D>: Rotations<D> + TriangleMaps<D>,
+{
+    if later.is_empty() {
+        return Err(Error::InvalidArgument(
+            "a sequence needs at least two keys".into(),
+        ));
+    }
+    if options.turns != 0 && (D != 2 || later.len() > 1) {
+        return Err(Error::InvalidArgument(
+            "whole extra turns need a common axis of rotation and apply to one interpolation: two planar keys only"
+                .into(),
+        ));
+    }
+    let num_triangles = rest.num_triangles();
+    let areas: Vec<f64> = (0..num_triangles)
+        .map(|t| Space::<D>::area(&rest.corners(t)).abs())
+        .collect();
+    let mut previous_rotations: Vec<Principal<D>> = vec![Space::<D>::IDENTITY; num_triangles];
+    let mut previous_logs: Vec<Log<D>> = vec![<Log<D> as Default>::default(); num_triangles];
+    let mut previous_stretch = vec![identity::<D>(); num_triangles];
+    let mut segments = Vec::with_capacity(later.len());
+    for (j, key) in later.iter().enumerate() {
+        let maps = decompose(rest, adjacency, key, &format!("key {}", j + 1))?;
+        let mut logs: Vec<Log<D>> = if options.consistency {
+            let previous = (j > 0).then_some((previous_logs.as_slice(), areas.as_slice()));
+            consistent_rotations(rest, adjacency, &maps.rotations, previous)
+        } else {
+            maps.rotations
+                .iter()
+                .map(Space::<D>::principal_log)
+                .collect()
+        };
+        if options.turns != 0 {
+            logs.iter_mut()
+                .for_each(|r| *r = Space::<D>::add_turns(r, options.turns));
+        }
+        // Whole turns between keys where the branches say so: always from
+        // key 0 (its branches are the user's choice), between later keys
+        // only with consistency.
+        let whole_turns = options.consistency || j == 0;
+        let rotations: Vec<SegmentRotation<D>> = (0..num_triangles)
+            .into_par_iter()
+            .map(|t| {
+                Space::<D>::segment(
+                    (&previous_rotations[t], &previous_logs[t]),
+                    (&maps.rotations[t], &logs[t]),
+                    whole_turns,
+                )
+            })
+            .collect();
+        let log = |S: &Mat<D>| Space::<D>::stretch_log(S, LOG_FLOOR);
+        let stretches = match options.stretch {
+            StretchMode::Log if j == 0 => SegmentStretches::Power(
+                maps.stretches
+                    .par_iter()
+                    .map(Space::<D>::stretch_powers)
+                    .collect(),
+            ),
+            StretchMode::Log => SegmentStretches::LogLinear(
+                previous_stretch
+                    .par_iter()
+                    .zip(&maps.stretches)
+                    .map(|(a, b)| (log(a), log(b)))
+                    .collect(),
+            ),
+            StretchMode::Linear if j == 0 => SegmentStretches::FromIdentity(maps.stretches.clone()),
+            StretchMode::Linear => SegmentStretches::Linear(
+                previous_stretch
+                    .iter()
+                    .copied()
+                    .zip(maps.stretches.iter().copied())
+                    .collect(),
+            ),
+        };
+        segments.push(Segment {
+            rotations,
+            stretches,
+            first: j == 0,
+        });
+        previous_rotations = maps.rotations;
+        previous_logs = logs;
+        previous_stretch = maps.stretches;
+    }
+    Ok((segments, previous_logs))
+}

@@ -1,0 +1,276 @@
+//! Rotations of space: principal unit quaternions, and logarithms that are
+//! a whole-turn vector and a principal rotation vector.
+//!
+//! A triangle's rotation along the segment from key `j` to `j + 1` is
+//! `exp(u c) exp(u e) R_j`, where `e` is the principal rotation vector of
+//! `R_{j+1} R_jᵀ` and `c` its whole turns (see [`super::patches`]); from key
+//! 0 (`R_0 = I`) this is the rotation interpolated along its axis by angle,
+//! with whole turns where a part turns by more than half a turn.
+#![allow(non_snake_case)]
+
+use super::patches::{nearest_whole_turns, whole_turns};
+use super::{Rotations, Space};
+use crate::geometry::{add, norm, sub};
+use crate::matrix::Mat3;
+use crate::polar3::{polar_decomposition3, SymmetricEigen3};
+use crate::rotation3::{
+    quat_axis_angle, quat_dot, quat_exp, quat_from_matrix, quat_log, quat_mul, quat_to_matrix, Quat,
+};
+use crate::topology::TriangleAdjacency;
+
+/// The logarithm of a rotation in space with its branch: the rotation
+/// `exp(turns) exp(principal)`, where `principal` is the principal rotation
+/// vector (axis times angle, angle in `[0, π]`) and `turns` a whole-turn
+/// vector `2πk u` (`k` whole turns about the unit axis `u`, the identity as
+/// a rotation, but turned through when interpolated). Interpolated, it is
+/// `exp(t · turns) exp(t · principal)`: along the rotation's own axis by
+/// angle when `u` is that axis.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RotationLog3 {
+    /// The whole-turn vector `2πk u`.
+    pub turns: [f64; 3],
+    /// The principal rotation vector.
+    pub principal: [f64; 3],
+}
+
+impl RotationLog3 {
+    /// The rotation vector of the whole rotation, `turns + principal` (exact
+    /// when the two are parallel).
+    pub fn lifted(&self) -> [f64; 3] {
+        add(self.turns, self.principal)
+    }
+}
+
+/// A rotation vector as a unit axis and an angle (any axis for angle 0).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct AxisAngle {
+    pub axis: [f64; 3],
+    pub angle: f64,
+}
+
+impl AxisAngle {
+    pub fn new(w: [f64; 3]) -> Self {
+        let angle = norm(w);
+        if angle > 0.0 {
+            Self {
+                axis: w.map(|x| x / angle),
+                angle,
+            }
+        } else {
+            Self {
+                axis: [1.0, 0.0, 0.0],
+                angle: 0.0,
+            }
+        }
+    }
+
+    /// The quaternion of the rotation by `u` times the angle.
+    #[inline]
+    pub fn quat_at(&self, u: f64) -> Quat {
+        quat_axis_angle(self.axis, self.angle * u)
+    }
+}
+
+/// One triangle's rotation along one segment: `exp(u c) exp(u e) R_j`.
+#[derive(Clone, Copy, Debug)]
+pub struct SegmentRotation {
+    base: Quat,
+    principal: AxisAngle,
+    turns: AxisAngle,
+}
+
+impl SegmentRotation {
+    #[inline]
+    fn at(&self, u: f64, has_base: bool) -> Mat3 {
+        let mut q = self.principal.quat_at(u);
+        if self.turns.angle != 0.0 {
+            q = quat_mul(self.turns.quat_at(u), q);
+        }
+        if has_base {
+            q = quat_mul(q, self.base);
+        }
+        quat_to_matrix(q)
+    }
+}
+
+impl Rotations<3> for Space<3> {
+    /// A unit quaternion with scalar part `≥ 0`.
+    type Principal = Quat;
+    type Log = RotationLog3;
+    type Segment = SegmentRotation;
+    type StretchPowers = SymmetricEigen3;
+
+    const IDENTITY: Quat = [1.0, 0.0, 0.0, 0.0];
+
+    fn polar(A: &Mat3) -> (Quat, Mat3) {
+        let p = polar_decomposition3(*A);
+        (quat_from_matrix(&p.rotation), p.stretch)
+    }
+
+    fn angle(q: &Quat) -> f64 {
+        let v = norm([q[1], q[2], q[3]]);
+        2.0 * v.atan2(q[0].abs())
+    }
+
+    /// A rotation by exactly half a turn has two principal quaternions,
+    /// `(0, ±v)`, and which one rounding gives decides on which side of a
+    /// half-turn jump the triangle falls (see `choose_branches`).
+    /// Triangles within `1e-12` of a half turn take the sign that agrees
+    /// with most of their neighbours (the rotation moves by at most `4e-12`
+    /// radians), so that a ring of them turning by exactly half a turn
+    /// joins its neighbours rather than splitting at random.
+    fn settle_half_turns(rotations: &mut [Quat], adjacency: &TriangleAdjacency) {
+        let flips: Vec<usize> = (0..rotations.len())
+            .filter(|&t| {
+                rotations[t][0].abs() < 1e-12 && {
+                    let agree: f64 = adjacency
+                        .of(t)
+                        .iter()
+                        .map(|&u| quat_dot(rotations[t], rotations[u as usize]))
+                        .sum();
+                    agree < 0.0
+                }
+            })
+            .collect();
+        for t in flips {
+            let q = rotations[t];
+            rotations[t] = [q[0].abs(), -q[1], -q[2], -q[3]];
+        }
+    }
+
+    fn principal_log(q: &Quat) -> RotationLog3 {
+        RotationLog3 {
+            turns: [0.0; 3],
+            principal: quat_log(*q),
+        }
+    }
+
+    /// Whole turns of the patches between the edges across which the
+    /// principal rotations jump: each region between jumps takes one
+    /// whole-turn vector, decided from all its boundary at once, and only
+    /// where it removes a tear (a walk from triangle to triangle adds up
+    /// errors in space, where neighbours' axes differ).
+    fn choose_branches(
+        rotations: &[Quat],
+        adjacency: &TriangleAdjacency,
+        edge_weight: &dyn Fn(usize, usize) -> f64,
+        seeds: &[usize],
+        previous: Option<(&[RotationLog3], &[f64])>,
+    ) -> Vec<RotationLog3> {
+        let lifted: Option<Vec<[f64; 3]>> =
+            previous.map(|(logs, _)| logs.iter().map(RotationLog3::lifted).collect());
+        let previous = lifted.as_deref().zip(previous.map(|(_, areas)| areas));
+        whole_turns(rotations, adjacency, edge_weight, seeds, previous)
+            .into_iter()
+            .zip(rotations)
+            .map(|(turns, q)| RotationLog3 {
+                turns,
+                principal: quat_log(*q),
+            })
+            .collect()
+    }
+
+    fn add_turns(log: &RotationLog3, turns: i32) -> RotationLog3 {
+        let axis = AxisAngle::new(log.principal).axis;
+        RotationLog3 {
+            turns: add(
+                log.turns,
+                axis.map(|x| x * std::f64::consts::TAU * turns as f64),
+            ),
+            principal: log.principal,
+        }
+    }
+
+    fn segment(
+        (from, from_log): (&Quat, &RotationLog3),
+        (to, to_log): (&Quat, &RotationLog3),
+        take_turns: bool,
+    ) -> SegmentRotation {
+        let base = *from;
+        let conj = [base[0], -base[1], -base[2], -base[3]];
+        let e = quat_log(quat_mul(*to, conj));
+        let c = if take_turns {
+            nearest_whole_turns(sub(sub(to_log.lifted(), from_log.lifted()), e))
+        } else {
+            [0.0; 3]
+        };
+        SegmentRotation {
+            base,
+            principal: AxisAngle::new(e),
+            turns: AxisAngle::new(c),
+        }
+    }
+
+    #[inline]
+    fn segment_at(segment: &SegmentRotation, u: f64, first: bool) -> Mat3 {
+        segment.at(u, !first)
+    }
+
+    fn has_whole_turns(segment: &SegmentRotation) -> bool {
+        segment.turns.angle != 0.0
+    }
+
+    #[inline]
+    fn add_scaled(sum: &mut RotationLog3, w: f64, log: &RotationLog3) {
+        for k in 0..3 {
+            sum.turns[k] += w * log.turns[k];
+            sum.principal[k] += w * log.principal[k];
+        }
+    }
+
+    #[inline]
+    fn exp(log: &RotationLog3) -> Mat3 {
+        quat_to_matrix(quat_mul(quat_exp(log.turns), quat_exp(log.principal)))
+    }
+
+    fn stretch_powers(S: &Mat3) -> SymmetricEigen3 {
+        SymmetricEigen3::new(*S)
+    }
+
+    #[inline]
+    fn stretch_power(S: &SymmetricEigen3, t: f64, floor: f64) -> Mat3 {
+        S.power(t, floor)
+    }
+
+    fn stretch_log(S: &Mat3, floor: f64) -> Mat3 {
+        SymmetricEigen3::new(*S).map_values(|l| l.max(floor).ln())
+    }
+
+    #[inline]
+    fn stretch_exp(L: &Mat3) -> Mat3 {
+        SymmetricEigen3::new(*L).map_values(f64::exp)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rotation3::exp_rotation;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn polar_exp_and_segments() {
+        type P = Space<3>;
+        let w = [0.3, -1.2, 0.8];
+        let (q, S) = P::polar(&exp_rotation(w));
+        assert!((P::angle(&q) - norm(w)).abs() < 1e-12);
+        assert!(S
+            .iter()
+            .enumerate()
+            .all(|(i, r)| (r[i] - 1.0).abs() < 1e-12));
+        let log = P::principal_log(&q);
+        let back = P::exp(&log);
+        let R = exp_rotation(w);
+        assert!((0..3).all(|i| (0..3).all(|j| (back[i][j] - R[i][j]).abs() < 1e-13)));
+        // A segment from the identity reaches the key at u = 1, with a whole
+        // turn added to the log turning through 2π + |w|.
+        let turned = P::add_turns(&log, 1);
+        assert!((norm(turned.lifted()) - (2.0 * PI + norm(w))).abs() < 1e-12);
+        let id = (&P::IDENTITY, &RotationLog3::default());
+        let s = P::segment(id, (&q, &turned), true);
+        assert!(P::has_whole_turns(&s));
+        let end = P::segment_at(&s, 1.0, true);
+        assert!((0..3).all(|i| (0..3).all(|j| (end[i][j] - R[i][j]).abs() < 1e-12)));
+        assert!(!P::has_whole_turns(&P::segment(id, (&q, &turned), false)));
+    }
+}
