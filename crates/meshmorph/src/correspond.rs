@@ -483,14 +483,10 @@ fn identity_rhs(
 /// rotation nearest to `T_t`, `s = tr(Rᵀ T_t) / 3` the scale that then
 /// minimises `‖T_t − s R‖_F`.
 fn nearest_similarities(ops: &GradientOperators<3, 4>, x: &[f64]) -> Vec<Mat3> {
-    let m = ops.num_unknowns();
     (0..ops.triangles().len())
         .into_par_iter()
         .map(|t| {
-            let (G, u) = (ops.operator(t), ops.unknowns(t));
-            let T: Mat3 = std::array::from_fn(|i| {
-                std::array::from_fn(|j| (0..4).map(|k| x[i * m + u[k]] * G[k][j]).sum())
-            });
+            let T = ops.gradient(x, t);
             let R = closest_rotation(&T);
             let s = (0..3)
                 .map(|i| (0..3).map(|j| R[i][j] * T[i][j]).sum::<f64>())

@@ -451,13 +451,7 @@ mod tests {
     /// that fits `A` at least as well as any other tried.
     #[test]
     fn the_closest_rotation_is_the_polar_factor_and_a_proper_rotation() {
-        let mut seed = 12345u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut next = crate::polar3::tests::rng(12345);
         let horn = |A: &[[f64; 3]; 3]| {
             let At: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| A[j][i]));
             best_rotation(&At)
@@ -502,10 +496,7 @@ mod tests {
             );
             if polar_rotation(&A).is_some() {
                 newton += 1;
-                let d = (0..3)
-                    .flat_map(|i| (0..3).map(move |j| (i, j)))
-                    .map(|(i, j)| (R[i][j] - H[i][j]).abs())
-                    .fold(0.0, f64::max);
+                let d = crate::polar3::tests::max_diff(R, H);
                 assert!(d < 1e-9, "{A:?}: Newton and Horn differ by {d}");
             } else {
                 flipped += 1;

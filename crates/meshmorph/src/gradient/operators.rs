@@ -69,6 +69,17 @@ impl<const D: usize, const K: usize> GradientOperators<D, K> {
         })
     }
 
+    /// The gradient `X_t G_t` (`D × D`) on triangle `t` of the map to the
+    /// positions `x` (column-major `#unknowns × D`, as a solve leaves them).
+    #[inline]
+    pub(crate) fn gradient(&self, x: &[f64], t: usize) -> Mat<D> {
+        let m = self.num_unknowns();
+        let (G, u) = (&self.operators[t], self.unknowns(t));
+        std::array::from_fn(|i| {
+            std::array::from_fn(|j| (0..K).map(|k| x[i * m + u[k]] * G[k][j]).sum())
+        })
+    }
+
     /// `weight · ‖X G_t‖²_F`, the matrix part of a fit of triangle `t`.
     #[inline]
     pub(crate) fn add_fit(&self, builder: &mut SymmetricBuilder, t: usize, weight: f64) {
