@@ -422,13 +422,13 @@ fn deform(
         ws.rhs = rhs;
         system.solve(&mut ws);
         positions = (0..n).map(|v| system.position(&ws, v)).collect();
-        if round < options.closest_weights.len() {
-            shapes = nearest_similarities(&ops, &ws.x);
-        }
         if positions.iter().flatten().any(|c| !c.is_finite()) {
             return Err(Error::Solver(
                 "the deformation produced non-finite positions".into(),
             ));
+        }
+        if round < options.closest_weights.len() {
+            shapes = nearest_similarities(&ops, &ws.x);
         }
         progress(round + 1);
     }
