@@ -613,17 +613,51 @@ fn parallel_faces_apart_sharing_one_normal_are_told_apart() {
     // turned a quarter turn, the other not.
     let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 5 0 0\nv 6 0 0\nv 6 1 0\nv 5 1 0\n\
                 vn 0 0 1\nvn 1 0 0\nf 1//1 2//1 3//1 4//1\nf 5//1 6//1 7//1 8//1\n";
-    let f = file(text, "two.obj");
-    let turned: Vec<P3> = f
-        .mesh()
+    check_two_quads_apart(text);
+    // The same with CR LF line ends: the added normal's line ends alike.
+    let out = check_two_quads_apart(&text.replace('\n', "\r\n"));
+    assert_eq!(
+        out.matches('\n').count(),
+        out.matches("\r\n").count(),
+        "{out:?}"
+    );
+    assert!(!out.contains("\r\n\r\n"), "{out:?}");
+    // Faces first, the normals last, the file without a final line end.
+    let faces_first = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 5 0 0\nv 6 0 0\nv 6 1 0\nv 5 1 0\n\
+                       f 1//2 2//2 3//2 4//2\nf 5//2 6//2 7//2 8//2\nvn 1 0 0\nvn 0 0 1";
+    let f = file(faces_first, "last.obj");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.obj");
+    f.write(&path, &turned_second_quad(&f), Format::Obj)
+        .unwrap();
+    let out = std::fs::read_to_string(&path).unwrap();
+    assert!(out.ends_with("vn 0 0 1\nvn 0 -1 0\n"), "{out:?}");
+    assert!(!out.contains("\n\n"), "{out:?}");
+    let (normals, faces) = normals_by_face(&out);
+    assert!(faces[0].iter().all(|&c| c == 1), "{out}");
+    assert!(faces[1].iter().all(|&c| c == 2), "{out}");
+    assert_eq!(normals[2], [0.0, -1.0, 0.0]);
+}
+
+/// The positions of a two-quad file with its second quad (vertices 4 to 7)
+/// turned a quarter turn about x.
+fn turned_second_quad(f: &MeshFile) -> Vec<P3> {
+    f.mesh()
         .positions()
         .iter()
         .enumerate()
         .map(|(v, &p)| if v < 4 { p } else { [p[0], -p[2], p[1]] })
-        .collect();
+        .collect()
+}
+
+/// Writes the two quads of `text` with the second turned; checks the
+/// normals and returns the text written.
+fn check_two_quads_apart(text: &str) -> String {
+    let f = file(text, "two.obj");
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("out.obj");
-    f.write(&path, &turned, Format::Obj).unwrap();
+    f.write(&path, &turned_second_quad(&f), Format::Obj)
+        .unwrap();
     let out = std::fs::read_to_string(&path).unwrap();
     let (normals, faces) = normals_by_face(&out);
     // The added normal stands right after its own, so `vn 1 0 0` is now
@@ -639,4 +673,5 @@ fn parallel_faces_apart_sharing_one_normal_are_told_apart() {
         .map(|k| (normals[1][k] - [0.0, -1.0, 0.0][k]).abs())
         .fold(0.0, f64::max);
     assert!(d < 1e-15, "{out}");
+    out
 }

@@ -346,36 +346,39 @@ impl MeshFile {
         let mut at = 0;
         let mut added = normals.added.iter().peekable();
         for p in &self.patches {
+            if buf.len() >= super::CHUNK {
+                w.write_all(&buf)?;
+                buf.clear();
+            }
             buf.extend_from_slice(&self.bytes[at..p.bytes.start]);
             at = p.bytes.end;
             let value = match p.slot {
                 Slot::Position(v, k) => positions[v as usize][k as usize],
                 Slot::Normal(n, k) => normals.normals[n as usize][k as usize],
                 Slot::CornerNormal(c) => {
-                    let old = &self.bytes[p.bytes.clone()];
                     match normals.corner_index.get(c as usize) {
-                        Some(&i) => {
-                            buf.extend_from_slice((u64::from(i) + 1).to_string().as_bytes())
-                        }
-                        None => buf.extend_from_slice(old),
+                        Some(&i) => super::push_uint(&mut buf, u64::from(i) + 1),
+                        None => buf.extend_from_slice(&self.bytes[p.bytes.clone()]),
                     }
                     continue;
                 }
                 Slot::NormalsAfter(n, crlf) => {
+                    let end: &[u8] = if crlf { b"\r\n" } else { b"\n" };
+                    let mut ended = self.bytes[..p.bytes.start]
+                        .last()
+                        .is_none_or(|&b| b == b'\n');
                     while let Some((_, v)) = added.next_if(|&&(m, _)| m == n) {
-                        if self.bytes[..p.bytes.start]
-                            .last()
-                            .is_some_and(|&b| b != b'\n')
-                        {
+                        if !ended {
                             // After the file's last line, which has no line end.
-                            buf.extend_from_slice(if crlf { b"\r\n" } else { b"\n" });
+                            buf.extend_from_slice(end);
+                            ended = true;
                         }
                         buf.extend_from_slice(b"vn");
                         for x in v {
                             buf.push(b' ');
                             push_f64(&mut buf, *x);
                         }
-                        buf.extend_from_slice(if crlf { b"\r\n" } else { b"\n" });
+                        buf.extend_from_slice(end);
                     }
                     continue;
                 }
@@ -391,10 +394,6 @@ impl MeshFile {
                     push_f64(&mut buf, value);
                 }
                 Coding::Binary(ty, big) => ty.encode(value, big, &mut buf),
-            }
-            if buf.len() >= super::CHUNK {
-                w.write_all(&buf)?;
-                buf.clear();
             }
         }
         buf.extend_from_slice(&self.bytes[at..]);

@@ -294,7 +294,7 @@ fn push_f64(buf: &mut Vec<u8>, x: f64) {
 
 /// Appends the decimal representation of `n`.
 #[inline]
-fn push_uint(buf: &mut Vec<u8>, n: u64) {
+pub(super) fn push_uint(buf: &mut Vec<u8>, n: u64) {
     /// "00", "01", ..., "99".
     const PAIRS: [u8; 200] = {
         let mut pairs = [0u8; 200];

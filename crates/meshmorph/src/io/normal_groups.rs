@@ -157,9 +157,23 @@ impl NormalGroups {
         };
         // Each group's place: the file's normal for a normal's first group
         // and for the groups that still agree with it, else an added one.
-        // Groups of one normal that turn alike (to `AGREE`) share it, or
-        // share one added normal.
-        let alike = |v: [f64; 3]| v.map(|x| (x / AGREE).round() as i64);
+        // Groups of one normal that turn alike (to `AGREE` of its length)
+        // share it; the others share one added normal per value (to the
+        // grid of `AGREE`: at worst one more `vn` line).
+        let alike = |a: [f64; 3], b: [f64; 3]| {
+            let (d, len) = (norm(sub(a, b)), norm(a).max(norm(b)));
+            d <= AGREE * len
+        };
+        let cell = |v: [f64; 3]| {
+            let len = norm(v);
+            v.map(|x| {
+                if len > 0.0 {
+                    (x / (len * AGREE)).round() as i64
+                } else {
+                    0
+                }
+            })
+        };
         let mut first_group = vec![NONE; normals.len()];
         let mut slot_of_group = vec![None; turned.len()];
         let mut slot_of_value: HashMap<(u32, [i64; 3]), usize> = HashMap::new();
@@ -168,8 +182,8 @@ impl NormalGroups {
             if *first == NONE {
                 *first = g as u32;
                 out.normals[n as usize] = turned[g];
-            } else if alike(turned[g]) != alike(turned[*first as usize]) {
-                let key = (n, alike(turned[g]));
+            } else if !alike(turned[g], turned[*first as usize]) {
+                let key = (n, cell(turned[g]));
                 slot_of_group[g] = Some(*slot_of_value.entry(key).or_insert_with(|| {
                     out.added.push((n, turned[g]));
                     out.added.len() - 1

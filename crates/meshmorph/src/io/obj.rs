@@ -124,12 +124,17 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
                     ));
                 }
                 // Where normals of the new shape that this one splits into
-                // are written: at the start of the next line.
+                // are written: at the start of the next line (`line` is
+                // without its line end, `\n` or `\r\n`), or at the end of a
+                // file whose last line this is.
                 let end = offset_in(bytes, line) + line.len();
-                out.patches.push(Patch::text(
-                    (end + 1).min(bytes.len())..(end + 1).min(bytes.len()),
-                    Slot::NormalsAfter(normal, line.ends_with(b"\r")),
-                ));
+                let crlf = bytes.get(end) == Some(&b'\r');
+                let next = match bytes[end..].iter().position(|&b| b == b'\n') {
+                    Some(i) => end + i + 1,
+                    None => bytes.len(),
+                };
+                out.patches
+                    .push(Patch::text(next..next, Slot::NormalsAfter(normal, crlf)));
                 out.normals.push(n);
             }
             Some(b"f") => {
