@@ -40,7 +40,8 @@ pub struct CorrespondArgs {
     /// Weight of the smoothness term w_S [default: 1].
     #[arg(long, value_name = "W", allow_negative_numbers = true)]
     pub smoothness_weight: Option<f64>,
-    /// Weight of the identity term w_I, above 0 [default: 0.1].
+    /// Weight of the identity term w_I, above 0 [default: 0.3]: each
+    /// triangle keeps its shape up to a turn and a uniform scale.
     #[arg(long, value_name = "W", allow_negative_numbers = true)]
     pub identity_weight: Option<f64>,
     /// Weights w_C of the closest-point rounds, comma-separated, after a

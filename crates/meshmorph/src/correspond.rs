@@ -10,10 +10,11 @@
 //! 1. The source reference is deformed onto the target reference by
 //!    minimising `w_S E_S + w_I E_I + w_C E_C` over its vertices and fourth
 //!    vertices, markers held at their target positions: `E_S` asks
-//!    neighbouring triangles to deform alike, `E_I` asks every deformation
-//!    gradient to stay near the identity and `E_C` pulls every vertex to the
-//!    closest compatible point of the target. A first round runs without
-//!    `E_C`; then `w_C` grows round by round, closest points found afresh.
+//!    neighbouring triangles to deform alike, `E_I` asks every triangle to
+//!    keep its shape (its deformation gradient near a similarity: a turn and
+//!    a uniform scale) and `E_C` pulls every vertex to the closest compatible
+//!    point of the target. A first round runs without `E_C`; then `w_C`
+//!    grows round by round, closest points found afresh.
 //! 2. Triangles of the deformed source and of the target are paired with the
 //!    closest compatible triangle of the other mesh (centroids within a
 //!    threshold, normals less than 90° apart), in both directions.
@@ -28,9 +29,9 @@ use crate::geometry::{add, centroid, scale, sub};
 use crate::gradient::weights::{normalise_by_mean, normalised_by_mean, vertex_weights};
 use crate::gradient::{FactoredSystem, GradientOperators, Pins};
 use crate::markers::Markers;
-use crate::matrix::identity;
+use crate::matrix::{identity, Mat3};
 use crate::mesh::Mesh3;
-use crate::similarity::{fit_robust, residuals, robust_rotation, Similarity};
+use crate::similarity::{closest_rotation, fit_robust, residuals, robust_rotation, Similarity};
 use crate::solve::{FactorKind, SymmetricBuilder, SymmetricMatrix};
 use crate::topology::{connected_components, edges, Components};
 
@@ -40,20 +41,25 @@ use crate::topology::{connected_components, edges, Components};
 pub struct CorrespondOptions {
     /// `w_S`, weight of the smoothness term. Default 1.
     pub smoothness_weight: f64,
-    /// `w_I`, weight of the identity term. Default 0.1 (the paper's is
+    /// `w_I`, weight of the identity term. Default 0.3 (the paper's is
     /// 0.001).
     ///
     /// The term asks the source to keep its own shape where the markers and
     /// closest points would pull it into another (eyelids and lips into
-    /// each other, a body bent where only a few markers sit). It measures
-    /// each triangle's change from the source as it stands, which means
-    /// something only once the source overlaps the target, as it does after
-    /// the alignment (or, with the alignment off, by hand): the paper
-    /// started from sources that did not, where every triangle's turn and
-    /// scale counted as change, and the term had to be faint. Stronger, it
-    /// also keeps the markers from reshaping a source whose proportions
-    /// differ from the target's: 0.1 still lets them make a tube twice too
-    /// thin as thick as its target (`tests/real_meshes.rs`; from 0.3 on
+    /// each other, a body bent where only a few markers sit). The paper
+    /// asks every deformation gradient `T` to stay near the identity, which
+    /// also counts every turn and change of size as a change of shape: its
+    /// sources did not overlap their targets, and the term had to be faint.
+    /// Here it asks `T` to stay near the similarity `s R` nearest to it
+    /// (`R` the rotation of its polar decomposition, `s` the scale that fits
+    /// best), taken from the previous round's solution (the identity in the
+    /// first), as as-rigid-as-possible energies do with rotations: the term
+    /// sees only changes of shape, whatever turn or size the source needs
+    /// (a neck that stands higher, the scale left by the alignment), and
+    /// the matrix stays the same (only the right-hand side moves). Stronger,
+    /// it also keeps the markers from reshaping a source whose proportions
+    /// differ from the target's: 0.3 still lets them make a tube twice too
+    /// thin as thick as its target (`tests/real_meshes.rs`; from 0.7 on
     /// they no longer do).
     pub identity_weight: f64,
     /// `w_C` of each closest-point round, in order (a first round without
@@ -79,7 +85,7 @@ impl Default for CorrespondOptions {
     fn default() -> Self {
         Self {
             smoothness_weight: 1.0,
-            identity_weight: 0.1,
+            identity_weight: 0.3,
             closest_weights: (0..4)
                 .map(|k| 1.0 + (5000.0 - 1.0) * k as f64 / 3.0)
                 .collect(),
@@ -363,7 +369,7 @@ fn deform(
     let n = source.num_vertices();
     let ops = GradientOperators::spatial(source, "source reference")?;
     let weights = normalised_by_mean(&source.triangle_areas());
-    let (base, rhs_identity) = smooth_and_identity_terms(
+    let base = smooth_and_identity_terms(
         &ops,
         &weights,
         options.smoothness_weight,
@@ -381,8 +387,11 @@ fn deform(
     let mut positions: Vec<[f64; 3]> = source.positions().to_vec();
     let rounds = std::iter::once(0.0).chain(options.closest_weights.iter().copied());
     let mut system: Option<FactoredSystem<3>> = None;
+    // The identity term's targets: the similarities nearest to the previous
+    // round's deformation gradients (the identity at first).
+    let mut shapes: Vec<Mat3> = vec![identity(); source.num_triangles()];
     for (round, w_c) in rounds.enumerate() {
-        let mut rhs = rhs_identity.clone();
+        let mut rhs = identity_rhs(&ops, &weights, options.identity_weight, &shapes);
         let mut matrix = base.clone();
         if w_c > 0.0 {
             let mut diagonal = vec![0.0; m];
@@ -418,27 +427,29 @@ fn deform(
                 "the deformation produced non-finite positions".into(),
             ));
         }
+        if round < options.closest_weights.len() {
+            shapes = nearest_similarities(&ops, &ws.x);
+        }
         progress(round + 1);
     }
     Ok(positions)
 }
 
 /// `w_S E_S + w_I E_I`: the normal matrix (with every diagonal entry stored,
-/// for the closest-point term to add to) and the identity term's right-hand
-/// side. Every term counts in proportion to the area it covers (normalised
-/// by the mean area), so the energy does not depend on the tessellation.
+/// for the closest-point term to add to). Every term counts in proportion to
+/// the area it covers (normalised by the mean area), so the energy does not
+/// depend on the tessellation.
 fn smooth_and_identity_terms(
     ops: &GradientOperators<3, 4>,
     weights: &[f64],
     smoothness_weight: f64,
     identity_weight: f64,
-) -> (SymmetricMatrix, Vec<f64>) {
+) -> SymmetricMatrix {
     let (m, tris) = (ops.num_unknowns(), ops.triangles());
     let mut base = SymmetricBuilder::new(m, 40 * tris.len());
     for v in 0..m {
         base.add(v, v, 0.0);
     }
-    let mut rhs_identity = vec![0.0; 3 * m];
     ops.add_smoothness(
         &mut base,
         &edges(tris),
@@ -446,11 +457,44 @@ fn smooth_and_identity_terms(
         smoothness_weight,
         |_, _| true,
     );
-    for t in 0..tris.len() {
-        let w = identity_weight * weights[t];
-        ops.add_fit_to(&mut base, &mut rhs_identity, t, &identity(), w);
+    for (t, w) in weights.iter().enumerate() {
+        ops.add_fit(&mut base, t, identity_weight * w);
     }
-    (base.build(), rhs_identity)
+    base.build()
+}
+
+/// The right-hand side of `w_I E_I` with one target gradient per triangle:
+/// `E_I = Σ_t a_t ‖T_t − shapes_t‖²_F`.
+fn identity_rhs(
+    ops: &GradientOperators<3, 4>,
+    weights: &[f64],
+    identity_weight: f64,
+    shapes: &[Mat3],
+) -> Vec<f64> {
+    let mut rhs = vec![0.0; 3 * ops.num_unknowns()];
+    for (t, (w, S)) in weights.iter().zip(shapes).enumerate() {
+        ops.add_fit_rhs(&mut rhs, t, S, identity_weight * w);
+    }
+    rhs
+}
+
+/// The similarity `s R` nearest to each triangle's deformation gradient
+/// `T_t = X G_t` in the solution `x` (column-major `#unknowns × 3`): `R` the
+/// rotation nearest to `T_t`, `s = tr(Rᵀ T_t) / 3` the scale that then
+/// minimises `‖T_t − s R‖_F`.
+fn nearest_similarities(ops: &GradientOperators<3, 4>, x: &[f64]) -> Vec<Mat3> {
+    (0..ops.triangles().len())
+        .into_par_iter()
+        .map(|t| {
+            let T = ops.gradient(x, t);
+            let R = closest_rotation(&T);
+            let s = (0..3)
+                .map(|i| (0..3).map(|j| R[i][j] * T[i][j]).sum::<f64>())
+                .sum::<f64>()
+                / 3.0;
+            R.map(|row| row.map(|r| s * r))
+        })
+        .collect()
 }
 
 /// Markers held at their targets (in a fixed order: the solve sums the
@@ -524,4 +568,54 @@ pub fn match_triangles(source: &Mesh3, target: &Mesh3, threshold: f64) -> Corres
     pairs.sort_unstable();
     pairs.dedup();
     Correspondence::new(pairs, source, target)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gradient::spatial::fourth_vertex;
+    use crate::matrix::mul;
+    use crate::shapes::{bend, tube};
+
+    #[test]
+    fn a_similar_copy_gives_every_triangle_its_similarity_as_shape_target() {
+        let rest = bend(&tube(2.0, 0.3, 7, 8), 2.0, 1.0);
+        let ops = GradientOperators::spatial(&rest, "rest").unwrap();
+        let (a, b) = (0.6f64, -1.1f64);
+        let about_z = [
+            [a.cos(), -a.sin(), 0.0],
+            [a.sin(), a.cos(), 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+        let about_x = [
+            [1.0, 0.0, 0.0],
+            [0.0, b.cos(), -b.sin()],
+            [0.0, b.sin(), b.cos()],
+        ];
+        let R = mul(about_z, about_x);
+        let s = 1.7;
+        let map = |p: [f64; 3]| -> [f64; 3] {
+            std::array::from_fn(|i| {
+                s * (R[i][0] * p[0] + R[i][1] * p[1] + R[i][2] * p[2]) + [0.3, -1.0, 2.0][i]
+            })
+        };
+        let (n, m) = (rest.num_vertices(), ops.num_unknowns());
+        let mut x = vec![0.0; 3 * m];
+        let moved = (0..n)
+            .map(|v| map(rest.positions()[v]))
+            .chain((0..rest.num_triangles()).map(|t| map(fourth_vertex(rest.corners(t)))));
+        for (u, q) in moved.enumerate() {
+            for i in 0..3 {
+                x[i * m + u] = q[i];
+            }
+        }
+        for (t, S) in nearest_similarities(&ops, &x).iter().enumerate() {
+            for i in 0..3 {
+                for j in 0..3 {
+                    let d = (S[i][j] - s * R[i][j]).abs();
+                    assert!(d < 1e-9, "triangle {t}: entry ({i}, {j}) off by {d}");
+                }
+            }
+        }
+    }
 }

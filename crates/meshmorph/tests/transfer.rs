@@ -1213,7 +1213,11 @@ fn arc_angle(p: &[P3], spec: TubeSpec) -> (f64, f64) {
 #[test]
 fn bends_carry_over_to_a_thicker_tube() {
     // (source, target, tolerance in degrees): a source of four segments
-    // along its length carries the bend less faithfully.
+    // along its length carries the bend less faithfully. Onto a target
+    // coarser than its source (13 rings for 25), the correspondence, which
+    // keeps each source triangle's shape up to a turn and a size, slides
+    // along the axis by a few hundredths of a target ring at the ends: the
+    // axis then turns by up to 1 % more than the source's.
     for (source, target, tolerance) in [
         (THIN, THICK, 1.0),
         (
@@ -1224,7 +1228,7 @@ fn bends_carry_over_to_a_thicker_tube() {
                 segments: 12,
                 ..THIN
             },
-            1.0,
+            2.0,
         ),
         (COARSE, THICK, 4.0),
     ] {
@@ -1377,7 +1381,7 @@ fn horse_poses_transfer_to_the_camel_close_to_sumners() {
     // stand in the files, without an alignment: compared with them as such.
     let (mean, worst) =
         horse_to_camel_scores(&dir, &CorrespondOptions::default().with_align(false));
-    assert!(mean < 0.0146, "mean score {mean:.5}");
+    assert!(mean < 0.0144, "mean score {mean:.5}");
     assert!(worst < 0.0212, "worst score {worst:.5}");
 }
 
@@ -1387,8 +1391,8 @@ fn horse_poses_transfer_to_the_camel_aligned() {
     // The default: the horse brought onto the camel by the markers, the
     // transfer in the orientation of the matched surface.
     let (mean, worst) = horse_to_camel_scores(&dir, &CorrespondOptions::default());
-    assert!(mean < 0.0161, "mean score {mean:.5}");
-    assert!(worst < 0.0225, "worst score {worst:.5}");
+    assert!(mean < 0.0156, "mean score {mean:.5}");
+    assert!(worst < 0.0222, "worst score {worst:.5}");
 }
 
 /// The face mask of ../shared/data/dt/face-head (8 times smaller than the
@@ -1425,7 +1429,7 @@ fn the_face_masks_cry_transfers_to_the_head_close_to_sumners() {
     let score = rms_centred(&out, sumner.positions()) / head.bounding_box_diagonal();
     let nothing = rms_centred(head.positions(), sumner.positions()) / head.bounding_box_diagonal();
     println!("cry: score {score:.5}, doing nothing {nothing:.5}");
-    assert!(score < 0.0088, "score {score:.5}");
+    assert!(score < 0.0087, "score {score:.5}");
 }
 
 #[test]

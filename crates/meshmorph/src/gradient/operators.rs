@@ -69,28 +69,26 @@ impl<const D: usize, const K: usize> GradientOperators<D, K> {
         })
     }
 
+    /// The gradient `X_t G_t` (`D × D`) on triangle `t` of the map to the
+    /// positions `x` (column-major `#unknowns × D`, as a solve leaves them).
+    #[inline]
+    pub(crate) fn gradient(&self, x: &[f64], t: usize) -> Mat<D> {
+        let m = self.num_unknowns();
+        let (G, u) = (&self.operators[t], self.unknowns(t));
+        std::array::from_fn(|i| {
+            std::array::from_fn(|j| (0..K).map(|k| x[i * m + u[k]] * G[k][j]).sum())
+        })
+    }
+
     /// `weight · ‖X G_t‖²_F`, the matrix part of a fit of triangle `t`.
     #[inline]
     pub(crate) fn add_fit(&self, builder: &mut SymmetricBuilder, t: usize, weight: f64) {
         builder.add_gram(&self.unknowns(t), &self.operators[t], weight);
     }
 
-    /// `weight · ‖X G_t − Q‖²_F`: adds the matrix part to `builder` and the
-    /// right-hand side part to the column-major `#unknowns × D` `rhs`.
-    pub(crate) fn add_fit_to(
-        &self,
-        builder: &mut SymmetricBuilder,
-        rhs: &mut [f64],
-        t: usize,
-        Q: &Mat<D>,
-        weight: f64,
-    ) {
-        self.add_fit(builder, t, weight);
-        self.add_fit_rhs(rhs, t, Q, weight);
-    }
-
-    /// The right-hand side part of [`GradientOperators::add_fit_to`] alone:
-    /// `weight · G_t Qᵀ`, which is all a new target `Q` changes.
+    /// The right-hand side part of `weight · ‖X G_t − Q‖²_F` (whose matrix
+    /// part is [`GradientOperators::add_fit`]): `weight · G_t Qᵀ`, which is
+    /// all a new target `Q` changes.
     #[inline]
     pub(crate) fn add_fit_rhs(&self, rhs: &mut [f64], t: usize, Q: &Mat<D>, weight: f64) {
         let m = self.num_unknowns();
