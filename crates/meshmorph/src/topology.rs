@@ -122,6 +122,15 @@ impl TriangleAdjacency {
     /// fans meeting at one vertex is two of them): the label of each
     /// triangle, numbered in order of their first triangle, and the count.
     pub fn edge_components(&self) -> (Vec<u32>, usize) {
+        self.edge_components_where(|_, _| true)
+    }
+
+    /// [`TriangleAdjacency::edge_components`] crossing only the edges
+    /// between neighbours `t` and `u` for which `crosses(t, u)` holds.
+    pub fn edge_components_where(
+        &self,
+        crosses: impl Fn(usize, usize) -> bool,
+    ) -> (Vec<u32>, usize) {
         let mut label = vec![u32::MAX; self.len()];
         let mut count = 0u32;
         let mut stack = Vec::new();
@@ -133,9 +142,10 @@ impl TriangleAdjacency {
             stack.push(start);
             while let Some(t) = stack.pop() {
                 for &u in self.of(t) {
-                    if label[u as usize] == u32::MAX {
-                        label[u as usize] = count;
-                        stack.push(u as usize);
+                    let u = u as usize;
+                    if label[u] == u32::MAX && crosses(t, u) {
+                        label[u] = count;
+                        stack.push(u);
                     }
                 }
             }

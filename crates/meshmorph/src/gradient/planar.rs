@@ -38,16 +38,12 @@ impl TriangleMaps<2> for Space<2> {
         a
     }
 
-    #[inline]
-    fn reversed(rest: &[[f64; 2]; 3], corners: &[[f64; 2]; 3]) -> bool {
-        Self::area(rest) * Self::area(corners) <= 0.0
-    }
-
+    /// Reversed or collapsed: the signed area changed sign or vanished.
     fn turned_over(rest: &Mesh2, _: &TriangleAdjacency, positions: &[[f64; 2]]) -> Vec<usize> {
         (0..rest.num_triangles())
             .filter(|&t| {
                 let corners = rest.triangles()[t].map(|v| positions[v as usize]);
-                Self::reversed(&rest.corners(t), &corners)
+                Self::area(&rest.corners(t)) * Self::area(&corners) <= 0.0
             })
             .collect()
     }

@@ -39,14 +39,6 @@ impl TriangleMaps<3> for Space<3> {
         deformation_gradient(inverse3(frame(*rest)).unwrap_or(identity()), *q)
     }
 
-    /// A triangle in space has no inside to turn: only a collapse (zero
-    /// area) counts. Turning over relative to the neighbours is checked
-    /// over the adjacency ([`TriangleMaps::turned_over`]).
-    #[inline]
-    fn reversed(_: &[[f64; 3]; 3], corners: &[[f64; 3]; 3]) -> bool {
-        Self::area(corners) <= 0.0
-    }
-
     /// Collapsed, or folded back through their neighbours (the signed
     /// dihedral angles of their shared edges).
     fn turned_over(

@@ -21,8 +21,6 @@ pub trait TriangleMaps<const D: usize> {
         gradients: &[[f64; D]; 3],
         corners: &[[f64; D]; 3],
     ) -> Mat<D>;
-    /// Whether `corners` is reversed (or collapsed) relative to `rest`.
-    fn reversed(rest: &[[f64; D]; 3], corners: &[[f64; D]; 3]) -> bool;
     /// The triangles of `positions` (a pose of `rest`) turned over relative
     /// to `rest`: in the plane those reversed or collapsed; in space those
     /// collapsed or folded back through their neighbours (`adjacency`, the

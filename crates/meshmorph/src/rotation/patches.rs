@@ -61,7 +61,7 @@
 
 use std::f64::consts::{PI, TAU};
 
-use crate::geometry::{add, norm, scale};
+use crate::geometry::{add, norm, scale, sub};
 use crate::rotation3::{quat_dot, quat_exp, quat_log, quat_mul, Quat};
 use crate::topology::TriangleAdjacency;
 
@@ -95,7 +95,8 @@ pub fn whole_turns(
         "one rotation per triangle"
     );
     let jumps = |i: usize, j: usize| quat_dot(rotations[i], rotations[j]) < 0.0;
-    let (patch, count) = patches(adjacency, &jumps);
+    // Patches: triangles connected across edges that do not jump.
+    let (patch, count) = adjacency.edge_components_where(|t, u| !jumps(t, u));
     // The seeds' patches: no turns for the first key (the convention), the
     // previous key's nearest whole turns for later ones.
     let mut decided: Vec<Option<[f64; 3]>> = vec![None; count];
@@ -111,7 +112,7 @@ pub fn whole_turns(
         let mut sums = vec![([0.0; 3], 0.0); count];
         for (t, &p) in patch.iter().enumerate() {
             if decided[p as usize].is_some() {
-                let d = crate::geometry::sub(lifted[t], crate::rotation3::quat_log(rotations[t]));
+                let d = sub(lifted[t], quat_log(rotations[t]));
                 let s = &mut sums[p as usize];
                 s.0 = add(s.0, scale(d, weights[t]));
                 s.1 += weights[t];
@@ -179,7 +180,7 @@ pub fn whole_turns(
                 let (i, j) = (i as usize, j as usize);
                 if let Some(c) = decided[patch[i] as usize] {
                     let w = edge_weight(i, j);
-                    let d = add(c, scale(crate::geometry::sub(axis(i), axis(j)), PI));
+                    let d = add(c, scale(sub(axis(i), axis(j)), PI));
                     sum = add(sum, scale(d, w));
                     total += w;
                 }
@@ -246,36 +247,6 @@ pub fn nearest_whole_turns(v: [f64; 3]) -> [f64; 3] {
     }
 }
 
-/// Patches: triangles connected across edges that `jumps` does not mark.
-/// Returns the patch of each triangle (numbered in order of first triangle)
-/// and the count.
-fn patches(
-    adjacency: &TriangleAdjacency,
-    jumps: &impl Fn(usize, usize) -> bool,
-) -> (Vec<u32>, usize) {
-    let mut label = vec![u32::MAX; adjacency.len()];
-    let mut count = 0u32;
-    let mut stack = Vec::new();
-    for s in 0..adjacency.len() {
-        if label[s] != u32::MAX {
-            continue;
-        }
-        label[s] = count;
-        stack.push(s);
-        while let Some(t) = stack.pop() {
-            for &u in adjacency.of(t) {
-                let u = u as usize;
-                if label[u] == u32::MAX && !jumps(t, u) {
-                    label[u] = count;
-                    stack.push(u);
-                }
-            }
-        }
-        count += 1;
-    }
-    (label, count as usize)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -313,10 +284,7 @@ mod tests {
         for i in 0..n {
             let l = lifted(q[i], c[i]);
             let want = scale(axis, truth[i]);
-            assert!(
-                norm(crate::geometry::sub(l, want)) < 1e-9,
-                "{i}: {l:?} {want:?}"
-            );
+            assert!(norm(sub(l, want)) < 1e-9, "{i}: {l:?} {want:?}");
         }
     }
 
