@@ -184,7 +184,11 @@ pub fn run(args: &Args) -> Result<()> {
     let mut warnings = Vec::new();
     let (base_file, mut shapes) = output::read_poses(&paths, &roles, &mut warnings)?;
     let base = shapes.remove(0);
-    let planar = is_planar(args, &base, &shapes)?;
+    let meshes: Vec<&Mesh3> = std::iter::once(&base).chain(&shapes).collect();
+    let paths: Vec<&PathBuf> = std::iter::once(&args.base)
+        .chain(args.shapes.iter().map(|(p, _)| p))
+        .collect();
+    let planar = output::is_planar(args.dim, &meshes, |k| format!("`{}`", paths[k].display()))?;
     let (vertices, triangles) = (base.num_vertices(), base.num_triangles());
     let has_uvs = base_file.has_corner_uvs();
     if planar {
@@ -243,24 +247,6 @@ pub fn run(args: &Args) -> Result<()> {
     }
     .print(args.json);
     Ok(())
-}
-
-/// Planar when `--dim 2`, or without `--dim` when every z of every mesh is
-/// 0; `--dim 2` with a mesh that is not planar is refused, naming it.
-fn is_planar(args: &Args, base: &Mesh3, shapes: &[Mesh3]) -> Result<bool> {
-    let flat = |m: &Mesh3| m.positions().iter().all(|p| p[2] == 0.0);
-    match args.dim {
-        Some(2) => {
-            let paths = std::iter::once(&args.base).chain(args.shapes.iter().map(|(p, _)| p));
-            for (mesh, path) in std::iter::once(base).chain(shapes).zip(paths) {
-                mesh.to_2d()
-                    .with_context(|| format!("--dim 2: `{}` is not planar", path.display()))?;
-            }
-            Ok(true)
-        }
-        Some(_) => Ok(false),
-        None => Ok(flat(base) && shapes.iter().all(flat)),
-    }
 }
 
 /// What writing a blend needs besides its meshes.

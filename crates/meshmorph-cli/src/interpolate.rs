@@ -199,20 +199,10 @@ pub fn run(args: &Args) -> Result<()> {
     let role_names: Vec<&str> = roles.iter().map(String::as_str).collect();
     let mut warnings = Vec::new();
     let (first_file, keys) = output::read_poses(&paths, &role_names, &mut warnings)?;
-    let planar = match args.dim {
-        Some(2) => {
-            for ((key, path), role) in keys.iter().zip(&args.keys).zip(&roles) {
-                key.to_2d().with_context(|| {
-                    format!("--dim 2: the {role} `{}` is not planar", path.display())
-                })?;
-            }
-            true
-        }
-        Some(_) => false,
-        None => keys
-            .iter()
-            .all(|k| k.positions().iter().all(|p| p[2] == 0.0)),
-    };
+    let key_refs: Vec<&Mesh3> = keys.iter().collect();
+    let planar = output::is_planar(args.dim, &key_refs, |k| {
+        format!("the {} `{}`", roles[k], args.keys[k].display())
+    })?;
     let context = || {
         let names: Vec<String> = args
             .keys

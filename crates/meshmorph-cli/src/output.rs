@@ -151,3 +151,26 @@ pub fn print_warnings(warnings: &[String]) {
         eprintln!("warning: {w}");
     }
 }
+
+/// Whether `meshes` are interpolated in the plane: with `--dim 2` (each
+/// then refused, named by `name(k)`, unless its z are all 0), never with
+/// `--dim 3`, and without `--dim` when every z of every mesh is 0.
+pub fn is_planar(
+    dim: Option<u8>,
+    meshes: &[&meshmorph::Mesh3],
+    name: impl Fn(usize) -> String,
+) -> Result<bool> {
+    match dim {
+        Some(2) => {
+            for (k, mesh) in meshes.iter().enumerate() {
+                mesh.to_2d()
+                    .with_context(|| format!("--dim 2: {} is not planar", name(k)))?;
+            }
+            Ok(true)
+        }
+        Some(_) => Ok(false),
+        None => Ok(meshes
+            .iter()
+            .all(|m| m.positions().iter().all(|p| p[2] == 0.0))),
+    }
+}
