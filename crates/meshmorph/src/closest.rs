@@ -3,12 +3,11 @@
 //!
 //! Both answer "the nearest thing whose normal is less than 90° from mine,
 //! within a distance", as deformation transfer needs (Sumner and Popović
-//! 2004, sections 5.1 and 5.2). They walk an R-tree ([`rstar`]) in order of
-//! distance and stop at the first compatible candidate or at the cut-off.
+//! 2004, sections 5.1 and 5.2), from a bounding volume hierarchy
+//! (`bvh.rs`) that skips whatever lies beyond the cut-off or beyond the
+//! nearest compatible candidate found so far.
 
-use rstar::primitives::GeomWithData;
-use rstar::{PointDistance, RTree, RTreeObject, AABB};
-
+use crate::bvh::{Aabb, Bvh};
 use crate::geometry::{add, cross, dot, norm, scale, sub};
 
 /// Unit normal of a triangle (zero for a degenerate one).
@@ -85,30 +84,15 @@ pub fn closest_point_on_triangle(q: [f64; 3], p: [[f64; 3]; 3]) -> [f64; 3] {
     add(a, add(scale(ab, v), scale(ac, w)))
 }
 
+/// A triangle of an indexed surface.
 struct Triangle {
-    index: u32,
     corners: [[f64; 3]; 3],
-    envelope: AABB<[f64; 3]>,
-}
-
-impl RTreeObject for Triangle {
-    type Envelope = AABB<[f64; 3]>;
-    fn envelope(&self) -> Self::Envelope {
-        self.envelope
-    }
-}
-
-impl PointDistance for Triangle {
-    fn distance_2(&self, point: &[f64; 3]) -> f64 {
-        let d = sub(closest_point_on_triangle(*point, self.corners), *point);
-        dot(d, d)
-    }
+    normal: [f64; 3],
 }
 
 /// The triangles of a surface, for closest-point queries.
 pub struct SurfaceIndex {
-    tree: RTree<Triangle>,
-    normals: Vec<[f64; 3]>,
+    tree: Bvh<Triangle>,
 }
 
 /// A closest-point answer.
@@ -127,104 +111,94 @@ impl SurfaceIndex {
     pub fn new(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> Self {
         let items = triangles
             .iter()
-            .enumerate()
-            .map(|(t, tri)| {
+            .map(|tri| {
                 let corners = tri.map(|v| positions[v as usize]);
                 Triangle {
-                    index: t as u32,
                     corners,
-                    envelope: AABB::from_points(corners.iter()),
+                    normal: unit_normal(corners),
                 }
             })
             .collect();
-        let normals = triangles
-            .iter()
-            .map(|t| unit_normal(t.map(|v| positions[v as usize])))
-            .collect();
         Self {
-            tree: RTree::bulk_load(items),
-            normals,
+            tree: Bvh::new(items, |t| Aabb::around(&t.corners)),
         }
     }
 
     /// The closest point to `q` on a triangle whose normal is less than 90°
-    /// from `normal`, if one lies within `max_distance`.
+    /// from `normal`, if one lies within `max_distance` (of equally close
+    /// triangles, the first).
     pub fn closest_compatible(
         &self,
         q: [f64; 3],
         normal: [f64; 3],
         max_distance: f64,
     ) -> Option<ClosestPoint> {
-        let candidates = self.tree.nearest_neighbor_iter_with_distance_2(q);
-        let (tri, d2) = first_compatible(
-            candidates,
-            |t| self.normals[t.index as usize],
-            normal,
-            max_distance,
+        let (triangle, tri, d2) = self.tree.nearest(
+            q,
+            max_distance * max_distance,
+            |t| dot(t.normal, normal) > 0.0,
+            |t| {
+                let d = sub(closest_point_on_triangle(q, t.corners), q);
+                dot(d, d)
+            },
         )?;
         Some(ClosestPoint {
-            triangle: tri.index,
+            triangle,
             point: closest_point_on_triangle(q, tri.corners),
             distance: d2.sqrt(),
         })
     }
 }
 
-/// The first of `candidates` (in order of squared distance) whose normal is
-/// less than 90° from `normal`, unless the walk passes `max_distance` first.
-fn first_compatible<'a, T: 'a>(
-    candidates: impl Iterator<Item = (&'a T, f64)>,
-    normal_of: impl Fn(&T) -> [f64; 3],
+/// A triangle's centroid and unit normal.
+struct Centroid {
+    point: [f64; 3],
     normal: [f64; 3],
-    max_distance: f64,
-) -> Option<(&'a T, f64)> {
-    let max2 = max_distance * max_distance;
-    candidates
-        .take_while(|&(_, d2)| d2 <= max2)
-        .find(|&(item, _)| dot(normal_of(item), normal) > 0.0)
 }
 
 /// Triangle centroids with their unit normals, for nearest-triangle queries.
 pub struct CentroidIndex {
-    tree: RTree<GeomWithData<[f64; 3], u32>>,
-    normals: Vec<[f64; 3]>,
+    tree: Bvh<Centroid>,
 }
 
 impl CentroidIndex {
     /// Indexes the centroids of the triangles of a mesh.
     pub fn new(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> Self {
-        let mut normals = Vec::with_capacity(triangles.len());
         let items = triangles
             .iter()
-            .enumerate()
-            .map(|(t, tri)| {
+            .map(|tri| {
                 let p = tri.map(|v| positions[v as usize]);
-                normals.push(unit_normal(p));
-                GeomWithData::new(crate::geometry::centroid(p), t as u32)
+                Centroid {
+                    point: crate::geometry::centroid(p),
+                    normal: unit_normal(p),
+                }
             })
             .collect();
         Self {
-            tree: RTree::bulk_load(items),
-            normals,
+            tree: Bvh::new(items, |c| Aabb::around(&[c.point])),
         }
     }
 
     /// The triangle whose centroid is nearest to `q` among those whose normal
-    /// is less than 90° from `normal`, if one lies within `max_distance`.
+    /// is less than 90° from `normal`, if one lies within `max_distance` (of
+    /// equally near ones, the first).
     pub fn nearest_compatible(
         &self,
         q: [f64; 3],
         normal: [f64; 3],
         max_distance: f64,
     ) -> Option<u32> {
-        let candidates = self.tree.nearest_neighbor_iter_with_distance_2(q);
-        first_compatible(
-            candidates,
-            |item| self.normals[item.data as usize],
-            normal,
-            max_distance,
-        )
-        .map(|(item, _)| item.data)
+        self.tree
+            .nearest(
+                q,
+                max_distance * max_distance,
+                |c| dot(c.normal, normal) > 0.0,
+                |c| {
+                    let d = sub(c.point, q);
+                    dot(d, d)
+                },
+            )
+            .map(|(t, _, _)| t)
     }
 }
 

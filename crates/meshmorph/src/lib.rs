@@ -46,6 +46,7 @@
 // Numeric kernels index small fixed-size arrays by position, as the papers do.
 #![allow(clippy::needless_range_loop)]
 
+mod bvh;
 pub mod carried_parts;
 mod closest;
 mod correspond;

@@ -1,0 +1,297 @@
+//! A bounding volume hierarchy over fixed items in space, for nearest-item
+//! queries with a filter and a distance cut-off.
+//!
+//! Built once, top down: each node's items are split at the median of their
+//! centres along the axis where the centres spread most, down to leaves of
+//! at most [`LEAF_SIZE`] items (so the tree is balanced, its depth about
+//! `log2(n / LEAF_SIZE)`). A query walks it depth first, nearer child first,
+//! and skips every node whose box lies farther than the best item found so
+//! far (at first, the cut-off): with a cut-off small next to the model, a
+//! query opens a few leaves around its point. The answer is exactly the
+//! accepted item nearest to the point (ties go to the lowest item index),
+//! whatever order the walk takes.
+
+/// Most items in a leaf.
+const LEAF_SIZE: usize = 4;
+
+/// Deepest tree a query's stack holds (a balanced tree of `u32` items is
+/// at most 33 levels deep).
+const MAX_DEPTH: usize = 64;
+
+/// An axis-aligned box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Aabb {
+    /// The smallest corner.
+    pub(crate) lo: [f64; 3],
+    /// The largest corner.
+    pub(crate) hi: [f64; 3],
+}
+
+impl Aabb {
+    /// The box around `points`.
+    pub(crate) fn around(points: &[[f64; 3]]) -> Self {
+        let mut b = Self::EMPTY;
+        for p in points {
+            b = b.union(&Self { lo: *p, hi: *p });
+        }
+        b
+    }
+
+    const EMPTY: Self = Self {
+        lo: [f64::INFINITY; 3],
+        hi: [f64::NEG_INFINITY; 3],
+    };
+
+    fn union(&self, other: &Self) -> Self {
+        Self {
+            lo: std::array::from_fn(|i| self.lo[i].min(other.lo[i])),
+            hi: std::array::from_fn(|i| self.hi[i].max(other.hi[i])),
+        }
+    }
+
+    /// Squared distance from `q` to the nearest point of the box (0 inside).
+    #[inline]
+    fn distance_2(&self, q: [f64; 3]) -> f64 {
+        let mut d2 = 0.0;
+        for i in 0..3 {
+            let d = (self.lo[i] - q[i]).max(q[i] - self.hi[i]).max(0.0);
+            d2 += d * d;
+        }
+        d2
+    }
+}
+
+/// A node: a leaf holds items `first..first + count`; an inner node
+/// (`count == 0`) has its two children at `first` and `first + 1`.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    bounds: Aabb,
+    first: u32,
+    count: u32,
+}
+
+/// Items of type `T` in a bounding volume hierarchy.
+#[derive(Clone, Debug)]
+pub(crate) struct Bvh<T> {
+    nodes: Vec<Node>,
+    /// The items, in leaf order.
+    items: Vec<T>,
+    /// The index each item had in the list given to [`Bvh::new`].
+    index: Vec<u32>,
+}
+
+/// The nearest accepted item: its index in the list given to [`Bvh::new`],
+/// the item, and its squared distance.
+pub(crate) type Nearest<'a, T> = (u32, &'a T, f64);
+
+impl<T> Bvh<T> {
+    /// The hierarchy over `items`, each within the box `bounds(item)`.
+    ///
+    /// # Panics
+    /// If there are `u32::MAX` items or more.
+    pub(crate) fn new(items: Vec<T>, bounds: impl Fn(&T) -> Aabb) -> Self {
+        assert!(items.len() < u32::MAX as usize, "too many items");
+        let boxes: Vec<Aabb> = items.iter().map(&bounds).collect();
+        let centres: Vec<[f64; 3]> = boxes
+            .iter()
+            .map(|b| std::array::from_fn(|i| 0.5 * (b.lo[i] + b.hi[i])))
+            .collect();
+        let mut order: Vec<u32> = (0..items.len() as u32).collect();
+        let mut nodes = vec![Node {
+            bounds: Aabb::EMPTY,
+            first: 0,
+            count: 0,
+        }];
+        if !items.is_empty() {
+            build(&mut nodes, 0, &mut order, 0, &boxes, &centres);
+        }
+        let mut slots: Vec<Option<T>> = items.into_iter().map(Some).collect();
+        let items = order
+            .iter()
+            .map(|&k| slots[k as usize].take().expect("each item once"))
+            .collect();
+        Self {
+            nodes,
+            items,
+            index: order,
+        }
+    }
+
+    /// The item nearest to `q` among those `accept` takes, with
+    /// `distance_2(item)` its squared distance from `q`, if one lies within
+    /// `max_distance_2`; of equally near ones, the one given first to
+    /// [`Bvh::new`]. `distance_2` must be at least the squared distance from
+    /// `q` to the item's box.
+    pub(crate) fn nearest(
+        &self,
+        q: [f64; 3],
+        max_distance_2: f64,
+        accept: impl Fn(&T) -> bool,
+        distance_2: impl Fn(&T) -> f64,
+    ) -> Option<Nearest<'_, T>> {
+        let mut best: Option<(usize, f64)> = None;
+        let mut bound = max_distance_2;
+        let mut stack = [(0u32, 0.0f64); MAX_DEPTH];
+        let root = self.nodes[0].bounds.distance_2(q);
+        if self.items.is_empty() || root > bound {
+            return None;
+        }
+        stack[0] = (0, root);
+        let mut depth = 1;
+        while depth > 0 {
+            depth -= 1;
+            let (n, d2) = stack[depth];
+            if d2 > bound {
+                continue;
+            }
+            let node = self.nodes[n as usize];
+            if node.count > 0 {
+                let start = node.first as usize;
+                for k in start..start + node.count as usize {
+                    let item = &self.items[k];
+                    if !accept(item) {
+                        continue;
+                    }
+                    let d2 = distance_2(item);
+                    let better = match best {
+                        None => d2 <= bound,
+                        Some((b, _)) => {
+                            d2 < bound || (d2 == bound && self.index[k] < self.index[b])
+                        }
+                    };
+                    if better {
+                        best = Some((k, d2));
+                        bound = d2;
+                    }
+                }
+                continue;
+            }
+            let (a, b) = (node.first, node.first + 1);
+            let (da, db) = (
+                self.nodes[a as usize].bounds.distance_2(q),
+                self.nodes[b as usize].bounds.distance_2(q),
+            );
+            // The nearer child is taken first: pushed last.
+            let (near, far) = if db < da {
+                ((b, db), (a, da))
+            } else {
+                ((a, da), (b, db))
+            };
+            for (c, d) in [far, near] {
+                if d <= bound {
+                    stack[depth] = (c, d);
+                    depth += 1;
+                }
+            }
+        }
+        best.map(|(k, d2)| (self.index[k], &self.items[k], d2))
+    }
+}
+
+/// Makes `nodes[at]` the node of the items `order[..]` (which start at
+/// `first` in leaf order), and its subtree.
+fn build(
+    nodes: &mut Vec<Node>,
+    at: usize,
+    order: &mut [u32],
+    first: usize,
+    boxes: &[Aabb],
+    centres: &[[f64; 3]],
+) {
+    let bounds = order
+        .iter()
+        .fold(Aabb::EMPTY, |b, &k| b.union(&boxes[k as usize]));
+    if order.len() <= LEAF_SIZE {
+        nodes[at] = Node {
+            bounds,
+            first: first as u32,
+            count: order.len() as u32,
+        };
+        return;
+    }
+    let spread = order.iter().fold(Aabb::EMPTY, |b, &k| {
+        let c = centres[k as usize];
+        b.union(&Aabb { lo: c, hi: c })
+    });
+    let axis = (0..3)
+        .max_by(|&i, &j| (spread.hi[i] - spread.lo[i]).total_cmp(&(spread.hi[j] - spread.lo[j])))
+        .unwrap_or(0);
+    let mid = order.len() / 2;
+    order.select_nth_unstable_by(mid, |&i, &j| {
+        centres[i as usize][axis]
+            .total_cmp(&centres[j as usize][axis])
+            .then(i.cmp(&j))
+    });
+    let children = nodes.len();
+    let empty = Node {
+        bounds: Aabb::EMPTY,
+        first: 0,
+        count: 0,
+    };
+    nodes.extend([empty, empty]);
+    nodes[at] = Node {
+        bounds,
+        first: children as u32,
+        count: 0,
+    };
+    let (left, right) = order.split_at_mut(mid);
+    build(nodes, children, left, first, boxes, centres);
+    build(nodes, children + 1, right, first + mid, boxes, centres);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A deterministic scatter of points in the unit cube.
+    fn points(n: usize) -> Vec<[f64; 3]> {
+        let mut s: u64 = 0x9e3779b97f4a7c15;
+        let mut next = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        (0..n).map(|_| [next(), next(), next()]).collect()
+    }
+
+    fn d2(a: [f64; 3], b: [f64; 3]) -> f64 {
+        (0..3).map(|i| (a[i] - b[i]).powi(2)).sum()
+    }
+
+    #[test]
+    fn nearest_accepted_item_matches_brute_force() {
+        let items = points(1000);
+        let bvh = Bvh::new(
+            items.iter().copied().enumerate().collect::<Vec<_>>(),
+            |(_, p)| Aabb::around(&[*p]),
+        );
+        for (k, q) in points(300).into_iter().enumerate() {
+            let max2 = [0.001, 0.01, 1.0, 10.0][k % 4];
+            // Only items of one parity count.
+            let accept = |i: usize| i % 2 == k % 2;
+            let expected = items
+                .iter()
+                .enumerate()
+                .filter(|&(i, p)| accept(i) && d2(*p, q) <= max2)
+                .min_by(|a, b| d2(*a.1, q).total_cmp(&d2(*b.1, q)).then(a.0.cmp(&b.0)))
+                .map(|(i, _)| i as u32);
+            let found = bvh.nearest(q, max2, |(i, _)| accept(*i), |(_, p)| d2(*p, q));
+            assert_eq!(found.map(|f| f.0), expected, "query {k}");
+            if let Some((i, item, d)) = found {
+                assert_eq!(item.0, i as usize);
+                assert_eq!(d, d2(items[i as usize], q));
+            }
+        }
+    }
+
+    #[test]
+    fn ties_go_to_the_first_item_and_empty_trees_find_nothing() {
+        let same = vec![[1.0, 2.0, 3.0]; 40];
+        let bvh = Bvh::new(same, |p| Aabb::around(&[*p]));
+        let found = bvh.nearest([0.0; 3], 100.0, |_| true, |p| d2(*p, [0.0; 3]));
+        assert_eq!(found.map(|f| f.0), Some(0));
+        let empty: Bvh<[f64; 3]> = Bvh::new(Vec::new(), |p| Aabb::around(&[*p]));
+        assert!(empty.nearest([0.0; 3], 1.0, |_| true, |_| 0.0).is_none());
+    }
+}
