@@ -24,6 +24,7 @@
 //! `substitution.rs` (one cache line per row, and no dense kernel calls per
 //! supernode); more columns go through faer's solve, column by column.
 
+mod refill;
 mod substitution;
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -37,6 +38,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
 use crate::error::{Error, Result};
+use refill::Refill;
 
 /// Which Cholesky variant to use.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -444,6 +446,9 @@ pub struct PinnedSystem {
     order: Vec<u32>,
     /// The row of the factored system of each free unknown (by reduced index).
     row_of_reduced: Vec<u32>,
+    /// Where the entries of the matrix of the last [`PinnedSystem::refactor`]
+    /// go, for the next one (made there: most systems are never refactored).
+    refill: Option<Refill>,
 }
 
 impl PinnedSystem {
@@ -485,6 +490,7 @@ impl PinnedSystem {
             cholesky,
             order,
             row_of_reduced,
+            refill: None,
         })
     }
 
@@ -498,12 +504,29 @@ impl PinnedSystem {
     /// If the matrix has another dimension.
     pub fn refactor(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
         assert_eq!(matrix.n, self.n, "matrix of another dimension");
+        if let Some(refill) = self.refill.as_mut().filter(|r| r.fits(matrix)) {
+            refill.fill(matrix, &mut self.coupling);
+            return self.cholesky.refactor(&refill.reduced);
+        }
+        self.refill = None;
         let (reduced, coupling_ptr, coupling) =
             split(matrix, &self.reduced_of, &self.free, &self.pinned);
         self.cholesky.refactor(&reduced)?;
         (self.order, self.row_of_reduced) = ordering(&self.cholesky, &self.free);
         self.coupling_ptr = coupling_ptr;
         self.coupling = coupling;
+        let mut pinned_col = vec![0; self.n];
+        for (k, &p) in self.pinned.iter().enumerate() {
+            pinned_col[p as usize] = k;
+        }
+        self.refill = Refill::new(
+            matrix,
+            &self.reduced_of,
+            |p| pinned_col[p],
+            &self.coupling_ptr,
+            &self.coupling,
+            reduced,
+        );
         Ok(())
     }
 
@@ -804,20 +827,11 @@ mod tests {
     #[test]
     fn refactoring_reuses_or_redoes_the_analysis() {
         let n = 50;
-        let mut s =
-            PinnedSystem::new(&path_laplacian(n, 0.0), &[0], FactorKind::Supernodal).unwrap();
-        let mut ws = s.workspace(1);
-        let b: Vec<f64> = (0..n).map(|i| (i as f64).cos()).collect();
-        for (shift, m) in [(0.5, path_laplacian(n, 0.5)), (2.0, path_laplacian(n, 2.0))] {
-            s.refactor(&m).unwrap();
-            let mut x = vec![0.0; n];
-            s.solve(&b, Some(&[0.25]), &mut x, &mut ws);
-            let r = m.mul_vec(&x);
-            for i in 1..n {
-                assert!((r[i] - b[i]).abs() < 1e-10, "shift {shift}: row {i}");
-            }
-            assert_eq!(x[0], 0.25);
-        }
+        let scaled = |m: &SymmetricMatrix, k: f64| {
+            let mut m = m.clone();
+            m.values.iter_mut().for_each(|v| *v *= k);
+            m
+        };
         // Another pattern: a dense row added.
         let mut bigger = SymmetricBuilder::new(n, 4 * n);
         for i in 0..n - 1 {
@@ -825,11 +839,34 @@ mod tests {
             bigger.add_row_outer(&[(i, 0.1), (n - 1, -0.1)], 1.0);
         }
         let bigger = bigger.build();
-        s.refactor(&bigger).unwrap();
-        let mut x = vec![0.0; n];
-        s.solve(&b, Some(&[0.0]), &mut x, &mut ws);
-        let r = bigger.mul_vec(&x);
-        assert!((1..n).all(|i| (r[i] - b[i]).abs() < 1e-9));
+        let mut s =
+            PinnedSystem::new(&path_laplacian(n, 0.0), &[0], FactorKind::Supernodal).unwrap();
+        let mut ws = s.workspace(1);
+        let b: Vec<f64> = (0..n).map(|i| (i as f64).cos()).collect();
+        // The same pattern (its values copied in place from the second
+        // refactoring on, the coupling to the pinned unknown too), another
+        // pattern, and back.
+        for (k, m) in [
+            path_laplacian(n, 0.5),
+            path_laplacian(n, 2.0),
+            scaled(&path_laplacian(n, 1.0), 3.0),
+            bigger.clone(),
+            scaled(&bigger, 2.0),
+            scaled(&bigger, 0.5),
+            path_laplacian(n, 0.5),
+        ]
+        .iter()
+        .enumerate()
+        {
+            s.refactor(m).unwrap();
+            let mut x = vec![0.0; n];
+            s.solve(&b, Some(&[0.25]), &mut x, &mut ws);
+            let r = m.mul_vec(&x);
+            for i in 1..n {
+                assert!((r[i] - b[i]).abs() < 1e-9, "matrix {k}: row {i}");
+            }
+            assert_eq!(x[0], 0.25);
+        }
     }
 
     /// Laplacian of an `n × n` grid graph (whose factors have supernodes
