@@ -367,33 +367,38 @@ fn deform(
     progress: &mut dyn FnMut(usize),
 ) -> Result<Vec<[f64; 3]>> {
     let n = source.num_vertices();
-    let ops = GradientOperators::spatial(source, "source reference")?;
-    let weights = normalised_by_mean(&source.triangle_areas());
-    let base = smooth_and_identity_terms(
-        &ops,
-        &weights,
-        options.smoothness_weight,
-        options.identity_weight,
+    // The first round has no closest-point term: its matrix (with the
+    // ordering and symbolic analysis every round shares) is factored while
+    // the target's triangles are indexed for the closest points.
+    let (surface, first) = rayon::join(
+        || SurfaceIndex::new(target.positions(), target.triangles()),
+        || -> Result<_> {
+            let terms = DeformTerms::new(source, options)?;
+            let pins = marker_pins(source, target, components, markers);
+            // One factorization per round, each used once: the supernodal
+            // factor is the faster one then.
+            let system = FactoredSystem::new(&terms.base, &pins, FactorKind::Supernodal)?;
+            Ok((terms, system))
+        },
     );
-    // The closest-point term weighs each vertex by its share of the area,
-    // normalised to a mean of 1 over the vertices.
-    let mut vertex_weight = vertex_weights(n, source.triangles(), &weights);
-    normalise_by_mean(&mut vertex_weight);
-    let pins = marker_pins(source, target, components, markers);
-
-    let surface = SurfaceIndex::new(target.positions(), target.triangles());
+    let (terms, mut system) = first?;
+    let DeformTerms {
+        ops,
+        weights,
+        base,
+        vertex_weight,
+    } = &terms;
     let cutoff = options.closest_cutoff * target.bounding_box_diagonal();
     let m = ops.num_unknowns();
     let mut positions: Vec<[f64; 3]> = source.positions().to_vec();
     let rounds = std::iter::once(0.0).chain(options.closest_weights.iter().copied());
-    let mut system: Option<FactoredSystem<3>> = None;
     // The identity term's targets: the similarities nearest to the previous
     // round's deformation gradients (the identity at first).
     let mut shapes: Vec<Mat3> = vec![identity(); source.num_triangles()];
     for (round, w_c) in rounds.enumerate() {
-        let mut rhs = identity_rhs(&ops, &weights, options.identity_weight, &shapes);
-        let mut matrix = base.clone();
+        let mut rhs = identity_rhs(ops, weights, options.identity_weight, &shapes);
         if w_c > 0.0 {
+            let mut matrix = base.clone();
             let mut diagonal = vec![0.0; m];
             for (v, c) in closest_points(&surface, &positions, source.triangles(), cutoff)
                 .iter()
@@ -408,16 +413,9 @@ fn deform(
                 }
             }
             matrix.add_to_diagonal(&diagonal);
+            // The same pattern every round: the analysis is reused.
+            system.refactor(&matrix)?;
         }
-        // One factorization per round, each used once: the supernodal factor
-        // is the faster one then, and the symbolic analysis is shared.
-        let system = match &mut system {
-            Some(system) => {
-                system.refactor(&matrix)?;
-                system
-            }
-            None => system.insert(FactoredSystem::new(&matrix, &pins, FactorKind::Supernodal)?),
-        };
         let mut ws = system.workspace();
         ws.rhs = rhs;
         system.solve(&mut ws);
@@ -428,11 +426,44 @@ fn deform(
             ));
         }
         if round < options.closest_weights.len() {
-            shapes = nearest_similarities(&ops, &ws.x);
+            shapes = nearest_similarities(ops, &ws.x);
         }
         progress(round + 1);
     }
     Ok(positions)
+}
+
+/// What every round of [`deform`] shares.
+struct DeformTerms {
+    ops: GradientOperators<3, 4>,
+    /// Each triangle's area over the mean.
+    weights: Vec<f64>,
+    /// `w_S E_S + w_I E_I` ([`smooth_and_identity_terms`]).
+    base: SymmetricMatrix,
+    /// The closest-point term's weight of each vertex: its share of the
+    /// area, normalised to a mean of 1 over the vertices.
+    vertex_weight: Vec<f64>,
+}
+
+impl DeformTerms {
+    fn new(source: &Mesh3, options: &CorrespondOptions) -> Result<Self> {
+        let ops = GradientOperators::spatial(source, "source reference")?;
+        let weights = normalised_by_mean(&source.triangle_areas());
+        let base = smooth_and_identity_terms(
+            &ops,
+            &weights,
+            options.smoothness_weight,
+            options.identity_weight,
+        );
+        let mut vertex_weight = vertex_weights(source.num_vertices(), source.triangles(), &weights);
+        normalise_by_mean(&mut vertex_weight);
+        Ok(Self {
+            ops,
+            weights,
+            base,
+            vertex_weight,
+        })
+    }
 }
 
 /// `w_S E_S + w_I E_I`: the normal matrix (with every diagonal entry stored,
@@ -542,8 +573,11 @@ fn closest_points(
 /// each triangle of `target` with the nearest compatible one of `source`.
 /// The union of both, sorted, is the map.
 pub fn match_triangles(source: &Mesh3, target: &Mesh3, threshold: f64) -> Correspondence {
-    let query = |from: &Mesh3, to: &Mesh3| -> Vec<Option<u32>> {
-        let index = CentroidIndex::new(to.positions(), to.triangles());
+    let (source_index, target_index) = rayon::join(
+        || CentroidIndex::new(source.positions(), source.triangles()),
+        || CentroidIndex::new(target.positions(), target.triangles()),
+    );
+    let query = |from: &Mesh3, index: &CentroidIndex| -> Vec<Option<u32>> {
         (0..from.num_triangles())
             .into_par_iter()
             .map(|t| {
@@ -552,8 +586,8 @@ pub fn match_triangles(source: &Mesh3, target: &Mesh3, threshold: f64) -> Corres
             })
             .collect()
     };
-    let forward = query(source, target);
-    let backward = query(target, source);
+    let forward = query(source, &target_index);
+    let backward = query(target, &source_index);
     let mut pairs: Vec<[u32; 2]> = forward
         .iter()
         .enumerate()
