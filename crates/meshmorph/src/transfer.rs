@@ -254,34 +254,45 @@ impl Transfer {
             .collect();
         let gap_distance = (options.gap_distance * target_ref.bounding_box_diagonal())
             .max(crate::correspond::mean_edge_length(target_ref));
-        let beyond = beyond_the_source(target_ref, source_ref, &pairs, &adjacency, &paired);
-        let is_gap: Vec<bool> = gaps(target_ref, &paired, gap_distance)
+        let (beyond, near) = rayon::join(
+            || beyond_the_source(target_ref, source_ref, &pairs, &adjacency, &paired),
+            || gaps(target_ref, &paired, gap_distance),
+        );
+        let is_gap: Vec<bool> = near
             .into_iter()
             .zip(&paired)
             .zip(&beyond)
             .map(|((near, &p), &b)| !p && (near || !b))
             .collect();
-        let field = RotationField::new(&adjacency, &paired, &weights)?;
         let unpaired: Vec<u32> = (0..target_ref.num_triangles() as u32)
             .filter(|&t| !paired[t as usize] && !is_gap[t as usize])
             .collect();
         let matrix = normal_equations(&target_gradients, &tri_edges, &is_gap, &weights);
         let components = connected_components(target_ref.num_vertices(), target_ref.triangles());
-        let carried =
-            CarriedParts::new(target_ref.positions(), &components, &paired, &target_areas);
         let mut pins = target_pins(&options.pins, target_ref.num_vertices())?;
         let held_by_pin = pins.hold_free_parts(&components, |v| target_ref.positions()[v]);
-        let system = FactoredSystem::new(&matrix, &pins, options.factor)?;
-        let placement = Placement::new(
-            &components,
-            |c| !held_by_pin[c],
-            vertex_weights(
-                target_ref.num_vertices(),
-                target_ref.triangles(),
-                &target_areas,
-            ),
+        // The factorization, most of the setup, runs while the rest is made.
+        let (system, rest) = rayon::join(
+            || FactoredSystem::new(&matrix, &pins, options.factor),
+            || -> Result<_> {
+                let field = RotationField::new(&adjacency, &paired, &weights)?;
+                let carried =
+                    CarriedParts::new(target_ref.positions(), &components, &paired, &target_areas);
+                let placement = Placement::new(
+                    &components,
+                    |c| !held_by_pin[c],
+                    vertex_weights(
+                        target_ref.num_vertices(),
+                        target_ref.triangles(),
+                        &target_areas,
+                    ),
+                );
+                let anchors = part_anchors(&placement, &pairs, source_ref, target_ref);
+                Ok((field, carried, placement, anchors))
+            },
         );
-        let anchors = part_anchors(&placement, &pairs, source_ref, target_ref);
+        let (field, carried, placement, anchors) = rest?;
+        let system = system?;
         Ok(Self {
             alignment,
             source_ref: source_ref.clone(),
