@@ -385,9 +385,12 @@ fn deform(
     let DeformTerms {
         ops,
         weights,
-        base,
+        mut base,
         vertex_weight,
-    } = &terms;
+    } = terms;
+    // Each round adds the closest-point term to the base's diagonal, and
+    // sets it back.
+    let base_diagonal = base.diagonal();
     let cutoff = options.closest_cutoff * target.bounding_box_diagonal();
     let m = ops.num_unknowns();
     let mut positions: Vec<[f64; 3]> = source.positions().to_vec();
@@ -396,9 +399,8 @@ fn deform(
     // round's deformation gradients (the identity at first).
     let mut shapes: Vec<Mat3> = vec![identity(); source.num_triangles()];
     for (round, w_c) in rounds.enumerate() {
-        let mut rhs = identity_rhs(ops, weights, options.identity_weight, &shapes);
+        let mut rhs = identity_rhs(&ops, &weights, options.identity_weight, &shapes);
         if w_c > 0.0 {
-            let mut matrix = base.clone();
             let mut diagonal = vec![0.0; m];
             for (v, c) in closest_points(&surface, &positions, source.triangles(), cutoff)
                 .iter()
@@ -412,9 +414,11 @@ fn deform(
                     }
                 }
             }
-            matrix.add_to_diagonal(&diagonal);
+            base.add_to_diagonal(&diagonal);
             // The same pattern every round: the analysis is reused.
-            system.refactor(&matrix)?;
+            let factored = system.refactor(&base);
+            base.set_diagonal(&base_diagonal);
+            factored?;
         }
         let mut ws = system.workspace();
         ws.rhs = rhs;
@@ -426,7 +430,7 @@ fn deform(
             ));
         }
         if round < options.closest_weights.len() {
-            shapes = nearest_similarities(ops, &ws.x);
+            shapes = nearest_similarities(&ops, &ws.x);
         }
         progress(round + 1);
     }

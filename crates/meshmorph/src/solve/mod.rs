@@ -131,6 +131,38 @@ impl SymmetricMatrix {
         }
     }
 
+    /// The diagonal entries (0 where not stored).
+    pub fn diagonal(&self) -> Vec<f64> {
+        (0..self.n)
+            .map(|j| {
+                let end = self.col_ptr[j + 1];
+                if end > self.col_ptr[j] && self.row_idx[end - 1] == j {
+                    self.values[end - 1]
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    }
+
+    /// Sets the stored diagonal entries to `diagonal` (as
+    /// [`SymmetricMatrix::diagonal`] gave them).
+    ///
+    /// # Panics
+    /// As [`SymmetricMatrix::add_to_diagonal`].
+    #[track_caller]
+    pub fn set_diagonal(&mut self, diagonal: &[f64]) {
+        assert_eq!(diagonal.len(), self.n, "one value per row");
+        for (j, &d) in diagonal.iter().enumerate() {
+            let end = self.col_ptr[j + 1];
+            if end > self.col_ptr[j] && self.row_idx[end - 1] == j {
+                self.values[end - 1] = d;
+            } else {
+                assert!(d == 0.0, "diagonal entry {j} is not stored");
+            }
+        }
+    }
+
     /// Entry `(i, j)` (0 when not stored).
     #[cfg(test)]
     pub fn get(&self, i: usize, j: usize) -> f64 {
@@ -319,32 +351,30 @@ impl Cholesky {
         self.factor_numeric(matrix)
     }
 
+    /// The analysed pattern: compressed columns (upper triangle).
+    fn pattern(&self) -> (&[usize], &[usize]) {
+        (&self.col_ptr, &self.row_idx)
+    }
+
+    /// Factors the matrix of the analysed pattern with these values (in
+    /// the order of [`Cholesky::pattern`]).
+    ///
+    /// # Errors
+    /// [`Error::Solver`] when the matrix is not numerically positive definite.
+    fn refactor_values(&mut self, values: &[f64]) -> Result<()> {
+        let n = self.dim();
+        let pattern =
+            SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
+        factor_numeric(
+            &self.symbolic,
+            &mut self.l_values,
+            SparseColMatRef::new(pattern, values),
+        )
+    }
+
     /// The numeric factorization of `matrix`, whose pattern is the analysed one.
     fn factor_numeric(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
-        let a = matrix.as_faer();
-        let par = Par::Seq;
-        let req = self
-            .symbolic
-            .factorize_numeric_llt_scratch::<f64>(par, Default::default());
-        let mut mem = MemBuffer::new(req);
-        self.symbolic
-            .factorize_numeric_llt(
-                &mut self.l_values,
-                a,
-                Side::Upper,
-                LltRegularization::default(),
-                par,
-                MemStack::new(&mut mem),
-                Default::default(),
-            )
-            .map_err(|_| {
-                Error::Solver(
-                    "the matrix is not positive definite (a disconnected part with nothing \
-                     to hold it, or degenerate triangles)"
-                        .into(),
-                )
-            })?;
-        Ok(())
+        factor_numeric(&self.symbolic, &mut self.l_values, matrix.as_faer())
     }
 
     /// Dimension.
@@ -407,6 +437,36 @@ impl Cholesky {
     }
 }
 
+/// The numeric factorization of `a` into `l_values`, with the analysis
+/// `symbolic` of its pattern.
+fn factor_numeric(
+    symbolic: &SymbolicCholesky<usize>,
+    l_values: &mut [f64],
+    a: SparseColMatRef<'_, usize, f64>,
+) -> Result<()> {
+    let par = Par::Seq;
+    let req = symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default());
+    let mut mem = MemBuffer::new(req);
+    symbolic
+        .factorize_numeric_llt(
+            l_values,
+            a,
+            Side::Upper,
+            LltRegularization::default(),
+            par,
+            MemStack::new(&mut mem),
+            Default::default(),
+        )
+        .map_err(|_| {
+            Error::Solver(
+                "the matrix is not positive definite (a disconnected part with nothing \
+                     to hold it, or degenerate triangles)"
+                    .into(),
+            )
+        })?;
+    Ok(())
+}
+
 /// Per-thread scratch for [`PinnedSystem::solve`].
 pub struct Workspace {
     mem: MemBuffer,
@@ -446,8 +506,8 @@ pub struct PinnedSystem {
     order: Vec<u32>,
     /// The row of the factored system of each free unknown (by reduced index).
     row_of_reduced: Vec<u32>,
-    /// Where the entries of the matrix of the last [`PinnedSystem::refactor`]
-    /// go, for the next one (made there: most systems are never refactored).
+    /// Where the entries of a matrix of the factored pattern go (made at the
+    /// first [`PinnedSystem::refactor`]: most systems are never refactored).
     refill: Option<Refill>,
 }
 
@@ -504,29 +564,30 @@ impl PinnedSystem {
     /// If the matrix has another dimension.
     pub fn refactor(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
         assert_eq!(matrix.n, self.n, "matrix of another dimension");
-        if let Some(refill) = self.refill.as_mut().filter(|r| r.fits(matrix)) {
-            refill.fill(matrix, &mut self.coupling);
-            return self.cholesky.refactor(&refill.reduced);
+        if !self.refill.as_ref().is_some_and(|r| r.fits(matrix)) {
+            let mut pinned_col = vec![0; self.n];
+            for (k, &p) in self.pinned.iter().enumerate() {
+                pinned_col[p as usize] = k;
+            }
+            self.refill = Refill::new(
+                matrix,
+                &self.reduced_of,
+                |p| pinned_col[p],
+                (&self.coupling_ptr, &self.coupling),
+                self.cholesky.pattern(),
+            );
         }
-        self.refill = None;
+        if let Some(refill) = &mut self.refill {
+            refill.fill(matrix, &mut self.coupling);
+            return self.cholesky.refactor_values(&refill.values);
+        }
+        // Another pattern: split and analysed afresh.
         let (reduced, coupling_ptr, coupling) =
             split(matrix, &self.reduced_of, &self.free, &self.pinned);
         self.cholesky.refactor(&reduced)?;
         (self.order, self.row_of_reduced) = ordering(&self.cholesky, &self.free);
         self.coupling_ptr = coupling_ptr;
         self.coupling = coupling;
-        let mut pinned_col = vec![0; self.n];
-        for (k, &p) in self.pinned.iter().enumerate() {
-            pinned_col[p as usize] = k;
-        }
-        self.refill = Refill::new(
-            matrix,
-            &self.reduced_of,
-            |p| pinned_col[p],
-            &self.coupling_ptr,
-            &self.coupling,
-            reduced,
-        );
         Ok(())
     }
 
