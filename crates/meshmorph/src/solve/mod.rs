@@ -38,6 +38,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
 use crate::error::{Error, Result};
+use rayon::prelude::*;
 use refill::Refill;
 
 /// Which Cholesky variant to use.
@@ -264,23 +265,32 @@ impl SymmetricBuilder {
             next[c as usize] += 1;
         }
         drop(self.entries);
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::with_capacity(bucket.len() / 2);
-        let mut values: Vec<f64> = Vec::with_capacity(bucket.len() / 2);
-        col_ptr.push(0);
+        // Columns in parallel: each is summed in the same order whatever
+        // the threads.
+        let mut columns: Vec<&mut [(u32, f64)]> = Vec::with_capacity(n);
+        let mut rest = &mut bucket[..];
         for j in 0..n {
-            let column = &mut bucket[start[j]..start[j + 1]];
-            column.sort_unstable_by_key(|e| e.0);
-            let first = row_idx.len();
-            for &(r, v) in column.iter() {
-                if row_idx.len() > first && *row_idx.last().unwrap() == r as usize {
-                    *values.last_mut().unwrap() += v;
-                } else {
-                    row_idx.push(r as usize);
-                    values.push(v);
-                }
+            let (column, tail) = rest.split_at_mut(start[j + 1] - start[j]);
+            columns.push(column);
+            rest = tail;
+        }
+        let lengths: Vec<usize> = columns
+            .into_par_iter()
+            .with_min_len(1024)
+            .map(sum_duplicates)
+            .collect();
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        col_ptr.push(0);
+        for len in &lengths {
+            col_ptr.push(col_ptr.last().unwrap() + len);
+        }
+        let mut row_idx = Vec::with_capacity(col_ptr[n]);
+        let mut values: Vec<f64> = Vec::with_capacity(col_ptr[n]);
+        for (j, len) in lengths.into_iter().enumerate() {
+            for &(r, v) in &bucket[start[j]..start[j] + len] {
+                row_idx.push(r as usize);
+                values.push(v);
             }
-            col_ptr.push(row_idx.len());
         }
         SymmetricMatrix {
             n,
@@ -289,6 +299,23 @@ impl SymmetricBuilder {
             values,
         }
     }
+}
+
+/// Sorts a column's `(row, value)` entries by row and sums those of one row,
+/// in place; returns how many rows remain (at the start of `column`).
+fn sum_duplicates(column: &mut [(u32, f64)]) -> usize {
+    column.sort_unstable_by_key(|e| e.0);
+    let mut len = 0;
+    for k in 0..column.len() {
+        let (r, v) = column[k];
+        if len > 0 && column[len - 1].0 == r {
+            column[len - 1].1 += v;
+        } else {
+            column[len] = (r, v);
+            len += 1;
+        }
+    }
+    len
 }
 
 /// A Cholesky factorization `A = L Lᵀ` (with a fill-reducing ordering).
