@@ -33,7 +33,7 @@ use crate::matrix::{identity, Mat3};
 use crate::mesh::Mesh3;
 use crate::similarity::{closest_rotation, fit_robust, residuals, robust_rotation, Similarity};
 use crate::solve::{FactorKind, SymmetricBuilder, SymmetricMatrix};
-use crate::topology::{connected_components, edges, Components};
+use crate::topology::{connected_components, edges, Components, Edge};
 
 /// Options of [`correspond`]; the defaults follow the paper.
 #[derive(Clone, Debug, PartialEq)]
@@ -247,9 +247,13 @@ pub fn correspond(
     let deformed_source = source.with_positions(deformed)?;
     // Centroids of two differently tessellated surfaces lie up to about an
     // edge apart even where the surfaces coincide: never ask for less.
+    let (source_edge, target_edge) = rayon::join(
+        || mean_edge_length(&deformed_source),
+        || mean_edge_length(target),
+    );
     let threshold = (options.match_threshold * target.bounding_box_diagonal())
-        .max(mean_edge_length(&deformed_source))
-        .max(mean_edge_length(target));
+        .max(source_edge)
+        .max(target_edge);
     let matched = match_triangles(&deformed_source, target, threshold);
     // The markers' fit reads every difference of shape between the two as a
     // turn of the whole source: the transfer works in the orientation the
@@ -315,9 +319,12 @@ fn matched_orientation(source: &Mesh3, target: &Mesh3, matched: &Correspondence)
 
 /// Mean length of the edges of a mesh.
 pub fn mean_edge_length(mesh: &Mesh3) -> f64 {
-    let e = edges(mesh.triangles());
-    let p = mesh.positions();
-    let total: f64 = e
+    mean_length(&edges(mesh.triangles()), mesh.positions())
+}
+
+/// Mean length of `edges` (of a mesh with vertex positions `p`).
+pub(crate) fn mean_length(edges: &[Edge], p: &[[f64; 3]]) -> f64 {
+    let total: f64 = edges
         .iter()
         .map(|e| {
             crate::geometry::norm(crate::geometry::sub(
@@ -326,7 +333,7 @@ pub fn mean_edge_length(mesh: &Mesh3) -> f64 {
             ))
         })
         .sum();
-    total / e.len().max(1) as f64
+    total / edges.len().max(1) as f64
 }
 
 /// Number of steps [`correspond`] reports: each deformation round, then matching.

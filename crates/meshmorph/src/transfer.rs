@@ -243,17 +243,25 @@ impl Transfer {
         source_ref.check_no_degenerate_triangles("source reference")?;
         target_ref.check_no_degenerate_triangles("target reference")?;
         let source_frames_inv = frame_inverses(source_ref, "source reference")?;
-        let target_gradients = GradientOperators::spatial(target_ref, "target reference")?;
+        let (target_gradients, (tri_edges, adjacency)) = rayon::join(
+            || GradientOperators::spatial(target_ref, "target reference"),
+            || {
+                let tri_edges: Vec<Edge> = edges(target_ref.triangles());
+                let adjacency =
+                    TriangleAdjacency::from_edges(target_ref.num_triangles(), &tri_edges);
+                (tri_edges, adjacency)
+            },
+        );
+        let target_gradients = target_gradients?;
         let target_areas = target_ref.triangle_areas();
         let weights = normalised_by_mean(&target_areas);
         let pairs = PairsByTarget::new(correspondence, &source_ref.triangle_areas(), &weights);
-        let tri_edges: Vec<Edge> = edges(target_ref.triangles());
-        let adjacency = TriangleAdjacency::from_edges(target_ref.num_triangles(), &tri_edges);
         let paired: Vec<bool> = (0..target_ref.num_triangles())
             .map(|t| pairs.is_paired(t))
             .collect();
-        let gap_distance = (options.gap_distance * target_ref.bounding_box_diagonal())
-            .max(crate::correspond::mean_edge_length(target_ref));
+        let gap_distance = (options.gap_distance * target_ref.bounding_box_diagonal()).max(
+            crate::correspond::mean_length(&tri_edges, target_ref.positions()),
+        );
         let (beyond, near) = rayon::join(
             || beyond_the_source(target_ref, source_ref, &pairs, &adjacency, &paired),
             || gaps(target_ref, &paired, gap_distance),
