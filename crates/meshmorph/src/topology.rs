@@ -5,6 +5,8 @@
 //! boundaries and non-manifold edges (an edge shared by three or more
 //! triangles makes all of them neighbours of one another).
 
+use rayon::slice::ParallelSliceMut;
+
 /// An undirected edge `v[0] < v[1]` and the triangles that contain it.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Edge {
@@ -57,7 +59,8 @@ impl TriangleAdjacency {
     /// Builds the adjacency from the edges of `triangles`.
     ///
     /// # Performance
-    /// Two sorts of `3 #T` small records; no allocation per edge or triangle.
+    /// One parallel sort of `3 #T` small records, then bucketing by
+    /// triangle; no allocation per edge or triangle.
     pub fn new(triangles: &[[u32; 3]]) -> Self {
         let mut half: Vec<(u64, u32)> = Vec::with_capacity(3 * triangles.len());
         for (t, tri) in triangles.iter().enumerate() {
@@ -66,7 +69,9 @@ impl TriangleAdjacency {
                 half.push((((a.min(b) as u64) << 32) | a.max(b) as u64, t as u32));
             }
         }
-        half.sort_unstable();
+        // Every record is distinct (an edge and a triangle), so the order
+        // is the same on any number of threads.
+        half.par_sort_unstable();
         let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(half.len());
         for run in half.chunk_by(|x, y| x.0 == y.0) {
             for &(_, a) in run {
@@ -95,21 +100,38 @@ impl TriangleAdjacency {
         Self::from_pairs(num_triangles, pairs)
     }
 
-    /// Compresses `(triangle, neighbour)` pairs, dropping repeats.
-    fn from_pairs(num_triangles: usize, mut pairs: Vec<(u32, u32)>) -> Self {
-        pairs.sort_unstable();
-        pairs.dedup();
-        let mut offsets = vec![0usize; num_triangles + 1];
+    /// Compresses `(triangle, neighbour)` pairs: each triangle's neighbours
+    /// in increasing order, repeats dropped. The pairs are bucketed by
+    /// triangle (each bucket holds a few), not sorted as a whole.
+    fn from_pairs(num_triangles: usize, pairs: Vec<(u32, u32)>) -> Self {
+        let mut start = vec![0usize; num_triangles + 1];
         for &(a, _) in &pairs {
-            offsets[a as usize + 1] += 1;
+            start[a as usize + 1] += 1;
         }
         for t in 0..num_triangles {
-            offsets[t + 1] += offsets[t];
+            start[t + 1] += start[t];
         }
-        Self {
-            offsets,
-            neighbors: pairs.into_iter().map(|p| p.1).collect(),
+        let mut bucketed = vec![0u32; pairs.len()];
+        let mut fill = start.clone();
+        for &(a, b) in &pairs {
+            bucketed[fill[a as usize]] = b;
+            fill[a as usize] += 1;
         }
+        drop(pairs);
+        let mut offsets = Vec::with_capacity(num_triangles + 1);
+        offsets.push(0);
+        let mut neighbors = Vec::with_capacity(bucketed.len());
+        for t in 0..num_triangles {
+            let bucket = &mut bucketed[start[t]..start[t + 1]];
+            bucket.sort_unstable();
+            for (k, &b) in bucket.iter().enumerate() {
+                if k == 0 || bucket[k - 1] != b {
+                    neighbors.push(b);
+                }
+            }
+            offsets.push(neighbors.len());
+        }
+        Self { offsets, neighbors }
     }
 
     /// The neighbours of triangle `t`.

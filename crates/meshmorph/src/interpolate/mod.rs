@@ -83,6 +83,9 @@ pub struct FrameWorkspace<const D: usize = 2> {
     solve: SolveWorkspace,
     /// One vector per part: its centroid, then its shift.
     parts: Vec<[f64; D]>,
+    /// The frame's rotations of the segment's shared whole turns
+    /// ([`Rotations::turns_at`]).
+    turns: Vec<[f64; 4]>,
 }
 
 impl<const D: usize> Interpolator<D>

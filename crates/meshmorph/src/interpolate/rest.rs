@@ -165,6 +165,7 @@ where
         FrameWorkspace {
             solve: self.system.workspace(),
             parts: vec![[0.0; D]; self.num_components()],
+            turns: Vec::new(),
         }
     }
 

@@ -52,6 +52,7 @@ pub(crate) const LOG_FLOOR: f64 = 1e-12;
 pub(crate) type Log<const D: usize> = <Space<D> as Rotations<D>>::Log;
 type Principal<const D: usize> = <Space<D> as Rotations<D>>::Principal;
 type SegmentRotation<const D: usize> = <Space<D> as Rotations<D>>::Segment;
+type SegmentTurns<const D: usize> = <Space<D> as Rotations<D>>::SegmentTurns;
 type StretchPowers<const D: usize> = <Space<D> as Rotations<D>>::StretchPowers;
 
 #[derive(Debug)]
@@ -75,6 +76,8 @@ where
     Space<D>: Rotations<D>,
 {
     rotations: Vec<SegmentRotation<D>>,
+    /// What the rotations share ([`Rotations::turns_at`] once a frame).
+    turns: SegmentTurns<D>,
     stretches: SegmentStretches<D>,
     /// Whether the segment starts at key 0.
     first: bool,
@@ -305,7 +308,9 @@ where
         // Each part's centroid is on its straight path.
         let (from, to) = (&self.centroids[j], &self.centroids[j + 1]);
         let centroid = |c: usize| between(from[c], to[c]);
-        let rot = |t: usize| Space::<D>::segment_at(&seg.rotations[t], u, seg.first);
+        let mut turns_at = std::mem::take(&mut ws.turns);
+        Space::<D>::turns_at(&seg.turns, u, &mut turns_at);
+        let rot = |t: usize| Space::<D>::segment_at(&seg.rotations[t], &turns_at, u, seg.first);
         let rest = &*self.rest;
         match &seg.stretches {
             SegmentStretches::FromIdentity(v) => rest.solve_frame(
@@ -345,6 +350,7 @@ where
             let c = between(a, b);
             out[v as usize] = std::array::from_fn(|i| if a[i] == b[i] { a[i] } else { c[i] });
         }
+        ws.turns = turns_at;
     }
 
     /// Number of triangles of `positions` turned over relative to the first
@@ -411,16 +417,11 @@ where
         // key 0 (its branches are the user's choice), between later keys
         // only with consistency.
         let whole_turns = options.consistency || j == 0;
-        let rotations: Vec<SegmentRotation<D>> = (0..num_triangles)
-            .into_par_iter()
-            .map(|t| {
-                Space::<D>::segment(
-                    (&previous_rotations[t], &previous_logs[t]),
-                    (&maps.rotations[t], &logs[t]),
-                    whole_turns,
-                )
-            })
-            .collect();
+        let (rotations, turns) = Space::<D>::segments(
+            (&previous_rotations, &previous_logs),
+            (&maps.rotations, &logs),
+            whole_turns,
+        );
         let log = |S: &Mat<D>| Space::<D>::stretch_log(S, LOG_FLOOR);
         let stretches = match options.stretch {
             StretchMode::Log if j == 0 => SegmentStretches::Power(
@@ -447,6 +448,7 @@ where
         };
         segments.push(Segment {
             rotations,
+            turns,
             stretches,
             first: j == 0,
         });

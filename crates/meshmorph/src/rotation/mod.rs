@@ -46,6 +46,11 @@ pub trait Rotations<const D: usize> {
     /// One triangle's rotation along a segment from one key to the next,
     /// prepared for [`Rotations::segment_at`].
     type Segment: Copy + Debug + Send + Sync + 'static;
+    /// What the rotations of one segment share: in space the distinct
+    /// whole-turn vectors (a part turning by more than half a turn turns
+    /// through one vector, so a frame computes each once), in the plane
+    /// nothing.
+    type SegmentTurns: Debug + Send + Sync + 'static;
     /// A symmetric positive definite stretch prepared for real powers.
     type StretchPowers: Copy + Debug + Send + Sync + 'static;
 
@@ -84,18 +89,23 @@ pub trait Rotations<const D: usize> {
     /// plane; in space about the rotation's own axis, the x axis for the
     /// identity).
     fn add_turns(log: &Self::Log, turns: i32) -> Self::Log;
-    /// The rotation of one triangle from key `j` (`from`: its principal
-    /// rotation and logarithm) to key `j + 1` (`to`). With `whole_turns` it
-    /// takes the whole turns by which the branches of the two logarithms
-    /// differ; without, it goes the shortest way.
-    fn segment(
-        from: (&Self::Principal, &Self::Log),
-        to: (&Self::Principal, &Self::Log),
+    /// The rotation of every triangle from key `j` (`from`: the principal
+    /// rotations and logarithms) to key `j + 1` (`to`), and what they share.
+    /// With `whole_turns` each takes the whole turns by which the branches
+    /// of its two logarithms differ; without, it goes the shortest way.
+    fn segments(
+        from: (&[Self::Principal], &[Self::Log]),
+        to: (&[Self::Principal], &[Self::Log]),
         whole_turns: bool,
-    ) -> Self::Segment;
-    /// The rotation matrix a fraction `u` along `segment`; `first` when the
-    /// segment starts from key 0 (the identity).
-    fn segment_at(segment: &Self::Segment, u: f64, first: bool) -> Mat<D>;
+    ) -> (Vec<Self::Segment>, Self::SegmentTurns);
+    /// The rotations of a segment's shared whole turns a fraction `u` along
+    /// it, as unit quaternions, into `out`: once per frame, for
+    /// [`Rotations::segment_at`].
+    fn turns_at(turns: &Self::SegmentTurns, u: f64, out: &mut Vec<[f64; 4]>);
+    /// The rotation matrix a fraction `u` along `segment`, with its
+    /// segment's [`Rotations::turns_at`] for `u`; `first` when the segment
+    /// starts from key 0 (the identity).
+    fn segment_at(segment: &Self::Segment, turns_at: &[[f64; 4]], u: f64, first: bool) -> Mat<D>;
     /// Whether `segment` takes whole turns beyond the shortest way.
     fn has_whole_turns(segment: &Self::Segment) -> bool;
     /// `sum + w · log`, for blends (Baxter et al. 2008, section 5).

@@ -26,12 +26,27 @@ pub struct AngleSegment {
     turn: f64,
 }
 
+/// The rotation from the angle `from` to `to`: through their difference
+/// with `whole_turns`, else the shortest way.
+fn segment(from: f64, to: f64, whole_turns: bool) -> AngleSegment {
+    let turn = to - from;
+    AngleSegment {
+        start: from,
+        turn: if whole_turns {
+            turn
+        } else {
+            nearest_branch(turn, 0.0)
+        },
+    }
+}
+
 impl Rotations<2> for Space<2> {
     /// Radians, counter-clockwise, in (−π, π].
     type Principal = f64;
     /// Radians, counter-clockwise.
     type Log = f64;
     type Segment = AngleSegment;
+    type SegmentTurns = ();
     type StretchPowers = SymmetricEigen2;
 
     const IDENTITY: f64 = 0.0;
@@ -76,24 +91,25 @@ impl Rotations<2> for Space<2> {
 
     /// With `whole_turns`, from one angle to the other; without, the
     /// shortest way.
-    fn segment(
-        (_, &from): (&f64, &f64),
-        (_, &to): (&f64, &f64),
+    fn segments(
+        (_, from): (&[f64], &[f64]),
+        (_, to): (&[f64], &[f64]),
         whole_turns: bool,
-    ) -> AngleSegment {
-        let turn = to - from;
-        AngleSegment {
-            start: from,
-            turn: if whole_turns {
-                turn
-            } else {
-                nearest_branch(turn, 0.0)
-            },
-        }
+    ) -> (Vec<AngleSegment>, ()) {
+        let segments = from
+            .iter()
+            .zip(to)
+            .map(|(&from, &to)| segment(from, to, whole_turns))
+            .collect();
+        (segments, ())
+    }
+
+    fn turns_at(_: &(), _: f64, out: &mut Vec<[f64; 4]>) {
+        out.clear();
     }
 
     #[inline]
-    fn segment_at(segment: &AngleSegment, u: f64, _first: bool) -> Mat2 {
+    fn segment_at(segment: &AngleSegment, _: &[[f64; 4]], u: f64, _first: bool) -> Mat2 {
         rotation(segment.start + u * segment.turn)
     }
 
@@ -150,10 +166,10 @@ mod tests {
             let (angle, _) = P::polar(&P::exp(&a));
             assert!((angle - a).abs() < 1e-14);
             // From the identity, bit for bit R(u θ).
-            let s = P::segment((&0.0, &0.0), (&a, &(a + TAU)), true);
-            assert_eq!(P::segment_at(&s, 0.3, true), rotation(0.3 * (a + TAU)));
+            let s = segment(0.0, a + TAU, true);
+            assert_eq!(P::segment_at(&s, &[], 0.3, true), rotation(0.3 * (a + TAU)));
             assert!(P::has_whole_turns(&s));
-            let short = P::segment((&0.0, &2.0), (&a, &(a + TAU)), false);
+            let short = segment(2.0, a + TAU, false);
             assert!(!P::has_whole_turns(&short));
         }
         assert_eq!(P::add_turns(&0.25, -1), 0.25 - TAU);

@@ -18,6 +18,9 @@ use crate::rotation3::{
 };
 use crate::topology::TriangleAdjacency;
 
+use rayon::prelude::*;
+use std::collections::HashMap;
+
 /// The logarithm of a rotation in space with its branch: the rotation
 /// `exp(turns) exp(principal)`, where `principal` is the principal rotation
 /// vector (axis times angle, angle in `[0, π]`) and `turns` a whole-turn
@@ -71,20 +74,31 @@ impl AxisAngle {
     }
 }
 
-/// One triangle's rotation along one segment: `exp(u c) exp(u e) R_j`.
+/// One triangle's rotation along one segment: `exp(u c) exp(u e) R_j`,
+/// with `c` one of the segment's shared whole-turn vectors.
 #[derive(Clone, Copy, Debug)]
 pub struct SegmentRotation {
     base: Quat,
     principal: AxisAngle,
-    turns: AxisAngle,
+    /// The index of `c` among the segment's whole-turn vectors, or
+    /// [`NO_TURNS`].
+    turns: u32,
 }
+
+/// The distinct whole-turn vectors of one segment, which its
+/// [`SegmentRotation`]s refer to by index.
+#[derive(Clone, Debug, Default)]
+pub struct SegmentTurns(Vec<AxisAngle>);
+
+/// [`SegmentRotation::turns`] of a triangle that takes no whole turn.
+const NO_TURNS: u32 = u32::MAX;
 
 impl SegmentRotation {
     #[inline]
-    fn at(&self, u: f64, has_base: bool) -> Mat3 {
+    fn at(&self, turns_at: &[Quat], u: f64, has_base: bool) -> Mat3 {
         let mut q = self.principal.quat_at(u);
-        if self.turns.angle != 0.0 {
-            q = quat_mul(self.turns.quat_at(u), q);
+        if self.turns != NO_TURNS {
+            q = quat_mul(turns_at[self.turns as usize], q);
         }
         if has_base {
             q = quat_mul(q, self.base);
@@ -93,11 +107,31 @@ impl SegmentRotation {
     }
 }
 
+/// One triangle's rotation from `from` to `to`: its base, its principal
+/// rotation vector `e` and its whole-turn vector `c` (zero without
+/// `whole_turns`).
+fn segment(
+    (from, from_log): (&Quat, &RotationLog3),
+    (to, to_log): (&Quat, &RotationLog3),
+    whole_turns: bool,
+) -> (Quat, [f64; 3], [f64; 3]) {
+    let base = *from;
+    let conj = [base[0], -base[1], -base[2], -base[3]];
+    let e = quat_log(quat_mul(*to, conj));
+    let c = if whole_turns {
+        nearest_whole_turns(sub(sub(to_log.lifted(), from_log.lifted()), e))
+    } else {
+        [0.0; 3]
+    };
+    (base, e, c)
+}
+
 impl Rotations<3> for Space<3> {
     /// A unit quaternion with scalar part `≥ 0`.
     type Principal = Quat;
     type Log = RotationLog3;
     type Segment = SegmentRotation;
+    type SegmentTurns = SegmentTurns;
     type StretchPowers = SymmetricEigen3;
 
     const IDENTITY: Quat = [1.0, 0.0, 0.0, 0.0];
@@ -181,33 +215,57 @@ impl Rotations<3> for Space<3> {
         }
     }
 
-    fn segment(
-        (from, from_log): (&Quat, &RotationLog3),
-        (to, to_log): (&Quat, &RotationLog3),
-        take_turns: bool,
-    ) -> SegmentRotation {
-        let base = *from;
-        let conj = [base[0], -base[1], -base[2], -base[3]];
-        let e = quat_log(quat_mul(*to, conj));
-        let c = if take_turns {
-            nearest_whole_turns(sub(sub(to_log.lifted(), from_log.lifted()), e))
-        } else {
-            [0.0; 3]
-        };
-        SegmentRotation {
-            base,
-            principal: AxisAngle::new(e),
-            turns: AxisAngle::new(c),
-        }
+    /// The whole-turn vectors are shared by value: a patch's triangles
+    /// (numbered near one another in most meshes) refer to one entry.
+    fn segments(
+        from: (&[Quat], &[RotationLog3]),
+        to: (&[Quat], &[RotationLog3]),
+        whole_turns: bool,
+    ) -> (Vec<SegmentRotation>, SegmentTurns) {
+        let parts: Vec<(Quat, [f64; 3], [f64; 3])> = (0..from.0.len())
+            .into_par_iter()
+            .map(|t| segment((&from.0[t], &from.1[t]), (&to.0[t], &to.1[t]), whole_turns))
+            .collect();
+        let mut shared: Vec<AxisAngle> = Vec::new();
+        let mut index: HashMap<[u64; 3], u32> = HashMap::new();
+        let mut last: Option<([f64; 3], u32)> = None;
+        let segments = parts
+            .into_iter()
+            .map(|(base, e, c)| {
+                let turns = if c == [0.0; 3] {
+                    NO_TURNS
+                } else if let Some((_, i)) = last.filter(|(l, _)| *l == c) {
+                    i
+                } else {
+                    let i = *index.entry(c.map(f64::to_bits)).or_insert_with(|| {
+                        shared.push(AxisAngle::new(c));
+                        (shared.len() - 1) as u32
+                    });
+                    last = Some((c, i));
+                    i
+                };
+                SegmentRotation {
+                    base,
+                    principal: AxisAngle::new(e),
+                    turns,
+                }
+            })
+            .collect();
+        (segments, SegmentTurns(shared))
+    }
+
+    fn turns_at(turns: &SegmentTurns, u: f64, out: &mut Vec<Quat>) {
+        out.clear();
+        out.extend(turns.0.iter().map(|c| c.quat_at(u)));
     }
 
     #[inline]
-    fn segment_at(segment: &SegmentRotation, u: f64, first: bool) -> Mat3 {
-        segment.at(u, !first)
+    fn segment_at(segment: &SegmentRotation, turns_at: &[Quat], u: f64, first: bool) -> Mat3 {
+        segment.at(turns_at, u, !first)
     }
 
     fn has_whole_turns(segment: &SegmentRotation) -> bool {
-        segment.turns.angle != 0.0
+        segment.turns != NO_TURNS
     }
 
     #[inline]
@@ -266,11 +324,19 @@ mod tests {
         // turn added to the log turning through 2π + |w|.
         let turned = P::add_turns(&log, 1);
         assert!((norm(turned.lifted()) - (2.0 * PI + norm(w))).abs() < 1e-12);
-        let id = (&P::IDENTITY, &RotationLog3::default());
-        let s = P::segment(id, (&q, &turned), true);
-        assert!(P::has_whole_turns(&s));
-        let end = P::segment_at(&s, 1.0, true);
-        assert!((0..3).all(|i| (0..3).all(|j| (end[i][j] - R[i][j]).abs() < 1e-12)));
-        assert!(!P::has_whole_turns(&P::segment(id, (&q, &turned), false)));
+        let id = ([P::IDENTITY; 2], [RotationLog3::default(); 2]);
+        let to = ([q, q], [turned, turned]);
+        let (s, turns) = P::segments((&id.0, &id.1), (&to.0, &to.1), true);
+        // Both triangles share one whole-turn vector.
+        assert_eq!(turns.0.len(), 1);
+        let mut turns_at = Vec::new();
+        P::turns_at(&turns, 1.0, &mut turns_at);
+        for s in &s {
+            assert!(P::has_whole_turns(s));
+            let end = P::segment_at(s, &turns_at, 1.0, true);
+            assert!((0..3).all(|i| (0..3).all(|j| (end[i][j] - R[i][j]).abs() < 1e-12)));
+        }
+        let (short, turns) = P::segments((&id.0, &id.1), (&to.0, &to.1), false);
+        assert!(turns.0.is_empty() && !P::has_whole_turns(&short[0]));
     }
 }

@@ -685,6 +685,10 @@ fn ordering(cholesky: &Cholesky, free: &[u32]) -> (Vec<u32>, Vec<u32>) {
 
 /// The free-free block of `matrix` and the free-pinned coupling, by pinned
 /// column: `(A_ff, coupling_ptr, [(reduced row, value)])`.
+///
+/// Free unknowns keep their relative order (`reduced_of` increases along
+/// `free`), so each column of the free block is its column of `matrix`
+/// with the pinned rows left out: still sorted, still upper.
 #[allow(clippy::type_complexity)]
 fn split(
     matrix: &SymmetricMatrix,
@@ -696,19 +700,35 @@ fn split(
     for (k, &p) in pinned.iter().enumerate() {
         pinned_col[p as usize] = k as u32;
     }
-    let mut reduced = SymmetricBuilder::new(free.len(), matrix.nnz());
+    let mut col_ptr = Vec::with_capacity(free.len() + 1);
+    let mut row_idx = Vec::with_capacity(matrix.nnz());
+    let mut values = Vec::with_capacity(matrix.nnz());
+    col_ptr.push(0);
     let mut coupling_entries: Vec<(u32, u32, f64)> = Vec::new();
     for j in 0..matrix.n {
+        let rj = reduced_of[j];
         for p in matrix.col_ptr[j]..matrix.col_ptr[j + 1] {
             let (i, v) = (matrix.row_idx[p], matrix.values[p]);
-            match (reduced_of[i], reduced_of[j]) {
+            match (reduced_of[i], rj) {
                 (u32::MAX, u32::MAX) => {}
                 (u32::MAX, rj) => coupling_entries.push((pinned_col[i], rj, v)),
                 (ri, u32::MAX) => coupling_entries.push((pinned_col[j], ri, v)),
-                (ri, rj) => reduced.add(ri as usize, rj as usize, v),
+                (ri, _) => {
+                    row_idx.push(ri as usize);
+                    values.push(v);
+                }
             }
         }
+        if rj != u32::MAX {
+            col_ptr.push(row_idx.len());
+        }
     }
+    let reduced = SymmetricMatrix {
+        n: free.len(),
+        col_ptr,
+        row_idx,
+        values,
+    };
     coupling_entries.sort_unstable_by_key(|e| (e.0, e.1));
     let mut coupling_ptr = vec![0usize; pinned.len() + 1];
     for e in &coupling_entries {
@@ -721,7 +741,7 @@ fn split(
         .into_iter()
         .map(|(_, r, v)| (r, v))
         .collect();
-    (reduced.build(), coupling_ptr, coupling)
+    (reduced, coupling_ptr, coupling)
 }
 
 #[cfg(test)]
