@@ -45,7 +45,8 @@ pub struct CorrespondArgs {
     #[arg(long, value_name = "W", allow_negative_numbers = true)]
     pub identity_weight: Option<f64>,
     /// Weights w_C of the closest-point rounds, comma-separated, after a
-    /// first round without closest points [default: 1 to 5000 in four
+    /// first round without closest points, with distances measured in
+    /// diagonals of the target's bounding box [default: 1 to 5000 in four
     /// even steps].
     #[arg(
         long,

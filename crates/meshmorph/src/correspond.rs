@@ -65,6 +65,13 @@ pub struct CorrespondOptions {
     /// `w_C` of each closest-point round, in order (a first round without
     /// closest points always runs before them). Default `[1, 1667.33,
     /// 3333.67, 5000]`: from 1 to 5000 in four steps.
+    ///
+    /// The closest-point term measures distances in units of the target's
+    /// bounding-box diagonal (the paper's meshes are about that size), as
+    /// the other two terms compare dimensionless gradients: the same
+    /// weights then mean the same whatever unit the meshes were modelled
+    /// in, and scaling both references scales the result and changes
+    /// nothing else.
     pub closest_weights: Vec<f64>,
     /// Largest distance to a closest point, as a fraction of the target's
     /// bounding-box diagonal; farther vertices are not pulled. Default 0.02.
@@ -398,7 +405,10 @@ fn deform(
     // Each round adds the closest-point term to the base's diagonal, and
     // sets it back.
     let base_diagonal = base.diagonal();
-    let cutoff = options.closest_cutoff * target.bounding_box_diagonal();
+    let size = target.bounding_box_diagonal();
+    let cutoff = options.closest_cutoff * size;
+    // `w_C Σ a_v ‖(x_v − c_v) / size‖²`: scale-free, as `E_S` and `E_I`.
+    let per_square_size = 1.0 / (size * size);
     let m = ops.num_unknowns();
     let mut positions: Vec<[f64; 3]> = source.positions().to_vec();
     let rounds = std::iter::once(0.0).chain(options.closest_weights.iter().copied());
@@ -414,7 +424,7 @@ fn deform(
                 .enumerate()
             {
                 if let Some(c) = c {
-                    let w = w_c * vertex_weight[v];
+                    let w = w_c * per_square_size * vertex_weight[v];
                     diagonal[v] = w;
                     for i in 0..3 {
                         rhs[i * m + v] += w * c[i];

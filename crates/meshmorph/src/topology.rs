@@ -140,6 +140,13 @@ impl TriangleAdjacency {
         &self.neighbors[self.offsets[t]..self.offsets[t + 1]]
     }
 
+    /// Where the neighbours of triangle `t` start in the list of all
+    /// neighbour pairs (for values kept per pair).
+    #[inline]
+    pub fn offset(&self, t: usize) -> usize {
+        self.offsets[t]
+    }
+
     /// Components of triangles connected across edges (a bow-tie of two
     /// fans meeting at one vertex is two of them): the label of each
     /// triangle, numbered in order of their first triangle, and the count.

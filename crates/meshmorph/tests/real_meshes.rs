@@ -238,6 +238,11 @@ fn turn_scale_move(p: P3) -> P3 {
     [7.5 * q[0] + 3.0, 7.5 * q[1] - 20.0, 7.5 * q[2] + 0.5]
 }
 
+/// A uniform scale by 7.5 and a translation.
+fn scale_move(p: P3) -> P3 {
+    [7.5 * p[0] + 3.0, 7.5 * p[1] - 20.0, 7.5 * p[2] + 0.5]
+}
+
 /// [`turn_scale_move`] without the scale: a rigid motion.
 fn turn_move(p: P3) -> P3 {
     let q = turn_scale_move(p);
@@ -291,6 +296,60 @@ fn moving_turning_and_scaling_the_source_changes_nothing() {
         .map(|(a, b)| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt())
         .fold(0.0, f64::max);
     assert!(worst < 1e-8 * diagonal, "moved by {worst}");
+}
+
+/// Both references (and the pose) scaled by 7.5 and moved: the source
+/// deformed onto the target, and the result, are the first ones scaled and
+/// moved alike. The target is a little wider than the source, so the
+/// closest-point rounds pull the whole surface (a term measured in the
+/// meshes' own units would pull 56 times harder after the scale). Not
+/// turned: the fractions of the target's bounding-box diagonal that set
+/// the cut-offs and thresholds follow its axis-aligned box.
+#[test]
+fn scaling_both_references_scales_the_result_and_changes_nothing_else() {
+    let source = tube(4.0, 0.25, 17, 12);
+    let target = tube(4.0, 0.28, 11, 16);
+    let widened: Vec<P3> = source
+        .positions()
+        .iter()
+        .map(|p| [p[0], 1.12 * p[1], 1.12 * p[2]])
+        .collect();
+    let ends = [0, 3, 6, 9, 96, 99, 102, 105, 192, 195, 198, 201];
+    let markers = Markers::new(nearest_vertex_pairs(&widened, target.positions(), &ends));
+    let pose = bend(&source, 4.0, 1.0);
+    let run = |source: &Mesh3, target: &Mesh3, pose: &Mesh3| {
+        let found = correspond(
+            source,
+            target,
+            &markers,
+            &CorrespondOptions::default(),
+            &mut |_| {},
+        )
+        .unwrap();
+        let out = Transfer::new(source, target, &found.correspondence, &Default::default())
+            .unwrap()
+            .apply(pose)
+            .unwrap();
+        (found.deformed_source.positions().to_vec(), out)
+    };
+    let here = run(&source, &target, &pose);
+    let elsewhere = run(
+        &mapped(&source, scale_move),
+        &mapped(&target, scale_move),
+        &mapped(&pose, scale_move),
+    );
+    let diagonal = 7.5 * target.bounding_box_diagonal();
+    for (what, a, b) in [
+        ("the deformed source", &here.0, &elsewhere.0),
+        ("the result", &here.1, &elsewhere.1),
+    ] {
+        let worst = a
+            .iter()
+            .zip(b)
+            .map(|(&p, q)| distance(scale_move(p), *q))
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-8 * diagonal, "{what} off by {worst}");
+    }
 }
 
 #[test]

@@ -39,7 +39,16 @@ impl TriangleMaps<2> for Space<2> {
     }
 
     /// Reversed or collapsed: the signed area changed sign or vanished.
-    fn turned_over(rest: &Mesh2, _: &TriangleAdjacency, positions: &[[f64; 2]]) -> Vec<usize> {
+    type RestFolds = ();
+
+    fn rest_folds(_: &Mesh2, _: &TriangleAdjacency) {}
+
+    fn turned_over(
+        rest: &Mesh2,
+        _: &TriangleAdjacency,
+        _: &(),
+        positions: &[[f64; 2]],
+    ) -> Vec<usize> {
         (0..rest.num_triangles())
             .filter(|&t| {
                 let corners = rest.triangles()[t].map(|v| positions[v as usize]);

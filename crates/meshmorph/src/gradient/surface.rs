@@ -12,6 +12,7 @@
 use super::spatial::{deformation_gradient, frame};
 use super::TriangleMaps;
 use crate::geometry::{cross, norm, scale, sub};
+use crate::interpolate::RestDihedrals;
 use crate::matrix::{identity, inverse3, Mat3};
 use crate::mesh::Mesh3;
 use crate::topology::TriangleAdjacency;
@@ -41,11 +42,18 @@ impl TriangleMaps<3> for Space<3> {
 
     /// Collapsed, or folded back through their neighbours (the signed
     /// dihedral angles of their shared edges).
+    type RestFolds = RestDihedrals;
+
+    fn rest_folds(rest: &Mesh3, adjacency: &TriangleAdjacency) -> RestDihedrals {
+        RestDihedrals::new(rest, adjacency)
+    }
+
     fn turned_over(
         rest: &Mesh3,
         adjacency: &TriangleAdjacency,
+        folds: &RestDihedrals,
         positions: &[[f64; 3]],
     ) -> Vec<usize> {
-        crate::interpolate::turned_over_in_space(rest, adjacency, positions)
+        crate::interpolate::turned_over_in_space(rest, adjacency, folds, positions)
     }
 }

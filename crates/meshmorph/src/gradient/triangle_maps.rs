@@ -1,6 +1,8 @@
 //! The maps of single triangles from a rest shape to a deformed one, in a
 //! form that does not depend on the dimension.
 
+use std::fmt::Debug;
+
 use crate::matrix::Mat;
 use crate::mesh::Mesh;
 use crate::topology::TriangleAdjacency;
@@ -21,13 +23,21 @@ pub trait TriangleMaps<const D: usize> {
         gradients: &[[f64; D]; 3],
         corners: &[[f64; D]; 3],
     ) -> Mat<D>;
+    /// What [`TriangleMaps::turned_over`] needs of the rest mesh, computed
+    /// once for any number of poses: in space the signed dihedral angle of
+    /// each pair of neighbours, in the plane nothing.
+    type RestFolds: Debug + Send + Sync + 'static;
+    /// [`TriangleMaps::RestFolds`] of `rest` (`adjacency`, its triangle
+    /// adjacency).
+    fn rest_folds(rest: &Mesh<D>, adjacency: &TriangleAdjacency) -> Self::RestFolds;
     /// The triangles of `positions` (a pose of `rest`) turned over relative
     /// to `rest`: in the plane those reversed or collapsed; in space those
     /// collapsed or folded back through their neighbours (`adjacency`, the
-    /// rest's triangle adjacency).
+    /// rest's triangle adjacency; `folds`, its [`TriangleMaps::rest_folds`]).
     fn turned_over(
         rest: &Mesh<D>,
         adjacency: &TriangleAdjacency,
+        folds: &Self::RestFolds,
         positions: &[[f64; D]],
     ) -> Vec<usize>;
 }

@@ -19,7 +19,7 @@
 //! every weight vector.
 #![allow(non_snake_case)]
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use super::poses::{check_poses, decompose};
 use super::sequence::{Log, LOG_FLOOR};
@@ -66,6 +66,8 @@ where
 {
     rest: Arc<RestSystem<D>>,
     adjacency: TriangleAdjacency,
+    /// For [`Blend::count_turned_over`], made at its first call.
+    rest_folds: OnceLock<<Space<D> as TriangleMaps<D>>::RestFolds>,
     shapes: Vec<BlendShape<D>>,
     base_centroids: Vec<[f64; D]>,
     base_loose: Vec<[f64; D]>,
@@ -153,6 +155,7 @@ where
             base_loose: rest.loose_positions(base.positions()),
             rest,
             adjacency,
+            rest_folds: OnceLock::new(),
             shapes,
         })
     }
@@ -242,7 +245,11 @@ where
     /// (in the plane reversed; in space folded back onto their neighbours;
     /// or collapsed).
     pub fn count_turned_over(&self, positions: &[[f64; D]]) -> usize {
-        Space::<D>::turned_over(self.rest.source(), &self.adjacency, positions).len()
+        let source = self.rest.source();
+        let folds = self
+            .rest_folds
+            .get_or_init(|| Space::<D>::rest_folds(source, &self.adjacency));
+        Space::<D>::turned_over(source, &self.adjacency, folds, positions).len()
     }
 }
 

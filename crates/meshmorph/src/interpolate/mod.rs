@@ -35,7 +35,7 @@ use crate::Space;
 
 pub use blend::{Blend, Blend3};
 pub use options::{InterpolatorOptions, StretchMode};
-pub(crate) use poses::turned_over_in_space;
+pub(crate) use poses::{turned_over_in_space, RestDihedrals};
 pub use rest::{PreparedSurface, RestSystem};
 pub use sequence::{Sequence, Sequence3, SequenceWorkspace};
 
@@ -232,7 +232,8 @@ where
     if allow {
         return Ok(());
     }
-    let flipped = Space::<D>::turned_over(source, adjacency, target.positions());
+    let folds = Space::<D>::rest_folds(source, adjacency);
+    let flipped = Space::<D>::turned_over(source, adjacency, &folds, target.positions());
     if !flipped.is_empty() {
         return Err(Error::FlippedTriangles {
             count: flipped.len(),

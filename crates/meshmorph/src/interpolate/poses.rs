@@ -85,6 +85,7 @@ pub(crate) fn check_poses<const D: usize>(
 where
     Space<D>: TriangleMaps<D>,
 {
+    let mut folds = None;
     for (k, pose) in poses.iter().enumerate() {
         let name = format!("{role} {}", k + 1);
         rest.check_same_connectivity(pose, ["the first mesh", &name])?;
@@ -93,7 +94,8 @@ where
             .collect();
         check_overflow(&areas, pose.bounding_box_diagonal(), &name)?;
         if !options.allow_flips {
-            let bad = Space::<D>::turned_over(rest, adjacency, pose.positions());
+            let folds = folds.get_or_insert_with(|| Space::<D>::rest_folds(rest, adjacency));
+            let bad = Space::<D>::turned_over(rest, adjacency, folds, pose.positions());
             if !bad.is_empty() {
                 return Err(Error::ReflectedTriangles {
                     mesh: name,
@@ -121,10 +123,10 @@ where
 pub(crate) fn turned_over_in_space(
     rest: &Mesh3,
     adjacency: &TriangleAdjacency,
+    folds: &RestDihedrals,
     positions: &[[f64; 3]],
 ) -> Vec<usize> {
     let pose_normals = raw_normals(positions, rest.triangles());
-    let rest_normals = raw_normals(rest.positions(), rest.triangles());
     let diagonal = crate::mesh::bounding_box_diagonal(positions);
     let tiny = 2e-14 * diagonal * diagonal;
     let limit = std::f64::consts::PI * (1.0 - 1e-9);
@@ -136,7 +138,8 @@ pub(crate) fn turned_over_in_space(
                 return true;
             }
             let (mut through, mut total) = (0.0, 0.0);
-            for &u in adjacency.of(t) {
+            let at_rest = &folds.0[adjacency.offset(t)..];
+            for (&u, &at_rest) in adjacency.of(t).iter().zip(at_rest) {
                 let u = u as usize;
                 let Some([a, b]) = shared_edge(rest.triangles()[t], rest.triangles()[u]) else {
                     continue;
@@ -146,13 +149,7 @@ pub(crate) fn turned_over_in_space(
                     rest.positions()[a as usize],
                 ));
                 total += w;
-                let dihedral = |n: &[[f64; 3]], p: &[[f64; 3]]| {
-                    let e = sub(p[b as usize], p[a as usize]);
-                    let c = cross(n[t], n[u]);
-                    dot(c, e).atan2(dot(n[t], n[u]) * norm(e))
-                };
-                let at_rest = dihedral(&rest_normals, rest.positions());
-                let change = wrap(dihedral(&pose_normals, positions) - at_rest);
+                let change = wrap(dihedral(&pose_normals, positions, [t, u], [a, b]) - at_rest);
                 if (at_rest + change).abs() >= limit {
                     through += w;
                 }
@@ -160,6 +157,46 @@ pub(crate) fn turned_over_in_space(
             through > 0.5 * total
         })
         .collect()
+}
+
+/// The signed dihedral angle of every pair of neighbouring triangles of a
+/// rest surface, in the order of its [`TriangleAdjacency`] (0 where they
+/// share no edge, only a vertex): what [`turned_over_in_space`] compares
+/// each pose with, computed once.
+#[derive(Clone, Debug)]
+pub struct RestDihedrals(Vec<f64>);
+
+impl RestDihedrals {
+    pub(crate) fn new(rest: &Mesh3, adjacency: &TriangleAdjacency) -> Self {
+        let normals = raw_normals(rest.positions(), rest.triangles());
+        let angles = (0..rest.num_triangles())
+            .into_par_iter()
+            .flat_map_iter(|t| {
+                let (normals, tris) = (&normals, rest.triangles());
+                adjacency.of(t).iter().map(move |&u| {
+                    let u = u as usize;
+                    shared_edge(tris[t], tris[u]).map_or(0.0, |edge| {
+                        dihedral(normals, rest.positions(), [t, u], edge)
+                    })
+                })
+            })
+            .collect();
+        Self(angles)
+    }
+}
+
+/// The signed dihedral angle between triangles `t` and `u` (of the given
+/// `normals`, twice their area vectors) across their shared edge `[a, b]`.
+#[inline]
+fn dihedral(
+    normals: &[[f64; 3]],
+    positions: &[[f64; 3]],
+    [t, u]: [usize; 2],
+    [a, b]: [u32; 2],
+) -> f64 {
+    let e = sub(positions[b as usize], positions[a as usize]);
+    let c = cross(normals[t], normals[u]);
+    dot(c, e).atan2(dot(normals[t], normals[u]) * norm(e))
 }
 
 /// Twice the area vector of every triangle.

@@ -30,7 +30,7 @@
 //! turning the same way. Key `j` is at time `s = j`.
 #![allow(non_snake_case)]
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use rayon::prelude::*;
 
@@ -53,6 +53,7 @@ pub(crate) type Log<const D: usize> = <Space<D> as Rotations<D>>::Log;
 type Principal<const D: usize> = <Space<D> as Rotations<D>>::Principal;
 type SegmentRotation<const D: usize> = <Space<D> as Rotations<D>>::Segment;
 type SegmentTurns<const D: usize> = <Space<D> as Rotations<D>>::SegmentTurns;
+type RestFolds<const D: usize> = <Space<D> as TriangleMaps<D>>::RestFolds;
 type StretchPowers<const D: usize> = <Space<D> as Rotations<D>>::StretchPowers;
 
 #[derive(Debug)]
@@ -109,6 +110,8 @@ where
 {
     rest: Arc<RestSystem<D>>,
     adjacency: TriangleAdjacency,
+    /// For [`Sequence::count_turned_over`], made at its first call.
+    rest_folds: OnceLock<RestFolds<D>>,
     segments: Vec<Segment<D>>,
     /// Centroid of each part in each key.
     centroids: Vec<Vec<[f64; D]>>,
@@ -218,6 +221,7 @@ where
         Self {
             rest,
             adjacency,
+            rest_folds: OnceLock::new(),
             segments,
             centroids,
             loose,
@@ -357,7 +361,11 @@ where
     /// key (in the plane reversed; in space folded back onto their
     /// neighbours; or collapsed).
     pub fn count_turned_over(&self, positions: &[[f64; D]]) -> usize {
-        Space::<D>::turned_over(self.rest.source(), &self.adjacency, positions).len()
+        let source = self.rest.source();
+        let folds = self
+            .rest_folds
+            .get_or_init(|| Space::<D>::rest_folds(source, &self.adjacency));
+        Space::<D>::turned_over(source, &self.adjacency, folds, positions).len()
     }
 }
 

@@ -14,6 +14,7 @@ mod spatial;
 
 use std::fmt::Debug;
 
+use crate::gradient::TriangleMaps;
 use crate::matrix::Mat;
 use crate::topology::TriangleAdjacency;
 
@@ -37,7 +38,7 @@ pub struct Space<const D: usize>;
 /// interpolate differently; in space a whole-turn vector and a principal
 /// rotation vector ([`RotationLog3`]). Which branch each triangle takes is
 /// chosen over the triangle adjacency by [`Rotations::choose_branches`].
-pub trait Rotations<const D: usize> {
+pub trait Rotations<const D: usize>: TriangleMaps<D> {
     /// A principal rotation, as the polar decomposition gives it.
     type Principal: Copy + Debug + Send + Sync + 'static;
     /// A rotation's logarithm with its branch; the default value is the
