@@ -24,7 +24,6 @@
 //! `substitution.rs` (one cache line per row, and no dense kernel calls per
 //! supernode); more columns go through faer's solve, column by column.
 
-mod refill;
 mod substitution;
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -39,7 +38,6 @@ use faer::{Conj, MatMut, Par, Side};
 
 use crate::error::{Error, Result};
 use rayon::prelude::*;
-use refill::Refill;
 
 /// Which Cholesky variant to use.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -378,30 +376,32 @@ impl Cholesky {
         self.factor_numeric(matrix)
     }
 
-    /// The analysed pattern: compressed columns (upper triangle).
-    fn pattern(&self) -> (&[usize], &[usize]) {
-        (&self.col_ptr, &self.row_idx)
-    }
-
-    /// Factors the matrix of the analysed pattern with these values (in
-    /// the order of [`Cholesky::pattern`]).
-    ///
-    /// # Errors
-    /// [`Error::Solver`] when the matrix is not numerically positive definite.
-    fn refactor_values(&mut self, values: &[f64]) -> Result<()> {
-        let n = self.dim();
-        let pattern =
-            SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
-        factor_numeric(
-            &self.symbolic,
-            &mut self.l_values,
-            SparseColMatRef::new(pattern, values),
-        )
-    }
-
     /// The numeric factorization of `matrix`, whose pattern is the analysed one.
     fn factor_numeric(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
-        factor_numeric(&self.symbolic, &mut self.l_values, matrix.as_faer())
+        let a = matrix.as_faer();
+        let par = Par::Seq;
+        let req = self
+            .symbolic
+            .factorize_numeric_llt_scratch::<f64>(par, Default::default());
+        let mut mem = MemBuffer::new(req);
+        self.symbolic
+            .factorize_numeric_llt(
+                &mut self.l_values,
+                a,
+                Side::Upper,
+                LltRegularization::default(),
+                par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|_| {
+                Error::Solver(
+                    "the matrix is not positive definite (a disconnected part with nothing \
+                     to hold it, or degenerate triangles)"
+                        .into(),
+                )
+            })?;
+        Ok(())
     }
 
     /// Dimension.
@@ -464,36 +464,6 @@ impl Cholesky {
     }
 }
 
-/// The numeric factorization of `a` into `l_values`, with the analysis
-/// `symbolic` of its pattern.
-fn factor_numeric(
-    symbolic: &SymbolicCholesky<usize>,
-    l_values: &mut [f64],
-    a: SparseColMatRef<'_, usize, f64>,
-) -> Result<()> {
-    let par = Par::Seq;
-    let req = symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default());
-    let mut mem = MemBuffer::new(req);
-    symbolic
-        .factorize_numeric_llt(
-            l_values,
-            a,
-            Side::Upper,
-            LltRegularization::default(),
-            par,
-            MemStack::new(&mut mem),
-            Default::default(),
-        )
-        .map_err(|_| {
-            Error::Solver(
-                "the matrix is not positive definite (a disconnected part with nothing \
-                     to hold it, or degenerate triangles)"
-                    .into(),
-            )
-        })?;
-    Ok(())
-}
-
 /// Per-thread scratch for [`PinnedSystem::solve`].
 pub struct Workspace {
     mem: MemBuffer,
@@ -533,9 +503,6 @@ pub struct PinnedSystem {
     order: Vec<u32>,
     /// The row of the factored system of each free unknown (by reduced index).
     row_of_reduced: Vec<u32>,
-    /// Where the entries of a matrix of the factored pattern go (made at the
-    /// first [`PinnedSystem::refactor`]: most systems are never refactored).
-    refill: Option<Refill>,
 }
 
 impl PinnedSystem {
@@ -577,7 +544,6 @@ impl PinnedSystem {
             cholesky,
             order,
             row_of_reduced,
-            refill: None,
         })
     }
 
@@ -591,24 +557,6 @@ impl PinnedSystem {
     /// If the matrix has another dimension.
     pub fn refactor(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
         assert_eq!(matrix.n, self.n, "matrix of another dimension");
-        if !self.refill.as_ref().is_some_and(|r| r.fits(matrix)) {
-            let mut pinned_col = vec![0; self.n];
-            for (k, &p) in self.pinned.iter().enumerate() {
-                pinned_col[p as usize] = k;
-            }
-            self.refill = Refill::new(
-                matrix,
-                &self.reduced_of,
-                |p| pinned_col[p],
-                (&self.coupling_ptr, &self.coupling),
-                self.cholesky.pattern(),
-            );
-        }
-        if let Some(refill) = &mut self.refill {
-            refill.fill(matrix, &mut self.coupling);
-            return self.cholesky.refactor_values(&refill.values);
-        }
-        // Another pattern: split and analysed afresh.
         let (reduced, coupling_ptr, coupling) =
             split(matrix, &self.reduced_of, &self.free, &self.pinned);
         self.cholesky.refactor(&reduced)?;
