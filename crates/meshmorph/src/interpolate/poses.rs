@@ -126,6 +126,11 @@ pub(crate) fn turned_over_in_space(
     folds: &RestDihedrals,
     positions: &[[f64; 3]],
 ) -> Vec<usize> {
+    assert_eq!(
+        folds.0.len(),
+        adjacency.offset(adjacency.len()),
+        "rest folds of another adjacency"
+    );
     let pose_normals = raw_normals(positions, rest.triangles());
     let diagonal = crate::mesh::bounding_box_diagonal(positions);
     let tiny = 2e-14 * diagonal * diagonal;

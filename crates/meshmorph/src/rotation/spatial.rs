@@ -234,7 +234,9 @@ impl Rotations<3> for Space<3> {
             .map(|(base, e, c)| {
                 let turns = if c == [0.0; 3] {
                     NO_TURNS
-                } else if let Some((_, i)) = last.filter(|(l, _)| *l == c) {
+                } else if let Some((_, i)) =
+                    last.filter(|(l, _)| l.map(f64::to_bits) == c.map(f64::to_bits))
+                {
                     i
                 } else {
                     let i = *index.entry(c.map(f64::to_bits)).or_insert_with(|| {
