@@ -52,13 +52,16 @@ pub fn read_pose(
     path: &Path,
     role: &str,
 ) -> Result<(meshmorph::Mesh3, usize)> {
-    let file = read_mesh_file(path, role)?;
-    first.pose(&file).with_context(|| {
-        format!(
-            "the {role} `{}` does not fit the {first_role} `{}`",
-            path.display(),
-            first.path().display()
-        )
+    first.read_pose(path).map_err(|e| {
+        let context = match e {
+            meshmorph::Error::Mismatch(_) | meshmorph::Error::FaceMismatch { .. } => format!(
+                "the {role} `{}` does not fit the {first_role} `{}`",
+                path.display(),
+                first.path().display()
+            ),
+            _ => format!("reading {role} `{}`", path.display()),
+        };
+        anyhow::Error::new(e).context(context)
     })
 }
 

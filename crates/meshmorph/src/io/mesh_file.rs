@@ -85,10 +85,22 @@ impl Patch {
     }
 }
 
+/// What a reader keeps of a file beyond its positions and polygons (the
+/// file is checked whole either way).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Keep {
+    /// What it takes to write the file back with new positions: a
+    /// [`MeshFile`].
+    Whole,
+    /// Nothing more: a triangle mesh, or a pose of another file.
+    Mesh,
+}
+
 /// What a reader found: positions, polygons, and what it takes to write the
 /// file back.
-#[derive(Default)]
 pub(super) struct Parsed {
+    /// Whether [`Parsed::patch`] keeps patches.
+    keep: Keep,
     pub(super) positions: Vec<[f64; 3]>,
     pub(super) faces: Polygons,
     /// The numbers to rewrite, in file order.
@@ -109,6 +121,35 @@ pub(super) struct Parsed {
 }
 
 impl Parsed {
+    pub(super) fn new(keep: Keep) -> Self {
+        Parsed {
+            keep,
+            positions: Vec::new(),
+            faces: Polygons::default(),
+            patches: Vec::new(),
+            uvs: Vec::new(),
+            corner_uv: Vec::new(),
+            normals: Vec::new(),
+            corner_normal: Vec::new(),
+            flat_faces: Vec::new(),
+            extras: Vec::new(),
+        }
+    }
+
+    /// Whether the file is kept whole (patches are wanted).
+    #[inline]
+    pub(super) fn keeps_whole(&self) -> bool {
+        self.keep == Keep::Whole
+    }
+
+    /// Adds a patch, when the file is kept whole.
+    #[inline]
+    pub(super) fn patch(&mut self, patch: Patch) {
+        if self.keeps_whole() {
+            self.patches.push(patch);
+        }
+    }
+
     pub(super) fn note_extra(&mut self, what: &str) {
         if !self.extras.iter().any(|e| e == what) {
             self.extras.push(what.to_string());
@@ -176,11 +217,7 @@ impl MeshFile {
     /// # Errors
     /// As [`parse_mesh`](super::parse_mesh).
     pub fn parse(bytes: Vec<u8>, format: Format, path: &Path) -> Result<Self> {
-        let parsed = match format {
-            Format::Obj => super::obj::parse(&bytes, path)?,
-            Format::Off => super::off::parse(&bytes, path)?,
-            Format::Ply => super::ply::parse(&bytes, path)?,
-        };
+        let parsed = parse_parts(&bytes, format, path, Keep::Whole)?;
         let split = parsed.faces.triangulate(&parsed.positions);
         let mesh = super::finish(path, parsed.positions, split.triangles.clone())?;
         let file = MeshFile {
@@ -352,6 +389,13 @@ impl MeshFile {
         let mut at = 0;
         let mut added = normals.added.iter().peekable();
         for p in &self.patches {
+            match p.slot {
+                // Kept as written unless normals were added, and no normals
+                // to add here: the text around them is copied with them.
+                Slot::CornerNormal(_) if normals.corner_index.is_empty() => continue,
+                Slot::NormalsAfter(n, _) if added.peek().is_none_or(|&&(m, _)| m != n) => continue,
+                _ => {}
+            }
             if buf.len() >= super::CHUNK {
                 w.write_all(&buf)?;
                 buf.clear();
@@ -417,28 +461,62 @@ impl MeshFile {
     /// counts differ; [`Error::FaceMismatch`] naming the file and its first
     /// face (and 1-based line, for text formats) with other corners.
     pub fn pose(&self, pose: &MeshFile) -> Result<(Mesh3, usize)> {
-        let (mine, theirs) = (self.path.display(), pose.path.display());
-        if pose.mesh.num_vertices() != self.mesh.num_vertices() {
+        self.fit_pose(
+            &pose.path,
+            pose.format,
+            pose.mesh.positions().to_vec(),
+            &pose.faces,
+        )
+    }
+
+    /// Reads the file at `path` (its format chosen by its extension) as a
+    /// pose of this file: as [`MeshFile::read`] then [`MeshFile::pose`], but
+    /// keeping of it only what a pose needs (its positions, and its faces
+    /// to compare), so that reading the poses of an animation costs little
+    /// more than parsing them.
+    ///
+    /// # Errors
+    /// The errors of [`MeshFile::read`] (the file cannot be read, or is not
+    /// a valid mesh), then the errors of [`MeshFile::pose`]
+    /// ([`Error::Mismatch`] and [`Error::FaceMismatch`]: it is a mesh, but
+    /// not a pose of this one).
+    ///
+    /// # Performance
+    /// No write-back information and no triangulation of the pose's own:
+    /// about half the time of [`MeshFile::read`] on an OBJ file.
+    pub fn read_pose(&self, path: &Path) -> Result<(Mesh3, usize)> {
+        let format = Format::from_path(path)?;
+        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let parsed = parse_parts(&bytes, format, path, Keep::Mesh)?;
+        super::check_has_faces(path, parsed.positions.len(), parsed.faces.len())?;
+        self.fit_pose(path, format, parsed.positions, &parsed.faces)
+    }
+
+    /// [`MeshFile::pose`] of the `positions` and `faces` read from the file
+    /// `path` in `format`.
+    fn fit_pose(
+        &self,
+        path: &Path,
+        format: Format,
+        positions: Vec<[f64; 3]>,
+        faces: &Polygons,
+    ) -> Result<(Mesh3, usize)> {
+        let (mine, theirs) = (self.path.display(), path.display());
+        if positions.len() != self.mesh.num_vertices() {
             return Err(Error::Mismatch(format!(
                 "`{theirs}` has {} vertices but `{mine}` has {}: a pose has the reference's vertices",
-                pose.mesh.num_vertices(),
+                positions.len(),
                 self.mesh.num_vertices()
             )));
         }
         let mut reordered = 0;
         let mut a: Vec<u32> = Vec::new();
         let mut b: Vec<u32> = Vec::new();
-        for f in 0..self.faces.len().max(pose.faces.len()) {
-            let (Some(own), Some(other)) = (
-                (f < self.faces.len()).then(|| self.face(f)),
-                (f < pose.faces.len()).then(|| pose.face(f)),
-            ) else {
-                return Err(Error::Mismatch(format!(
-                    "`{theirs}` has {} faces but `{mine}` has {}: a pose has the reference's faces",
-                    pose.faces.len(),
-                    self.faces.len()
-                )));
-            };
+        // The faces both have first: a differing face before the end of the
+        // shorter list is named as such.
+        for f in 0..self.faces.len().min(faces.len()) {
+            let own = self.face(f);
+            let other = &faces.corner_vertices()[faces.range(f)];
             if own == other {
                 continue;
             }
@@ -449,13 +527,13 @@ impl MeshFile {
             b.extend_from_slice(other);
             b.sort_unstable();
             if a != b {
-                let place = match pose.format {
+                let place = match format {
                     Format::Ply => format!("face {f}"),
-                    _ => format!("face {f} (line {})", pose.faces.line(f)),
+                    _ => format!("face {f} (line {})", faces.line(f)),
                 };
                 return Err(Error::FaceMismatch {
                     face: f,
-                    line: (pose.format != Format::Ply).then(|| pose.faces.line(f)),
+                    line: (format != Format::Ply).then(|| faces.line(f)),
                     message: format!(
                         "`{theirs}`, {place}: vertices {} (1-based) but face {f} of `{mine}` has {}: a pose has the reference's faces",
                         show_face(other),
@@ -465,8 +543,24 @@ impl MeshFile {
             }
             reordered += 1;
         }
-        let mesh = self.mesh.with_positions(pose.mesh.positions().to_vec())?;
+        if faces.len() != self.faces.len() {
+            return Err(Error::Mismatch(format!(
+                "`{theirs}` has {} faces but `{mine}` has {}: a pose has the reference's faces",
+                faces.len(),
+                self.faces.len()
+            )));
+        }
+        let mesh = self.mesh.with_positions(positions)?;
         Ok((mesh, reordered))
+    }
+}
+
+/// Parses a file's contents in `format`, keeping what `keep` says.
+pub(super) fn parse_parts(bytes: &[u8], format: Format, path: &Path, keep: Keep) -> Result<Parsed> {
+    match format {
+        Format::Obj => super::obj::parse(bytes, path, keep),
+        Format::Off => super::off::parse(bytes, path, keep),
+        Format::Ply => super::ply::parse(bytes, path, keep),
     }
 }
 

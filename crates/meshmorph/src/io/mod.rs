@@ -155,7 +155,8 @@ pub fn read_mesh(path: &Path) -> Result<Mesh3> {
 /// file (and the line, for text formats) when its contents are not a valid
 /// mesh.
 pub fn read_mesh_as(path: &Path, format: Format) -> Result<Mesh3> {
-    MeshFile::read_as(path, format).map(MeshFile::into_mesh)
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    parse_mesh(&bytes, format, path)
 }
 
 /// Parses a triangle mesh from a file's contents; `path_for_messages` only
@@ -170,7 +171,10 @@ pub fn read_mesh_as(path: &Path, format: Format) -> Result<Mesh3> {
 /// range, a face that repeats a vertex, a truncated file, a file without
 /// triangles, ...
 pub fn parse_mesh(bytes: &[u8], format: Format, path_for_messages: &Path) -> Result<Mesh3> {
-    MeshFile::parse(bytes.to_vec(), format, path_for_messages).map(MeshFile::into_mesh)
+    let path = path_for_messages;
+    let parsed = mesh_file::parse_parts(bytes, format, path, mesh_file::Keep::Mesh)?;
+    let triangles = parsed.faces.triangulate(&parsed.positions).triangles;
+    finish(path, parsed.positions, triangles)
 }
 
 /// Writes a mesh atomically (see [`write_atomic`]); a planar mesh (`D = 2`)
@@ -256,22 +260,26 @@ fn check_writable<const D: usize>(
 /// Builds the mesh at the end of every reader, so that an invariant the
 /// reader did not check itself still gives a message naming the file.
 fn finish(path: &Path, positions: Vec<[f64; 3]>, triangles: Vec<[u32; 3]>) -> Result<Mesh3> {
-    if triangles.is_empty() {
-        return Err(Error::parse(
-            path,
-            None,
-            format!(
-                "no triangles: the file has {} vertices and no faces",
-                positions.len()
-            ),
-        ));
-    }
+    check_has_faces(path, positions.len(), triangles.len())?;
     Mesh3::new(positions, triangles).map_err(|e| match e {
         Error::InvalidMesh(message)
         | Error::InvalidVertex { message, .. }
         | Error::InvalidTriangle { message, .. } => Error::parse(path, None, message),
         other => other,
     })
+}
+
+/// Refuses a file without faces (`faces`: its faces, or the triangles they
+/// split into).
+fn check_has_faces(path: &Path, vertices: usize, faces: usize) -> Result<()> {
+    if faces == 0 {
+        return Err(Error::parse(
+            path,
+            None,
+            format!("no triangles: the file has {vertices} vertices and no faces"),
+        ));
+    }
+    Ok(())
 }
 
 /// `x y z` of a position with `D <= 3` coordinates, zero-padded.
@@ -393,7 +401,7 @@ impl<'a> Iterator for Lines<'a> {
         if self.rest.is_empty() {
             return None;
         }
-        let (line, rest) = match self.rest.iter().position(|&b| b == b'\n') {
+        let (line, rest) = match memchr::memchr(b'\n', self.rest) {
             Some(i) => (&self.rest[..i], &self.rest[i + 1..]),
             None => (self.rest, &self.rest[..0]),
         };
@@ -403,31 +411,132 @@ impl<'a> Iterator for Lines<'a> {
     }
 }
 
-/// The line up to a `#` comment.
-#[inline]
-fn strip_comment(line: &[u8]) -> &[u8] {
-    match line.iter().position(|&b| b == b'#') {
-        Some(i) => &line[..i],
-        None => line,
+/// Lines of a text file as [`Lines`] gives them, each up to a `#` comment.
+struct UncommentedLines<'a> {
+    lines: Lines<'a>,
+    /// How many bytes of the file are left from its next `#` on (`None`
+    /// when no `#` is left): found once for the lines up to it.
+    mark_left: Option<usize>,
+}
+
+impl<'a> UncommentedLines<'a> {
+    fn new(bytes: &'a [u8]) -> Self {
+        let lines = Lines::new(bytes);
+        let rest = lines.rest;
+        UncommentedLines {
+            lines,
+            mark_left: memchr::memchr(b'#', rest).map(|i| rest.len() - i),
+        }
+    }
+}
+
+impl<'a> Iterator for UncommentedLines<'a> {
+    type Item = (usize, &'a [u8]);
+
+    #[inline]
+    fn next(&mut self) -> Option<Self::Item> {
+        let rest = self.lines.rest;
+        let (number, line) = self.lines.next()?;
+        let left = rest.len();
+        if self.mark_left.is_some_and(|m| m > left) {
+            // The last `#` found is behind: look for the next one.
+            self.mark_left = memchr::memchr(b'#', rest).map(|i| left - i);
+        }
+        Some(match self.mark_left {
+            Some(m) if left - m < line.len() => (number, &line[..left - m]),
+            _ => (number, line),
+        })
     }
 }
 
 /// Whitespace-separated tokens of a line.
 #[inline]
-fn tokens(line: &[u8]) -> impl Iterator<Item = &[u8]> {
-    line.split(|b| b.is_ascii_whitespace())
-        .filter(|t| !t.is_empty())
+fn tokens(line: &[u8]) -> Tokens<'_> {
+    Tokens { rest: line }
+}
+
+/// The iterator of [`tokens`].
+#[derive(Clone)]
+struct Tokens<'a> {
+    rest: &'a [u8],
+}
+
+impl<'a> Iterator for Tokens<'a> {
+    type Item = &'a [u8];
+
+    #[inline]
+    fn next(&mut self) -> Option<&'a [u8]> {
+        let start = self.rest.iter().position(|b| !b.is_ascii_whitespace())?;
+        let token = &self.rest[start..];
+        let end = token
+            .iter()
+            .position(u8::is_ascii_whitespace)
+            .unwrap_or(token.len());
+        self.rest = &token[end..];
+        Some(&token[..end])
+    }
 }
 
 /// A token as a number (anything `str::parse::<f64>` accepts, including
 /// `nan` and `inf`: callers check finiteness where it matters).
 #[inline]
 fn parse_f64(token: &[u8]) -> Option<f64> {
-    std::str::from_utf8(token).ok()?.parse().ok()
+    plain_decimal(token).or_else(|| std::str::from_utf8(token).ok()?.parse().ok())
 }
 
-/// A token as an integer (optional sign, decimal digits only).
+/// Powers of ten that are exact in an `f64`: `10^0` to `10^22`.
+const EXACT_POWERS_OF_TEN: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// A number written as mesh files usually write them, `[+-]digits[.digits]`
+/// with at most 19 digits, whose digits as an integer are exact in an `f64`
+/// (below `2^53`) and with at most 22 of them after the point; `None` for
+/// anything else.
+///
+/// The value is then that integer divided by a power of ten, both exact, so
+/// the one division rounds correctly (Clinger's fast path): the same `f64`
+/// as the standard library's correctly rounded parser gives, at a fraction
+/// of its cost.
 #[inline]
+fn plain_decimal(token: &[u8]) -> Option<f64> {
+    let (negative, digits) = match token.first()? {
+        b'-' => (true, &token[1..]),
+        b'+' => (false, &token[1..]),
+        _ => (false, token),
+    };
+    // The digits as one integer (wrapping past 19 digits, refused below).
+    let mut n: u64 = 0;
+    let mut i = 0;
+    let mut run = |i: &mut usize| {
+        let start = *i;
+        while let Some(d) = digits
+            .get(*i)
+            .map(|d| d.wrapping_sub(b'0'))
+            .filter(|&d| d <= 9)
+        {
+            n = n.wrapping_mul(10).wrapping_add(u64::from(d));
+            *i += 1;
+        }
+        *i - start
+    };
+    let whole = run(&mut i);
+    let fraction = match digits.get(i) {
+        Some(b'.') => {
+            i += 1;
+            run(&mut i)
+        }
+        _ => 0,
+    };
+    let plain = whole > 0 && (fraction > 0 || i == whole) && i == digits.len();
+    if !plain || whole + fraction > 19 || n > 1 << 53 {
+        return None;
+    }
+    let x = n as f64 / EXACT_POWERS_OF_TEN[fraction];
+    Some(if negative { -x } else { x })
+}
+
 /// Why `token` is not a usable count: "is too large", "is negative" or "is
 /// not a whole number", for messages.
 fn bad_count(token: &[u8]) -> &'static str {
@@ -444,6 +553,8 @@ fn bad_count(token: &[u8]) -> &'static str {
     }
 }
 
+/// A token as an integer (optional sign, decimal digits only).
+#[inline]
 fn parse_i64(token: &[u8]) -> Option<i64> {
     let (negative, digits) = match token.first()? {
         b'-' => (true, &token[1..]),
@@ -490,6 +601,98 @@ mod tests {
                 (4, &b"d"[..])
             ]
         );
+    }
+
+    #[test]
+    fn uncommented_lines_end_at_comments() {
+        let text = b"\xEF\xBB\xBFv 1 # a # b\r\n\nf 1#\n# all\nplain\r\nlast #";
+        let got: Vec<_> = UncommentedLines::new(text).collect();
+        assert_eq!(
+            got,
+            vec![
+                (1, &b"v 1 "[..]),
+                (2, &b""[..]),
+                (3, &b"f 1"[..]),
+                (4, &b""[..]),
+                (5, &b"plain"[..]),
+                (6, &b"last "[..])
+            ]
+        );
+        let plain: Vec<_> = UncommentedLines::new(b"a\nb").collect();
+        assert_eq!(plain, vec![(1, &b"a"[..]), (2, &b"b"[..])]);
+    }
+
+    /// The fast path of [`parse_f64`] gives the standard library's `f64`,
+    /// bit for bit, and refuses what it refuses.
+    #[test]
+    fn numbers_parse_as_the_standard_library_parses_them() {
+        let same = |s: &str| {
+            let want = s.parse::<f64>().ok().map(f64::to_bits);
+            assert_eq!(parse_f64(s.as_bytes()).map(f64::to_bits), want, "`{s}`");
+        };
+        for s in [
+            "0",
+            "-0",
+            "+0",
+            "-0.0",
+            "1.",
+            ".5",
+            "-.5",
+            "1.5",
+            "00012.3400",
+            "9007199254740992",
+            "9007199254740993",
+            "0.1",
+            "0.18771723470000001",
+            "123456789.123456789",
+            "1234567890123456789",
+            "12345678901234567890",
+            "0.0000000000000000000001",
+            "1e5",
+            "1.5E-3",
+            "inf",
+            "-infinity",
+            "NaN",
+            "1.2.3",
+            "--1",
+            "+-1",
+            "1_0",
+            "",
+            "-",
+            "+",
+            ".",
+            "0x10",
+            "1,5",
+            " 1",
+            "1 ",
+        ] {
+            same(s);
+        }
+        // Seeded decimals of 1 to 22 digits, the point anywhere or absent.
+        let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = |n: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % n
+        };
+        for _ in 0..100_000 {
+            let count = 1 + next(22) as usize;
+            let mut s = String::new();
+            match next(3) {
+                0 => s.push('-'),
+                1 if next(4) == 0 => s.push('+'),
+                _ => {}
+            }
+            let point = next(count as u64 + 2) as usize;
+            for k in 0..count {
+                if k == point {
+                    s.push('.');
+                }
+                s.push(char::from(b'0' + next(10) as u8));
+            }
+            same(&s);
+        }
     }
 
     #[test]

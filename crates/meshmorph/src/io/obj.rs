@@ -4,11 +4,10 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::mesh_file::{offset_in, Parsed, Patch, Slot, NONE};
+use super::mesh_file::{offset_in, Keep, Parsed, Patch, Slot, NONE};
 use super::triangulate::repeated_index;
 use super::{
-    parse_f64, parse_i64, push_f64, push_uint, show, strip_comment, tokens, write_formatted, xyz,
-    Lines,
+    parse_f64, parse_i64, push_f64, push_uint, show, tokens, write_formatted, xyz, UncommentedLines,
 };
 use crate::error::{Error, Result};
 
@@ -23,11 +22,38 @@ fn resolve(index: i64, defined: usize) -> Option<u32> {
     u32::try_from(r).ok()
 }
 
+/// The texture coordinate or normal index of a face corner (`b` or `c` of
+/// the corner `token`, `a/b/c`), 0-based, or [`NONE`] when the corner has
+/// none; `defined` are defined before the line, `max` is the largest
+/// positive index so far.
+///
+/// # Errors
+/// The message when the index does not parse or is out of range.
+#[inline]
+fn corner_index(
+    part: Option<&[u8]>,
+    defined: usize,
+    max: &mut i64,
+    what: &str,
+    token: &[u8],
+) -> std::result::Result<u32, String> {
+    let Some(part) = part.filter(|p| !p.is_empty()) else {
+        return Ok(NONE);
+    };
+    let i = parse_i64(part).ok_or_else(|| format!("`{}` is not a {what} index", show(token)))?;
+    if i > 0 {
+        *max = (*max).max(i);
+    }
+    resolve(i, defined).ok_or_else(|| {
+        format!("{what} index {i} is out of range: {defined} are defined before this line")
+    })
+}
+
 /// Parses an OBJ file's contents (see the [module documentation](super)),
 /// keeping what [`MeshFile`](super::MeshFile) needs to write it back.
-pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
+pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     let err = |line: usize, msg: String| Error::parse(path, Some(line), msg);
-    let mut out = Parsed::default();
+    let mut out = Parsed::new(keep);
     let mut face: Vec<u32> = Vec::new();
     let mut corner_uv: Vec<u32> = Vec::new();
     let mut corner_normal: Vec<u32> = Vec::new();
@@ -41,8 +67,8 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
     let mut flat = false;
     let mut flat_faces: Vec<bool> = Vec::new();
 
-    for (line_no, line) in Lines::new(bytes) {
-        let mut toks = tokens(strip_comment(line));
+    for (line_no, line) in UncommentedLines::new(bytes) {
+        let mut toks = tokens(line);
         let keyword = toks.next();
         match keyword {
             Some(b"v") => {
@@ -67,7 +93,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
                         p[count] = x;
                         let start = offset_in(bytes, tok);
                         last_end = start + tok.len();
-                        out.patches.push(Patch::text(
+                        out.patch(Patch::text(
                             start..last_end,
                             Slot::Position(vertex, count as u8),
                         ));
@@ -82,8 +108,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
                 }
                 if count == 2 {
                     // `v x y`: z is written after y.
-                    out.patches
-                        .push(Patch::appended(last_end, Slot::Position(vertex, 2)));
+                    out.patch(Patch::appended(last_end, Slot::Position(vertex, 2)));
                 }
                 out.positions.push(p);
             }
@@ -111,7 +136,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
                         )
                     })?;
                     let start = offset_in(bytes, tok);
-                    out.patches.push(Patch::text(
+                    out.patch(Patch::text(
                         start..start + tok.len(),
                         Slot::Normal(normal, count as u8),
                     ));
@@ -127,14 +152,15 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
                 // are written: at the start of the next line (`line` is
                 // without its line end, `\n` or `\r\n`), or at the end of a
                 // file whose last line this is.
-                let end = offset_in(bytes, line) + line.len();
-                let crlf = bytes.get(end) == Some(&b'\r');
-                let next = match bytes[end..].iter().position(|&b| b == b'\n') {
-                    Some(i) => end + i + 1,
-                    None => bytes.len(),
-                };
-                out.patches
-                    .push(Patch::text(next..next, Slot::NormalsAfter(normal, crlf)));
+                if out.keeps_whole() {
+                    let end = offset_in(bytes, line) + line.len();
+                    let crlf = bytes.get(end) == Some(&b'\r');
+                    let next = match memchr::memchr(b'\n', &bytes[end..]) {
+                        Some(i) => end + i + 1,
+                        None => bytes.len(),
+                    };
+                    out.patch(Patch::text(next..next, Slot::NormalsAfter(normal, crlf)));
+                }
                 out.normals.push(n);
             }
             Some(b"f") => {
@@ -167,40 +193,27 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
                     })?;
                     face.push(resolved);
                     // Texture and normal indices: `a/b`, `a/b/c`, `a//c`.
-                    let optional = |part: Option<&[u8]>,
-                                    defined: usize,
-                                    max: &mut i64,
-                                    what: &str| {
-                        match part {
-                            None | Some(b"") => Ok(NONE),
-                            Some(t) => {
-                                let i = parse_i64(t).ok_or_else(|| {
-                                    err(line_no, format!("`{}` is not a {what} index", show(tok)))
-                                })?;
-                                if i > 0 {
-                                    *max = (*max).max(i);
-                                }
-                                resolve(i, defined).ok_or_else(|| {
-                                    err(
-                                        line_no,
-                                        format!("{what} index {i} is out of range: {defined} are defined before this line"),
-                                    )
-                                })
-                            }
-                        }
-                    };
-                    let uv = optional(
-                        parts.next(),
+                    let uv_part = parts.next();
+                    let uv = corner_index(
+                        uv_part,
                         out.uvs.len(),
                         &mut max_uv,
                         "texture coordinate",
-                    )?;
+                        tok,
+                    )
+                    .map_err(|m| err(line_no, m))?;
                     let normal_part = parts.next();
-                    let normal =
-                        optional(normal_part, out.normals.len(), &mut max_normal, "normal")?;
+                    let normal = corner_index(
+                        normal_part,
+                        out.normals.len(),
+                        &mut max_normal,
+                        "normal",
+                        tok,
+                    )
+                    .map_err(|m| err(line_no, m))?;
                     if let Some(t) = normal_part.filter(|t| !t.is_empty()) {
                         let start = offset_in(bytes, t);
-                        out.patches.push(Patch::text(
+                        out.patch(Patch::text(
                             start..start + t.len(),
                             Slot::CornerNormal(corner_normal.len() as u32),
                         ));

@@ -3,23 +3,21 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::mesh_file::{offset_in, Parsed, Patch, Slot};
+use super::mesh_file::{offset_in, Keep, Parsed, Patch, Slot};
 use super::triangulate::{repeated_index, Polygons};
 use super::{
-    bad_count, parse_f64, parse_i64, push_f64, push_uint, show, strip_comment, tokens,
-    write_formatted, xyz, Lines,
+    bad_count, parse_f64, parse_i64, push_f64, push_uint, show, tokens, write_formatted, xyz,
+    UncommentedLines,
 };
 use crate::error::{Error, Result};
 
 /// Parses an OFF file's contents (see the [module documentation](super)),
 /// keeping what [`MeshFile`](super::MeshFile) needs to write it back.
-pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
+pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     let err = |line: usize, msg: String| Error::parse(path, Some(line), msg);
-    let mut out = Parsed::default();
+    let mut out = Parsed::new(keep);
     // Non-blank lines without comments.
-    let mut lines = Lines::new(bytes)
-        .map(|(n, l)| (n, strip_comment(l)))
-        .filter(|(_, l)| tokens(l).next().is_some());
+    let mut lines = UncommentedLines::new(bytes).filter(|(_, l)| tokens(l).next().is_some());
 
     let Some((first_no, first)) = lines.next() else {
         return Err(Error::parse(path, None, "no triangles: the file is empty"));
@@ -106,7 +104,9 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
 
     // Never trust the counts for more memory than the file could fill.
     out.positions.reserve(num_vertices.min(bytes.len() / 6));
-    out.patches.reserve(3 * num_vertices.min(bytes.len() / 6));
+    if out.keeps_whole() {
+        out.patches.reserve(3 * num_vertices.min(bytes.len() / 6));
+    }
     for v in 0..num_vertices {
         let Some((line_no, line)) = lines.next() else {
             return Err(Error::parse(
@@ -137,7 +137,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
             }
             *slot = x;
             let start = offset_in(bytes, tok);
-            out.patches.push(Patch::text(
+            out.patch(Patch::text(
                 start..start + tok.len(),
                 Slot::Position(v as u32, k as u8),
             ));
@@ -160,7 +160,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
                 };
                 n[k] = x;
                 let start = offset_in(bytes, rest[k]);
-                out.patches.push(Patch::text(
+                out.patch(Patch::text(
                     start..start + rest[k].len(),
                     Slot::Normal(v as u32, k as u8),
                 ));

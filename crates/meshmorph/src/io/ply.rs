@@ -8,7 +8,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::mesh_file::{offset_in, Coding, Parsed, Patch, Slot, NONE};
+use super::mesh_file::{offset_in, Coding, Keep, Parsed, Patch, Slot, NONE};
 use super::triangulate::{repeated_index, Polygons};
 use super::{bad_count, parse_f64, parse_i64, show, tokens, xyz, Lines, CHUNK};
 use crate::error::{Error, Result};
@@ -145,7 +145,7 @@ enum Encoding {
 
 /// Parses a PLY file's contents (see the [module documentation](super)),
 /// keeping what [`MeshFile`](super::MeshFile) needs to write it back.
-pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
+pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     let mut lines = Lines::new(bytes);
     let (encoding, elements) = parse_header(&mut lines, path)?;
     let mut body = Body {
@@ -181,7 +181,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Parsed> {
         ));
     }
 
-    let mut out = Parsed::default();
+    let mut out = Parsed::new(keep);
     for element in &elements {
         body.element = &element.name;
         let capacity = element
@@ -567,7 +567,7 @@ fn read_vertices(body: &mut Body<'_>, element: &Element, out: &mut Parsed) -> Re
                     continue;
                 }
             };
-            out.patches.push(Patch {
+            out.patch(Patch {
                 bytes: body.last.clone(),
                 slot,
                 coding: coding(ty),

@@ -1,0 +1,157 @@
+//! Time to read and write the mesh files of deformation transfer: a source
+//! pose read as new positions for the source reference's faces, a reference
+//! kept whole, and a target pose written back into the target reference's
+//! file (normals turned with the surface), for horse -> camel and
+//! face -> head.
+//!
+//! Run with `cargo run --release -p meshmorph --example bench_mesh_io [RUNS]
+//! [TEXT]`: RUNS calls of each row (default 21), only the rows whose name
+//! holds TEXT (default all). Needs ../shared/data/dt beside the workspace
+//! (skipped otherwise). One thread; the median and the fastest of the runs
+//! (other work on the machine only ever adds time).
+
+// Its `time` gives the median only: the rows here give the fastest too.
+#[allow(dead_code)]
+#[path = "support/timing.rs"]
+mod timing;
+
+use std::hint::black_box;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use meshmorph::io::{Format, MeshFile};
+
+/// How many times each row runs, and the rows run (those whose name holds
+/// this text).
+struct Runs {
+    runs: usize,
+    only: String,
+}
+
+/// One table row: the median and the fastest of `runs` calls of `f` over
+/// `bytes`.
+fn row<T>(what: &str, bytes: u64, runs: &Runs, mut f: impl FnMut() -> T) {
+    if !what.contains(&runs.only) {
+        return;
+    }
+    let seconds: Vec<f64> = (0..runs.runs)
+        .map(|_| {
+            let start = Instant::now();
+            black_box(f());
+            start.elapsed().as_secs_f64()
+        })
+        .collect();
+    let fastest = seconds.iter().copied().fold(f64::INFINITY, f64::min);
+    let median = timing::median(seconds);
+    println!(
+        "| {what} | {:.2} MB | {} | {} | {:.0} MB/s |",
+        bytes as f64 / 1e6,
+        timing::fmt(median),
+        timing::fmt(fastest),
+        bytes as f64 / 1e6 / median
+    );
+}
+
+fn size(path: &Path) -> u64 {
+    std::fs::metadata(path).map_or(0, |m| m.len())
+}
+
+/// The rows of one pair: reading a source pose (alone and as a pose of its
+/// reference), reading the target reference, writing a target pose.
+fn pair(
+    dir: &Path,
+    [source_ref, source_pose, target_ref, target_pose]: [&str; 4],
+    out: &Path,
+    runs: &Runs,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let [source_ref, source_pose, target_ref, target_pose] =
+        [source_ref, source_pose, target_ref, target_pose].map(|f| dir.join(f));
+    let source = MeshFile::read(&source_ref)?;
+    let target = MeshFile::read(&target_ref)?;
+    let new_shape = MeshFile::read(&target_pose)?.into_mesh();
+    let pose_name = source_pose
+        .file_name()
+        .unwrap_or_default()
+        .to_string_lossy();
+    let target_name = target_ref.file_name().unwrap_or_default().to_string_lossy();
+    row(
+        &format!("read `{pose_name}` (`MeshFile::read`)"),
+        size(&source_pose),
+        runs,
+        || MeshFile::read(&source_pose).unwrap(),
+    );
+    row(
+        &format!("read `{pose_name}` as a pose of its reference"),
+        size(&source_pose),
+        runs,
+        || source.read_pose(&source_pose).unwrap(),
+    );
+    row(
+        &format!("read `{target_name}` (`MeshFile::read`)"),
+        size(&target_ref),
+        runs,
+        || MeshFile::read(&target_ref).unwrap(),
+    );
+    // The first write finds the normals' groups (once per file).
+    target.write(out, new_shape.positions(), Format::Obj)?;
+    row(
+        &format!("write a pose of `{target_name}` (`MeshFile::write`)"),
+        size(&target_ref),
+        runs,
+        || {
+            target
+                .write(out, new_shape.positions(), Format::Obj)
+                .unwrap()
+        },
+    );
+    std::fs::remove_file(out)?;
+    Ok(())
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let runs = Runs {
+        runs: args
+            .next()
+            .map_or(Ok(21), |a| a.parse())
+            .map_err(|e| format!("RUNS: {e}"))?,
+        only: args.next().unwrap_or_default(),
+    };
+    let dir = PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/data/dt"
+    ));
+    if !dir.is_dir() {
+        println!("skipped: {} not found", dir.display());
+        return Ok(());
+    }
+    let out = std::env::temp_dir().join(format!("meshmorph-bench-io-{}.obj", std::process::id()));
+    println!(
+        "| file | size | median of {} | fastest | rate (median) |",
+        runs.runs
+    );
+    println!("|---|---:|---:|---:|---:|");
+    pair(
+        &dir,
+        [
+            "horse-camel/horse-poses/horse-reference.obj",
+            "horse-camel/horse-poses/horse-01.obj",
+            "horse-camel/camel-poses/camel-reference.obj",
+            "horse-camel/camel-poses/camel-01.obj",
+        ],
+        &out,
+        &runs,
+    )?;
+    pair(
+        &dir,
+        [
+            "face-head/face-poses/face-reference.obj",
+            "face-head/face-poses/face-02-cry.obj",
+            "face-head/head-poses/head-reference.obj",
+            "face-head/head-poses/head-02-cry.obj",
+        ],
+        &out,
+        &runs,
+    )?;
+    Ok(())
+}
