@@ -73,24 +73,39 @@ impl NormalGroups {
         let corners = faces.corner_vertices();
         let mut corner_group = vec![NONE; corners.len()];
         let mut normal_of = Vec::new();
-        // (normal, face or vertex, whether a face) -> group
+        // The first (normal, group) at each vertex, for its smooth corners:
+        // nearly every corner finds its group there.
+        let mut first_at_vertex = vec![(NONE, NONE); positions.len()];
+        // Every other (normal, face or vertex, whether a face) -> group.
         let mut group_of: HashMap<(u32, u32, bool), u32> = HashMap::new();
         for f in 0..faces.len() {
             let flat = flat_faces.get(f).copied().unwrap_or(false);
+            // The first (normal, group) of this face, when it is flat.
+            let mut first_at_face = (NONE, NONE);
             for c in faces.range(f) {
                 let n = corner_normal[c];
                 if n == NONE {
                     continue;
                 }
-                let key = if flat {
-                    (n, f as u32, true)
+                let (first, key) = if flat {
+                    (&mut first_at_face, (n, f as u32, true))
                 } else {
-                    (n, corners[c], false)
+                    let v = corners[c];
+                    (&mut first_at_vertex[v as usize], (n, v, false))
                 };
-                corner_group[c] = *group_of.entry(key).or_insert_with(|| {
+                let mut new_group = || {
                     normal_of.push(n);
                     normal_of.len() as u32 - 1
-                });
+                };
+                corner_group[c] = match *first {
+                    (m, g) if m == n => g,
+                    (NONE, _) => {
+                        let g = new_group();
+                        *first = (n, g);
+                        g
+                    }
+                    _ => *group_of.entry(key).or_insert_with(new_group),
+                };
             }
         }
         let mut groups = NormalGroups {
