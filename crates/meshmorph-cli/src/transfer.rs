@@ -421,75 +421,29 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         false,
     )?;
     let pins = pin_positions(&args.pin, args.correspond.one_based, target)?;
-    let mut warnings: Vec<String> = Vec::new();
 
-    // Read and check every pose first: a bad pose is reported before the
-    // slow correspondence, and nothing is written. Each pose is new
-    // positions for the reference's faces, split as the reference is.
-    let source_diagonal = source.bounding_box_diagonal();
-    let poses: Vec<(Mesh3, usize, f64)> = args
-        .poses
-        .par_iter()
-        .map(|path| {
-            let begin = Instant::now();
-            let (pose, reordered) =
-                output::read_pose(&source_file, "source reference", path, "source pose")?;
-            Ok((pose, reordered, begin.elapsed().as_secs_f64()))
-        })
-        .collect::<Result<_>>()?;
-    let mut reordered_pose_faces = 0;
-    for ((pose, reordered, _), path) in poses.iter().zip(&args.poses) {
-        reordered_pose_faces += reordered;
-        warnings.extend(output::reordered_faces_warning(
-            path,
-            &args.refs.source_ref,
-            *reordered,
-        ));
-        let ratio = pose.bounding_box_diagonal() / source_diagonal;
-        if !(1.0 / POSE_SIZE_RATIO..=POSE_SIZE_RATIO).contains(&ratio) {
-            warnings.push(format!(
-                "`{}` is {ratio:.3} times the size of the source reference: exported in other units?",
-                path.display()
-            ));
-        }
-    }
-
-    let begin = Instant::now();
-    let mut marker_report = None;
-    let correspondence = match &args.correspondence {
-        Some(path) => {
-            let c = Correspondence::load(path).context("reading the correspondence")?;
-            c.check_fits(source, target).with_context(|| {
-                format!(
-                    "correspondence `{}` does not fit these meshes",
-                    path.display()
-                )
-            })?;
-            c
-        }
-        None => {
-            let (result, report) =
-                args.correspond
-                    .compute(&args.refs, source, target, &mut warnings)?;
-            marker_report = Some(report);
-            result.correspondence
-        }
-    };
-    let correspondence_seconds = begin.elapsed().as_secs_f64();
-
-    let begin = Instant::now();
-    memory::check_setup(
-        source.num_triangles() + target.num_triangles(),
-        "the transfer",
-    )?;
-    let transfer = Transfer::new(
-        source,
-        target,
-        &correspondence,
-        &TransferOptions::default().with_pins(pins),
-    )
-    .with_context(|| format!("setting up the transfer {}", args.refs.describe()))?;
-    let setup_seconds = begin.elapsed().as_secs_f64();
+    // The poses are read and checked while the correspondence and the
+    // setup run (they leave a core mostly idle): a bad pose is reported,
+    // ahead of any error of theirs, before anything is written. Each pose is
+    // new positions for the reference's faces, split as the reference is.
+    let (read, prepared) = rayon::join(
+        || read_poses(&args.poses, &source_file, &args.refs.source_ref),
+        || prepare(args, source, target, pins),
+    );
+    let ReadPoses {
+        poses,
+        reordered_pose_faces,
+        mut warnings,
+    } = read?;
+    let Prepared {
+        correspondence,
+        marker_report,
+        transfer,
+        correspondence_seconds,
+        setup_seconds,
+        warnings: preparation_warnings,
+    } = prepared?;
+    warnings.extend(preparation_warnings);
 
     let bar = progress::bar(poses.len() as u64, "poses");
     if let Some(save) = save {
@@ -619,6 +573,111 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     }
     .print(args.json);
     Ok(())
+}
+
+/// The source poses, read and checked against the source reference.
+struct ReadPoses {
+    /// Each pose, with its count of reordered faces and its reading time.
+    poses: Vec<(Mesh3, usize, f64)>,
+    reordered_pose_faces: usize,
+    warnings: Vec<String>,
+}
+
+fn read_poses(paths: &[PathBuf], source_file: &MeshFile, source_path: &Path) -> Result<ReadPoses> {
+    let source_diagonal = source_file.mesh().bounding_box_diagonal();
+    let poses: Vec<(Mesh3, usize, f64)> = paths
+        .par_iter()
+        .map(|path| {
+            let begin = Instant::now();
+            let (pose, reordered) =
+                output::read_pose(source_file, "source reference", path, "source pose")?;
+            Ok((pose, reordered, begin.elapsed().as_secs_f64()))
+        })
+        .collect::<Result<_>>()?;
+    let mut reordered_pose_faces = 0;
+    let mut warnings = Vec::new();
+    for ((pose, reordered, _), path) in poses.iter().zip(paths) {
+        reordered_pose_faces += reordered;
+        warnings.extend(output::reordered_faces_warning(
+            path,
+            source_path,
+            *reordered,
+        ));
+        let ratio = pose.bounding_box_diagonal() / source_diagonal;
+        if !(1.0 / POSE_SIZE_RATIO..=POSE_SIZE_RATIO).contains(&ratio) {
+            warnings.push(format!(
+                "`{}` is {ratio:.3} times the size of the source reference: exported in other units?",
+                path.display()
+            ));
+        }
+    }
+    Ok(ReadPoses {
+        poses,
+        reordered_pose_faces,
+        warnings,
+    })
+}
+
+/// The correspondence (computed or loaded) and the transfer set up on it.
+struct Prepared {
+    correspondence: Correspondence,
+    marker_report: Option<MarkerReport>,
+    transfer: Transfer,
+    correspondence_seconds: f64,
+    setup_seconds: f64,
+    warnings: Vec<String>,
+}
+
+fn prepare(
+    args: &TransferArgs,
+    source: &Mesh3,
+    target: &Mesh3,
+    pins: Vec<(u32, [f64; 3])>,
+) -> Result<Prepared> {
+    let mut warnings = Vec::new();
+    let begin = Instant::now();
+    let mut marker_report = None;
+    let correspondence = match &args.correspondence {
+        Some(path) => {
+            let c = Correspondence::load(path).context("reading the correspondence")?;
+            c.check_fits(source, target).with_context(|| {
+                format!(
+                    "correspondence `{}` does not fit these meshes",
+                    path.display()
+                )
+            })?;
+            c
+        }
+        None => {
+            let (result, report) =
+                args.correspond
+                    .compute(&args.refs, source, target, &mut warnings)?;
+            marker_report = Some(report);
+            result.correspondence
+        }
+    };
+    let correspondence_seconds = begin.elapsed().as_secs_f64();
+
+    let begin = Instant::now();
+    memory::check_setup(
+        source.num_triangles() + target.num_triangles(),
+        "the transfer",
+    )?;
+    let transfer = Transfer::new(
+        source,
+        target,
+        &correspondence,
+        &TransferOptions::default().with_pins(pins),
+    )
+    .with_context(|| format!("setting up the transfer {}", args.refs.describe()))?;
+    Ok(Prepared {
+        correspondence,
+        marker_report,
+        transfer,
+        correspondence_seconds,
+        setup_seconds: begin.elapsed().as_secs_f64(),
+        warnings,
+    })
 }
 
 /// The pictures of a plan (`--png`, `--gif`), each written through the

@@ -112,12 +112,22 @@ impl<const D: usize, const K: usize> GradientOperators<D, K> {
         let (ua, ub) = (self.unknowns(a), self.unknowns(b));
         let mut idx = [0usize; 8];
         let mut coef = [[0.0; D]; 8];
+        idx[..K].copy_from_slice(&ua);
+        coef[..K].copy_from_slice(&self.operators[a]);
+        // The corners the two share (two across an edge) are one unknown
+        // each: one coefficient row, `G_a − G_b`, and fewer entries to sum.
+        let mut len = K;
         for k in 0..K {
-            idx[k] = ua[k];
-            idx[K + k] = ub[k];
-            coef[k] = self.operators[a][k];
-            coef[K + k] = self.operators[b][k].map(|x| -x);
+            let minus = self.operators[b][k];
+            match idx[..K].iter().position(|&u| u == ub[k]) {
+                Some(j) => (0..D).for_each(|i| coef[j][i] -= minus[i]),
+                None => {
+                    idx[len] = ub[k];
+                    coef[len] = minus.map(|x| -x);
+                    len += 1;
+                }
+            }
         }
-        builder.add_gram(&idx[..2 * K], &coef[..2 * K], weight);
+        builder.add_gram(&idx[..len], &coef[..len], weight);
     }
 }

@@ -24,10 +24,12 @@
 //! `substitution.rs` (one cache line per row, and no dense kernel calls per
 //! supernode); more columns go through faer's solve, column by column.
 
+mod ordering;
 mod substitution;
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
     SymbolicCholeskyRaw, SymmetricOrdering,
@@ -341,10 +343,15 @@ impl Cholesky {
     pub fn new(matrix: &SymmetricMatrix, kind: FactorKind) -> Result<Self> {
         let threshold = kind.threshold(matrix.n);
         let a = matrix.as_faer();
+        let order = ordering::fill_reducing_order(matrix)?;
+        let mut inverse = vec![0; order.len()];
+        for (k, &i) in order.iter().enumerate() {
+            inverse[i] = k;
+        }
         let symbolic = factorize_symbolic_cholesky(
             a.symbolic(),
             Side::Upper,
-            SymmetricOrdering::Amd,
+            SymmetricOrdering::Custom(PermRef::new_checked(&order, &inverse, matrix.n)),
             CholeskySymbolicParams {
                 supernodal_flop_ratio_threshold: threshold,
                 ..Default::default()
