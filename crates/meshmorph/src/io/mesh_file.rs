@@ -482,8 +482,9 @@ impl MeshFile {
     /// not a pose of this one).
     ///
     /// # Performance
-    /// No write-back information and no triangulation of the pose's own:
-    /// about half the time of [`MeshFile::read`] on an OBJ file.
+    /// No write-back information, no triangulation and no copy of the
+    /// positions of the pose's own: on the horse poses of Sumner's data
+    /// (1.4 MB OBJ files) 0.85 of the time of [`MeshFile::read`] alone.
     pub fn read_pose(&self, path: &Path) -> Result<(Mesh3, usize)> {
         let format = Format::from_path(path)?;
         let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
