@@ -131,6 +131,86 @@ fn rewound_faces_are_the_same_faces_and_other_faces_are_named() {
     assert!(e.contains("small.obj") && e.contains("3 vertices"), "{e}");
 }
 
+/// `MeshFile::read_pose` gives what reading the file whole and fitting it
+/// with `MeshFile::pose` gives: the same mesh and count, or the same error,
+/// whatever the pose's format and whatever is wrong with it.
+#[test]
+fn reading_a_pose_is_reading_it_whole_then_fitting_it() {
+    let text = quad_grid_obj(4, |i, j| 0.05 * (i * j) as f64);
+    let reference = file(&text, "ref.obj");
+    let dir = tempfile::tempdir().unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let faces: Vec<usize> = (0..lines.len())
+        .filter(|&k| lines[k].starts_with("f "))
+        .collect();
+    let with = |k: usize, line: &str| {
+        let mut l = lines.clone();
+        l[k] = line;
+        l.join("\n") + "\n"
+    };
+    let rewound = {
+        let mut c: Vec<&str> = lines[faces[3]].split_whitespace().skip(1).collect();
+        c.reverse();
+        format!("f {}", c.join(" "))
+    };
+    let without_last_face: Vec<&str> = lines
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| k != faces[faces.len() - 1])
+        .map(|(_, l)| *l)
+        .collect();
+    let without_faces: Vec<&str> = lines
+        .iter()
+        .copied()
+        .filter(|l| !l.starts_with("f "))
+        .collect();
+    let mut cases: Vec<(&str, String)> = vec![
+        ("same.obj", text.clone()),
+        ("rewound.obj", with(faces[3], &rewound)),
+        ("other.obj", with(faces[2], "f 1 2 3 4")),
+        ("fewer.obj", without_last_face.join("\n") + "\n"),
+        ("no-faces.obj", without_faces.join("\n") + "\n"),
+        ("small.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n".into()),
+        ("bad-number.obj", with(4, "v 0 zero 0")),
+    ];
+    // The reference's positions turned, written as PLY and OFF: poses in
+    // other formats.
+    let turned: Vec<P3> = reference
+        .mesh()
+        .positions()
+        .iter()
+        .map(|p| [p[0], -p[2], p[1]])
+        .collect();
+    for name in ["turned.ply", "turned.off"] {
+        let format = Format::from_path(Path::new(name)).unwrap();
+        reference
+            .write(&dir.path().join(name), &turned, format)
+            .unwrap();
+    }
+    cases.push(("turned.ply", String::new()));
+    cases.push(("turned.off", String::new()));
+    for (name, contents) in &cases {
+        let path = dir.path().join(name);
+        if !contents.is_empty() {
+            std::fs::write(&path, contents).unwrap();
+        }
+        let whole = MeshFile::read(&path).and_then(|p| reference.pose(&p));
+        let read = reference.read_pose(&path);
+        match (whole, read) {
+            (Ok((a, n)), Ok((b, m))) => {
+                assert_eq!(n, m, "{name}");
+                assert_eq!(a.triangles(), b.triangles(), "{name}");
+                let bits = |m: &Mesh3| -> Vec<[u64; 3]> {
+                    m.positions().iter().map(|p| p.map(f64::to_bits)).collect()
+                };
+                assert_eq!(bits(&a), bits(&b), "{name}");
+            }
+            (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string(), "{name}"),
+            (a, b) => panic!("{name}: {:?} against {:?}", a.err(), b.err()),
+        }
+    }
+}
+
 /// The file with its numbers read as numbers, its other tokens as text.
 fn tokens(text: &str) -> Vec<Vec<Result<f64, String>>> {
     text.lines()
