@@ -422,19 +422,24 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     )?;
     let pins = pin_positions(&args.pin, args.correspond.one_based, target)?;
 
-    // The poses are read and checked while the correspondence and the
-    // setup run (they leave a core mostly idle): a bad pose is reported,
-    // ahead of any error of theirs, before anything is written. Each pose is
-    // new positions for the reference's faces, split as the reference is.
-    let (read, prepared) = rayon::join(
-        || read_poses(&args.poses, &source_file, &args.refs.source_ref),
+    // Each pose is new positions for the reference's faces, split as the
+    // reference is. The first pose is read and checked at once (a pose of
+    // another mesh is reported before the slow correspondence), the others
+    // while the correspondence and the setup run (they leave a core mostly
+    // idle). A bad pose is reported, ahead of any error of theirs, before
+    // anything is written.
+    let (first, others) = args.poses.split_at(args.poses.len().min(1));
+    let mut read = read_poses(first, &source_file, &args.refs.source_ref)?;
+    let (others, prepared) = rayon::join(
+        || read_poses(others, &source_file, &args.refs.source_ref),
         || prepare(args, source, target, pins),
     );
+    read.append(others?);
     let ReadPoses {
         poses,
         reordered_pose_faces,
         mut warnings,
-    } = read?;
+    } = read;
     let Prepared {
         correspondence,
         marker_report,
@@ -616,6 +621,15 @@ fn read_poses(paths: &[PathBuf], source_file: &MeshFile, source_path: &Path) -> 
         reordered_pose_faces,
         warnings,
     })
+}
+
+impl ReadPoses {
+    /// Adds the poses of `other`, read after these.
+    fn append(&mut self, other: ReadPoses) {
+        self.poses.extend(other.poses);
+        self.reordered_pose_faces += other.reordered_pose_faces;
+        self.warnings.extend(other.warnings);
+    }
 }
 
 /// The correspondence (computed or loaded) and the transfer set up on it.
