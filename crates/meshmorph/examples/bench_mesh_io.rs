@@ -15,8 +15,10 @@
 #[path = "support/timing.rs"]
 mod timing;
 
+#[path = "support/shared_data.rs"]
+mod shared_data;
 use std::hint::black_box;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use meshmorph::io::{Format, MeshFile};
@@ -117,14 +119,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .map_err(|e| format!("RUNS: {e}"))?,
         only: args.next().unwrap_or_default(),
     };
-    let dir = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/dt"
-    ));
-    if !dir.is_dir() {
-        println!("skipped: {} not found", dir.display());
+    let Some(dir) = shared_data::dir("dt") else {
         return Ok(());
-    }
+    };
     let out = std::env::temp_dir().join(format!("meshmorph-bench-io-{}.obj", std::process::id()));
     println!(
         "| file | size | median of {} | fastest | rate (median) |",

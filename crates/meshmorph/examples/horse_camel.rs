@@ -8,6 +8,8 @@
 //! Run with `cargo run --release -p meshmorph --example horse_camel`;
 //! `OUT=dir` also writes every result as OBJ.
 
+#[path = "support/shared_data.rs"]
+mod shared_data;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -62,14 +64,9 @@ fn cases() -> Vec<Case> {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let dir = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/dt"
-    ));
-    if !dir.is_dir() {
-        println!("skipped: {} not found", dir.display());
+    let Some(dir) = shared_data::dir("dt") else {
         return Ok(());
-    }
+    };
     let out_dir = std::env::var_os("OUT").map(PathBuf::from);
     for case in cases() {
         run(&dir, &case, out_dir.as_deref())?;
