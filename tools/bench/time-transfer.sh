@@ -18,15 +18,19 @@ POSES=()
 for i in 01 02 03 04 05 06 07 08 09 10; do POSES+=("$D/horse-poses/horse-$i.obj"); done
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
-/usr/bin/time -f "horse -> camel: wall %e s, user %U s, peak %M KiB" "$BIN" transfer \
+# timed NAME ARGS...: one transfer under /usr/bin/time; its last line.
+timed() {
+  local name=$1
+  shift
+  /usr/bin/time -f "$name: wall %e s, user %U s, peak %M KiB" "$BIN" transfer "$@" \
+    > /dev/null 2> "$OUT/err" || { cat "$OUT/err"; exit 1; }
+  tail -n 1 "$OUT/err"
+}
+timed "horse -> camel" \
   --source-ref "$D/horse-poses/horse-reference.obj" \
   --target-ref "$D/camel-poses/camel-reference.obj" \
-  --markers "$D/markers/horse-camel-107.cons" -o "$OUT/horse" "${POSES[@]}" > /dev/null 2> "$OUT/err" \
-  || { cat "$OUT/err"; exit 1; }
-tail -n 1 "$OUT/err"
-/usr/bin/time -f "face -> head:   wall %e s, user %U s, peak %M KiB" "$BIN" transfer \
+  --markers "$D/markers/horse-camel-107.cons" -o "$OUT/horse" "${POSES[@]}"
+timed "face -> head  " \
   --source-ref "$F/face-poses/face-reference.obj" \
   --target-ref "$F/head-poses/head-reference.obj" \
-  --markers "$F/markers/face-head.txt" -o "$OUT/face" "$F/face-poses/face-02-cry.obj" > /dev/null 2> "$OUT/err" \
-  || { cat "$OUT/err"; exit 1; }
-tail -n 1 "$OUT/err"
+  --markers "$F/markers/face-head.txt" -o "$OUT/face" "$F/face-poses/face-02-cry.obj"

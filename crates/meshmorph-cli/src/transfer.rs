@@ -429,17 +429,17 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     // idle). A bad pose is reported, ahead of any error of theirs, before
     // anything is written.
     let (first, others) = args.poses.split_at(args.poses.len().min(1));
-    let mut read = read_poses(first, &source_file, &args.refs.source_ref)?;
+    let mut read = read_poses(first, &source_file)?;
     let (others, prepared) = rayon::join(
-        || read_poses(others, &source_file, &args.refs.source_ref),
+        || read_poses(others, &source_file),
         || prepare(args, source, target, pins),
     );
     read.append(others?);
     let ReadPoses {
         poses,
-        reordered_pose_faces,
         mut warnings,
     } = read;
+    let reordered_pose_faces = poses.iter().map(|(_, reordered, _)| reordered).sum();
     let Prepared {
         correspondence,
         marker_report,
@@ -584,11 +584,10 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
 struct ReadPoses {
     /// Each pose, with its count of reordered faces and its reading time.
     poses: Vec<(Mesh3, usize, f64)>,
-    reordered_pose_faces: usize,
     warnings: Vec<String>,
 }
 
-fn read_poses(paths: &[PathBuf], source_file: &MeshFile, source_path: &Path) -> Result<ReadPoses> {
+fn read_poses(paths: &[PathBuf], source_file: &MeshFile) -> Result<ReadPoses> {
     let source_diagonal = source_file.mesh().bounding_box_diagonal();
     let poses: Vec<(Mesh3, usize, f64)> = paths
         .par_iter()
@@ -599,13 +598,11 @@ fn read_poses(paths: &[PathBuf], source_file: &MeshFile, source_path: &Path) -> 
             Ok((pose, reordered, begin.elapsed().as_secs_f64()))
         })
         .collect::<Result<_>>()?;
-    let mut reordered_pose_faces = 0;
     let mut warnings = Vec::new();
     for ((pose, reordered, _), path) in poses.iter().zip(paths) {
-        reordered_pose_faces += reordered;
         warnings.extend(output::reordered_faces_warning(
             path,
-            source_path,
+            source_file.path(),
             *reordered,
         ));
         let ratio = pose.bounding_box_diagonal() / source_diagonal;
@@ -616,18 +613,13 @@ fn read_poses(paths: &[PathBuf], source_file: &MeshFile, source_path: &Path) -> 
             ));
         }
     }
-    Ok(ReadPoses {
-        poses,
-        reordered_pose_faces,
-        warnings,
-    })
+    Ok(ReadPoses { poses, warnings })
 }
 
 impl ReadPoses {
     /// Adds the poses of `other`, read after these.
     fn append(&mut self, other: ReadPoses) {
         self.poses.extend(other.poses);
-        self.reordered_pose_faces += other.reordered_pose_faces;
         self.warnings.extend(other.warnings);
     }
 }

@@ -17,9 +17,7 @@ mod timing;
 
 #[path = "support/shared_data.rs"]
 mod shared_data;
-use std::hint::black_box;
 use std::path::Path;
-use std::time::Instant;
 
 use meshmorph::io::{Format, MeshFile};
 
@@ -32,17 +30,11 @@ struct Runs {
 
 /// One table row: the median and the fastest of `runs` calls of `f` over
 /// `bytes`.
-fn row<T>(what: &str, bytes: u64, runs: &Runs, mut f: impl FnMut() -> T) {
+fn row<T>(what: &str, bytes: u64, runs: &Runs, f: impl FnMut() -> T) {
     if !what.contains(&runs.only) {
         return;
     }
-    let seconds: Vec<f64> = (0..runs.runs)
-        .map(|_| {
-            let start = Instant::now();
-            black_box(f());
-            start.elapsed().as_secs_f64()
-        })
-        .collect();
+    let seconds = timing::samples(runs.runs, f);
     let fastest = seconds.iter().copied().fold(f64::INFINITY, f64::min);
     let median = timing::median(seconds);
     println!(

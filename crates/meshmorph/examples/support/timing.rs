@@ -10,17 +10,20 @@ pub fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// Seconds of each of `runs` calls of `f`.
+pub fn samples<T>(runs: usize, mut f: impl FnMut() -> T) -> Vec<f64> {
+    (0..runs)
+        .map(|_| {
+            let t = Instant::now();
+            black_box(f());
+            t.elapsed().as_secs_f64()
+        })
+        .collect()
+}
+
 /// Median seconds of `runs` calls of `f`.
-pub fn time<T>(runs: usize, mut f: impl FnMut() -> T) -> f64 {
-    median(
-        (0..runs)
-            .map(|_| {
-                let t = Instant::now();
-                black_box(f());
-                t.elapsed().as_secs_f64()
-            })
-            .collect(),
-    )
+pub fn time<T>(runs: usize, f: impl FnMut() -> T) -> f64 {
+    median(samples(runs, f))
 }
 
 /// Seconds as µs, ms or s.
