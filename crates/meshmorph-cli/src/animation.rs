@@ -351,6 +351,9 @@ where
         files_written.extend(args.gltf.gltf.clone());
     }
     let mut warnings = read_warnings.to_vec();
+    if let (Some(glb), Some(file)) = (&args.gltf.gltf, file) {
+        warnings.extend(crate::gltf::dropped_warning(glb, &file.file));
+    }
     // What the output format cannot hold of the first key's file is the
     // same for every frame: said once, for the first.
     if let Some(first) = frames.first() {

@@ -232,6 +232,9 @@ pub fn run(args: &Args) -> Result<()> {
         setup_seconds,
         blend_seconds,
     } = blended;
+    if let Some(glb) = &args.gltf.gltf {
+        warnings.extend(crate::gltf::dropped_warning(glb, &base_file.file));
+    }
     if turned_over > 0 {
         warnings.push(format!(
             "the blend has {} turned over relative to the base",

@@ -548,6 +548,10 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         })?;
         gltf = args.gltf.gltf.clone();
         files_written.extend(gltf.clone());
+        warnings.extend(
+            gltf.as_deref()
+                .and_then(|glb| crate::gltf::dropped_warning(glb, &target_ref.file.file)),
+        );
     }
     if args.pictures.any() {
         let source_poses: Vec<&[[f64; 3]]> = poses.iter().map(|(p, _, _)| p.positions()).collect();

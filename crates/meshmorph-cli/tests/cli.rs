@@ -1786,6 +1786,39 @@ fn interpolate_gltf_and_its_report_list_every_file() {
 }
 
 #[test]
+fn a_gltf_says_what_of_the_file_it_does_not_hold() {
+    let dir = tempfile::tempdir().unwrap();
+    let rest = tube(LENGTH, 0.25, 5, 6);
+    let bent = bend(&rest, LENGTH, 0.5 * PI);
+    let (a, b) = (dir.path().join("a.obj"), dir.path().join("b.obj"));
+    write(&a, &rest);
+    write(&b, &bent);
+    // An object name and a material in the first key.
+    edit_lines(&a, |lines| {
+        lines.insert(0, "o arm".to_string());
+        lines.insert(1, "usemtl skin".to_string());
+    });
+    let glb = dir.path().join("a.glb");
+    let report = json(&succeeds(&run([
+        os("interpolate"),
+        a.as_os_str(),
+        b.as_os_str(),
+        os("-o"),
+        dir.path().join("out").as_os_str(),
+        os("--frames"),
+        os("3"),
+        os("--gltf"),
+        glb.as_os_str(),
+        os("--json"),
+    ])));
+    let warnings = report["warnings"].to_string();
+    assert_mentions(&warnings, &["a.glb", "objects (`o`)", "materials", "a.obj"]);
+    // The frames keep them.
+    let frame = fs::read_to_string(dir.path().join("out/frame_0001.obj")).unwrap();
+    assert!(frame.starts_with("o arm\nusemtl skin\n"), "{frame}");
+}
+
+#[test]
 fn interpolate_bad_gltf_options_are_refused_before_any_output() {
     let p = Pair::bar();
     let glb = p.out.join("a.glb");
