@@ -150,6 +150,16 @@ impl CorrespondArgs {
     }
 }
 
+/// The report's lines for the copies of vertices welded at seams in each
+/// reference, if any.
+fn print_welded(source: usize, target: usize) {
+    for (mesh, welded) in [("source", source), ("target", target)] {
+        if let Some(line) = output::welded_line(welded) {
+            println!("welded in the {mesh}: {line}");
+        }
+    }
+}
+
 /// How the markers fitted (distances as fractions of the target's diagonal).
 #[derive(Debug, Default, Serialize)]
 pub struct MarkerReport {
@@ -372,14 +382,7 @@ impl TransferReport {
                 ""
             }
         );
-        for (mesh, welded) in [
-            ("source", self.welded_source_vertices),
-            ("target", self.welded_target_vertices),
-        ] {
-            if let Some(line) = output::welded_line(welded) {
-                println!("welded in the {mesh}: {line}");
-            }
-        }
+        print_welded(self.welded_source_vertices, self.welded_target_vertices);
         if self.unused_target_vertices > 0 {
             println!(
                 "unused target vertices: {} (in no triangle; kept at rest)",
@@ -872,6 +875,10 @@ pub struct CorrespondReport {
     pub matched_pairs: usize,
     pub unmatched_source_triangles: usize,
     pub unmatched_target_triangles: usize,
+    /// Copies of vertices at seams welded for the solve, in the source and
+    /// in the target.
+    pub welded_source_vertices: usize,
+    pub welded_target_vertices: usize,
     /// Every file written, in order.
     pub files_written: Vec<PathBuf>,
     /// How the markers fitted.
@@ -953,6 +960,8 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         matched_pairs: c.pairs().len(),
         unmatched_source_triangles: c.unmatched_source(),
         unmatched_target_triangles: c.unmatched_target(),
+        welded_source_vertices: source_ref.file.seams.num_welded(),
+        welded_target_vertices: target_ref.file.seams.num_welded(),
         files_written,
         markers,
         warnings,
@@ -969,6 +978,7 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
             report.unmatched_target_triangles,
             args.output.display()
         );
+        print_welded(report.welded_source_vertices, report.welded_target_vertices);
     }
     Ok(())
 }
