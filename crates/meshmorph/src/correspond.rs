@@ -30,7 +30,7 @@ use crate::gradient::weights::{normalise_by_mean, normalised_by_mean, vertex_wei
 use crate::gradient::{FactoredSystem, GradientOperators, Pins};
 use crate::markers::Markers;
 use crate::matrix::{identity, Mat3};
-use crate::mesh::Mesh3;
+use crate::mesh::{used_vertices, Mesh3};
 use crate::similarity::{closest_rotation, fit_robust, residuals, robust_rotation, Similarity};
 use crate::solve::{FactorKind, SymmetricBuilder, SymmetricMatrix};
 use crate::topology::{connected_components, edges, Components, Edge};
@@ -222,7 +222,6 @@ pub fn correspond(
     source.check_no_degenerate_triangles("source reference")?;
     target.check_no_degenerate_triangles("target reference")?;
     let components = connected_components(source.num_vertices(), source.triangles());
-    check_every_part_has_a_marker(&components, markers)?;
 
     let marker_points = |mesh: &Mesh3, k: usize| -> Vec<[f64; 3]> {
         markers
@@ -348,29 +347,6 @@ pub fn correspond_steps(options: &CorrespondOptions) -> usize {
     options.closest_weights.len() + 2
 }
 
-/// Fails unless every connected part of the source holds a marker (a part
-/// without one could drift anywhere).
-fn check_every_part_has_a_marker(components: &Components, markers: &Markers) -> Result<()> {
-    let mut held = vec![false; components.count];
-    for &[s, _] in markers.pairs() {
-        if let Some(c) = components.of_vertex[s as usize] {
-            held[c as usize] = true;
-        }
-    }
-    if let Some(c) = held.iter().position(|h| !h) {
-        let t = components
-            .of_triangle
-            .iter()
-            .position(|&x| x as usize == c)
-            .unwrap_or(0);
-        return Err(Error::InvalidArgument(format!(
-            "part {c} of the source reference (the connected triangles around triangle {t}) has no \
-             marker: every connected part needs at least one"
-        )));
-    }
-    Ok(())
-}
-
 /// Deforms the source onto the target; returns the deformed vertex positions.
 fn deform(
     source: &Mesh3,
@@ -381,14 +357,21 @@ fn deform(
     progress: &mut dyn FnMut(usize),
 ) -> Result<Vec<[f64; 3]>> {
     let n = source.num_vertices();
+    let size = target.bounding_box_diagonal();
+    let cutoff = options.closest_cutoff * size;
+    // `w_C Σ a_v ‖(x_v − c_v) / size‖²`: scale-free, as `E_S` and `E_I`.
+    let per_square_size = 1.0 / (size * size);
     // The first round has no closest-point term: its matrix (with the
     // ordering and symbolic analysis every round shares) is factored while
     // the target's triangles are indexed for the closest points.
     let (surface, first) = rayon::join(
         || SurfaceIndex::new(target.positions(), target.triangles()),
         || -> Result<_> {
-            let terms = DeformTerms::new(source, options)?;
-            let pins = marker_pins(source, target, components, markers);
+            let mut terms = DeformTerms::new(source, options)?;
+            let pins = marker_pins(source, target, markers);
+            let anchors = part_anchors(&terms, components, &pins, per_square_size);
+            terms.base.add_to_diagonal(&anchors);
+            terms.anchors = anchors;
             // One factorization per round, each used once: the supernodal
             // factor is the faster one then.
             let system = FactoredSystem::new(&terms.base, &pins, FactorKind::Supernodal)?;
@@ -401,14 +384,11 @@ fn deform(
         weights,
         mut base,
         vertex_weight,
+        anchors,
     } = terms;
     // Each round adds the closest-point term to the base's diagonal, and
     // sets it back.
     let base_diagonal = base.diagonal();
-    let size = target.bounding_box_diagonal();
-    let cutoff = options.closest_cutoff * size;
-    // `w_C Σ a_v ‖(x_v − c_v) / size‖²`: scale-free, as `E_S` and `E_I`.
-    let per_square_size = 1.0 / (size * size);
     let m = ops.num_unknowns();
     let mut positions: Vec<[f64; 3]> = source.positions().to_vec();
     let rounds = std::iter::once(0.0).chain(options.closest_weights.iter().copied());
@@ -417,6 +397,13 @@ fn deform(
     let mut shapes: Vec<Mat3> = vec![identity(); source.num_triangles()];
     for (round, w_c) in rounds.enumerate() {
         let mut rhs = identity_rhs(&ops, &weights, options.identity_weight, &shapes);
+        for (v, &a) in anchors.iter().enumerate() {
+            if a > 0.0 {
+                for i in 0..3 {
+                    rhs[i * m + v] += a * source.positions()[v][i];
+                }
+            }
+        }
         if w_c > 0.0 {
             let mut diagonal = vec![0.0; m];
             for (v, c) in closest_points(&surface, &positions, source.triangles(), cutoff)
@@ -464,6 +451,9 @@ struct DeformTerms {
     /// The closest-point term's weight of each vertex: its share of the
     /// area, normalised to a mean of 1 over the vertices.
     vertex_weight: Vec<f64>,
+    /// The weight holding each vertex of a part without a marker near
+    /// where the alignment put it ([`part_anchors`]; 0 elsewhere).
+    anchors: Vec<f64>,
 }
 
 impl DeformTerms {
@@ -483,6 +473,7 @@ impl DeformTerms {
             weights,
             base,
             vertex_weight,
+            anchors: Vec::new(),
         })
     }
 }
@@ -553,12 +544,7 @@ fn nearest_similarities(ops: &GradientOperators<3, 4>, x: &[f64]) -> Vec<Mat3> {
 /// pinned values' contributions in this order, and the last bits of the
 /// result decide ties in matching); vertices no triangle uses (and no marker
 /// names) have no term at all and stay where they are.
-fn marker_pins(
-    source: &Mesh3,
-    target: &Mesh3,
-    components: &Components,
-    markers: &Markers,
-) -> Pins<3> {
+fn marker_pins(source: &Mesh3, target: &Mesh3, markers: &Markers) -> Pins<3> {
     let mut pairs = markers.pairs().to_vec();
     pairs.sort_unstable();
     let mut pins = Pins::new(source.num_vertices());
@@ -566,8 +552,46 @@ fn marker_pins(
         let pinned = pins.pin(s as usize, target.positions()[t as usize]);
         debug_assert!(pinned, "markers are validated");
     }
-    pins.hold_free_parts(components, |v| source.positions()[v]);
+    for (v, used) in used_vertices(source.num_vertices(), source.triangles())
+        .into_iter()
+        .enumerate()
+    {
+        if !used && !pins.is_pinned(v) {
+            let pinned = pins.pin(v, source.positions()[v]);
+            debug_assert!(pinned);
+        }
+    }
     pins
+}
+
+/// A part of the source without a marker (an eye, a tooth, a strap) has
+/// nothing to place it in the first round: each of its vertices is held
+/// near where the alignment put it, as weakly as the paper's first
+/// closest-point weight pulls (`ANCHOR_WEIGHT` on the same scale), so that
+/// it keeps its place and shape until the closest points, thousands of times
+/// stronger in the later rounds, draw it onto the target. The weight of each
+/// unknown (0 in parts with a marker, and for fourth vertices) is returned.
+fn part_anchors(
+    terms: &DeformTerms,
+    components: &Components,
+    pins: &Pins<3>,
+    per_square_size: f64,
+) -> Vec<f64> {
+    const ANCHOR_WEIGHT: f64 = 1.0;
+    let mut marked = vec![false; components.count];
+    for (v, c) in components.of_vertex.iter().enumerate() {
+        if let Some(c) = c {
+            marked[*c as usize] |= pins.is_pinned(v);
+        }
+    }
+    // Over every unknown: the vertices, then the fourth vertices (0).
+    let mut anchors = vec![0.0; terms.ops.num_unknowns()];
+    for (v, c) in components.of_vertex.iter().enumerate() {
+        if matches!(c, Some(c) if !marked[*c as usize]) {
+            anchors[v] = ANCHOR_WEIGHT * per_square_size * terms.vertex_weight[v];
+        }
+    }
+    anchors
 }
 
 /// The closest compatible point of the target surface to each vertex, if

@@ -838,26 +838,58 @@ fn bad_markers_are_refused() {
             ],
         );
     }
-    // A second source tube without a marker of its own.
-    let far = mapped(&s0, |p| [p[0], p[1] + 3.0, p[2]]);
-    let two = union(&s0, &far);
-    let e = correspond(
-        &two,
-        &t0,
-        &Markers::new(good.clone()),
+}
+
+/// The correspondence with the default options.
+fn found_by(source: &Mesh3, target: &Mesh3, markers: &Markers) -> CorrespondResult {
+    correspond(
+        source,
+        target,
+        markers,
         &CorrespondOptions::default(),
         &mut |_| {},
     )
-    .unwrap_err();
-    assert_error(
-        e,
-        is_invalid_argument,
-        &[
-            "part 1 of the source reference",
-            &format!("around triangle {}", s0.num_triangles()),
-            "no marker",
-        ],
-    );
+    .unwrap()
+}
+
+#[test]
+fn a_source_part_without_a_marker_is_drawn_onto_the_target() {
+    let (s0, t0) = (THIN.mesh(), THICK.mesh());
+    let markers = tube_markers(THIN, THICK, &tube_picks(THIN, 8));
+    let alone = found_by(&s0, &t0, &markers).correspondence;
+    // A second source tube, far from the target and without a marker: the
+    // first tube's correspondence is as it was, the second is left unmatched.
+    let far = mapped(&s0, |p| [p[0], p[1] + 3.0, p[2]]);
+    let two = found_by(&union(&s0, &far), &t0, &markers).correspondence;
+    assert_eq!(two.pairs(), alone.pairs());
+    // A second source tube beside the first, without a marker, a little off
+    // the target's second tube (a tenth of its radius, within the
+    // closest-point cut-off): drawn onto it, its triangles paired with the
+    // second tube's.
+    let beside = |m: &Mesh3, dy: f64| mapped(m, |p| [p[0], p[1] + dy, p[2]]);
+    let source = union(&s0, &beside(&s0, 2.05));
+    let target = union(&t0, &beside(&s0, 2.0));
+    let found = found_by(&source, &target, &markers);
+    let (ns, nt) = (s0.num_triangles() as u32, t0.num_triangles() as u32);
+    let second: Vec<&[u32; 2]> = found
+        .correspondence
+        .pairs()
+        .iter()
+        .filter(|p| p[0] >= ns)
+        .collect();
+    assert!(second.len() as u32 >= ns, "{} pairs", second.len());
+    assert!(second.iter().all(|p| p[1] >= nt), "paired across the tubes");
+    // Its vertices lie on the target's second tube (about y = 2), but for
+    // the centres of its ends.
+    let off: Vec<f64> = found.deformed_source.positions()[s0.num_vertices()..]
+        .iter()
+        .zip(s0.positions())
+        .filter(|(_, rest)| rest[1].hypot(rest[2]) > 0.5 * THIN.radius)
+        .map(|(p, _)| ((p[1] - 2.0).hypot(p[2]) - THIN.radius).abs())
+        .collect();
+    let mean = off.iter().sum::<f64>() / off.len() as f64;
+    let worst = off.iter().copied().fold(0.0, f64::max);
+    assert!(mean < 0.01 && worst < 0.05, "mean {mean}, worst {worst}");
 }
 
 #[test]
