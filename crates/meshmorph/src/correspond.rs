@@ -199,8 +199,9 @@ pub const MIN_MARKERS: usize = 3;
 ///
 /// # Errors
 /// - [`Error::InvalidArgument`] for bad markers (out of range, repeated, a
-///   source vertex with two targets), fewer than [`MIN_MARKERS`], or a
-///   connected part of the source without a marker;
+///   source vertex with two targets) or fewer than [`MIN_MARKERS`] (a part
+///   of the source without a marker of its own is placed by the alignment
+///   and drawn onto the target by the closest points);
 /// - [`Error::DegenerateTriangles`] for zero-area triangles in either mesh;
 /// - [`Error::Solver`] if a system cannot be factored.
 pub fn correspond(
