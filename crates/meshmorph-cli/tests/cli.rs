@@ -1802,11 +1802,18 @@ fn interpolation_and_blend_keep_the_first_file() {
     let out = dir.path().join("out");
     succeeds(&interpolate_keys(&keys, &out, &["--frames", "3"]));
     let expected = all_but_positions(&keys[0]);
+    // In another folder the material library is found from there.
+    let from_out: Vec<String> = expected
+        .iter()
+        .map(|l| l.replace("mtllib sheet.mtl", "mtllib ../sheet.mtl"))
+        .collect();
+    assert_ne!(from_out, expected);
     for k in 0..3 {
         let frame = out.join(format!("frame_000{k}.obj"));
         // Quads, texture coordinates, the object and the material stay.
-        assert_eq!(all_but_positions(&frame), expected, "frame {k}");
+        assert_eq!(all_but_positions(&frame), from_out, "frame {k}");
     }
+    assert!(!out.join("sheet.mtl").exists());
     let last = meshmorph::io::read_mesh(&out.join("frame_0002.obj")).unwrap();
     let k1 = meshmorph::io::read_mesh(&keys[1]).unwrap();
     assert!(max_diff(last.positions(), k1.positions()) < 1e-9);

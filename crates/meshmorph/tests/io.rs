@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use meshmorph::io::{
     parse_mesh, read_mesh, read_mesh_as, write_atomic, write_mesh, write_positions, Format,
+    MeshFile,
 };
 use meshmorph::{Error, Mesh2, Mesh3};
 
@@ -876,4 +877,90 @@ fn large_mesh_round_trips() {
         );
         assert_eq!(back, mesh, "{format}");
     }
+}
+
+/// An OBJ result written to another folder than its source keeps its
+/// materials: each relative `mtllib` path is rewritten to lead from there to
+/// the same `.mtl` file, which is neither copied nor changed; in the source's
+/// own folder, and for absolute paths, the bytes are the source's.
+#[test]
+fn obj_material_libraries_resolve_from_the_output_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path().canonicalize().unwrap();
+    let src = root.join("assets");
+    std::fs::create_dir_all(src.join("mat")).unwrap();
+    let libraries = [
+        ("sheet.mtl", "newmtl red\nKd 1 0 0\n"),
+        ("mat/other.mtl", "newmtl blue\nKd 0 0 1\n"),
+        ("my skin.mtl", "newmtl skin\nKd 1 0.8 0.6\n"),
+    ];
+    for (name, text) in libraries {
+        std::fs::write(src.join(name), text).unwrap();
+    }
+    let absolute = root.join("elsewhere/abs.mtl");
+    let head = format!(
+        "# materials\r\nmtllib sheet.mtl\r\nmtllib  ./mat/other.mtl sheet.mtl  # two\r\n\
+         mtllib my skin.mtl\r\nmtllib {}\r\n",
+        absolute.display()
+    );
+    let body = "o sheet\r\nv 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nv 0 1 0\r\nusemtl red\r\nf 1 2 3 4\r\n";
+    let text = head.clone() + body;
+    let source = src.join("sheet.obj");
+    std::fs::write(&source, &text).unwrap();
+    let file = MeshFile::read(&source).unwrap();
+    let moved: Vec<[f64; 3]> = file
+        .mesh()
+        .positions()
+        .iter()
+        .map(|p| [p[0], p[1], 0.5 * p[0]])
+        .collect();
+
+    // The source's folder, by another spelling too: the file as it was.
+    for name in ["same.obj", "mat/../same.obj"] {
+        let out = src.join(name);
+        file.write(&out, file.mesh().positions(), Format::Obj)
+            .unwrap();
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), text, "{name}");
+    }
+
+    // Folders below, beside and above the source's.
+    for (name, prefix) in [
+        ("out/r2/frame.obj", "../../assets/"),
+        ("beside/frame.obj", "../assets/"),
+        ("frame.obj", "assets/"),
+        ("assets/deep/er/frame.obj", "../../"),
+    ] {
+        let out = root.join(name);
+        std::fs::create_dir_all(out.parent().unwrap()).unwrap();
+        file.write(&out, &moved, Format::Obj).unwrap();
+        let written = std::fs::read_to_string(&out).unwrap();
+        let expected_head = format!(
+            "# materials\r\nmtllib {prefix}sheet.mtl\r\nmtllib  {prefix}mat/other.mtl {prefix}sheet.mtl  # two\r\n\
+             mtllib {prefix}my skin.mtl\r\nmtllib {}\r\n",
+            absolute.display()
+        );
+        assert!(written.starts_with(&expected_head), "{name}:\n{written}");
+        // Everything else is what the source's folder gets.
+        let beside = src.join("moved.obj");
+        file.write(&beside, &moved, Format::Obj).unwrap();
+        let beside_text = std::fs::read_to_string(&beside).unwrap();
+        assert_eq!(&written[expected_head.len()..], &beside_text[head.len()..]);
+        // Each path leads to the library it named.
+        let folder = out.parent().unwrap();
+        for (library, text) in libraries {
+            let path = folder.join(format!("{prefix}{library}"));
+            assert_eq!(
+                std::fs::read_to_string(&path).unwrap(),
+                text,
+                "{}",
+                path.display()
+            );
+        }
+        assert_eq!(read_mesh(&out).unwrap().positions(), &moved[..], "{name}");
+    }
+    // Nothing copied, nothing changed.
+    for (name, text) in libraries {
+        assert_eq!(std::fs::read_to_string(src.join(name)).unwrap(), text);
+    }
+    assert!(!root.join("out/r2/sheet.mtl").exists());
 }

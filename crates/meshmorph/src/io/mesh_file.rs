@@ -10,13 +10,16 @@
 //! and element, in its type and encoding; in OFF the polygons, colours and
 //! comments. Only the numbers that change are rewritten (with the shortest
 //! representation that reads back to the same `f64`; in binary PLY in the
-//! property's own type).
+//! property's own type), and an OBJ written to another folder has its
+//! relative `mtllib` paths made to resolve from there to the same `.mtl`
+//! files.
 
 use std::io::Write;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+use super::material_paths::MaterialPaths;
 use super::normal_groups::{NormalGroups, ShapeNormals};
 use super::ply::Scalar;
 use super::triangulate::{Polygons, Split};
@@ -46,6 +49,9 @@ pub(super) enum Slot {
     /// Where normals added after normal `n` go (an empty range at the start
     /// of the next line; `true` when the file ends its lines with CR LF).
     NormalsAfter(u32, bool),
+    /// The paths of an OBJ `mtllib` statement, rewritten when the file is
+    /// written to another folder (see [`MaterialPaths`]).
+    MaterialLibrary,
 }
 
 /// How a patched number is written.
@@ -170,7 +176,10 @@ impl Parsed {
 /// and element, in its type and encoding; in OFF the polygons, colours and
 /// comments. Only the numbers that change are rewritten (with the shortest
 /// representation that reads back to the same `f64`; in binary PLY in the
-/// property's own type).
+/// property's own type). An OBJ written to another folder than its source's
+/// has each relative `mtllib` path rewritten to lead from there to the same
+/// `.mtl` file (relative when it can be, else absolute); the `.mtl` files
+/// themselves are never copied nor changed.
 #[derive(Clone, Debug)]
 pub struct MeshFile {
     path: PathBuf,
@@ -321,7 +330,8 @@ impl MeshFile {
 
     /// Writes the file with new `positions` in `format`, atomically. In the
     /// file's own format everything but the positions (and normals, turned
-    /// with the surface) is kept byte for byte. In another format the
+    /// with the surface, and relative OBJ `mtllib` paths when `path` is in
+    /// another folder) is kept byte for byte. In another format the
     /// polygons are kept and what that format cannot hold here is dropped:
     /// the returned warnings say what (empty when nothing was dropped).
     ///
@@ -355,7 +365,7 @@ impl MeshFile {
                 )
             });
             let normals = groups.for_shape(&self.normals, &self.faces, positions);
-            write_atomic(path, |w| self.write_patched(w, positions, &normals))?;
+            write_atomic(path, |w| self.write_patched(w, path, positions, &normals))?;
             return Ok(Vec::new());
         }
         let faces = || (0..self.faces.len()).map(|f| self.face(f));
@@ -378,18 +388,32 @@ impl MeshFile {
             .collect())
     }
 
-    /// The file's bytes with every patched number rewritten.
+    /// The file's bytes with every patched number rewritten (and material
+    /// library paths made to resolve from `output`'s folder).
     fn write_patched(
         &self,
         w: &mut dyn Write,
+        output: &Path,
         positions: &[[f64; 3]],
         normals: &ShapeNormals,
     ) -> std::io::Result<()> {
         let mut buf: Vec<u8> = Vec::with_capacity(super::CHUNK + 1024);
         let mut at = 0;
         let mut added = normals.added.iter().peekable();
+        // Found at the first `mtllib`: `None` in the source's own folder.
+        let mut materials: Option<Option<MaterialPaths>> = None;
         for p in &self.patches {
+            let mut library = None;
             match p.slot {
+                Slot::MaterialLibrary => {
+                    library = materials
+                        .get_or_insert_with(|| MaterialPaths::new(&self.path, output))
+                        .as_ref()
+                        .and_then(|m| m.rewrite(&self.bytes[p.bytes.clone()]));
+                    if library.is_none() {
+                        continue;
+                    }
+                }
                 // Kept as written unless normals were added, and no normals
                 // to add here: the text around them is copied with them.
                 Slot::CornerNormal(_) if normals.corner_index.is_empty() => continue,
@@ -410,6 +434,10 @@ impl MeshFile {
                         Some(&i) => super::push_uint(&mut buf, u64::from(i) + 1),
                         None => buf.extend_from_slice(&self.bytes[p.bytes.clone()]),
                     }
+                    continue;
+                }
+                Slot::MaterialLibrary => {
+                    buf.extend_from_slice(library.as_deref().unwrap_or_default());
                     continue;
                 }
                 Slot::NormalsAfter(n, crlf) => {

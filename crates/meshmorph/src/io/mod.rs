@@ -47,6 +47,7 @@ mod atomic;
 mod correspondence;
 pub mod gltf;
 mod markers;
+mod material_paths;
 mod mesh_file;
 mod normal_groups;
 mod obj;

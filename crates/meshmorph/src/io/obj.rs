@@ -246,7 +246,18 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                 out.note_extra("smoothing groups (`s`)");
                 flat = matches!(toks.next(), Some(b"off" | b"0"));
             }
-            Some(b"usemtl" | b"mtllib") => out.note_extra("materials (`mtllib`, `usemtl`)"),
+            Some(b"mtllib") => {
+                out.note_extra("materials (`mtllib`, `usemtl`)");
+                // The library paths, from the first to the end of the last:
+                // rewritten when the file is written to another folder.
+                if let Some(first) = toks.next() {
+                    let last = toks.last().unwrap_or(first);
+                    let start = offset_in(bytes, first);
+                    let end = offset_in(bytes, last) + last.len();
+                    out.patch(Patch::text(start..end, Slot::MaterialLibrary));
+                }
+            }
+            Some(b"usemtl") => out.note_extra("materials (`mtllib`, `usemtl`)"),
             Some(b"l" | b"p") => out.note_extra("lines and points (`l`, `p`)"),
             // vp, curves, unknown statements, comments: kept when written
             // back as OBJ, never needed elsewhere.
