@@ -160,7 +160,7 @@ fn obj_face_syntaxes_and_negative_indices() {
 #[test]
 fn obj_crlf_comments_blank_lines_and_other_statements() {
     let text = "# a comment\r\nmtllib x.mtl\r\n\r\no thing\r\ng group\r\ns 1\r\nusemtl red\r\n\
-                v 0 0 # z absent below\r\nv 1 0\r\n  v   0 1 0 1.0  \r\n\tv 2 2 2\r\n\r\n\
+                v 0 0 0# touching\r\nv 1 0 0\r\n  v   0 1 0 1.0  \r\n\tv 2 2 2\r\n\r\n\
                 vt 0.5 0.5\r\nvn 0 0 1\r\nvp 0.1\r\nl 1 2\r\ncstype bezier\r\nf 1 2 3 # trailing\r\n";
     let m = ok(text, Format::Obj);
     assert_eq!(
@@ -173,6 +173,12 @@ fn obj_crlf_comments_blank_lines_and_other_statements() {
         ]
     );
     assert_eq!(m.triangles(), &[[0, 1, 2]]);
+    // A planar file: every vertex `v x y`, z = 0.
+    let m = ok("v 0 0\nv 1 0 # z absent\nv 0 1\nf 1 2 3\n", Format::Obj);
+    assert_eq!(
+        m.positions(),
+        &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+    );
     // A last line without a line end, and forward references.
     let m = ok("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0", Format::Obj);
     assert_eq!(m.triangles(), &[[0, 1, 2]]);
@@ -963,4 +969,55 @@ fn obj_material_libraries_resolve_from_the_output_folder() {
         assert_eq!(std::fs::read_to_string(src.join(name)).unwrap(), text);
     }
     assert!(!root.join("out/r2/sheet.mtl").exists());
+}
+
+/// A vertex with 2 coordinates among vertices with 3 (or the other way
+/// round) is refused at its line, not read as z = 0; files whose vertices
+/// all have 2 coordinates are planar meshes and stay readable, whatever
+/// they are read through.
+#[test]
+fn obj_vertices_with_2_and_3_coordinates_do_not_mix() {
+    let square = |vertices: [&str; 4]| {
+        format!(
+            "# square\nv {}\nv {}\nv {}\nv {}\nf 1 2 3 4\n",
+            vertices[0], vertices[1], vertices[2], vertices[3]
+        )
+    };
+    let planar = square(["0 0", "1 0", "1 1", "0 1"]);
+    assert_eq!(ok(&planar, Format::Obj).positions()[2], [1.0, 1.0, 0.0]);
+    let spatial = square(["0 0 0", "1 0 0", "1 1 0.5", "0 1 0 1"]);
+    assert_eq!(ok(&spatial, Format::Obj).positions()[2], [1.0, 1.0, 0.5]);
+    let msg = error(
+        &square(["0 0 0", "1 0 0", "0.1 0.2", "0 1 0"]),
+        Format::Obj,
+        Some(4),
+        "vertex 3 (1-based) has 2 coordinates where the vertices before it have 3 (the first at line 2)",
+    );
+    assert!(msg.contains("planar"), "{msg}");
+    error(
+        &square(["0 0", "1 0", "1 1", "0 1 0"]),
+        Format::Obj,
+        Some(5),
+        "vertex 4 (1-based) has 3 coordinates where the vertices before it have 2 (the first at line 2)",
+    );
+
+    // Read whole, and as a pose of a file in space.
+    let dir = tempfile::tempdir().unwrap();
+    let reference = dir.path().join("rest.obj");
+    std::fs::write(&reference, &spatial).unwrap();
+    let pose = dir.path().join("pose.obj");
+    std::fs::write(&pose, square(["0 0 0", "1 0 0", "0.1 0.2", "0 1 0"])).unwrap();
+    let rest = MeshFile::read(&reference).unwrap();
+    for e in [
+        MeshFile::read(&pose).unwrap_err(),
+        rest.read_pose(&pose).unwrap_err(),
+    ] {
+        let msg = e.to_string();
+        assert!(
+            msg.contains(&pose.display().to_string())
+                && msg.contains("line 4")
+                && msg.contains("has 2 coordinates"),
+            "{msg}"
+        );
+    }
 }

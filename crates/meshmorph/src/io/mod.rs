@@ -19,7 +19,10 @@
 //!
 //! Reading accepts:
 //!
-//! - **OBJ**: `v x y [z] [w]` (z defaults to 0), faces `f a`, `f a/b`,
+//! - **OBJ**: `v x y [z] [w]` (z is 0 in a planar file, whose vertices all
+//!   have 2 coordinates; a file mixing vertices of 2 and of 3 coordinates
+//!   is refused, naming the line of the first that differs from those
+//!   before it), faces `f a`, `f a/b`,
 //!   `f a/b/c`, `f a//c` with absolute (1-based) or relative (negative)
 //!   indices, `#` comments, CRLF line ends; `vt` and `vn` (through `f a/b/c`)
 //!   are read for [`MeshFile`]; every other statement (`g`, `o`, `s`,

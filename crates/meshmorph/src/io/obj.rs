@@ -66,6 +66,10 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     // Whether each face is shaded flat (`s off` or `s 0` before it).
     let mut flat = false;
     let mut flat_faces: Vec<bool> = Vec::new();
+    // The line of the first vertex with 2 coordinates and of the first with
+    // 3 or more: a file is planar (`v x y`) or in space, never both.
+    let mut first_planar: Option<usize> = None;
+    let mut first_spatial: Option<usize> = None;
 
     for (line_no, line) in UncommentedLines::new(bytes) {
         let mut toks = tokens(line);
@@ -106,6 +110,21 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                         format!("a vertex needs at least 2 coordinates (`v x y [z] [w]`), found {count}"),
                     ));
                 }
+                let (mine, other, have, other_have) = if count == 2 {
+                    (&mut first_planar, first_spatial, 2, 3)
+                } else {
+                    (&mut first_spatial, first_planar, 3, 2)
+                };
+                if let Some(first) = other {
+                    return Err(err(
+                        line_no,
+                        format!(
+                            "vertex {} (1-based) has {have} coordinates where the vertices before it have {other_have} (the first at line {first}): give every vertex x y z, or every vertex x y for a planar mesh",
+                            vertex as u64 + 1
+                        ),
+                    ));
+                }
+                mine.get_or_insert(line_no);
                 if count == 2 {
                     // `v x y`: z is written after y.
                     out.patch(Patch::appended(last_end, Slot::Position(vertex, 2)));
