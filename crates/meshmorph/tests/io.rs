@@ -1021,3 +1021,73 @@ fn obj_vertices_with_2_and_3_coordinates_do_not_mix() {
         );
     }
 }
+
+/// Lines (`l`) and points (`p`) have their indices checked as faces' are,
+/// with the same messages, and are written back as they were.
+#[test]
+fn obj_lines_and_points_are_checked_as_faces_are() {
+    let triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n";
+    // Absolute, relative, with texture coordinates, forward references.
+    let good = format!(
+        "{triangle}l 1 2 3 1\nl -3 -2\np 3\np 1 -1\nl 1/1 2/1\nl 1 4\np 4\nf 1 2 3\nv 1 1 0\n"
+    );
+    assert_eq!(ok(&good, Format::Obj).num_vertices(), 4);
+    for (element, needle) in [
+        (
+            "l 508 9999",
+            "vertex index 9999 is out of range: the file has 3 vertices",
+        ),
+        ("p 0", "vertex index 0 is invalid"),
+        ("l 1 2 3 abc", "`abc` is not a vertex index"),
+        ("l 1 x/1", "`x/1` is not a vertex index"),
+        (
+            "l -4 1",
+            "vertex index -4 is out of range: only 3 vertices are defined before this line",
+        ),
+        ("l 1", "a line (`l`) needs at least 2 vertices, found 1"),
+        ("p", "a point (`p`) needs at least 1 vertex, found 0"),
+        (
+            "l 1/2 2/1",
+            "texture coordinate index 2 is out of range: the file has 1 texture coordinates",
+        ),
+        ("l 1/0 2", "texture coordinate index 0 is out of range"),
+        ("p 1/1", "`1/1` is not a vertex index (`v`)"),
+        ("l 1/1/1 2", "`1/1/1` is not a vertex index (`v` or `v/vt`)"),
+    ] {
+        let text = format!("{triangle}f 1 2 3\n{element}\n");
+        error(&text, Format::Obj, Some(6), needle);
+    }
+
+    // Kept as written in results; refused in a pose too.
+    let dir = tempfile::tempdir().unwrap();
+    let rest = dir.path().join("rest.obj");
+    std::fs::write(&rest, &good).unwrap();
+    let file = MeshFile::read(&rest).unwrap();
+    let out = dir.path().join("out.obj");
+    let moved: Vec<[f64; 3]> = file
+        .mesh()
+        .positions()
+        .iter()
+        .map(|p| [p[0] + 1.0, p[1], p[2]])
+        .collect();
+    file.write(&out, &moved, Format::Obj).unwrap();
+    let elements = |text: &str| -> Vec<String> {
+        text.lines()
+            .filter(|l| l.starts_with("l ") || l.starts_with("p "))
+            .map(String::from)
+            .collect()
+    };
+    assert_eq!(
+        elements(&std::fs::read_to_string(&out).unwrap()),
+        elements(&good)
+    );
+    let pose = dir.path().join("pose.obj");
+    std::fs::write(&pose, good.replace("l -3 -2", "l -3 -9")).unwrap();
+    let msg = file.read_pose(&pose).unwrap_err().to_string();
+    assert!(
+        msg.contains(&pose.display().to_string())
+            && msg.contains("line 6")
+            && msg.contains("vertex index -9 is out of range"),
+        "{msg}"
+    );
+}

@@ -27,7 +27,8 @@
 //!   indices, `#` comments, CRLF line ends; `vt` and `vn` (through `f a/b/c`)
 //!   are read for [`MeshFile`]; every other statement (`g`, `o`, `s`,
 //!   `usemtl`, `mtllib`, `l`, ...) is kept by [`MeshFile`] and not needed
-//!   for the mesh.
+//!   for the mesh; the indices of lines `l` and points `p` are checked as
+//!   faces' are (and written back as they were).
 //! - **OFF**: the `OFF` keyword (also `COFF`, `NOFF`, `STOFF`, counts on the
 //!   same line, or no keyword at all), `nV nF [nE]`, vertex lines (values past
 //!   x y z, such as colours, are ignored), face lines `n i0 ... i(n-1)`

@@ -1,5 +1,6 @@
 //! Wavefront OBJ: `v`, `vt`, `vn` and `f` statements; the others are kept
-//! as they are when the file is written back.
+//! as they are when the file is written back (lines `l` and points `p` with
+//! their indices checked as faces' are).
 
 use std::io::Write;
 use std::path::Path;
@@ -49,6 +50,37 @@ fn corner_index(
     })
 }
 
+/// The vertex of an element's corner (`part`, the vertex part of the corner
+/// `token`), 0-based; `defined` vertices are defined before the line, `max`
+/// is the largest positive index so far (checked once every vertex is
+/// known: forward references are legal).
+///
+/// # Errors
+/// The message when the index does not parse, is 0 or counts back past the
+/// first vertex.
+#[inline]
+fn vertex_index(
+    part: &[u8],
+    token: &[u8],
+    defined: usize,
+    max: &mut i64,
+) -> std::result::Result<u32, String> {
+    let index =
+        parse_i64(part).ok_or_else(|| format!("`{}` is not a vertex index", show(token)))?;
+    if index > 0 {
+        *max = (*max).max(index);
+    }
+    resolve(index, defined).ok_or_else(|| {
+        if index == 0 {
+            "vertex index 0 is invalid: OBJ indices start at 1 (or count back from -1)".into()
+        } else {
+            format!(
+                "vertex index {index} is out of range: only {defined} vertices are defined before this line"
+            )
+        }
+    })
+}
+
 /// Parses an OBJ file's contents (see the [module documentation](super)),
 /// keeping what [`MeshFile`](super::MeshFile) needs to write it back.
 pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
@@ -70,6 +102,9 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     // 3 or more: a file is planar (`v x y`) or in space, never both.
     let mut first_planar: Option<usize> = None;
     let mut first_spatial: Option<usize> = None;
+    // Lines and points (`l`, `p`) with an index past what was defined before
+    // them: their line, largest vertex and texture coordinate indices.
+    let mut forward_elements: Vec<(usize, i64, i64)> = Vec::new();
 
     for (line_no, line) in UncommentedLines::new(bytes) {
         let mut toks = tokens(line);
@@ -188,28 +223,9 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                 for tok in toks {
                     let mut parts = tok.split(|&b| b == b'/');
                     let vertex_part = parts.next().unwrap_or(tok);
-                    let index = parse_i64(vertex_part).ok_or_else(|| {
-                        err(line_no, format!("`{}` is not a vertex index", show(tok)))
-                    })?;
-                    if index > 0 {
-                        max_index = max_index.max(index);
-                    }
-                    let resolved = resolve(index, out.positions.len()).ok_or_else(|| {
-                        if index == 0 {
-                            err(
-                                line_no,
-                                "vertex index 0 is invalid: OBJ indices start at 1 (or count back from -1)".into(),
-                            )
-                        } else {
-                            err(
-                                line_no,
-                                format!(
-                                    "vertex index {index} is out of range: only {} vertices are defined before this line",
-                                    out.positions.len()
-                                ),
-                            )
-                        }
-                    })?;
+                    let resolved =
+                        vertex_index(vertex_part, tok, out.positions.len(), &mut max_index)
+                            .map_err(|m| err(line_no, m))?;
                     face.push(resolved);
                     // Texture and normal indices: `a/b`, `a/b/c`, `a//c`.
                     let uv_part = parts.next();
@@ -277,7 +293,51 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                 }
             }
             Some(b"usemtl") => out.note_extra("materials (`mtllib`, `usemtl`)"),
-            Some(b"l" | b"p") => out.note_extra("lines and points (`l`, `p`)"),
+            Some(kind @ (b"l" | b"p")) => {
+                out.note_extra("lines and points (`l`, `p`)");
+                // Checked as faces are, kept as written: `l v` or `l v/vt`,
+                // `p v`.
+                let line_element = kind == b"l";
+                let (mut vertex_max, mut uv_max) = (0, 0);
+                let mut count = 0;
+                for tok in toks {
+                    let mut parts = tok.split(|&b| b == b'/');
+                    let vertex_part = parts.next().unwrap_or(tok);
+                    let uv_part = parts.next();
+                    if parts.next().is_some() || (!line_element && uv_part.is_some()) {
+                        let form = if line_element { "`v` or `v/vt`" } else { "`v`" };
+                        return Err(err(
+                            line_no,
+                            format!("`{}` is not a vertex index ({form})", show(tok)),
+                        ));
+                    }
+                    vertex_index(vertex_part, tok, out.positions.len(), &mut vertex_max)
+                        .map_err(|m| err(line_no, m))?;
+                    corner_index(
+                        uv_part,
+                        out.uvs.len(),
+                        &mut uv_max,
+                        "texture coordinate",
+                        tok,
+                    )
+                    .map_err(|m| err(line_no, m))?;
+                    count += 1;
+                }
+                let least = if line_element {
+                    "a line (`l`) needs at least 2 vertices"
+                } else {
+                    "a point (`p`) needs at least 1 vertex"
+                };
+                if count < 1 + usize::from(line_element) {
+                    return Err(err(line_no, format!("{least}, found {count}")));
+                }
+                // Forward references, checked at the end.
+                if vertex_max as u64 > out.positions.len() as u64
+                    || uv_max as u64 > out.uvs.len() as u64
+                {
+                    forward_elements.push((line_no, vertex_max, uv_max));
+                }
+            }
             // vp, curves, unknown statements, comments: kept when written
             // back as OBJ, never needed elsewhere.
             _ => {}
@@ -325,6 +385,20 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                 ));
             }
         }
+    }
+    let (vertices, uvs) = (out.positions.len() as u64, out.uvs.len() as u64);
+    for &(line_no, vertex, uv) in &forward_elements {
+        let (index, defined, what, plural) = if vertex as u64 > vertices {
+            (vertex, vertices, "vertex", "vertices")
+        } else if uv as u64 > uvs {
+            (uv, uvs, "texture coordinate", "texture coordinates")
+        } else {
+            continue;
+        };
+        return Err(err(
+            line_no,
+            format!("{what} index {index} is out of range: the file has {defined} {plural}"),
+        ));
     }
     if out.faces.len() == 0 {
         return Err(Error::parse(
