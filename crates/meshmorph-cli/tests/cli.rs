@@ -745,7 +745,7 @@ fn interpolate_keys_that_cannot_be_used_are_refused() {
     let err = fails(&interpolate_keys(&keys, &out, &[]));
     assert_mentions(
         &err,
-        &[&shown(&other), &shown(&paths[0]), "face 3", "key 2"],
+        &[&shown(&other), &shown(&paths[0]), "face 4", "key 2"],
     );
     assert_empty(&out);
     // A key with fewer vertices.
@@ -958,7 +958,7 @@ fn blend_refuses_bad_shapes_and_weights() {
         &out,
         &[],
     ));
-    assert_mentions(&err, &[&shown(&other), "face 3"]);
+    assert_mentions(&err, &[&shown(&other), "face 4"]);
     assert!(!out.exists());
     let folded = sheet_and_fold(dir.path());
     let err = fails(&blend(

@@ -1091,3 +1091,113 @@ fn obj_lines_and_points_are_checked_as_faces_are() {
         "{msg}"
     );
 }
+
+/// Triangles of a grid of `n` x `n` quads, each split along the diagonal
+/// from its first corner, except quad `other`, split along the other one:
+/// as an exporter triangulating by the shape splits a bent pose. The two
+/// halves of each quad follow each other, or (`apart`, as Blender writes
+/// them) the second halves come after all the first.
+fn split_grid_obj(n: u32, other: Option<u32>, apart: bool) -> String {
+    let mut text = String::from("# split quads\n");
+    for j in 0..=n {
+        for i in 0..=n {
+            text += &format!("v {i} {j} {}\n", (i * j) % 3);
+        }
+    }
+    let at = |i: u32, j: u32| j * (n + 1) + i + 1;
+    let mut halves = [String::new(), String::new()];
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            let [first, second] = if other == Some(j * n + i) {
+                [[a, b, d], [b, c, d]]
+            } else {
+                [[a, b, c], [a, c, d]]
+            };
+            let face = |t: [u32; 3]| format!("f {} {} {}\n", t[0], t[1], t[2]);
+            halves[0] += &face(first);
+            halves[usize::from(apart)] += &face(second);
+        }
+    }
+    text + &halves[0] + &halves[1]
+}
+
+/// A pose whose triangles split a quad of the reference along the other
+/// diagonal is refused, saying so (the quad's corners, both diagonals, both
+/// faces and their lines, numbered from 1) and how to avoid it; any other
+/// difference names the face and its vertices numbered from 1 too.
+#[test]
+fn a_quad_split_along_the_other_diagonal_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 4;
+    let first_face_line = 2 + ((n + 1) * (n + 1)) as usize;
+    for apart in [false, true] {
+        let rest_path = dir.path().join(format!("rest{apart}.obj"));
+        std::fs::write(&rest_path, split_grid_obj(n, None, apart)).unwrap();
+        let rest = MeshFile::read(&rest_path).unwrap();
+        for quad in 0..n * n {
+            let (i, j) = (quad % n, quad / n);
+            let at = |i: u32, j: u32| j * (n + 1) + i + 1;
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            let pose_path = dir.path().join(format!("pose{quad}{apart}.obj"));
+            std::fs::write(&pose_path, split_grid_obj(n, Some(quad), apart)).unwrap();
+            let (face, second) = if apart {
+                (quad as usize, (n * n + quad) as usize)
+            } else {
+                (2 * quad as usize, 2 * quad as usize + 1)
+            };
+            let line = first_face_line + face;
+            let errors = [
+                rest.read_pose(&pose_path).unwrap_err(),
+                rest.pose(&MeshFile::read(&pose_path).unwrap()).unwrap_err(),
+            ];
+            for e in errors {
+                assert!(
+                    matches!(e, Error::FaceMismatch { face: f, line: Some(l), .. } if f == face && l == line),
+                    "{e:?}"
+                );
+                let msg = e.to_string();
+                for needle in [
+                    pose_path.display().to_string(),
+                    rest_path.display().to_string(),
+                    format!(
+                        "faces {} and {} (lines {line} and {})",
+                        face + 1,
+                        second + 1,
+                        first_face_line + second
+                    ),
+                    format!("splits the quad [{a}, {b}, {c}, {d}] along its diagonal {b}-{d}"),
+                    format!("splits it along {a}-{c}"),
+                    "without triangulating".to_string(),
+                    "same triangulation".to_string(),
+                ] {
+                    assert!(msg.contains(&needle), "`{needle}` not in: {msg}");
+                }
+            }
+        }
+    }
+    let rest_path = dir.path().join("restfalse.obj");
+    let rest = MeshFile::read(&rest_path).unwrap();
+    // The two halves of a quad swapped: the same split in another order,
+    // not a quad split the other way.
+    let text = split_grid_obj(n, None, false);
+    let mut lines: Vec<&str> = text.lines().collect();
+    lines.swap(first_face_line + 1, first_face_line + 2);
+    let swapped = dir.path().join("swapped.obj");
+    std::fs::write(&swapped, lines.join("\n")).unwrap();
+    let msg = rest.read_pose(&swapped).unwrap_err().to_string();
+    let (l3, l4) = (
+        text.lines().nth(first_face_line + 1).unwrap(),
+        text.lines().nth(first_face_line + 2).unwrap(),
+    );
+    let corners = |l: &str| l[2..].replace(' ', ", ");
+    let expected = format!(
+        "face 3 (line {}): vertices [{}] but face 3 of `{}` has [{}] (faces and vertices numbered from 1)",
+        first_face_line + 2,
+        corners(l4),
+        rest_path.display(),
+        corners(l3)
+    );
+    assert!(msg.contains(&expected), "`{expected}` not in: {msg}");
+    assert!(!msg.contains("diagonal"), "{msg}");
+}

@@ -22,7 +22,7 @@ use std::sync::OnceLock;
 use super::material_paths::MaterialPaths;
 use super::normal_groups::{NormalGroups, ShapeNormals};
 use super::ply::Scalar;
-use super::triangulate::{Polygons, Split};
+use super::triangulate::{quad_split_the_other_way, Polygons, Split};
 use super::{push_f64, write_atomic, Format};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh3;
@@ -556,18 +556,11 @@ impl MeshFile {
             b.extend_from_slice(other);
             b.sort_unstable();
             if a != b {
-                let place = match format {
-                    Format::Ply => format!("face {f}"),
-                    _ => format!("face {f} (line {})", faces.line(f)),
-                };
+                let line = (format != Format::Ply).then(|| faces.line(f));
                 return Err(Error::FaceMismatch {
                     face: f,
-                    line: (format != Format::Ply).then(|| faces.line(f)),
-                    message: format!(
-                        "`{theirs}`, {place}: vertices {} (1-based) but face {f} of `{mine}` has {}: a pose has the reference's faces",
-                        show_face(other),
-                        show_face(own)
-                    ),
+                    line,
+                    message: self.face_mismatch(f, &theirs, faces, line),
                 });
             }
             reordered += 1;
@@ -581,6 +574,59 @@ impl MeshFile {
         }
         let mesh = self.mesh.with_positions(positions)?;
         Ok((mesh, reordered))
+    }
+
+    /// Why face `f` (0-based) of the pose `faces`, read from the file named
+    /// `theirs`, is not this file's face `f` (its corners differ): said with
+    /// faces and vertices numbered from 1, as lines are (`line` is its line,
+    /// for text formats). When it and the pose's face at the place of the
+    /// other half of its quad in this file split that quad along the other
+    /// diagonal, as exporters that triangulate by the shape do for a bent
+    /// pose, that is what is said, with how to avoid it. (Blender writes
+    /// the second halves of its quads after all the first halves, so the
+    /// other half is looked for among every face; it comes after `f`,
+    /// since the faces before `f` have their reference's corners.)
+    fn face_mismatch(
+        &self,
+        f: usize,
+        theirs: &impl std::fmt::Display,
+        faces: &Polygons,
+        line: Option<usize>,
+    ) -> String {
+        let mine = self.path.display();
+        let other = |g: usize| &faces.corner_vertices()[faces.range(g)];
+        let number = f + 1;
+        let split = (f + 1..faces.len().min(self.faces.len())).find_map(|g| {
+            quad_split_the_other_way([self.face(f), self.face(g)], [other(f), other(g)])
+                .map(|quad| (g, quad))
+        });
+        if let Some((g, quad)) = split {
+            let lines = match line {
+                Some(l) => format!(" (lines {l} and {})", faces.line(g)),
+                None => String::new(),
+            };
+            let corner = |k: usize| u64::from(quad[k]) + 1;
+            return format!(
+                "`{theirs}`, faces {number} and {}{lines}: the pose splits the quad {} along its diagonal {}-{} where `{mine}` splits it along {}-{} (faces and vertices numbered from 1): \
+                 exporters that triangulate choose each quad's diagonal by its shape, so a bent pose can split some quads the other way. \
+                 Export the reference and its poses without triangulating (each quad is then split the same way in every pose), or with the same triangulation (triangulate the reference once and export every pose from that mesh)",
+                g + 1,
+                show_face(&quad),
+                corner(1),
+                corner(3),
+                corner(0),
+                corner(2),
+            );
+        }
+        let place = match line {
+            Some(l) => format!("face {number} (line {l})"),
+            None => format!("face {number}"),
+        };
+        format!(
+            "`{theirs}`, {place}: vertices {} but face {number} of `{mine}` has {} (faces and vertices numbered from 1): a pose has the reference's faces",
+            show_face(other(f)),
+            show_face(self.face(f))
+        )
     }
 }
 
