@@ -977,6 +977,62 @@ fn blend_refuses_bad_shapes_and_weights() {
     ));
 }
 
+/// The key times of a GLB's animation.
+fn animation_times(glb: &Path) -> Vec<f32> {
+    let file = gltf::Gltf::open(glb).unwrap();
+    let blob = file.blob.as_deref().unwrap();
+    let animation = file.document.animations().next().expect("an animation");
+    let channel = animation.channels().next().unwrap();
+    let reader = channel.reader(|_| Some(blob));
+    reader.read_inputs().unwrap().collect()
+}
+
+/// `blend --fps` sets the frame rate of the GLB's animation (and of the
+/// GIF), as `interpolate --fps` does; 12 frames a second without it.
+#[test]
+fn blend_plays_its_animation_at_fps() {
+    let dir = tempfile::tempdir().unwrap();
+    let (paths, _) = tube_keys(dir.path());
+    let out = dir.path().join("blend.obj");
+    for (fps, extra) in [(12.0, None), (6.0, Some("6")), (30.0, Some("30"))] {
+        let glb = dir.path().join(format!("blend{fps}.glb"));
+        let gif = dir.path().join(format!("blend{fps}.gif"));
+        let mut args = vec![
+            "--gltf",
+            glb.to_str().unwrap(),
+            "--gif",
+            gif.to_str().unwrap(),
+        ];
+        if let Some(fps) = extra {
+            args.extend(["--fps", fps]);
+        }
+        succeeds(&blend(&paths[0], &[(&paths[1], "1")], &out, &args));
+        let times = animation_times(&glb);
+        assert!(times.len() >= 2, "{times:?}");
+        for (k, t) in times.iter().enumerate() {
+            assert!(
+                (f64::from(*t) - k as f64 / fps).abs() < 1e-5,
+                "{fps}: {times:?}"
+            );
+        }
+        assert!(fs::read(&gif).unwrap().starts_with(b"GIF89a"));
+    }
+    for fps in ["0", "-1", "nan", "inf"] {
+        let glb = dir.path().join("refused.glb");
+        let o = blend(
+            &paths[0],
+            &[(&paths[1], "1")],
+            &dir.path().join("refused.obj"),
+            &["--gltf", glb.to_str().unwrap(), &format!("--fps={fps}")],
+        );
+        let err = usage_error(&o);
+        assert_mentions(&err, &["--fps", "finite number above 0"]);
+        assert!(!glb.exists());
+    }
+    let help = succeeds(&run(["blend", "--help"]));
+    assert_mentions(&help, &["--fps", "glTF animation"]);
+}
+
 // ---------------------------------------------------------------------------
 // transfer and correspond.
 
