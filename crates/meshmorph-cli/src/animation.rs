@@ -7,7 +7,9 @@ use std::time::Instant;
 
 use anyhow::{bail, Result};
 use meshmorph::io::gltf::{write_glb_frames, GltfBase, GltfOptions};
-use meshmorph::io::{Format, MeshFile};
+use meshmorph::io::Format;
+
+use crate::output::WeldedFile;
 use meshmorph::{FrameSource, Rotations, Sequence, Space, TriangleMaps};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -73,6 +75,8 @@ pub struct Setup {
     pub whole_turns: Option<usize>,
     /// Vertices in no triangle.
     pub unused_vertices: usize,
+    /// Copies of vertices at seams, welded for the solve.
+    pub welded_vertices: usize,
 }
 
 /// What a run did, for people and (with --json) for programs.
@@ -128,6 +132,9 @@ pub struct Report {
     /// Vertices no triangle uses: they move on straight lines between
     /// their positions in the keys and count in no scale.
     pub unused_vertices: usize,
+    /// Vertices at the same place as another in every key (copies at
+    /// seams), welded for the solve; the frames keep them.
+    pub welded_vertices: usize,
 }
 
 impl Report {
@@ -201,6 +208,9 @@ impl Report {
                 self.unused_vertices
             );
         }
+        if let Some(line) = crate::output::welded_line(self.welded_vertices) {
+            println!("welded:   {line}");
+        }
         if self.surplus_frames_removed > 0 {
             println!(
                 "removed {} frame files of an earlier run",
@@ -220,7 +230,7 @@ pub struct Run<'a> {
     pub start: Instant,
     /// The first key's file: each frame is written as that file with new
     /// positions (in its format; in another, what that format holds).
-    pub file: Option<&'a MeshFile>,
+    pub file: Option<&'a WeldedFile>,
     /// Warnings of reading the keys, reported with the run's.
     pub read_warnings: &'a [String],
 }
@@ -324,7 +334,7 @@ where
             .with_fps(args.fps)
             .with_name("interpolation");
         // The first key's texture coordinates, when its file has them.
-        let corner_uvs = file.and_then(MeshFile::triangle_corner_uvs);
+        let corner_uvs = file.and_then(|f| f.file.triangle_corner_uvs());
         let mut base = GltfBase::new(base, morph.triangles());
         if let Some(uvs) = &corner_uvs {
             base = base.with_corner_uvs(uvs);
@@ -341,6 +351,9 @@ where
         files_written.extend(args.gltf.gltf.clone());
     }
     let mut warnings = read_warnings.to_vec();
+    if let (Some(glb), Some(file)) = (&args.gltf.gltf, file) {
+        warnings.extend(crate::gltf::dropped_warning(glb, &file.file));
+    }
     // What the output format cannot hold of the first key's file is the
     // same for every frame: said once, for the first.
     if let Some(first) = frames.first() {
@@ -357,7 +370,7 @@ where
     Ok(Report {
         output: outputs.dir.clone(),
         frames_written: frames.len(),
-        vertices: morph.num_vertices(),
+        vertices: morph.num_vertices() + setup.welded_vertices,
         triangles: morph.triangles().len(),
         dimension: D,
         keys: setup.keys,
@@ -377,6 +390,7 @@ where
         warnings,
         surplus_frames_removed: 0,
         unused_vertices: setup.unused_vertices,
+        welded_vertices: setup.welded_vertices,
     })
 }
 

@@ -5,7 +5,9 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use meshmorph::io::gltf::{write_glb_frames, GltfBase, GltfOptions};
-use meshmorph::io::{Format, MeshFile};
+use meshmorph::io::Format;
+
+use crate::output::WeldedFile;
 use meshmorph::{
     Blend, FrameSource, InterpolatorOptions, Mesh, Mesh2, Mesh3, Rotations, Space, TriangleMaps,
 };
@@ -119,6 +121,9 @@ pub struct Report {
     pub files_written: Vec<PathBuf>,
     /// The warnings given (also printed on stderr).
     pub warnings: Vec<String>,
+    /// Vertices at the same place as another in the base and every shape
+    /// (copies at seams), welded for the solve; the result keeps them.
+    pub welded_vertices: usize,
 }
 
 impl Report {
@@ -143,6 +148,9 @@ impl Report {
         println!("blend: {}", output::human_seconds(self.blend_seconds));
         println!("total: {}", output::human_seconds(self.total_seconds));
         println!("turned-over triangles: {}", self.turned_over_triangles);
+        if let Some(line) = output::welded_line(self.welded_vertices) {
+            println!("welded: {line}");
+        }
         for f in self.files_written.iter().skip(1) {
             println!("also:  {}", f.display());
         }
@@ -194,7 +202,7 @@ pub fn run(args: &Args) -> Result<()> {
         .collect();
     let planar = output::is_planar(args.dim, &meshes, |k| format!("`{}`", paths[k].display()))?;
     let (vertices, triangles) = (base.num_vertices(), base.num_triangles());
-    let has_uvs = base_file.has_corner_uvs();
+    let has_uvs = base_file.file.has_corner_uvs();
     if planar {
         args.gltf.check::<2>(vertices, triangles, STEPS, has_uvs)?;
     } else {
@@ -228,6 +236,9 @@ pub fn run(args: &Args) -> Result<()> {
         setup_seconds,
         blend_seconds,
     } = blended;
+    if let Some(glb) = &args.gltf.gltf {
+        warnings.extend(crate::gltf::dropped_warning(glb, &base_file.file));
+    }
     if turned_over > 0 {
         warnings.push(format!(
             "the blend has {} turned over relative to the base",
@@ -239,7 +250,7 @@ pub fn run(args: &Args) -> Result<()> {
     Report {
         output: args.output.clone(),
         dimension: if planar { 2 } else { 3 },
-        vertices,
+        vertices: vertices + base_file.seams.num_welded(),
         triangles,
         shapes: shapes.len(),
         setup_seconds,
@@ -248,6 +259,7 @@ pub fn run(args: &Args) -> Result<()> {
         turned_over_triangles: turned_over,
         files_written,
         warnings,
+        welded_vertices: base_file.seams.num_welded(),
     }
     .print(args.json);
     Ok(())
@@ -260,7 +272,7 @@ struct BlendRun<'a> {
     staging: &'a Staging,
     options: &'a InterpolatorOptions,
     /// The base's file, and the format of the output.
-    file: (&'a MeshFile, Format),
+    file: (&'a WeldedFile, Format),
 }
 
 /// What the report says of a blend written.
@@ -339,7 +351,7 @@ where
         let names: Vec<String> = (0..STEPS).map(|k| format!("blend_{k:02}")).collect();
         let options = GltfOptions::default().with_fps(args.fps).with_name("blend");
         // The base's texture coordinates, when its file has them.
-        let corner_uvs = file.triangle_corner_uvs();
+        let corner_uvs = file.file.triangle_corner_uvs();
         let mut gltf_base = GltfBase::new(base.positions(), triangles);
         if let Some(uvs) = &corner_uvs {
             gltf_base = gltf_base.with_corner_uvs(uvs);

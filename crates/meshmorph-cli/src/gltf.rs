@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use meshmorph::io::gltf::{estimate_glb_bytes, write_glb, GltfBase, GltfOptions};
+use meshmorph::io::MeshFile;
 
 use crate::output::positive_number;
 
@@ -75,6 +76,26 @@ impl GltfArgs {
             .with_context(|| format!("writing the glTF `{}`", path.display()))?;
         Ok(Some(path.clone()))
     }
+}
+
+/// The warning that the GLB `glb` holds, of the file `file` it was made
+/// from, only the mesh, its texture coordinates and normals of its own, when
+/// the file has more (its normals, objects, materials, colours, ...).
+pub fn dropped_warning(glb: &Path, file: &MeshFile) -> Option<String> {
+    let dropped: Vec<&str> = file
+        .extras()
+        .iter()
+        .map(String::as_str)
+        .filter(|e| !e.starts_with("texture coordinates"))
+        .collect();
+    (!dropped.is_empty()).then(|| {
+        format!(
+            "`{}` holds one mesh, with its texture coordinates and normals computed from its shape: the {} of `{}` are not in it",
+            glb.display(),
+            dropped.join(", "),
+            file.path().display()
+        )
+    })
 }
 
 /// A name for the mesh in the GLB: the file stem of `path`.

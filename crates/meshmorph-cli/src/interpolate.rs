@@ -12,9 +12,9 @@ use meshmorph::{
 use crate::animation::{write_frames, FrameOutputs, Report, Run, Setup};
 use crate::gltf::GltfArgs;
 use crate::memory;
+use crate::output::WeldedFile;
 use crate::output::{self, positive_number, FormatArg};
 use crate::outputs::{Plan, Staging};
-use meshmorph::io::MeshFile;
 
 /// Interpolate through two or more meshes with the same triangles (keys),
 /// planar or surfaces in space.
@@ -267,7 +267,7 @@ pub struct Keys<'a> {
     pub meshes: &'a [Mesh3],
     /// The first key's file, when the keys were read: each frame is that
     /// file with new positions.
-    pub file: Option<&'a MeshFile>,
+    pub file: Option<&'a WeldedFile>,
     /// Warnings of reading the keys.
     pub warnings: &'a [String],
 }
@@ -298,7 +298,7 @@ pub fn animate(
     let (file, read_warnings, keys) = (keys.file, keys.warnings, keys.meshes);
     let first = &keys[0];
     let (vertices, triangles) = (first.num_vertices(), first.num_triangles());
-    let has_uvs = file.is_some_and(MeshFile::has_corner_uvs);
+    let has_uvs = file.is_some_and(|f| f.file.has_corner_uvs());
     if planar {
         args.gltf
             .check::<2>(vertices, triangles, times.len(), has_uvs)?;
@@ -326,6 +326,7 @@ pub fn animate(
     };
     let begin = Instant::now();
     let unused_vertices = first.num_unused_vertices();
+    let welded_vertices = file.map_or(0, |f| f.seams.num_welded());
     if planar {
         let keys = keys
             .iter()
@@ -338,12 +339,13 @@ pub fn animate(
                 seconds: begin.elapsed().as_secs_f64(),
                 whole_turns: None,
                 unused_vertices,
+                welded_vertices,
             };
             return write_frames(morph.sequence(), keys[0].positions(), &run, &setup);
         }
-        return animate_sequence(&keys, args, &run, begin, unused_vertices);
+        return animate_sequence(&keys, args, &run, begin, (unused_vertices, welded_vertices));
     }
-    animate_sequence(keys, args, &run, begin, unused_vertices)
+    animate_sequence(keys, args, &run, begin, (unused_vertices, welded_vertices))
 }
 
 /// Builds the keyframe sequence through `keys` and writes its frames.
@@ -352,7 +354,7 @@ fn animate_sequence<const D: usize>(
     args: &FrameArgs,
     run: &Run<'_>,
     begin: Instant,
-    unused_vertices: usize,
+    (unused_vertices, welded_vertices): (usize, usize),
 ) -> Result<Report>
 where
     Space<D>: Rotations<D> + TriangleMaps<D>,
@@ -364,6 +366,7 @@ where
         seconds: begin.elapsed().as_secs_f64(),
         whole_turns: Some(morph.triangles_with_whole_turns().iter().sum()),
         unused_vertices,
+        welded_vertices,
     };
     write_frames(&morph, keys[0].positions(), run, &setup)
 }

@@ -3,7 +3,8 @@
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use meshmorph::io::Format;
+use meshmorph::io::{Format, MeshFile};
+use meshmorph::{Mesh3, Seams};
 
 /// `--format` values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -82,21 +83,85 @@ pub fn reordered_faces_warning(path: &Path, first: &Path, reordered: usize) -> O
     })
 }
 
+/// A mesh file and its copies of vertices at seams ([`Seams`]), welded
+/// for the solvers: results computed on the welded mesh are written back
+/// on the file's own vertices.
+pub struct WeldedFile {
+    pub file: MeshFile,
+    pub seams: Seams,
+}
+
+impl WeldedFile {
+    /// Finds the seams of `file` alone and welds its mesh.
+    pub fn new(file: MeshFile) -> (Self, Mesh3) {
+        let seams = Seams::find(&[file.mesh()]);
+        let mesh = seams.weld(file.mesh());
+        (Self { file, seams }, mesh)
+    }
+
+    /// Writes `welded` (positions of the welded vertices) as the file with
+    /// new positions ([`MeshFile::write`]).
+    pub fn write(
+        &self,
+        path: &Path,
+        welded: &[[f64; 3]],
+        format: Format,
+    ) -> meshmorph::Result<Vec<String>> {
+        self.file.write(path, &self.seams.unweld(welded), format)
+    }
+}
+
+/// How far a pose's size may differ from its reference's before a warning:
+/// more looks like an export in other units.
+const POSE_SIZE_RATIO: f64 = 2.0;
+
+/// The warning for a pose `path` whose bounding-box diagonal is `ratio`
+/// times that of `reference`, when it looks like an export in other units.
+pub fn size_warning(path: &Path, ratio: f64, reference: &str) -> Option<String> {
+    (!(1.0 / POSE_SIZE_RATIO..=POSE_SIZE_RATIO).contains(&ratio)).then(|| {
+        format!(
+            "`{}` is {ratio:.3} times the size of {reference}: exported in other units?",
+            path.display()
+        )
+    })
+}
+
 /// Reads `paths` (called `roles`): the first kept whole, every later one
-/// as a pose of it ([`read_pose`]), re-listed faces said in `warnings`.
+/// as a pose of it ([`read_pose`]), re-listed faces and sizes that look
+/// like other units said in `warnings`;
+/// vertices at the same place in every one of them welded ([`Seams`]).
 pub fn read_poses(
     paths: &[&Path],
     roles: &[&str],
     warnings: &mut Vec<String>,
-) -> Result<(meshmorph::io::MeshFile, Vec<meshmorph::Mesh3>)> {
+) -> Result<(WeldedFile, Vec<Mesh3>)> {
     let first = read_mesh_file(paths[0], roles[0])?;
     let mut meshes = vec![first.mesh().clone()];
     for (path, role) in paths.iter().zip(roles).skip(1) {
         let (mesh, reordered) = read_pose(&first, roles[0], path, role)?;
         warnings.extend(reordered_faces_warning(path, paths[0], reordered));
+        warnings.extend(size_warning(
+            path,
+            mesh.bounding_box_diagonal() / first.mesh().bounding_box_diagonal(),
+            &format!("the {} `{}`", roles[0], paths[0].display()),
+        ));
         meshes.push(mesh);
     }
-    Ok((first, meshes))
+    let seams = Seams::find(&meshes.iter().collect::<Vec<_>>());
+    if !seams.is_empty() {
+        meshes = meshes.iter().map(|m| seams.weld(m)).collect();
+    }
+    Ok((WeldedFile { file: first, seams }, meshes))
+}
+
+/// The report's line for vertices welded at seams, if any.
+pub fn welded_line(welded: usize) -> Option<String> {
+    (welded > 0).then(|| {
+        format!(
+            "{} at the same place as another (copies at seams) welded for the solve; the files keep them",
+            if welded == 1 { "1 vertex".to_string() } else { format!("{welded} vertices") }
+        )
+    })
 }
 
 /// The library's warnings of what an output format could not hold of a

@@ -4,9 +4,9 @@ use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::output::WeldedFile;
 use anyhow::{bail, Context, Result};
 use meshmorph::io::gltf::{GltfBase, GltfOptions};
-use meshmorph::io::MeshFile;
 use meshmorph::{
     correspond, CorrespondOptions, Correspondence, Markers, Mesh3, Transfer, TransferOptions,
 };
@@ -87,10 +87,11 @@ impl CorrespondArgs {
     fn compute(
         &self,
         refs: &References,
-        source: &Mesh3,
-        target: &Mesh3,
+        source_ref: &Reference,
+        target_ref: &Reference,
         warnings: &mut Vec<String>,
     ) -> Result<(meshmorph::CorrespondResult, MarkerReport)> {
+        let (source, target) = (&source_ref.mesh, &target_ref.mesh);
         let Some(path) = &self.markers else {
             bail!(
                 "--markers is required to compute a correspondence (or pass --correspondence FILE)"
@@ -98,11 +99,16 @@ impl CorrespondArgs {
         };
         let markers = Markers::read(path, self.one_based).context("reading the markers")?;
         let (markers, snap) = markers
-            .snap(source, target)
+            .snap(source_ref.file_mesh(), target_ref.file_mesh())
             .context("snapping the marker points to vertices")?;
+        markers.validate(
+            source_ref.file_mesh().num_vertices(),
+            target_ref.file_mesh().num_vertices(),
+        )?;
+        let welded = markers.welded(&source_ref.file.seams, &target_ref.file.seams);
         let options = self.options();
         let bar = progress::bar(meshmorph::correspond_steps(&options) as u64, "correspond");
-        let result = correspond(source, target, &markers, &options, &mut |done| {
+        let result = correspond(source, target, &welded, &options, &mut |done| {
             bar.set_position(done as u64)
         })
         .with_context(|| {
@@ -141,6 +147,16 @@ impl CorrespondArgs {
             suspicious_markers: suspicious,
         };
         Ok((result, report))
+    }
+}
+
+/// The report's lines for the copies of vertices welded at seams in each
+/// reference, if any.
+fn print_welded(source: usize, target: usize) {
+    for (mesh, welded) in [("source", source), ("target", target)] {
+        if let Some(line) = output::welded_line(welded) {
+            println!("welded in the {mesh}: {line}");
+        }
     }
 }
 
@@ -201,11 +217,15 @@ pub struct References {
 }
 
 impl References {
-    /// Both files, kept whole.
-    fn read(&self) -> Result<(MeshFile, MeshFile)> {
+    /// Both files, kept whole, and their meshes welded at seams.
+    fn read(&self) -> Result<(Reference, Reference)> {
+        let read = |path: &Path, role: &str| -> Result<Reference> {
+            let (file, mesh) = WeldedFile::new(output::read_mesh_file(path, role)?);
+            Ok(Reference { file, mesh })
+        };
         let (s, t) = rayon::join(
-            || output::read_mesh_file(&self.source_ref, "source reference"),
-            || output::read_mesh_file(&self.target_ref, "target reference"),
+            || read(&self.source_ref, "source reference"),
+            || read(&self.target_ref, "target reference"),
         );
         Ok((s?, t?))
     }
@@ -217,6 +237,20 @@ impl References {
             self.source_ref.display(),
             self.target_ref.display()
         )
+    }
+}
+
+/// A reference mesh: its file, and its mesh with the copies of vertices at
+/// seams welded ([`meshmorph::Seams`]), which the solvers take.
+struct Reference {
+    file: WeldedFile,
+    mesh: Mesh3,
+}
+
+impl Reference {
+    /// The mesh as the file has it (marker and pin indices refer to it).
+    fn file_mesh(&self) -> &Mesh3 {
+        self.file.file.mesh()
     }
 }
 
@@ -309,6 +343,10 @@ pub struct TransferReport {
     pub carried_parts: usize,
     /// Target vertices no triangle uses: written at their rest positions.
     pub unused_target_vertices: usize,
+    /// Vertices at the same place as another (copies at seams), welded for
+    /// the solve, in the source and in the target; the files keep them.
+    pub welded_source_vertices: usize,
+    pub welded_target_vertices: usize,
     pub total_seconds: f64,
     /// The GLB written, if any.
     pub gltf: Option<PathBuf>,
@@ -344,6 +382,7 @@ impl TransferReport {
                 ""
             }
         );
+        print_welded(self.welded_source_vertices, self.welded_target_vertices);
         if self.unused_target_vertices > 0 {
             println!(
                 "unused target vertices: {} (in no triangle; kept at rest)",
@@ -368,10 +407,6 @@ impl TransferReport {
         }
     }
 }
-
-/// How far a pose's size may differ from its reference's before a warning:
-/// more looks like an export in other units.
-const POSE_SIZE_RATIO: f64 = 2.0;
 
 /// One pose done: seconds solving, seconds with reading and writing, what
 /// the output format dropped, the positions (kept for the glTF and pictures).
@@ -412,15 +447,15 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         args.refs.target_ref.as_path(),
     ]);
     memory::check_reading(&read)?;
-    let (source_file, target_file) = args.refs.read()?;
-    let (source, target) = (source_file.mesh(), target_file.mesh());
+    let (source_ref, target_ref) = args.refs.read()?;
+    let (source, target) = (&source_ref.mesh, &target_ref.mesh);
     args.gltf.check::<3>(
         target.num_vertices(),
         target.num_triangles(),
         args.poses.len(),
         false,
     )?;
-    let pins = pin_positions(&args.pin, args.correspond.one_based, target)?;
+    let pins = pin_positions(&args.pin, args.correspond.one_based, &target_ref)?;
 
     // Each pose is new positions for the reference's faces, split as the
     // reference is. The first pose is read and checked at once (a pose of
@@ -429,10 +464,10 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     // idle). A bad pose is reported, ahead of any error of theirs, before
     // anything is written.
     let (first, others) = args.poses.split_at(args.poses.len().min(1));
-    let mut read = read_poses(first, &source_file)?;
+    let mut read = read_poses(first, &source_ref)?;
     let (others, prepared) = rayon::join(
-        || read_poses(others, &source_file),
-        || prepare(args, source, target, pins),
+        || read_poses(others, &source_ref),
+        || prepare(args, &source_ref, &target_ref, pins),
     );
     read.append(others?);
     let ReadPoses {
@@ -470,7 +505,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
                     if let Some(v) = out.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
                         bail!("vertex {v} overflows (its coordinates exceed the range of floating-point numbers); scale the meshes down");
                     }
-                    dropped = target_file.write(path, &out, format)?;
+                    dropped = target_ref.file.write(path, &out, format)?;
                     Ok(())
                 })?;
                 bar.inc(1);
@@ -501,7 +536,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         .with_fps(args.fps)
         .with_animation(!args.gltf_shapes)
         .with_name(crate::gltf::mesh_name(&args.refs.target_ref));
-    let corner_uvs = target_file.triangle_corner_uvs();
+    let corner_uvs = target_ref.file.file.triangle_corner_uvs();
     let mut base = GltfBase::new(target.positions(), target.triangles());
     if let Some(uvs) = &corner_uvs {
         base = base.with_corner_uvs(uvs);
@@ -516,6 +551,10 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         })?;
         gltf = args.gltf.gltf.clone();
         files_written.extend(gltf.clone());
+        warnings.extend(
+            gltf.as_deref()
+                .and_then(|glb| crate::gltf::dropped_warning(glb, &target_ref.file.file)),
+        );
     }
     if args.pictures.any() {
         let source_poses: Vec<&[[f64; 3]]> = poses.iter().map(|(p, _, _)| p.positions()).collect();
@@ -571,6 +610,8 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         unpaired_target_triangles: transfer.unpaired_triangles(),
         carried_parts: transfer.carried_parts(),
         unused_target_vertices: target.num_unused_vertices(),
+        welded_source_vertices: source_ref.file.seams.num_welded(),
+        welded_target_vertices: target_ref.file.seams.num_welded(),
         total_seconds: start.elapsed().as_secs_f64(),
         gltf,
         files_written,
@@ -587,32 +628,52 @@ struct ReadPoses {
     warnings: Vec<String>,
 }
 
-fn read_poses(paths: &[PathBuf], source_file: &MeshFile) -> Result<ReadPoses> {
+fn read_poses(paths: &[PathBuf], source_ref: &Reference) -> Result<ReadPoses> {
+    let source_file = &source_ref.file.file;
+    let seams = &source_ref.file.seams;
     let source_diagonal = source_file.mesh().bounding_box_diagonal();
-    let poses: Vec<(Mesh3, usize, f64)> = paths
+    let poses: Vec<(Mesh3, usize, usize, f64)> = paths
         .par_iter()
         .map(|path| {
             let begin = Instant::now();
             let (pose, reordered) =
                 output::read_pose(source_file, "source reference", path, "source pose")?;
-            Ok((pose, reordered, begin.elapsed().as_secs_f64()))
+            let apart = seams.num_apart(pose.positions());
+            let pose = if seams.is_empty() {
+                pose
+            } else {
+                source_ref
+                    .mesh
+                    .with_positions(seams.weld_positions(pose.positions()))?
+            };
+            Ok((pose, reordered, apart, begin.elapsed().as_secs_f64()))
         })
         .collect::<Result<_>>()?;
     let mut warnings = Vec::new();
-    for ((pose, reordered, _), path) in poses.iter().zip(paths) {
+    for ((pose, reordered, apart, _), path) in poses.iter().zip(paths) {
+        if *apart > 0 {
+            warnings.push(format!(
+                "`{}`: {} that coincide in the source reference (copies at seams) {} apart in this pose: each taken at the mean of its copies",
+                path.display(),
+                output::count(*apart, "vertex group"),
+                if *apart == 1 { "is" } else { "are" }
+            ));
+        }
         warnings.extend(output::reordered_faces_warning(
             path,
             source_file.path(),
             *reordered,
         ));
-        let ratio = pose.bounding_box_diagonal() / source_diagonal;
-        if !(1.0 / POSE_SIZE_RATIO..=POSE_SIZE_RATIO).contains(&ratio) {
-            warnings.push(format!(
-                "`{}` is {ratio:.3} times the size of the source reference: exported in other units?",
-                path.display()
-            ));
-        }
+        warnings.extend(output::size_warning(
+            path,
+            pose.bounding_box_diagonal() / source_diagonal,
+            "the source reference",
+        ));
     }
+    let poses = poses
+        .into_iter()
+        .map(|(pose, reordered, _, read)| (pose, reordered, read))
+        .collect();
     Ok(ReadPoses { poses, warnings })
 }
 
@@ -636,10 +697,11 @@ struct Prepared {
 
 fn prepare(
     args: &TransferArgs,
-    source: &Mesh3,
-    target: &Mesh3,
+    source_ref: &Reference,
+    target_ref: &Reference,
     pins: Vec<(u32, [f64; 3])>,
 ) -> Result<Prepared> {
+    let (source, target) = (&source_ref.mesh, &target_ref.mesh);
     let mut warnings = Vec::new();
     let begin = Instant::now();
     let mut marker_report = None;
@@ -657,7 +719,7 @@ fn prepare(
         None => {
             let (result, report) =
                 args.correspond
-                    .compute(&args.refs, source, target, &mut warnings)?;
+                    .compute(&args.refs, source_ref, target_ref, &mut warnings)?;
             marker_report = Some(report);
             result.correspondence
         }
@@ -733,7 +795,14 @@ impl PictureOutputs {
 }
 
 /// `--pin` vertices (1-based with `--one-based`) at their rest positions.
-fn pin_positions(pins: &[u32], one_based: bool, target: &Mesh3) -> Result<Vec<(u32, [f64; 3])>> {
+/// The target vertices held by `--pin` (numbered as in the target's file),
+/// on the welded target, at their rest positions.
+fn pin_positions(
+    pins: &[u32],
+    one_based: bool,
+    target_ref: &Reference,
+) -> Result<Vec<(u32, [f64; 3])>> {
+    let target = target_ref.file_mesh();
     pins.iter()
         .map(|&given| {
             let v = if one_based {
@@ -749,7 +818,7 @@ fn pin_positions(pins: &[u32], one_based: bool, target: &Mesh3) -> Result<Vec<(u
                     target.num_vertices()
                 )
             })?;
-            Ok((v, *p))
+            Ok((target_ref.file.seams.welded(v), *p))
         })
         .collect()
 }
@@ -806,6 +875,10 @@ pub struct CorrespondReport {
     pub matched_pairs: usize,
     pub unmatched_source_triangles: usize,
     pub unmatched_target_triangles: usize,
+    /// Copies of vertices at seams welded for the solve, in the source and
+    /// in the target.
+    pub welded_source_vertices: usize,
+    pub welded_target_vertices: usize,
     /// Every file written, in order.
     pub files_written: Vec<PathBuf>,
     /// How the markers fitted.
@@ -836,17 +909,17 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
     let pictures = PictureOutputs::plan(&mut plan, &args.pictures);
     let staging = plan.prepare()?;
     memory::check_reading(&[&args.refs.source_ref, &args.refs.target_ref])?;
-    let (source_file, target_file) = args.refs.read()?;
-    let (source, target) = (source_file.mesh(), target_file.mesh());
+    let (source_ref, target_ref) = args.refs.read()?;
+    let (source, target) = (&source_ref.mesh, &target_ref.mesh);
     memory::check_setup(
         source.num_triangles() + target.num_triangles(),
         "the correspondence",
     )?;
     let begin = Instant::now();
     let mut warnings = Vec::new();
-    let (result, markers) = args
-        .correspond
-        .compute(&args.refs, source, target, &mut warnings)?;
+    let (result, markers) =
+        args.correspond
+            .compute(&args.refs, &source_ref, &target_ref, &mut warnings)?;
     let seconds = begin.elapsed().as_secs_f64();
     let c = &result.correspondence;
     staging.write(saved, |path| Ok(c.save(path)?))?;
@@ -855,11 +928,12 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         (deformed, &args.deformed_source, deformed_format)
     {
         staging.write(output, |staged| {
-            Ok(meshmorph::io::write_mesh(
-                staged,
-                &result.deformed_source,
-                format,
-            )?)
+            let dropped =
+                source_ref
+                    .file
+                    .write(staged, result.deformed_source.positions(), format)?;
+            warnings.extend(output::dropped_for(path, &dropped));
+            Ok(())
         })?;
         files_written.push(path.clone());
     }
@@ -886,6 +960,8 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         matched_pairs: c.pairs().len(),
         unmatched_source_triangles: c.unmatched_source(),
         unmatched_target_triangles: c.unmatched_target(),
+        welded_source_vertices: source_ref.file.seams.num_welded(),
+        welded_target_vertices: target_ref.file.seams.num_welded(),
         files_written,
         markers,
         warnings,
@@ -902,6 +978,7 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
             report.unmatched_target_triangles,
             args.output.display()
         );
+        print_welded(report.welded_source_vertices, report.welded_target_vertices);
     }
     Ok(())
 }

@@ -1265,6 +1265,154 @@ fn correspond_writes_the_map_and_the_deformed_source() {
     assert_eq!(rig.outputs(&a), rig.outputs(&b));
 }
 
+/// `mesh` cut along the boundary between its first and second half of
+/// triangles, as files split at UV seams are: the second half's corners
+/// that the first half also uses become copies (same position), appended
+/// after the other vertices. Returns the cut mesh and, for each copy, the
+/// vertex it copies.
+fn split_at_seam(mesh: &Mesh3) -> (Mesh3, Vec<u32>) {
+    let half = mesh.num_triangles() / 2;
+    let mut in_first = vec![false; mesh.num_vertices()];
+    for t in &mesh.triangles()[..half] {
+        t.iter().for_each(|&v| in_first[v as usize] = true);
+    }
+    let mut positions = mesh.positions().to_vec();
+    let mut copy_of: Vec<u32> = Vec::new();
+    let mut copy = std::collections::HashMap::new();
+    let mut triangles = mesh.triangles().to_vec();
+    for t in &mut triangles[half..] {
+        for v in t.iter_mut() {
+            if in_first[*v as usize] {
+                *v = *copy.entry(*v).or_insert_with(|| {
+                    positions.push(mesh.positions()[*v as usize]);
+                    copy_of.push(*v);
+                    (positions.len() - 1) as u32
+                });
+            }
+        }
+    }
+    (Mesh3::new(positions, triangles).unwrap(), copy_of)
+}
+
+/// Asserts that `cut` (a result on a mesh split by [`split_at_seam`]) has
+/// every copy where its vertex is, and is `whole` (the result on the mesh
+/// before the split) on the other vertices.
+fn assert_welded_result(cut: &Mesh3, copy_of: &[u32], whole: &Mesh3, what: &str) {
+    let n = whole.num_vertices();
+    for (c, &v) in copy_of.iter().enumerate() {
+        assert_eq!(
+            cut.positions()[n + c],
+            cut.positions()[v as usize],
+            "{what}"
+        );
+    }
+    assert!(
+        max_diff(whole.positions(), &cut.positions()[..n]) < 1e-6,
+        "{what}"
+    );
+}
+
+#[test]
+fn interpolation_of_a_mesh_split_at_seams_does_not_crack() {
+    let dir = tempfile::tempdir().unwrap();
+    let rest = tube(LENGTH, 0.25, 13, 12);
+    let bent = bend(&rest, LENGTH, 0.8 * PI);
+    let (split_rest, copy_of) = split_at_seam(&rest);
+    let (split_bent, _) = split_at_seam(&bent);
+    assert!(copy_of.len() >= 12, "{}", copy_of.len());
+    let path = |name: &str| dir.path().join(name);
+    write(&path("rest.obj"), &rest);
+    write(&path("bent.obj"), &bent);
+    write(&path("split-rest.ply"), &split_rest);
+    write(&path("split-bent.ply"), &split_bent);
+    let frames = |a: &str, b: &str, out: &str| {
+        json(&succeeds(&run([
+            os("interpolate"),
+            path(a).as_os_str(),
+            path(b).as_os_str(),
+            os("-o"),
+            path(out).as_os_str(),
+            os("--frames"),
+            os("4"),
+            os("--json"),
+        ])))
+    };
+    let whole = frames("rest.obj", "bent.obj", "whole");
+    assert_eq!(uint(&whole, "welded_vertices"), 0);
+    let cut = frames("split-rest.ply", "split-bent.ply", "cut");
+    assert_eq!(uint(&cut, "welded_vertices"), copy_of.len() as u64);
+    assert_eq!(uint(&cut, "vertices"), split_rest.num_vertices() as u64);
+    for k in 0..4 {
+        assert_welded_result(
+            &read(&path("cut").join(format!("frame_{k:04}.ply"))),
+            &copy_of,
+            &read(&path("whole").join(format!("frame_{k:04}.obj"))),
+            &format!("frame {k}"),
+        );
+    }
+}
+
+#[test]
+fn transfer_onto_a_target_split_at_seams_does_not_crack() {
+    let rig = Rig::new();
+    let (split, copy_of) = split_at_seam(&thick_tube());
+    let split_ref = rig.path("in/thick-split.ply");
+    write(&split_ref, &split);
+    let whole = rig.path("whole");
+    succeeds(&rig.transfer_with_markers(&whole, &[]));
+    let transfer = |source: &Path, poses: &[PathBuf], out: &Path| {
+        let mut args: Vec<&OsStr> = vec![
+            os("transfer"),
+            os("--source-ref"),
+            source.as_os_str(),
+            os("--target-ref"),
+            split_ref.as_os_str(),
+            os("--markers"),
+            rig.markers.as_os_str(),
+            os("-o"),
+            out.as_os_str(),
+            os("--json"),
+        ];
+        args.extend(poses.iter().map(|p| p.as_os_str()));
+        json(&succeeds(&run(args)))
+    };
+    let cut = rig.path("cut");
+    let report = transfer(&rig.source_ref, &rig.poses, &cut);
+    assert_eq!(
+        uint(&report, "welded_target_vertices"),
+        copy_of.len() as u64
+    );
+    // The source and its poses split as well: the same again.
+    let (split_source, source_copies) = split_at_seam(&thin_tube());
+    let split_source_ref = rig.path("in/thin-split.obj");
+    write(&split_source_ref, &split_source);
+    let split_poses: Vec<PathBuf> = rig
+        .poses
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let path = rig.path(&format!("in/split-bend-{k}.obj"));
+            write(&path, &split_at_seam(&read(p)).0);
+            path
+        })
+        .collect();
+    let both = rig.path("both");
+    let report = transfer(&split_source_ref, &split_poses, &both);
+    assert_eq!(
+        uint(&report, "welded_source_vertices"),
+        source_copies.len() as u64
+    );
+    for k in 0..rig.poses.len() {
+        let whole = read(&whole.join(format!("bend-{k}.obj")));
+        for cut in [
+            read(&cut.join(format!("bend-{k}.ply"))),
+            read(&both.join(format!("split-bend-{k}.ply"))),
+        ] {
+            assert_welded_result(&cut, &copy_of, &whole, &format!("pose {k}"));
+        }
+    }
+}
+
 #[test]
 fn transfer_one_based_markers_match_zero_based() {
     let rig = Rig::new();
@@ -1691,6 +1839,39 @@ fn interpolate_gltf_and_its_report_list_every_file() {
     assert_eq!(files, want);
     assert_eq!(report["warnings"], Value::Array(Vec::new()));
     assert_eq!(report["gltf"].as_str().unwrap(), shown(&glb));
+}
+
+#[test]
+fn a_gltf_says_what_of_the_file_it_does_not_hold() {
+    let dir = tempfile::tempdir().unwrap();
+    let rest = tube(LENGTH, 0.25, 5, 6);
+    let bent = bend(&rest, LENGTH, 0.5 * PI);
+    let (a, b) = (dir.path().join("a.obj"), dir.path().join("b.obj"));
+    write(&a, &rest);
+    write(&b, &bent);
+    // An object name and a material in the first key.
+    edit_lines(&a, |lines| {
+        lines.insert(0, "o arm".to_string());
+        lines.insert(1, "usemtl skin".to_string());
+    });
+    let glb = dir.path().join("a.glb");
+    let report = json(&succeeds(&run([
+        os("interpolate"),
+        a.as_os_str(),
+        b.as_os_str(),
+        os("-o"),
+        dir.path().join("out").as_os_str(),
+        os("--frames"),
+        os("3"),
+        os("--gltf"),
+        glb.as_os_str(),
+        os("--json"),
+    ])));
+    let warnings = report["warnings"].to_string();
+    assert_mentions(&warnings, &["a.glb", "objects (`o`)", "materials", "a.obj"]);
+    // The frames keep them.
+    let frame = fs::read_to_string(dir.path().join("out/frame_0001.obj")).unwrap();
+    assert!(frame.starts_with("o arm\nusemtl skin\n"), "{frame}");
 }
 
 #[test]

@@ -11,7 +11,9 @@
 //! - [`correspond()`] and [`Transfer`]: deformation transfer (Sumner and
 //!   Popović, SIGGRAPH 2004): a triangle correspondence from a few marker
 //!   vertex pairs, then any number of source poses carried over to a target.
-//! - mesh reading and writing ([`io`]), pictures ([`render`]).
+//! - mesh reading and writing ([`io`]), pictures ([`render`]); [`Seams`]
+//!   welds the copies of vertices that files split at texture seams, so
+//!   that the solvers see one surface.
 //!
 //! ## glTF
 //!
@@ -66,6 +68,7 @@ pub mod render;
 mod rotation;
 pub mod rotation3;
 pub mod rotation_field;
+mod seams;
 pub mod shapes;
 pub mod similarity;
 mod solve;
@@ -87,6 +90,7 @@ pub use markers::{Markers, Snap, SNAP_LIMIT};
 pub use matrix::Mat;
 pub use mesh::{Mesh, Mesh2, Mesh3};
 pub use rotation::{RotationLog3, Rotations, Space};
+pub use seams::Seams;
 pub use similarity::Similarity;
 pub use solve::FactorKind;
 pub use transfer::{PoseWorkspace, Transfer, TransferOptions};

@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use crate::error::{Error, Result};
 use crate::geometry::{norm, sub};
 use crate::mesh::Mesh3;
+use crate::seams::Seams;
 
 /// Pairs `(source vertex, target vertex)`, 0-based, with where they came from
 /// so that errors can name the file and line. A marker file may also give
@@ -182,6 +183,24 @@ impl Markers {
             seen.insert(s, k);
         }
         Ok(())
+    }
+
+    /// The markers on the welded vertices of each mesh ([`Seams`]): what
+    /// the solvers of welded meshes take. Lines and file stay, for
+    /// messages. Check the pairs against the meshes' own vertex counts
+    /// first ([`Markers::validate`]).
+    ///
+    /// # Panics
+    /// If a vertex is out of range of its seams.
+    pub fn welded(&self, source: &Seams, target: &Seams) -> Markers {
+        Markers {
+            pairs: self
+                .pairs
+                .iter()
+                .map(|&[s, t]| [source.welded(s), target.welded(t)])
+                .collect(),
+            ..self.clone()
+        }
     }
 
     /// Marker `k` for messages: "marker 3 (source vertex 10, target vertex

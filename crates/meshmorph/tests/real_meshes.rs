@@ -676,6 +676,72 @@ fn normals_by_face(text: &str) -> (Vec<P3>, Vec<Vec<usize>>) {
     (normals, faces)
 }
 
+/// Each vertex's normal as Blender and most modellers compute it: the
+/// mean of the normals of the triangles around it, each weighing its angle
+/// at the vertex.
+fn angle_weighted_normals(mesh: &Mesh3) -> Vec<P3> {
+    let p = mesh.positions();
+    let mut sums = vec![[0.0; 3]; p.len()];
+    let sub = |a: P3, b: P3| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let cross = |a: P3, b: P3| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let norm = |a: P3| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    for t in mesh.triangles() {
+        let n = cross(
+            sub(p[t[1] as usize], p[t[0] as usize]),
+            sub(p[t[2] as usize], p[t[0] as usize]),
+        );
+        let unit = n.map(|x| x / norm(n));
+        for k in 0..3 {
+            let at = p[t[k] as usize];
+            let (a, b) = (
+                sub(p[t[(k + 1) % 3] as usize], at),
+                sub(p[t[(k + 2) % 3] as usize], at),
+            );
+            let angle = norm(cross(a, b)).atan2(a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+            for i in 0..3 {
+                sums[t[k] as usize][i] += angle * unit[i];
+            }
+        }
+    }
+    sums.iter().map(|s| s.map(|x| x / norm(*s))).collect()
+}
+
+#[test]
+fn normals_computed_from_the_shape_are_computed_again_for_a_new_one() {
+    // A bent tube with its vertices' normals as a modeller computes them,
+    // written with the straight tube's: the bent shape's normals come out.
+    let straight = tube(4.0, 0.5, 9, 7);
+    let bent = bend(&straight, 4.0, 1.5);
+    let mut text = String::new();
+    for q in straight.positions() {
+        text += &format!("v {:?} {:?} {:?}\n", q[0], q[1], q[2]);
+    }
+    for n in angle_weighted_normals(&straight) {
+        text += &format!("vn {:?} {:?} {:?}\n", n[0], n[1], n[2]);
+    }
+    for t in straight.triangles() {
+        let [a, b, c] = t.map(|v| v + 1);
+        text += &format!("f {a}//{a} {b}//{b} {c}//{c}\n");
+    }
+    let rest = file(&text, "straight.obj");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bent.obj");
+    rest.write(&path, bent.positions(), Format::Obj).unwrap();
+    let (normals, _) = normals_by_face(&std::fs::read_to_string(&path).unwrap());
+    let want = angle_weighted_normals(&bent);
+    assert_eq!(normals.len(), want.len());
+    for (v, (n, w)) in normals.iter().zip(&want).enumerate() {
+        let d = (0..3).map(|i| (n[i] - w[i]).abs()).fold(0.0, f64::max);
+        assert!(d < 1e-9, "vertex {v}: {n:?} against {w:?}");
+    }
+}
+
 #[test]
 fn flat_faces_sharing_one_normal_get_their_own_when_they_turn_apart() {
     let n = 4;

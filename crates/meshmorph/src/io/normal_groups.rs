@@ -117,8 +117,11 @@ impl NormalGroups {
         groups
     }
 
-    /// The area-weighted mean polygon normal of each group in `positions`
-    /// (unit length, or zero).
+    /// The mean polygon normal of each group in `positions`, each corner's
+    /// polygon weighing its angle at the corner (unit length, or zero): the
+    /// normals Blender and most modellers compute for a shape, so that
+    /// normals computed from the file's shape are computed again for the
+    /// new one, and the shape of a later key gives back that key's own.
     fn directions(&self, faces: &Polygons, positions: &[[f64; 3]]) -> Vec<[f64; 3]> {
         let mut sums = vec![[0.0; 3]; self.normal_of.len()];
         if sums.is_empty() {
@@ -126,10 +129,22 @@ impl NormalGroups {
         }
         for f in 0..faces.len() {
             let range = faces.range(f);
-            let area = newell_normal(&faces.corner_vertices()[range.clone()], positions);
-            for &g in &self.corner_group[range] {
+            let vertices = &faces.corner_vertices()[range.clone()];
+            let n = newell_normal(vertices, positions);
+            let len = norm(n);
+            if len == 0.0 {
+                continue;
+            }
+            let unit = scale(n, 1.0 / len);
+            let m = vertices.len();
+            for (k, &g) in self.corner_group[range].iter().enumerate() {
                 if g != NONE {
-                    sums[g as usize] = add(sums[g as usize], area);
+                    let at = positions[vertices[k] as usize];
+                    let angle = angle_between(
+                        sub(positions[vertices[(k + m - 1) % m] as usize], at),
+                        sub(positions[vertices[(k + 1) % m] as usize], at),
+                    );
+                    sums[g as usize] = add(sums[g as usize], scale(unit, angle));
                 }
             }
         }
@@ -239,6 +254,11 @@ impl NormalGroups {
         out.added = order.iter().map(|&a| out.added[a]).collect();
         out
     }
+}
+
+/// The angle between two vectors (0 when either is zero).
+fn angle_between(a: [f64; 3], b: [f64; 3]) -> f64 {
+    norm(cross(a, b)).atan2(dot(a, b))
 }
 
 /// Twice the area vector of a polygon (Newell's formula).

@@ -1,0 +1,330 @@
+//! Vertices that sit at the same place, welded for the solvers.
+//!
+//! Many files split a surface's vertices where its texture coordinates or
+//! normals change: Blender's PLY export at every UV seam, an Edge Split
+//! modifier at sharp edges, most game engines' and glTF exporters' meshes.
+//! Each copy then belongs to different triangles, the surface falls apart
+//! into pieces that only touch, and a gradient-domain solve moves each
+//! piece on its own: in-between frames and transferred poses crack open
+//! along the seams. [`Seams`] finds the copies (vertices at exactly the same
+//! position in every mesh given) so that the solvers see one vertex
+//! ([`Seams::weld`]) and every copy takes its position again in the output
+//! ([`Seams::unweld`]). Files keep their own vertices: only the solve works
+//! on the welded mesh.
+
+use rayon::prelude::*;
+
+use crate::mesh::Mesh;
+
+/// Which vertices of a mesh are copies of one another (see the module
+/// documentation).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Seams {
+    /// The welded vertex of each vertex.
+    welded_of: Vec<u32>,
+    /// The first vertex of each welded vertex.
+    first_of: Vec<u32>,
+    /// The vertices of every welded vertex with more than one, each list
+    /// in increasing order.
+    groups: Vec<Vec<u32>>,
+}
+
+impl Seams {
+    /// The copies among the vertices of `meshes` (all with the same vertex
+    /// count): vertices at exactly the same position in every mesh. Copies
+    /// are never welded when two of them are corners of one triangle (the
+    /// triangle would lose a corner). With no mesh, or no copies, every
+    /// vertex stays its own ([`Seams::is_empty`]).
+    ///
+    /// # Panics
+    /// If the meshes have different vertex counts.
+    pub fn find<const D: usize>(meshes: &[&Mesh<D>]) -> Self {
+        let Some(first) = meshes.first() else {
+            return Self::none(0);
+        };
+        let n = first.num_vertices();
+        assert!(
+            meshes.iter().all(|m| m.num_vertices() == n),
+            "meshes with different vertex counts"
+        );
+        // Candidates: equal positions in the first mesh (found by sorting
+        // the positions' bits, +0 and −0 alike), then split by the others.
+        let key = |v: u32| -> [u64; D] {
+            first.positions()[v as usize].map(|x| if x == 0.0 { 0 } else { x.to_bits() })
+        };
+        let mut order: Vec<u32> = (0..n as u32).collect();
+        order.par_sort_unstable_by_key(|&v| (key(v), v));
+        let mut groups: Vec<Vec<u32>> = Vec::new();
+        for run in order.chunk_by(|&a, &b| key(a) == key(b)) {
+            if run.len() > 1 {
+                split_by_later_meshes(run, &meshes[1..], &mut groups);
+            }
+        }
+        groups.retain(|g| g.len() > 1);
+        let mut welded_of: Vec<u32> = (0..n as u32).collect();
+        for g in &groups {
+            for &v in &g[1..] {
+                welded_of[v as usize] = g[0];
+            }
+        }
+        // A triangle with two copies among its corners keeps them apart.
+        let collapses = |w: &[u32]| {
+            first.triangles().iter().any(|t| {
+                let [a, b, c] = t.map(|v| w[v as usize]);
+                a == b || b == c || a == c
+            })
+        };
+        if collapses(&welded_of) {
+            for t in first.triangles() {
+                let [a, b, c] = t.map(|v| welded_of[v as usize]);
+                if a == b || b == c || a == c {
+                    for &v in t {
+                        welded_of[v as usize] = v;
+                    }
+                }
+            }
+            groups = regroup(&welded_of);
+        }
+        // Welded vertices numbered in the order of their first vertex.
+        let mut index = vec![u32::MAX; n];
+        let mut first_of = Vec::with_capacity(n);
+        for v in 0..n {
+            let root = welded_of[v] as usize;
+            if index[root] == u32::MAX {
+                index[root] = first_of.len() as u32;
+                first_of.push(v as u32);
+            }
+            welded_of[v] = index[root];
+        }
+        Self {
+            welded_of,
+            first_of,
+            groups,
+        }
+    }
+
+    /// Every vertex its own.
+    fn none(n: usize) -> Self {
+        Self {
+            welded_of: (0..n as u32).collect(),
+            first_of: (0..n as u32).collect(),
+            groups: Vec::new(),
+        }
+    }
+
+    /// Whether no two vertices are welded.
+    pub fn is_empty(&self) -> bool {
+        self.groups.is_empty()
+    }
+
+    /// The number of vertices welded into another (the vertex count of the
+    /// mesh minus that of the welded mesh).
+    pub fn num_welded(&self) -> usize {
+        self.welded_of.len() - self.first_of.len()
+    }
+
+    /// The welded vertex of vertex `v` (a marker's or a pin's vertex in the
+    /// file, for the solvers).
+    ///
+    /// # Panics
+    /// If `v` is out of range.
+    pub fn welded(&self, v: u32) -> u32 {
+        self.welded_of[v as usize]
+    }
+
+    /// `mesh` with its copies welded: the first copy's position, triangles
+    /// over the welded vertices (in the order of their first vertex).
+    ///
+    /// # Panics
+    /// If `mesh` has another vertex count than the meshes the seams were
+    /// found in.
+    pub fn weld<const D: usize>(&self, mesh: &Mesh<D>) -> Mesh<D> {
+        assert_eq!(
+            mesh.num_vertices(),
+            self.welded_of.len(),
+            "mesh of another vertex count"
+        );
+        if self.is_empty() {
+            return mesh.clone();
+        }
+        let positions = self
+            .first_of
+            .iter()
+            .map(|&v| mesh.positions()[v as usize])
+            .collect();
+        let triangles = mesh
+            .triangles()
+            .iter()
+            .map(|t| t.map(|v| self.welded_of[v as usize]))
+            .collect();
+        Mesh::new(positions, triangles)
+            .expect("welding keeps positions finite and never collapses a triangle")
+    }
+
+    /// Positions of the welded vertices from positions of every vertex:
+    /// each welded vertex at the mean of its copies (which coincide in the
+    /// meshes the seams were found in).
+    ///
+    /// # Panics
+    /// If `positions` has another length than the meshes' vertex count.
+    pub fn weld_positions<const D: usize>(&self, positions: &[[f64; D]]) -> Vec<[f64; D]> {
+        assert_eq!(positions.len(), self.welded_of.len(), "wrong vertex count");
+        let mut welded: Vec<[f64; D]> = self
+            .first_of
+            .iter()
+            .map(|&v| positions[v as usize])
+            .collect();
+        for g in &self.groups {
+            let mut mean = [0.0; D];
+            for &v in g {
+                for i in 0..D {
+                    mean[i] += positions[v as usize][i];
+                }
+            }
+            welded[self.welded_of[g[0] as usize] as usize] = mean.map(|x| x / g.len() as f64);
+        }
+        welded
+    }
+
+    /// How many welded vertices' copies are apart in `positions` (a pose
+    /// that moves copies apart: [`Seams::weld_positions`] puts them at their
+    /// mean).
+    pub fn num_apart<const D: usize>(&self, positions: &[[f64; D]]) -> usize {
+        self.groups
+            .iter()
+            .filter(|g| {
+                g[1..]
+                    .iter()
+                    .any(|&v| positions[v as usize] != positions[g[0] as usize])
+            })
+            .count()
+    }
+
+    /// Positions of every vertex from the welded vertices' positions: each
+    /// copy where its welded vertex is.
+    ///
+    /// # Panics
+    /// If `welded` has another length than the welded vertex count.
+    pub fn unweld<const D: usize>(&self, welded: &[[f64; D]]) -> Vec<[f64; D]> {
+        assert_eq!(
+            welded.len(),
+            self.first_of.len(),
+            "wrong welded vertex count"
+        );
+        self.welded_of.iter().map(|&w| welded[w as usize]).collect()
+    }
+}
+
+/// Splits `run` (vertices at one position in the first mesh) into the
+/// groups whose positions also agree in every one of `later` meshes.
+fn split_by_later_meshes<const D: usize>(
+    run: &[u32],
+    later: &[&Mesh<D>],
+    groups: &mut Vec<Vec<u32>>,
+) {
+    let mut rest: Vec<u32> = run.to_vec();
+    while let Some(&head) = rest.first() {
+        let same = |v: u32| {
+            later
+                .iter()
+                .all(|m| m.positions()[v as usize] == m.positions()[head as usize])
+        };
+        let (group, others): (Vec<u32>, Vec<u32>) = rest.iter().partition(|&&v| same(v));
+        groups.push(group);
+        rest = others;
+    }
+}
+
+/// The groups of more than one vertex of a map to root vertices.
+fn regroup(welded_of: &[u32]) -> Vec<Vec<u32>> {
+    let mut by_root: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
+    for (v, &r) in welded_of.iter().enumerate() {
+        if r as usize != v {
+            by_root.entry(r).or_insert_with(|| vec![r]).push(v as u32);
+        }
+    }
+    by_root
+        .into_values()
+        .map(|mut g| {
+            g.sort_unstable();
+            g
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Mesh3;
+
+    /// Two triangles sharing an edge, the second with its own copies of
+    /// the shared corners (a seam).
+    fn split_square() -> Mesh3 {
+        Mesh3::new(
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+            ],
+            vec![[0, 1, 2], [3, 4, 5]],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn copies_weld_and_unweld() {
+        let mesh = split_square();
+        let seams = Seams::find(&[&mesh]);
+        assert_eq!(seams.num_welded(), 2);
+        let welded = seams.weld(&mesh);
+        assert_eq!(welded.num_vertices(), 4);
+        assert_eq!(welded.triangles(), &[[0, 1, 2], [1, 3, 2]]);
+        assert_eq!(seams.unweld(welded.positions()), mesh.positions());
+        assert_eq!(seams.welded(5), 2);
+    }
+
+    #[test]
+    fn copies_apart_in_another_mesh_stay_apart() {
+        let mesh = split_square();
+        let mut moved = mesh.positions().to_vec();
+        moved[3][2] = 0.5;
+        let moved = mesh.with_positions(moved).unwrap();
+        let seams = Seams::find(&[&mesh, &moved]);
+        assert_eq!(seams.num_welded(), 1);
+        assert_eq!(seams.welded(3), 3);
+        assert_eq!(seams.welded(5), 2);
+        assert_eq!(seams.num_apart(moved.positions()), 0);
+        let alone = Seams::find(&[&mesh]);
+        assert_eq!(alone.num_apart(moved.positions()), 1);
+        assert_eq!(alone.weld_positions(moved.positions())[1], [1.0, 0.0, 0.25]);
+    }
+
+    #[test]
+    fn a_triangle_never_loses_a_corner() {
+        // A zero-area triangle whose two corners coincide: no weld.
+        let mesh = Mesh3::new(
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+            ],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+        .unwrap();
+        let seams = Seams::find(&[&mesh]);
+        assert!(seams.is_empty());
+        assert_eq!(seams.weld(&mesh), mesh);
+    }
+
+    #[test]
+    fn minus_zero_is_zero() {
+        let mut mesh = split_square().positions().to_vec();
+        mesh[3] = [1.0, -0.0, 0.0];
+        let mesh = Mesh3::new(mesh, vec![[0, 1, 2], [3, 4, 5]]).unwrap();
+        assert_eq!(Seams::find(&[&mesh]).num_welded(), 2);
+    }
+}
