@@ -1201,3 +1201,72 @@ fn a_quad_split_along_the_other_diagonal_is_named() {
     assert!(msg.contains(&expected), "`{expected}` not in: {msg}");
     assert!(!msg.contains("diagonal"), "{msg}");
 }
+
+/// A PLY or OFF written as OBJ keeps its texture coordinates (`vt`) and its
+/// normals (`vn`, turned with the surface), each corner indexing its own;
+/// only what OBJ cannot hold is named as dropped.
+#[test]
+fn ply_and_off_as_obj_keep_texture_coordinates_and_normals() {
+    let dir = tempfile::tempdir().unwrap();
+    let ply = "ply\nformat ascii 1.0\nelement vertex 5\n\
+               property float x\nproperty float y\nproperty float z\n\
+               property float nx\nproperty float ny\nproperty float nz\n\
+               property float s\nproperty float t\nproperty uchar red\n\
+               element face 2\nproperty list uchar int vertex_indices\nend_header\n\
+               0 0 0 0 0 1 0 0 255\n1 0 0 0 0 1 0.5 0 0\n1 1 0 0.6 0 0.8 0.5 1 0\n\
+               0 1 0 0 0 1 0 1 0\n2 0 0 0 0 1 1 0 0\n4 0 1 2 3\n3 1 4 2\n";
+    let off = "STNOFF\n5 2 0\n0 0 0 0 0 1 0 0\n1 0 0 0 0 1 0.5 0\n1 1 0 0.6 0 0.8 0.5 1\n\
+               0 1 0 0 0 1 0 1\n2 0 0 0 0 1 1 0\n4 0 1 2 3\n3 1 4 2\n";
+    // A quarter turn about x.
+    let turn = |p: [f64; 3]| [p[0], -p[2], p[1]];
+    let normals = [
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, 1.0],
+        [0.6, 0.0, 0.8],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, 1.0],
+    ];
+    for (name, text) in [("quad.ply", ply), ("quad.off", off)] {
+        let source = dir.path().join(name);
+        std::fs::write(&source, text).unwrap();
+        let file = MeshFile::read(&source).unwrap();
+        let turned: Vec<[f64; 3]> = file.mesh().positions().iter().map(|&p| turn(p)).collect();
+        let out = dir.path().join(format!("{name}.obj"));
+        let dropped = file.write(&out, &turned, Format::Obj).unwrap();
+        let all = dropped.join("\n");
+        assert!(
+            !all.contains("texture coordinates") && !all.contains("normals"),
+            "{name}: {all}"
+        );
+        if name.ends_with("ply") {
+            assert!(all.contains("vertex property `red`"), "{all}");
+        }
+        let written = std::fs::read_to_string(&out).unwrap();
+        let lines = |keyword: &str| -> Vec<Vec<f64>> {
+            written
+                .lines()
+                .filter_map(|l| l.strip_prefix(keyword))
+                .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+                .collect()
+        };
+        assert_eq!(lines("vt ").len(), 5, "{written}");
+        let vn = lines("vn ");
+        assert_eq!(vn.len(), 5, "{written}");
+        for (got, want) in vn.iter().zip(normals) {
+            let want = turn(want);
+            assert!(
+                (0..3).all(|k| (got[k] - want[k]).abs() < 1e-9),
+                "{name}: {got:?} against {want:?}"
+            );
+        }
+        assert!(
+            written.contains("\nf 1/1/1 2/2/2 3/3/3 4/4/4\nf 2/2/2 5/5/5 3/3/3\n"),
+            "{written}"
+        );
+        let back = MeshFile::read(&out).unwrap();
+        assert_eq!(back.mesh().positions(), &turned[..]);
+        assert_eq!(back.mesh().triangles(), file.mesh().triangles());
+        assert_eq!(back.triangle_corner_uvs(), file.triangle_corner_uvs());
+        assert!(back.triangle_corner_uvs().is_some());
+    }
+}

@@ -332,7 +332,8 @@ impl MeshFile {
     /// file's own format everything but the positions (and normals, turned
     /// with the surface, and relative OBJ `mtllib` paths when `path` is in
     /// another folder) is kept byte for byte. In another format the
-    /// polygons are kept and what that format cannot hold here is dropped:
+    /// polygons are kept (in OBJ, also the texture coordinates and the
+    /// normals, turned) and what that format cannot hold here is dropped:
     /// the returned warnings say what (empty when nothing was dropped).
     ///
     /// # Errors
@@ -356,27 +357,27 @@ impl MeshFile {
         }
         super::check_writable(path, positions, &[])?;
         if format == self.format {
-            let groups = self.normal_groups.get_or_init(|| {
-                NormalGroups::new(
-                    &self.faces,
-                    &self.corner_normal,
-                    &self.flat_faces,
-                    self.mesh.positions(),
-                )
-            });
-            let normals = groups.for_shape(&self.normals, &self.faces, positions);
+            let normals = self.normals_for_shape(positions);
             write_atomic(path, |w| self.write_patched(w, path, positions, &normals))?;
             return Ok(Vec::new());
         }
         let faces = || (0..self.faces.len()).map(|f| self.face(f));
+        // OBJ holds texture coordinates and normals of any file, by corner.
+        let to_obj = format == Format::Obj;
+        let carried = |e: &&String| {
+            to_obj
+                && ((e.starts_with("texture coordinates") && !self.corner_uv.is_empty())
+                    || (e.starts_with("normals") && self.has_normals()))
+        };
         write_atomic(path, |w| match format {
-            Format::Obj => super::obj::write(w, positions, faces()),
+            Format::Obj => self.write_obj(w, positions),
             Format::Off => super::off::write(w, positions, faces(), self.faces.len()),
             Format::Ply => super::ply::write(w, positions, faces(), self.faces.len()),
         })?;
         Ok(self
             .extras
             .iter()
+            .filter(|e| !carried(e))
             .map(|e| {
                 format!(
                     "`{}`: the {} of `{}` cannot be carried over to {format}: dropped",
@@ -386,6 +387,62 @@ impl MeshFile {
                 )
             })
             .collect())
+    }
+
+    /// The file's normals turned to the shape `positions` (see
+    /// [`NormalGroups`]).
+    fn normals_for_shape(&self, positions: &[[f64; 3]]) -> ShapeNormals {
+        let groups = self.normal_groups.get_or_init(|| {
+            NormalGroups::new(
+                &self.faces,
+                &self.corner_normal,
+                &self.flat_faces,
+                self.mesh.positions(),
+            )
+        });
+        groups.for_shape(&self.normals, &self.faces, positions)
+    }
+
+    /// The file, of another format, as OBJ with new `positions`: its
+    /// polygons, texture coordinates and normals (turned with the surface),
+    /// each corner indexing its own.
+    fn write_obj(&self, w: &mut dyn Write, positions: &[[f64; 3]]) -> std::io::Result<()> {
+        let turned = self
+            .has_normals()
+            .then(|| self.normals_for_shape(positions));
+        // The normals in the order an OBJ of them lists them: each added one
+        // right after the normal it was split from.
+        let (normals, corner_normal) = match &turned {
+            None => (Vec::new(), &self.corner_normal[..]),
+            Some(t) => {
+                let mut added = t.added.iter().peekable();
+                let mut all = Vec::with_capacity(t.normals.len() + t.added.len());
+                for (n, normal) in t.normals.iter().enumerate() {
+                    all.push(*normal);
+                    while let Some((_, extra)) = added.next_if(|&&(m, _)| m as usize == n) {
+                        all.push(*extra);
+                    }
+                }
+                let index = if t.corner_index.is_empty() {
+                    &self.corner_normal[..]
+                } else {
+                    &t.corner_index[..]
+                };
+                (all, index)
+            }
+        };
+        let uvs = if self.corner_uv.is_empty() {
+            &[][..]
+        } else {
+            &self.uvs[..]
+        };
+        super::obj::write_with_corners(
+            w,
+            positions,
+            &self.faces,
+            (uvs, &self.corner_uv),
+            (&normals, corner_normal),
+        )
     }
 
     /// The file's bytes with every patched number rewritten (and material

@@ -6,7 +6,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::mesh_file::{offset_in, Keep, Parsed, Patch, Slot, NONE};
-use super::triangulate::repeated_index;
+use super::triangulate::{repeated_index, Polygons};
 use super::{
     parse_f64, parse_i64, push_f64, push_uint, show, tokens, write_formatted, xyz, UncommentedLines,
 };
@@ -422,20 +422,73 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     Ok(out)
 }
 
+/// Writes `keyword x y ...` lines, one per item.
+fn write_numbers<const D: usize>(
+    w: &mut dyn Write,
+    keyword: &[u8],
+    items: &[[f64; D]],
+) -> std::io::Result<()> {
+    write_formatted(w, items, |buf, p| {
+        buf.extend_from_slice(keyword);
+        for x in xyz(p) {
+            buf.push(b' ');
+            push_f64(buf, x);
+        }
+        buf.push(b'\n');
+    })
+}
+
+/// Writes `v`, `vt` and `vn` lines, then `f` lines of `faces` whose corners
+/// index them (`v/vt/vn`, `v/vt`, `v//vn` or `v`, 1-based): `uvs` and
+/// `normals` are each the values and the index of each flat corner
+/// ([`NONE`] for none; empty for none at all).
+pub(super) fn write_with_corners(
+    w: &mut dyn Write,
+    positions: &[[f64; 3]],
+    faces: &Polygons,
+    uvs: (&[[f64; 2]], &[u32]),
+    normals: (&[[f64; 3]], &[u32]),
+) -> std::io::Result<()> {
+    write_numbers(w, b"v", positions)?;
+    write_formatted(w, uvs.0, |buf, uv| {
+        buf.extend_from_slice(b"vt");
+        for x in uv {
+            buf.push(b' ');
+            push_f64(buf, *x);
+        }
+        buf.push(b'\n');
+    })?;
+    write_numbers(w, b"vn", normals.0)?;
+    let corners = faces.corner_vertices();
+    write_formatted(w, 0..faces.len(), |buf, f| {
+        buf.push(b'f');
+        for c in faces.range(f) {
+            buf.push(b' ');
+            push_uint(buf, u64::from(corners[c]) + 1);
+            let uv = uvs.1.get(c).copied().unwrap_or(NONE);
+            let normal = normals.1.get(c).copied().unwrap_or(NONE);
+            if uv != NONE || normal != NONE {
+                buf.push(b'/');
+            }
+            if uv != NONE {
+                push_uint(buf, u64::from(uv) + 1);
+            }
+            if normal != NONE {
+                buf.push(b'/');
+                push_uint(buf, u64::from(normal) + 1);
+            }
+        }
+        buf.push(b'\n');
+    })
+}
+
 /// Writes `v x y z` lines then `f a b c ...` lines (1-based).
 pub(super) fn write<'a, const D: usize>(
     w: &mut dyn Write,
     positions: &[[f64; D]],
     faces: impl Iterator<Item = &'a [u32]>,
 ) -> std::io::Result<()> {
-    write_formatted(w, positions, |buf, p| {
-        buf.push(b'v');
-        for x in xyz(p) {
-            buf.push(b' ');
-            push_f64(buf, x);
-        }
-        buf.push(b'\n');
-    })?;
+    write_numbers(w, b"v", positions)?;
     write_formatted(w, faces, |buf, face| {
         buf.push(b'f');
         for &i in face {
