@@ -818,9 +818,26 @@ fn pin_positions(
                     target.num_vertices()
                 )
             })?;
-            Ok((target_ref.file.seams.welded(v), *p))
+            Ok((v, *p))
         })
-        .collect()
+        .collect::<Result<Vec<_>>>()
+        .and_then(|pins| {
+            if let Some(k) = (1..pins.len()).find(|&k| pins[..k].iter().any(|q| q.0 == pins[k].0)) {
+                bail!(
+                    "--pin {}: the vertex is pinned twice",
+                    pins[k].0 + u32::from(one_based)
+                );
+            }
+            // Copies of one vertex at a seam are one pin.
+            let mut welded: Vec<(u32, [f64; 3])> = Vec::with_capacity(pins.len());
+            for (v, p) in pins {
+                let w = target_ref.file.seams.welded(v);
+                if !welded.iter().any(|q| q.0 == w) {
+                    welded.push((w, p));
+                }
+            }
+            Ok(welded)
+        })
 }
 
 /// DIR/<stem>.<ext> for each pose, refusing two poses with the same stem.

@@ -1402,6 +1402,30 @@ fn transfer_onto_a_target_split_at_seams_does_not_crack() {
         uint(&report, "welded_source_vertices"),
         source_copies.len() as u64
     );
+    // A vertex and its copy pinned: one pin, held at rest.
+    let pinned = rig.path("pinned");
+    let (v, copy) = (copy_of[0], rig.target_vertices.to_string());
+    let mut args: Vec<&OsStr> = vec![
+        os("transfer"),
+        os("--source-ref"),
+        rig.source_ref.as_os_str(),
+        os("--target-ref"),
+        split_ref.as_os_str(),
+        os("--markers"),
+        rig.markers.as_os_str(),
+        os("-o"),
+        pinned.as_os_str(),
+    ];
+    let v_text = v.to_string();
+    args.extend([os("--pin"), os(&v_text), os("--pin"), os(&copy)]);
+    args.push(rig.poses[2].as_os_str());
+    succeeds(&run(args));
+    let held = read(&pinned.join("bend-2.ply"));
+    assert_eq!(held.positions()[v as usize], split.positions()[v as usize]);
+    assert_eq!(
+        held.positions()[rig.target_vertices],
+        split.positions()[v as usize]
+    );
     for k in 0..rig.poses.len() {
         let whole = read(&whole.join(format!("bend-{k}.obj")));
         for cut in [
