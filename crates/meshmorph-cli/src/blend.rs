@@ -15,7 +15,7 @@ use serde::Serialize;
 
 use crate::gltf::GltfArgs;
 use crate::memory;
-use crate::output::{self, FormatArg};
+use crate::output::{self, positive_number, FormatArg};
 use crate::outputs::Staging;
 use crate::outputs::{Output, Plan};
 use crate::pictures::{self, GifArgs, PictureArgs};
@@ -66,6 +66,10 @@ pub struct Args {
     pub pictures: PictureArgs,
     #[command(flatten)]
     pub gltf: GltfArgs,
+    /// Frame rate of the GIF and of the glTF animation (the base turning
+    /// into the blend in 24 steps).
+    #[arg(long, default_value_t = 12.0, value_name = "FPS", value_parser = positive_number)]
+    pub fps: f64,
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
@@ -335,7 +339,7 @@ where
         let gif = GifArgs {
             width: 480,
             height: None,
-            fps: 12.0,
+            fps: args.fps,
             boomerang: true,
         };
         staging.write(output, |p| {
@@ -345,7 +349,7 @@ where
     }
     if let (Some(output), Some(path)) = (outputs.gltf, &args.gltf.gltf) {
         let names: Vec<String> = (0..STEPS).map(|k| format!("blend_{k:02}")).collect();
-        let options = GltfOptions::default().with_fps(12.0).with_name("blend");
+        let options = GltfOptions::default().with_fps(args.fps).with_name("blend");
         // The base's texture coordinates, when its file has them.
         let corner_uvs = file.file.triangle_corner_uvs();
         let mut gltf_base = GltfBase::new(base.positions(), triangles);

@@ -745,7 +745,7 @@ fn interpolate_keys_that_cannot_be_used_are_refused() {
     let err = fails(&interpolate_keys(&keys, &out, &[]));
     assert_mentions(
         &err,
-        &[&shown(&other), &shown(&paths[0]), "face 3", "key 2"],
+        &[&shown(&other), &shown(&paths[0]), "face 4", "key 2"],
     );
     assert_empty(&out);
     // A key with fewer vertices.
@@ -958,7 +958,7 @@ fn blend_refuses_bad_shapes_and_weights() {
         &out,
         &[],
     ));
-    assert_mentions(&err, &[&shown(&other), "face 3"]);
+    assert_mentions(&err, &[&shown(&other), "face 4"]);
     assert!(!out.exists());
     let folded = sheet_and_fold(dir.path());
     let err = fails(&blend(
@@ -975,6 +975,62 @@ fn blend_refuses_bad_shapes_and_weights() {
         &out,
         &["--dim", "3", "--allow-flips"],
     ));
+}
+
+/// The key times of a GLB's animation.
+fn animation_times(glb: &Path) -> Vec<f32> {
+    let file = gltf::Gltf::open(glb).unwrap();
+    let blob = file.blob.as_deref().unwrap();
+    let animation = file.document.animations().next().expect("an animation");
+    let channel = animation.channels().next().unwrap();
+    let reader = channel.reader(|_| Some(blob));
+    reader.read_inputs().unwrap().collect()
+}
+
+/// `blend --fps` sets the frame rate of the GLB's animation (and of the
+/// GIF), as `interpolate --fps` does; 12 frames a second without it.
+#[test]
+fn blend_plays_its_animation_at_fps() {
+    let dir = tempfile::tempdir().unwrap();
+    let (paths, _) = tube_keys(dir.path());
+    let out = dir.path().join("blend.obj");
+    for (fps, extra) in [(12.0, None), (6.0, Some("6")), (30.0, Some("30"))] {
+        let glb = dir.path().join(format!("blend{fps}.glb"));
+        let gif = dir.path().join(format!("blend{fps}.gif"));
+        let mut args = vec![
+            "--gltf",
+            glb.to_str().unwrap(),
+            "--gif",
+            gif.to_str().unwrap(),
+        ];
+        if let Some(fps) = extra {
+            args.extend(["--fps", fps]);
+        }
+        succeeds(&blend(&paths[0], &[(&paths[1], "1")], &out, &args));
+        let times = animation_times(&glb);
+        assert!(times.len() >= 2, "{times:?}");
+        for (k, t) in times.iter().enumerate() {
+            assert!(
+                (f64::from(*t) - k as f64 / fps).abs() < 1e-5,
+                "{fps}: {times:?}"
+            );
+        }
+        assert!(fs::read(&gif).unwrap().starts_with(b"GIF89a"));
+    }
+    for fps in ["0", "-1", "nan", "inf"] {
+        let glb = dir.path().join("refused.glb");
+        let o = blend(
+            &paths[0],
+            &[(&paths[1], "1")],
+            &dir.path().join("refused.obj"),
+            &["--gltf", glb.to_str().unwrap(), &format!("--fps={fps}")],
+        );
+        let err = usage_error(&o);
+        assert_mentions(&err, &["--fps", "finite number above 0"]);
+        assert!(!glb.exists());
+    }
+    let help = succeeds(&run(["blend", "--help"]));
+    assert_mentions(&help, &["--fps", "glTF animation"]);
 }
 
 // ---------------------------------------------------------------------------
@@ -2007,11 +2063,18 @@ fn interpolation_and_blend_keep_the_first_file() {
     let out = dir.path().join("out");
     succeeds(&interpolate_keys(&keys, &out, &["--frames", "3"]));
     let expected = all_but_positions(&keys[0]);
+    // In another folder the material library is found from there.
+    let from_out: Vec<String> = expected
+        .iter()
+        .map(|l| l.replace("mtllib sheet.mtl", "mtllib ../sheet.mtl"))
+        .collect();
+    assert_ne!(from_out, expected);
     for k in 0..3 {
         let frame = out.join(format!("frame_000{k}.obj"));
         // Quads, texture coordinates, the object and the material stay.
-        assert_eq!(all_but_positions(&frame), expected, "frame {k}");
+        assert_eq!(all_but_positions(&frame), from_out, "frame {k}");
     }
+    assert!(!out.join("sheet.mtl").exists());
     let last = meshmorph::io::read_mesh(&out.join("frame_0002.obj")).unwrap();
     let k1 = meshmorph::io::read_mesh(&keys[1]).unwrap();
     assert!(max_diff(last.positions(), k1.positions()) < 1e-9);

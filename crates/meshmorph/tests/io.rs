@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use meshmorph::io::{
     parse_mesh, read_mesh, read_mesh_as, write_atomic, write_mesh, write_positions, Format,
+    MeshFile,
 };
 use meshmorph::{Error, Mesh2, Mesh3};
 
@@ -159,7 +160,7 @@ fn obj_face_syntaxes_and_negative_indices() {
 #[test]
 fn obj_crlf_comments_blank_lines_and_other_statements() {
     let text = "# a comment\r\nmtllib x.mtl\r\n\r\no thing\r\ng group\r\ns 1\r\nusemtl red\r\n\
-                v 0 0 # z absent below\r\nv 1 0\r\n  v   0 1 0 1.0  \r\n\tv 2 2 2\r\n\r\n\
+                v 0 0 0# touching\r\nv 1 0 0\r\n  v   0 1 0 1.0  \r\n\tv 2 2 2\r\n\r\n\
                 vt 0.5 0.5\r\nvn 0 0 1\r\nvp 0.1\r\nl 1 2\r\ncstype bezier\r\nf 1 2 3 # trailing\r\n";
     let m = ok(text, Format::Obj);
     assert_eq!(
@@ -172,6 +173,12 @@ fn obj_crlf_comments_blank_lines_and_other_statements() {
         ]
     );
     assert_eq!(m.triangles(), &[[0, 1, 2]]);
+    // A planar file: every vertex `v x y`, z = 0.
+    let m = ok("v 0 0\nv 1 0 # z absent\nv 0 1\nf 1 2 3\n", Format::Obj);
+    assert_eq!(
+        m.positions(),
+        &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+    );
     // A last line without a line end, and forward references.
     let m = ok("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0", Format::Obj);
     assert_eq!(m.triangles(), &[[0, 1, 2]]);
@@ -875,5 +882,391 @@ fn large_mesh_round_trips() {
             start.elapsed()
         );
         assert_eq!(back, mesh, "{format}");
+    }
+}
+
+/// An OBJ result written to another folder than its source keeps its
+/// materials: each relative `mtllib` path is rewritten to lead from there to
+/// the same `.mtl` file, which is neither copied nor changed; in the source's
+/// own folder, and for absolute paths, the bytes are the source's.
+#[test]
+fn obj_material_libraries_resolve_from_the_output_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path().canonicalize().unwrap();
+    let src = root.join("assets");
+    std::fs::create_dir_all(src.join("mat")).unwrap();
+    let libraries = [
+        ("sheet.mtl", "newmtl red\nKd 1 0 0\n"),
+        ("mat/other.mtl", "newmtl blue\nKd 0 0 1\n"),
+        ("my skin.mtl", "newmtl skin\nKd 1 0.8 0.6\n"),
+    ];
+    for (name, text) in libraries {
+        std::fs::write(src.join(name), text).unwrap();
+    }
+    let absolute = root.join("elsewhere/abs.mtl");
+    let head = format!(
+        "# materials\r\nmtllib sheet.mtl\r\nmtllib  ./mat/other.mtl sheet.mtl  # two\r\n\
+         mtllib my skin.mtl\r\nmtllib {}\r\n",
+        absolute.display()
+    );
+    let body = "o sheet\r\nv 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nv 0 1 0\r\nusemtl red\r\nf 1 2 3 4\r\n";
+    let text = head.clone() + body;
+    let source = src.join("sheet.obj");
+    std::fs::write(&source, &text).unwrap();
+    let file = MeshFile::read(&source).unwrap();
+    let moved: Vec<[f64; 3]> = file
+        .mesh()
+        .positions()
+        .iter()
+        .map(|p| [p[0], p[1], 0.5 * p[0]])
+        .collect();
+
+    // The source's folder, by another spelling too: the file as it was.
+    for name in ["same.obj", "mat/../same.obj"] {
+        let out = src.join(name);
+        file.write(&out, file.mesh().positions(), Format::Obj)
+            .unwrap();
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), text, "{name}");
+    }
+
+    // Folders below, beside and above the source's.
+    for (name, prefix) in [
+        ("out/r2/frame.obj", "../../assets/"),
+        ("beside/frame.obj", "../assets/"),
+        ("frame.obj", "assets/"),
+        ("assets/deep/er/frame.obj", "../../"),
+    ] {
+        let out = root.join(name);
+        std::fs::create_dir_all(out.parent().unwrap()).unwrap();
+        file.write(&out, &moved, Format::Obj).unwrap();
+        let written = std::fs::read_to_string(&out).unwrap();
+        let expected_head = format!(
+            "# materials\r\nmtllib {prefix}sheet.mtl\r\nmtllib  {prefix}mat/other.mtl {prefix}sheet.mtl  # two\r\n\
+             mtllib {prefix}my skin.mtl\r\nmtllib {}\r\n",
+            absolute.display()
+        );
+        assert!(written.starts_with(&expected_head), "{name}:\n{written}");
+        // Everything else is what the source's folder gets.
+        let beside = src.join("moved.obj");
+        file.write(&beside, &moved, Format::Obj).unwrap();
+        let beside_text = std::fs::read_to_string(&beside).unwrap();
+        assert_eq!(&written[expected_head.len()..], &beside_text[head.len()..]);
+        // Each path leads to the library it named.
+        let folder = out.parent().unwrap();
+        for (library, text) in libraries {
+            let path = folder.join(format!("{prefix}{library}"));
+            assert_eq!(
+                std::fs::read_to_string(&path).unwrap(),
+                text,
+                "{}",
+                path.display()
+            );
+        }
+        assert_eq!(read_mesh(&out).unwrap().positions(), &moved[..], "{name}");
+    }
+    // Nothing copied, nothing changed.
+    for (name, text) in libraries {
+        assert_eq!(std::fs::read_to_string(src.join(name)).unwrap(), text);
+    }
+    assert!(!root.join("out/r2/sheet.mtl").exists());
+}
+
+/// A vertex with 2 coordinates among vertices with 3 (or the other way
+/// round) is refused at its line, not read as z = 0; files whose vertices
+/// all have 2 coordinates are planar meshes and stay readable, whatever
+/// they are read through.
+#[test]
+fn obj_vertices_with_2_and_3_coordinates_do_not_mix() {
+    let square = |vertices: [&str; 4]| {
+        format!(
+            "# square\nv {}\nv {}\nv {}\nv {}\nf 1 2 3 4\n",
+            vertices[0], vertices[1], vertices[2], vertices[3]
+        )
+    };
+    let planar = square(["0 0", "1 0", "1 1", "0 1"]);
+    assert_eq!(ok(&planar, Format::Obj).positions()[2], [1.0, 1.0, 0.0]);
+    let spatial = square(["0 0 0", "1 0 0", "1 1 0.5", "0 1 0 1"]);
+    assert_eq!(ok(&spatial, Format::Obj).positions()[2], [1.0, 1.0, 0.5]);
+    let msg = error(
+        &square(["0 0 0", "1 0 0", "0.1 0.2", "0 1 0"]),
+        Format::Obj,
+        Some(4),
+        "vertex 3 (1-based) has 2 coordinates where the vertices before it have 3 (the first at line 2)",
+    );
+    assert!(msg.contains("planar"), "{msg}");
+    error(
+        &square(["0 0", "1 0", "1 1", "0 1 0"]),
+        Format::Obj,
+        Some(5),
+        "vertex 4 (1-based) has 3 coordinates where the vertices before it have 2 (the first at line 2)",
+    );
+
+    // Read whole, and as a pose of a file in space.
+    let dir = tempfile::tempdir().unwrap();
+    let reference = dir.path().join("rest.obj");
+    std::fs::write(&reference, &spatial).unwrap();
+    let pose = dir.path().join("pose.obj");
+    std::fs::write(&pose, square(["0 0 0", "1 0 0", "0.1 0.2", "0 1 0"])).unwrap();
+    let rest = MeshFile::read(&reference).unwrap();
+    for e in [
+        MeshFile::read(&pose).unwrap_err(),
+        rest.read_pose(&pose).unwrap_err(),
+    ] {
+        let msg = e.to_string();
+        assert!(
+            msg.contains(&pose.display().to_string())
+                && msg.contains("line 4")
+                && msg.contains("has 2 coordinates"),
+            "{msg}"
+        );
+    }
+}
+
+/// Lines (`l`) and points (`p`) have their indices checked as faces' are,
+/// with the same messages, and are written back as they were.
+#[test]
+fn obj_lines_and_points_are_checked_as_faces_are() {
+    let triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n";
+    // Absolute, relative, with texture coordinates, forward references.
+    let good = format!(
+        "{triangle}l 1 2 3 1\nl -3 -2\np 3\np 1 -1\nl 1/1 2/1\nl 1 4\np 4\nf 1 2 3\nv 1 1 0\n"
+    );
+    assert_eq!(ok(&good, Format::Obj).num_vertices(), 4);
+    for (element, needle) in [
+        (
+            "l 508 9999",
+            "vertex index 9999 is out of range: the file has 3 vertices",
+        ),
+        ("p 0", "vertex index 0 is invalid"),
+        ("l 1 2 3 abc", "`abc` is not a vertex index"),
+        ("l 1 x/1", "`x/1` is not a vertex index"),
+        (
+            "l -4 1",
+            "vertex index -4 is out of range: only 3 vertices are defined before this line",
+        ),
+        ("l 1", "a line (`l`) needs at least 2 vertices, found 1"),
+        ("p", "a point (`p`) needs at least 1 vertex, found 0"),
+        (
+            "l 1/2 2/1",
+            "texture coordinate index 2 is out of range: the file has 1 texture coordinates",
+        ),
+        ("l 1/0 2", "texture coordinate index 0 is out of range"),
+        ("p 1/1", "`1/1` is not a vertex index (`v`)"),
+        ("l 1/1/1 2", "`1/1/1` is not a vertex index (`v` or `v/vt`)"),
+    ] {
+        let text = format!("{triangle}f 1 2 3\n{element}\n");
+        error(&text, Format::Obj, Some(6), needle);
+    }
+
+    // Kept as written in results; refused in a pose too.
+    let dir = tempfile::tempdir().unwrap();
+    let rest = dir.path().join("rest.obj");
+    std::fs::write(&rest, &good).unwrap();
+    let file = MeshFile::read(&rest).unwrap();
+    let out = dir.path().join("out.obj");
+    let moved: Vec<[f64; 3]> = file
+        .mesh()
+        .positions()
+        .iter()
+        .map(|p| [p[0] + 1.0, p[1], p[2]])
+        .collect();
+    file.write(&out, &moved, Format::Obj).unwrap();
+    let elements = |text: &str| -> Vec<String> {
+        text.lines()
+            .filter(|l| l.starts_with("l ") || l.starts_with("p "))
+            .map(String::from)
+            .collect()
+    };
+    assert_eq!(
+        elements(&std::fs::read_to_string(&out).unwrap()),
+        elements(&good)
+    );
+    let pose = dir.path().join("pose.obj");
+    std::fs::write(&pose, good.replace("l -3 -2", "l -3 -9")).unwrap();
+    let msg = file.read_pose(&pose).unwrap_err().to_string();
+    assert!(
+        msg.contains(&pose.display().to_string())
+            && msg.contains("line 6")
+            && msg.contains("vertex index -9 is out of range"),
+        "{msg}"
+    );
+}
+
+/// Triangles of a grid of `n` x `n` quads, each split along the diagonal
+/// from its first corner, except quad `other`, split along the other one:
+/// as an exporter triangulating by the shape splits a bent pose. The two
+/// halves of each quad follow each other, or (`apart`, as Blender writes
+/// them) the second halves come after all the first.
+fn split_grid_obj(n: u32, other: Option<u32>, apart: bool) -> String {
+    let mut text = String::from("# split quads\n");
+    for j in 0..=n {
+        for i in 0..=n {
+            text += &format!("v {i} {j} {}\n", (i * j) % 3);
+        }
+    }
+    let at = |i: u32, j: u32| j * (n + 1) + i + 1;
+    let mut halves = [String::new(), String::new()];
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            let [first, second] = if other == Some(j * n + i) {
+                [[a, b, d], [b, c, d]]
+            } else {
+                [[a, b, c], [a, c, d]]
+            };
+            let face = |t: [u32; 3]| format!("f {} {} {}\n", t[0], t[1], t[2]);
+            halves[0] += &face(first);
+            halves[usize::from(apart)] += &face(second);
+        }
+    }
+    text + &halves[0] + &halves[1]
+}
+
+/// A pose whose triangles split a quad of the reference along the other
+/// diagonal is refused, saying so (the quad's corners, both diagonals, both
+/// faces and their lines, numbered from 1) and how to avoid it; any other
+/// difference names the face and its vertices numbered from 1 too.
+#[test]
+fn a_quad_split_along_the_other_diagonal_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 4;
+    let first_face_line = 2 + ((n + 1) * (n + 1)) as usize;
+    for apart in [false, true] {
+        let rest_path = dir.path().join(format!("rest{apart}.obj"));
+        std::fs::write(&rest_path, split_grid_obj(n, None, apart)).unwrap();
+        let rest = MeshFile::read(&rest_path).unwrap();
+        for quad in 0..n * n {
+            let (i, j) = (quad % n, quad / n);
+            let at = |i: u32, j: u32| j * (n + 1) + i + 1;
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            let pose_path = dir.path().join(format!("pose{quad}{apart}.obj"));
+            std::fs::write(&pose_path, split_grid_obj(n, Some(quad), apart)).unwrap();
+            let (face, second) = if apart {
+                (quad as usize, (n * n + quad) as usize)
+            } else {
+                (2 * quad as usize, 2 * quad as usize + 1)
+            };
+            let line = first_face_line + face;
+            let errors = [
+                rest.read_pose(&pose_path).unwrap_err(),
+                rest.pose(&MeshFile::read(&pose_path).unwrap()).unwrap_err(),
+            ];
+            for e in errors {
+                assert!(
+                    matches!(e, Error::FaceMismatch { face: f, line: Some(l), .. } if f == face && l == line),
+                    "{e:?}"
+                );
+                let msg = e.to_string();
+                for needle in [
+                    pose_path.display().to_string(),
+                    rest_path.display().to_string(),
+                    format!(
+                        "faces {} and {} (lines {line} and {})",
+                        face + 1,
+                        second + 1,
+                        first_face_line + second
+                    ),
+                    format!("splits the quad [{a}, {b}, {c}, {d}] along its diagonal {b}-{d}"),
+                    format!("splits it along {a}-{c}"),
+                    "without triangulating".to_string(),
+                    "same triangulation".to_string(),
+                ] {
+                    assert!(msg.contains(&needle), "`{needle}` not in: {msg}");
+                }
+            }
+        }
+    }
+    let rest_path = dir.path().join("restfalse.obj");
+    let rest = MeshFile::read(&rest_path).unwrap();
+    // The two halves of a quad swapped: the same split in another order,
+    // not a quad split the other way.
+    let text = split_grid_obj(n, None, false);
+    let mut lines: Vec<&str> = text.lines().collect();
+    lines.swap(first_face_line + 1, first_face_line + 2);
+    let swapped = dir.path().join("swapped.obj");
+    std::fs::write(&swapped, lines.join("\n")).unwrap();
+    let msg = rest.read_pose(&swapped).unwrap_err().to_string();
+    let (l3, l4) = (
+        text.lines().nth(first_face_line + 1).unwrap(),
+        text.lines().nth(first_face_line + 2).unwrap(),
+    );
+    let corners = |l: &str| l[2..].replace(' ', ", ");
+    let expected = format!(
+        "face 3 (line {}): vertices [{}] but face 3 of `{}` has [{}] (faces and vertices numbered from 1)",
+        first_face_line + 2,
+        corners(l4),
+        rest_path.display(),
+        corners(l3)
+    );
+    assert!(msg.contains(&expected), "`{expected}` not in: {msg}");
+    assert!(!msg.contains("diagonal"), "{msg}");
+}
+
+/// A PLY or OFF written as OBJ keeps its texture coordinates (`vt`) and its
+/// normals (`vn`, turned with the surface), each corner indexing its own;
+/// only what OBJ cannot hold is named as dropped.
+#[test]
+fn ply_and_off_as_obj_keep_texture_coordinates_and_normals() {
+    let dir = tempfile::tempdir().unwrap();
+    let ply = "ply\nformat ascii 1.0\nelement vertex 5\n\
+               property float x\nproperty float y\nproperty float z\n\
+               property float nx\nproperty float ny\nproperty float nz\n\
+               property float s\nproperty float t\nproperty uchar red\n\
+               element face 2\nproperty list uchar int vertex_indices\nend_header\n\
+               0 0 0 0 0 1 0 0 255\n1 0 0 0 0 1 0.5 0 0\n1 1 0 0.6 0 0.8 0.5 1 0\n\
+               0 1 0 0 0 1 0 1 0\n2 0 0 0 0 1 1 0 0\n4 0 1 2 3\n3 1 4 2\n";
+    let off = "STNOFF\n5 2 0\n0 0 0 0 0 1 0 0\n1 0 0 0 0 1 0.5 0\n1 1 0 0.6 0 0.8 0.5 1\n\
+               0 1 0 0 0 1 0 1\n2 0 0 0 0 1 1 0\n4 0 1 2 3\n3 1 4 2\n";
+    // A quarter turn about x.
+    let turn = |p: [f64; 3]| [p[0], -p[2], p[1]];
+    let normals = [
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, 1.0],
+        [0.6, 0.0, 0.8],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, 1.0],
+    ];
+    for (name, text) in [("quad.ply", ply), ("quad.off", off)] {
+        let source = dir.path().join(name);
+        std::fs::write(&source, text).unwrap();
+        let file = MeshFile::read(&source).unwrap();
+        let turned: Vec<[f64; 3]> = file.mesh().positions().iter().map(|&p| turn(p)).collect();
+        let out = dir.path().join(format!("{name}.obj"));
+        let dropped = file.write(&out, &turned, Format::Obj).unwrap();
+        let all = dropped.join("\n");
+        assert!(
+            !all.contains("texture coordinates") && !all.contains("normals"),
+            "{name}: {all}"
+        );
+        if name.ends_with("ply") {
+            assert!(all.contains("vertex property `red`"), "{all}");
+        }
+        let written = std::fs::read_to_string(&out).unwrap();
+        let lines = |keyword: &str| -> Vec<Vec<f64>> {
+            written
+                .lines()
+                .filter_map(|l| l.strip_prefix(keyword))
+                .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+                .collect()
+        };
+        assert_eq!(lines("vt ").len(), 5, "{written}");
+        let vn = lines("vn ");
+        assert_eq!(vn.len(), 5, "{written}");
+        for (got, want) in vn.iter().zip(normals) {
+            let want = turn(want);
+            assert!(
+                (0..3).all(|k| (got[k] - want[k]).abs() < 1e-9),
+                "{name}: {got:?} against {want:?}"
+            );
+        }
+        assert!(
+            written.contains("\nf 1/1/1 2/2/2 3/3/3 4/4/4\nf 2/2/2 5/5/5 3/3/3\n"),
+            "{written}"
+        );
+        let back = MeshFile::read(&out).unwrap();
+        assert_eq!(back.mesh().positions(), &turned[..]);
+        assert_eq!(back.mesh().triangles(), file.mesh().triangles());
+        assert_eq!(back.triangle_corner_uvs(), file.triangle_corner_uvs());
+        assert!(back.triangle_corner_uvs().is_some());
     }
 }

@@ -119,7 +119,7 @@ fn rewound_faces_are_the_same_faces_and_other_faces_are_named() {
     );
     assert!(
         msg.contains("other.obj")
-            && msg.contains("face 5")
+            && msg.contains("face 6")
             && msg.contains(&format!("line {}", faces[5] + 1)),
         "{msg}"
     );

@@ -10,16 +10,19 @@
 //! and element, in its type and encoding; in OFF the polygons, colours and
 //! comments. Only the numbers that change are rewritten (with the shortest
 //! representation that reads back to the same `f64`; in binary PLY in the
-//! property's own type).
+//! property's own type), and an OBJ written to another folder has its
+//! relative `mtllib` paths made to resolve from there to the same `.mtl`
+//! files.
 
 use std::io::Write;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+use super::material_paths::MaterialPaths;
 use super::normal_groups::{NormalGroups, ShapeNormals};
 use super::ply::Scalar;
-use super::triangulate::{Polygons, Split};
+use super::triangulate::{quad_split_the_other_way, Polygons, Split};
 use super::{push_f64, write_atomic, Format};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh3;
@@ -46,6 +49,9 @@ pub(super) enum Slot {
     /// Where normals added after normal `n` go (an empty range at the start
     /// of the next line; `true` when the file ends its lines with CR LF).
     NormalsAfter(u32, bool),
+    /// The paths of an OBJ `mtllib` statement, rewritten when the file is
+    /// written to another folder (see [`MaterialPaths`]).
+    MaterialLibrary,
 }
 
 /// How a patched number is written.
@@ -170,7 +176,10 @@ impl Parsed {
 /// and element, in its type and encoding; in OFF the polygons, colours and
 /// comments. Only the numbers that change are rewritten (with the shortest
 /// representation that reads back to the same `f64`; in binary PLY in the
-/// property's own type).
+/// property's own type). An OBJ written to another folder than its source's
+/// has each relative `mtllib` path rewritten to lead from there to the same
+/// `.mtl` file (relative when it can be, else absolute); the `.mtl` files
+/// themselves are never copied nor changed.
 #[derive(Clone, Debug)]
 pub struct MeshFile {
     path: PathBuf,
@@ -321,8 +330,10 @@ impl MeshFile {
 
     /// Writes the file with new `positions` in `format`, atomically. In the
     /// file's own format everything but the positions (and normals, turned
-    /// with the surface) is kept byte for byte. In another format the
-    /// polygons are kept and what that format cannot hold here is dropped:
+    /// with the surface, and relative OBJ `mtllib` paths when `path` is in
+    /// another folder) is kept byte for byte. In another format the
+    /// polygons are kept (in OBJ, also the texture coordinates and the
+    /// normals, turned) and what that format cannot hold here is dropped:
     /// the returned warnings say what (empty when nothing was dropped).
     ///
     /// # Errors
@@ -346,27 +357,27 @@ impl MeshFile {
         }
         super::check_writable(path, positions, &[])?;
         if format == self.format {
-            let groups = self.normal_groups.get_or_init(|| {
-                NormalGroups::new(
-                    &self.faces,
-                    &self.corner_normal,
-                    &self.flat_faces,
-                    self.mesh.positions(),
-                )
-            });
-            let normals = groups.for_shape(&self.normals, &self.faces, positions);
-            write_atomic(path, |w| self.write_patched(w, positions, &normals))?;
+            let normals = self.normals_for_shape(positions);
+            write_atomic(path, |w| self.write_patched(w, path, positions, &normals))?;
             return Ok(Vec::new());
         }
         let faces = || (0..self.faces.len()).map(|f| self.face(f));
+        // OBJ holds texture coordinates and normals of any file, by corner.
+        let to_obj = format == Format::Obj;
+        let carried = |e: &&String| {
+            to_obj
+                && ((e.starts_with("texture coordinates") && !self.corner_uv.is_empty())
+                    || (e.starts_with("normals") && self.has_normals()))
+        };
         write_atomic(path, |w| match format {
-            Format::Obj => super::obj::write(w, positions, faces()),
+            Format::Obj => self.write_obj(w, positions),
             Format::Off => super::off::write(w, positions, faces(), self.faces.len()),
             Format::Ply => super::ply::write(w, positions, faces(), self.faces.len()),
         })?;
         Ok(self
             .extras
             .iter()
+            .filter(|e| !carried(e))
             .map(|e| {
                 format!(
                     "`{}`: the {} of `{}` cannot be carried over to {format}: dropped",
@@ -378,18 +389,88 @@ impl MeshFile {
             .collect())
     }
 
-    /// The file's bytes with every patched number rewritten.
+    /// The file's normals turned to the shape `positions` (see
+    /// [`NormalGroups`]).
+    fn normals_for_shape(&self, positions: &[[f64; 3]]) -> ShapeNormals {
+        let groups = self.normal_groups.get_or_init(|| {
+            NormalGroups::new(
+                &self.faces,
+                &self.corner_normal,
+                &self.flat_faces,
+                self.mesh.positions(),
+            )
+        });
+        groups.for_shape(&self.normals, &self.faces, positions)
+    }
+
+    /// The file, of another format, as OBJ with new `positions`: its
+    /// polygons, texture coordinates and normals (turned with the surface),
+    /// each corner indexing its own.
+    fn write_obj(&self, w: &mut dyn Write, positions: &[[f64; 3]]) -> std::io::Result<()> {
+        let turned = self
+            .has_normals()
+            .then(|| self.normals_for_shape(positions));
+        // The normals in the order an OBJ of them lists them: each added one
+        // right after the normal it was split from.
+        let (normals, corner_normal) = match &turned {
+            None => (Vec::new(), &self.corner_normal[..]),
+            Some(t) => {
+                let mut added = t.added.iter().peekable();
+                let mut all = Vec::with_capacity(t.normals.len() + t.added.len());
+                for (n, normal) in t.normals.iter().enumerate() {
+                    all.push(*normal);
+                    while let Some((_, extra)) = added.next_if(|&&(m, _)| m as usize == n) {
+                        all.push(*extra);
+                    }
+                }
+                let index = if t.corner_index.is_empty() {
+                    &self.corner_normal[..]
+                } else {
+                    &t.corner_index[..]
+                };
+                (all, index)
+            }
+        };
+        let uvs = if self.corner_uv.is_empty() {
+            &[][..]
+        } else {
+            &self.uvs[..]
+        };
+        super::obj::write_with_corners(
+            w,
+            positions,
+            &self.faces,
+            (uvs, &self.corner_uv),
+            (&normals, corner_normal),
+        )
+    }
+
+    /// The file's bytes with every patched number rewritten (and material
+    /// library paths made to resolve from `output`'s folder).
     fn write_patched(
         &self,
         w: &mut dyn Write,
+        output: &Path,
         positions: &[[f64; 3]],
         normals: &ShapeNormals,
     ) -> std::io::Result<()> {
         let mut buf: Vec<u8> = Vec::with_capacity(super::CHUNK + 1024);
         let mut at = 0;
         let mut added = normals.added.iter().peekable();
+        // Found at the first `mtllib`: `None` in the source's own folder.
+        let mut materials: Option<Option<MaterialPaths>> = None;
         for p in &self.patches {
+            let mut library = None;
             match p.slot {
+                Slot::MaterialLibrary => {
+                    library = materials
+                        .get_or_insert_with(|| MaterialPaths::new(&self.path, output))
+                        .as_ref()
+                        .and_then(|m| m.rewrite(&self.bytes[p.bytes.clone()]));
+                    if library.is_none() {
+                        continue;
+                    }
+                }
                 // Kept as written unless normals were added, and no normals
                 // to add here: the text around them is copied with them.
                 Slot::CornerNormal(_) if normals.corner_index.is_empty() => continue,
@@ -410,6 +491,10 @@ impl MeshFile {
                         Some(&i) => super::push_uint(&mut buf, u64::from(i) + 1),
                         None => buf.extend_from_slice(&self.bytes[p.bytes.clone()]),
                     }
+                    continue;
+                }
+                Slot::MaterialLibrary => {
+                    buf.extend_from_slice(library.as_deref().unwrap_or_default());
                     continue;
                 }
                 Slot::NormalsAfter(n, crlf) => {
@@ -528,18 +613,11 @@ impl MeshFile {
             b.extend_from_slice(other);
             b.sort_unstable();
             if a != b {
-                let place = match format {
-                    Format::Ply => format!("face {f}"),
-                    _ => format!("face {f} (line {})", faces.line(f)),
-                };
+                let line = (format != Format::Ply).then(|| faces.line(f));
                 return Err(Error::FaceMismatch {
                     face: f,
-                    line: (format != Format::Ply).then(|| faces.line(f)),
-                    message: format!(
-                        "`{theirs}`, {place}: vertices {} (1-based) but face {f} of `{mine}` has {}: a pose has the reference's faces",
-                        show_face(other),
-                        show_face(own)
-                    ),
+                    line,
+                    message: self.face_mismatch(f, &theirs, faces, line),
                 });
             }
             reordered += 1;
@@ -553,6 +631,59 @@ impl MeshFile {
         }
         let mesh = self.mesh.with_positions(positions)?;
         Ok((mesh, reordered))
+    }
+
+    /// Why face `f` (0-based) of the pose `faces`, read from the file named
+    /// `theirs`, is not this file's face `f` (its corners differ): said with
+    /// faces and vertices numbered from 1, as lines are (`line` is its line,
+    /// for text formats). When it and the pose's face at the place of the
+    /// other half of its quad in this file split that quad along the other
+    /// diagonal, as exporters that triangulate by the shape do for a bent
+    /// pose, that is what is said, with how to avoid it. (Blender writes
+    /// the second halves of its quads after all the first halves, so the
+    /// other half is looked for among every face; it comes after `f`,
+    /// since the faces before `f` have their reference's corners.)
+    fn face_mismatch(
+        &self,
+        f: usize,
+        theirs: &impl std::fmt::Display,
+        faces: &Polygons,
+        line: Option<usize>,
+    ) -> String {
+        let mine = self.path.display();
+        let other = |g: usize| &faces.corner_vertices()[faces.range(g)];
+        let number = f + 1;
+        let split = (f + 1..faces.len().min(self.faces.len())).find_map(|g| {
+            quad_split_the_other_way([self.face(f), self.face(g)], [other(f), other(g)])
+                .map(|quad| (g, quad))
+        });
+        if let Some((g, quad)) = split {
+            let lines = match line {
+                Some(l) => format!(" (lines {l} and {})", faces.line(g)),
+                None => String::new(),
+            };
+            let corner = |k: usize| u64::from(quad[k]) + 1;
+            return format!(
+                "`{theirs}`, faces {number} and {}{lines}: the pose splits the quad {} along its diagonal {}-{} where `{mine}` splits it along {}-{} (faces and vertices numbered from 1): \
+                 exporters that triangulate choose each quad's diagonal by its shape, so a bent pose can split some quads the other way. \
+                 Export the reference and its poses without triangulating (each quad is then split the same way in every pose), or with the same triangulation (triangulate the reference once and export every pose from that mesh)",
+                g + 1,
+                show_face(&quad),
+                corner(1),
+                corner(3),
+                corner(0),
+                corner(2),
+            );
+        }
+        let place = match line {
+            Some(l) => format!("face {number} (line {l})"),
+            None => format!("face {number}"),
+        };
+        format!(
+            "`{theirs}`, {place}: vertices {} but face {number} of `{mine}` has {} (faces and vertices numbered from 1): a pose has the reference's faces",
+            show_face(other(f)),
+            show_face(self.face(f))
+        )
     }
 }
 

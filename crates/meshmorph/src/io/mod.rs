@@ -19,12 +19,16 @@
 //!
 //! Reading accepts:
 //!
-//! - **OBJ**: `v x y [z] [w]` (z defaults to 0), faces `f a`, `f a/b`,
+//! - **OBJ**: `v x y [z] [w]` (z is 0 in a planar file, whose vertices all
+//!   have 2 coordinates; a file mixing vertices of 2 and of 3 coordinates
+//!   is refused, naming the line of the first that differs from those
+//!   before it), faces `f a`, `f a/b`,
 //!   `f a/b/c`, `f a//c` with absolute (1-based) or relative (negative)
 //!   indices, `#` comments, CRLF line ends; `vt` and `vn` (through `f a/b/c`)
 //!   are read for [`MeshFile`]; every other statement (`g`, `o`, `s`,
 //!   `usemtl`, `mtllib`, `l`, ...) is kept by [`MeshFile`] and not needed
-//!   for the mesh.
+//!   for the mesh; the indices of lines `l` and points `p` are checked as
+//!   faces' are (and written back as they were).
 //! - **OFF**: the `OFF` keyword (also `COFF`, `NOFF`, `STOFF`, counts on the
 //!   same line, or no keyword at all), `nV nF [nE]`, vertex lines (values past
 //!   x y z, such as colours, are ignored), face lines `n i0 ... i(n-1)`
@@ -47,6 +51,7 @@ mod atomic;
 mod correspondence;
 pub mod gltf;
 mod markers;
+mod material_paths;
 mod mesh_file;
 mod normal_groups;
 mod obj;

@@ -1,11 +1,12 @@
 //! Wavefront OBJ: `v`, `vt`, `vn` and `f` statements; the others are kept
-//! as they are when the file is written back.
+//! as they are when the file is written back (lines `l` and points `p` with
+//! their indices checked as faces' are).
 
 use std::io::Write;
 use std::path::Path;
 
 use super::mesh_file::{offset_in, Keep, Parsed, Patch, Slot, NONE};
-use super::triangulate::repeated_index;
+use super::triangulate::{repeated_index, Polygons};
 use super::{
     parse_f64, parse_i64, push_f64, push_uint, show, tokens, write_formatted, xyz, UncommentedLines,
 };
@@ -49,6 +50,37 @@ fn corner_index(
     })
 }
 
+/// The vertex of an element's corner (`part`, the vertex part of the corner
+/// `token`), 0-based; `defined` vertices are defined before the line, `max`
+/// is the largest positive index so far (checked once every vertex is
+/// known: forward references are legal).
+///
+/// # Errors
+/// The message when the index does not parse, is 0 or counts back past the
+/// first vertex.
+#[inline]
+fn vertex_index(
+    part: &[u8],
+    token: &[u8],
+    defined: usize,
+    max: &mut i64,
+) -> std::result::Result<u32, String> {
+    let index =
+        parse_i64(part).ok_or_else(|| format!("`{}` is not a vertex index", show(token)))?;
+    if index > 0 {
+        *max = (*max).max(index);
+    }
+    resolve(index, defined).ok_or_else(|| {
+        if index == 0 {
+            "vertex index 0 is invalid: OBJ indices start at 1 (or count back from -1)".into()
+        } else {
+            format!(
+                "vertex index {index} is out of range: only {defined} vertices are defined before this line"
+            )
+        }
+    })
+}
+
 /// Parses an OBJ file's contents (see the [module documentation](super)),
 /// keeping what [`MeshFile`](super::MeshFile) needs to write it back.
 pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
@@ -66,6 +98,13 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     // Whether each face is shaded flat (`s off` or `s 0` before it).
     let mut flat = false;
     let mut flat_faces: Vec<bool> = Vec::new();
+    // The line of the first vertex with 2 coordinates and of the first with
+    // 3 or more: a file is planar (`v x y`) or in space, never both.
+    let mut first_planar: Option<usize> = None;
+    let mut first_spatial: Option<usize> = None;
+    // Lines and points (`l`, `p`) with an index past what was defined before
+    // them: their line, largest vertex and texture coordinate indices.
+    let mut forward_elements: Vec<(usize, i64, i64)> = Vec::new();
 
     for (line_no, line) in UncommentedLines::new(bytes) {
         let mut toks = tokens(line);
@@ -106,6 +145,21 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                         format!("a vertex needs at least 2 coordinates (`v x y [z] [w]`), found {count}"),
                     ));
                 }
+                let (mine, other, have, other_have) = if count == 2 {
+                    (&mut first_planar, first_spatial, 2, 3)
+                } else {
+                    (&mut first_spatial, first_planar, 3, 2)
+                };
+                if let Some(first) = other {
+                    return Err(err(
+                        line_no,
+                        format!(
+                            "vertex {} (1-based) has {have} coordinates where the vertices before it have {other_have} (the first at line {first}): give every vertex x y z, or every vertex x y for a planar mesh",
+                            vertex as u64 + 1
+                        ),
+                    ));
+                }
+                mine.get_or_insert(line_no);
                 if count == 2 {
                     // `v x y`: z is written after y.
                     out.patch(Patch::appended(last_end, Slot::Position(vertex, 2)));
@@ -169,28 +223,9 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                 for tok in toks {
                     let mut parts = tok.split(|&b| b == b'/');
                     let vertex_part = parts.next().unwrap_or(tok);
-                    let index = parse_i64(vertex_part).ok_or_else(|| {
-                        err(line_no, format!("`{}` is not a vertex index", show(tok)))
-                    })?;
-                    if index > 0 {
-                        max_index = max_index.max(index);
-                    }
-                    let resolved = resolve(index, out.positions.len()).ok_or_else(|| {
-                        if index == 0 {
-                            err(
-                                line_no,
-                                "vertex index 0 is invalid: OBJ indices start at 1 (or count back from -1)".into(),
-                            )
-                        } else {
-                            err(
-                                line_no,
-                                format!(
-                                    "vertex index {index} is out of range: only {} vertices are defined before this line",
-                                    out.positions.len()
-                                ),
-                            )
-                        }
-                    })?;
+                    let resolved =
+                        vertex_index(vertex_part, tok, out.positions.len(), &mut max_index)
+                            .map_err(|m| err(line_no, m))?;
                     face.push(resolved);
                     // Texture and normal indices: `a/b`, `a/b/c`, `a//c`.
                     let uv_part = parts.next();
@@ -246,8 +281,63 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                 out.note_extra("smoothing groups (`s`)");
                 flat = matches!(toks.next(), Some(b"off" | b"0"));
             }
-            Some(b"usemtl" | b"mtllib") => out.note_extra("materials (`mtllib`, `usemtl`)"),
-            Some(b"l" | b"p") => out.note_extra("lines and points (`l`, `p`)"),
+            Some(b"mtllib") => {
+                out.note_extra("materials (`mtllib`, `usemtl`)");
+                // The library paths, from the first to the end of the last:
+                // rewritten when the file is written to another folder.
+                if let Some(first) = toks.next() {
+                    let last = toks.last().unwrap_or(first);
+                    let start = offset_in(bytes, first);
+                    let end = offset_in(bytes, last) + last.len();
+                    out.patch(Patch::text(start..end, Slot::MaterialLibrary));
+                }
+            }
+            Some(b"usemtl") => out.note_extra("materials (`mtllib`, `usemtl`)"),
+            Some(kind @ (b"l" | b"p")) => {
+                out.note_extra("lines and points (`l`, `p`)");
+                // Checked as faces are, kept as written: `l v` or `l v/vt`,
+                // `p v`.
+                let line_element = kind == b"l";
+                let (mut vertex_max, mut uv_max) = (0, 0);
+                let mut count = 0;
+                for tok in toks {
+                    let mut parts = tok.split(|&b| b == b'/');
+                    let vertex_part = parts.next().unwrap_or(tok);
+                    let uv_part = parts.next();
+                    if parts.next().is_some() || (!line_element && uv_part.is_some()) {
+                        let form = if line_element { "`v` or `v/vt`" } else { "`v`" };
+                        return Err(err(
+                            line_no,
+                            format!("`{}` is not a vertex index ({form})", show(tok)),
+                        ));
+                    }
+                    vertex_index(vertex_part, tok, out.positions.len(), &mut vertex_max)
+                        .map_err(|m| err(line_no, m))?;
+                    corner_index(
+                        uv_part,
+                        out.uvs.len(),
+                        &mut uv_max,
+                        "texture coordinate",
+                        tok,
+                    )
+                    .map_err(|m| err(line_no, m))?;
+                    count += 1;
+                }
+                let least = if line_element {
+                    "a line (`l`) needs at least 2 vertices"
+                } else {
+                    "a point (`p`) needs at least 1 vertex"
+                };
+                if count < 1 + usize::from(line_element) {
+                    return Err(err(line_no, format!("{least}, found {count}")));
+                }
+                // Forward references, checked at the end.
+                if vertex_max as u64 > out.positions.len() as u64
+                    || uv_max as u64 > out.uvs.len() as u64
+                {
+                    forward_elements.push((line_no, vertex_max, uv_max));
+                }
+            }
             // vp, curves, unknown statements, comments: kept when written
             // back as OBJ, never needed elsewhere.
             _ => {}
@@ -296,6 +386,20 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
             }
         }
     }
+    let (vertices, uvs) = (out.positions.len() as u64, out.uvs.len() as u64);
+    for &(line_no, vertex, uv) in &forward_elements {
+        let (index, defined, what, plural) = if vertex as u64 > vertices {
+            (vertex, vertices, "vertex", "vertices")
+        } else if uv as u64 > uvs {
+            (uv, uvs, "texture coordinate", "texture coordinates")
+        } else {
+            continue;
+        };
+        return Err(err(
+            line_no,
+            format!("{what} index {index} is out of range: the file has {defined} {plural}"),
+        ));
+    }
     if out.faces.len() == 0 {
         return Err(Error::parse(
             path,
@@ -318,20 +422,73 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     Ok(out)
 }
 
+/// Writes `keyword x y ...` lines, one per item.
+fn write_numbers<const D: usize>(
+    w: &mut dyn Write,
+    keyword: &[u8],
+    items: &[[f64; D]],
+) -> std::io::Result<()> {
+    write_formatted(w, items, |buf, p| {
+        buf.extend_from_slice(keyword);
+        for x in xyz(p) {
+            buf.push(b' ');
+            push_f64(buf, x);
+        }
+        buf.push(b'\n');
+    })
+}
+
+/// Writes `v`, `vt` and `vn` lines, then `f` lines of `faces` whose corners
+/// index them (`v/vt/vn`, `v/vt`, `v//vn` or `v`, 1-based): `uvs` and
+/// `normals` are each the values and the index of each flat corner
+/// ([`NONE`] for none; empty for none at all).
+pub(super) fn write_with_corners(
+    w: &mut dyn Write,
+    positions: &[[f64; 3]],
+    faces: &Polygons,
+    uvs: (&[[f64; 2]], &[u32]),
+    normals: (&[[f64; 3]], &[u32]),
+) -> std::io::Result<()> {
+    write_numbers(w, b"v", positions)?;
+    write_formatted(w, uvs.0, |buf, uv| {
+        buf.extend_from_slice(b"vt");
+        for x in uv {
+            buf.push(b' ');
+            push_f64(buf, *x);
+        }
+        buf.push(b'\n');
+    })?;
+    write_numbers(w, b"vn", normals.0)?;
+    let corners = faces.corner_vertices();
+    write_formatted(w, 0..faces.len(), |buf, f| {
+        buf.push(b'f');
+        for c in faces.range(f) {
+            buf.push(b' ');
+            push_uint(buf, u64::from(corners[c]) + 1);
+            let uv = uvs.1.get(c).copied().unwrap_or(NONE);
+            let normal = normals.1.get(c).copied().unwrap_or(NONE);
+            if uv != NONE || normal != NONE {
+                buf.push(b'/');
+            }
+            if uv != NONE {
+                push_uint(buf, u64::from(uv) + 1);
+            }
+            if normal != NONE {
+                buf.push(b'/');
+                push_uint(buf, u64::from(normal) + 1);
+            }
+        }
+        buf.push(b'\n');
+    })
+}
+
 /// Writes `v x y z` lines then `f a b c ...` lines (1-based).
 pub(super) fn write<'a, const D: usize>(
     w: &mut dyn Write,
     positions: &[[f64; D]],
     faces: impl Iterator<Item = &'a [u32]>,
 ) -> std::io::Result<()> {
-    write_formatted(w, positions, |buf, p| {
-        buf.push(b'v');
-        for x in xyz(p) {
-            buf.push(b' ');
-            push_f64(buf, x);
-        }
-        buf.push(b'\n');
-    })?;
+    write_numbers(w, b"v", positions)?;
     write_formatted(w, faces, |buf, face| {
         buf.push(b'f');
         for &i in face {

@@ -114,6 +114,37 @@ pub(super) fn repeated_index(face: &[u32]) -> Option<u32> {
     }
 }
 
+/// A quad split into two triangles one way and into two the other way:
+/// when `reference` and `other` are each two triangles over the same four
+/// vertices, sharing different diagonals, the quad's corners in order
+/// around it (starting so that `reference[0]`'s corners keep their order).
+/// `None` for anything else (other vertices, the same split, or faces that
+/// are not triangles).
+pub(super) fn quad_split_the_other_way(
+    reference: [&[u32]; 2],
+    other: [&[u32]; 2],
+) -> Option<[u32; 4]> {
+    let triangle = |f: &[u32]| <[u32; 3]>::try_from(f).ok();
+    let [a, b] = reference.map(triangle);
+    let [c, d] = other.map(triangle);
+    let (a, b, c, d) = (a?, b?, c?, d?);
+    // The diagonal `a` shares with `b`: its edge from `a[i]` to `a[i + 1]`.
+    let i = (0..3).find(|&i| b.contains(&a[i]) && b.contains(&a[(i + 1) % 3]))?;
+    let opposite = *b.iter().find(|v| !a.contains(v))?;
+    let quad = [a[(i + 1) % 3], a[(i + 2) % 3], a[i], opposite];
+    // `a` and `b` share the diagonal `quad[0]`-`quad[2]`; the other split is
+    // two triangles sharing `quad[1]`-`quad[3]`, one with `quad[0]`, one
+    // with `quad[2]`.
+    let in_quad = |t: [u32; 3]| t.iter().all(|v| quad.contains(v));
+    let other_diagonal = |t: [u32; 3]| t.contains(&quad[1]) && t.contains(&quad[3]);
+    let distinct = |t: [u32; 3]| t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
+    let splits_other_way = [c, d]
+        .iter()
+        .all(|&t| in_quad(t) && distinct(t) && other_diagonal(t))
+        && (c.contains(&quad[0]) != d.contains(&quad[0]));
+    splits_other_way.then_some(quad)
+}
+
 /// Above this many vertices ear clipping takes the first ear it finds
 /// instead of the best-shaped one (which costs `O(n^3)`).
 const BEST_EAR_LIMIT: usize = 64;
