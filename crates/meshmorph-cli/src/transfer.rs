@@ -135,6 +135,9 @@ impl CorrespondArgs {
                 if suspicious.len() == 1 { "it" } else { "they" },
             ));
         }
+        if !options.align {
+            warnings.extend(misplaced_warning(source, target, &welded, rms / diagonal));
+        }
         let report = MarkerReport {
             markers: markers.pairs().len(),
             snapped_points: snap.points,
@@ -148,6 +151,31 @@ impl CorrespondArgs {
         };
         Ok((result, report))
     }
+}
+
+/// With `--no-align`, the warning that the references stand apart: the
+/// markers' similarity would bring them at least twice as close as they
+/// stand (`rms`, the markers' RMS distance over the target's diagonal). A
+/// pair aligned by hand, whose markers differ only as the shapes do, gets
+/// none.
+fn misplaced_warning(
+    source: &Mesh3,
+    target: &Mesh3,
+    markers: &Markers,
+    rms: f64,
+) -> Option<String> {
+    let (from, to) = markers.positions(source, target);
+    let fit = meshmorph::similarity::fit_robust(&from, &to).ok()?.0;
+    let r = meshmorph::similarity::residuals(&fit, &from, &to);
+    let fitted = (r.iter().map(|x| x * x).sum::<f64>() / r.len().max(1) as f64).sqrt()
+        / target.bounding_box_diagonal();
+    (rms > 2.0 * fitted).then(|| {
+        format!(
+            "with --no-align the markers lie {:.1} % of the target's diagonal from their partners (RMS), where the similarity that fits them would leave {:.1} %: the references stand apart, and much of the target may stay unmatched; leave out --no-align to bring the source onto the target",
+            100.0 * rms,
+            100.0 * fitted
+        )
+    })
 }
 
 /// The report's lines for the copies of vertices welded at seams in each

@@ -1265,6 +1265,30 @@ fn correspond_writes_the_map_and_the_deformed_source() {
     assert_eq!(rig.outputs(&a), rig.outputs(&b));
 }
 
+/// `transfer --source-ref SOURCE --target-ref TARGET --markers MARKERS -o
+/// OUT EXTRA.. POSES..`.
+fn transfer_between(
+    [source, target, markers]: [&Path; 3],
+    out: &Path,
+    extra: &[&OsStr],
+    poses: &[PathBuf],
+) -> Output {
+    let mut args: Vec<&OsStr> = vec![
+        os("transfer"),
+        os("--source-ref"),
+        source.as_os_str(),
+        os("--target-ref"),
+        target.as_os_str(),
+        os("--markers"),
+        markers.as_os_str(),
+        os("-o"),
+        out.as_os_str(),
+    ];
+    args.extend_from_slice(extra);
+    args.extend(poses.iter().map(|p| p.as_os_str()));
+    run(args)
+}
+
 /// `mesh` cut along the boundary between its first and second half of
 /// triangles, as files split at UV seams are: the second half's corners
 /// that the first half also uses become copies (same position), appended
@@ -1361,20 +1385,13 @@ fn transfer_onto_a_target_split_at_seams_does_not_crack() {
     let whole = rig.path("whole");
     succeeds(&rig.transfer_with_markers(&whole, &[]));
     let transfer = |source: &Path, poses: &[PathBuf], out: &Path| {
-        let mut args: Vec<&OsStr> = vec![
-            os("transfer"),
-            os("--source-ref"),
-            source.as_os_str(),
-            os("--target-ref"),
-            split_ref.as_os_str(),
-            os("--markers"),
-            rig.markers.as_os_str(),
-            os("-o"),
-            out.as_os_str(),
-            os("--json"),
-        ];
-        args.extend(poses.iter().map(|p| p.as_os_str()));
-        json(&succeeds(&run(args)))
+        let files = [source, split_ref.as_path(), rig.markers.as_path()];
+        json(&succeeds(&transfer_between(
+            files,
+            out,
+            &[os("--json")],
+            poses,
+        )))
     };
     let cut = rig.path("cut");
     let report = transfer(&rig.source_ref, &rig.poses, &cut);
@@ -1405,21 +1422,13 @@ fn transfer_onto_a_target_split_at_seams_does_not_crack() {
     // A vertex and its copy pinned: one pin, held at rest.
     let pinned = rig.path("pinned");
     let (v, copy) = (copy_of[0], rig.target_vertices.to_string());
-    let mut args: Vec<&OsStr> = vec![
-        os("transfer"),
-        os("--source-ref"),
-        rig.source_ref.as_os_str(),
-        os("--target-ref"),
-        split_ref.as_os_str(),
-        os("--markers"),
-        rig.markers.as_os_str(),
-        os("-o"),
-        pinned.as_os_str(),
-    ];
     let v_text = v.to_string();
-    args.extend([os("--pin"), os(&v_text), os("--pin"), os(&copy)]);
-    args.push(rig.poses[2].as_os_str());
-    succeeds(&run(args));
+    succeeds(&transfer_between(
+        [&rig.source_ref, &split_ref, &rig.markers],
+        &pinned,
+        &[os("--pin"), os(&v_text), os("--pin"), os(&copy)],
+        &rig.poses[2..],
+    ));
     let held = read(&pinned.join("bend-2.ply"));
     assert_eq!(held.positions()[v as usize], split.positions()[v as usize]);
     assert_eq!(
@@ -1435,6 +1444,37 @@ fn transfer_onto_a_target_split_at_seams_does_not_crack() {
             assert_welded_result(&cut, &copy_of, &whole, &format!("pose {k}"));
         }
     }
+}
+
+#[test]
+fn no_align_on_references_that_stand_apart_warns() {
+    let rig = Rig::new();
+    // As they are the tubes overlap: no warning.
+    let report = json(&succeeds(&rig.transfer_with_markers(
+        &rig.path("as-is"),
+        &[os("--no-align"), os("--json")],
+    )));
+    assert!(
+        !report["warnings"].to_string().contains("stand apart"),
+        "{report}"
+    );
+    // The source moved away: --no-align says so.
+    let moved = rig.path("in/moved.obj");
+    let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    write(
+        &moved,
+        &meshmorph::shapes::rigid_motion3(&thin_tube(), identity, [0.0, 20.0, 0.0]),
+    );
+    let report = json(&succeeds(&transfer_between(
+        [&moved, &rig.target_ref, &rig.markers],
+        &rig.path("moved-out"),
+        &[os("--no-align"), os("--json")],
+        &rig.poses[..1],
+    )));
+    assert_mentions(
+        &report["warnings"].to_string(),
+        &["--no-align", "stand apart", "leave out --no-align"],
+    );
 }
 
 #[test]

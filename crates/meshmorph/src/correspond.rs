@@ -224,14 +224,7 @@ pub fn correspond(
     target.check_no_degenerate_triangles("target reference")?;
     let components = connected_components(source.num_vertices(), source.triangles());
 
-    let marker_points = |mesh: &Mesh3, k: usize| -> Vec<[f64; 3]> {
-        markers
-            .pairs()
-            .iter()
-            .map(|p| mesh.positions()[p[k] as usize])
-            .collect()
-    };
-    let (from, to) = (marker_points(source, 0), marker_points(target, 1));
+    let (from, to) = markers.positions(source, target);
     // Fitted in a fixed order of the pairs, so that the order of the
     // markers does not change the last bits.
     let mut order: Vec<usize> = (0..from.len()).collect();

@@ -185,6 +185,21 @@ impl Markers {
         Ok(())
     }
 
+    /// The positions of the markers' vertices in `source` and in `target`,
+    /// in the markers' order.
+    ///
+    /// # Panics
+    /// If a vertex is out of range (see [`Markers::validate`]).
+    pub fn positions(&self, source: &Mesh3, target: &Mesh3) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+        let at = |mesh: &Mesh3, k: usize| -> Vec<[f64; 3]> {
+            self.pairs
+                .iter()
+                .map(|p| mesh.positions()[p[k] as usize])
+                .collect()
+        };
+        (at(source, 0), at(target, 1))
+    }
+
     /// The markers on the welded vertices of each mesh ([`Seams`]): what
     /// the solvers of welded meshes take. Lines and file stay, for
     /// messages. Check the pairs against the meshes' own vertex counts
