@@ -20,8 +20,9 @@
 //! stores attributes per vertex, so a vertex whose corners carry different
 //! texture coordinates is split into one glTF vertex per coordinate pair
 //! (the splits follow the original vertices, in order); vertices that no
-//! triangle uses are left out. Vertex normals are area-weighted averages of
-//! the triangle normals of each frame. Coordinates are stored as `f32`:
+//! triangle uses are left out. Vertex normals are the triangle normals of
+//! each frame averaged with each triangle weighing its angle at the vertex
+//! (as Blender computes them). Coordinates are stored as `f32`:
 //! base plus delta gives each frame's positions to `f32` precision.
 //!
 //! # Size
@@ -52,9 +53,9 @@ use gltf_json as json;
 use json::validation::{Checked::Valid, USize64};
 use rayon::prelude::*;
 
-use crate::closest::vertex_normals;
 use crate::error::{Error, Result};
 use crate::frame_source::{map_frame, FrameSource};
+use crate::geometry::angle_weighted_vertex_normals;
 use crate::io::{write_atomic, xyz};
 use crate::mesh::check_finite;
 
@@ -727,8 +728,9 @@ fn accessor(
     }
 }
 
-/// Unit vertex normals for the glTF vertices: +z for planar meshes,
-/// area-weighted triangle normals in space (+z where they cancel out).
+/// Unit vertex normals for the glTF vertices: +z for planar meshes, in
+/// space the triangle normals each weighing its angle at the vertex, as
+/// Blender computes them (+z where they cancel out).
 fn gltf_normals<const D: usize>(
     positions: &[[f64; D]],
     triangles: &[[u32; 3]],
@@ -738,7 +740,7 @@ fn gltf_normals<const D: usize>(
         return vec![[0.0, 0.0, 1.0]; original.len()];
     }
     let space: Vec<[f64; 3]> = positions.iter().map(xyz).collect();
-    let normals = vertex_normals(&space, triangles);
+    let normals = angle_weighted_vertex_normals(&space, triangles);
     original
         .iter()
         .map(|&v| {

@@ -20,7 +20,7 @@ use std::collections::HashMap;
 
 use super::mesh_file::NONE;
 use super::triangulate::Polygons;
-use crate::geometry::{add, cross, dot, norm, scale, sub};
+use crate::geometry::{add, corner_angle, cross, dot, norm, scale, sub};
 
 /// Turned normals whose coordinates agree to this are one normal: far below
 /// what shading shows (exporters round normals to 4 to 6 digits), far above
@@ -150,7 +150,7 @@ impl NormalGroups {
                     );
                     // In a triangle |a × b| is twice its area at every corner.
                     let sine = if last == 2 { len } else { norm(cross(a, b)) };
-                    let angle = angle_of(sine, dot(a, b));
+                    let angle = corner_angle(sine, dot(a, b));
                     sums[g as usize] = add(sums[g as usize], scale(unit, angle));
                 }
             }
@@ -263,55 +263,6 @@ impl NormalGroups {
     }
 }
 
-/// The angle between two vectors (0 when either is zero), to 1e-7 radian.
-#[cfg(test)]
-fn angle_between(a: [f64; 3], b: [f64; 3]) -> f64 {
-    angle_of(norm(cross(a, b)), dot(a, b))
-}
-
-/// The angle between two vectors from `y = |a × b|` and `x = a · b`
-/// (`atan2(y, x)` for `y ≥ 0`, to 1e-7 radian; 0 when both are 0).
-#[inline]
-fn angle_of(y: f64, x: f64) -> f64 {
-    // Reduced to an arctangent of [0, 1].
-    if y <= x.abs() {
-        if x == 0.0 {
-            return 0.0;
-        }
-        let a = atan_unit(y / x.abs());
-        if x > 0.0 {
-            a
-        } else {
-            std::f64::consts::PI - a
-        }
-    } else {
-        std::f64::consts::FRAC_PI_2 - atan_unit(x / y)
-    }
-}
-
-/// `atan(z)` for `|z| ≤ 1`, within 9e-8: `z P(z²)` with `P` the degree-7
-/// least-squares fit of `atan(z) / z` at Chebyshev points of [0, 1] (a
-/// weight only ever compared with weights computed the same way).
-#[inline]
-fn atan_unit(z: f64) -> f64 {
-    const P: [f64; 8] = [
-        0.999_999_958_195_305_7,
-        -0.333_323_028_277_101_25,
-        0.199_736_813_634_497_9,
-        -0.140_401_388_912_063_88,
-        0.099_679_236_189_595_25,
-        -0.060_219_127_990_394_89,
-        0.024_756_780_690_648_406,
-        -0.004_831_168_387_439_688,
-    ];
-    let t = z * z;
-    let mut p = P[7];
-    for c in P[..7].iter().rev() {
-        p = p * t + c;
-    }
-    z * p
-}
-
 /// Twice the area vector of a polygon (Newell's formula).
 fn newell_normal(vertices: &[u32], positions: &[[f64; 3]]) -> [f64; 3] {
     let mut n = [0.0; 3];
@@ -354,21 +305,6 @@ fn turn(v: [f64; 3], from: [f64; 3], to: [f64; 3]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn angles_are_the_library_atan2_to_1e7() {
-        let mut worst: f64 = 0.0;
-        for i in 0..=400 {
-            let t = std::f64::consts::PI * i as f64 / 400.0;
-            for len in [1e-3, 1.0, 7.5] {
-                let a = [2.0, 0.0, 0.0];
-                let b = [len * t.cos(), len * t.sin(), 0.0];
-                worst = worst.max((angle_between(a, b) - t).abs());
-            }
-        }
-        assert!(worst < 1e-7, "{worst}");
-        assert_eq!(angle_between([0.0; 3], [1.0, 0.0, 0.0]), 0.0);
-    }
 
     #[test]
     fn turn_takes_from_to_to() {
