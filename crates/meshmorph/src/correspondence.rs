@@ -127,7 +127,8 @@ impl Correspondence {
             if made.hash != given.hash {
                 return Err(Error::Mismatch(format!(
                     "the correspondence was made for a {name} with other triangles (same counts, \
-                     different connectivity)"
+                     different connectivity: other faces, or polygons split along other diagonals \
+                     where the positions differ, as each polygon is split by its shape)"
                 )));
             }
         }
