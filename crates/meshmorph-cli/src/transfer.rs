@@ -101,7 +101,7 @@ impl CorrespondArgs {
         let (markers, snap) = markers
             .snap(source_ref.file_mesh(), target_ref.file_mesh())
             .context("snapping the marker points to vertices")?;
-        markers.validate(
+        markers.check_ranges(
             source_ref.file_mesh().num_vertices(),
             target_ref.file_mesh().num_vertices(),
         )?;
@@ -124,7 +124,7 @@ impl CorrespondArgs {
         let rms = (r.iter().map(|x| x * x).sum::<f64>() / r.len().max(1) as f64).sqrt();
         let suspicious: Vec<String> = meshmorph::similarity::outliers(r)
             .into_iter()
-            .map(|k| markers.describe(k))
+            .map(|k| welded.describe(k))
             .collect();
         if !suspicious.is_empty() {
             warnings.push(format!(
@@ -135,7 +135,9 @@ impl CorrespondArgs {
                 if suspicious.len() == 1 { "it" } else { "they" },
             ));
         }
-        if !options.align {
+        // Apart by more than the closest-point cut-off, the references' parts
+        // go unmatched.
+        if !options.align && rms > options.closest_cutoff * diagonal {
             warnings.extend(misplaced_warning(source, target, &welded, rms / diagonal));
         }
         let report = MarkerReport {
@@ -176,6 +178,13 @@ fn misplaced_warning(
             100.0 * fitted
         )
     })
+}
+
+/// `c` for the meshes `source` and `target` (the files' own, or welded at
+/// seams: welding keeps the triangles, which the pairs name). A saved
+/// correspondence names the files' meshes, the solvers take welded ones.
+fn signed_for(c: &Correspondence, source: &Mesh3, target: &Mesh3) -> Correspondence {
+    Correspondence::new(c.pairs().to_vec(), source, target).with_alignment(*c.alignment())
 }
 
 /// The report's lines for the copies of vertices welded at seams in each
@@ -515,7 +524,12 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
 
     let bar = progress::bar(poses.len() as u64, "poses");
     if let Some(save) = save {
-        staging.write(save, |path| Ok(correspondence.save(path)?))?;
+        let on_file = signed_for(
+            &correspondence,
+            source_ref.file_mesh(),
+            target_ref.file_mesh(),
+        );
+        staging.write(save, |path| Ok(on_file.save(path)?))?;
     }
     let keep = args.gltf.gltf.is_some() || args.pictures.any();
     let solved: Vec<SolvedPose> = poses
@@ -736,13 +750,14 @@ fn prepare(
     let correspondence = match &args.correspondence {
         Some(path) => {
             let c = Correspondence::load(path).context("reading the correspondence")?;
-            c.check_fits(source, target).with_context(|| {
-                format!(
-                    "correspondence `{}` does not fit these meshes",
-                    path.display()
-                )
-            })?;
-            c
+            c.check_fits(source_ref.file_mesh(), target_ref.file_mesh())
+                .with_context(|| {
+                    format!(
+                        "correspondence `{}` does not fit these meshes",
+                        path.display()
+                    )
+                })?;
+            signed_for(&c, source, target)
         }
         None => {
             let (result, report) =
@@ -850,21 +865,20 @@ fn pin_positions(
         })
         .collect::<Result<Vec<_>>>()
         .and_then(|pins| {
-            if let Some(k) = (1..pins.len()).find(|&k| pins[..k].iter().any(|q| q.0 == pins[k].0)) {
+            let mut given = HashSet::new();
+            if let Some(&(v, _)) = pins.iter().find(|(v, _)| !given.insert(*v)) {
                 bail!(
                     "--pin {}: the vertex is pinned twice",
-                    pins[k].0 + u32::from(one_based)
+                    v + u32::from(one_based)
                 );
             }
             // Copies of one vertex at a seam are one pin.
-            let mut welded: Vec<(u32, [f64; 3])> = Vec::with_capacity(pins.len());
-            for (v, p) in pins {
-                let w = target_ref.file.seams.welded(v);
-                if !welded.iter().any(|q| q.0 == w) {
-                    welded.push((w, p));
-                }
-            }
-            Ok(welded)
+            let mut seen = HashSet::new();
+            Ok(pins
+                .into_iter()
+                .map(|(v, p)| (target_ref.file.seams.welded(v), p))
+                .filter(|(w, _)| seen.insert(*w))
+                .collect())
         })
 }
 
@@ -967,7 +981,8 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
             .compute(&args.refs, &source_ref, &target_ref, &mut warnings)?;
     let seconds = begin.elapsed().as_secs_f64();
     let c = &result.correspondence;
-    staging.write(saved, |path| Ok(c.save(path)?))?;
+    let on_file = signed_for(c, source_ref.file_mesh(), target_ref.file_mesh());
+    staging.write(saved, |path| Ok(on_file.save(path)?))?;
     let mut files_written = vec![args.output.clone()];
     if let (Some(output), Some(path), Some(format)) =
         (deformed, &args.deformed_source, deformed_format)

@@ -1399,6 +1399,40 @@ fn transfer_onto_a_target_split_at_seams_does_not_crack() {
         uint(&report, "welded_target_vertices"),
         copy_of.len() as u64
     );
+    // A marker given twice, to a vertex and to its copy, is one marker; the
+    // correspondence saved names the file's own mesh and is read back.
+    let mut pairs = marker_pairs(&thin_tube(), &thick_tube());
+    let [s, _] = pairs[0];
+    pairs.extend([[s, copy_of[0]], [s, rig.target_vertices as u32]]);
+    pairs.remove(0);
+    let twice = rig.path("in/twice.txt");
+    write_markers(&twice, &pairs, 0);
+    let saved = rig.path("split.corr");
+    let (first, again) = (rig.path("first"), rig.path("again"));
+    succeeds(&transfer_between(
+        [&rig.source_ref, &split_ref, &twice],
+        &first,
+        &[os("--save-correspondence"), saved.as_os_str()],
+        &rig.poses,
+    ));
+    let mut args: Vec<&OsStr> = vec![
+        os("transfer"),
+        os("--source-ref"),
+        rig.source_ref.as_os_str(),
+    ];
+    args.extend([
+        os("--target-ref"),
+        split_ref.as_os_str(),
+        os("--correspondence"),
+        saved.as_os_str(),
+    ]);
+    args.extend([os("-o"), again.as_os_str()]);
+    args.extend(rig.poses.iter().map(|p| p.as_os_str()));
+    succeeds(&run(args));
+    assert_eq!(rig.outputs(&first), rig.outputs(&again));
+    assert!(fs::read_to_string(&saved)
+        .unwrap()
+        .contains(&format!("target {} ", split.num_vertices())));
     // The source and its poses split as well: the same again.
     let (split_source, source_copies) = split_at_seam(&thin_tube());
     let split_source_ref = rig.path("in/thin-split.obj");

@@ -363,7 +363,8 @@ fn deform(
         || -> Result<_> {
             let mut terms = DeformTerms::new(source, options)?;
             let pins = marker_pins(source, target, markers);
-            let anchors = part_anchors(&terms, components, &pins, per_square_size);
+            let first_weight = options.closest_weights.first().copied().unwrap_or(1.0);
+            let anchors = part_anchors(&terms, components, &pins, (first_weight, per_square_size));
             terms.base.add_to_diagonal(&anchors);
             terms.anchors = anchors;
             // One factorization per round, each used once: the supernodal
@@ -560,18 +561,17 @@ fn marker_pins(source: &Mesh3, target: &Mesh3, markers: &Markers) -> Pins<3> {
 
 /// A part of the source without a marker (an eye, a tooth, a strap) has
 /// nothing to place it in the first round: each of its vertices is held
-/// near where the alignment put it, as weakly as the paper's first
-/// closest-point weight pulls (`ANCHOR_WEIGHT` on the same scale), so that
-/// it keeps its place and shape until the closest points, thousands of times
-/// stronger in the later rounds, draw it onto the target. The weight of each
+/// near where the alignment put it, in every round, with the first
+/// closest-point weight (`weight`, on the closest-point term's scale), so
+/// that it keeps its place and shape until the closest points, thousands of
+/// times stronger in the later rounds, draw it onto the target. The weight of each
 /// unknown (0 in parts with a marker, and for fourth vertices) is returned.
 fn part_anchors(
     terms: &DeformTerms,
     components: &Components,
     pins: &Pins<3>,
-    per_square_size: f64,
+    (weight, per_square_size): (f64, f64),
 ) -> Vec<f64> {
-    const ANCHOR_WEIGHT: f64 = 1.0;
     let mut marked = vec![false; components.count];
     for (v, c) in components.of_vertex.iter().enumerate() {
         if let Some(c) = c {
@@ -582,7 +582,7 @@ fn part_anchors(
     let mut anchors = vec![0.0; terms.ops.num_unknowns()];
     for (v, c) in components.of_vertex.iter().enumerate() {
         if matches!(c, Some(c) if !marked[*c as usize]) {
-            anchors[v] = ANCHOR_WEIGHT * per_square_size * terms.vertex_weight[v];
+            anchors[v] = weight * per_square_size * terms.vertex_weight[v];
         }
     }
     anchors

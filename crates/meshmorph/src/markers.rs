@@ -150,6 +150,7 @@ impl Markers {
                 ),
             });
         }
+        self.check_ranges(source_vertices, target_vertices)?;
         let mut seen: HashMap<u32, usize> = HashMap::with_capacity(self.pairs.len());
         for (k, &[s, t]) in self.pairs.iter().enumerate() {
             let fail = |msg: String| {
@@ -159,16 +160,6 @@ impl Markers {
                     message: format!("{}: {msg}", self.name(k)),
                 })
             };
-            if s as usize >= source_vertices {
-                return fail(format!(
-                    "source vertex {s} is out of range (the source has {source_vertices} vertices)"
-                ));
-            }
-            if t as usize >= target_vertices {
-                return fail(format!(
-                    "target vertex {t} is out of range (the target has {target_vertices} vertices)"
-                ));
-            }
             if let Some(&j) = seen.get(&s) {
                 let other = self.pairs[j][1];
                 return if other == t {
@@ -200,22 +191,64 @@ impl Markers {
         (at(source, 0), at(target, 1))
     }
 
+    /// Checks that every marker's vertices are in range of meshes of these
+    /// vertex counts (part of [`Markers::validate`]).
+    ///
+    /// # Errors
+    /// [`Error::InvalidMarker`] naming the first marker out of range.
+    pub fn check_ranges(&self, source_vertices: usize, target_vertices: usize) -> Result<()> {
+        for (k, &[s, t]) in self.pairs.iter().enumerate() {
+            let message = if s as usize >= source_vertices {
+                format!(
+                    "source vertex {s} is out of range (the source has {source_vertices} vertices)"
+                )
+            } else if t as usize >= target_vertices {
+                format!(
+                    "target vertex {t} is out of range (the target has {target_vertices} vertices)"
+                )
+            } else {
+                continue;
+            };
+            return Err(Error::InvalidMarker {
+                marker: k,
+                line: self.path.as_ref().and(self.lines.get(k).copied()),
+                message: format!("{}: {message}", self.name(k)),
+            });
+        }
+        Ok(())
+    }
+
     /// The markers on the welded vertices of each mesh ([`Seams`]): what
-    /// the solvers of welded meshes take. Lines and file stay, for
-    /// messages. Check the pairs against the meshes' own vertex counts
+    /// the solvers of welded meshes take, a pair given twice through copies
+    /// once. Lines and file stay, for messages. Check the pairs against the meshes' own vertex counts
     /// first ([`Markers::validate`]).
     ///
     /// # Panics
     /// If a vertex is out of range of its seams.
     pub fn welded(&self, source: &Seams, target: &Seams) -> Markers {
-        Markers {
-            pairs: self
+        let mut out = Markers {
+            pairs: Vec::with_capacity(self.pairs.len()),
+            lines: Vec::with_capacity(self.lines.len()),
+            ..self.clone()
+        };
+        // Markers on two copies of one vertex, to two copies of another,
+        // are one marker (a pair given twice as it is stays twice, for
+        // [`Markers::validate`] to refuse).
+        let mut given: Vec<[u32; 2]> = Vec::with_capacity(self.pairs.len());
+        for (k, &[s, t]) in self.pairs.iter().enumerate() {
+            let pair = [source.welded(s), target.welded(t)];
+            let through_copies = out
                 .pairs
                 .iter()
-                .map(|&[s, t]| [source.welded(s), target.welded(t)])
-                .collect(),
-            ..self.clone()
+                .zip(&given)
+                .any(|(w, g)| *w == pair && *g != [s, t]);
+            if !through_copies {
+                out.pairs.push(pair);
+                given.push([s, t]);
+                out.lines.extend(self.lines.get(k));
+            }
         }
+        out
     }
 
     /// Marker `k` for messages: "marker 3 (source vertex 10, target vertex
