@@ -1534,3 +1534,74 @@ fn options_that_cannot_be_solved_are_refused() {
         assert_error(e, is_invalid_argument, &[needle]);
     }
 }
+
+/// A marker on a vertex that no triangle uses (a loose `v` line) is refused,
+/// naming the marker, its line and the vertex: pinning it would throw the
+/// alignment off.
+#[test]
+fn markers_on_vertices_in_no_triangle_are_refused() {
+    let with_loose = |m: &Mesh3| {
+        let mut p = m.positions().to_vec();
+        p.push([100.0, 100.0, 100.0]);
+        Mesh3::new(p, m.triangles().to_vec()).unwrap()
+    };
+    let (s0, t0) = (THIN.mesh(), THICK.mesh());
+    let (s1, t1) = (with_loose(&s0), with_loose(&t0));
+    let (ls, lt) = (s0.num_vertices() as u32, t0.num_vertices() as u32);
+    let good = tube_markers(THIN, THICK, &tube_picks(THIN, 4))
+        .pairs()
+        .to_vec();
+    let text = |extra: [u32; 2]| {
+        good.iter()
+            .chain([&extra])
+            .map(|p| format!("{} {}\n", p[0], p[1]))
+            .collect::<String>()
+    };
+    let line = good.len() + 1;
+    let path = Path::new("loose.txt");
+    let options = CorrespondOptions::default();
+    let refused = |source: &Mesh3, target: &Mesh3, markers: &Markers| {
+        let found = correspond(source, target, markers, &options, &mut |_| {});
+        found.map(|_| ()).unwrap_err()
+    };
+    for (source, target, extra, needle) in [
+        (
+            &s0,
+            &t1,
+            [5, lt],
+            format!("target vertex {lt} is in no triangle"),
+        ),
+        (
+            &s1,
+            &t0,
+            [ls, 5],
+            format!("source vertex {ls} is in no triangle"),
+        ),
+    ] {
+        let markers = Markers::parse(&text(extra), path, false).unwrap();
+        let e = refused(source, target, &markers);
+        assert!(
+            matches!(e, Error::InvalidMarker { marker, line: Some(l), .. }
+                if marker == good.len() && l == line),
+            "{e:?}"
+        );
+        assert_error(
+            e,
+            is_invalid_argument,
+            &[&format!("`loose.txt`, line {line}"), &needle],
+        );
+        // In memory: named by its index.
+        let mut pairs = good.clone();
+        pairs.push(extra);
+        let e = refused(source, target, &Markers::new(pairs));
+        assert_error(
+            e,
+            is_invalid_argument,
+            &[&format!("marker {}", good.len()), &needle],
+        );
+    }
+    // The loose vertices themselves do not matter when no marker names them.
+    let plain = found_by(&s0, &t0, &Markers::new(good.clone())).correspondence;
+    let loose = found_by(&s1, &t1, &Markers::new(good)).correspondence;
+    assert_eq!(plain.pairs(), loose.pairs());
+}
