@@ -8,6 +8,10 @@
 //! rigid motion (Horn's best-fit rotation and translation) of its anchors,
 //! the vertices of the other parts nearest to its own at rest: the eyelids
 //! around an eye, the gums or lips around teeth.
+//!
+//! A part with exactly half of its area paired (within a relative
+//! `HALF_TOLERANCE`, so that rounding cannot tip it one way in some units
+//! and the other way in others) counts as paired and follows its partners.
 
 #![allow(non_snake_case)]
 
@@ -21,6 +25,13 @@ use crate::topology::Components;
 /// How many nearest vertices of the surrounding parts each vertex of a
 /// carried part contributes to its anchors.
 const ANCHORS_PER_VERTEX: usize = 4;
+
+/// How close, relative to half a part's area, its paired area counts as
+/// exactly half. Far above the rounding of summing the areas (about 1e-16
+/// per triangle, relative) and far below any real difference between the
+/// paired and the unpaired halves, it makes the decision the same for a
+/// target in any units.
+const HALF_TOLERANCE: f64 = 1e-9;
 
 /// One carried part.
 #[derive(Clone, Debug)]
@@ -38,7 +49,9 @@ pub struct CarriedParts {
 impl CarriedParts {
     /// Finds the parts to carry: those with less than half of their area in
     /// `paired` triangles (`area[t]` each), when some other part has more
-    /// (the part with the most paired area is never carried).
+    /// (the part with the most paired area is never carried). A paired area
+    /// within `HALF_TOLERANCE` (relative) of half the part's area counts
+    /// as half: that part is not carried, at any scale of the target.
     pub fn new(
         positions: &[[f64; 3]],
         components: &Components,
@@ -55,7 +68,7 @@ impl CarriedParts {
         }
         let leader = (0..c).max_by(|&a, &b| matched[a].total_cmp(&matched[b]));
         let carried: Vec<bool> = (0..c)
-            .map(|p| Some(p) != leader && matched[p] < 0.5 * total[p])
+            .map(|p| Some(p) != leader && matched[p] < 0.5 * total[p] * (1.0 - HALF_TOLERANCE))
             .collect();
         if !carried.contains(&true) || leader.is_none_or(|l| matched[l] == 0.0) {
             return Self::default();

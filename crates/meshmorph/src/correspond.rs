@@ -213,6 +213,7 @@ pub fn correspond(
 ) -> Result<CorrespondResult> {
     options.validate()?;
     markers.validate(source.num_vertices(), target.num_vertices())?;
+    markers.validate_on_triangles(source, target)?;
     if markers.pairs().len() < MIN_MARKERS {
         return Err(Error::InvalidArgument(format!(
             "{} marker pair{} given: correspondence needs at least {MIN_MARKERS}",

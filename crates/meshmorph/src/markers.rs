@@ -176,6 +176,38 @@ impl Markers {
         Ok(())
     }
 
+    /// Checks that a triangle of each mesh uses every marker's vertex: a
+    /// vertex in no triangle (a loose `v` line of an OBJ file) is no point
+    /// of the surface, and pinning it would throw the alignment off. Check
+    /// the indices first ([`Markers::validate`]).
+    ///
+    /// # Errors
+    /// [`Error::InvalidMarker`] naming the marker (and file and line, when
+    /// read from a file) and the vertex.
+    ///
+    /// # Panics
+    /// If a vertex is out of range.
+    pub fn validate_on_triangles(&self, source: &Mesh3, target: &Mesh3) -> Result<()> {
+        let used = [used_vertices(source), used_vertices(target)];
+        for (k, pair) in self.pairs.iter().enumerate() {
+            for (slot, which) in ["source", "target"].into_iter().enumerate() {
+                let v = pair[slot];
+                if !used[slot][v as usize] {
+                    return Err(Error::InvalidMarker {
+                        marker: k,
+                        line: self.path.as_ref().and(self.lines.get(k).copied()),
+                        message: format!(
+                            "{}: {which} vertex {v} is in no triangle of the {which} mesh; \
+                             markers must lie on the surface",
+                            self.name(k)
+                        ),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// The positions of the markers' vertices in `source` and in `target`,
     /// in the markers' order.
     ///

@@ -1534,3 +1534,143 @@ fn options_that_cannot_be_solved_are_refused() {
         assert_error(e, is_invalid_argument, &[needle]);
     }
 }
+
+/// A marker on a vertex that no triangle uses (a loose `v` line) is refused,
+/// naming the marker, its line and the vertex: pinning it would throw the
+/// alignment off.
+#[test]
+fn markers_on_vertices_in_no_triangle_are_refused() {
+    let with_loose = |m: &Mesh3| {
+        let mut p = m.positions().to_vec();
+        p.push([100.0, 100.0, 100.0]);
+        Mesh3::new(p, m.triangles().to_vec()).unwrap()
+    };
+    let (s0, t0) = (THIN.mesh(), THICK.mesh());
+    let (s1, t1) = (with_loose(&s0), with_loose(&t0));
+    let (ls, lt) = (s0.num_vertices() as u32, t0.num_vertices() as u32);
+    let good = tube_markers(THIN, THICK, &tube_picks(THIN, 4))
+        .pairs()
+        .to_vec();
+    let text = |extra: [u32; 2]| {
+        good.iter()
+            .chain([&extra])
+            .map(|p| format!("{} {}\n", p[0], p[1]))
+            .collect::<String>()
+    };
+    let line = good.len() + 1;
+    let path = Path::new("loose.txt");
+    let options = CorrespondOptions::default();
+    let refused = |source: &Mesh3, target: &Mesh3, markers: &Markers| {
+        let found = correspond(source, target, markers, &options, &mut |_| {});
+        found.map(|_| ()).unwrap_err()
+    };
+    for (source, target, extra, needle) in [
+        (
+            &s0,
+            &t1,
+            [5, lt],
+            format!("target vertex {lt} is in no triangle"),
+        ),
+        (
+            &s1,
+            &t0,
+            [ls, 5],
+            format!("source vertex {ls} is in no triangle"),
+        ),
+    ] {
+        let markers = Markers::parse(&text(extra), path, false).unwrap();
+        let e = refused(source, target, &markers);
+        assert!(
+            matches!(e, Error::InvalidMarker { marker, line: Some(l), .. }
+                if marker == good.len() && l == line),
+            "{e:?}"
+        );
+        assert_error(
+            e,
+            is_invalid_argument,
+            &[&format!("`loose.txt`, line {line}"), &needle],
+        );
+        // In memory: named by its index.
+        let mut pairs = good.clone();
+        pairs.push(extra);
+        let e = refused(source, target, &Markers::new(pairs));
+        assert_error(
+            e,
+            is_invalid_argument,
+            &[&format!("marker {}", good.len()), &needle],
+        );
+    }
+    // The loose vertices themselves do not matter when no marker names them.
+    let plain = found_by(&s0, &t0, &Markers::new(good.clone())).correspondence;
+    let loose = found_by(&s1, &t1, &Markers::new(good)).correspondence;
+    assert_eq!(plain.pairs(), loose.pairs());
+}
+
+/// The length along x of the vertices `range` of `p`.
+fn extent_x(p: &[P3], range: std::ops::Range<usize>) -> f64 {
+    let xs = p[range].iter().map(|q| q[0]);
+    xs.clone().fold(f64::MIN, f64::max) - xs.fold(f64::MAX, f64::min)
+}
+
+/// A separate part of the target with exactly half of its area paired (one
+/// triangle of every rectangle of an open tube) follows its partners, in
+/// any units: the result scales with the target at 1, 1000 and 1e-3. With
+/// one pair fewer it is carried rigidly, again in any units.
+#[test]
+fn a_part_with_half_its_area_paired_is_decided_the_same_in_any_units() {
+    let body = THIN.mesh();
+    for (rings, segments) in [(4, 6), (5, 7), (3, 10), (6, 9)] {
+        let part = mapped(&open_tube(1.0, 0.3, rings, segments), |p| {
+            [p[0] + 1.5, p[1] + 1.2, p[2]]
+        });
+        let s0 = union(&body, &part);
+        let (nb, np) = (body.num_triangles() as u32, part.num_triangles() as u32);
+        let part_vertices = body.num_vertices()..s0.num_vertices();
+        // The part stretches to 1.5 times its length in the pose.
+        let pose = s0.with_positions(
+            s0.positions()
+                .iter()
+                .enumerate()
+                .map(|(v, &p)| {
+                    if part_vertices.contains(&v) {
+                        [1.5 + 1.5 * (p[0] - 1.5), p[1], p[2]]
+                    } else {
+                        p
+                    }
+                })
+                .collect(),
+        );
+        let pose = pose.unwrap();
+        let rest_length = extent_x(s0.positions(), part_vertices.clone());
+        for (paired_in_part, carried) in [(np / 2, false), (np / 2 - 1, true)] {
+            let mut pairs: Vec<[u32; 2]> = (0..nb).map(|t| [t, t]).collect();
+            // The first triangle of each rectangle: exactly half the area.
+            pairs.extend((0..paired_in_part).map(|k| [nb + 2 * k, nb + 2 * k]));
+            let mut first: Option<Vec<P3>> = None;
+            for scale in [1.0, 1000.0, 1e-3] {
+                let t0 = mapped(&s0, |p| p.map(|x| x * scale));
+                let alignment = meshmorph::Similarity::fit(s0.positions(), t0.positions()).unwrap();
+                let c = Correspondence::new(pairs.clone(), &s0, &t0).with_alignment(alignment);
+                let out = Transfer::new(&s0, &t0, &c, &TransferOptions::default())
+                    .unwrap()
+                    .apply(&pose)
+                    .unwrap();
+                let out: Vec<P3> = out.iter().map(|p| p.map(|x| x / scale)).collect();
+                let what = format!("{rings}x{segments}, {paired_in_part} of {np} paired, x{scale}");
+                let stretch = extent_x(&out, part_vertices.clone()) / rest_length;
+                if carried {
+                    assert!((stretch - 1.0).abs() < 1e-6, "{what}: stretched {stretch}");
+                } else {
+                    assert!(stretch > 1.2, "{what}: stretched only {stretch}");
+                }
+                match &first {
+                    None => first = Some(out),
+                    Some(f) => {
+                        let d = max_distance(&out, f) / s0.bounding_box_diagonal();
+                        assert!(d < 1e-6, "{what}: {d:e} of the diagonal from x1");
+                    }
+                }
+            }
+        }
+    }
+}
