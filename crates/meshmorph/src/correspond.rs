@@ -199,7 +199,8 @@ pub const MIN_MARKERS: usize = 3;
 ///
 /// # Errors
 /// - [`Error::InvalidArgument`] for bad markers (out of range, repeated, a
-///   source vertex with two targets) or fewer than [`MIN_MARKERS`] (a part
+///   source vertex with two targets, a vertex in no triangle) or fewer than
+///   [`MIN_MARKERS`] (a part
 ///   of the source without a marker of its own is placed by the alignment
 ///   and drawn onto the target by the closest points);
 /// - [`Error::DegenerateTriangles`] for zero-area triangles in either mesh;
