@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use crate::error::{Error, Result};
 use crate::geometry::{norm, sub};
-use crate::mesh::Mesh3;
+use crate::mesh::{used_vertices, Mesh3};
 use crate::seams::Seams;
 
 /// Pairs `(source vertex, target vertex)`, 0-based, with where they came from
@@ -93,7 +93,10 @@ impl Markers {
             source.bounding_box_diagonal(),
             target.bounding_box_diagonal(),
         );
-        let (us, ut) = (used_vertices(source), used_vertices(target));
+        let (us, ut) = (
+            used_vertices(source.num_vertices(), source.triangles()),
+            used_vertices(target.num_vertices(), target.triangles()),
+        );
         for (k, &([ps, pt], line)) in self.points.iter().enumerate() {
             let name = match &self.path {
                 Some(p) => format!("`{}`, line {line}", p.display()),
@@ -188,7 +191,10 @@ impl Markers {
     /// # Panics
     /// If a vertex is out of range.
     pub fn validate_on_triangles(&self, source: &Mesh3, target: &Mesh3) -> Result<()> {
-        let used = [used_vertices(source), used_vertices(target)];
+        let used = [
+            used_vertices(source.num_vertices(), source.triangles()),
+            used_vertices(target.num_vertices(), target.triangles()),
+        ];
         for (k, pair) in self.pairs.iter().enumerate() {
             for (slot, which) in ["source", "target"].into_iter().enumerate() {
                 let v = pair[slot];
@@ -297,16 +303,6 @@ impl Markers {
             _ => format!("marker {k}"),
         }
     }
-}
-
-/// Which vertices a triangle uses.
-fn used_vertices(mesh: &Mesh3) -> Vec<bool> {
-    let mut used = vec![false; mesh.num_vertices()];
-    mesh.triangles()
-        .iter()
-        .flatten()
-        .for_each(|&v| used[v as usize] = true);
-    used
 }
 
 /// The used vertex nearest to `p` (the lowest index among equals) and its

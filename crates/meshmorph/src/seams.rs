@@ -66,12 +66,7 @@ impl Seams {
             }
         }
         groups.retain(|g| g.len() > 1);
-        let mut welded_of: Vec<u32> = (0..n as u32).collect();
-        for g in &groups {
-            for &v in &g[1..] {
-                welded_of[v as usize] = g[0];
-            }
-        }
+        let mut welded_of = first_copies(n, &groups);
         // Copies along a seam have neighbours that are one vertex or copies
         // of one vertex too; parts that only touch at a point (two cubes
         // corner to corner, a tooth on the gum) do not, and stay apart.
@@ -86,33 +81,24 @@ impl Seams {
                 n,
                 first.triangles(),
             );
-            welded_of = (0..n as u32).collect();
-            for g in &groups {
-                for &v in &g[1..] {
-                    welded_of[v as usize] = g[0];
-                }
-            }
+            welded_of = first_copies(n, &groups);
             // Each pass only parts copies: it ends.
             if groups.iter().map(Vec::len).sum::<usize>() == count {
                 break;
             }
         }
         // A triangle with two copies among its corners keeps them apart.
-        let collapses = |w: &[u32]| {
-            first.triangles().iter().any(|t| {
-                let [a, b, c] = t.map(|v| w[v as usize]);
-                a == b || b == c || a == c
-            })
-        };
-        if collapses(&welded_of) {
-            for t in first.triangles() {
-                let [a, b, c] = t.map(|v| welded_of[v as usize]);
-                if a == b || b == c || a == c {
-                    for &v in t {
-                        welded_of[v as usize] = v;
-                    }
+        let mut parted = false;
+        for t in first.triangles() {
+            let [a, b, c] = t.map(|v| welded_of[v as usize]);
+            if a == b || b == c || a == c {
+                for &v in t {
+                    welded_of[v as usize] = v;
                 }
+                parted = true;
             }
+        }
+        if parted {
             groups = regroup(&welded_of);
         }
         // Welded vertices numbered in the order of their first vertex.
@@ -343,12 +329,11 @@ fn keep_manifold(groups: Vec<Vec<u32>>, n: usize, triangles: &[[u32; 3]]) -> Vec
     if groups.is_empty() {
         return groups;
     }
+    let root = first_copies(n, &groups);
     let mut group_of = vec![u32::MAX; n];
-    let mut root = (0..n as u32).collect::<Vec<u32>>();
     for (k, g) in groups.iter().enumerate() {
         for &v in g {
             group_of[v as usize] = k as u32;
-            root[v as usize] = g[0];
         }
     }
     // Triangles per edge, welded and as they are, for edges at a copy.
@@ -391,6 +376,18 @@ fn keep_manifold(groups: Vec<Vec<u32>>, n: usize, triangles: &[[u32; 3]]) -> Vec
         .filter(|(_, d)| !d)
         .map(|(g, _)| g)
         .collect()
+}
+
+/// Each vertex's first copy (itself when it has none) for `groups`, each
+/// listed in increasing order.
+fn first_copies(n: usize, groups: &[Vec<u32>]) -> Vec<u32> {
+    let mut first: Vec<u32> = (0..n as u32).collect();
+    for g in groups {
+        for &v in &g[1..] {
+            first[v as usize] = g[0];
+        }
+    }
+    first
 }
 
 /// The groups of more than one vertex of a map to root vertices.
