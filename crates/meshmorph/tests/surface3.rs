@@ -479,3 +479,151 @@ fn the_interpolator_in_space_is_the_two_key_sequence() {
         .iter()
         .any(|r| r.turns.iter().any(|&c| c != 0.0)));
 }
+
+/// The shortest edge of the surface `m` with positions `p`.
+fn shortest_edge(m: &Mesh3, p: &[P]) -> f64 {
+    edge_lengths(m, p).into_iter().fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn a_tail_bent_then_twisted_keeps_its_shape_between_later_keys() {
+    // Keys of a tail: straight, bent 90 degrees, bent 200, bent 200 after a
+    // twist of 90 about its own axis. From key 2 to key 3 every triangle
+    // turns by at most 90 degrees (the twist, about the bent axis), while
+    // the rotations measured from key 0 turn about different axes, whose
+    // vectors do not subtract: the last segment must not tear.
+    let (length, t) = (4.0, tube(4.0, 0.3, 41, 16));
+    let keys = vec![
+        t.clone(),
+        bend(&t, length, 90f64.to_radians()),
+        bend(&t, length, 200f64.to_radians()),
+        bend(
+            &twist(&t, length, 90f64.to_radians()),
+            length,
+            200f64.to_radians(),
+        ),
+    ];
+    let seq = Sequence3::new(&keys, &opts()).unwrap();
+    let diag = t.bounding_box_diagonal();
+    for (j, key) in keys.iter().enumerate() {
+        let d = max_distance(&seq.at(j as f64), key.positions());
+        assert!(d < 1e-9 * diag, "key {j}: {d}");
+    }
+    let shortest_key = keys
+        .iter()
+        .map(|k| shortest_edge(&t, k.positions()))
+        .fold(f64::INFINITY, f64::min);
+    let mut worst = f64::INFINITY;
+    for i in 0..=60 {
+        let s = 3.0 * i as f64 / 60.0;
+        let f = seq.at(s);
+        assert_eq!(seq.count_turned_over(&f), 0, "s = {s}");
+        let e = shortest_edge(&t, &f);
+        worst = worst.min(e);
+        assert!(
+            e > 0.5 * shortest_key,
+            "s = {s}: {e} against {shortest_key}"
+        );
+    }
+    println!("tail: shortest edge of any frame {worst:.4}, of the keys {shortest_key:.4}");
+    // Within half a turn of the previous key no triangle needs whole turns.
+    assert_eq!(seq.triangles_with_whole_turns()[2], 0);
+    // The last segment alone, as a two-key interpolation from key 2, is
+    // nearly the same (not exactly: the sequence measures stretches from
+    // key 0 and fits on key 0's triangles).
+    let alone = Sequence3::new(&[keys[2].clone(), keys[3].clone()], &opts()).unwrap();
+    for u in [0.25, 0.5, 0.75] {
+        let d = rigid_distance(&seq.at(2.0 + u), &alone.at(u)) / diag;
+        println!("tail: last segment at {u} against the two keys alone: {d:.2e}");
+        assert!(d < 5e-3, "at {u}: {d}");
+    }
+}
+
+#[test]
+fn a_rigid_turn_through_keys_keeps_turning_and_stays_rigid() {
+    // Keys turned about one axis by 0, 100, 200 and 300 degrees (beyond
+    // half a turn from key 0 from key 2 on): every frame is rigid, the
+    // rotation of the frame at s is 100 s degrees, on the way forward.
+    let t = tube(4.0, 0.3, 21, 10);
+    let axis = [0.48, 0.6, 0.64];
+    let turned = |degrees: f64| {
+        let a = degrees.to_radians();
+        rigid_motion3(&t, exp_rotation(axis.map(|x| x * a)), [0.5, -1.0, 2.0])
+    };
+    let keys: Vec<Mesh3> = [0.0, 100.0, 200.0, 300.0].map(turned).to_vec();
+    let seq = Sequence3::new(&keys, &opts()).unwrap();
+    let diag = t.bounding_box_diagonal();
+    for i in 0..=30 {
+        let s = 3.0 * i as f64 / 30.0;
+        let f = seq.at(s);
+        // Rigid: the pose turned by 100 s degrees, up to a translation
+        // (the centroid runs on straight lines between the keys').
+        let expected = turned(100.0 * s);
+        let centre = |p: &[P]| -> P {
+            std::array::from_fn(|k| p.iter().map(|x| x[k]).sum::<f64>() / p.len() as f64)
+        };
+        let (cf, ce) = (centre(&f), centre(expected.positions()));
+        let d = f
+            .iter()
+            .zip(expected.positions())
+            .map(|(a, b)| {
+                dist(
+                    std::array::from_fn(|k| a[k] - cf[k]),
+                    std::array::from_fn(|k| b[k] - ce[k]),
+                )
+            })
+            .fold(0.0, f64::max)
+            / diag;
+        assert!(d < 1e-9, "s = {s}: {d}");
+    }
+    // Keys 0, 100 and 300 degrees are the same meshes as 0, 100 and -60:
+    // nothing tells a turn of 200 degrees from one of -160 between the
+    // last two, and the segment takes the shortest way, as two keys do.
+    let short = Sequence3::new(
+        &[keys[0].clone(), keys[1].clone(), keys[3].clone()],
+        &opts(),
+    )
+    .unwrap();
+    let d = rigid_distance(&short.at(1.5), turned(20.0).positions()) / diag;
+    assert!(d < 1e-9, "{d}");
+}
+
+#[test]
+fn a_tube_bent_further_at_every_key_bends_monotonically() {
+    // Keys bent by 0, 150, 300 and 450 degrees: the direction of the tube's
+    // end turns forward all the way, through 450 degrees, and no frame
+    // turns a triangle over.
+    let (length, t) = (10.0, tube(10.0, 0.1, 121, 8));
+    let keys: Vec<Mesh3> = [0.0, 150.0, 300.0, 450.0f64]
+        .iter()
+        .map(|a| bend(&t, length, a.to_radians()))
+        .collect();
+    let seq = Sequence3::new(&keys, &opts()).unwrap();
+    // The end's direction: from the centre of the last ring but one to the
+    // centre of the end cap (the last vertex).
+    let n = t.num_vertices();
+    let (rings, segments) = (121, 8);
+    let direction = |p: &[P]| {
+        let ring = (rings - 2) * segments;
+        let c: P = std::array::from_fn(|k| {
+            (0..segments).map(|s| p[ring + s][k]).sum::<f64>() / segments as f64
+        });
+        let end = p[n - 1];
+        (end[1] - c[1]).atan2(end[0] - c[0])
+    };
+    let (mut previous, mut unwrapped) = (0.0, 0.0);
+    for i in 1..=90 {
+        let s = 3.0 * i as f64 / 90.0;
+        let f = seq.at(s);
+        assert_eq!(seq.count_turned_over(&f), 0, "s = {s}");
+        let a = direction(&f);
+        let step = (a - previous + PI).rem_euclid(2.0 * PI) - PI;
+        assert!(step > 0.0 && step < 0.5, "s = {s}: the end turns by {step}");
+        unwrapped += step;
+        previous = a;
+    }
+    assert!(
+        (unwrapped - 450f64.to_radians()).abs() < 0.05,
+        "{unwrapped}"
+    );
+}

@@ -34,6 +34,11 @@ pub struct RotationLog3 {
     pub turns: [f64; 3],
     /// The principal rotation vector.
     pub principal: [f64; 3],
+    /// For a later key of a sequence (branches chosen with a previous key),
+    /// the whole-turn vector of the way from the previous key's rotation to
+    /// this one (see [`super::patches::whole_turns`]); `None` for a first
+    /// key and for blends.
+    pub turns_from_previous: Option<[f64; 3]>,
 }
 
 impl RotationLog3 {
@@ -109,21 +114,74 @@ impl SegmentRotation {
 
 /// One triangle's rotation from `from` to `to`: its base, its principal
 /// rotation vector `e` and its whole-turn vector `c` (zero without
-/// `whole_turns`).
+/// `whole_turns`): the whole turns chosen with `to`'s branches from the
+/// previous key's, or, from a first key (the identity), the whole turns of
+/// `to`'s branch.
 fn segment(
     (from, from_log): (&Quat, &RotationLog3),
     (to, to_log): (&Quat, &RotationLog3),
     whole_turns: bool,
 ) -> (Quat, [f64; 3], [f64; 3]) {
     let base = *from;
-    let conj = [base[0], -base[1], -base[2], -base[3]];
-    let e = quat_log(quat_mul(*to, conj));
-    let c = if whole_turns {
-        nearest_whole_turns(sub(sub(to_log.lifted(), from_log.lifted()), e))
-    } else {
-        [0.0; 3]
+    let e = quat_log(quat_mul(*to, quat_conj(base)));
+    let c = match to_log.turns_from_previous {
+        _ if !whole_turns => [0.0; 3],
+        Some(c) => c,
+        None => nearest_whole_turns(sub(sub(to_log.lifted(), from_log.lifted()), e)),
     };
     (base, e, c)
+}
+
+/// The conjugate (inverse) of a unit quaternion.
+#[inline]
+fn quat_conj(q: Quat) -> Quat {
+    [q[0], -q[1], -q[2], -q[3]]
+}
+
+/// The whole-turn vector of every triangle's way from the previous key
+/// (`previous`: its logarithms) to `rotations` (the principal rotations of
+/// the next key, whose logarithms with branches are `logs`): the branch
+/// choice of [`whole_turns`] applied to the rotations relative to the
+/// previous key, `R_{j+1} R_jᵀ`, over patches between their jumps, the
+/// seeds' patches continuing the difference of the keys' lifted rotation
+/// vectors, `lifted_{j+1} − lifted_j`, averaged over the patch.
+fn turns_from_previous(
+    previous: &[RotationLog3],
+    rotations: &[Quat],
+    logs: &[RotationLog3],
+    adjacency: &TriangleAdjacency,
+    edge_weight: &dyn Fn(usize, usize) -> f64,
+    seeds: &[usize],
+    areas: &[f64],
+) -> Vec<[f64; 3]> {
+    let mut relative: Vec<Quat> = rotations
+        .par_iter()
+        .zip(previous)
+        .map(|(q, p)| principal(quat_mul(*q, quat_conj(quat_exp(p.principal)))))
+        .collect();
+    Space::<3>::settle_half_turns(&mut relative, adjacency);
+    let lifted: Vec<[f64; 3]> = logs
+        .iter()
+        .zip(previous)
+        .map(|(to, from)| sub(to.lifted(), from.lifted()))
+        .collect();
+    whole_turns(
+        &relative,
+        adjacency,
+        edge_weight,
+        seeds,
+        Some((&lifted, areas)),
+    )
+}
+
+/// The principal form of a unit quaternion: scalar part `≥ 0`.
+#[inline]
+fn principal(q: Quat) -> Quat {
+    if q[0] < 0.0 {
+        q.map(|x| -x)
+    } else {
+        q
+    }
 }
 
 impl Rotations<3> for Space<3> {
@@ -176,6 +234,7 @@ impl Rotations<3> for Space<3> {
         RotationLog3 {
             turns: [0.0; 3],
             principal: quat_log(*q),
+            turns_from_previous: None,
         }
     }
 
@@ -193,15 +252,32 @@ impl Rotations<3> for Space<3> {
     ) -> Vec<RotationLog3> {
         let lifted: Option<Vec<[f64; 3]>> =
             previous.map(|(logs, _)| logs.iter().map(RotationLog3::lifted).collect());
-        let previous = lifted.as_deref().zip(previous.map(|(_, areas)| areas));
-        whole_turns(rotations, adjacency, edge_weight, seeds, previous)
-            .into_iter()
-            .zip(rotations)
-            .map(|(turns, q)| RotationLog3 {
-                turns,
-                principal: quat_log(*q),
-            })
-            .collect()
+        let continued = lifted.as_deref().zip(previous.map(|(_, areas)| areas));
+        let mut logs: Vec<RotationLog3> =
+            whole_turns(rotations, adjacency, edge_weight, seeds, continued)
+                .into_iter()
+                .zip(rotations)
+                .map(|(turns, q)| RotationLog3 {
+                    turns,
+                    principal: quat_log(*q),
+                    turns_from_previous: None,
+                })
+                .collect();
+        if let Some((previous, areas)) = previous {
+            let turns = turns_from_previous(
+                previous,
+                rotations,
+                &logs,
+                adjacency,
+                edge_weight,
+                seeds,
+                areas,
+            );
+            for (log, c) in logs.iter_mut().zip(turns) {
+                log.turns_from_previous = Some(c);
+            }
+        }
+        logs
     }
 
     fn add_turns(log: &RotationLog3, turns: i32) -> RotationLog3 {
@@ -212,6 +288,7 @@ impl Rotations<3> for Space<3> {
                 axis.map(|x| x * std::f64::consts::TAU * turns as f64),
             ),
             principal: log.principal,
+            turns_from_previous: log.turns_from_previous,
         }
     }
 
