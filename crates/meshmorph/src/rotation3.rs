@@ -89,6 +89,22 @@ pub fn quat_mul(a: Quat, b: Quat) -> Quat {
     ]
 }
 
+/// The conjugate of a unit quaternion: the inverse rotation.
+#[inline]
+pub fn quat_conj(q: Quat) -> Quat {
+    [q[0], -q[1], -q[2], -q[3]]
+}
+
+/// The principal one of `q` and `−q` (the same rotation): `w ≥ 0`.
+#[inline]
+pub fn quat_principal(q: Quat) -> Quat {
+    if q[0] < 0.0 {
+        q.map(|x| -x)
+    } else {
+        q
+    }
+}
+
 /// The 4D dot product: `cos(φ/2)` up to sign, `φ` the angle of the rotation
 /// between `a` and `b`.
 #[inline]

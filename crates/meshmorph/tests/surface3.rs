@@ -487,55 +487,66 @@ fn shortest_edge(m: &Mesh3, p: &[P]) -> f64 {
 
 #[test]
 fn a_tail_bent_then_twisted_keeps_its_shape_between_later_keys() {
-    // Keys of a tail: straight, bent 90 degrees, bent 200, bent 200 after a
-    // twist of 90 about its own axis. From key 2 to key 3 every triangle
-    // turns by at most 90 degrees (the twist, about the bent axis), while
-    // the rotations measured from key 0 turn about different axes, whose
-    // vectors do not subtract: the last segment must not tear.
+    // Keys of a tail: straight, bent 90 degrees, bent further, then twisted
+    // about its own axis under the same bend. The rotations measured from
+    // key 0 turn about different axes, whose vectors do not subtract: the
+    // last segment must not tear, and must turn as the two-key
+    // interpolation from key 2 to key 3 does (with as many whole turns
+    // where the twist goes beyond half a turn).
     let (length, t) = (4.0, tube(4.0, 0.3, 41, 16));
-    let keys = vec![
-        t.clone(),
-        bend(&t, length, 90f64.to_radians()),
-        bend(&t, length, 200f64.to_radians()),
-        bend(
-            &twist(&t, length, 90f64.to_radians()),
-            length,
-            200f64.to_radians(),
-        ),
-    ];
-    let seq = Sequence3::new(&keys, &opts()).unwrap();
     let diag = t.bounding_box_diagonal();
-    for (j, key) in keys.iter().enumerate() {
-        let d = max_distance(&seq.at(j as f64), key.positions());
-        assert!(d < 1e-9 * diag, "key {j}: {d}");
-    }
-    let shortest_key = keys
-        .iter()
-        .map(|k| shortest_edge(&t, k.positions()))
-        .fold(f64::INFINITY, f64::min);
-    let mut worst = f64::INFINITY;
-    for i in 0..=60 {
-        let s = 3.0 * i as f64 / 60.0;
-        let f = seq.at(s);
-        assert_eq!(seq.count_turned_over(&f), 0, "s = {s}");
-        let e = shortest_edge(&t, &f);
-        worst = worst.min(e);
-        assert!(
-            e > 0.5 * shortest_key,
-            "s = {s}: {e} against {shortest_key}"
+    for (bent, twisted) in [(200.0f64, 90.0f64), (200.0, 270.0), (300.0, 200.0)] {
+        let name = format!("bent {bent}, twisted {twisted}");
+        let keys = vec![
+            t.clone(),
+            bend(&t, length, 90f64.to_radians()),
+            bend(&t, length, bent.to_radians()),
+            bend(
+                &twist(&t, length, twisted.to_radians()),
+                length,
+                bent.to_radians(),
+            ),
+        ];
+        let seq = Sequence3::new(&keys, &opts()).unwrap();
+        for (j, key) in keys.iter().enumerate() {
+            let d = max_distance(&seq.at(j as f64), key.positions());
+            assert!(d < 1e-9 * diag, "{name}, key {j}: {d}");
+        }
+        let shortest_key = keys
+            .iter()
+            .map(|k| shortest_edge(&t, k.positions()))
+            .fold(f64::INFINITY, f64::min);
+        let mut worst = f64::INFINITY;
+        for i in 0..=60 {
+            let s = 3.0 * i as f64 / 60.0;
+            let f = seq.at(s);
+            assert_eq!(seq.count_turned_over(&f), 0, "{name}, s = {s}");
+            let e = shortest_edge(&t, &f);
+            worst = worst.min(e);
+            assert!(
+                e > 0.5 * shortest_key,
+                "{name}, s = {s}: {e} against {shortest_key}"
+            );
+        }
+        // The last segment alone, as a two-key interpolation from key 2:
+        // nearly the same frames (not exactly: the sequence measures
+        // stretches from key 0 and fits on key 0's triangles), the same
+        // whole turns.
+        let alone = Sequence3::new(&[keys[2].clone(), keys[3].clone()], &opts()).unwrap();
+        let mut apart = 0.0f64;
+        for u in [0.25, 0.5, 0.75] {
+            apart = apart.max(rigid_distance(&seq.at(2.0 + u), &alone.at(u)) / diag);
+        }
+        println!(
+            "tail {name}: shortest edge of any frame {worst:.4}, of the keys {shortest_key:.4}; last segment against the two keys alone {apart:.2e}; whole turns {:?}",
+            seq.triangles_with_whole_turns()
         );
-    }
-    println!("tail: shortest edge of any frame {worst:.4}, of the keys {shortest_key:.4}");
-    // Within half a turn of the previous key no triangle needs whole turns.
-    assert_eq!(seq.triangles_with_whole_turns()[2], 0);
-    // The last segment alone, as a two-key interpolation from key 2, is
-    // nearly the same (not exactly: the sequence measures stretches from
-    // key 0 and fits on key 0's triangles).
-    let alone = Sequence3::new(&[keys[2].clone(), keys[3].clone()], &opts()).unwrap();
-    for u in [0.25, 0.5, 0.75] {
-        let d = rigid_distance(&seq.at(2.0 + u), &alone.at(u)) / diag;
-        println!("tail: last segment at {u} against the two keys alone: {d:.2e}");
-        assert!(d < 5e-3, "at {u}: {d}");
+        assert!(apart < 1e-2, "{name}: {apart}");
+        assert_eq!(
+            seq.triangles_with_whole_turns()[2],
+            alone.triangles_with_whole_turns()[0],
+            "{name}"
+        );
     }
 }
 
@@ -626,4 +637,35 @@ fn a_tube_bent_further_at_every_key_bends_monotonically() {
         (unwrapped - 450f64.to_radians()).abs() < 0.05,
         "{unwrapped}"
     );
+}
+
+#[test]
+fn a_whole_turn_between_two_later_keys_is_made() {
+    // Keys bent (or twisted) by 0, 180 and 540 degrees: between the last
+    // two the end turns by a whole turn, where its rotation relative to the
+    // previous key is the identity with a stray axis; halfway it is the
+    // 360-degree bend (twist), within 0.5 % (2 %: a twist shears) of the
+    // diagonal.
+    let (length, t) = (6.0, tube(6.0, 0.2, 61, 8));
+    type Deform = fn(&Mesh3, f64, f64) -> Mesh3;
+    for (name, deform, tolerance) in [("bend", bend as Deform, 0.005), ("twist", twist, 0.02)] {
+        let keys: Vec<Mesh3> = [0.0, 180.0, 540.0f64]
+            .iter()
+            .map(|a| deform(&t, length, a.to_radians()))
+            .collect();
+        let seq = Sequence3::new(&keys, &opts()).unwrap();
+        let diag = t.bounding_box_diagonal();
+        let whole = deform(&t, length, 2.0 * PI);
+        let f = seq.at(1.5);
+        let d = rigid_distance(&f, whole.positions()) / diag;
+        println!(
+            "{name} 0, 180, 540: at 1.5 against 360: {d:.2e}; whole turns {:?}",
+            seq.triangles_with_whole_turns()
+        );
+        assert!(d < tolerance, "{name}: {d}");
+        for i in 0..=20 {
+            let s = 1.0 + i as f64 / 20.0;
+            assert_eq!(seq.count_turned_over(&seq.at(s)), 0, "{name} at {s}");
+        }
+    }
 }

@@ -75,7 +75,8 @@ pub trait Rotations<const D: usize>: TriangleMaps<D> {
     /// make them consistent over `adjacency`, each seed's part taking the
     /// principal branch at the seed, or, given `previous` (the logarithms of
     /// the previous key of a sequence and the triangles' areas), the branch
-    /// nearest to it. `edge_weight(i, j)` weighs the edge between
+    /// nearest to it, with (in space) the whole turns of the way from the
+    /// previous key, for [`Rotations::segments`]. `edge_weight(i, j)` weighs the edge between
     /// neighbours `i` and `j` (its length). The interpolation calls it
     /// through one entry point that chooses the seeds (the triangle of each
     /// part that turns least) the same way in every dimension.
@@ -93,7 +94,9 @@ pub trait Rotations<const D: usize>: TriangleMaps<D> {
     /// The rotation of every triangle from key `j` (`from`: the principal
     /// rotations and logarithms) to key `j + 1` (`to`), and what they share.
     /// With `whole_turns` each takes the whole turns by which the branches
-    /// of its two logarithms differ; without, it goes the shortest way.
+    /// of its two logarithms differ (in space, between later keys, those
+    /// [`Rotations::choose_branches`] chose with `to`'s branches); without,
+    /// it goes the shortest way.
     fn segments(
         from: (&[Self::Principal], &[Self::Log]),
         to: (&[Self::Principal], &[Self::Log]),

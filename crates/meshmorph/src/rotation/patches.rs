@@ -40,6 +40,10 @@
 //!    those edges better by more than a quarter turn on average than with
 //!    no turns; otherwise it keeps its principal rotations.
 //!
+//! The same choice, applied to the rotations of a key relative to the
+//! previous one, gives the whole turns of a sequence's segment between
+//! later keys (see [`super::spatial`]).
+//!
 //! Why patches rather than a walk from triangle to triangle: in 3D the axes
 //! of neighbours differ, non-rigid regions rotate a lot relative to each
 //! other, and a walk that lets every triangle pick the branch nearest to the
@@ -74,14 +78,17 @@ use crate::topology::TriangleAdjacency;
 /// triangle per part connected across edges. Triangles no seed reaches keep
 /// a zero vector.
 ///
-/// For a later key of a sequence, `previous` continues the previous
-/// key: each seed's patch takes, instead of no turns, the whole turns
-/// nearest to the previous key's lifted rotation vectors over the patch
-/// (`previous.0[i]`, whole-turn vector plus principal vector), weighted by
-/// `previous.1` (the triangles' areas); the other patches follow from it as
-/// above. A part that keeps turning from key to key keeps
-/// turning the same way, as long as the seeds' patches turn by less than
-/// half a turn between two keys.
+/// With `previous`, the seeds' patches continue given lifted rotation
+/// vectors: each takes, instead of no turns, the whole turns nearest to
+/// `previous.0[i] − e_i` averaged over the patch (`e_i` the principal
+/// vector of `rotations[i]`), weighted by `previous.1` (the triangles'
+/// areas); the other patches follow from it as above. For a later key of a
+/// sequence these are the previous key's lifted rotation vectors
+/// (whole-turn vector plus principal vector), so a part that keeps turning
+/// from key to key keeps turning the same way, as long as the seeds'
+/// patches turn by less than half a turn between two keys; for the
+/// rotations relative to the previous key (a segment's whole turns), the
+/// difference of the two keys' lifted vectors.
 pub fn whole_turns(
     rotations: &[Quat],
     adjacency: &TriangleAdjacency,
@@ -259,12 +266,7 @@ mod tests {
     }
 
     fn principal(w: [f64; 3]) -> Quat {
-        let q = quat_exp(w);
-        if q[0] < 0.0 {
-            q.map(|x| -x)
-        } else {
-            q
-        }
+        crate::rotation3::quat_principal(quat_exp(w))
     }
 
     /// The lifted rotation vector of triangle `i` at `t = 1`, i.e. the total

@@ -6,6 +6,22 @@
 //! `R_{j+1} R_jᵀ` and `c` its whole turns (see [`super::patches`]); from key
 //! 0 (`R_0 = I`) this is the rotation interpolated along its axis by angle,
 //! with whole turns where a part turns by more than half a turn.
+//!
+//! Between later keys the whole turns `c` are chosen like a key's branches,
+//! by the same patches, over the rotations relative to the previous key,
+//! `R_{j+1} R_jᵀ`: where these jump across a half turn between neighbours,
+//! the patches beyond take the whole turns that continue their neighbours';
+//! the patch of each part's seed takes the whole turns nearest to the
+//! difference of the keys' lifted rotation vectors (both measured from key
+//! 0, so a part that keeps turning keeps turning the same way), averaged
+//! over the patch. That difference is exact where the rotations share an
+//! axis (as in the plane); in space, rotation vectors do not subtract
+//! (`log(AB) ≠ log A + log B`: a tail bent by 200 degrees, then twisted by
+//! 90 about its bent axis, differs by radians), so it only decides what
+//! the patch as a whole does, never a triangle on its own; and a segment
+//! whose relative rotations stay under half a turn everywhere is one patch
+//! per part, which takes the shortest way unless the keys' lifted vectors
+//! say the part turned by more than half a turn.
 #![allow(non_snake_case)]
 
 use super::patches::{nearest_whole_turns, whole_turns};
@@ -14,7 +30,8 @@ use crate::geometry::{add, norm, sub};
 use crate::matrix::Mat3;
 use crate::polar3::{polar_decomposition3, SymmetricEigen3};
 use crate::rotation3::{
-    quat_axis_angle, quat_dot, quat_exp, quat_from_matrix, quat_log, quat_mul, quat_to_matrix, Quat,
+    quat_axis_angle, quat_conj, quat_dot, quat_exp, quat_from_matrix, quat_log, quat_mul,
+    quat_principal, quat_to_matrix, Quat,
 };
 use crate::topology::TriangleAdjacency;
 
@@ -35,9 +52,11 @@ pub struct RotationLog3 {
     /// The principal rotation vector.
     pub principal: [f64; 3],
     /// For a later key of a sequence (branches chosen with a previous key),
-    /// the whole-turn vector of the way from the previous key's rotation to
-    /// this one (see [`super::patches::whole_turns`]); `None` for a first
-    /// key and for blends.
+    /// the whole-turn vector `c` of the way from the previous key's rotation
+    /// `R_j` to this one, `exp(u c) exp(u e) R_j` with `e` the principal
+    /// rotation vector of `R_{j+1} R_jᵀ`: chosen over the triangle adjacency
+    /// like the branches, from the rotations relative to the previous key.
+    /// `None` for a first key and for blends.
     pub turns_from_previous: Option<[f64; 3]>,
 }
 
@@ -132,12 +151,6 @@ fn segment(
     (base, e, c)
 }
 
-/// The conjugate (inverse) of a unit quaternion.
-#[inline]
-fn quat_conj(q: Quat) -> Quat {
-    [q[0], -q[1], -q[2], -q[3]]
-}
-
 /// The whole-turn vector of every triangle's way from the previous key
 /// (`previous`: its logarithms) to `rotations` (the principal rotations of
 /// the next key, whose logarithms with branches are `logs`): the branch
@@ -157,7 +170,7 @@ fn turns_from_previous(
     let mut relative: Vec<Quat> = rotations
         .par_iter()
         .zip(previous)
-        .map(|(q, p)| principal(quat_mul(*q, quat_conj(quat_exp(p.principal)))))
+        .map(|(q, p)| quat_principal(quat_mul(*q, quat_conj(quat_exp(p.principal)))))
         .collect();
     Space::<3>::settle_half_turns(&mut relative, adjacency);
     let lifted: Vec<[f64; 3]> = logs
@@ -172,16 +185,6 @@ fn turns_from_previous(
         seeds,
         Some((&lifted, areas)),
     )
-}
-
-/// The principal form of a unit quaternion: scalar part `≥ 0`.
-#[inline]
-fn principal(q: Quat) -> Quat {
-    if q[0] < 0.0 {
-        q.map(|x| -x)
-    } else {
-        q
-    }
 }
 
 impl Rotations<3> for Space<3> {
