@@ -21,7 +21,10 @@
 //! - the vertices are the least-squares fit of these maps ([`RestSystem`],
 //!   factored once for every segment), each connected part placed with its
 //!   area-weighted centroid on the straight line between the keys'
-//!   centroids.
+//!   centroids; but a separate part that keeps its place in the part it
+//!   sits in (eyes in a head) goes along with the surface around it, its
+//!   offset from that surface turned with it, so a head that turns does not
+//!   leave its eyes behind.
 //!
 //! Rotations are measured from `K_0` and continue across keys: each key's
 //! branches are chosen by rotation consistency over the mesh
@@ -34,6 +37,7 @@ use std::sync::{Arc, OnceLock};
 
 use rayon::prelude::*;
 
+use super::attached::Attached;
 use super::poses::{check_poses, decompose};
 use super::{FrameWorkspace, InterpolatorOptions, RestSystem, StretchMode};
 use crate::error::{Error, Result};
@@ -115,6 +119,11 @@ where
     segments: Vec<Segment<D>>,
     /// Centroid of each part in each key.
     centroids: Vec<Vec<[f64; D]>>,
+    /// The parts that follow their anchors between keys.
+    attached: Attached,
+    /// Each anchored part's offset from its anchors in each key (in the
+    /// anchors' frame of the first key).
+    offsets: Vec<Vec<[f64; D]>>,
     /// Positions of the vertices no triangle uses, in each key.
     loose: Vec<Vec<[f64; D]>>,
 }
@@ -211,19 +220,27 @@ where
         later: &[Mesh<D>],
         segments: Vec<Segment<D>>,
     ) -> Self {
-        let source = rest.source();
-        let mut centroids = vec![rest.centroids(source.positions())];
-        let mut loose = vec![rest.loose_positions(source.positions())];
-        for key in later {
-            centroids.push(rest.centroids(key.positions()));
-            loose.push(rest.loose_positions(key.positions()));
-        }
+        let first = rest.source().positions();
+        let keys = || std::iter::once(first).chain(later.iter().map(Mesh::positions));
+        let centroids: Vec<_> = keys().map(|k| rest.centroids(k)).collect();
+        let loose = keys().map(|k| rest.loose_positions(k)).collect();
+        let key_offsets: Vec<_> = keys()
+            .zip(&centroids)
+            .map(|(k, c)| rest.anchors.offsets(first, k, c))
+            .collect();
+        let attached = rest.anchors.attached(&key_offsets);
+        let offsets = key_offsets
+            .iter()
+            .map(|k| k.iter().map(|o| o.local).collect())
+            .collect();
         Self {
             rest,
             adjacency,
             rest_folds: OnceLock::new(),
             segments,
             centroids,
+            attached,
+            offsets,
             loose,
         }
     }
@@ -247,6 +264,18 @@ where
                     .count()
             })
             .collect()
+    }
+
+    /// Number of connected parts of the mesh.
+    pub fn num_parts(&self) -> usize {
+        self.rest.num_components()
+    }
+
+    /// Number of separate parts that follow the part they sit in between
+    /// keys (eyes in a head that turns), rather than moving their centroids
+    /// on straight lines: see the module documentation.
+    pub fn parts_following_host(&self) -> usize {
+        self.attached.count()
     }
 
     /// Number of keys (the last one is at `s = num_keys() − 1`).
@@ -312,6 +341,9 @@ where
         // Each part's centroid is on its straight path.
         let (from, to) = (&self.centroids[j], &self.centroids[j + 1]);
         let centroid = |c: usize| between(from[c], to[c]);
+        let (from, to) = (&self.offsets[j], &self.offsets[j + 1]);
+        let offset = |i: usize| between(from[i], to[i]);
+        let attached = &self.attached;
         let mut turns_at = std::mem::take(&mut ws.turns);
         Space::<D>::turns_at(&seg.turns, u, &mut turns_at);
         let rot = |t: usize| Space::<D>::segment_at(&seg.rotations[t], &turns_at, u, seg.first);
@@ -320,6 +352,8 @@ where
             SegmentStretches::FromIdentity(v) => rest.solve_frame(
                 |t| mul(rot(t), lerp_from_identity(&v[t], u)),
                 centroid,
+                attached,
+                offset,
                 out,
                 ws,
             ),
@@ -329,12 +363,16 @@ where
                     mul(rot(t), lerp(a, b, u))
                 },
                 centroid,
+                attached,
+                offset,
                 out,
                 ws,
             ),
             SegmentStretches::Power(v) => rest.solve_frame(
                 |t| mul(rot(t), Space::<D>::stretch_power(&v[t], u, LOG_FLOOR)),
                 centroid,
+                attached,
+                offset,
                 out,
                 ws,
             ),
@@ -344,6 +382,8 @@ where
                     mul(rot(t), Space::<D>::stretch_exp(&lerp(a, b, u)))
                 },
                 centroid,
+                attached,
+                offset,
                 out,
                 ws,
             ),
