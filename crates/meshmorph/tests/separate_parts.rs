@@ -1,6 +1,6 @@
 //! Separate parts of one mesh between keys: parts that sit in a larger part
 //! (eyes in a head) turn with it; parts that move on their own keep their
-//! straight paths.
+//! straight paths. And frames at the keys' times are the keys.
 
 use std::f64::consts::PI;
 
@@ -204,4 +204,21 @@ fn planar_parts_turn_with_the_largest() {
         );
     }
     assert!(max_distance(&morph.at(1.0), turned.positions()) < 1e-9);
+}
+
+#[test]
+fn frames_at_the_keys_are_the_keys_to_the_bit() {
+    let rest = head();
+    let bent = rigid_motion3(&rest, rotation([0.0, 0.6, 0.8], 1.1), [0.3, 0.2, 0.1]);
+    let third = rigid_motion3(&rest, rotation([1.0, 0.0, 0.0], 0.4), [0.0, 0.0, 1.0]);
+    let keys = [rest.clone(), bent.clone(), third.clone()];
+    let options = InterpolatorOptions::default();
+    let sequence = Sequence::new(&keys, &options).unwrap();
+    for (s, key) in keys.iter().enumerate() {
+        assert_eq!(sequence.at(s as f64), key.positions(), "key {s}");
+    }
+    let blend = Blend::new(&rest, &[bent.clone(), third.clone()], &options).unwrap();
+    assert_eq!(blend.at(&[0.0, 0.0]), rest.positions());
+    assert_eq!(blend.at(&[1.0, 0.0]), bent.positions());
+    assert_eq!(blend.at(&[0.0, 1.0]), third.positions());
 }

@@ -48,7 +48,8 @@ where
     /// Each anchored part's offset from its anchors (in the anchors' frame
     /// of the base).
     offsets: Vec<[f64; D]>,
-    loose: Vec<[f64; D]>,
+    /// The shape's positions (a weight of 1 on it alone gives them).
+    positions: Vec<[f64; D]>,
 }
 
 /// A base mesh and shapes to blend with weights, in the plane (`D = 2`) or
@@ -79,7 +80,6 @@ where
     /// The parts that follow their anchors.
     attached: Attached,
     base_offsets: Vec<[f64; D]>,
-    base_loose: Vec<[f64; D]>,
 }
 
 /// Blends of surfaces in space.
@@ -165,7 +165,7 @@ where
                             .collect(),
                         centroids,
                         offsets: offsets.iter().map(|o| o.local).collect(),
-                        loose: rest.loose_positions(shape.positions()),
+                        positions: shape.positions().to_vec(),
                     },
                     offsets,
                 ))
@@ -180,7 +180,6 @@ where
             base_centroids,
             attached,
             base_offsets: base_offsets.iter().map(|o| o.local).collect(),
-            base_loose: rest.loose_positions(base.positions()),
             rest,
             adjacency,
             rest_folds: OnceLock::new(),
@@ -221,7 +220,8 @@ where
     }
 
     /// The blend with one weight per shape (any real numbers; all zero is
-    /// the base).
+    /// the base, a weight of 1 on one shape and 0 on the others that shape,
+    /// exactly).
     ///
     /// # Panics
     /// If `weights.len()` is not the number of shapes.
@@ -239,6 +239,18 @@ where
     #[track_caller]
     pub fn at_into(&self, weights: &[f64], out: &mut [[f64; D]], ws: &mut FrameWorkspace<D>) {
         assert_eq!(weights.len(), self.shapes.len(), "one weight per shape");
+        // No weight, or a weight of 1 on one shape alone: the base or that
+        // shape, to the bit.
+        if weights.iter().all(|&w| w == 0.0 || w == 1.0)
+            && weights.iter().filter(|&&w| w == 1.0).count() <= 1
+        {
+            let exact = weights.iter().position(|&w| w == 1.0);
+            let positions = exact.map_or(self.rest.source().positions(), |k| {
+                &self.shapes[k].positions
+            });
+            out.copy_from_slice(positions);
+            return;
+        }
         let active: Vec<(f64, &BlendShape<D>)> = weights
             .iter()
             .zip(&self.shapes)
@@ -272,8 +284,10 @@ where
         let offset = |i: usize| blended(self.base_offsets[i], &|s| s.offsets[i]);
         self.rest
             .solve_frame(map, centroid, &self.attached, offset, out, ws);
-        for (k, &v) in self.rest.loose_vertices().iter().enumerate() {
-            out[v as usize] = blended(self.base_loose[k], &|s| s.loose[k]);
+        let base = self.rest.source().positions();
+        for &v in self.rest.loose_vertices() {
+            let v = v as usize;
+            out[v] = blended(base[v], &|s| s.positions[v]);
         }
     }
 

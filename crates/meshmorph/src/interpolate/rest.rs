@@ -156,11 +156,6 @@ where
         &self.loose
     }
 
-    /// The positions in `positions` of the vertices no triangle uses.
-    pub(crate) fn loose_positions(&self, positions: &[[f64; D]]) -> Vec<[f64; D]> {
-        self.loose.iter().map(|&v| positions[v as usize]).collect()
-    }
-
     /// The area-weighted centroid of each connected part of `positions`
     /// (positions of the source's vertices in some pose).
     pub fn centroids(&self, positions: &[[f64; D]]) -> Vec<[f64; D]> {

@@ -124,8 +124,10 @@ where
     /// Each anchored part's offset from its anchors in each key (in the
     /// anchors' frame of the first key).
     offsets: Vec<Vec<[f64; D]>>,
-    /// Positions of the vertices no triangle uses, in each key.
-    loose: Vec<Vec<[f64; D]>>,
+    /// The positions of every key: frames at the keys' times are the keys
+    /// themselves, to the bit, and the vertices no triangle uses move on
+    /// straight lines between them.
+    keys: Vec<Vec<[f64; D]>>,
 }
 
 /// A keyframe sequence of surfaces in space.
@@ -223,12 +225,12 @@ where
         let first = rest.source().positions();
         let keys = || std::iter::once(first).chain(later.iter().map(Mesh::positions));
         let centroids: Vec<_> = keys().map(|k| rest.centroids(k)).collect();
-        let loose = keys().map(|k| rest.loose_positions(k)).collect();
         let key_offsets: Vec<_> = keys()
             .zip(&centroids)
             .map(|(k, c)| rest.anchors.offsets(first, k, c))
             .collect();
         let attached = rest.anchors.attached(&key_offsets);
+        let keys = keys().map(<[_]>::to_vec).collect();
         let offsets = key_offsets
             .iter()
             .map(|k| k.iter().map(|o| o.local).collect())
@@ -241,7 +243,7 @@ where
             centroids,
             attached,
             offsets,
-            loose,
+            keys,
         }
     }
 
@@ -298,8 +300,9 @@ where
         self.rest.workspace()
     }
 
-    /// Vertex positions at time `s`: key `j` at `s = j`; times before 0 or
-    /// after the last key extrapolate the first or last segment.
+    /// Vertex positions at time `s`: key `j` at `s = j` (its positions
+    /// exactly); times before 0 or after the last key extrapolate the first
+    /// or last segment.
     pub fn at(&self, s: f64) -> Vec<[f64; D]> {
         let mut out = vec![[0.0; D]; self.num_vertices()];
         self.at_into(s, &mut out, &mut self.workspace());
@@ -334,6 +337,10 @@ where
             (s.floor().max(0.0) as usize).min(last)
         };
         let u = s - j as f64;
+        if u == 0.0 || u == 1.0 {
+            out.copy_from_slice(&self.keys[j + u as usize]);
+            return;
+        }
         let seg = &self.segments[j];
         let between = |a: [f64; D], b: [f64; D]| -> [f64; D] {
             std::array::from_fn(|k| (1.0 - u) * a[k] + u * b[k])
@@ -388,8 +395,8 @@ where
                 ws,
             ),
         }
-        for (k, &v) in rest.loose_vertices().iter().enumerate() {
-            let (a, b) = (self.loose[j][k], self.loose[j + 1][k]);
+        for &v in rest.loose_vertices() {
+            let (a, b) = (self.keys[j][v as usize], self.keys[j + 1][v as usize]);
             // A vertex that does not move stays exactly where it is.
             let c = between(a, b);
             out[v as usize] = std::array::from_fn(|i| if a[i] == b[i] { a[i] } else { c[i] });
