@@ -77,6 +77,8 @@ pub struct Setup {
     pub unused_vertices: usize,
     /// Copies of vertices at seams, welded for the solve.
     pub welded_vertices: usize,
+    /// Separate parts placed by the surface they sit in.
+    pub parts_following_host: usize,
 }
 
 /// What a run did, for people and (with --json) for programs.
@@ -135,6 +137,10 @@ pub struct Report {
     /// Vertices at the same place as another in every key (copies at
     /// seams), welded for the solve; the frames keep them.
     pub welded_vertices: usize,
+    /// Separate parts (eyes, teeth) that keep their place in the part
+    /// around them and turn with it between keys, rather than moving their
+    /// centroids on straight lines.
+    pub parts_following_host: usize,
 }
 
 impl Report {
@@ -210,6 +216,9 @@ impl Report {
         }
         if let Some(line) = crate::output::welded_line(self.welded_vertices) {
             println!("welded:   {line}");
+        }
+        if let Some(line) = crate::output::following_line(self.parts_following_host) {
+            println!("parts:    {line}");
         }
         if self.surplus_frames_removed > 0 {
             println!(
@@ -391,6 +400,7 @@ where
         surplus_frames_removed: 0,
         unused_vertices: setup.unused_vertices,
         welded_vertices: setup.welded_vertices,
+        parts_following_host: setup.parts_following_host,
     })
 }
 

@@ -117,6 +117,8 @@ pub struct Report {
     pub total_seconds: f64,
     /// Triangles of the result turned over relative to the base.
     pub turned_over_triangles: usize,
+    /// Separate parts (eyes, teeth) placed by the surface they sit in.
+    pub parts_following_host: usize,
     /// Every file written.
     pub files_written: Vec<PathBuf>,
     /// The warnings given (also printed on stderr).
@@ -148,6 +150,9 @@ impl Report {
         println!("blend: {}", output::human_seconds(self.blend_seconds));
         println!("total: {}", output::human_seconds(self.total_seconds));
         println!("turned-over triangles: {}", self.turned_over_triangles);
+        if let Some(line) = output::following_line(self.parts_following_host) {
+            println!("parts: {line}");
+        }
         if let Some(line) = output::welded_line(self.welded_vertices) {
             println!("welded: {line}");
         }
@@ -232,6 +237,7 @@ pub fn run(args: &Args) -> Result<()> {
     }?;
     let Blended {
         turned_over,
+        parts_following_host,
         files_written,
         setup_seconds,
         blend_seconds,
@@ -257,6 +263,7 @@ pub fn run(args: &Args) -> Result<()> {
         blend_seconds,
         total_seconds: start.elapsed().as_secs_f64(),
         turned_over_triangles: turned_over,
+        parts_following_host,
         files_written,
         warnings,
         welded_vertices: base_file.seams.num_welded(),
@@ -278,6 +285,7 @@ struct BlendRun<'a> {
 /// What the report says of a blend written.
 struct Blended {
     turned_over: usize,
+    parts_following_host: usize,
     files_written: Vec<PathBuf>,
     setup_seconds: f64,
     blend_seconds: f64,
@@ -363,6 +371,7 @@ where
     }
     Ok(Blended {
         turned_over,
+        parts_following_host: blend.parts_following_host(),
         files_written: written,
         setup_seconds,
         blend_seconds,

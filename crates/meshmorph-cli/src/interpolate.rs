@@ -340,6 +340,7 @@ pub fn animate(
                 whole_turns: None,
                 unused_vertices,
                 welded_vertices,
+                parts_following_host: morph.sequence().parts_following_host(),
             };
             return write_frames(morph.sequence(), keys[0].positions(), &run, &setup);
         }
@@ -367,6 +368,7 @@ where
         whole_turns: Some(morph.triangles_with_whole_turns().iter().sum()),
         unused_vertices,
         welded_vertices,
+        parts_following_host: morph.parts_following_host(),
     };
     write_frames(&morph, keys[0].positions(), run, &setup)
 }

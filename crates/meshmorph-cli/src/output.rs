@@ -164,6 +164,18 @@ pub fn welded_line(welded: usize) -> Option<String> {
     })
 }
 
+/// What the reports of interpolations and blends say of separate parts
+/// placed by the surface they sit in, if any.
+pub fn following_line(parts: usize) -> Option<String> {
+    (parts > 0).then(|| {
+        format!(
+            "{} (eyes, teeth, ...) kept in place in the part around {} and turned with it",
+            count(parts, "separate part"),
+            if parts == 1 { "it" } else { "them" }
+        )
+    })
+}
+
 /// The library's warnings of what an output format could not hold of a
 /// file (each naming the file it wrote, here a staged one), said for
 /// `output`, the name the user gave.

@@ -2194,3 +2194,74 @@ fn interpolation_and_blend_keep_the_first_file() {
         ],
     );
 }
+
+/// A tube with a small tube ("an eye") just off its surface, and the whole
+/// turned by 90 degrees about z.
+fn head_with_an_eye(dir: &Path) -> (PathBuf, PathBuf) {
+    let head = tube(2.0, 0.5, 9, 10);
+    let eye = tube(0.2, 0.1, 3, 6);
+    let mut positions = head.positions().to_vec();
+    positions.extend(
+        eye.positions()
+            .iter()
+            .map(|p| [p[0] + 1.2, p[1] + 0.55, p[2]]),
+    );
+    let n = head.num_vertices() as u32;
+    let mut triangles = head.triangles().to_vec();
+    triangles.extend(eye.triangles().iter().map(|t| t.map(|v| v + n)));
+    let rest = Mesh3::new(positions, triangles).unwrap();
+    let turned = rest
+        .with_positions(
+            rest.positions()
+                .iter()
+                .map(|p| [-p[1], p[0], p[2]])
+                .collect(),
+        )
+        .unwrap();
+    let (a, b) = (dir.join("rest.obj"), dir.join("turned.obj"));
+    write(&a, &rest);
+    write(&b, &turned);
+    (a, b)
+}
+
+#[test]
+fn separate_parts_turn_with_the_part_they_sit_in() {
+    let dir = tempfile::tempdir().unwrap();
+    let (rest, turned) = head_with_an_eye(dir.path());
+    let out = dir.path().join("frames");
+    let report = json(&succeeds(&run([
+        "interpolate",
+        &shown(&rest),
+        &shown(&turned),
+        "-o",
+        &shown(&out),
+        "--frames",
+        "3",
+        "--json",
+    ])));
+    assert_eq!(uint(&report, "parts_following_host"), 1);
+    // Halfway the eye's centre is as far from the head's axis as at rest
+    // (0.55): on a straight line it would be 0.55 cos 45° from it.
+    let halfway = read(&out.join("frame_0001.obj"));
+    let eye = &halfway.positions()[92..];
+    let head = &halfway.positions()[..92];
+    let mean = |p: &[[f64; 3]]| -> [f64; 3] {
+        let s = p
+            .iter()
+            .fold([0.0; 3], |s, q| [s[0] + q[0], s[1] + q[1], s[2] + q[2]]);
+        s.map(|x| x / p.len() as f64)
+    };
+    let (e, h) = (mean(eye), mean(head));
+    // The head's axis at 45 degrees: (1, 1, 0) / √2 through its centroid.
+    let d = [e[0] - h[0], e[1] - h[1]];
+    let off_axis = (d[0] - d[1]).abs() / 2f64.sqrt();
+    assert!((off_axis - 0.55).abs() < 1e-6, "{off_axis}");
+    let blended = dir.path().join("blend.obj");
+    let report = json(&succeeds(&blend(
+        &rest,
+        &[(&turned, "0.5")],
+        &blended,
+        &["--json"],
+    )));
+    assert_eq!(uint(&report, "parts_following_host"), 1);
+}

@@ -19,7 +19,7 @@ use rstar::primitives::GeomWithData;
 use rstar::RTree;
 
 use crate::geometry::{add, sub};
-use crate::similarity::best_rotation;
+use crate::similarity::rigid_fit;
 use crate::topology::Components;
 
 /// How many nearest vertices of the surrounding parts each vertex of a
@@ -118,25 +118,7 @@ impl CarriedParts {
     /// its anchors from `rest` to their positions in `out`.
     pub fn carry(&self, rest: &[[f64; 3]], out: &mut [[f64; 3]]) {
         for part in &self.parts {
-            let k = part.anchors.len() as f64;
-            let mean = |p: &[[f64; 3]]| {
-                let s = part
-                    .anchors
-                    .iter()
-                    .fold([0.0; 3], |s, &a| add(s, p[a as usize]));
-                s.map(|x| x / k)
-            };
-            let (ca, cb) = (mean(rest), mean(out));
-            let mut M = [[0.0; 3]; 3];
-            for &a in &part.anchors {
-                let (x, y) = (sub(rest[a as usize], ca), sub(out[a as usize], cb));
-                for i in 0..3 {
-                    for j in 0..3 {
-                        M[i][j] += x[i] * y[j];
-                    }
-                }
-            }
-            let R = best_rotation(&M);
+            let (ca, cb, R) = rigid_fit(&part.anchors, |a| rest[a], |a| out[a]);
             for &v in &part.vertices {
                 let d = sub(rest[v as usize], ca);
                 let turned =

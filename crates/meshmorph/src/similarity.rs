@@ -297,6 +297,52 @@ pub fn robust_rotation(from: &[[f64; 3]], to: &[[f64; 3]], weights: &[f64]) -> [
     R
 }
 
+/// The rigid motion that best takes the points `from(i)` to `to(i)`, `i`
+/// in `indices`, in the least-squares sense, in the plane (`D = 2`) or in
+/// space (`D = 3`): the centroids `(a, b)` of both sets and the rotation
+/// `R`, so that `to(i) ≈ b + R (from(i) − a)`.
+///
+/// # Panics
+/// If `indices` is empty, or `D` is neither 2 nor 3.
+pub(crate) fn rigid_fit<const D: usize>(
+    indices: &[u32],
+    from: impl Fn(usize) -> [f64; D],
+    to: impl Fn(usize) -> [f64; D],
+) -> ([f64; D], [f64; D], [[f64; D]; D]) {
+    assert!(!indices.is_empty(), "a rigid fit needs points");
+    let k = indices.len() as f64;
+    let mean = |p: &dyn Fn(usize) -> [f64; D]| {
+        indices
+            .iter()
+            .fold([0.0; D], |s, &i| add(s, p(i as usize)))
+            .map(|x| x / k)
+    };
+    let (a, b) = (mean(&from), mean(&to));
+    let mut M = [[0.0; D]; D];
+    for &i in indices {
+        let (x, y) = (sub(from(i as usize), a), sub(to(i as usize), b));
+        for r in 0..D {
+            for c in 0..D {
+                M[r][c] += x[r] * y[c];
+            }
+        }
+    }
+    let R: [[f64; D]; D] = match D {
+        2 => {
+            let angle = (M[0][1] - M[1][0]).atan2(M[0][0] + M[1][1]);
+            let (s, c) = angle.sin_cos();
+            let R2 = [[c, -s], [s, c]];
+            std::array::from_fn(|r| std::array::from_fn(|c| R2[r][c]))
+        }
+        3 => {
+            let R3 = best_rotation(&std::array::from_fn(|r| std::array::from_fn(|c| M[r][c])));
+            std::array::from_fn(|r| std::array::from_fn(|c| R3[r][c]))
+        }
+        _ => panic!("rigid fits are in the plane or in space"),
+    };
+    (a, b, R)
+}
+
 /// Horn's rotation from the cross-covariance `M = Σ x yᵀ` of centred
 /// points: the unit quaternion maximising `Σ y·R x`.
 pub(crate) fn best_rotation(M: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {

@@ -15,12 +15,15 @@
 //! nothing collapses. One weight 1 and the others 0 gives that shape's maps
 //! exactly; a single shape with weight `t` is the interpolation to it with
 //! `Sᵗ`. Each connected part's centroid is the base's plus the weighted sum
-//! of the shapes' displacements of it; the system is factored once for
-//! every weight vector.
+//! of the shapes' displacements of it, except for separate parts that keep
+//! their place in the part they sit in: their offsets from the surface
+//! around them are blended, and turn with it (as in a [`Sequence`](crate::Sequence)).
+//! The system is factored once for every weight vector.
 #![allow(non_snake_case)]
 
 use std::sync::{Arc, OnceLock};
 
+use super::attached::Attached;
 use super::poses::{check_poses, decompose};
 use super::sequence::{Log, LOG_FLOOR};
 use super::{FrameWorkspace, InterpolatorOptions, RestSystem};
@@ -42,7 +45,11 @@ where
     /// `log S` of each triangle.
     stretch_logs: Vec<Mat<D>>,
     centroids: Vec<[f64; D]>,
-    loose: Vec<[f64; D]>,
+    /// Each anchored part's offset from its anchors (in the anchors' frame
+    /// of the base).
+    offsets: Vec<[f64; D]>,
+    /// The shape's positions (a weight of 1 on it alone gives them).
+    positions: Vec<[f64; D]>,
 }
 
 /// A base mesh and shapes to blend with weights, in the plane (`D = 2`) or
@@ -70,7 +77,9 @@ where
     rest_folds: OnceLock<<Space<D> as TriangleMaps<D>>::RestFolds>,
     shapes: Vec<BlendShape<D>>,
     base_centroids: Vec<[f64; D]>,
-    base_loose: Vec<[f64; D]>,
+    /// The parts that follow their anchors.
+    attached: Attached,
+    base_offsets: Vec<[f64; D]>,
 }
 
 /// Blends of surfaces in space.
@@ -125,7 +134,11 @@ where
     ) -> Result<Self> {
         check_shape_count(shapes)?;
         let base = rest.source();
-        let shapes = shapes
+        let base_centroids = rest.centroids(base.positions());
+        let base_offsets =
+            rest.anchors
+                .offsets(base.positions(), base.positions(), &base_centroids);
+        let shapes: Vec<(BlendShape<D>, Vec<_>)> = shapes
             .iter()
             .enumerate()
             .map(|(k, shape)| {
@@ -138,26 +151,46 @@ where
                         .map(Space::<D>::principal_log)
                         .collect()
                 };
-                Ok(BlendShape {
-                    logs,
-                    stretch_logs: maps
-                        .stretches
-                        .iter()
-                        .map(|S| Space::<D>::stretch_log(S, LOG_FLOOR))
-                        .collect(),
-                    centroids: rest.centroids(shape.positions()),
-                    loose: rest.loose_positions(shape.positions()),
-                })
+                let centroids = rest.centroids(shape.positions());
+                let offsets = rest
+                    .anchors
+                    .offsets(base.positions(), shape.positions(), &centroids);
+                Ok((
+                    BlendShape {
+                        logs,
+                        stretch_logs: maps
+                            .stretches
+                            .iter()
+                            .map(|S| Space::<D>::stretch_log(S, LOG_FLOOR))
+                            .collect(),
+                        centroids,
+                        offsets: offsets.iter().map(|o| o.local).collect(),
+                        positions: shape.positions().to_vec(),
+                    },
+                    offsets,
+                ))
             })
-            .collect::<Result<_>>()?;
+            .collect::<Result<Vec<_>>>()?;
+        let key_offsets: Vec<_> = std::iter::once(base_offsets.clone())
+            .chain(shapes.iter().map(|(_, o)| o.clone()))
+            .collect();
+        let attached = rest.anchors.attached(&key_offsets);
+        let shapes = shapes.into_iter().map(|(s, _)| s).collect();
         Ok(Self {
-            base_centroids: rest.centroids(base.positions()),
-            base_loose: rest.loose_positions(base.positions()),
+            base_centroids,
+            attached,
+            base_offsets: base_offsets.iter().map(|o| o.local).collect(),
             rest,
             adjacency,
             rest_folds: OnceLock::new(),
             shapes,
         })
+    }
+
+    /// Number of separate parts that follow the part they sit in (see
+    /// [`Sequence::parts_following_host`](crate::Sequence::parts_following_host)).
+    pub fn parts_following_host(&self) -> usize {
+        self.attached.count()
     }
 
     /// Number of shapes (the length of every weight vector).
@@ -187,7 +220,8 @@ where
     }
 
     /// The blend with one weight per shape (any real numbers; all zero is
-    /// the base).
+    /// the base, a weight of 1 on one shape and 0 on the others that shape,
+    /// exactly).
     ///
     /// # Panics
     /// If `weights.len()` is not the number of shapes.
@@ -205,6 +239,18 @@ where
     #[track_caller]
     pub fn at_into(&self, weights: &[f64], out: &mut [[f64; D]], ws: &mut FrameWorkspace<D>) {
         assert_eq!(weights.len(), self.shapes.len(), "one weight per shape");
+        // No weight, or a weight of 1 on one shape alone: the base or that
+        // shape, to the bit.
+        if weights.iter().all(|&w| w == 0.0 || w == 1.0)
+            && weights.iter().filter(|&&w| w == 1.0).count() <= 1
+        {
+            let exact = weights.iter().position(|&w| w == 1.0);
+            let positions = exact.map_or(self.rest.source().positions(), |k| {
+                &self.shapes[k].positions
+            });
+            out.copy_from_slice(positions);
+            return;
+        }
         let active: Vec<(f64, &BlendShape<D>)> = weights
             .iter()
             .zip(&self.shapes)
@@ -235,9 +281,13 @@ where
             }
             mul(Space::<D>::exp(&R), Space::<D>::stretch_exp(&L))
         };
-        self.rest.solve_frame(map, centroid, out, ws);
-        for (k, &v) in self.rest.loose_vertices().iter().enumerate() {
-            out[v as usize] = blended(self.base_loose[k], &|s| s.loose[k]);
+        let offset = |i: usize| blended(self.base_offsets[i], &|s| s.offsets[i]);
+        self.rest
+            .solve_frame(map, centroid, &self.attached, offset, out, ws);
+        let base = self.rest.source().positions();
+        for &v in self.rest.loose_vertices() {
+            let v = v as usize;
+            out[v] = blended(base[v], &|s| s.positions[v]);
         }
     }
 

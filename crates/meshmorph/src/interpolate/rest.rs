@@ -11,6 +11,7 @@
 //! every coordinate and every frame: one factorization, `D` right-hand
 //! sides.
 
+use super::attached::{Attached, PartAnchors};
 use super::FrameWorkspace;
 use crate::error::Result;
 use crate::gradient::weights::vertex_weights;
@@ -38,6 +39,8 @@ pub struct RestSystem<const D: usize = 2> {
     pub(super) system: FactoredSystem<D>,
     /// Every connected part, placed by its area-weighted centroid.
     pub(super) placement: Placement<D>,
+    /// The anchors of the parts that may follow a larger one.
+    pub(super) anchors: PartAnchors,
     /// Vertices no triangle uses: they move on straight lines.
     pub(super) loose: Vec<u32>,
 }
@@ -88,6 +91,11 @@ where
         pins.hold_free_parts(&components, |_| [0.0; D]);
         let system = FactoredSystem::new(&builder.build(), &pins, factor)?;
         let placement = Placement::new(&components, |_| true, vertex_weights(n, tris, &weights));
+        let mut part_area = vec![0.0; components.count];
+        for (t, &c) in components.of_triangle.iter().enumerate() {
+            part_area[c as usize] += weights[t];
+        }
+        let anchors = PartAnchors::new(source.positions(), &components, &part_area);
         let loose = (0..n as u32)
             .filter(|&v| components.of_vertex[v as usize].is_none())
             .collect();
@@ -97,6 +105,7 @@ where
             operators,
             system,
             placement,
+            anchors,
             loose,
         })
     }
@@ -147,11 +156,6 @@ where
         &self.loose
     }
 
-    /// The positions in `positions` of the vertices no triangle uses.
-    pub(crate) fn loose_positions(&self, positions: &[[f64; D]]) -> Vec<[f64; D]> {
-        self.loose.iter().map(|&v| positions[v as usize]).collect()
-    }
-
     /// The area-weighted centroid of each connected part of `positions`
     /// (positions of the source's vertices in some pose).
     pub fn centroids(&self, positions: &[[f64; D]]) -> Vec<[f64; D]> {
@@ -188,17 +192,28 @@ where
             self.num_components(),
             "one centroid per part"
         );
-        self.solve_frame(map, |c| centroids[c], out, ws);
+        self.solve_frame(
+            map,
+            |c| centroids[c],
+            &Attached::none(),
+            |_| [0.0; D],
+            out,
+            ws,
+        );
     }
 
     /// [`RestSystem::solve_into`] with the centroid of part `c` given by
-    /// `centroid(c)`: one pass over the solution for the parts' centroids,
-    /// one to write each vertex moved with its part.
+    /// `centroid(c)`, except for the `attached` parts, placed by their
+    /// anchors with the offset `offset(i)` of the `i`-th anchored part
+    /// ([`PartAnchors::place`]): one pass over the solution for the parts'
+    /// centroids, one to write each vertex moved with its part.
     #[track_caller]
     pub(super) fn solve_frame(
         &self,
         map: impl Fn(usize) -> Mat<D>,
         centroid: impl Fn(usize) -> [f64; D],
+        attached: &Attached,
+        offset: impl Fn(usize) -> [f64; D],
         out: &mut [[f64; D]],
         ws: &mut FrameWorkspace<D>,
     ) {
@@ -217,8 +232,20 @@ where
         self.placement
             .centroids_by(|v| self.system.position(solve, v), &mut ws.parts);
         for (c, shift) in ws.parts.iter_mut().enumerate() {
-            let target = centroid(c);
-            *shift = std::array::from_fn(|i| target[i] - shift[i]);
+            if !attached.holds(c) {
+                let target = centroid(c);
+                *shift = std::array::from_fn(|i| target[i] - shift[i]);
+            }
+        }
+        if attached.count() > 0 {
+            self.anchors.place(
+                attached,
+                self.source.positions(),
+                |v| self.system.position(solve, v),
+                |v| self.placement.part_of_vertex(v).unwrap_or(0),
+                offset,
+                &mut ws.parts,
+            );
         }
         for (v, o) in out.iter_mut().enumerate() {
             if let Some(c) = self.placement.part_of_vertex(v) {

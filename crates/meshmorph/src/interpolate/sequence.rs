@@ -21,7 +21,10 @@
 //! - the vertices are the least-squares fit of these maps ([`RestSystem`],
 //!   factored once for every segment), each connected part placed with its
 //!   area-weighted centroid on the straight line between the keys'
-//!   centroids.
+//!   centroids; but a separate part that keeps its place in the part it
+//!   sits in (eyes in a head) goes along with the surface around it, its
+//!   offset from that surface turned with it, so a head that turns does not
+//!   leave its eyes behind.
 //!
 //! Rotations are measured from `K_0` and continue across keys: each key's
 //! branches are chosen by rotation consistency over the mesh
@@ -34,6 +37,7 @@ use std::sync::{Arc, OnceLock};
 
 use rayon::prelude::*;
 
+use super::attached::Attached;
 use super::poses::{check_poses, decompose};
 use super::{FrameWorkspace, InterpolatorOptions, RestSystem, StretchMode};
 use crate::error::{Error, Result};
@@ -115,8 +119,15 @@ where
     segments: Vec<Segment<D>>,
     /// Centroid of each part in each key.
     centroids: Vec<Vec<[f64; D]>>,
-    /// Positions of the vertices no triangle uses, in each key.
-    loose: Vec<Vec<[f64; D]>>,
+    /// The parts that follow their anchors between keys.
+    attached: Attached,
+    /// Each anchored part's offset from its anchors in each key (in the
+    /// anchors' frame of the first key).
+    offsets: Vec<Vec<[f64; D]>>,
+    /// The positions of every key: frames at the keys' times are the keys
+    /// themselves, to the bit, and the vertices no triangle uses move on
+    /// straight lines between them.
+    keys: Vec<Vec<[f64; D]>>,
 }
 
 /// A keyframe sequence of surfaces in space.
@@ -211,20 +222,28 @@ where
         later: &[Mesh<D>],
         segments: Vec<Segment<D>>,
     ) -> Self {
-        let source = rest.source();
-        let mut centroids = vec![rest.centroids(source.positions())];
-        let mut loose = vec![rest.loose_positions(source.positions())];
-        for key in later {
-            centroids.push(rest.centroids(key.positions()));
-            loose.push(rest.loose_positions(key.positions()));
-        }
+        let first = rest.source().positions();
+        let keys = || std::iter::once(first).chain(later.iter().map(Mesh::positions));
+        let centroids: Vec<_> = keys().map(|k| rest.centroids(k)).collect();
+        let key_offsets: Vec<_> = keys()
+            .zip(&centroids)
+            .map(|(k, c)| rest.anchors.offsets(first, k, c))
+            .collect();
+        let attached = rest.anchors.attached(&key_offsets);
+        let keys = keys().map(<[_]>::to_vec).collect();
+        let offsets = key_offsets
+            .iter()
+            .map(|k| k.iter().map(|o| o.local).collect())
+            .collect();
         Self {
             rest,
             adjacency,
             rest_folds: OnceLock::new(),
             segments,
             centroids,
-            loose,
+            attached,
+            offsets,
+            keys,
         }
     }
 
@@ -249,6 +268,18 @@ where
             .collect()
     }
 
+    /// Number of connected parts of the mesh.
+    pub fn num_parts(&self) -> usize {
+        self.rest.num_components()
+    }
+
+    /// Number of separate parts that follow the part they sit in between
+    /// keys (eyes in a head that turns), rather than moving their centroids
+    /// on straight lines: see the module documentation.
+    pub fn parts_following_host(&self) -> usize {
+        self.attached.count()
+    }
+
     /// Number of keys (the last one is at `s = num_keys() − 1`).
     pub fn num_keys(&self) -> usize {
         self.segments.len() + 1
@@ -269,8 +300,9 @@ where
         self.rest.workspace()
     }
 
-    /// Vertex positions at time `s`: key `j` at `s = j`; times before 0 or
-    /// after the last key extrapolate the first or last segment.
+    /// Vertex positions at time `s`: key `j` at `s = j` (its positions
+    /// exactly); times before 0 or after the last key extrapolate the first
+    /// or last segment.
     pub fn at(&self, s: f64) -> Vec<[f64; D]> {
         let mut out = vec![[0.0; D]; self.num_vertices()];
         self.at_into(s, &mut out, &mut self.workspace());
@@ -305,6 +337,10 @@ where
             (s.floor().max(0.0) as usize).min(last)
         };
         let u = s - j as f64;
+        if u == 0.0 || u == 1.0 {
+            out.copy_from_slice(&self.keys[j + u as usize]);
+            return;
+        }
         let seg = &self.segments[j];
         let between = |a: [f64; D], b: [f64; D]| -> [f64; D] {
             std::array::from_fn(|k| (1.0 - u) * a[k] + u * b[k])
@@ -312,6 +348,9 @@ where
         // Each part's centroid is on its straight path.
         let (from, to) = (&self.centroids[j], &self.centroids[j + 1]);
         let centroid = |c: usize| between(from[c], to[c]);
+        let (from, to) = (&self.offsets[j], &self.offsets[j + 1]);
+        let offset = |i: usize| between(from[i], to[i]);
+        let attached = &self.attached;
         let mut turns_at = std::mem::take(&mut ws.turns);
         Space::<D>::turns_at(&seg.turns, u, &mut turns_at);
         let rot = |t: usize| Space::<D>::segment_at(&seg.rotations[t], &turns_at, u, seg.first);
@@ -320,6 +359,8 @@ where
             SegmentStretches::FromIdentity(v) => rest.solve_frame(
                 |t| mul(rot(t), lerp_from_identity(&v[t], u)),
                 centroid,
+                attached,
+                offset,
                 out,
                 ws,
             ),
@@ -329,12 +370,16 @@ where
                     mul(rot(t), lerp(a, b, u))
                 },
                 centroid,
+                attached,
+                offset,
                 out,
                 ws,
             ),
             SegmentStretches::Power(v) => rest.solve_frame(
                 |t| mul(rot(t), Space::<D>::stretch_power(&v[t], u, LOG_FLOOR)),
                 centroid,
+                attached,
+                offset,
                 out,
                 ws,
             ),
@@ -344,12 +389,14 @@ where
                     mul(rot(t), Space::<D>::stretch_exp(&lerp(a, b, u)))
                 },
                 centroid,
+                attached,
+                offset,
                 out,
                 ws,
             ),
         }
-        for (k, &v) in rest.loose_vertices().iter().enumerate() {
-            let (a, b) = (self.loose[j][k], self.loose[j + 1][k]);
+        for &v in rest.loose_vertices() {
+            let (a, b) = (self.keys[j][v as usize], self.keys[j + 1][v as usize]);
             // A vertex that does not move stays exactly where it is.
             let c = between(a, b);
             out[v as usize] = std::array::from_fn(|i| if a[i] == b[i] { a[i] } else { c[i] });

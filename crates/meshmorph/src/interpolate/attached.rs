@@ -1,0 +1,239 @@
+//! Separate parts that sit in or next to a larger part (eyes in a head,
+//! teeth behind lips, a button on a coat): where they go between keys.
+//!
+//! The least squares fix each connected part only up to a translation, and
+//! each part's centroid moves on a straight line between the keys. For a
+//! part that sits in another and moves with it, a straight line is wrong as
+//! soon as the other part turns: with a head turned by 90 degrees, the eyes'
+//! centroids cut the chords of their arcs and sink into the head halfway.
+//!
+//! Such a part is *attached* to its *anchors*: the vertices nearest to its
+//! own in the first key (the eyelids around an eye) of its *host*, the
+//! larger part that holds most of its nearest vertices. At each
+//! frame its centroid is the anchors' centroid plus its offset from them,
+//! turned by the anchors' best-fit rotation from the first key (Horn); the
+//! offset, expressed in the anchors' frame of the first key, is interpolated
+//! (or blended) between the keys' offsets. Every key is reproduced exactly,
+//! and where the anchors turn rigidly the part turns with them.
+//!
+//! Which parts are attached follows from the keys, without a threshold: a
+//! part is attached when its offsets in the anchors' frame vary no more
+//! across the keys than its offsets in the world do (each summed as
+//! distances from the first key's; equal up to rounding when the anchors
+//! do not turn, and then the part goes with the surface around it). Eyes in a turning head keep their offset in the head's
+//! frame and are attached; a part that stays where it is while the part next
+//! to it turns keeps its offset in the world and its straight line.
+#![allow(non_snake_case)]
+
+use rstar::primitives::GeomWithData;
+use rstar::RTree;
+
+use crate::geometry::{norm, sub};
+use crate::matrix::Mat;
+use crate::similarity::rigid_fit;
+use crate::topology::Components;
+
+/// How many nearest vertices of larger parts each vertex of a part adds to
+/// its anchors.
+const ANCHORS_PER_VERTEX: usize = 4;
+
+/// Differences of offsets below this, relative to the offsets, are
+/// rounding: a part whose offsets vary as much in the anchors' frame as in
+/// the world follows its anchors.
+const TIE: f64 = 1e-9;
+
+/// The anchors of every part but the largest (rest geometry only).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct PartAnchors {
+    /// Number of parts.
+    count: usize,
+    /// `(part, anchor vertices)`, in decreasing order of the parts' areas:
+    /// a part's anchors lie in parts that come before it.
+    parts: Vec<(u32, Vec<u32>)>,
+}
+
+/// A part's offset from its anchors in one key: in the world, and in the
+/// anchors' frame of the first key.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct KeyOffset<const D: usize> {
+    world: [f64; D],
+    pub(crate) local: [f64; D],
+}
+
+/// Which anchored parts of a sequence or blend follow their anchors.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Attached {
+    /// One flag per anchored part, in the order of [`PartAnchors`].
+    flags: Vec<bool>,
+    /// One flag per part.
+    parts: Vec<bool>,
+}
+
+impl Attached {
+    /// No part attached (every centroid on its own path).
+    pub(crate) fn none() -> Self {
+        Self::default()
+    }
+
+    fn is_attached(&self, i: usize) -> bool {
+        self.flags.get(i).copied().unwrap_or(false)
+    }
+
+    /// Whether part `p` follows its anchors.
+    pub(crate) fn holds(&self, p: usize) -> bool {
+        self.parts.get(p).copied().unwrap_or(false)
+    }
+
+    /// Number of parts that follow their anchors.
+    pub(crate) fn count(&self) -> usize {
+        self.flags.iter().filter(|&&f| f).count()
+    }
+}
+
+impl PartAnchors {
+    /// The anchors of the parts of `components` in `positions`; `part_area`
+    /// orders them (ties by number).
+    pub(crate) fn new<const D: usize>(
+        positions: &[[f64; D]],
+        components: &Components,
+        part_area: &[f64],
+    ) -> Self {
+        if components.count < 2 {
+            return Self::default();
+        }
+        let mut members: Vec<Vec<u32>> = vec![Vec::new(); components.count];
+        for (v, part) in components.of_vertex.iter().enumerate() {
+            if let Some(p) = part {
+                members[*p as usize].push(v as u32);
+            }
+        }
+        let mut order: Vec<usize> = (0..components.count).collect();
+        order.sort_by(|&a, &b| part_area[b].total_cmp(&part_area[a]).then(a.cmp(&b)));
+        let mut rank = vec![0; components.count];
+        for (r, &p) in order.iter().enumerate() {
+            rank[p] = r;
+        }
+        let point = |v: u32| -> [f64; 3] {
+            let p = positions[v as usize];
+            std::array::from_fn(|i| if i < D { p[i] } else { 0.0 })
+        };
+        let mut tree: RTree<GeomWithData<[f64; 3], u32>> = RTree::bulk_load(
+            members[order[0]]
+                .iter()
+                .map(|&v| GeomWithData::new(point(v), v))
+                .collect(),
+        );
+        let mut parts = Vec::with_capacity(order.len() - 1);
+        for &p in &order[1..] {
+            let nearest = |v: u32| tree.nearest_neighbor_iter(point(v)).map(|a| a.data);
+            // The host: the larger part that holds most of the part's
+            // nearest vertices (the larger one on a tie).
+            let mut votes: Vec<(usize, usize)> = Vec::new();
+            for &v in &members[p] {
+                for a in nearest(v).take(ANCHORS_PER_VERTEX) {
+                    let host = rank[components.of_vertex[a as usize].unwrap_or(0) as usize];
+                    match votes.iter_mut().find(|(h, _)| *h == host) {
+                        Some((_, n)) => *n += 1,
+                        None => votes.push((host, 1)),
+                    }
+                }
+            }
+            let host = votes
+                .iter()
+                .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))
+                .map_or(0, |h| h.0);
+            let in_host =
+                |a: &u32| rank[components.of_vertex[*a as usize].unwrap_or(0) as usize] == host;
+            let mut anchors: Vec<u32> = members[p]
+                .iter()
+                .flat_map(|&v| nearest(v).filter(in_host).take(ANCHORS_PER_VERTEX))
+                .collect();
+            anchors.sort_unstable();
+            anchors.dedup();
+            for &v in &members[p] {
+                tree.insert(GeomWithData::new(point(v), v));
+            }
+            parts.push((p as u32, anchors));
+        }
+        Self {
+            count: components.count,
+            parts,
+        }
+    }
+
+    /// Each anchored part's offset from its anchors in `key` (positions of
+    /// the first key's vertices, `centroids` its parts' centroids).
+    pub(crate) fn offsets<const D: usize>(
+        &self,
+        first: &[[f64; D]],
+        key: &[[f64; D]],
+        centroids: &[[f64; D]],
+    ) -> Vec<KeyOffset<D>> {
+        self.parts
+            .iter()
+            .map(|(p, anchors)| {
+                let (_, b, R) = rigid_fit(anchors, |v| first[v], |v| key[v]);
+                let world = sub(centroids[*p as usize], b);
+                // Rᵀ world: the offset in the anchors' frame of the first key.
+                let local = std::array::from_fn(|i| (0..D).map(|k| R[k][i] * world[k]).sum());
+                KeyOffset { world, local }
+            })
+            .collect()
+    }
+
+    /// Which parts follow their anchors, from their offsets in every key
+    /// (`keys[0]` the first key's).
+    pub(crate) fn attached<const D: usize>(&self, keys: &[Vec<KeyOffset<D>>]) -> Attached {
+        let flags: Vec<bool> = (0..self.parts.len())
+            .map(|i| {
+                let spread = |of: &dyn Fn(&KeyOffset<D>) -> [f64; D]| -> f64 {
+                    keys.iter()
+                        .map(|k| norm(sub(of(&k[i]), of(&keys[0][i]))))
+                        .sum()
+                };
+                // A tie (anchors that do not turn between the keys) goes to
+                // the anchors: in between the keys the surface around the
+                // part may still move, and the part goes with it.
+                let scale: f64 = keys.iter().map(|k| norm(k[i].world)).sum();
+                spread(&|o| o.local) <= spread(&|o| o.world) + TIE * scale
+            })
+            .collect();
+        let mut parts = vec![false; self.count];
+        for ((p, _), &f) in self.parts.iter().zip(&flags) {
+            parts[*p as usize] = f;
+        }
+        Attached { flags, parts }
+    }
+
+    /// Moves every attached part: `shifts[p]` holds, for each part `p`, its
+    /// shift (decided for the parts not attached) or, for attached parts,
+    /// the centroid of its vertices `position(v)` before the shift; these
+    /// become the shifts that put the part at its anchors' centroid plus
+    /// `offset(i)` (the `i`-th anchored part's offset in the first key's
+    /// frame of its anchors) turned by the anchors' rotation from `first`.
+    pub(crate) fn place<const D: usize>(
+        &self,
+        attached: &Attached,
+        first: &[[f64; D]],
+        position: impl Fn(usize) -> [f64; D],
+        part_of: impl Fn(usize) -> usize,
+        offset: impl Fn(usize) -> [f64; D],
+        shifts: &mut [[f64; D]],
+    ) {
+        for (i, (p, anchors)) in self.parts.iter().enumerate() {
+            if !attached.is_attached(i) {
+                continue;
+            }
+            let placed = |v: usize| {
+                let (x, s) = (position(v), shifts[part_of(v)]);
+                std::array::from_fn(|k| x[k] + s[k])
+            };
+            let (_, b, R): (_, _, Mat<D>) = rigid_fit(anchors, |v| first[v], placed);
+            let o = offset(i);
+            let solved = shifts[*p as usize];
+            shifts[*p as usize] = std::array::from_fn(|k| {
+                b[k] + (0..D).map(|m| R[k][m] * o[m]).sum::<f64>() - solved[k]
+            });
+        }
+    }
+}
