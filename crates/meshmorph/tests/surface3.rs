@@ -669,3 +669,40 @@ fn a_whole_turn_between_two_later_keys_is_made() {
         }
     }
 }
+
+#[test]
+fn exactly_half_a_turn_between_later_keys_does_not_tear() {
+    // Keys bent (or twisted) so that the end turns by exactly half a turn
+    // between the last two: which side of the half turn rounding puts each
+    // triangle on must not tear the segment, which turns as the two keys
+    // alone do.
+    let (length, t) = (4.0, tube(4.0, 0.3, 41, 16));
+    let diag = t.bounding_box_diagonal();
+    type Deform = fn(&Mesh3, f64, f64) -> Mesh3;
+    for (name, deform) in [("bend", bend as Deform), ("twist", twist)] {
+        for angles in [[0.0, 90.0, 270.0f64], [0.0, 200.0, 20.0]] {
+            let keys: Vec<Mesh3> = angles
+                .iter()
+                .map(|a| deform(&t, length, a.to_radians()))
+                .collect();
+            let seq = Sequence3::new(&keys, &opts()).unwrap();
+            let alone = Sequence3::new(&[keys[1].clone(), keys[2].clone()], &opts()).unwrap();
+            let (mut apart, mut shortest, mut shortest_alone) =
+                (0.0f64, f64::INFINITY, f64::INFINITY);
+            for i in 0..=20 {
+                let u = i as f64 / 20.0;
+                let (f, g) = (seq.at(1.0 + u), alone.at(u));
+                assert_eq!(seq.count_turned_over(&f), 0, "{name} {angles:?} at {u}");
+                apart = apart.max(rigid_distance(&f, &g) / diag);
+                shortest = shortest.min(shortest_edge(&t, &f));
+                shortest_alone = shortest_alone.min(shortest_edge(&t, &g));
+            }
+            println!("{name} {angles:?}: against the two keys alone {apart:.2e}; shortest edge {shortest:.4} (alone {shortest_alone:.4})");
+            assert!(apart < 5e-3, "{name} {angles:?}: {apart}");
+            assert!(
+                shortest > 0.9 * shortest_alone,
+                "{name} {angles:?}: {shortest} against {shortest_alone}"
+            );
+        }
+    }
+}

@@ -133,8 +133,10 @@ impl SegmentRotation {
 
 /// One triangle's rotation from `from` to `to`: its base, its principal
 /// rotation vector `e` and its whole-turn vector `c` (zero without
-/// `whole_turns`): the whole turns chosen with `to`'s branches from the
-/// previous key's, or, from a first key (the identity), the whole turns of
+/// `whole_turns`). Between later keys, the whole turns chosen with `to`'s
+/// branches, `e` from the relative rotation they were chosen for (bit for
+/// bit, so that a triangle turned by exactly half a turn keeps the side of
+/// it the choice saw); from a first key (the identity), the whole turns of
 /// `to`'s branch.
 fn segment(
     (from, from_log): (&Quat, &RotationLog3),
@@ -142,13 +144,25 @@ fn segment(
     whole_turns: bool,
 ) -> (Quat, [f64; 3], [f64; 3]) {
     let base = *from;
-    let e = quat_log(quat_mul(*to, quat_conj(base)));
-    let c = match to_log.turns_from_previous {
-        _ if !whole_turns => [0.0; 3],
-        Some(c) => c,
-        None => nearest_whole_turns(sub(sub(to_log.lifted(), from_log.lifted()), e)),
-    };
-    (base, e, c)
+    match to_log.turns_from_previous {
+        Some(c) if whole_turns => (base, quat_log(relative_rotation(to, from_log)), c),
+        _ => {
+            let e = quat_log(quat_mul(*to, quat_conj(base)));
+            let c = if whole_turns {
+                nearest_whole_turns(sub(sub(to_log.lifted(), from_log.lifted()), e))
+            } else {
+                [0.0; 3]
+            };
+            (base, e, c)
+        }
+    }
+}
+
+/// The rotation `R_{j+1} R_jᵀ` from the rotation whose logarithm is `from`
+/// to `to`.
+#[inline]
+fn relative_rotation(to: &Quat, from: &RotationLog3) -> Quat {
+    quat_mul(*to, quat_conj(quat_exp(from.principal)))
 }
 
 /// The whole-turn vector of every triangle's way from the previous key
@@ -167,12 +181,15 @@ fn turns_from_previous(
     seeds: &[usize],
     areas: &[f64],
 ) -> Vec<[f64; 3]> {
-    let mut relative: Vec<Quat> = rotations
+    // Relative rotations by exactly half a turn are not settled: the
+    // segment turns each by its own `e`, on whichever side of the half turn
+    // rounding puts it, and the patches give those on the other side than
+    // their neighbours the whole turn that joins them.
+    let relative: Vec<Quat> = rotations
         .par_iter()
         .zip(previous)
-        .map(|(q, p)| quat_principal(quat_mul(*q, quat_conj(quat_exp(p.principal)))))
+        .map(|(q, p)| quat_principal(relative_rotation(q, p)))
         .collect();
-    Space::<3>::settle_half_turns(&mut relative, adjacency);
     let lifted: Vec<[f64; 3]> = logs
         .iter()
         .zip(previous)
