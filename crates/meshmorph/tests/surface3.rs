@@ -597,6 +597,25 @@ fn a_rigid_turn_through_keys_keeps_turning_and_stays_rigid() {
     .unwrap();
     let d = rigid_distance(&short.at(1.5), turned(20.0).positions()) / diag;
     assert!(d < 1e-9, "{d}");
+    // Turned by 170 degrees about x, then by 170 more about y: from key 0
+    // the rotation vectors of the keys differ by more than half a turn
+    // (they do not subtract), but between the two later keys every
+    // triangle turns by 170 degrees, and the segment takes that way.
+    let composed = |a: f64, b: f64| {
+        let m = |w: [f64; 3]| exp_rotation(w.map(|x| x * PI / 180.0));
+        let (x, y) = (m([a, 0.0, 0.0]), m([0.0, b, 0.0]));
+        let r: [[f64; 3]; 3] = std::array::from_fn(|i| {
+            std::array::from_fn(|j| (0..3).map(|k| y[i][k] * x[k][j]).sum())
+        });
+        rigid_motion3(&t, r, [0.0; 3])
+    };
+    let keys = [t.clone(), composed(170.0, 0.0), composed(170.0, 170.0)];
+    let seq = Sequence3::new(&keys, &opts()).unwrap();
+    assert_eq!(seq.triangles_with_whole_turns(), [0, 0]);
+    for u in [0.25, 0.5, 0.75] {
+        let d = rigid_distance(&seq.at(1.0 + u), composed(170.0, 170.0 * u).positions()) / diag;
+        assert!(d < 1e-9, "at {u}: {d}");
+    }
 }
 
 #[test]

@@ -41,8 +41,8 @@
 //!    no turns; otherwise it keeps its principal rotations.
 //!
 //! The same choice, applied to the rotations of a key relative to the
-//! previous one, gives the whole turns of a sequence's segment between
-//! later keys (see [`super::spatial`]).
+//! previous one (without `previous`), gives the whole turns of a
+//! sequence's segment between later keys (see [`super::spatial`]).
 //!
 //! Why patches rather than a walk from triangle to triangle: in 3D the axes
 //! of neighbours differ, non-rigid regions rotate a lot relative to each
@@ -78,17 +78,14 @@ use crate::topology::TriangleAdjacency;
 /// triangle per part connected across edges. Triangles no seed reaches keep
 /// a zero vector.
 ///
-/// With `previous`, the seeds' patches continue given lifted rotation
-/// vectors: each takes, instead of no turns, the whole turns nearest to
-/// `previous.0[i] − e_i` averaged over the patch (`e_i` the principal
-/// vector of `rotations[i]`), weighted by `previous.1` (the triangles'
-/// areas); the other patches follow from it as above. For a later key of a
-/// sequence these are the previous key's lifted rotation vectors
-/// (whole-turn vector plus principal vector), so a part that keeps turning
-/// from key to key keeps turning the same way, as long as the seeds'
-/// patches turn by less than half a turn between two keys; for the
-/// rotations relative to the previous key (a segment's whole turns), the
-/// difference of the two keys' lifted vectors.
+/// For a later key of a sequence, `previous` continues the previous
+/// key: each seed's patch takes, instead of no turns, the whole turns
+/// nearest to the previous key's lifted rotation vectors over the patch
+/// (`previous.0[i]`, whole-turn vector plus principal vector), weighted by
+/// `previous.1` (the triangles' areas); the other patches follow from it as
+/// above. A part that keeps turning from key to key keeps
+/// turning the same way, as long as the seeds' patches turn by less than
+/// half a turn between two keys.
 pub fn whole_turns(
     rotations: &[Quat],
     adjacency: &TriangleAdjacency,

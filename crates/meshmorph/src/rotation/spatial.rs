@@ -7,21 +7,25 @@
 //! 0 (`R_0 = I`) this is the rotation interpolated along its axis by angle,
 //! with whole turns where a part turns by more than half a turn.
 //!
-//! Between later keys the whole turns `c` are chosen like a key's branches,
-//! by the same patches, over the rotations relative to the previous key,
-//! `R_{j+1} R_jᵀ`: where these jump across a half turn between neighbours,
-//! the patches beyond take the whole turns that continue their neighbours';
-//! the patch of each part's seed takes the whole turns nearest to the
-//! difference of the keys' lifted rotation vectors (both measured from key
-//! 0, so a part that keeps turning keeps turning the same way), averaged
-//! over the patch. That difference is exact where the rotations share an
-//! axis (as in the plane); in space, rotation vectors do not subtract
-//! (`log(AB) ≠ log A + log B`: a tail bent by 200 degrees, then twisted by
-//! 90 about its bent axis, differs by radians), so it only decides what
-//! the patch as a whole does, never a triangle on its own; and a segment
-//! whose relative rotations stay under half a turn everywhere is one patch
-//! per part, which takes the shortest way unless the keys' lifted vectors
-//! say the part turned by more than half a turn.
+//! Between later keys the whole turns `c` are chosen as a key's branches
+//! are, by the same patches ([`super::patches`]), over the rotations
+//! relative to the previous key, `R_{j+1} R_jᵀ`: the patch of each part's
+//! seed (the triangle that turns least from key 0 in key `j + 1`, whose
+//! branch continues the previous key's) takes the shortest way, and where
+//! the relative rotations jump across a half turn between neighbours, the
+//! patches beyond take the whole turns that continue their neighbours'. A
+//! segment whose relative rotations stay under half a turn therefore goes
+//! the shortest way without a tear, a part that turns further relative to
+//! its seed turns through, and where all rotations share an axis this is
+//! the plane's rule (the difference of the keys' angles with branches,
+//! the seed's turning by at most half a turn between keys). The keys'
+//! lifted rotation vectors are not subtracted: in space rotation vectors
+//! do not (`log(AB) ≠ log A + log B`; for a tail bent by 200 degrees then
+//! twisted by 90 about its bent axis, or a part turned by 170 degrees about
+//! one axis then by 170 about another, they differ by more than half a
+//! turn from the relative rotation), and rounding the difference gave some
+//! triangles a whole turn about a stray direction and their neighbours
+//! none.
 #![allow(non_snake_case)]
 
 use super::patches::{nearest_whole_turns, whole_turns};
@@ -167,19 +171,16 @@ fn relative_rotation(to: &Quat, from: &RotationLog3) -> Quat {
 
 /// The whole-turn vector of every triangle's way from the previous key
 /// (`previous`: its logarithms) to `rotations` (the principal rotations of
-/// the next key, whose logarithms with branches are `logs`): the branch
-/// choice of [`whole_turns`] applied to the rotations relative to the
-/// previous key, `R_{j+1} R_jᵀ`, over patches between their jumps, the
-/// seeds' patches continuing the difference of the keys' lifted rotation
-/// vectors, `lifted_{j+1} − lifted_j`, averaged over the patch.
+/// the next key): the branch choice of [`whole_turns`] applied to the
+/// rotations relative to the previous key, `R_{j+1} R_jᵀ`, over patches
+/// between their jumps, the patch of each part's seed taking no whole
+/// turns.
 fn turns_from_previous(
     previous: &[RotationLog3],
     rotations: &[Quat],
-    logs: &[RotationLog3],
     adjacency: &TriangleAdjacency,
     edge_weight: &dyn Fn(usize, usize) -> f64,
     seeds: &[usize],
-    areas: &[f64],
 ) -> Vec<[f64; 3]> {
     // Relative rotations by exactly half a turn are not settled: the
     // segment turns each by its own `e`, on whichever side of the half turn
@@ -190,18 +191,7 @@ fn turns_from_previous(
         .zip(previous)
         .map(|(q, p)| quat_principal(relative_rotation(q, p)))
         .collect();
-    let lifted: Vec<[f64; 3]> = logs
-        .iter()
-        .zip(previous)
-        .map(|(to, from)| sub(to.lifted(), from.lifted()))
-        .collect();
-    whole_turns(
-        &relative,
-        adjacency,
-        edge_weight,
-        seeds,
-        Some((&lifted, areas)),
-    )
+    whole_turns(&relative, adjacency, edge_weight, seeds, None)
 }
 
 impl Rotations<3> for Space<3> {
@@ -283,16 +273,8 @@ impl Rotations<3> for Space<3> {
                     turns_from_previous: None,
                 })
                 .collect();
-        if let Some((previous, areas)) = previous {
-            let turns = turns_from_previous(
-                previous,
-                rotations,
-                &logs,
-                adjacency,
-                edge_weight,
-                seeds,
-                areas,
-            );
+        if let Some((previous, _)) = previous {
+            let turns = turns_from_previous(previous, rotations, adjacency, edge_weight, seeds);
             for (log, c) in logs.iter_mut().zip(turns) {
                 log.turns_from_previous = Some(c);
             }
