@@ -31,6 +31,7 @@ use crate::gradient::{FactoredSystem, GradientOperators, Pins};
 use crate::markers::Markers;
 use crate::matrix::{identity, Mat3};
 use crate::mesh::{used_vertices, Mesh3};
+use crate::partner_parts::between_partner_parts;
 use crate::similarity::{closest_rotation, fit_robust, residuals, robust_rotation, Similarity};
 use crate::solve::{FactorKind, SymmetricBuilder, SymmetricMatrix};
 use crate::topology::{connected_components, edges, Components, Edge};
@@ -612,7 +613,9 @@ fn closest_points(
 /// Pairs each triangle of `source` with the nearest compatible triangle of
 /// `target` (centroids within `threshold`, normals less than 90° apart) and
 /// each triangle of `target` with the nearest compatible one of `source`.
-/// The union of both, sorted, is the map.
+/// The union of both, sorted, is the map, less the pairs between separate
+/// parts that are not each other's partners (an eyeball and eyelid skin:
+/// see `partner_parts.rs`).
 pub fn match_triangles(source: &Mesh3, target: &Mesh3, threshold: f64) -> Correspondence {
     let (source_index, target_index) = rayon::join(
         || CentroidIndex::new(source.positions(), source.triangles()),
@@ -642,6 +645,7 @@ pub fn match_triangles(source: &Mesh3, target: &Mesh3, threshold: f64) -> Corres
         .collect();
     pairs.sort_unstable();
     pairs.dedup();
+    let pairs = between_partner_parts(pairs, source, target);
     Correspondence::new(pairs, source, target)
 }
 

@@ -297,6 +297,55 @@ pub fn robust_rotation(from: &[[f64; 3]], to: &[[f64; 3]], weights: &[f64]) -> [
     R
 }
 
+/// Over-relaxation of Weiszfeld's step (Ostresh 1978: any factor in
+/// `[1, 2]` keeps every step a descent): 1.5 takes about half the
+/// iterations of the plain step on the transfer's placements.
+const MEDIAN_RELAXATION: f64 = 1.5;
+
+/// The weighted geometric median of `points` (each with its weight): the
+/// point whose weighted sum of distances to them is least, by Weiszfeld's
+/// iteration from the weighted mean (over-relaxed), distances floored at a
+/// tiny fraction of the points' spread so that the iteration may land on a
+/// point, until a step moves less than 1e-9 of that spread. Unlike
+/// the mean it follows the majority: where most of the weight agrees on a
+/// point, the median is that point, whatever the rest say.
+///
+/// # Panics
+/// If `points` is empty or a weight is not positive.
+pub(crate) fn geometric_median(points: &[([f64; 3], f64)]) -> [f64; 3] {
+    let total: f64 = points.iter().map(|p| p.1).sum();
+    assert!(total > 0.0, "a median needs points of positive weight");
+    let mut x = points
+        .iter()
+        .fold([0.0; 3], |s, (p, w)| add(s, scale(*p, *w)))
+        .map(|c| c / total);
+    let spread = points
+        .iter()
+        .map(|(p, w)| w * norm(sub(*p, x)))
+        .sum::<f64>()
+        / total;
+    if spread == 0.0 {
+        return x;
+    }
+    let (floor, tolerance) = (1e-12 * spread, 1e-9 * spread);
+    for _ in 0..200 {
+        let (mut sum, mut weight) = ([0.0; 3], 0.0);
+        for (p, w) in points {
+            let k = w / norm(sub(*p, x)).max(floor);
+            sum = add(sum, scale(*p, k));
+            weight += k;
+        }
+        let next: [f64; 3] =
+            std::array::from_fn(|i| x[i] + MEDIAN_RELAXATION * (sum[i] / weight - x[i]));
+        let step = norm(sub(next, x));
+        x = next;
+        if step <= tolerance {
+            break;
+        }
+    }
+    x
+}
+
 /// The rigid motion that best takes the points `from(i)` to `to(i)`, `i`
 /// in `indices`, in the least-squares sense, in the plane (`D = 2`) or in
 /// space (`D = 3`): the centroids `(a, b)` of both sets and the rotation
@@ -468,6 +517,47 @@ pub fn outliers(residuals: &[f64]) -> Vec<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_geometric_median_follows_the_majority() {
+        // 60 % of the weight at one point, the rest scattered to one side:
+        // the mean moves, the median stays on the point.
+        let at = [0.3, -1.0, 2.0];
+        let mut points = vec![(at, 0.2), (at, 0.4)];
+        for k in 0..8 {
+            let k = k as f64;
+            points.push(([at[0] + 1.0 + 0.1 * k, at[1] + 0.3 * k, at[2] - 0.2], 0.05));
+        }
+        let median = geometric_median(&points);
+        assert!(norm(sub(median, at)) < 1e-8, "{median:?}");
+        // Equivariant under a rigid motion and a scale.
+        let (R, shift, s) = (turn([1.0, 2.0, -0.5], 0.7), [10.0, -3.0, 4.0], 2.5);
+        let moved = |p: [f64; 3]| -> [f64; 3] {
+            std::array::from_fn(|i| s * (0..3).map(|k| R[i][k] * p[k]).sum::<f64>() + shift[i])
+        };
+        let spread: Vec<([f64; 3], f64)> = (0..9)
+            .map(|k| {
+                let k = k as f64;
+                ([k.sin(), (1.3 * k).cos(), 0.1 * k * k], 1.0 + 0.1 * k)
+            })
+            .collect();
+        let a = moved(geometric_median(&spread));
+        let b = geometric_median(
+            &spread
+                .iter()
+                .map(|&(p, w)| (moved(p), w))
+                .collect::<Vec<_>>(),
+        );
+        assert!(norm(sub(a, b)) < 1e-8, "{a:?} {b:?}");
+        // Three points of equal weight at the corners of an equilateral
+        // triangle: its centre.
+        let c = geometric_median(&[
+            ([1.0, 0.0, 0.0], 1.0),
+            ([-0.5, 0.75f64.sqrt(), 0.0], 1.0),
+            ([-0.5, -(0.75f64.sqrt()), 0.0], 1.0),
+        ]);
+        assert!(norm(c) < 1e-9, "{c:?}");
+    }
 
     fn turn(axis: [f64; 3], angle: f64) -> [[f64; 3]; 3] {
         let a = scale(axis, 1.0 / norm(axis));

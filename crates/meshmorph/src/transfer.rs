@@ -34,10 +34,12 @@
 //! rigidly by the surface around them ([`CarriedParts`]).
 //!
 //! The energy does not see translations. Each connected part of the target
-//! is placed so that, in the area-weighted mean over its pairs, the centroid
-//! of each paired target triangle sits where the centroid of its source
-//! triangle went, plus their offset in the references carried by that source
-//! triangle's deformation gradient. The output does not drift, and a rigid
+//! is placed so that the centroid of each paired target triangle sits where
+//! the centroid of its source triangle went, plus their offset in the
+//! references carried by that source triangle's deformation gradient: by
+//! the shift most pairs agree on (the weighted geometric median of the
+//! pairs' shifts), so that what stays still in the source stays still in
+//! the target while another region deforms. The output does not drift, and a rigid
 //! (or affine) motion of the whole source moves the target by the same
 //! motion, wherever the target lies. A part without pairs stays where it is.
 //! Pinned target vertices ([`TransferOptions::pins`]) replace that placement
@@ -56,8 +58,8 @@ use crate::gradient::{FactoredSystem, GradientOperators, Pins, Placement, SolveW
 use crate::matrix::{identity, Mat3};
 use crate::mesh::Mesh3;
 use crate::rotation_field::{FieldWorkspace, RotationField};
-use crate::similarity::closest_rotation;
 use crate::similarity::Similarity;
+use crate::similarity::{closest_rotation, geometric_median};
 use crate::solve::{FactorKind, SymmetricBuilder};
 use crate::topology::{connected_components, edges, Edge, TriangleAdjacency};
 
@@ -195,11 +197,18 @@ struct PartAnchor {
     /// For each pair, the offset from the centroid of its source triangle to
     /// the centroid of its target triangle in the references.
     offsets: Vec<[f64; 3]>,
-    /// Sum of the pair weights.
-    pair_weight: f64,
     /// The part's own area-weighted centroid in the target reference, where
     /// a part without pairs stays.
     target_rest: [f64; 3],
+}
+
+/// Scratch of [`Transfer::place`].
+#[derive(Debug)]
+struct PlaceWorkspace {
+    /// One vector per placed part: its centroid, then its shift.
+    parts: Vec<[f64; 3]>,
+    /// The shift each pair of a part asks for, with the pair's weight.
+    shifts: Vec<([f64; 3], f64)>,
 }
 
 /// Per-thread scratch for [`Transfer::apply_into`].
@@ -209,8 +218,7 @@ pub struct PoseWorkspace {
     /// The pose brought onto the target by the alignment.
     aligned: Vec<[f64; 3]>,
     gradients: Vec<Mat3>,
-    /// One vector per placed part: its centroid, then its shift.
-    parts: Vec<[f64; 3]>,
+    place: PlaceWorkspace,
     /// Rotation of each unpaired target triangle.
     rotations: Vec<Mat3>,
     field: FieldWorkspace,
@@ -333,7 +341,10 @@ impl Transfer {
             solve: self.system.workspace(),
             aligned: Vec::new(),
             gradients: vec![[[0.0; 3]; 3]; self.source_ref.num_triangles()],
-            parts: vec![[0.0; 3]; self.placement.count()],
+            place: PlaceWorkspace {
+                parts: vec![[0.0; 3]; self.placement.count()],
+                shifts: Vec::new(),
+            },
             rotations: vec![identity(); self.target_triangles().len()],
             field: self.field.workspace(),
         }
@@ -441,7 +452,7 @@ impl Transfer {
         for (v, o) in out.iter_mut().enumerate() {
             *o = self.system.position(&ws.solve, v);
         }
-        self.place(pose, &ws.gradients, out, &mut ws.parts);
+        self.place(pose, &ws.gradients, out, &mut ws.place);
         self.carried.carry(&self.target_rest, out);
         ws.aligned = aligned;
     }
@@ -481,34 +492,38 @@ impl Transfer {
     /// Moves each unpinned part so that its paired triangles' centroids
     /// follow those of their source triangles: each at its source triangle's
     /// centroid in `pose` plus the rest offset between the two mapped by the
-    /// source triangle's deformation gradient, in the weighted mean over the
-    /// pairs. A rigid (or affine) motion of the source thus moves the target
+    /// source triangle's deformation gradient. The part takes the shift most
+    /// of its pairs agree on (their weighted geometric median), so a region
+    /// that does not move in the source does not move in the target while
+    /// another region deforms (a skull while the jaw opens). A rigid (or
+    /// affine) motion of the source moves every pair alike, and the target
     /// by the same motion. A part without pairs stays where it is.
     fn place(
         &self,
         pose: &[[f64; 3]],
         gradients: &[Mat3],
         out: &mut [[f64; 3]],
-        parts: &mut [[f64; 3]],
+        ws: &mut PlaceWorkspace,
     ) {
+        let PlaceWorkspace { parts, shifts } = ws;
         self.placement.centroids(out, parts);
         for (anchor, part) in self.anchors.iter().zip(parts.iter_mut()) {
             if anchor.pairs.is_empty() {
                 *part = std::array::from_fn(|i| anchor.target_rest[i] - part[i]);
                 continue;
             }
-            let mut shift = [0.0; 3];
+            shifts.clear();
             for (&(s, t, w), o) in anchor.pairs.iter().zip(&anchor.offsets) {
                 let cs =
                     centroid(self.source_ref.triangles()[s as usize].map(|v| pose[v as usize]));
                 let ct = centroid(self.target_triangles()[t as usize].map(|v| out[v as usize]));
                 let Q = &gradients[s as usize];
-                for i in 0..3 {
-                    let moved = Q[i][0] * o[0] + Q[i][1] * o[1] + Q[i][2] * o[2];
-                    shift[i] += w * (cs[i] + moved - ct[i]);
-                }
+                let shift = std::array::from_fn(|i| {
+                    cs[i] + Q[i][0] * o[0] + Q[i][1] * o[1] + Q[i][2] * o[2] - ct[i]
+                });
+                shifts.push((shift, w));
             }
-            *part = shift.map(|x| x / anchor.pair_weight);
+            *part = geometric_median(shifts);
         }
         self.placement.translate(out, parts);
     }
@@ -709,7 +724,6 @@ fn part_anchors(
             );
             anchor.pairs.push((s, t as u32, w));
             anchor.offsets.push(std::array::from_fn(|i| ct[i] - cs[i]));
-            anchor.pair_weight += w;
         }
     }
     let mut rest = vec![[0.0; 3]; placement.count()];

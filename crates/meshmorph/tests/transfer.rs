@@ -1674,3 +1674,41 @@ fn a_part_with_half_its_area_paired_is_decided_the_same_in_any_units() {
         }
     }
 }
+
+#[test]
+fn what_stays_still_in_the_source_stays_still_in_the_target() {
+    // The source's far half bends by 60 degrees, its near half stays: the
+    // target's near end stays where it is (a skull while the jaw opens),
+    // although the whole target's shape changes.
+    let corr = tube_correspondence(THIN, THICK).correspondence;
+    let (source, target) = (THIN.mesh(), THICK.mesh());
+    let transfer = Transfer::new(&source, &target, &corr, &TransferOptions::default()).unwrap();
+    let half = THIN.length / 2.0;
+    let bent_half = mapped(&source, |[x, y, z]| {
+        if x <= half {
+            return [x, y, z];
+        }
+        let (angle, r) = (PI / 3.0, half / (PI / 3.0));
+        let phi = angle * (x - half) / half;
+        let rho = r - y;
+        [half + rho * phi.sin(), r - rho * phi.cos(), z]
+    });
+    let out = transfer.apply(&bent_half).unwrap();
+    let rest = target.positions();
+    let diagonal = target.bounding_box_diagonal();
+    let near = norm(sub(
+        ring_centroid(&out, THICK.segments, 0),
+        ring_centroid(rest, THICK.segments, 0),
+    ));
+    let far = norm(sub(
+        ring_centroid(&out, THICK.segments, THICK.rings - 1),
+        ring_centroid(rest, THICK.segments, THICK.rings - 1),
+    ));
+    eprintln!(
+        "near end moved {:.2e}, far end {:.2e} of the diagonal",
+        near / diagonal,
+        far / diagonal
+    );
+    assert!(far > 0.1 * diagonal);
+    assert!(near < 1e-3 * diagonal);
+}

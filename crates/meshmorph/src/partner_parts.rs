@@ -1,0 +1,140 @@
+//! Which connected parts of the source and the target may pair their
+//! triangles.
+//!
+//! The triangle matching pairs triangles by nearness alone. Where a
+//! character has separate parts that sit close to another part's surface,
+//! that pairs across parts that have nothing to do with each other: the
+//! front of a target's eyeball with the source's eyelid skin, the target's
+//! eyelid skin with the source's eyeball. Then a blink of the source moves
+//! the target's eye, and a source eye that looks aside drags the target's
+//! lid with it.
+//!
+//! So parts pair with their partners only. Two parts overlap by the area of
+//! each paired with the other, over their two areas together (Dice's
+//! measure: 1 where both are paired all over with each other, near 0 for an
+//! eyeball that touches a little of a whole head). Each part's partner is
+//! the part of the other mesh it overlaps most, and a pair of triangles is
+//! kept when either's part is the other's partner. A target split into
+//! several parts (an arm cut off at a seam) keeps its pairs with a source in
+//! one piece, and the other way round; meshes of one part each keep every
+//! pair.
+
+use std::collections::{HashMap, HashSet};
+
+use crate::mesh::Mesh3;
+use crate::topology::connected_components;
+
+/// The `pairs` (source triangle, target triangle) whose parts are partners
+/// (see the module documentation), in their order.
+pub(crate) fn between_partner_parts(
+    pairs: Vec<[u32; 2]>,
+    source: &Mesh3,
+    target: &Mesh3,
+) -> Vec<[u32; 2]> {
+    let (source_parts, target_parts) = rayon::join(
+        || connected_components(source.num_vertices(), source.triangles()).of_triangle,
+        || connected_components(target.num_vertices(), target.triangles()).of_triangle,
+    );
+    let count = |parts: &[u32]| parts.iter().max().map_or(0, |&m| m as usize + 1);
+    let (num_source, num_target) = (count(&source_parts), count(&target_parts));
+    if num_source <= 1 && num_target <= 1 {
+        return pairs;
+    }
+    let (source_areas, target_areas) = (source.triangle_areas(), target.triangle_areas());
+    let part_areas = |parts: &[u32], areas: &[f64], n: usize| {
+        let mut total = vec![0.0; n];
+        for (&p, a) in parts.iter().zip(areas) {
+            total[p as usize] += a;
+        }
+        total
+    };
+    let source_total = part_areas(&source_parts, &source_areas, num_source);
+    let target_total = part_areas(&target_parts, &target_areas, num_target);
+    // The area of each triangle paired with the other part, counted once.
+    let mut overlap: HashMap<(u32, u32), f64> = HashMap::new();
+    let (mut seen_source, mut seen_target) = (HashSet::new(), HashSet::new());
+    for &[s, t] in &pairs {
+        let (q, p) = (source_parts[s as usize], target_parts[t as usize]);
+        let area = overlap.entry((q, p)).or_default();
+        if seen_source.insert((s, p)) {
+            *area += source_areas[s as usize];
+        }
+        if seen_target.insert((t, q)) {
+            *area += target_areas[t as usize];
+        }
+    }
+    let mut best_source: Vec<Option<(u32, f64)>> = vec![None; num_target];
+    let mut best_target: Vec<Option<(u32, f64)>> = vec![None; num_source];
+    let mut keys: Vec<(u32, u32)> = overlap.keys().copied().collect();
+    keys.sort_unstable();
+    let better = |best: &Option<(u32, f64)>, score: f64| best.is_none_or(|(_, b)| score > b);
+    for (q, p) in keys {
+        let dice = overlap[&(q, p)] / (source_total[q as usize] + target_total[p as usize]);
+        if better(&best_source[p as usize], dice) {
+            best_source[p as usize] = Some((q, dice));
+        }
+        if better(&best_target[q as usize], dice) {
+            best_target[q as usize] = Some((p, dice));
+        }
+    }
+    pairs
+        .into_iter()
+        .filter(|&[s, t]| {
+            let (q, p) = (source_parts[s as usize], target_parts[t as usize]);
+            best_source[p as usize].is_some_and(|b| b.0 == q)
+                || best_target[q as usize].is_some_and(|b| b.0 == p)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::tube;
+
+    /// `a` and `b` (moved by `by`) as one mesh.
+    fn joined(a: &Mesh3, b: &Mesh3, by: [f64; 3]) -> Mesh3 {
+        let n = a.num_vertices() as u32;
+        let mut positions = a.positions().to_vec();
+        positions.extend(
+            b.positions()
+                .iter()
+                .map(|p| [p[0] + by[0], p[1] + by[1], p[2] + by[2]]),
+        );
+        let mut triangles = a.triangles().to_vec();
+        triangles.extend(b.triangles().iter().map(|t| t.map(|v| v + n)));
+        Mesh3::new(positions, triangles).unwrap()
+    }
+
+    #[test]
+    fn an_eye_pairs_with_the_eye_and_a_split_body_with_the_whole() {
+        let (head, eye) = (tube(2.0, 0.5, 9, 8), tube(0.2, 0.1, 3, 6));
+        let mesh = joined(&head, &eye, [1.0, 0.55, 0.0]);
+        let (h, e) = (head.num_triangles() as u32, eye.num_triangles() as u32);
+        // Every triangle with itself, and a few of the eye with the head
+        // and of the head with the eye, both ways.
+        let mut pairs: Vec<[u32; 2]> = (0..h + e).map(|t| [t, t]).collect();
+        pairs.extend([[h, 3], [h + 1, 4], [5, h + 2], [6, h + 3]]);
+        let kept = between_partner_parts(pairs.clone(), &mesh, &mesh);
+        assert_eq!(kept, (0..h + e).map(|t| [t, t]).collect::<Vec<_>>());
+        // A target in two pieces (the head cut in half along its rings) and
+        // a source in one: every pair is kept.
+        let rings = |m: &Mesh3, keep: &dyn Fn(u32) -> bool| {
+            let tris: Vec<[u32; 3]> = m
+                .triangles()
+                .iter()
+                .copied()
+                .filter(|t| t.iter().all(|&v| keep(v)))
+                .collect();
+            Mesh3::new(m.positions().to_vec(), tris).unwrap()
+        };
+        let near = rings(&head, &|v| v < 4 * 8);
+        let far = rings(&head, &|v| (4 * 8..9 * 8).contains(&v));
+        let split = joined(&near, &far, [0.0; 3]);
+        let n = near.num_triangles() as u32;
+        let pairs: Vec<[u32; 2]> = (0..split.num_triangles() as u32)
+            .map(|t| [if t < n { t } else { t + 2 * 8 }, t])
+            .collect();
+        assert_eq!(between_partner_parts(pairs.clone(), &head, &split), pairs);
+    }
+}
