@@ -76,10 +76,11 @@ pub trait Rotations<const D: usize>: TriangleMaps<D> {
     /// principal branch at the seed, or, given `previous` (the logarithms of
     /// the previous key of a sequence and the triangles' areas), the branch
     /// nearest to it, with (in space) the whole turns of the way from the
-    /// previous key, for [`Rotations::segments`]. `edge_weight(i, j)` weighs the edge between
-    /// neighbours `i` and `j` (its length). The interpolation calls it
-    /// through one entry point that chooses the seeds (the triangle of each
-    /// part that turns least) the same way in every dimension.
+    /// previous key, for [`Rotations::segments`]. `edge_weight(i, j)`
+    /// weighs the edge between neighbours `i` and `j` (its length). The
+    /// interpolation calls it through one entry point that chooses the
+    /// seeds (the triangle of each part that turns least) the same way in
+    /// every dimension.
     fn choose_branches(
         rotations: &[Self::Principal],
         adjacency: &TriangleAdjacency,
