@@ -344,9 +344,13 @@ where
             .with_name("interpolation");
         // The first key's texture coordinates, when its file has them.
         let corner_uvs = file.and_then(|f| f.file.triangle_corner_uvs());
+        let corner_normals = file.and_then(|f| f.file.triangle_corner_normals());
         let mut base = GltfBase::new(base, morph.triangles());
         if let Some(uvs) = &corner_uvs {
             base = base.with_corner_uvs(uvs);
+        }
+        if let Some(normals) = &corner_normals {
+            base = base.with_corner_normals(normals);
         }
         staging.write(output, |path| {
             Ok(write_glb_frames(

@@ -360,9 +360,13 @@ where
         let options = GltfOptions::default().with_fps(args.fps).with_name("blend");
         // The base's texture coordinates, when its file has them.
         let corner_uvs = file.file.triangle_corner_uvs();
+        let corner_normals = file.file.triangle_corner_normals();
         let mut gltf_base = GltfBase::new(base.positions(), triangles);
         if let Some(uvs) = &corner_uvs {
             gltf_base = gltf_base.with_corner_uvs(uvs);
+        }
+        if let Some(normals) = &corner_normals {
+            gltf_base = gltf_base.with_corner_normals(normals);
         }
         staging.write(output, |p| {
             Ok(write_glb_frames(p, &gltf_base, &steps, &names, &options)?)

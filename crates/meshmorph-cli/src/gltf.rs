@@ -79,18 +79,19 @@ impl GltfArgs {
 }
 
 /// The warning that the GLB `glb` holds, of the file `file` it was made
-/// from, only the mesh, its texture coordinates and normals of its own, when
-/// the file has more (its normals, objects, materials, colours, ...).
+/// from, only the mesh, its texture coordinates and normals of its own
+/// (computed from each frame's shape, hard where the file's normals make an
+/// edge hard), when the file has more (objects, materials, colours, ...).
 pub fn dropped_warning(glb: &Path, file: &MeshFile) -> Option<String> {
     let dropped: Vec<&str> = file
         .extras()
         .iter()
         .map(String::as_str)
-        .filter(|e| !e.starts_with("texture coordinates"))
+        .filter(|e| !e.starts_with("texture coordinates") && !e.starts_with("normals"))
         .collect();
     (!dropped.is_empty()).then(|| {
         format!(
-            "`{}` holds one mesh, with its texture coordinates and normals computed from its shape: the {} of `{}` are not in it",
+            "`{}` holds one mesh, with its texture coordinates and normals computed from its shape (hard edges kept): the {} of `{}` are not in it",
             glb.display(),
             dropped.join(", "),
             file.path().display()

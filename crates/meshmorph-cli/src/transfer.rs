@@ -579,9 +579,13 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         .with_animation(!args.gltf_shapes)
         .with_name(crate::gltf::mesh_name(&args.refs.target_ref));
     let corner_uvs = target_ref.file.file.triangle_corner_uvs();
+    let corner_normals = target_ref.file.file.triangle_corner_normals();
     let mut base = GltfBase::new(target.positions(), target.triangles());
     if let Some(uvs) = &corner_uvs {
         base = base.with_corner_uvs(uvs);
+    }
+    if let Some(normals) = &corner_normals {
+        base = base.with_corner_normals(normals);
     }
     let mut gltf = None;
     if let Some(output) = gltf_output {

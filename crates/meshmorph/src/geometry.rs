@@ -102,8 +102,22 @@ pub fn angle_weighted_vertex_normals(
     positions: &[[f64; 3]],
     triangles: &[[u32; 3]],
 ) -> Vec<[f64; 3]> {
-    let mut normals = vec![[0.0; 3]; positions.len()];
-    for t in triangles {
+    angle_weighted_normals(positions, triangles, positions.len(), |t, k| {
+        triangles[t][k] as usize
+    })
+}
+
+/// [`angle_weighted_vertex_normals`] of `count` groups of triangle corners:
+/// corner `k` of triangle `t` adds to group `group(t, k)` (a vertex, or a
+/// vertex on one side of a hard edge). Zero for groups no corner adds to.
+pub fn angle_weighted_normals(
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    count: usize,
+    group: impl Fn(usize, usize) -> usize,
+) -> Vec<[f64; 3]> {
+    let mut normals = vec![[0.0; 3]; count];
+    for (i, t) in triangles.iter().enumerate() {
         let p = t.map(|v| positions[v as usize]);
         let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
         let len = norm(n);
@@ -114,7 +128,8 @@ pub fn angle_weighted_vertex_normals(
             let (a, b) = (sub(p[(k + 1) % 3], p[k]), sub(p[(k + 2) % 3], p[k]));
             // |a × b| is twice the triangle's area at every corner.
             let weight = corner_angle(len, dot(a, b)) / len;
-            normals[t[k] as usize] = add(normals[t[k] as usize], scale(n, weight));
+            let g = group(i, k);
+            normals[g] = add(normals[g], scale(n, weight));
         }
     }
     for n in &mut normals {

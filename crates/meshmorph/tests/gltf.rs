@@ -379,3 +379,107 @@ fn frames_on_demand_write_the_same_file_as_frames_in_memory() {
     // Once for the bounds, once for the data.
     assert_eq!(source.asked.into_inner(), 2 * 13);
 }
+
+/// A tube's corner normals with the ring at `hard` a hard edge: corners of
+/// its vertices in triangles on either side get different normals (any
+/// value: only which corners share one counts).
+fn hard_ring_normals(mesh: &meshmorph::Mesh3, segments: u32, hard: u32) -> Vec<[[f32; 3]; 3]> {
+    mesh.triangles()
+        .iter()
+        .map(|t| {
+            let ring = |v: u32| v / segments;
+            // The triangle's side of the hard ring: its lowest ring.
+            let below = t.iter().map(|&v| ring(v)).min().unwrap() < hard;
+            t.map(|v| {
+                let side = if ring(v) == hard && below { 1.0 } else { 0.0 };
+                [side, v as f32, 0.0]
+            })
+        })
+        .collect()
+}
+
+#[test]
+fn hard_edges_of_the_file_stay_hard_in_every_frame() {
+    let (rings, segments) = (9, 12);
+    let rest = tube(4.0, 0.5, rings, segments);
+    let normals = hard_ring_normals(&rest, segments as u32, 4);
+    let poses: Vec<Vec<[f64; 3]>> = [0.6, 1.5]
+        .iter()
+        .map(|&a| bend(&rest, 4.0, a).positions().to_vec())
+        .collect();
+    let smooth = read_back(
+        &glb(
+            &GltfBase::new(rest.positions(), rest.triangles()),
+            &poses,
+            &names(2),
+            &GltfOptions::default(),
+        )
+        .unwrap(),
+    );
+    let base = GltfBase::new(rest.positions(), rest.triangles()).with_corner_normals(&normals);
+    let hard = read_back(&glb(&base, &poses, &names(2), &GltfOptions::default()).unwrap());
+    // The hard ring's vertices are split in two.
+    assert_eq!(smooth.positions.len(), rest.num_vertices());
+    assert_eq!(hard.positions.len(), rest.num_vertices() + segments);
+    // At the hard ring (x = 2, the tube's middle), the two sides' normals
+    // are the normals of their own faces: in the straight tube both point
+    // away from the axis but lean apart along it (each side's faces alone),
+    // while the smooth vertex's normal has no x component.
+    let at_ring = |back: &ReadBack| -> Vec<[f32; 3]> {
+        (0..back.positions.len())
+            .filter(|&i| (back.positions[i][0] - 2.0).abs() < 1e-6)
+            .map(|i| back.normals[i])
+            .collect()
+    };
+    for n in at_ring(&smooth) {
+        assert!(n[0].abs() < 1e-6, "{n:?}");
+    }
+    // On a straight tube both sides' faces are parallel to the axis: the
+    // hard ring's normals equal the smooth ones there; bent, they differ.
+    let bent = |back: &ReadBack, k: usize| -> Vec<[f32; 3]> {
+        (0..back.positions.len())
+            .filter(|&i| (back.positions[i][0] - 2.0).abs() < 1e-6)
+            .map(|i| std::array::from_fn(|c| back.normals[i][c] + back.targets[k].1[i][c]))
+            .collect()
+    };
+    let (hard_bent, smooth_bent) = (bent(&hard, 1), bent(&smooth, 1));
+    assert_eq!(hard_bent.len(), 2 * segments);
+    assert_eq!(smooth_bent.len(), segments);
+    // Each pair of copies (one place) leans apart along the bend, up to
+    // about a band's turn (1.5 rad over 8 bands: 0.19 rad) on the inside
+    // and outside of the bend (none on its flanks), the smooth normal
+    // between them.
+    let angle = |a: [f32; 3], b: [f32; 3]| {
+        let dot: f32 = (0..3).map(|c| a[c] * b[c]).sum::<f32>()
+            / (0..3).map(|c| a[c] * a[c]).sum::<f32>().sqrt()
+            / (0..3).map(|c| b[c] * b[c]).sum::<f32>().sqrt();
+        dot.clamp(-1.0, 1.0).acos()
+    };
+    let places = |back: &ReadBack| -> Vec<[f32; 3]> {
+        (0..back.positions.len())
+            .filter(|&i| (back.positions[i][0] - 2.0).abs() < 1e-6)
+            .map(|i| back.positions[i])
+            .collect()
+    };
+    let (hard_places, smooth_places) = (places(&hard), places(&smooth));
+    let mut widest: f32 = 0.0;
+    for (k, p) in hard_places.iter().enumerate().take(segments) {
+        let twin = (segments..2 * segments)
+            .find(|&m| hard_places[m] == *p)
+            .expect("a copy");
+        let s = smooth_places
+            .iter()
+            .position(|q| q == p)
+            .expect("the smooth vertex");
+        let apart = angle(hard_bent[k], hard_bent[twin]);
+        widest = widest.max(apart);
+        let (a, b) = (
+            angle(hard_bent[k], smooth_bent[s]),
+            angle(hard_bent[twin], smooth_bent[s]),
+        );
+        assert!(
+            a < apart && b < apart && (a + b - apart).abs() < 0.01,
+            "vertex {k}: {a} {b} {apart}"
+        );
+    }
+}

@@ -55,7 +55,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::frame_source::{map_frame, FrameSource};
-use crate::geometry::angle_weighted_vertex_normals;
+use crate::geometry::{angle_weighted_normals, angle_weighted_vertex_normals};
 use crate::io::{write_atomic, xyz};
 use crate::mesh::check_finite;
 
@@ -124,6 +124,13 @@ pub struct GltfBase<'a, const D: usize> {
     /// [`MeshFile::triangle_corner_uvs`](crate::io::MeshFile::triangle_corner_uvs)
     /// gives them.
     pub corner_uvs: Option<&'a [[[f32; 2]; 3]]>,
+    /// `#T × 3` normals, one per triangle corner, as
+    /// [`MeshFile::triangle_corner_normals`](crate::io::MeshFile::triangle_corner_normals)
+    /// gives them. Only which corners of a vertex share a normal counts:
+    /// corners with different normals lie on the two sides of a hard edge,
+    /// and each side gets vertices of its own, with normals computed from
+    /// its faces alone in every frame. Without them every vertex is smooth.
+    pub corner_normals: Option<&'a [[[f32; 3]; 3]]>,
 }
 
 impl<'a, const D: usize> GltfBase<'a, D> {
@@ -133,12 +140,19 @@ impl<'a, const D: usize> GltfBase<'a, D> {
             positions,
             triangles,
             corner_uvs: None,
+            corner_normals: None,
         }
     }
 
     /// Adds texture coordinates per triangle corner.
     pub fn with_corner_uvs(mut self, corner_uvs: &'a [[[f32; 2]; 3]]) -> Self {
         self.corner_uvs = Some(corner_uvs);
+        self
+    }
+
+    /// Adds the file's normals per triangle corner (hard edges).
+    pub fn with_corner_normals(mut self, corner_normals: &'a [[[f32; 3]; 3]]) -> Self {
+        self.corner_normals = Some(corner_normals);
         self
     }
 }
@@ -259,6 +273,9 @@ struct Layout<'a, const D: usize> {
     indices: Vec<[u32; 3]>,
     /// Per glTF vertex, glTF's convention (v down).
     uvs: Option<Vec<[f32; 2]>>,
+    /// The normal groups of the triangle corners, and the group of each
+    /// glTF vertex, when the base has them.
+    groups: Option<(Vec<[u32; 3]>, Vec<u32>)>,
     base_positions: Vec<[f32; 3]>,
     base_normals: Vec<[f32; 3]>,
     fps: f64,
@@ -296,12 +313,17 @@ impl<'a, const D: usize> Layout<'a, D> {
             )));
         }
         check_positions(base.positions, base.triangles, "the base mesh")?;
-        let (original, indices, uvs) = split_vertices(base)?;
+        let Split {
+            original,
+            indices,
+            uvs,
+            groups,
+        } = split_vertices(base)?;
         let base_positions: Vec<[f32; 3]> = original
             .iter()
             .map(|&v| xyz(&base.positions[v as usize]).map(|x| x as f32))
             .collect();
-        let base_normals = gltf_normals::<D>(base.positions, base.triangles, &original);
+        let base_normals = gltf_normals::<D>(base.positions, base.triangles, &original, &groups);
 
         // Each frame checked, and its position deltas' bounds, which the
         // JSON needs before any data.
@@ -329,6 +351,7 @@ impl<'a, const D: usize> Layout<'a, D> {
             original,
             indices,
             uvs,
+            groups,
             base_positions,
             base_normals,
             fps: options.fps,
@@ -634,7 +657,7 @@ impl<'a, const D: usize> Layout<'a, D> {
             }
         }
         if self.frame_normals() {
-            let normals = gltf_normals::<D>(frame, self.triangles, &self.original);
+            let normals = gltf_normals::<D>(frame, self.triangles, &self.original, &self.groups);
             for (a, b) in normals.iter().zip(&self.base_normals) {
                 for k in 0..3 {
                     out.extend_from_slice(&(a[k] - b[k]).to_le_bytes());
@@ -730,30 +753,47 @@ fn accessor(
 
 /// Unit vertex normals for the glTF vertices: +z for planar meshes, in
 /// space the triangle normals each weighing its angle at the vertex, as
-/// Blender computes them (+z where they cancel out).
+/// Blender computes them (+z where they cancel out); with normal `groups`
+/// (the triangle corners' and each glTF vertex's), over the corners of the
+/// vertex's group only, so hard edges stay hard.
 fn gltf_normals<const D: usize>(
     positions: &[[f64; D]],
     triangles: &[[u32; 3]],
     original: &[u32],
+    groups: &Option<(Vec<[u32; 3]>, Vec<u32>)>,
 ) -> Vec<[f32; 3]> {
     if D != 3 {
         return vec![[0.0, 0.0, 1.0]; original.len()];
     }
     let space: Vec<[f64; 3]> = positions.iter().map(xyz).collect();
-    let normals = angle_weighted_vertex_normals(&space, triangles);
-    original
-        .iter()
-        .map(|&v| {
-            let n = normals[v as usize];
-            if n == [0.0; 3] {
-                [0.0, 0.0, 1.0]
-            } else {
-                let m = n.map(|x| x as f32);
-                let len = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
-                m.map(|x| x / len)
-            }
-        })
-        .collect()
+    let unit = |n: [f64; 3]| {
+        if n == [0.0; 3] {
+            [0.0, 0.0, 1.0]
+        } else {
+            let m = n.map(|x| x as f32);
+            let len = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
+            m.map(|x| x / len)
+        }
+    };
+    match groups {
+        Some((corner_groups, vertex_group)) => {
+            let count = vertex_group.iter().max().map_or(0, |&g| g as usize + 1);
+            let normals = angle_weighted_normals(&space, triangles, count, |t, k| {
+                corner_groups[t][k] as usize
+            });
+            vertex_group
+                .iter()
+                .map(|&g| unit(normals[g as usize]))
+                .collect()
+        }
+        None => {
+            let normals = angle_weighted_vertex_normals(&space, triangles);
+            original
+                .iter()
+                .map(|&v| unit(normals[v as usize]))
+                .collect()
+        }
+    }
 }
 
 /// Refuses a base mesh whose coordinates are not finite or whose triangles
@@ -783,92 +823,123 @@ fn check_positions<const D: usize>(
     Ok(())
 }
 
-/// glTF's vertices: one per used original vertex and distinct texture
-/// coordinate pair, original vertices first (in order, each with its first
-/// corner's coordinates), further pairs after. Returns (glTF vertex →
-/// original vertex, triangles in glTF vertices, texture coordinates).
-#[allow(clippy::type_complexity)]
-fn split_vertices<const D: usize>(
-    base: &GltfBase<'_, D>,
-) -> Result<(Vec<u32>, Vec<[u32; 3]>, Option<Vec<[f32; 2]>>)> {
+/// glTF's vertices and what each carries.
+struct Split {
+    /// glTF vertex → original vertex.
+    original: Vec<u32>,
+    /// Triangles in glTF vertices.
+    indices: Vec<[u32; 3]>,
+    /// Texture coordinates per glTF vertex (glTF's v down).
+    uvs: Option<Vec<[f32; 2]>>,
+    /// With normals per corner: the normal group of each triangle corner
+    /// (the corners of one vertex that share a normal) and of each glTF
+    /// vertex.
+    groups: Option<(Vec<[u32; 3]>, Vec<u32>)>,
+}
+
+/// glTF's vertices: one per used original vertex and distinct pair of
+/// texture coordinates and normal group of its corners, original vertices
+/// first (in order, each with its first corner's), further pairs after.
+fn split_vertices<const D: usize>(base: &GltfBase<'_, D>) -> Result<Split> {
     let n = base.positions.len();
-    let mut used = vec![false; n];
-    for t in base.triangles {
-        for &v in t {
-            used[v as usize] = true;
+    if let Some(corner_uvs) = base.corner_uvs {
+        if corner_uvs.len() != base.triangles.len() {
+            return Err(Error::InvalidArgument(format!(
+                "{} triangles but texture coordinates for {}",
+                base.triangles.len(),
+                corner_uvs.len()
+            )));
         }
-    }
-    let Some(corner_uvs) = base.corner_uvs else {
-        let mut new_index = vec![u32::MAX; n];
-        let mut original = Vec::with_capacity(n);
-        for v in (0..n).filter(|&v| used[v]) {
-            new_index[v] = original.len() as u32;
-            original.push(v as u32);
-        }
-        let indices = base
-            .triangles
+        if let Some(t) = corner_uvs
             .iter()
-            .map(|t| t.map(|v| new_index[v as usize]))
-            .collect();
-        return Ok((original, indices, None));
+            .position(|c| c.iter().flatten().any(|x| !x.is_finite()))
+        {
+            return Err(Error::InvalidTriangle {
+                triangle: t,
+                message: format!(
+                    "triangle {t}'s texture coordinates are not finite numbers: {:?}",
+                    corner_uvs[t]
+                ),
+            });
+        }
+    }
+    // The corners of one vertex that share a normal are one group.
+    let corner_groups: Option<Vec<[u32; 3]>> = match base.corner_normals {
+        None => None,
+        Some(normals) if normals.len() != base.triangles.len() => {
+            return Err(Error::InvalidArgument(format!(
+                "{} triangles but normals for {}",
+                base.triangles.len(),
+                normals.len()
+            )))
+        }
+        Some(normals) => {
+            let mut ids: HashMap<(u32, [u32; 3]), u32> = HashMap::new();
+            Some(
+                base.triangles
+                    .iter()
+                    .zip(normals)
+                    .map(|(t, n)| {
+                        std::array::from_fn(|k| {
+                            let next = ids.len() as u32;
+                            *ids.entry((t[k], n[k].map(f32::to_bits))).or_insert(next)
+                        })
+                    })
+                    .collect(),
+            )
+        }
     };
-    if corner_uvs.len() != base.triangles.len() {
-        return Err(Error::InvalidArgument(format!(
-            "{} triangles but texture coordinates for {}",
-            base.triangles.len(),
-            corner_uvs.len()
-        )));
-    }
-    if let Some(t) = corner_uvs
-        .iter()
-        .position(|c| c.iter().flatten().any(|x| !x.is_finite()))
-    {
-        return Err(Error::InvalidTriangle {
-            triangle: t,
-            message: format!(
-                "triangle {t}'s texture coordinates are not finite numbers: {:?}",
-                corner_uvs[t]
-            ),
-        });
-    }
     // glTF's v runs down the image, OBJ's up.
-    let gltf_uv = |uv: [f32; 2]| [uv[0], 1.0 - uv[1]];
-    let mut first: Vec<Option<[f32; 2]>> = vec![None; n];
-    for (t, c) in base.triangles.iter().zip(corner_uvs) {
+    let corner = |t: usize, k: usize| -> ([f32; 2], u32) {
+        let uv = base
+            .corner_uvs
+            .map_or([0.0; 2], |c| [c[t][k][0], 1.0 - c[t][k][1]]);
+        (uv, corner_groups.as_ref().map_or(0, |g| g[t][k]))
+    };
+    let key = |(uv, g): ([f32; 2], u32)| (uv.map(f32::to_bits), g);
+    let mut first: Vec<Option<([f32; 2], u32)>> = vec![None; n];
+    for (t, tri) in base.triangles.iter().enumerate() {
         for k in 0..3 {
-            first[t[k] as usize].get_or_insert(gltf_uv(c[k]));
+            first[tri[k] as usize].get_or_insert(corner(t, k));
         }
     }
     let mut new_index = vec![u32::MAX; n];
     let mut original = Vec::with_capacity(n);
-    let mut uvs = Vec::with_capacity(n);
+    let mut attributes = Vec::with_capacity(n);
     for v in 0..n {
-        if let Some(uv) = first[v] {
+        if let Some(a) = first[v] {
             new_index[v] = original.len() as u32;
             original.push(v as u32);
-            uvs.push(uv);
+            attributes.push(a);
         }
     }
-    let mut extra: HashMap<(u32, [u32; 2]), u32> = HashMap::new();
+    let mut extra: HashMap<(u32, ([u32; 2], u32)), u32> = HashMap::new();
     let indices = base
         .triangles
         .iter()
-        .zip(corner_uvs)
-        .map(|(t, c)| {
+        .enumerate()
+        .map(|(t, tri)| {
             std::array::from_fn(|k| {
-                let v = t[k];
-                let uv = gltf_uv(c[k]);
+                let v = tri[k];
+                let a = corner(t, k);
                 let own = new_index[v as usize];
-                if uvs[own as usize].map(f32::to_bits) == uv.map(f32::to_bits) {
+                if key(attributes[own as usize]) == key(a) {
                     return own;
                 }
-                *extra.entry((v, uv.map(f32::to_bits))).or_insert_with(|| {
+                *extra.entry((v, key(a))).or_insert_with(|| {
                     original.push(v);
-                    uvs.push(uv);
+                    attributes.push(a);
                     (original.len() - 1) as u32
                 })
             })
         })
         .collect();
-    Ok((original, indices, Some(uvs)))
+    Ok(Split {
+        original,
+        indices,
+        uvs: base
+            .corner_uvs
+            .map(|_| attributes.iter().map(|a| a.0).collect()),
+        groups: corner_groups.map(|g| (g, attributes.iter().map(|a| a.1).collect())),
+    })
 }

@@ -310,6 +310,28 @@ impl MeshFile {
         )
     }
 
+    /// The file's normal at each corner of each triangle of
+    /// [`MeshFile::mesh`] (OBJ `vn` through `f v//vn`, PLY vertex
+    /// properties `nx ny nz`), as `f32`. Corners of one vertex with different
+    /// normals lie on the two sides of a hard edge. `None` when the file has
+    /// no normals or some corner lacks one.
+    pub fn triangle_corner_normals(&self) -> Option<Vec<[[f32; 3]; 3]>> {
+        if !self.has_normals() || self.corner_normal.contains(&NONE) {
+            return None;
+        }
+        Some(
+            self.split
+                .corners
+                .iter()
+                .map(|c| {
+                    c.map(|k| {
+                        self.normals[self.corner_normal[k as usize] as usize].map(|x| x as f32)
+                    })
+                })
+                .collect(),
+        )
+    }
+
     /// Whether every corner of every face has texture coordinates (then
     /// [`MeshFile::triangle_corner_uvs`] gives them).
     pub fn has_corner_uvs(&self) -> bool {
@@ -392,15 +414,20 @@ impl MeshFile {
     /// The file's normals turned to the shape `positions` (see
     /// [`NormalGroups`]).
     fn normals_for_shape(&self, positions: &[[f64; 3]]) -> ShapeNormals {
-        let groups = self.normal_groups.get_or_init(|| {
+        self.groups()
+            .for_shape(&self.normals, &self.faces, positions)
+    }
+
+    /// The groups of corners that share a normal, made at the first call.
+    fn groups(&self) -> &NormalGroups {
+        self.normal_groups.get_or_init(|| {
             NormalGroups::new(
                 &self.faces,
                 &self.corner_normal,
                 &self.flat_faces,
                 self.mesh.positions(),
             )
-        });
-        groups.for_shape(&self.normals, &self.faces, positions)
+        })
     }
 
     /// The file, of another format, as OBJ with new `positions`: its
