@@ -296,18 +296,10 @@ impl MeshFile {
         if !self.has_corner_uvs() {
             return None;
         }
-        Some(
-            self.split
-                .corners
-                .iter()
-                .map(|c| {
-                    c.map(|k| {
-                        let uv = self.uvs[self.corner_uv[k as usize] as usize];
-                        [uv[0] as f32, uv[1] as f32]
-                    })
-                })
-                .collect(),
-        )
+        Some(self.per_triangle_corner(|k| {
+            let uv = self.uvs[self.corner_uv[k] as usize];
+            [uv[0] as f32, uv[1] as f32]
+        }))
     }
 
     /// The file's normal at each corner of each triangle of
@@ -319,17 +311,19 @@ impl MeshFile {
         if !self.has_normals() || self.corner_normal.contains(&NONE) {
             return None;
         }
-        Some(
-            self.split
-                .corners
-                .iter()
-                .map(|c| {
-                    c.map(|k| {
-                        self.normals[self.corner_normal[k as usize] as usize].map(|x| x as f32)
-                    })
-                })
-                .collect(),
-        )
+        Some(self.per_triangle_corner(|k| {
+            self.normals[self.corner_normal[k] as usize].map(|x| x as f32)
+        }))
+    }
+
+    /// `of_corner(k)` of the file's corner `k` at each corner of each
+    /// triangle of [`MeshFile::mesh`].
+    fn per_triangle_corner<T>(&self, of_corner: impl Fn(usize) -> T) -> Vec<[T; 3]> {
+        self.split
+            .corners
+            .iter()
+            .map(|c| c.map(|k| of_corner(k as usize)))
+            .collect()
     }
 
     /// Whether every corner of every face has texture coordinates (then
