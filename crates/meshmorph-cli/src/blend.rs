@@ -59,6 +59,12 @@ pub struct Args {
     /// Go on when a shape has triangles turned over relative to the base.
     #[arg(long)]
     pub allow_flips: bool,
+    /// Keep apart vertices that share a place. By default copies at seams
+    /// (vertices at exactly one place in the base and every shape whose neighbours coincide too, as
+    /// UV seams and edge splits leave them) are welded for the solve, so that
+    /// the surface does not crack along them; the files keep their vertices.
+    #[arg(long)]
+    pub no_weld: bool,
     /// The PNG shows the base, the halfway blend and the blend; the GIF
     /// (and the GLB, as morph targets) the base turning into the blend, the
     /// weights growing from 0 to theirs.
@@ -199,7 +205,7 @@ pub fn run(args: &Args) -> Result<()> {
     let mut roles = vec!["base mesh"];
     roles.extend(args.shapes.iter().map(|_| "blend shape"));
     let mut warnings = Vec::new();
-    let (base_file, mut shapes) = output::read_poses(&paths, &roles, &mut warnings)?;
+    let (base_file, mut shapes) = output::read_poses(&paths, &roles, !args.no_weld, &mut warnings)?;
     let base = shapes.remove(0);
     let meshes: Vec<&Mesh3> = std::iter::once(&base).chain(&shapes).collect();
     let paths: Vec<&PathBuf> = std::iter::once(&args.base)

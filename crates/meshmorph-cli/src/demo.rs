@@ -230,6 +230,7 @@ fn transfer(args: &Args) -> Result<()> {
         refs: References {
             source_ref: source_ref.clone(),
             target_ref: target_ref.clone(),
+            no_weld: false,
         },
         correspond: CorrespondArgs {
             markers: Some(markers_path.clone()),

@@ -49,6 +49,12 @@ pub struct Args {
     /// Output mesh format [default: the first key's].
     #[arg(long, value_enum)]
     pub format: Option<FormatArg>,
+    /// Keep apart vertices that share a place. By default copies at seams
+    /// (vertices at exactly one place in every key whose neighbours coincide too, as
+    /// UV seams and edge splits leave them) are welded for the solve, so that
+    /// the surface does not crack along them; the files keep their vertices.
+    #[arg(long)]
+    pub no_weld: bool,
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
@@ -198,7 +204,7 @@ pub fn run(args: &Args) -> Result<()> {
     memory::check_reading(&paths)?;
     let role_names: Vec<&str> = roles.iter().map(String::as_str).collect();
     let mut warnings = Vec::new();
-    let (first_file, keys) = output::read_poses(&paths, &role_names, &mut warnings)?;
+    let (first_file, keys) = output::read_poses(&paths, &role_names, !args.no_weld, &mut warnings)?;
     let key_refs: Vec<&Mesh3> = keys.iter().collect();
     let planar = output::is_planar(args.dim, &key_refs, |k| {
         format!("the {} `{}`", roles[k], args.keys[k].display())

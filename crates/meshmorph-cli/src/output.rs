@@ -92,9 +92,14 @@ pub struct WeldedFile {
 }
 
 impl WeldedFile {
-    /// Finds the seams of `file` alone and welds its mesh.
-    pub fn new(file: MeshFile) -> (Self, Mesh3) {
-        let seams = Seams::find(&[file.mesh()]);
+    /// Finds the seams of `file` alone and welds its mesh (with `weld`;
+    /// else every vertex stays its own).
+    pub fn new(file: MeshFile, weld: bool) -> (Self, Mesh3) {
+        let seams = if weld {
+            Seams::find(&[file.mesh()])
+        } else {
+            Seams::none(file.mesh().num_vertices())
+        };
         let mesh = seams.weld(file.mesh());
         (Self { file, seams }, mesh)
     }
@@ -129,10 +134,12 @@ pub fn size_warning(path: &Path, ratio: f64, reference: &str) -> Option<String> 
 /// Reads `paths` (called `roles`): the first kept whole, every later one
 /// as a pose of it ([`read_pose`]), re-listed faces and sizes that look
 /// like other units said in `warnings`;
-/// vertices at the same place in every one of them welded ([`Seams`]).
+/// with `weld`, vertices at the same place in every one of them welded
+/// ([`Seams`]).
 pub fn read_poses(
     paths: &[&Path],
     roles: &[&str],
+    weld: bool,
     warnings: &mut Vec<String>,
 ) -> Result<(WeldedFile, Vec<Mesh3>)> {
     let first = read_mesh_file(paths[0], roles[0])?;
@@ -147,7 +154,11 @@ pub fn read_poses(
         ));
         meshes.push(mesh);
     }
-    let seams = Seams::find(&meshes.iter().collect::<Vec<_>>());
+    let seams = if weld {
+        Seams::find(&meshes.iter().collect::<Vec<_>>())
+    } else {
+        Seams::none(first.mesh().num_vertices())
+    };
     if !seams.is_empty() {
         meshes = meshes.iter().map(|m| seams.weld(m)).collect();
     }

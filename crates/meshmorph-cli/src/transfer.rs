@@ -251,13 +251,19 @@ pub struct References {
     /// The target character at rest (T0).
     #[arg(long, value_name = "MESH")]
     pub target_ref: PathBuf,
+    /// Keep apart vertices that share a place. By default copies at seams
+    /// (vertices at exactly one place in a reference whose neighbours coincide too, as
+    /// UV seams and edge splits leave them) are welded for the solve, so that
+    /// the surface does not crack along them; the files keep their vertices.
+    #[arg(long)]
+    pub no_weld: bool,
 }
 
 impl References {
     /// Both files, kept whole, and their meshes welded at seams.
     fn read(&self) -> Result<(Reference, Reference)> {
         let read = |path: &Path, role: &str| -> Result<Reference> {
-            let (file, mesh) = WeldedFile::new(output::read_mesh_file(path, role)?);
+            let (file, mesh) = WeldedFile::new(output::read_mesh_file(path, role)?, !self.no_weld);
             Ok(Reference { file, mesh })
         };
         let (s, t) = rayon::join(

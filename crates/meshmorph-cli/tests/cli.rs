@@ -1349,20 +1349,38 @@ fn interpolation_of_a_mesh_split_at_seams_does_not_crack() {
     write(&path("bent.obj"), &bent);
     write(&path("split-rest.ply"), &split_rest);
     write(&path("split-bent.ply"), &split_bent);
-    let frames = |a: &str, b: &str, out: &str| {
-        json(&succeeds(&run([
-            os("interpolate"),
-            path(a).as_os_str(),
-            path(b).as_os_str(),
-            os("-o"),
-            path(out).as_os_str(),
-            os("--frames"),
-            os("4"),
-            os("--json"),
-        ])))
+    let frames_with = |a: &str, b: &str, out: &str, extra: &[&str]| {
+        let mut args: Vec<std::ffi::OsString> = vec![
+            "interpolate".into(),
+            path(a).into(),
+            path(b).into(),
+            "-o".into(),
+            path(out).into(),
+            "--frames".into(),
+            "4".into(),
+            "--json".into(),
+        ];
+        args.extend(extra.iter().map(|e| e.into()));
+        json(&succeeds(&run(args)))
     };
+    let frames = |a: &str, b: &str, out: &str| frames_with(a, b, out, &[]);
     let whole = frames("rest.obj", "bent.obj", "whole");
     assert_eq!(uint(&whole, "welded_vertices"), 0);
+    // With --no-weld the copies stay apart, and the two halves of the cut
+    // tube part between the keys.
+    let apart = frames_with("split-rest.ply", "split-bent.ply", "apart", &["--no-weld"]);
+    assert_eq!(uint(&apart, "welded_vertices"), 0);
+    let halfway = read(&path("apart").join("frame_0002.ply"));
+    let n = rest.num_vertices();
+    let gap = copy_of
+        .iter()
+        .enumerate()
+        .map(|(c, &v)| {
+            let (a, b) = (halfway.positions()[n + c], halfway.positions()[v as usize]);
+            (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt()
+        })
+        .fold(0.0, f64::max);
+    assert!(gap > 1e-3, "{gap}");
     let cut = frames("split-rest.ply", "split-bent.ply", "cut");
     assert_eq!(uint(&cut, "welded_vertices"), copy_of.len() as u64);
     assert_eq!(uint(&cut, "vertices"), split_rest.num_vertices() as u64);

@@ -119,8 +119,8 @@ impl Seams {
         }
     }
 
-    /// Every vertex its own.
-    fn none(n: usize) -> Self {
+    /// Every vertex of a mesh of `n` vertices its own: nothing welded.
+    pub fn none(n: usize) -> Self {
         Self {
             welded_of: (0..n as u32).collect(),
             first_of: (0..n as u32).collect(),
