@@ -614,7 +614,7 @@ fn closest_points(
 /// `target` (centroids within `threshold`, normals less than 90° apart) and
 /// each triangle of `target` with the nearest compatible one of `source`.
 /// The union of both, sorted, is the map, less the pairs between separate
-/// parts that are not each other's partners (an eyeball and eyelid skin:
+/// parts neither of which is the other's partner (an eyeball and eyelid skin:
 /// see `partner_parts.rs`).
 pub fn match_triangles(source: &Mesh3, target: &Mesh3, threshold: f64) -> Correspondence {
     let (source_index, target_index) = rayon::join(

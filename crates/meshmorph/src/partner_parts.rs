@@ -9,15 +9,14 @@
 //! the target's eye, and a source eye that looks aside drags the target's
 //! lid with it.
 //!
-//! So parts pair with their partners only. Two parts overlap by the area of
-//! each paired with the other, over their two areas together (Dice's
-//! measure: 1 where both are paired all over with each other, near 0 for an
-//! eyeball that touches a little of a whole head). Each part's partner is
-//! the part of the other mesh it overlaps most, and a pair of triangles is
-//! kept when either's part is the other's partner. A target split into
-//! several parts (an arm cut off at a seam) keeps its pairs with a source in
-//! one piece, and the other way round; meshes of one part each keep every
-//! pair.
+//! So parts pair with their partners only. A part's partner is the part of
+//! the other mesh that covers the most of its area (the share of its area
+//! paired with that part: an eyeball is covered far more by the other
+//! eyeball than by the head skin it touches, while the head covers only a
+//! sliver of it). A pair of triangles is kept when either's part is the
+//! other's partner. A target split into several parts (a hand cut off at a
+//! seam) keeps its pairs with a source in one piece, and the other way
+//! round; meshes of one part each keep every pair.
 
 use std::collections::{HashMap, HashSet};
 
@@ -50,31 +49,36 @@ pub(crate) fn between_partner_parts(
     };
     let source_total = part_areas(&source_parts, &source_areas, num_source);
     let target_total = part_areas(&target_parts, &target_areas, num_target);
-    // The area of each triangle paired with the other part, counted once.
-    let mut overlap: HashMap<(u32, u32), f64> = HashMap::new();
+    // The area of each part paired with the other part (each triangle
+    // counted once): target side, source side.
+    let mut overlap: HashMap<(u32, u32), (f64, f64)> = HashMap::new();
     let (mut seen_source, mut seen_target) = (HashSet::new(), HashSet::new());
     for &[s, t] in &pairs {
         let (q, p) = (source_parts[s as usize], target_parts[t as usize]);
         let area = overlap.entry((q, p)).or_default();
-        if seen_source.insert((s, p)) {
-            *area += source_areas[s as usize];
-        }
         if seen_target.insert((t, q)) {
-            *area += target_areas[t as usize];
+            area.0 += target_areas[t as usize];
+        }
+        if seen_source.insert((s, p)) {
+            area.1 += source_areas[s as usize];
         }
     }
+    // Each part's partner: the part of the other mesh that covers the most
+    // of it (ties to the lower number).
     let mut best_source: Vec<Option<(u32, f64)>> = vec![None; num_target];
     let mut best_target: Vec<Option<(u32, f64)>> = vec![None; num_source];
     let mut keys: Vec<(u32, u32)> = overlap.keys().copied().collect();
     keys.sort_unstable();
     let better = |best: &Option<(u32, f64)>, score: f64| best.is_none_or(|(_, b)| score > b);
     for (q, p) in keys {
-        let dice = overlap[&(q, p)] / (source_total[q as usize] + target_total[p as usize]);
-        if better(&best_source[p as usize], dice) {
-            best_source[p as usize] = Some((q, dice));
+        let (on_target, on_source) = overlap[&(q, p)];
+        let covered = on_target / target_total[p as usize];
+        if better(&best_source[p as usize], covered) {
+            best_source[p as usize] = Some((q, covered));
         }
-        if better(&best_target[q as usize], dice) {
-            best_target[q as usize] = Some((p, dice));
+        let covered = on_source / source_total[q as usize];
+        if better(&best_target[q as usize], covered) {
+            best_target[q as usize] = Some((p, covered));
         }
     }
     pairs
@@ -136,5 +140,46 @@ mod tests {
             .map(|t| [if t < n { t } else { t + 2 * 8 }, t])
             .collect();
         assert_eq!(between_partner_parts(pairs.clone(), &head, &split), pairs);
+    }
+
+    #[test]
+    fn a_hand_cut_off_keeps_its_pairs_with_the_body_beside_a_watch() {
+        // Source: a long body in one piece and a small watch near its far
+        // end. Target: the same body cut into a long piece and its end (a
+        // hand), which the watch also pairs with.
+        let body = tube(10.0, 0.5, 41, 8);
+        let watch = tube(0.3, 0.3, 3, 8);
+        let source = joined(&body, &watch, [9.5, 0.0, 0.0]);
+        let rings = |keep: &dyn Fn(u32) -> bool| {
+            let tris: Vec<[u32; 3]> = body
+                .triangles()
+                .iter()
+                .copied()
+                .filter(|t| t.iter().all(|&v| keep(v)))
+                .collect();
+            Mesh3::new(body.positions().to_vec(), tris).unwrap()
+        };
+        let nv = body.num_vertices() as u32;
+        let near = rings(&|v| v < 37 * 8 || v == nv - 2);
+        let far = rings(&|v| (37 * 8..41 * 8).contains(&v) || v == nv - 1);
+        let target = joined(&near, &far, [0.0; 3]);
+        let mut pairs: Vec<[u32; 2]> = Vec::new();
+        for (k, t) in target.triangles().iter().enumerate() {
+            let t = t.map(|v| v % nv);
+            if let Some(s) = body.triangles().iter().position(|&b| b == t) {
+                pairs.push([s as u32, k as u32]);
+            }
+        }
+        let hand = near.num_triangles() as u32;
+        let (b, w) = (body.num_triangles() as u32, watch.num_triangles() as u32);
+        for i in 0..w {
+            pairs.push([b + i, hand + (i % 8)]);
+        }
+        pairs.sort_unstable();
+        let with_body =
+            |pairs: &[[u32; 2]]| pairs.iter().filter(|p| p[1] >= hand && p[0] < b).count();
+        let kept = between_partner_parts(pairs.clone(), &source, &target);
+        assert!(with_body(&pairs) > 0);
+        assert_eq!(with_body(&kept), with_body(&pairs));
     }
 }

@@ -306,7 +306,8 @@ const MEDIAN_RELAXATION: f64 = 1.5;
 /// point whose weighted sum of distances to them is least, by Weiszfeld's
 /// iteration from the weighted mean (over-relaxed), distances floored at a
 /// tiny fraction of the points' spread so that the iteration may land on a
-/// point, until a step moves less than 1e-9 of that spread. Unlike
+/// point, until a step moves less than 1e-9 of that spread (or a few
+/// units in the last place of the answer). Unlike
 /// the mean it follows the majority: where most of the weight agrees on a
 /// point, the median is that point, whatever the rest say.
 ///
@@ -327,7 +328,10 @@ pub(crate) fn geometric_median(points: &[([f64; 3], f64)]) -> [f64; 3] {
     if spread == 0.0 {
         return x;
     }
-    let (floor, tolerance) = (1e-12 * spread, 1e-9 * spread);
+    // Below a few units in the last place of the answer a step is rounding
+    // (pairs that agree to rounding would otherwise never stop).
+    let ulps = 4.0 * f64::EPSILON * norm(x);
+    let (floor, tolerance) = (1e-12 * spread, (1e-9 * spread).max(ulps));
     for _ in 0..200 {
         let (mut sum, mut weight) = ([0.0; 3], 0.0);
         for (p, w) in points {

@@ -222,3 +222,42 @@ fn frames_at_the_keys_are_the_keys_to_the_bit() {
     assert_eq!(blend.at(&[1.0, 0.0]), bent.positions());
     assert_eq!(blend.at(&[0.0, 1.0]), third.positions());
 }
+
+/// A strip between two rails 3 apart, and a tiny triangle just outside the
+/// first rail: the vertices nearest to it all lie on that rail.
+fn rails() -> Mesh3 {
+    let (mut p, mut t) = (Vec::new(), Vec::new());
+    for k in 0..21 {
+        p.push([0.1 * k as f64, 0.0, 0.0]);
+        p.push([0.1 * k as f64, 3.0, 0.0]);
+    }
+    for k in 0..20u32 {
+        let (a0, b0, a1, b1) = (2 * k, 2 * k + 1, 2 * k + 2, 2 * k + 3);
+        t.push([a0, a1, b1]);
+        t.push([a0, b1, b0]);
+    }
+    let b = p.len() as u32;
+    p.extend([[1.0, -0.05, 0.0], [1.02, -0.05, 0.0], [1.01, -0.06, 0.01]]);
+    t.push([b, b + 1, b + 2]);
+    Mesh3::new(p, t).unwrap()
+}
+
+#[test]
+fn a_part_whose_neighbours_lie_on_a_line_does_not_jump_at_the_keys() {
+    // Nearest vertices on one line do not say how they turn about it: the
+    // part keeps its straight path, and frames next to the keys are next
+    // to the keys.
+    let rest = rigid_motion3(&rails(), rotation([0.3, -0.7, 0.2], 0.9), [0.0; 3]);
+    for (axis, angle) in [
+        ([0.8, 0.4, 0.4], 0.8),
+        ([0.0, 0.0, 1.0], 1.5),
+        ([-0.4, 0.1, 0.9], 2.5),
+    ] {
+        let norm = (axis.iter().map(|x: &f64| x * x).sum::<f64>()).sqrt();
+        let axis = axis.map(|x| x / norm);
+        let turned = rigid_motion3(&rest, rotation(axis, angle), [0.0; 3]);
+        let morph = Interpolator::new(&rest, &turned, &InterpolatorOptions::default()).unwrap();
+        assert!(max_distance(&morph.at(1e-9), rest.positions()) < 1e-6);
+        assert!(max_distance(&morph.at(1.0 - 1e-9), turned.positions()) < 1e-6);
+    }
+}

@@ -16,19 +16,22 @@
 //! (or blended) between the keys' offsets. Every key is reproduced exactly,
 //! and where the anchors turn rigidly the part turns with them.
 //!
-//! Which parts are attached follows from the keys, without a threshold: a
-//! part is attached when its offsets in the anchors' frame vary no more
-//! across the keys than its offsets in the world do (each summed as
-//! distances from the first key's; equal up to rounding when the anchors
-//! do not turn, and then the part goes with the surface around it). Eyes in a turning head keep their offset in the head's
-//! frame and are attached; a part that stays where it is while the part next
-//! to it turns keeps its offset in the world and its straight line.
+//! Which parts are attached follows from the keys, without a threshold of
+//! distance: a part is attached when its offsets in the anchors' frame vary
+//! no more across the keys than its offsets in the world do (each summed as
+//! distances from the first key's; equal up to rounding, `TIE`, when the
+//! anchors do not turn, and then the part goes with the surface around
+//! it). Eyes in a turning head keep their offset in the head's frame and
+//! are attached; a part that stays where it is while the part next to it
+//! turns keeps its offset in the world and its straight line. A part whose
+//! anchors lie on one line (which does not say how they turn about it)
+//! keeps its straight line too.
 #![allow(non_snake_case)]
 
 use rstar::primitives::GeomWithData;
 use rstar::RTree;
 
-use crate::geometry::{norm, sub};
+use crate::geometry::{cross, norm, sub};
 use crate::matrix::Mat;
 use crate::similarity::rigid_fit;
 use crate::topology::Components;
@@ -36,6 +39,11 @@ use crate::topology::Components;
 /// How many nearest vertices of larger parts each vertex of a part adds to
 /// its anchors.
 const ANCHORS_PER_VERTEX: usize = 4;
+
+/// How many nearest vertices of the larger parts are searched for each
+/// vertex's anchors in its host: the search stays local, and a host with
+/// fewer vertices than asked for does not make it walk the whole tree.
+const ANCHOR_SEARCH: usize = 16 * ANCHORS_PER_VERTEX;
 
 /// Differences of offsets below this, relative to the offsets, are
 /// rounding: a part whose offsets vary as much in the anchors' frame as in
@@ -146,14 +154,22 @@ impl PartAnchors {
                 |a: &u32| rank[components.of_vertex[*a as usize].unwrap_or(0) as usize] == host;
             let mut anchors: Vec<u32> = members[p]
                 .iter()
-                .flat_map(|&v| nearest(v).filter(in_host).take(ANCHORS_PER_VERTEX))
+                .flat_map(|&v| {
+                    nearest(v)
+                        .take(ANCHOR_SEARCH)
+                        .filter(in_host)
+                        .take(ANCHORS_PER_VERTEX)
+                })
                 .collect();
             anchors.sort_unstable();
             anchors.dedup();
             for &v in &members[p] {
                 tree.insert(GeomWithData::new(point(v), v));
             }
-            parts.push((p as u32, anchors));
+            // Anchors on one line do not say how they turn about it.
+            if !on_a_line(&anchors.iter().map(|&a| point(a)).collect::<Vec<_>>()) {
+                parts.push((p as u32, anchors));
+            }
         }
         Self {
             count: components.count,
@@ -236,4 +252,29 @@ impl PartAnchors {
             });
         }
     }
+}
+
+/// Whether `points` lie on one line (or at one point), to a millionth of
+/// their extent: then a rigid fit cannot tell how they turn about it, and
+/// a part with such anchors keeps its straight path.
+fn on_a_line(points: &[[f64; 3]]) -> bool {
+    let Some(&first) = points.first() else {
+        return true;
+    };
+    let Some(far) = points
+        .iter()
+        .copied()
+        .max_by(|a, b| norm(sub(*a, first)).total_cmp(&norm(sub(*b, first))))
+    else {
+        return true;
+    };
+    let axis = sub(far, first);
+    let length = norm(axis);
+    if length == 0.0 {
+        return true;
+    }
+    points.iter().all(|&p| {
+        let d = sub(p, first);
+        norm(cross(d, axis)) / length <= 1e-6 * length
+    })
 }

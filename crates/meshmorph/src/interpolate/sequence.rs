@@ -12,9 +12,10 @@
 //!   the rotation by `θ_j + u (θ_{j+1} − θ_j)`; in space `exp(u c) exp(u e)
 //!   R_j`, where `e` is the principal rotation vector of `R_{j+1} R_jᵀ` and
 //!   `c` its whole turns (between later keys chosen over the mesh from
-//!   these relative rotations, as a key's branches are). In the first segment (`R_0 = I`) this is `R(t)`
-//!   interpolated along its axis by angle (Alexa et al. 2000), with whole
-//!   turns where a part turns by more than half a turn;
+//!   these relative rotations, as a key's branches are). In the first
+//!   segment (`R_0 = I`) this is `R(t)` interpolated along its axis by
+//!   angle (Alexa et al. 2000), with whole turns where a part turns by more
+//!   than half a turn;
 //! - the stretch is `(1−u) S_j + u S_{j+1}` ([`StretchMode::Linear`], with
 //!   `S_0 = I`: Alexa et al. 2000), or `exp((1−u) log S_j + u log S_{j+1})`
 //!   ([`StretchMode::Log`]; `S_1ᵘ` in the first segment), which never
