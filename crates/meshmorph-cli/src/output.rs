@@ -143,6 +143,7 @@ pub fn read_poses(
     warnings: &mut Vec<String>,
 ) -> Result<(WeldedFile, Vec<Mesh3>)> {
     let first = read_mesh_file(paths[0], roles[0])?;
+    warnings.extend(folds_warning(&first));
     let mut meshes = vec![first.mesh().clone()];
     for (path, role) in paths.iter().zip(roles).skip(1) {
         let (mesh, reordered) = read_pose(&first, roles[0], path, role)?;
@@ -163,6 +164,77 @@ pub fn read_poses(
         meshes = meshes.iter().map(|m| seams.weld(m)).collect();
     }
     Ok((WeldedFile { file: first, seams }, meshes))
+}
+
+/// The warning for a file whose faces repeat another's corners, or whose
+/// edges are shared by more than two faces (a fin, a face given twice, two
+/// surfaces glued along an edge): the solvers take them as they are, and
+/// the surface may crease there. Faces and vertices are numbered from 1, as
+/// in the file.
+pub fn folds_warning(file: &MeshFile) -> Option<String> {
+    let mesh = file.mesh();
+    let faces = file.triangle_faces();
+    let mut corners: Vec<([u32; 3], usize)> = mesh
+        .triangles()
+        .iter()
+        .enumerate()
+        .map(|(t, tri)| {
+            let mut c = *tri;
+            c.sort_unstable();
+            (c, t)
+        })
+        .collect();
+    corners.sort_unstable();
+    // Pairs of faces (the later one first) with a triangle of the same
+    // corners: each repeating face counted once.
+    let mut repeated: Vec<(u32, u32)> = corners
+        .windows(2)
+        .filter(|w| w[0].0 == w[1].0 && faces[w[0].1] != faces[w[1].1])
+        .map(|w| {
+            let (a, b) = (faces[w[0].1], faces[w[1].1]);
+            (a.max(b), a.min(b))
+        })
+        .collect();
+    repeated.sort_unstable();
+    repeated.dedup_by_key(|p| p.0);
+    let crowded: Vec<[u32; 2]> = meshmorph::topology::edges(mesh.triangles())
+        .into_iter()
+        .filter(|e| e.triangles.len() > 2)
+        .map(|e| e.vertices)
+        .collect();
+    if repeated.is_empty() && crowded.is_empty() {
+        return None;
+    }
+    let mut what = Vec::new();
+    if let Some(&(later, earlier)) = repeated.first() {
+        what.push(format!(
+            "{} the corners of another (face {} repeats face {})",
+            if repeated.len() == 1 {
+                "1 face repeats".to_string()
+            } else {
+                format!("{} faces repeat", repeated.len())
+            },
+            later + 1,
+            earlier + 1
+        ));
+    }
+    if let Some(e) = crowded.first() {
+        what.push(format!(
+            "{} shared by more than two faces (the first between vertices {} and {})",
+            if crowded.len() == 1 {
+                "1 edge is".to_string()
+            } else {
+                format!("{} edges are", crowded.len())
+            },
+            e[0] + 1,
+            e[1] + 1
+        ));
+    }
+    Some(format!(
+        "`{}`: {}: the surface folds onto itself there, and results may crease",
+        file.path().display(),
+        what.join(" and ")
+    ))
 }
 
 /// The report's line for vertices welded at seams, if any.

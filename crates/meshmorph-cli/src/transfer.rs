@@ -754,7 +754,10 @@ fn prepare(
     pins: Vec<(u32, [f64; 3])>,
 ) -> Result<Prepared> {
     let (source, target) = (&source_ref.mesh, &target_ref.mesh);
-    let mut warnings = Vec::new();
+    let mut warnings: Vec<String> = [source_ref, target_ref]
+        .iter()
+        .filter_map(|r| output::folds_warning(&r.file.file))
+        .collect();
     let begin = Instant::now();
     let mut marker_report = None;
     let correspondence = match &args.correspondence {
@@ -985,7 +988,10 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         "the correspondence",
     )?;
     let begin = Instant::now();
-    let mut warnings = Vec::new();
+    let mut warnings: Vec<String> = [&source_ref, &target_ref]
+        .iter()
+        .filter_map(|r| output::folds_warning(&r.file.file))
+        .collect();
     let (result, markers) =
         args.correspond
             .compute(&args.refs, &source_ref, &target_ref, &mut warnings)?;

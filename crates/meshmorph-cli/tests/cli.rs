@@ -2283,3 +2283,35 @@ fn separate_parts_turn_with_the_part_they_sit_in() {
     )));
     assert_eq!(uint(&report, "parts_following_host"), 1);
 }
+
+#[test]
+fn faces_given_twice_or_edges_shared_by_three_faces_are_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let rest = tube(2.0, 0.5, 5, 8);
+    let bent = bend(&rest, 2.0, 1.0);
+    let twice = |m: &Mesh3| {
+        let mut triangles = m.triangles().to_vec();
+        triangles.push(triangles[3]);
+        Mesh3::new(m.positions().to_vec(), triangles).unwrap()
+    };
+    let (a, b) = (dir.path().join("a.obj"), dir.path().join("b.obj"));
+    write(&a, &twice(&rest));
+    write(&b, &twice(&bent));
+    let out = dir.path().join("frames");
+    let report = json(&succeeds(&run([
+        "interpolate",
+        &shown(&a),
+        &shown(&b),
+        "-o",
+        &shown(&out),
+        "--frames",
+        "3",
+        "--json",
+    ])));
+    let warnings = report["warnings"].to_string();
+    let last = rest.num_triangles() + 1;
+    assert!(
+        warnings.contains(&format!("face {last} repeats face 4")) && warnings.contains("a.obj"),
+        "{warnings}"
+    );
+}
