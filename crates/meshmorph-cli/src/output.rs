@@ -237,6 +237,34 @@ pub fn folds_warning(file: &MeshFile) -> Option<String> {
     ))
 }
 
+/// `e` with the degenerate triangles of the mesh the library calls `label`
+/// (read from `file`) named as `file`'s faces, numbered from 1 as in the
+/// file; any other error as it is.
+pub fn degenerate_faces(e: meshmorph::Error, file: &MeshFile, label: &str) -> meshmorph::Error {
+    match e {
+        meshmorph::Error::DegenerateTriangles { mesh, count, first } if mesh == label => {
+            let faces = file.triangle_faces();
+            let mut named: Vec<String> = Vec::new();
+            for &t in &first {
+                let f = (faces[t] + 1).to_string();
+                if !named.contains(&f) {
+                    named.push(f);
+                }
+            }
+            meshmorph::Error::InvalidMesh(format!(
+                "{} degenerate (zero-area) triangle{} in the {label} `{}`: in face{} {}{} (numbered from 1, as in the file)",
+                count,
+                if count == 1 { "" } else { "s" },
+                file.path().display(),
+                if named.len() == 1 { "" } else { "s" },
+                named.join(", "),
+                if count > first.len() { ", ..." } else { "" },
+            ))
+        }
+        e => e,
+    }
+}
+
 /// The report's line for vertices welded at seams, if any.
 pub fn welded_line(welded: usize) -> Option<String> {
     (welded > 0).then(|| {

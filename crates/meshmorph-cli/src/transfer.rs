@@ -111,6 +111,7 @@ impl CorrespondArgs {
         let result = correspond(source, target, &welded, &options, &mut |done| {
             bar.set_position(done as u64)
         })
+        .map_err(|e| name_degenerate_faces(e, source_ref, target_ref))
         .with_context(|| {
             format!(
                 "computing the correspondence {} with the markers `{}`",
@@ -240,6 +241,17 @@ impl MarkerReport {
             );
         }
     }
+}
+
+/// `e` with degenerate triangles of either reference named as its file's
+/// faces.
+fn name_degenerate_faces(
+    e: meshmorph::Error,
+    source_ref: &Reference,
+    target_ref: &Reference,
+) -> meshmorph::Error {
+    let e = output::degenerate_faces(e, &source_ref.file.file, "source reference");
+    output::degenerate_faces(e, &target_ref.file.file, "target reference")
 }
 
 /// The two reference meshes.
@@ -793,6 +805,7 @@ fn prepare(
         &correspondence,
         &TransferOptions::default().with_pins(pins),
     )
+    .map_err(|e| name_degenerate_faces(e, source_ref, target_ref))
     .with_context(|| format!("setting up the transfer {}", args.refs.describe()))?;
     Ok(Prepared {
         correspondence,

@@ -1781,7 +1781,7 @@ fn transfer_degenerate_target_triangle() {
             &shown(&rig.target_ref),
             "2 degenerate (zero-area) triangles",
             "target reference",
-            "triangles 0, 320",
+            "faces 1, 321 (numbered from 1",
         ],
     );
     // The same from a saved correspondence (it fits: same connectivity).
@@ -1797,7 +1797,7 @@ fn transfer_degenerate_target_triangle() {
             &shown(&rig.target_ref),
             "2 degenerate (zero-area) triangles",
             "target reference",
-            "triangles 0, 320",
+            "faces 1, 321 (numbered from 1",
         ],
     );
 }
