@@ -320,6 +320,7 @@ where
     let context = || format!("blending `{}`", args.base.display());
     let setup = Instant::now();
     let blend = Blend::new(base, shapes, options)
+        .map_err(|e| output::degenerate_faces(e, &file.file, "base"))
         .map_err(|e| name_shape_files(e, &args.base, &args.shapes))
         .with_context(context)?;
     let setup_seconds = setup.elapsed().as_secs_f64();

@@ -339,7 +339,8 @@ pub fn animate(
             .map(Mesh3::to_2d)
             .collect::<meshmorph::Result<Vec<Mesh2>>>()?;
         if keys.len() == 2 {
-            let morph = Interpolator::new(&keys[0], &keys[1], &args.options())?;
+            let morph = Interpolator::new(&keys[0], &keys[1], &args.options())
+                .map_err(|e| first_key_faces(e, file))?;
             let setup = Setup {
                 keys: 2,
                 seconds: begin.elapsed().as_secs_f64(),
@@ -355,6 +356,18 @@ pub fn animate(
     animate_sequence(keys, args, &run, begin, (unused_vertices, welded_vertices))
 }
 
+/// `e` with the first key's degenerate triangles named as its file's faces
+/// (the library calls that key "source" between two keys, "first key" in
+/// a sequence).
+fn first_key_faces(e: meshmorph::Error, file: Option<&WeldedFile>) -> meshmorph::Error {
+    match file {
+        Some(f) => ["source", "first key"]
+            .iter()
+            .fold(e, |e, label| output::degenerate_faces(e, &f.file, label)),
+        None => e,
+    }
+}
+
 /// Builds the keyframe sequence through `keys` and writes its frames.
 fn animate_sequence<const D: usize>(
     keys: &[Mesh<D>],
@@ -367,7 +380,7 @@ where
     Space<D>: Rotations<D> + TriangleMaps<D>,
 {
     memory::check_sequence(keys[0].num_triangles(), keys.len() - 1)?;
-    let morph = Sequence::new(keys, &args.options())?;
+    let morph = Sequence::new(keys, &args.options()).map_err(|e| first_key_faces(e, run.file))?;
     let setup = Setup {
         keys: keys.len(),
         seconds: begin.elapsed().as_secs_f64(),

@@ -535,7 +535,12 @@ fn interpolate_zero_area_source_triangle() {
     let err = p.interpolate_fails(&[]);
     assert_mentions(
         &err,
-        &[&shown(&p.src), "degenerate", "source", "triangle 0"],
+        &[
+            &shown(&p.src),
+            "degenerate",
+            "source",
+            "face 1 (numbered from 1",
+        ],
     );
 }
 
@@ -776,7 +781,7 @@ fn interpolate_keys_that_cannot_be_used_are_refused() {
         &out,
         &[],
     ));
-    assert_mentions(&err, &[&shown(&flat), "degenerate", "triangles 0"]);
+    assert_mentions(&err, &[&shown(&flat), "degenerate", "faces 1,"]);
     assert_empty(&out);
 }
 
