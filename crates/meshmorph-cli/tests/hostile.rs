@@ -382,7 +382,7 @@ fn catalogue() -> Vec<Case> {
             |d| obj_with(d, "big.obj", "v 1e307 0 0\nv -1e307 0 0\nv 0 1e307 0\nf 1 2 3\n")),
         with_setup(case("an unused vertex far away changes nothing", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "2"], 0, &["wrote 2 frames", "unused vertices: 1"]),
             |d| { append(d, "src.obj", "v 1000000 1000000 0\n"); append(d, "dst.obj", "v 1000000 1000000 0\n"); }),
-        with_setup(case("zero-area triangle", &[I, "flat.obj", "flat.obj", "-o", "out"], 1, &["degenerate", "triangle 0"]),
+        with_setup(case("zero-area triangle", &[I, "flat.obj", "flat.obj", "-o", "out"], 1, &["degenerate", "face 1 (numbered from 1"]),
             |d| obj_with(d, "flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")),
         case("different meshes", &[I, "src.obj", "thin.obj", "-o", "out"], 1, &["thin.obj"]),
         case("--dim 2 with a mesh that is not planar", &[I, "thin.obj", "thin.obj", "-o", "out", "--dim", "2"], 1, &["not planar", "vertex", "thin.obj"]),
