@@ -257,7 +257,7 @@ pub fn correspond(
     let threshold = (options.match_threshold * target.bounding_box_diagonal())
         .max(source_edge)
         .max(target_edge);
-    let matched = match_triangles(&deformed_source, target, threshold);
+    let matched = match_triangles(&deformed_source, &components, target, threshold);
     // The markers' fit reads every difference of shape between the two as a
     // turn of the whole source: the transfer works in the orientation the
     // matched surface agrees on instead.
@@ -616,7 +616,12 @@ fn closest_points(
 /// The union of both, sorted, is the map, less the pairs between separate
 /// parts neither of which is the other's partner (an eyeball and eyelid skin:
 /// see `partner_parts.rs`).
-pub fn match_triangles(source: &Mesh3, target: &Mesh3, threshold: f64) -> Correspondence {
+pub fn match_triangles(
+    source: &Mesh3,
+    source_parts: &Components,
+    target: &Mesh3,
+    threshold: f64,
+) -> Correspondence {
     let (source_index, target_index) = rayon::join(
         || CentroidIndex::new(source.positions(), source.triangles()),
         || CentroidIndex::new(target.positions(), target.triangles()),
@@ -645,7 +650,7 @@ pub fn match_triangles(source: &Mesh3, target: &Mesh3, threshold: f64) -> Corres
         .collect();
     pairs.sort_unstable();
     pairs.dedup();
-    let pairs = between_partner_parts(pairs, source, target);
+    let pairs = between_partner_parts(pairs, source, source_parts, target);
     Correspondence::new(pairs, source, target)
 }
 

@@ -21,21 +21,23 @@
 use std::collections::{HashMap, HashSet};
 
 use crate::mesh::Mesh3;
-use crate::topology::connected_components;
+use crate::topology::{connected_components, Components};
 
 /// The `pairs` (source triangle, target triangle) whose parts are partners
-/// (see the module documentation), in their order.
+/// (see the module documentation), in their order; `source_components`
+/// are the source's connected parts.
 pub(crate) fn between_partner_parts(
     pairs: Vec<[u32; 2]>,
     source: &Mesh3,
+    source_components: &Components,
     target: &Mesh3,
 ) -> Vec<[u32; 2]> {
-    let (source_parts, target_parts) = rayon::join(
-        || connected_components(source.num_vertices(), source.triangles()).of_triangle,
-        || connected_components(target.num_vertices(), target.triangles()).of_triangle,
+    let target_components = connected_components(target.num_vertices(), target.triangles());
+    let (source_parts, target_parts) = (
+        &source_components.of_triangle,
+        &target_components.of_triangle,
     );
-    let count = |parts: &[u32]| parts.iter().max().map_or(0, |&m| m as usize + 1);
-    let (num_source, num_target) = (count(&source_parts), count(&target_parts));
+    let (num_source, num_target) = (source_components.count, target_components.count);
     if num_source <= 1 && num_target <= 1 {
         return pairs;
     }
@@ -47,8 +49,8 @@ pub(crate) fn between_partner_parts(
         }
         total
     };
-    let source_total = part_areas(&source_parts, &source_areas, num_source);
-    let target_total = part_areas(&target_parts, &target_areas, num_target);
+    let source_total = part_areas(source_parts, &source_areas, num_source);
+    let target_total = part_areas(target_parts, &target_areas, num_target);
     // The area of each part paired with the other part (each triangle
     // counted once): target side, source side.
     let mut overlap: HashMap<(u32, u32), (f64, f64)> = HashMap::new();
@@ -96,6 +98,10 @@ mod tests {
     use super::*;
     use crate::shapes::tube;
 
+    fn parts(m: &Mesh3) -> Components {
+        connected_components(m.num_vertices(), m.triangles())
+    }
+
     /// `a` and `b` (moved by `by`) as one mesh.
     fn joined(a: &Mesh3, b: &Mesh3, by: [f64; 3]) -> Mesh3 {
         let n = a.num_vertices() as u32;
@@ -119,7 +125,7 @@ mod tests {
         // and of the head with the eye, both ways.
         let mut pairs: Vec<[u32; 2]> = (0..h + e).map(|t| [t, t]).collect();
         pairs.extend([[h, 3], [h + 1, 4], [5, h + 2], [6, h + 3]]);
-        let kept = between_partner_parts(pairs.clone(), &mesh, &mesh);
+        let kept = between_partner_parts(pairs.clone(), &mesh, &parts(&mesh), &mesh);
         assert_eq!(kept, (0..h + e).map(|t| [t, t]).collect::<Vec<_>>());
         // A target in two pieces (the head cut in half along its rings) and
         // a source in one: every pair is kept.
@@ -139,7 +145,10 @@ mod tests {
         let pairs: Vec<[u32; 2]> = (0..split.num_triangles() as u32)
             .map(|t| [if t < n { t } else { t + 2 * 8 }, t])
             .collect();
-        assert_eq!(between_partner_parts(pairs.clone(), &head, &split), pairs);
+        assert_eq!(
+            between_partner_parts(pairs.clone(), &head, &parts(&head), &split),
+            pairs
+        );
     }
 
     #[test]
@@ -178,7 +187,7 @@ mod tests {
         pairs.sort_unstable();
         let with_body =
             |pairs: &[[u32; 2]]| pairs.iter().filter(|p| p[1] >= hand && p[0] < b).count();
-        let kept = between_partner_parts(pairs.clone(), &source, &target);
+        let kept = between_partner_parts(pairs.clone(), &source, &parts(&source), &target);
         assert!(with_body(&pairs) > 0);
         assert_eq!(with_body(&kept), with_body(&pairs));
     }

@@ -71,8 +71,6 @@ pub(crate) struct KeyOffset<const D: usize> {
 /// Which anchored parts of a sequence or blend follow their anchors.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Attached {
-    /// One flag per anchored part, in the order of [`PartAnchors`].
-    flags: Vec<bool>,
     /// One flag per part.
     parts: Vec<bool>,
 }
@@ -83,10 +81,6 @@ impl Attached {
         Self::default()
     }
 
-    fn is_attached(&self, i: usize) -> bool {
-        self.flags.get(i).copied().unwrap_or(false)
-    }
-
     /// Whether part `p` follows its anchors.
     pub(crate) fn holds(&self, p: usize) -> bool {
         self.parts.get(p).copied().unwrap_or(false)
@@ -94,7 +88,7 @@ impl Attached {
 
     /// Number of parts that follow their anchors.
     pub(crate) fn count(&self) -> usize {
-        self.flags.iter().filter(|&&f| f).count()
+        self.parts.iter().filter(|&&f| f).count()
     }
 }
 
@@ -200,8 +194,9 @@ impl PartAnchors {
     /// Which parts follow their anchors, from their offsets in every key
     /// (`keys[0]` the first key's).
     pub(crate) fn attached<const D: usize>(&self, keys: &[Vec<KeyOffset<D>>]) -> Attached {
-        let flags: Vec<bool> = (0..self.parts.len())
-            .map(|i| {
+        let mut parts = vec![false; self.count];
+        for (i, (p, _)) in self.parts.iter().enumerate() {
+            parts[*p as usize] = {
                 let spread = |of: &dyn Fn(&KeyOffset<D>) -> [f64; D]| -> f64 {
                     keys.iter()
                         .map(|k| norm(sub(of(&k[i]), of(&keys[0][i]))))
@@ -212,13 +207,9 @@ impl PartAnchors {
                 // part may still move, and the part goes with it.
                 let scale: f64 = keys.iter().map(|k| norm(k[i].world)).sum();
                 spread(&|o| o.local) <= spread(&|o| o.world) + TIE * scale
-            })
-            .collect();
-        let mut parts = vec![false; self.count];
-        for ((p, _), &f) in self.parts.iter().zip(&flags) {
-            parts[*p as usize] = f;
+            };
         }
-        Attached { flags, parts }
+        Attached { parts }
     }
 
     /// Moves every attached part: `shifts[p]` holds, for each part `p`, its
@@ -237,7 +228,7 @@ impl PartAnchors {
         shifts: &mut [[f64; D]],
     ) {
         for (i, (p, anchors)) in self.parts.iter().enumerate() {
-            if !attached.is_attached(i) {
+            if !attached.holds(*p as usize) {
                 continue;
             }
             let placed = |v: usize| {

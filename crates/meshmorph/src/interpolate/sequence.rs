@@ -126,10 +126,11 @@ where
     /// Each anchored part's offset from its anchors in each key (in the
     /// anchors' frame of the first key).
     offsets: Vec<Vec<[f64; D]>>,
-    /// The positions of every key: frames at the keys' times are the keys
-    /// themselves, to the bit, and the vertices no triangle uses move on
-    /// straight lines between them.
-    keys: Vec<Vec<[f64; D]>>,
+    /// The positions of every key after the first (the first is the rest
+    /// system's source): frames at the keys' times are the keys themselves,
+    /// to the bit, and the vertices no triangle uses move on straight lines
+    /// between them.
+    later: Vec<Vec<[f64; D]>>,
 }
 
 /// A keyframe sequence of surfaces in space.
@@ -232,7 +233,7 @@ where
             .map(|(k, c)| rest.anchors.offsets(first, k, c))
             .collect();
         let attached = rest.anchors.attached(&key_offsets);
-        let keys = keys().map(<[_]>::to_vec).collect();
+        let later = later.iter().map(|k| k.positions().to_vec()).collect();
         let offsets = key_offsets
             .iter()
             .map(|k| k.iter().map(|o| o.local).collect())
@@ -245,7 +246,7 @@ where
             centroids,
             attached,
             offsets,
-            keys,
+            later,
         }
     }
 
@@ -340,7 +341,7 @@ where
         };
         let u = s - j as f64;
         if u == 0.0 || u == 1.0 {
-            out.copy_from_slice(&self.keys[j + u as usize]);
+            out.copy_from_slice(self.key(j + u as usize));
             return;
         }
         let seg = &self.segments[j];
@@ -398,12 +399,20 @@ where
             ),
         }
         for &v in rest.loose_vertices() {
-            let (a, b) = (self.keys[j][v as usize], self.keys[j + 1][v as usize]);
+            let (a, b) = (self.key(j)[v as usize], self.key(j + 1)[v as usize]);
             // A vertex that does not move stays exactly where it is.
             let c = between(a, b);
             out[v as usize] = std::array::from_fn(|i| if a[i] == b[i] { a[i] } else { c[i] });
         }
         ws.turns = turns_at;
+    }
+
+    /// The positions of key `j`.
+    fn key(&self, j: usize) -> &[[f64; D]] {
+        match j {
+            0 => self.rest.source().positions(),
+            _ => &self.later[j - 1],
+        }
     }
 
     /// Number of triangles of `positions` turned over relative to the first
