@@ -31,6 +31,13 @@ for obj in bpy.context.scene.objects:
     print(f"object {obj.name!r}: {len(mesh.vertices)} vertices, {len(mesh.polygons)} faces")
     print(f"shape keys ({len(shapes)}): {', '.join(shapes)}")
     print("shape key values:", ", ".join(f"{k.value:g}" for k in keys[1:]))
+    for slot, material in enumerate(mesh.materials):
+        used = sum(1 for p in mesh.polygons if p.material_index == slot)
+        images = []
+        if material and material.use_nodes:
+            images = [n.image.name for n in material.node_tree.nodes if n.type == "TEX_IMAGE" and n.image]
+        name = material.name if material else None
+        print(f"material {name!r}: {used} faces, textures: {', '.join(images) or 'none'}")
     action = mesh.shape_keys.animation_data.action if mesh.shape_keys and mesh.shape_keys.animation_data else None
     if action:
         start, end = action.frame_range

@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Result};
-use meshmorph::io::gltf::{write_glb_frames, GltfBase, GltfOptions};
+use meshmorph::io::gltf::{write_glb_frames, GltfOptions};
+use meshmorph::io::Appearance;
 use meshmorph::io::Format;
 
 use crate::output::WeldedFile;
@@ -335,6 +336,11 @@ where
         &recomputed,
         morph.triangles(),
     )?);
+    // The first key's looks for the GLB, when it comes from a file.
+    let look = match (outputs.gltf, file) {
+        (Some(_), Some(file)) => Appearance::of_file(&file.file),
+        _ => Appearance::default(),
+    };
     if let Some(output) = outputs.gltf {
         let names: Vec<String> = (0..times.len())
             .map(|k| crate::gltf::mesh_name(&outputs.mesh_path(k)))
@@ -342,16 +348,7 @@ where
         let options = GltfOptions::default()
             .with_fps(args.fps)
             .with_name("interpolation");
-        // The first key's texture coordinates, when its file has them.
-        let corner_uvs = file.and_then(|f| f.file.triangle_corner_uvs());
-        let corner_normals = file.and_then(|f| f.file.triangle_corner_normals());
-        let mut base = GltfBase::new(base, morph.triangles());
-        if let Some(uvs) = &corner_uvs {
-            base = base.with_corner_uvs(uvs);
-        }
-        if let Some(normals) = &corner_normals {
-            base = base.with_corner_normals(normals);
-        }
+        let base = look.base(base, morph.triangles());
         staging.write(output, |path| {
             Ok(write_glb_frames(
                 path,
@@ -364,8 +361,8 @@ where
         files_written.extend(args.gltf.gltf.clone());
     }
     let mut warnings = read_warnings.to_vec();
-    if let (Some(glb), Some(file)) = (&args.gltf.gltf, file) {
-        warnings.extend(crate::gltf::dropped_warning(glb, &file.file));
+    if args.gltf.gltf.is_some() {
+        warnings.extend(look.warnings.iter().cloned());
     }
     // What the output format cannot hold of the first key's file is the
     // same for every frame: said once, for the first.

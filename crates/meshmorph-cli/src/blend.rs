@@ -4,7 +4,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use meshmorph::io::gltf::{write_glb_frames, GltfBase, GltfOptions};
+use meshmorph::io::gltf::{write_glb_frames, GltfOptions};
+use meshmorph::io::Appearance;
 use meshmorph::io::Format;
 
 use crate::output::WeldedFile;
@@ -248,9 +249,6 @@ pub fn run(args: &Args) -> Result<()> {
         setup_seconds,
         blend_seconds,
     } = blended;
-    if let Some(glb) = &args.gltf.gltf {
-        warnings.extend(crate::gltf::dropped_warning(glb, &base_file.file));
-    }
     if turned_over > 0 {
         warnings.push(format!(
             "the blend has {} turned over relative to the base",
@@ -365,16 +363,9 @@ where
     if let (Some(output), Some(path)) = (outputs.gltf, &args.gltf.gltf) {
         let names: Vec<String> = (0..STEPS).map(|k| format!("blend_{k:02}")).collect();
         let options = GltfOptions::default().with_fps(args.fps).with_name("blend");
-        // The base's texture coordinates, when its file has them.
-        let corner_uvs = file.file.triangle_corner_uvs();
-        let corner_normals = file.file.triangle_corner_normals();
-        let mut gltf_base = GltfBase::new(base.positions(), triangles);
-        if let Some(uvs) = &corner_uvs {
-            gltf_base = gltf_base.with_corner_uvs(uvs);
-        }
-        if let Some(normals) = &corner_normals {
-            gltf_base = gltf_base.with_corner_normals(normals);
-        }
+        let look = Appearance::of_file(&file.file);
+        warnings.extend(look.warnings.iter().cloned());
+        let gltf_base = look.base(base.positions(), triangles);
         staging.write(output, |p| {
             Ok(write_glb_frames(p, &gltf_base, &steps, &names, &options)?)
         })?;

@@ -4,7 +4,6 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use meshmorph::io::gltf::{estimate_glb_bytes, write_glb, GltfBase, GltfOptions};
-use meshmorph::io::MeshFile;
 
 use crate::output::positive_number;
 
@@ -76,27 +75,6 @@ impl GltfArgs {
             .with_context(|| format!("writing the glTF `{}`", path.display()))?;
         Ok(Some(path.clone()))
     }
-}
-
-/// The warning that the GLB `glb` holds, of the file `file` it was made
-/// from, only the mesh, its texture coordinates and normals of its own
-/// (computed from each frame's shape, hard where the file's normals make an
-/// edge hard), when the file has more (objects, materials, colours, ...).
-pub fn dropped_warning(glb: &Path, file: &MeshFile) -> Option<String> {
-    let dropped: Vec<&str> = file
-        .extras()
-        .iter()
-        .map(String::as_str)
-        .filter(|e| !e.starts_with("texture coordinates") && !e.starts_with("normals"))
-        .collect();
-    (!dropped.is_empty()).then(|| {
-        format!(
-            "`{}` holds one mesh, with its texture coordinates and normals computed from its shape (hard edges kept): the {} of `{}` are not in it",
-            glb.display(),
-            dropped.join(", "),
-            file.path().display()
-        )
-    })
 }
 
 /// A name for the mesh in the GLB: the file stem of `path`.

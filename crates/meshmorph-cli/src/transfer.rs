@@ -6,7 +6,8 @@ use std::time::Instant;
 
 use crate::output::WeldedFile;
 use anyhow::{bail, Context, Result};
-use meshmorph::io::gltf::{GltfBase, GltfOptions};
+use meshmorph::io::gltf::GltfOptions;
+use meshmorph::io::Appearance;
 use meshmorph::{
     correspond, CorrespondOptions, Correspondence, Markers, Mesh3, Transfer, TransferOptions,
 };
@@ -596,17 +597,10 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         .with_fps(args.fps)
         .with_animation(!args.gltf_shapes)
         .with_name(crate::gltf::mesh_name(&args.refs.target_ref));
-    let corner_uvs = target_ref.file.file.triangle_corner_uvs();
-    let corner_normals = target_ref.file.file.triangle_corner_normals();
-    let mut base = GltfBase::new(target.positions(), target.triangles());
-    if let Some(uvs) = &corner_uvs {
-        base = base.with_corner_uvs(uvs);
-    }
-    if let Some(normals) = &corner_normals {
-        base = base.with_corner_normals(normals);
-    }
     let mut gltf = None;
     if let Some(output) = gltf_output {
+        let look = Appearance::of_file(&target_ref.file.file);
+        let base = look.base(target.positions(), target.triangles());
         staging.write(output, |path| {
             let mut staged = args.gltf.clone();
             staged.gltf = Some(path.to_path_buf());
@@ -615,10 +609,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         })?;
         gltf = args.gltf.gltf.clone();
         files_written.extend(gltf.clone());
-        warnings.extend(
-            gltf.as_deref()
-                .and_then(|glb| crate::gltf::dropped_warning(glb, &target_ref.file.file)),
-        );
+        warnings.extend(look.warnings);
     }
     if args.pictures.any() {
         let source_poses: Vec<&[[f64; 3]]> = poses.iter().map(|(p, _, _)| p.positions()).collect();

@@ -1989,10 +1989,79 @@ fn a_gltf_says_what_of_the_file_it_does_not_hold() {
         os("--json"),
     ])));
     let warnings = report["warnings"].to_string();
-    assert_mentions(&warnings, &["a.glb", "objects (`o`)", "materials", "a.obj"]);
+    assert_mentions(
+        &warnings,
+        &["GLB", "objects (`o`)", "a.obj", "material `skin`"],
+    );
     // The frames keep them.
     let frame = fs::read_to_string(dir.path().join("out/frame_0001.obj")).unwrap();
     assert!(frame.starts_with("o arm\nusemtl skin\n"), "{frame}");
+}
+
+#[test]
+fn a_gltf_keeps_the_materials_and_textures_of_an_obj() {
+    let dir = tempfile::tempdir().unwrap();
+    let rest = tube(LENGTH, 0.25, 5, 6);
+    let bent = bend(&rest, LENGTH, 0.5 * PI);
+    let (a, b) = (dir.path().join("a.obj"), dir.path().join("b.obj"));
+    write(&a, &rest);
+    write(&b, &bent);
+    // Texture coordinates, a textured material on the first half of the
+    // faces and a plain one on the rest.
+    let mut png_bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut png_bytes, 1, 1);
+        encoder.set_color(png::ColorType::Rgb);
+        let mut w = encoder.write_header().unwrap();
+        w.write_image_data(&[200, 100, 50]).unwrap();
+    }
+    fs::write(dir.path().join("skin.png"), &png_bytes).unwrap();
+    fs::write(
+        dir.path().join("a.mtl"),
+        "newmtl skin\nmap_Kd skin.png\nnewmtl cloth\nKd 0.1 0.2 0.3\n",
+    )
+    .unwrap();
+    edit_lines(&a, |lines| {
+        let faces: Vec<usize> = (0..lines.len())
+            .filter(|&i| lines[i].starts_with("f "))
+            .collect();
+        let half = faces[faces.len() / 2];
+        for &i in &faces {
+            let corners: Vec<String> = lines[i][2..]
+                .split_whitespace()
+                .map(|c| format!("{c}/1"))
+                .collect();
+            lines[i] = format!("f {}", corners.join(" "));
+        }
+        lines.insert(half, "usemtl cloth".to_string());
+        lines.insert(faces[0], "usemtl skin".to_string());
+        lines.insert(faces[0], "vt 0.5 0.5".to_string());
+        lines.insert(0, "mtllib a.mtl".to_string());
+    });
+    let glb = dir.path().join("a.glb");
+    let report = json(&succeeds(&run([
+        os("interpolate"),
+        a.as_os_str(),
+        b.as_os_str(),
+        os("-o"),
+        dir.path().join("out").as_os_str(),
+        os("--frames"),
+        os("3"),
+        os("--gltf"),
+        glb.as_os_str(),
+        os("--json"),
+    ])));
+    assert_eq!(report["warnings"], Value::Array(Vec::new()));
+    let file = gltf::Gltf::open(&glb).unwrap();
+    let names: Vec<&str> = file.materials().filter_map(|m| m.name()).collect();
+    assert_eq!(names, ["skin", "cloth"]);
+    let mesh = file.meshes().next().unwrap();
+    assert_eq!(mesh.primitives().count(), 2);
+    let image = file.images().next().expect("the texture is embedded");
+    let gltf::image::Source::View { view, mime_type } = image.source() else {
+        panic!("an embedded image");
+    };
+    assert_eq!((mime_type, view.length()), ("image/png", png_bytes.len()));
 }
 
 #[test]

@@ -483,3 +483,135 @@ fn hard_edges_of_the_file_stay_hard_in_every_frame() {
         );
     }
 }
+
+/// A 2 x 2 RGBA PNG.
+fn tiny_png() -> Vec<u8> {
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, 2, 2);
+    encoder.set_color(png::ColorType::Rgba);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().unwrap();
+    writer
+        .write_image_data(&[
+            255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255,
+        ])
+        .unwrap();
+    writer.finish().unwrap();
+    bytes
+}
+
+/// An OBJ of three faces: one before any `usemtl`, a textured quad and a
+/// translucent triangle, with its material library and texture.
+fn write_looks(dir: &Path, with_texture: bool) -> std::path::PathBuf {
+    std::fs::create_dir_all(dir.join("tex")).unwrap();
+    if with_texture {
+        std::fs::write(dir.join("tex/skin.png"), tiny_png()).unwrap();
+    }
+    std::fs::write(
+        dir.join("looks.mtl"),
+        "newmtl Skin\nNs 250\nKd 0.8 0.5 0.4\nmap_Kd -bm 1 tex/skin.png\n\nnewmtl Glass\nKd 0.2 0.4 0.9\nd 0.5\nPr 0.1\n",
+    )
+    .unwrap();
+    let obj = dir.join("looks.obj");
+    std::fs::write(
+        &obj,
+        "mtllib looks.mtl\n\
+         v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0.2\nv 2 1 0\nv 3 0 0\n\
+         vt 0 0\nvt 0.5 0\nvt 1 0\nvt 0 1\nvt 0.5 1\nvt 1 1\nvt 1 0.5\n\
+         f 1/1 2/2 5/5 4/4\nusemtl Skin\nf 2/2 3/3 6/6 5/5\nusemtl Glass\nf 3/3 7/7 6/6\n",
+    )
+    .unwrap();
+    obj
+}
+
+#[test]
+fn obj_materials_and_textures_are_carried() {
+    use meshmorph::io::{Appearance, MeshFile};
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write_looks(dir.path(), true);
+    let file = MeshFile::read(&obj).unwrap();
+    let look = Appearance::of_file(&file);
+    assert!(look.warnings.is_empty(), "{:?}", look.warnings);
+    let positions = file.mesh().positions();
+    let frame: Vec<[f64; 3]> = positions
+        .iter()
+        .map(|p| [p[0], p[1], p[2] + p[0]])
+        .collect();
+    let base = look.base(positions, file.mesh().triangles());
+    let bytes = glb(&base, &[frame], &names(1), &GltfOptions::default()).unwrap();
+
+    let glb = gltf::Gltf::from_slice(&bytes).unwrap();
+    let blob = glb.blob.as_deref().unwrap();
+    let mesh = glb.document.meshes().next().unwrap();
+    let mut seen = Vec::new();
+    for prim in mesh.primitives() {
+        let material = prim.material();
+        let pbr = material.pbr_metallic_roughness();
+        let reader = prim.reader(|_| Some(blob));
+        let triangles = reader.read_indices().unwrap().into_u32().count() / 3;
+        let image = pbr.base_color_texture().map(|info| {
+            let source = info.texture().source();
+            let gltf::image::Source::View { view, mime_type } = source.source() else {
+                panic!("an embedded image");
+            };
+            assert_eq!(mime_type, "image/png");
+            blob[view.offset()..view.offset() + view.length()].to_vec()
+        });
+        // Every primitive shares the morph target: the frame reads back.
+        let base: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
+        let (delta, _, _) = reader.read_morph_targets().next().unwrap();
+        for (b, d) in base.iter().zip(delta.unwrap()) {
+            assert!((b[2] + d[2] - (b[2] + b[0])).abs() < 1e-6);
+        }
+        seen.push((
+            material.name().unwrap().to_string(),
+            triangles,
+            pbr.base_color_factor(),
+            material.alpha_mode(),
+            pbr.roughness_factor(),
+            image,
+        ));
+    }
+    assert_eq!(seen.len(), 3);
+    let (skin, glass, none) = (&seen[0], &seen[1], &seen[2]);
+    assert_eq!((skin.0.as_str(), skin.1), ("Skin", 2));
+    assert_eq!(skin.2, [1.0; 4], "the texture is the colour");
+    assert_eq!(skin.5.as_deref(), Some(&tiny_png()[..]));
+    assert!((skin.4 - 0.5).abs() < 1e-6, "roughness from Ns 250");
+    assert_eq!((glass.0.as_str(), glass.1), ("Glass", 1));
+    assert_eq!(glass.2, [0.2, 0.4, 0.9, 0.5]);
+    assert_eq!(glass.3, gltf::material::AlphaMode::Blend);
+    assert!((glass.4 - 0.1).abs() < 1e-6);
+    assert_eq!(glass.5, None);
+    assert_eq!((none.1, none.2), (2, [0.8, 0.8, 0.8, 1.0]));
+}
+
+#[test]
+fn missing_textures_and_undefined_materials_are_warned_of() {
+    use meshmorph::io::{Appearance, MeshFile};
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write_looks(dir.path(), false);
+    let text = std::fs::read_to_string(&obj)
+        .unwrap()
+        .replace("usemtl Glass", "usemtl Gold");
+    std::fs::write(&obj, text).unwrap();
+    let file = MeshFile::read(&obj).unwrap();
+    let look = Appearance::of_file(&file);
+    let all = look.warnings.join("\n");
+    assert!(all.contains("skin.png") && all.contains("`Skin`"), "{all}");
+    assert!(all.contains("`Gold`") && all.contains("grey"), "{all}");
+    let base = look.base(file.mesh().positions(), file.mesh().triangles());
+    let bytes = glb(
+        &base,
+        &[file.mesh().positions().to_vec()],
+        &names(1),
+        &GltfOptions::default(),
+    )
+    .unwrap();
+    let glb = gltf::Gltf::from_slice(&bytes).unwrap();
+    assert_eq!(glb.document.images().count(), 0);
+    assert_eq!(
+        glb.document.meshes().next().unwrap().primitives().count(),
+        3
+    );
+}

@@ -1,7 +1,11 @@
 //! Binary glTF 2.0 (GLB) output: a base mesh with every frame or pose as a
 //! morph target, and an animation that plays them in order.
 //!
-//! The file holds one mesh with one triangle primitive:
+//! The file holds one mesh, with one triangle primitive per material (one
+//! material of [`GltfOptions::color`] unless the base has its own,
+//! [`GltfMaterials`]: colours, opacity, roughness, metallic and colour
+//! textures, PNG or JPEG images embedded as they are; the primitives share
+//! their vertices and morph targets):
 //!
 //! - the base mesh (`POSITION`, `NORMAL`, and `TEXCOORD_0` when corner
 //!   texture coordinates are given): the source of an interpolation, the
@@ -131,6 +135,63 @@ pub struct GltfBase<'a, const D: usize> {
     /// and each side gets vertices of its own, with normals computed from
     /// its faces alone in every frame. Without them every vertex is smooth.
     pub corner_normals: Option<&'a [[[f32; 3]; 3]]>,
+    /// The materials of the triangles; without them every triangle has
+    /// one material of [`GltfOptions::color`].
+    pub materials: Option<GltfMaterials<'a>>,
+}
+
+/// The materials of a base mesh: each triangle's material, and the images
+/// their colour textures use.
+#[derive(Clone, Copy, Debug)]
+pub struct GltfMaterials<'a> {
+    /// The materials.
+    pub materials: &'a [GltfMaterial],
+    /// The images of the materials' textures.
+    pub images: &'a [GltfImage],
+    /// `#T` indices into `materials`, one per triangle.
+    pub of_triangle: &'a [u32],
+}
+
+/// A material of a GLB (glTF's metallic-roughness model).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GltfMaterial {
+    /// Its name.
+    pub name: String,
+    /// Linear RGBA base colour; alpha below 1 makes the material blended.
+    pub base_color: [f32; 4],
+    /// Metallic factor, 0 to 1.
+    pub metallic: f32,
+    /// Roughness factor, 0 to 1.
+    pub roughness: f32,
+    /// The index of the base colour's texture image in
+    /// [`GltfMaterials::images`] (multiplied by `base_color`), shown
+    /// through the texture coordinates of the base (without them, left
+    /// out).
+    pub image: Option<usize>,
+}
+
+/// An image embedded in a GLB: a PNG or JPEG file's bytes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GltfImage {
+    /// The file's bytes.
+    pub bytes: Vec<u8>,
+    /// `image/png` or `image/jpeg`.
+    pub mime_type: &'static str,
+}
+
+impl GltfImage {
+    /// The image in `bytes` when it is a PNG or a JPEG (the formats glTF
+    /// holds), told by its first bytes; `None` otherwise.
+    pub fn from_bytes(bytes: Vec<u8>) -> Option<Self> {
+        let mime_type = if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
+            "image/png"
+        } else if bytes.starts_with(&[0xFF, 0xD8, 0xFF]) {
+            "image/jpeg"
+        } else {
+            return None;
+        };
+        Some(GltfImage { bytes, mime_type })
+    }
 }
 
 impl<'a, const D: usize> GltfBase<'a, D> {
@@ -141,7 +202,14 @@ impl<'a, const D: usize> GltfBase<'a, D> {
             triangles,
             corner_uvs: None,
             corner_normals: None,
+            materials: None,
         }
+    }
+
+    /// Adds the triangles' materials.
+    pub fn with_materials(mut self, materials: GltfMaterials<'a>) -> Self {
+        self.materials = Some(materials);
+        self
     }
 
     /// Adds texture coordinates per triangle corner.
@@ -269,8 +337,12 @@ struct Layout<'a, const D: usize> {
     triangles: &'a [[u32; 3]],
     /// glTF vertex → original vertex.
     original: Vec<u32>,
-    /// Triangles in glTF vertices.
+    /// Triangles in glTF vertices, ordered by material.
     indices: Vec<[u32; 3]>,
+    /// One primitive per material: the material (`None`: the default one)
+    /// and the range of `indices` it draws.
+    primitives: Vec<(Option<u32>, std::ops::Range<usize>)>,
+    materials: Option<GltfMaterials<'a>>,
     /// Per glTF vertex, glTF's convention (v down).
     uvs: Option<Vec<[f32; 2]>>,
     /// The normal groups of the triangle corners, and the group of each
@@ -319,6 +391,7 @@ impl<'a, const D: usize> Layout<'a, D> {
             uvs,
             groups,
         } = split_vertices(base)?;
+        let (indices, primitives) = by_material(indices, base.materials)?;
         let base_positions: Vec<[f32; 3]> = original
             .iter()
             .map(|&v| xyz(&base.positions[v as usize]).map(|x| x as f32))
@@ -350,6 +423,8 @@ impl<'a, const D: usize> Layout<'a, D> {
             triangles: base.triangles,
             original,
             indices,
+            primitives,
+            materials: base.materials,
             uvs,
             groups,
             base_positions,
@@ -410,7 +485,8 @@ impl<'a, const D: usize> Layout<'a, D> {
                     extensions: None,
                     extras: None,
                 });
-                offset += length;
+                // Every view starts on a multiple of 4 bytes.
+                offset += length.next_multiple_of(4);
                 v
             };
         let vec3 = |root: &mut json::Root,
@@ -431,13 +507,21 @@ impl<'a, const D: usize> Layout<'a, D> {
             12 * self.indices.len() as u64,
             Some(ElementArrayBuffer),
         );
-        let indices = root.push(accessor(
-            index_view,
-            3 * self.indices.len() as u64,
-            json::accessor::ComponentType::U32,
-            json::accessor::Type::Scalar,
-            None,
-        ));
+        let index_accessors: Vec<json::Index<json::Accessor>> = self
+            .primitives
+            .iter()
+            .map(|(_, range)| {
+                let mut a = accessor(
+                    index_view,
+                    3 * range.len() as u64,
+                    json::accessor::ComponentType::U32,
+                    json::accessor::Type::Scalar,
+                    None,
+                );
+                a.byte_offset = Some(USize64(12 * range.start as u64));
+                root.push(a)
+            })
+            .collect();
         let position_view = view(&mut root, 12 * n, Some(ArrayBuffer));
         let positions = vec3(
             &mut root,
@@ -487,22 +571,7 @@ impl<'a, const D: usize> Layout<'a, D> {
             .collect();
         let frames = bounds.len() as u64;
 
-        let material = root.push(json::Material {
-            double_sided: true,
-            name: Some("meshmorph".into()),
-            pbr_metallic_roughness: json::material::PbrMetallicRoughness {
-                base_color_factor: json::material::PbrBaseColorFactor([
-                    options.color[0],
-                    options.color[1],
-                    options.color[2],
-                    1.0,
-                ]),
-                metallic_factor: json::material::StrengthFactor(0.0),
-                roughness_factor: json::material::StrengthFactor(0.7),
-                ..Default::default()
-            },
-            ..Default::default()
-        });
+        let materials = self.materials_json(&mut root, options);
         let target_names = json::Value::from(names.to_vec());
         let extras = json::Value::Object(
             [("targetNames".to_string(), target_names)]
@@ -513,15 +582,20 @@ impl<'a, const D: usize> Layout<'a, D> {
             extensions: None,
             extras: json::extras::RawValue::from_string(extras.to_string()).ok(),
             name: Some(options.name.clone()),
-            primitives: vec![json::mesh::Primitive {
-                attributes,
-                extensions: None,
-                extras: None,
-                indices: Some(indices),
-                material: Some(material),
-                mode: Valid(json::mesh::Mode::Triangles),
-                targets: Some(targets),
-            }],
+            primitives: self
+                .primitives
+                .iter()
+                .zip(index_accessors)
+                .map(|((material, _), indices)| json::mesh::Primitive {
+                    attributes: attributes.clone(),
+                    extensions: None,
+                    extras: None,
+                    indices: Some(indices),
+                    material: Some(materials[material.map_or(0, |m| m as usize)]),
+                    mode: Valid(json::mesh::Mode::Triangles),
+                    targets: Some(targets.clone()),
+                })
+                .collect(),
             weights: Some(vec![0.0; frames as usize]),
         });
         let node = root.push(json::Node {
@@ -579,6 +653,13 @@ impl<'a, const D: usize> Layout<'a, D> {
                 }],
             });
         }
+        // The images, last, each view starting on a multiple of 4 bytes.
+        if let Some(m) = self.materials.filter(|_| self.uvs.is_some()) {
+            for (k, image) in m.images.iter().enumerate() {
+                let v = view(&mut root, image.bytes.len() as u64, None);
+                root.images[k].buffer_view = Some(v);
+            }
+        }
         root.push(json::Buffer {
             byte_length: USize64(offset),
             name: None,
@@ -591,6 +672,63 @@ impl<'a, const D: usize> Layout<'a, D> {
             ..Default::default()
         };
         (root, offset)
+    }
+
+    /// The materials of the document: the base's, with their textures and
+    /// images (whose buffer views come last, see [`Layout::root`]), or
+    /// without them one of [`GltfOptions::color`].
+    fn materials_json(
+        &self,
+        root: &mut json::Root,
+        options: &GltfOptions,
+    ) -> Vec<json::Index<json::Material>> {
+        let Some(m) = self.materials else {
+            let [r, g, b] = options.color;
+            return vec![root.push(material_json("meshmorph", [r, g, b, 1.0], 0.0, 0.7, None))];
+        };
+        // Textures need texture coordinates.
+        let textures: Vec<json::Index<json::Texture>> = if self.uvs.is_some() {
+            let sampler = root.push(json::texture::Sampler {
+                wrap_s: Valid(json::texture::WrappingMode::Repeat),
+                wrap_t: Valid(json::texture::WrappingMode::Repeat),
+                ..Default::default()
+            });
+            m.images
+                .iter()
+                .map(|image| {
+                    let source = root.push(json::Image {
+                        buffer_view: None,
+                        mime_type: Some(json::image::MimeType(image.mime_type.to_string())),
+                        name: None,
+                        uri: None,
+                        extensions: None,
+                        extras: None,
+                    });
+                    root.push(json::Texture {
+                        name: None,
+                        sampler: Some(sampler),
+                        source,
+                        extensions: None,
+                        extras: None,
+                    })
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        m.materials
+            .iter()
+            .map(|mat| {
+                let texture = mat.image.and_then(|i| textures.get(i).copied());
+                root.push(material_json(
+                    &mat.name,
+                    mat.base_color,
+                    mat.metallic,
+                    mat.roughness,
+                    texture,
+                ))
+            })
+            .collect()
     }
 
     /// Streams the GLB: header, JSON chunk, binary chunk, in the order
@@ -643,6 +781,13 @@ impl<'a, const D: usize> Layout<'a, D> {
                 (0..n * n).map(|i| if i / n == i % n { 1.0 } else { 0.0 }),
             )?;
         }
+        if let Some(m) = self.materials.filter(|_| self.uvs.is_some()) {
+            for image in m.images {
+                w.write_all(&image.bytes)?;
+                let pad = image.bytes.len().next_multiple_of(4) - image.bytes.len();
+                w.write_all(&[0; 3][..pad])?;
+            }
+        }
         Ok(())
     }
 
@@ -671,6 +816,108 @@ impl<'a, const D: usize> Layout<'a, D> {
 /// Frames a GLB writer prepares at once, per thread: their bytes (24 per
 /// vertex in space, 12 in the plane) are all it holds of the frames.
 pub const FRAMES_IN_FLIGHT_PER_THREAD: usize = 2;
+
+/// A double-sided material (OBJ files do not say which side shows), blended
+/// when its alpha is below 1.
+fn material_json(
+    name: &str,
+    base_color: [f32; 4],
+    metallic: f32,
+    roughness: f32,
+    texture: Option<json::Index<json::Texture>>,
+) -> json::Material {
+    json::Material {
+        double_sided: true,
+        name: Some(name.to_string()),
+        alpha_mode: Valid(if base_color[3] < 1.0 {
+            json::material::AlphaMode::Blend
+        } else {
+            json::material::AlphaMode::Opaque
+        }),
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor(base_color),
+            metallic_factor: json::material::StrengthFactor(metallic),
+            roughness_factor: json::material::StrengthFactor(roughness),
+            base_color_texture: texture.map(|index| json::texture::Info {
+                index,
+                tex_coord: 0,
+                extensions: None,
+                extras: None,
+            }),
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+/// The triangles (in glTF vertices) ordered by material, and one primitive
+/// per material used: all in one primitive of the default material without
+/// `materials`.
+///
+/// # Errors
+/// When `materials` does not give every triangle a material it holds, or an
+/// image it holds.
+#[allow(clippy::type_complexity)]
+fn by_material(
+    indices: Vec<[u32; 3]>,
+    materials: Option<GltfMaterials<'_>>,
+) -> Result<(Vec<[u32; 3]>, Vec<(Option<u32>, std::ops::Range<usize>)>)> {
+    let Some(m) = materials else {
+        let all = 0..indices.len();
+        return Ok((indices, vec![(None, all)]));
+    };
+    if m.of_triangle.len() != indices.len() {
+        return Err(Error::InvalidArgument(format!(
+            "{} triangles but materials for {}",
+            indices.len(),
+            m.of_triangle.len()
+        )));
+    }
+    if let Some(t) = m
+        .of_triangle
+        .iter()
+        .position(|&i| i as usize >= m.materials.len())
+    {
+        return Err(Error::InvalidTriangle {
+            triangle: t,
+            message: format!(
+                "triangle {t} has material {}, of {} materials",
+                m.of_triangle[t],
+                m.materials.len()
+            ),
+        });
+    }
+    if let Some(mat) = m
+        .materials
+        .iter()
+        .find(|mat| mat.image.is_some_and(|i| i >= m.images.len()))
+    {
+        return Err(Error::InvalidArgument(format!(
+            "material `{}` has an image index past the {} images",
+            mat.name,
+            m.images.len()
+        )));
+    }
+    // A counting sort: the triangles of each material in their order.
+    let mut start = vec![0usize; m.materials.len() + 1];
+    for &i in m.of_triangle {
+        start[i as usize + 1] += 1;
+    }
+    for i in 0..m.materials.len() {
+        start[i + 1] += start[i];
+    }
+    let primitives = (0..m.materials.len())
+        .filter(|&i| start[i + 1] > start[i])
+        .map(|i| (Some(i as u32), start[i]..start[i + 1]))
+        .collect();
+    let mut next = start;
+    let mut sorted = vec![[0; 3]; indices.len()];
+    for (tri, &i) in indices.into_iter().zip(m.of_triangle) {
+        sorted[next[i as usize]] = tri;
+        next[i as usize] += 1;
+    }
+    Ok((sorted, primitives))
+}
 
 /// Bounds of a frame's position deltas from `base` over the glTF vertices.
 fn delta_bounds<const D: usize>(

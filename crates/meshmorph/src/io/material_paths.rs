@@ -40,12 +40,7 @@ impl MaterialPaths {
     /// spaces is read as one when a file of that name is beside the source.
     pub(super) fn rewrite(&self, argument: &[u8]) -> Option<Vec<u8>> {
         let text = std::str::from_utf8(argument).ok()?;
-        let names: Vec<&str> =
-            if !text.contains(char::is_whitespace) || self.from.join(text).is_file() {
-                vec![text]
-            } else {
-                text.split_whitespace().collect()
-            };
+        let names = library_names(&self.from, text);
         let mut changed = false;
         let rewritten: Vec<String> = names
             .iter()
@@ -76,8 +71,19 @@ impl MaterialPaths {
     }
 }
 
+/// The library names of a `mtllib` statement's argument `text`, read from
+/// the folder `from`: several, separated by spaces, or one name with spaces
+/// when a file of that name is there.
+pub(super) fn library_names<'t>(from: &Path, text: &'t str) -> Vec<&'t str> {
+    if !text.contains(char::is_whitespace) || from.join(text).is_file() {
+        vec![text]
+    } else {
+        text.split_whitespace().collect()
+    }
+}
+
 /// The folder holding `file` (`.` for a bare file name).
-fn folder_of(file: &Path) -> &Path {
+pub(super) fn folder_of(file: &Path) -> &Path {
     match file.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),

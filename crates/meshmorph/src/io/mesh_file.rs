@@ -19,7 +19,7 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use super::material_paths::MaterialPaths;
+use super::material_paths::{folder_of, library_names, MaterialPaths};
 use super::normal_groups::{NormalGroups, ShapeNormals};
 use super::ply::Scalar;
 use super::triangulate::{quad_split_the_other_way, Polygons, Split};
@@ -124,6 +124,34 @@ pub(super) struct Parsed {
     /// What the file holds beyond positions and polygons, for the warnings
     /// when it is written in another format.
     pub(super) extras: Vec<String>,
+    /// The OBJ materials of the faces (empty for other formats).
+    pub(super) materials: FaceMaterials,
+}
+
+/// The materials an OBJ file gives its faces: the `usemtl` names and the
+/// `mtllib` statements that define them.
+#[derive(Clone, Debug, Default)]
+pub(super) struct FaceMaterials {
+    /// The arguments of the `mtllib` statements, as written.
+    pub(super) libraries: Vec<String>,
+    /// The distinct `usemtl` names, in the order they first appear.
+    pub(super) names: Vec<String>,
+    /// Per face, an index into `names`, or [`NONE`] before any `usemtl`
+    /// (empty when the file was not kept whole).
+    pub(super) of_face: Vec<u32>,
+}
+
+impl FaceMaterials {
+    /// The index of the material `name`, added when new.
+    pub(super) fn index_of(&mut self, name: &str) -> u32 {
+        match self.names.iter().position(|n| n == name) {
+            Some(i) => i as u32,
+            None => {
+                self.names.push(name.to_string());
+                (self.names.len() - 1) as u32
+            }
+        }
+    }
 }
 
 impl Parsed {
@@ -139,6 +167,7 @@ impl Parsed {
             corner_normal: Vec::new(),
             flat_faces: Vec::new(),
             extras: Vec::new(),
+            materials: FaceMaterials::default(),
         }
     }
 
@@ -200,6 +229,7 @@ pub struct MeshFile {
     /// as files too, and never written).
     normal_groups: OnceLock<NormalGroups>,
     extras: Vec<String>,
+    materials: FaceMaterials,
 }
 
 impl MeshFile {
@@ -244,6 +274,7 @@ impl MeshFile {
             flat_faces: parsed.flat_faces,
             normal_groups: OnceLock::new(),
             extras: parsed.extras,
+            materials: parsed.materials,
         };
         Ok(file)
     }
@@ -323,6 +354,36 @@ impl MeshFile {
             .corners
             .iter()
             .map(|c| c.map(|k| of_corner(k as usize)))
+            .collect()
+    }
+
+    /// The OBJ material (`usemtl`) of each triangle of [`MeshFile::mesh`]:
+    /// the names, in the order they first appear in the file, and per
+    /// triangle an index into them, `None` for faces before any `usemtl`.
+    /// `None` when the file names no material.
+    pub fn triangle_materials(&self) -> Option<(&[String], Vec<Option<u32>>)> {
+        let m = &self.materials;
+        if m.names.is_empty() || m.of_face.len() != self.num_faces() {
+            return None;
+        }
+        let of_triangle = self
+            .split
+            .face
+            .iter()
+            .map(|&f| Some(m.of_face[f as usize]).filter(|&i| i != NONE))
+            .collect();
+        Some((&m.names, of_triangle))
+    }
+
+    /// The material libraries the file names (OBJ `mtllib`), resolved from
+    /// its folder; they may not exist.
+    pub fn material_libraries(&self) -> Vec<PathBuf> {
+        let folder = folder_of(&self.path);
+        self.materials
+            .libraries
+            .iter()
+            .flat_map(|text| library_names(folder, text))
+            .map(|name| folder.join(name))
             .collect()
     }
 

@@ -47,18 +47,21 @@
 //! written with the shortest representation that reads back to the same
 //! `f64`, so reading a written mesh gives back exactly the same mesh.
 
+mod appearance;
 mod atomic;
 mod correspondence;
 pub mod gltf;
 mod markers;
 mod material_paths;
 mod mesh_file;
+pub mod mtl;
 mod normal_groups;
 mod obj;
 mod off;
 mod ply;
 mod triangulate;
 
+pub use appearance::Appearance;
 pub use atomic::write_atomic;
 pub use mesh_file::MeshFile;
 

@@ -81,6 +81,12 @@ fn vertex_index(
     })
 }
 
+/// The text of `line` after its keyword `keyword`, trimmed.
+fn rest_of_line(line: &[u8], keyword: &[u8]) -> String {
+    let after = offset_in(line, keyword) + keyword.len();
+    String::from_utf8_lossy(line[after..].trim_ascii()).into_owned()
+}
+
 /// Parses an OBJ file's contents (see the [module documentation](super)),
 /// keeping what [`MeshFile`](super::MeshFile) needs to write it back.
 pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
@@ -98,6 +104,9 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     // Whether each face is shaded flat (`s off` or `s 0` before it).
     let mut flat = false;
     let mut flat_faces: Vec<bool> = Vec::new();
+    // The material of the faces that follow (`usemtl`), an index into
+    // `out.materials.names`.
+    let mut material = NONE;
     // The line of the first vertex with 2 coordinates and of the first with
     // 3 or more: a file is planar (`v x y`) or in space, never both.
     let mut first_planar: Option<usize> = None;
@@ -274,6 +283,9 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                 debug_assert_eq!(corner_uv.len() - first_corner, face.len());
                 out.faces.push(&face, line_no);
                 flat_faces.push(flat);
+                if out.keeps_whole() {
+                    out.materials.of_face.push(material);
+                }
             }
             Some(b"g") => out.note_extra("groups (`g`)"),
             Some(b"o") => out.note_extra("objects (`o`)"),
@@ -290,9 +302,19 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                     let start = offset_in(bytes, first);
                     let end = offset_in(bytes, last) + last.len();
                     out.patch(Patch::text(start..end, Slot::MaterialLibrary));
+                    if out.keeps_whole() {
+                        let text = String::from_utf8_lossy(&bytes[start..end]).into_owned();
+                        out.materials.libraries.push(text);
+                    }
                 }
             }
-            Some(b"usemtl") => out.note_extra("materials (`mtllib`, `usemtl`)"),
+            Some(b"usemtl") => {
+                out.note_extra("materials (`mtllib`, `usemtl`)");
+                if out.keeps_whole() {
+                    let name = rest_of_line(line, keyword.unwrap_or_default());
+                    material = out.materials.index_of(&name);
+                }
+            }
             Some(kind @ (b"l" | b"p")) => {
                 out.note_extra("lines and points (`l`, `p`)");
                 // Checked as faces are, kept as written: `l v` or `l v/vt`,

@@ -1,0 +1,191 @@
+//! How a mesh file looks, for a GLB made from it: its texture coordinates,
+//! its hard edges, and its OBJ materials with their colours and colour
+//! textures, so that a result opens in Blender or three.js looking like the
+//! asset it came from.
+
+use std::path::{Path, PathBuf};
+
+use super::gltf::{GltfBase, GltfImage, GltfMaterial, GltfMaterials};
+use super::mtl::{read_mtl, MtlMaterial};
+use super::MeshFile;
+
+/// The colour of faces without a material, or with one no library defines:
+/// the grey Blender shows them in.
+const NO_MATERIAL_GREY: [f32; 4] = [0.8, 0.8, 0.8, 1.0];
+
+/// What a GLB keeps of a mesh file's looks: its texture coordinates, its
+/// hard edges, and its OBJ materials with their colours and colour
+/// textures; [`Appearance::base`] hands them to the writer.
+#[derive(Clone, Debug, Default)]
+pub struct Appearance {
+    /// Texture coordinates per triangle corner, when every corner has them.
+    pub corner_uvs: Option<Vec<[[f32; 2]; 3]>>,
+    /// The file's normals per triangle corner (which edges are hard).
+    pub corner_normals: Option<Vec<[[f32; 3]; 3]>>,
+    /// The materials of the triangles (empty when the file names none).
+    pub materials: Vec<GltfMaterial>,
+    /// The images of the materials' colour textures.
+    pub images: Vec<GltfImage>,
+    /// Per triangle, an index into `materials` (empty without materials).
+    pub of_triangle: Vec<u32>,
+    /// What could not be carried: a library or texture that cannot be
+    /// read, a material no library defines, what the file holds that a GLB
+    /// made from it does not (groups, objects, colours, ...).
+    pub warnings: Vec<String>,
+}
+
+impl Appearance {
+    /// The looks of `file`, reading its material libraries and their
+    /// colour textures (PNG or JPEG, embedded as they are).
+    pub fn of_file(file: &MeshFile) -> Self {
+        let mut look = Appearance {
+            corner_uvs: file.triangle_corner_uvs(),
+            corner_normals: file.triangle_corner_normals(),
+            ..Default::default()
+        };
+        if let Some((names, of_triangle)) = file.triangle_materials() {
+            look.add_materials(file, names, &of_triangle);
+        }
+        let dropped: Vec<&str> = file
+            .extras()
+            .iter()
+            .map(String::as_str)
+            .filter(|e| {
+                let carried = e.starts_with("texture coordinates")
+                    || e.starts_with("normals")
+                    || (e.starts_with("materials") && !look.materials.is_empty());
+                !carried
+            })
+            .collect();
+        if !dropped.is_empty() {
+            look.warnings.push(format!(
+                "a GLB holds one mesh with its texture coordinates, normals computed from its shape (hard edges kept) and materials: the {} of `{}` are not in it",
+                dropped.join(", "),
+                file.path().display()
+            ));
+        }
+        look
+    }
+
+    /// The base mesh of a GLB with these looks.
+    pub fn base<'a, const D: usize>(
+        &'a self,
+        positions: &'a [[f64; D]],
+        triangles: &'a [[u32; 3]],
+    ) -> GltfBase<'a, D> {
+        let mut base = GltfBase::new(positions, triangles);
+        if let Some(uvs) = &self.corner_uvs {
+            base = base.with_corner_uvs(uvs);
+        }
+        if let Some(normals) = &self.corner_normals {
+            base = base.with_corner_normals(normals);
+        }
+        if !self.materials.is_empty() {
+            base = base.with_materials(GltfMaterials {
+                materials: &self.materials,
+                images: &self.images,
+                of_triangle: &self.of_triangle,
+            });
+        }
+        base
+    }
+
+    /// The materials `names` from the file's libraries, and each
+    /// triangle's; faces before any `usemtl` take a grey material of
+    /// their own.
+    fn add_materials(&mut self, file: &MeshFile, names: &[String], of_triangle: &[Option<u32>]) {
+        let mut defined: Vec<MtlMaterial> = Vec::new();
+        for library in file.material_libraries() {
+            match read_mtl(&library) {
+                Ok(materials) => defined.extend(materials),
+                Err(e) => self.warnings.push(format!(
+                    "the materials of `{}` in `{}` are not in the GLB: {e}",
+                    file.path().display(),
+                    library.display()
+                )),
+            }
+        }
+        let mut image_paths: Vec<PathBuf> = Vec::new();
+        for name in names {
+            let material = match defined.iter().find(|m| &m.name == name) {
+                Some(m) => self.material_of(m, file.path(), &mut image_paths),
+                None => {
+                    if file.material_libraries().is_empty() || !defined.is_empty() {
+                        self.warnings.push(format!(
+                            "material `{name}` of `{}` is defined in no material library it names: grey in the GLB",
+                            file.path().display()
+                        ));
+                    }
+                    grey(name)
+                }
+            };
+            self.materials.push(material);
+        }
+        let unnamed = names.len() as u32;
+        if of_triangle.iter().any(Option::is_none) {
+            self.materials.push(grey("none"));
+        }
+        self.of_triangle = of_triangle.iter().map(|m| m.unwrap_or(unnamed)).collect();
+    }
+
+    /// A GLB material of an MTL one, its colour texture read once per file.
+    fn material_of(
+        &mut self,
+        m: &MtlMaterial,
+        obj: &Path,
+        image_paths: &mut Vec<PathBuf>,
+    ) -> GltfMaterial {
+        let mut image = None;
+        if let Some(path) = &m.diffuse_map {
+            if self.corner_uvs.is_none() {
+                self.warnings.push(format!(
+                    "the texture `{}` of material `{}` is not in the GLB: `{}` has no texture coordinates on every face",
+                    path.display(),
+                    m.name,
+                    obj.display()
+                ));
+            } else if let Some(i) = image_paths.iter().position(|p| p == path) {
+                image = Some(i);
+            } else {
+                match std::fs::read(path).map(GltfImage::from_bytes) {
+                    Ok(Some(img)) => {
+                        self.images.push(img);
+                        image_paths.push(path.clone());
+                        image = Some(self.images.len() - 1);
+                    }
+                    Ok(None) => self.warnings.push(format!(
+                        "the texture `{}` of material `{}` is not in the GLB: glTF holds PNG and JPEG images only",
+                        path.display(),
+                        m.name
+                    )),
+                    Err(e) => self.warnings.push(format!(
+                        "the texture `{}` of material `{}` is not in the GLB: {e}",
+                        path.display(),
+                        m.name
+                    )),
+                }
+            }
+        }
+        // With a texture, the texture is the colour (as Blender's importer
+        // shows it), kept translucent by the opacity.
+        let [r, g, b] = if image.is_some() { [1.0; 3] } else { m.diffuse };
+        GltfMaterial {
+            name: m.name.clone(),
+            base_color: [r, g, b, m.opacity],
+            metallic: m.metallic.unwrap_or(0.0),
+            roughness: m.roughness.unwrap_or(0.5),
+            image,
+        }
+    }
+}
+
+/// A grey material named `name`.
+fn grey(name: &str) -> GltfMaterial {
+    GltfMaterial {
+        name: name.to_string(),
+        base_color: NO_MATERIAL_GREY,
+        metallic: 0.0,
+        roughness: 0.5,
+        image: None,
+    }
+}
