@@ -615,3 +615,76 @@ fn missing_textures_and_undefined_materials_are_warned_of() {
         3
     );
 }
+
+#[test]
+fn vertex_colours_of_ply_obj_and_off_become_color_0() {
+    use meshmorph::io::{Appearance, MeshFile};
+    let dir = tempfile::tempdir().unwrap();
+    let ply = dir.path().join("c.ply");
+    std::fs::write(
+        &ply,
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+         property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n\
+         element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+         0 0 0 255 0 0 255\n1 0 0 0 255 0 128\n0 1 0 0 0 51 255\n3 0 1 2\n",
+    )
+    .unwrap();
+    let obj = dir.path().join("c.obj");
+    std::fs::write(
+        &obj,
+        "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 0.2\nf 1 2 3\n",
+    )
+    .unwrap();
+    let off = dir.path().join("c.off");
+    std::fs::write(
+        &off,
+        "COFF\n3 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n0 1 0 0 0 51 255\n3 0 1 2\n",
+    )
+    .unwrap();
+    let srgb = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.2]];
+    for path in [&ply, &obj, &off] {
+        let file = MeshFile::read(path).unwrap();
+        let colors = file.vertex_colors().expect("vertex colours");
+        for (c, want) in colors.iter().zip(&srgb) {
+            for k in 0..3 {
+                assert!((c[k] - want[k]).abs() < 1e-6, "{}: {c:?}", path.display());
+            }
+        }
+        let look = Appearance::of_file(&file);
+        assert!(look.warnings.is_empty(), "{:?}", look.warnings);
+        let base = look.base(file.mesh().positions(), file.mesh().triangles());
+        let bytes = glb(
+            &base,
+            &[file.mesh().positions().to_vec()],
+            &names(1),
+            &GltfOptions::default(),
+        )
+        .unwrap();
+        let glb = gltf::Gltf::from_slice(&bytes).unwrap();
+        let blob = glb.blob.as_deref().unwrap();
+        let prim = glb
+            .document
+            .meshes()
+            .next()
+            .unwrap()
+            .primitives()
+            .next()
+            .unwrap();
+        assert_eq!(
+            prim.material().pbr_metallic_roughness().base_color_factor(),
+            [1.0; 4]
+        );
+        let got: Vec<[f32; 4]> = prim
+            .reader(|_| Some(blob))
+            .read_colors(0)
+            .expect("COLOR_0")
+            .into_rgba_f32()
+            .collect();
+        // 0.2 in sRGB is 0.0331 linear; alpha stays as stored.
+        assert!((got[2][2] - 0.033_105).abs() < 1e-4, "{got:?}");
+        assert_eq!(got[0][0], 1.0);
+        if path == &ply {
+            assert!((got[1][3] - 128.0 / 255.0).abs() < 1e-6);
+        }
+    }
+}

@@ -22,6 +22,9 @@ pub struct Appearance {
     pub corner_uvs: Option<Vec<[[f32; 2]; 3]>>,
     /// The file's normals per triangle corner (which edges are hard).
     pub corner_normals: Option<Vec<[[f32; 3]; 3]>>,
+    /// Linear RGBA per triangle corner, from the file's vertex colours
+    /// (sRGB).
+    pub corner_colors: Option<Vec<[[f32; 4]; 3]>>,
     /// The materials of the triangles (empty when the file names none).
     pub materials: Vec<GltfMaterial>,
     /// The images of the materials' colour textures.
@@ -41,6 +44,11 @@ impl Appearance {
         let mut look = Appearance {
             corner_uvs: file.triangle_corner_uvs(),
             corner_normals: file.triangle_corner_normals(),
+            corner_colors: file.triangle_corner_colors().map(|c| {
+                c.iter()
+                    .map(|corners| corners.map(|[r, g, b, a]| [linear(r), linear(g), linear(b), a]))
+                    .collect()
+            }),
             ..Default::default()
         };
         if let Some((names, of_triangle)) = file.triangle_materials() {
@@ -53,13 +61,14 @@ impl Appearance {
             .filter(|e| {
                 let carried = e.starts_with("texture coordinates")
                     || e.starts_with("normals")
+                    || (*e == "vertex colours" && look.corner_colors.is_some())
                     || (e.starts_with("materials") && !look.materials.is_empty());
                 !carried
             })
             .collect();
         if !dropped.is_empty() {
             look.warnings.push(format!(
-                "a GLB holds one mesh with its texture coordinates, normals computed from its shape (hard edges kept) and materials: the {} of `{}` are not in it",
+                "a GLB holds one mesh with its texture coordinates, normals computed from its shape (hard edges kept), materials and vertex colours: the {} of `{}` are not in it",
                 dropped.join(", "),
                 file.path().display()
             ));
@@ -79,6 +88,9 @@ impl Appearance {
         }
         if let Some(normals) = &self.corner_normals {
             base = base.with_corner_normals(normals);
+        }
+        if let Some(colors) = &self.corner_colors {
+            base = base.with_corner_colors(colors);
         }
         if !self.materials.is_empty() {
             base = base.with_materials(GltfMaterials {
@@ -176,6 +188,15 @@ impl Appearance {
             roughness: m.roughness.unwrap_or(0.5),
             image,
         }
+    }
+}
+
+/// An sRGB-encoded colour channel (0 to 1), linear.
+fn linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
     }
 }
 

@@ -136,8 +136,12 @@ pub struct GltfBase<'a, const D: usize> {
     /// its faces alone in every frame. Without them every vertex is smooth.
     pub corner_normals: Option<&'a [[[f32; 3]; 3]]>,
     /// The materials of the triangles; without them every triangle has
-    /// one material of [`GltfOptions::color`].
+    /// one material of [`GltfOptions::color`] (white with vertex colours).
     pub materials: Option<GltfMaterials<'a>>,
+    /// `#T × 3` linear RGBA colours, one per triangle corner (`COLOR_0`,
+    /// which glTF multiplies with the material's colour); corners of a
+    /// vertex with different colours get vertices of their own.
+    pub corner_colors: Option<&'a [[[f32; 4]; 3]]>,
 }
 
 /// The materials of a base mesh: each triangle's material, and the images
@@ -203,7 +207,14 @@ impl<'a, const D: usize> GltfBase<'a, D> {
             corner_uvs: None,
             corner_normals: None,
             materials: None,
+            corner_colors: None,
         }
+    }
+
+    /// Adds a colour per triangle corner (linear RGBA).
+    pub fn with_corner_colors(mut self, colors: &'a [[[f32; 4]; 3]]) -> Self {
+        self.corner_colors = Some(colors);
+        self
     }
 
     /// Adds the triangles' materials.
@@ -345,6 +356,8 @@ struct Layout<'a, const D: usize> {
     materials: Option<GltfMaterials<'a>>,
     /// Per glTF vertex, glTF's convention (v down).
     uvs: Option<Vec<[f32; 2]>>,
+    /// Linear RGBA per glTF vertex.
+    colors: Option<Vec<[f32; 4]>>,
     /// The normal groups of the triangle corners, and the group of each
     /// glTF vertex, when the base has them.
     groups: Option<(Vec<[u32; 3]>, Vec<u32>)>,
@@ -389,6 +402,7 @@ impl<'a, const D: usize> Layout<'a, D> {
             original,
             indices,
             uvs,
+            colors,
             groups,
         } = split_vertices(base)?;
         let (indices, primitives) = by_material(indices, base.materials)?;
@@ -426,6 +440,7 @@ impl<'a, const D: usize> Layout<'a, D> {
             primitives,
             materials: base.materials,
             uvs,
+            colors,
             groups,
             base_positions,
             base_normals,
@@ -543,6 +558,17 @@ impl<'a, const D: usize> Layout<'a, D> {
                 None,
             ));
             attributes.insert(Valid(json::mesh::Semantic::TexCoords(0)), uvs);
+        }
+        if self.colors.is_some() {
+            let color_view = view(&mut root, 16 * n, Some(ArrayBuffer));
+            let colors = root.push(accessor(
+                color_view,
+                n,
+                json::accessor::ComponentType::F32,
+                json::accessor::Type::Vec4,
+                None,
+            ));
+            attributes.insert(Valid(json::mesh::Semantic::Colors(0)), colors);
         }
         let shared_zero_normals = if self.frame_normals() {
             None
@@ -683,7 +709,12 @@ impl<'a, const D: usize> Layout<'a, D> {
         options: &GltfOptions,
     ) -> Vec<json::Index<json::Material>> {
         let Some(m) = self.materials else {
-            let [r, g, b] = options.color;
+            // Vertex colours are the colour.
+            let [r, g, b] = if self.colors.is_some() {
+                [1.0; 3]
+            } else {
+                options.color
+            };
             return vec![root.push(material_json("meshmorph", [r, g, b, 1.0], 0.0, 0.7, None))];
         };
         // Textures need texture coordinates.
@@ -758,6 +789,9 @@ impl<'a, const D: usize> Layout<'a, D> {
         write_f32s(w, self.base_normals.iter().flatten().copied())?;
         if let Some(uvs) = &self.uvs {
             write_f32s(w, uvs.iter().flatten().copied())?;
+        }
+        if let Some(colors) = &self.colors {
+            write_f32s(w, colors.iter().flatten().copied())?;
         }
         if !self.frame_normals() {
             write_f32s(w, std::iter::repeat_n(0.0, 3 * self.vertex_count()))?;
@@ -1078,38 +1112,58 @@ struct Split {
     indices: Vec<[u32; 3]>,
     /// Texture coordinates per glTF vertex (glTF's v down).
     uvs: Option<Vec<[f32; 2]>>,
+    /// Colours per glTF vertex.
+    colors: Option<Vec<[f32; 4]>>,
     /// With normals per corner: the normal group of each triangle corner
     /// (the corners of one vertex that share a normal) and of each glTF
     /// vertex.
     groups: Option<(Vec<[u32; 3]>, Vec<u32>)>,
 }
 
+/// Refuses values per triangle corner (`what`) that are not one per corner
+/// of `triangles` triangles, or not finite.
+fn check_corners<const N: usize>(
+    values: Option<&[[[f32; N]; 3]]>,
+    triangles: usize,
+    what: &str,
+) -> Result<()> {
+    let Some(values) = values else {
+        return Ok(());
+    };
+    if values.len() != triangles {
+        return Err(Error::InvalidArgument(format!(
+            "{triangles} triangles but {what} for {}",
+            values.len()
+        )));
+    }
+    if let Some(t) = values
+        .iter()
+        .position(|c| c.iter().flatten().any(|x| !x.is_finite()))
+    {
+        return Err(Error::InvalidTriangle {
+            triangle: t,
+            message: format!(
+                "triangle {t}'s {what} are not finite numbers: {:?}",
+                values[t]
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// What a triangle corner carries to its glTF vertex: texture coordinates,
+/// colour, normal group.
+type Corner = ([f32; 2], [f32; 4], u32);
+/// A [`Corner`] compared bit for bit.
+type CornerKey = ([u32; 2], [u32; 4], u32);
+
 /// glTF's vertices: one per used original vertex and distinct pair of
 /// texture coordinates and normal group of its corners, original vertices
 /// first (in order, each with its first corner's), further pairs after.
 fn split_vertices<const D: usize>(base: &GltfBase<'_, D>) -> Result<Split> {
     let n = base.positions.len();
-    if let Some(corner_uvs) = base.corner_uvs {
-        if corner_uvs.len() != base.triangles.len() {
-            return Err(Error::InvalidArgument(format!(
-                "{} triangles but texture coordinates for {}",
-                base.triangles.len(),
-                corner_uvs.len()
-            )));
-        }
-        if let Some(t) = corner_uvs
-            .iter()
-            .position(|c| c.iter().flatten().any(|x| !x.is_finite()))
-        {
-            return Err(Error::InvalidTriangle {
-                triangle: t,
-                message: format!(
-                    "triangle {t}'s texture coordinates are not finite numbers: {:?}",
-                    corner_uvs[t]
-                ),
-            });
-        }
-    }
+    check_corners(base.corner_uvs, base.triangles.len(), "texture coordinates")?;
+    check_corners(base.corner_colors, base.triangles.len(), "colours")?;
     // The corners of one vertex that share a normal are one group.
     let corner_groups: Option<Vec<[u32; 3]>> = match base.corner_normals {
         None => None,
@@ -1137,14 +1191,15 @@ fn split_vertices<const D: usize>(base: &GltfBase<'_, D>) -> Result<Split> {
         }
     };
     // glTF's v runs down the image, OBJ's up.
-    let corner = |t: usize, k: usize| -> ([f32; 2], u32) {
+    let corner = |t: usize, k: usize| -> Corner {
         let uv = base
             .corner_uvs
             .map_or([0.0; 2], |c| [c[t][k][0], 1.0 - c[t][k][1]]);
-        (uv, corner_groups.as_ref().map_or(0, |g| g[t][k]))
+        let color = base.corner_colors.map_or([0.0; 4], |c| c[t][k]);
+        (uv, color, corner_groups.as_ref().map_or(0, |g| g[t][k]))
     };
-    let key = |(uv, g): ([f32; 2], u32)| (uv.map(f32::to_bits), g);
-    let mut first: Vec<Option<([f32; 2], u32)>> = vec![None; n];
+    let key = |(uv, color, g): Corner| (uv.map(f32::to_bits), color.map(f32::to_bits), g);
+    let mut first: Vec<Option<Corner>> = vec![None; n];
     for (t, tri) in base.triangles.iter().enumerate() {
         for k in 0..3 {
             first[tri[k] as usize].get_or_insert(corner(t, k));
@@ -1160,7 +1215,7 @@ fn split_vertices<const D: usize>(base: &GltfBase<'_, D>) -> Result<Split> {
             attributes.push(a);
         }
     }
-    let mut extra: HashMap<(u32, ([u32; 2], u32)), u32> = HashMap::new();
+    let mut extra: HashMap<(u32, CornerKey), u32> = HashMap::new();
     let indices = base
         .triangles
         .iter()
@@ -1187,6 +1242,9 @@ fn split_vertices<const D: usize>(base: &GltfBase<'_, D>) -> Result<Split> {
         uvs: base
             .corner_uvs
             .map(|_| attributes.iter().map(|a| a.0).collect()),
-        groups: corner_groups.map(|g| (g, attributes.iter().map(|a| a.1).collect())),
+        colors: base
+            .corner_colors
+            .map(|_| attributes.iter().map(|a| a.1).collect()),
+        groups: corner_groups.map(|g| (g, attributes.iter().map(|a| a.2).collect())),
     })
 }

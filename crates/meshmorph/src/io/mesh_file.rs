@@ -126,6 +126,9 @@ pub(super) struct Parsed {
     pub(super) extras: Vec<String>,
     /// The OBJ materials of the faces (empty for other formats).
     pub(super) materials: FaceMaterials,
+    /// The colour of each vertex, RGBA from 0 to 1 as the file stores it
+    /// (sRGB); empty when the file has none.
+    pub(super) colors: Vec<[f32; 4]>,
 }
 
 /// The materials an OBJ file gives its faces: the `usemtl` names and the
@@ -168,6 +171,7 @@ impl Parsed {
             flat_faces: Vec::new(),
             extras: Vec::new(),
             materials: FaceMaterials::default(),
+            colors: Vec::new(),
         }
     }
 
@@ -230,6 +234,7 @@ pub struct MeshFile {
     normal_groups: OnceLock<NormalGroups>,
     extras: Vec<String>,
     materials: FaceMaterials,
+    colors: Vec<[f32; 4]>,
 }
 
 impl MeshFile {
@@ -275,6 +280,7 @@ impl MeshFile {
             normal_groups: OnceLock::new(),
             extras: parsed.extras,
             materials: parsed.materials,
+            colors: parsed.colors,
         };
         Ok(file)
     }
@@ -375,6 +381,23 @@ impl MeshFile {
         Some((&m.names, of_triangle))
     }
 
+    /// The colour of each vertex, RGBA from 0 to 1 as the file stores them
+    /// (sRGB, as files conventionally do): PLY `red green blue [alpha]`
+    /// (integer types scaled by their largest value), OBJ `v x y z r g b`,
+    /// OFF `COFF`. `None` when the file has no vertex colours.
+    pub fn vertex_colors(&self) -> Option<&[[f32; 4]]> {
+        (self.colors.len() == self.mesh.num_vertices() && !self.colors.is_empty())
+            .then_some(&self.colors[..])
+    }
+
+    /// [`MeshFile::vertex_colors`] at each corner of each triangle of
+    /// [`MeshFile::mesh`].
+    pub fn triangle_corner_colors(&self) -> Option<Vec<[[f32; 4]; 3]>> {
+        let colors = self.vertex_colors()?;
+        let vertex_of = self.faces.corner_vertices();
+        Some(self.per_triangle_corner(|k| colors[vertex_of[k] as usize]))
+    }
+
     /// The material libraries the file names (OBJ `mtllib`), resolved from
     /// its folder; they may not exist.
     pub fn material_libraries(&self) -> Vec<PathBuf> {
@@ -400,7 +423,7 @@ impl MeshFile {
     }
 
     /// What the file holds beyond positions and polygons ("texture
-    /// coordinates (`vt`)", "vertex property `red`", ...).
+    /// coordinates (`vt`)", "vertex colours", "vertex property `quality`", ...).
     pub fn extras(&self) -> &[String] {
         &self.extras
     }

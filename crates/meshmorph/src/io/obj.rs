@@ -124,6 +124,9 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                 let mut p = [0.0; 3];
                 let mut count = 0;
                 let mut last_end = 0;
+                // `v x y z r g b`: the values after x y z, a colour when
+                // there are three.
+                let mut after = [0.0f32; 4];
                 for tok in toks {
                     let x = parse_f64(tok)
                         .ok_or_else(|| err(line_no, format!("`{}` is not a number", show(tok))))?;
@@ -146,7 +149,22 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                             Slot::Position(vertex, count as u8),
                         ));
                     }
+                    if (3..7).contains(&count) {
+                        after[count - 3] = x as f32;
+                    }
                     count += 1;
+                }
+                if count == 6 && out.keeps_whole() {
+                    let [r, g, b, _] = after.map(|c| {
+                        if c.is_finite() {
+                            c.clamp(0.0, 1.0)
+                        } else {
+                            0.0
+                        }
+                    });
+                    // Vertices without a colour are white.
+                    out.colors.resize(vertex as usize, [1.0; 4]);
+                    out.colors.push([r, g, b, 1.0]);
                 }
                 if count < 2 {
                     return Err(err(
@@ -440,6 +458,11 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
         out.corner_normal = corner_normal;
         out.flat_faces = flat_faces;
         out.note_extra("normals (`vn`)");
+    }
+    if !out.colors.is_empty() {
+        // Vertices after the last coloured one are white.
+        out.colors.resize(out.positions.len(), [1.0; 4]);
+        out.note_extra("vertex colours");
     }
     Ok(out)
 }

@@ -176,6 +176,21 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
         let used = if has_normals { 3 } else { 0 } + if has_uvs { 2 } else { 0 };
         if rest.len() > used {
             out.note_extra("vertex colours");
+            // `r g b [a]` after the normal: integers 0 to 255, or numbers
+            // 0 to 1.
+            let start = if has_normals { 3 } else { 0 };
+            let values = &rest[start..rest.len() - if has_uvs { 2 } else { 0 }];
+            if out.keeps_whole() && (3..=4).contains(&values.len()) {
+                let integral = values.iter().all(|t| t.iter().all(u8::is_ascii_digit));
+                let scale = if integral { 255.0 } else { 1.0 };
+                let mut color = [1.0f32; 4];
+                for (c, t) in color.iter_mut().zip(values) {
+                    let x = parse_f64(t).filter(|x| x.is_finite()).unwrap_or(scale);
+                    *c = (x / scale).clamp(0.0, 1.0) as f32;
+                }
+                out.colors.resize(v, [1.0; 4]);
+                out.colors.push(color);
+            }
         }
         out.positions.push(p);
     }
@@ -255,6 +270,9 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
         out.note_extra("texture coordinates (`STOFF`)");
     }
     out.faces = faces;
+    if !out.colors.is_empty() {
+        out.colors.resize(out.positions.len(), [1.0; 4]);
+    }
     Ok(out)
 }
 

@@ -41,6 +41,20 @@ impl Scalar {
         })
     }
 
+    /// The value of full intensity of a colour stored in this type: the
+    /// largest value of an integer type, 1 for floating point.
+    fn color_scale(self) -> f64 {
+        match self {
+            Scalar::I8 => 127.0,
+            Scalar::U8 => 255.0,
+            Scalar::I16 => 32767.0,
+            Scalar::U16 => 65535.0,
+            Scalar::I32 => 2147483647.0,
+            Scalar::U32 => 4294967295.0,
+            Scalar::F32 | Scalar::F64 => 1.0,
+        }
+    }
+
     fn size(self) -> usize {
         match self {
             Scalar::I8 | Scalar::U8 => 1,
@@ -99,6 +113,19 @@ impl Scalar {
         }
     }
 }
+
+/// The names of a vertex colour's properties (red, green, blue, alpha), as
+/// tools write them.
+const COLOR_NAMES: [[&[u8]; 4]; 3] = [
+    [b"red", b"green", b"blue", b"alpha"],
+    [b"r", b"g", b"b", b"a"],
+    [
+        b"diffuse_red",
+        b"diffuse_green",
+        b"diffuse_blue",
+        b"diffuse_alpha",
+    ],
+];
 
 /// A property: a scalar, or a list with its count and item types.
 #[derive(Clone, Copy, Debug)]
@@ -505,8 +532,17 @@ fn read_vertices(body: &mut Body<'_>, element: &Element, out: &mut Parsed) -> Re
         }
     }
     let has_uvs = uv_props.iter().all(Option::is_some);
+    // A colour: red, green, blue and an optional alpha.
+    let mut color_props = [None; 4];
+    for names in COLOR_NAMES {
+        if let (Some(r), Some(g), Some(b)) = (axis(names[0])?, axis(names[1])?, axis(names[2])?) {
+            color_props = [Some(r), Some(g), Some(b), axis(names[3])?];
+            break;
+        }
+    }
+    let has_colors = color_props[..3].iter().all(Option::is_some);
     // What each property is: 0..3 a coordinate, 3..6 a normal's, 6..8 a
-    // texture coordinate, else kept as it is.
+    // texture coordinate, 8..12 a colour's, else kept as it is.
     let role: Vec<Option<usize>> = (0..element.props.len())
         .map(|k| {
             if k == ix {
@@ -522,6 +558,11 @@ fn read_vertices(body: &mut Body<'_>, element: &Element, out: &mut Parsed) -> Re
                     .map(|i| 3 + i)
             } else if has_uvs && uv_props.contains(&Some(k)) {
                 uv_props.iter().position(|&p| p == Some(k)).map(|i| 6 + i)
+            } else if has_colors && color_props.contains(&Some(k)) {
+                color_props
+                    .iter()
+                    .position(|&p| p == Some(k))
+                    .map(|i| 8 + i)
             } else {
                 None
             }
@@ -542,6 +583,7 @@ fn read_vertices(body: &mut Body<'_>, element: &Element, out: &mut Parsed) -> Re
         let mut p = [0.0; 3];
         let mut n = [0.0; 3];
         let mut uv = [0.0; 2];
+        let mut color = [1.0f32; 4];
         for (prop, r) in element.props.iter().zip(&role) {
             let (Kind::Scalar(ty), Some(r)) = (prop.kind, *r) else {
                 body.skip_property(prop.kind)?;
@@ -562,8 +604,12 @@ fn read_vertices(body: &mut Body<'_>, element: &Element, out: &mut Parsed) -> Re
                     n[r - 3] = v;
                     Slot::Normal(i as u32, (r - 3) as u8)
                 }
-                _ => {
+                6..8 => {
                     uv[r - 6] = v;
+                    continue;
+                }
+                _ => {
+                    color[r - 8] = (v / ty.color_scale()).clamp(0.0, 1.0) as f32;
                     continue;
                 }
             };
@@ -581,6 +627,12 @@ fn read_vertices(body: &mut Body<'_>, element: &Element, out: &mut Parsed) -> Re
         if has_uvs {
             out.uvs.push(uv);
         }
+        if has_colors && out.keeps_whole() {
+            out.colors.push(color);
+        }
+    }
+    if has_colors {
+        out.note_extra("vertex colours");
     }
     if has_normals {
         out.note_extra("normals (`nx ny nz`)");
