@@ -6,7 +6,7 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use meshmorph::io::gltf::{write_glb_frames, GltfOptions};
 use meshmorph::io::Appearance;
-use meshmorph::io::Format;
+use meshmorph::io::{Format, MeshFile};
 
 use crate::output::WeldedFile;
 use meshmorph::{
@@ -319,7 +319,7 @@ where
     let setup = Instant::now();
     let blend = Blend::new(base, shapes, options)
         .map_err(|e| output::degenerate_faces(e, &file.file, "base"))
-        .map_err(|e| name_shape_files(e, &args.base, &args.shapes))
+        .map_err(|e| name_shape_files(e, &file.file, &args.shapes))
         .with_context(context)?;
     let setup_seconds = setup.elapsed().as_secs_f64();
     let weights: Vec<f64> = args.shapes.iter().map(|(_, w)| *w).collect();
@@ -406,18 +406,23 @@ where
     }
 }
 
-/// The library numbers the shapes ("blend shape 1", ...) and calls the
-/// base "the base"; say the files instead.
-fn name_shape_files(e: meshmorph::Error, base: &Path, shapes: &[(PathBuf, f64)]) -> anyhow::Error {
-    let mut text = e.to_string();
-    for (k, (path, _)) in shapes.iter().enumerate().rev() {
-        let label = format!("blend shape {}", k + 1);
-        for end in [" ", ":"] {
-            text = text.replace(
-                &format!("{label}{end}"),
-                &format!("blend shape `{}`{end}", path.display()),
-            );
-        }
+/// The library numbers the shapes ("blend shape 1", ...), calls the base
+/// "the base" and numbers triangles after splitting polygons; say the files
+/// and their faces instead.
+fn name_shape_files(e: meshmorph::Error, base: &MeshFile, shapes: &[(PathBuf, f64)]) -> anyhow::Error {
+    let flips = output::PoseFiles {
+        first: base,
+        first_role: "base",
+        label: "blend shape",
+        poses: shapes.iter().map(|(p, _)| ("blend shape", p.as_path())).collect(),
+    };
+    let e = output::turned_over_faces(e, &flips);
+    let Some(lib) = e.downcast_ref::<meshmorph::Error>() else {
+        return e;
+    };
+    let mut text = lib.to_string();
+    for (k, (path, _)) in shapes.iter().enumerate() {
+        text = output::name_label(&text, &format!("blend shape {}", k + 1), path);
     }
-    anyhow::anyhow!(text.replace("the base", &format!("the base `{}`", base.display())))
+    anyhow::anyhow!(output::name_label(&text, "the base", base.path()))
 }

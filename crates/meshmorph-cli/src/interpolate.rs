@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
+use meshmorph::io::MeshFile;
 use meshmorph::{
     Interpolator, InterpolatorOptions, Mesh, Mesh2, Mesh3, Rotations, Sequence, Space, StretchMode,
     TriangleMaps,
@@ -231,7 +232,7 @@ pub fn run(args: &Args) -> Result<()> {
         &staging,
         start,
     )
-    .map_err(|e| name_key_files(e, &args.keys))
+    .map_err(|e| name_key_files(e, &args.keys, &first_file.file))
     .with_context(context)?;
     report.surplus_frames_removed = staging.commit()?;
     report.print(args.json);
@@ -250,22 +251,38 @@ fn key_roles(count: usize) -> Vec<String> {
         .collect()
 }
 
-/// The library numbers the keys after the first ("key 1", ...) and calls
-/// the first "the first key"; say the files instead.
-fn name_key_files(e: anyhow::Error, paths: &[PathBuf]) -> anyhow::Error {
+/// The library numbers the keys after the first ("key 1", ...), calls the
+/// first "the first key" and numbers triangles after splitting polygons;
+/// say the files and their faces instead.
+fn name_key_files(e: anyhow::Error, paths: &[PathBuf], first: &MeshFile) -> anyhow::Error {
+    let lib = match e.downcast::<meshmorph::Error>() {
+        Ok(lib) => lib,
+        Err(e) => return e,
+    };
+    let flips = if paths.len() == 2 {
+        output::PoseFiles {
+            first,
+            first_role: "source mesh",
+            label: "key",
+            poses: vec![("target mesh", &paths[1])],
+        }
+    } else {
+        output::PoseFiles {
+            first,
+            first_role: "first key",
+            label: "key",
+            poses: paths[1..].iter().map(|p| ("key", p.as_path())).collect(),
+        }
+    };
+    let e = output::turned_over_faces(lib, &flips);
     let Some(lib) = e.downcast_ref::<meshmorph::Error>() else {
         return e;
     };
     let mut text = lib.to_string();
-    for (k, path) in paths.iter().enumerate().skip(1).rev() {
-        text = text.replace(&format!("key {k} "), &format!("key `{}` ", path.display()));
-        text = text.replace(&format!("key {k}:"), &format!("key `{}`:", path.display()));
+    for (k, path) in paths.iter().enumerate().skip(1) {
+        text = output::name_label(&text, &format!("key {k}"), path);
     }
-    text = text.replace(
-        "the first key",
-        &format!("the first key `{}`", paths[0].display()),
-    );
-    anyhow::anyhow!(text)
+    anyhow::anyhow!(output::name_label(&text, "the first key", &paths[0]))
 }
 
 /// The keys of an interpolation, and where they came from.

@@ -237,32 +237,112 @@ pub fn folds_warning(file: &MeshFile) -> Option<String> {
     ))
 }
 
+/// "face 7" or "faces 7, 12, ...": the faces of `file` (numbered from 1, as
+/// in the file) that hold the triangles `first` (0-based, after splitting),
+/// the first few of `count`.
+fn faces_holding(file: &MeshFile, first: &[usize], count: usize) -> String {
+    let faces = file.triangle_faces();
+    let mut named: Vec<String> = Vec::new();
+    for &t in first {
+        let f = (faces[t] + 1).to_string();
+        if !named.contains(&f) {
+            named.push(f);
+        }
+    }
+    format!(
+        "face{} {}{}",
+        if named.len() == 1 { "" } else { "s" },
+        named.join(", "),
+        if count > first.len() { ", ..." } else { "" }
+    )
+}
+
 /// `e` with the degenerate triangles of the mesh the library calls `label`
 /// (read from `file`) named as `file`'s faces, numbered from 1 as in the
 /// file; any other error as it is.
 pub fn degenerate_faces(e: meshmorph::Error, file: &MeshFile, label: &str) -> meshmorph::Error {
     match e {
         meshmorph::Error::DegenerateTriangles { mesh, count, first } if mesh == label => {
-            let faces = file.triangle_faces();
-            let mut named: Vec<String> = Vec::new();
-            for &t in &first {
-                let f = (faces[t] + 1).to_string();
-                if !named.contains(&f) {
-                    named.push(f);
-                }
-            }
             meshmorph::Error::InvalidMesh(format!(
-                "{} degenerate (zero-area) triangle{} in the {label} `{}`: in face{} {}{} (numbered from 1, as in the file)",
+                "{} degenerate (zero-area) triangle{} in the {label} `{}`: in {} (numbered from 1, as in the file)",
                 count,
                 if count == 1 { "" } else { "s" },
                 file.path().display(),
-                if named.len() == 1 { "" } else { "s" },
-                named.join(", "),
-                if count > first.len() { ", ..." } else { "" },
+                faces_holding(file, &first, count),
             ))
         }
         e => e,
     }
+}
+
+/// The files of a run whose later meshes must not turn triangles of the
+/// first over: what [`turned_over_faces`] names.
+pub struct PoseFiles<'a> {
+    /// The first mesh's file (its faces number the triangles).
+    pub first: &'a MeshFile,
+    /// What the first is called ("first key", "base").
+    pub first_role: &'a str,
+    /// What the library calls the later meshes, followed by their number
+    /// from 1 ("key", "blend shape").
+    pub label: &'a str,
+    /// What the later meshes are called here, and their files, in order.
+    pub poses: Vec<(&'a str, &'a Path)>,
+}
+
+/// `e` with the triangles reversed or turned over between the first mesh
+/// and a later one (the library's [`meshmorph::Error::FlippedTriangles`]
+/// and [`meshmorph::Error::ReflectedTriangles`], numbered after splitting
+/// polygons, from 0) said as the first file's faces, numbered from 1 as in
+/// the files, naming both files and the command-line flag that goes on
+/// anyway; any other error as it is.
+pub fn turned_over_faces(e: meshmorph::Error, files: &PoseFiles<'_>) -> anyhow::Error {
+    let (pose, count, first, what) = match e {
+        meshmorph::Error::FlippedTriangles { count, first } => {
+            (files.poses.first(), count, first, "reversed or collapsed")
+        }
+        meshmorph::Error::ReflectedTriangles { mesh, count, first } => {
+            let k = mesh
+                .strip_prefix(files.label)
+                .and_then(|n| n.trim().parse::<usize>().ok());
+            match k.and_then(|k| files.poses.get(k.wrapping_sub(1))) {
+                Some(pose) => (Some(pose), count, first, "turned over or collapsed"),
+                None => {
+                    return meshmorph::Error::ReflectedTriangles { mesh, count, first }.into()
+                }
+            }
+        }
+        e => return e.into(),
+    };
+    let Some((role, path)) = pose else {
+        return meshmorph::Error::FlippedTriangles { count, first }.into();
+    };
+    anyhow::anyhow!(
+        "{count} triangle{} {what} in the {role} `{}` relative to the {} `{}`: in {} (numbered from 1, as in the files); pass --allow-flips to go on anyway",
+        if count == 1 { "" } else { "s" },
+        path.display(),
+        files.first_role,
+        files.first.path().display(),
+        faces_holding(files.first, &first, count),
+    )
+}
+
+/// `text` (a library message) with each `label` ("the first key", "key 2")
+/// followed by `path` in backquotes, unless a name in backquotes already
+/// follows it or it is part of a longer number ("key 2" in "key 21").
+pub fn name_label(text: &str, label: &str, path: &Path) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(i) = rest.find(label) {
+        let after = &rest[i + label.len()..];
+        out.push_str(&rest[..i]);
+        out.push_str(label);
+        if !after.starts_with(" `") && !after.starts_with(|c: char| c.is_ascii_digit()) {
+            out.push_str(&format!(" `{}`", path.display()));
+        }
+        rest = after;
+    }
+    out.push_str(rest);
+    out
 }
 
 /// The report's line for vertices welded at seams, if any.

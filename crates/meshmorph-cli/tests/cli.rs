@@ -2389,3 +2389,82 @@ fn faces_given_twice_or_edges_shared_by_three_faces_are_said() {
         "{warnings}"
     );
 }
+
+/// A planar grid of `n` × `n` quads as OBJ text, vertex `moved` (0-based)
+/// shifted by `shift`.
+fn quad_grid_obj(n: usize, moved: usize, shift: [f64; 2]) -> String {
+    let mut text = String::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let k = j * (n + 1) + i;
+            let d = if k == moved { shift } else { [0.0, 0.0] };
+            text.push_str(&format!("v {} {} 0\n", i as f64 + d[0], j as f64 + d[1]));
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i + 1;
+            let b = a + n + 1;
+            text.push_str(&format!("f {a} {} {} {b}\n", a + 1, b + 1));
+        }
+    }
+    text
+}
+
+#[test]
+fn flipped_triangles_are_named_by_the_files_faces_and_the_flag() {
+    // 5 × 5 quads (25 faces, 50 triangles); vertex 22 (1-based) pushed past
+    // its neighbours folds the quads around it, the last of them face 19.
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("grid.obj"), dir.path().join("folded.obj"));
+    fs::write(&a, quad_grid_obj(5, 21, [0.0, 0.0])).unwrap();
+    fs::write(&b, quad_grid_obj(5, 21, [1.6, 1.6])).unwrap();
+    let out = dir.path().join("out");
+    for extra in [&[][..], &["--dim", "3"][..]] {
+        let mut args = vec!["interpolate", "-o"];
+        let (a, b, o) = (shown(&a), shown(&b), shown(&out));
+        args.extend([o.as_str(), a.as_str(), b.as_str()]);
+        args.extend(extra);
+        let err = fails(&run(&args));
+        assert_mentions(&err, &[&a, &b, "face 19", "numbered from 1", "--allow-flips"]);
+        assert!(!err.contains("allow_flips"), "library wording: {err}");
+        // Face numbers of a 25-face file, not triangle numbers after splitting.
+        let numbers = err.split("in face").nth(1).unwrap().split('(').next().unwrap();
+        for n in numbers.trim_start_matches('s').split(',') {
+            let n: usize = n.trim().parse().unwrap_or_else(|_| panic!("{err}"));
+            assert!((1..=25).contains(&n), "{err}");
+        }
+        assert_empty(&out);
+    }
+    let blended = dir.path().join("blend.obj");
+    let err = fails(&blend(&a, &[(&b, "1")], &blended, &["--dim", "3"]));
+    assert_mentions(&err, &[&shown(&a), &shown(&b), "face 19", "--allow-flips"]);
+    assert!(!err.contains("allow_flips"), "library wording: {err}");
+    assert!(!blended.exists());
+}
+
+#[test]
+fn a_degenerate_first_key_is_named_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("grid.obj"), dir.path().join("same.obj"));
+    // Face 26 joins three vertices of the grid's first row: zero area.
+    let mut text = quad_grid_obj(5, 0, [0.0, 0.0]);
+    text.push_str("f 1 2 3\n");
+    fs::write(&a, &text).unwrap();
+    fs::write(&b, &text).unwrap();
+    let out = dir.path().join("out");
+    let (a_, b_, o) = (shown(&a), shown(&b), shown(&out));
+    let named = format!("`{a_}`");
+    for keys in [vec![&a_, &b_], vec![&a_, &b_, &b_]] {
+        let mut args: Vec<&str> = vec!["interpolate", "-o", &o];
+        args.extend(keys.iter().map(|k| k.as_str()));
+        let err = fails(&run(&args));
+        assert_mentions(&err, &["degenerate", "face 26"]);
+        // Once in "interpolating ...", once where the face is.
+        assert_eq!(err.matches(&named).count(), 2, "{err}");
+        assert_empty(&out);
+    }
+    let err = fails(&blend(&a, &[(&b, "1")], &dir.path().join("blend.obj"), &[]));
+    assert_mentions(&err, &["degenerate", "face 26"]);
+    assert_eq!(err.matches(&named).count(), 2, "{err}");
+}

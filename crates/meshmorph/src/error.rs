@@ -117,7 +117,7 @@ pub enum Error {
     },
 
     /// Triangles whose orientation is reversed between two meshes.
-    #[error("{count} triangle{} reversed or collapsed between source and target: {} (set `allow_flips`, or pass --allow-flips on the command line, to go on anyway)", plural(*count), list(first, *count))]
+    #[error("{count} triangle{} reversed or collapsed between source and target: {} (set `InterpolatorOptions::allow_flips` to go on anyway)", plural(*count), list(first, *count))]
     FlippedTriangles {
         /// How many.
         count: usize,
@@ -129,7 +129,7 @@ pub enum Error {
     /// relative to the first mesh: folded back onto their neighbours (their
     /// normal now points against most of theirs while it did not in the
     /// first mesh), or collapsed to zero area.
-    #[error("{count} triangle{} of the {mesh} turned over relative to the first mesh or collapsed: {} (set `allow_flips`, or pass --allow-flips on the command line, to go on anyway)", plural(*count), list(first, *count))]
+    #[error("{count} triangle{} of the {mesh} turned over relative to the first mesh or collapsed: {} (set `InterpolatorOptions::allow_flips` to go on anyway)", plural(*count), list(first, *count))]
     ReflectedTriangles {
         /// Which mesh ("key 2", "blend shape 1", ...).
         mesh: String,
