@@ -409,12 +409,19 @@ where
 /// The library numbers the shapes ("blend shape 1", ...), calls the base
 /// "the base" and numbers triangles after splitting polygons; say the files
 /// and their faces instead.
-fn name_shape_files(e: meshmorph::Error, base: &MeshFile, shapes: &[(PathBuf, f64)]) -> anyhow::Error {
+fn name_shape_files(
+    e: meshmorph::Error,
+    base: &MeshFile,
+    shapes: &[(PathBuf, f64)],
+) -> anyhow::Error {
     let flips = output::PoseFiles {
         first: base,
         first_role: "base",
         label: "blend shape",
-        poses: shapes.iter().map(|(p, _)| ("blend shape", p.as_path())).collect(),
+        poses: shapes
+            .iter()
+            .map(|(p, _)| ("blend shape", p.as_path()))
+            .collect(),
     };
     let e = output::turned_over_faces(e, &flips);
     let Some(lib) = e.downcast_ref::<meshmorph::Error>() else {

@@ -54,8 +54,23 @@ enum Command {
     Man(manual::ManArgs),
 }
 
+impl Command {
+    /// Whether the report was asked for as JSON (`--json`).
+    fn json(&self) -> bool {
+        match self {
+            Command::Interpolate(a) => a.json,
+            Command::Blend(a) => a.json,
+            Command::Transfer(a) => a.json,
+            Command::Correspond(a) => a.json,
+            Command::Demo(a) => a.json,
+            Command::Completions { .. } | Command::Man(_) => false,
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    let json = cli.command.json();
     let result = match cli.command {
         Command::Interpolate(args) => interpolate::run(&args),
         Command::Blend(args) => blend::run(&args),
@@ -72,7 +87,25 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
+            if json {
+                // Where a report would have been, so that a pipeline
+                // reading stdout has one object to parse.
+                output::print_json(&ErrorReport {
+                    error: format!("{e:#}"),
+                    exit_status: 1,
+                });
+            }
             ExitCode::FAILURE
         }
     }
+}
+
+/// What `--json` prints on stdout for a run that fails (the message is
+/// also on stderr, as without `--json`).
+#[derive(serde::Serialize)]
+struct ErrorReport {
+    /// The message, as after `error: ` on stderr.
+    error: String,
+    /// The process's exit status.
+    exit_status: u8,
 }

@@ -120,8 +120,38 @@ impl WeldedFile {
 /// more looks like an export in other units.
 const POSE_SIZE_RATIO: f64 = 2.0;
 
-/// The warning for a pose `path` whose bounding-box diagonal is `ratio`
-/// times that of `reference`, when it looks like an export in other units.
+/// The size of a mesh for comparing poses: the RMS distance of the vertices
+/// that triangles use to their centroid. A rotation leaves it unchanged
+/// (the diagonal of an axis-aligned bounding box grows and shrinks as the
+/// mesh turns), a scaling by `s` multiplies it by `s`, and a stray unused
+/// vertex does not count.
+pub fn size(mesh: &Mesh3) -> f64 {
+    let mut used = vec![false; mesh.num_vertices()];
+    for t in mesh.triangles() {
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    let points: Vec<[f64; 3]> = mesh
+        .positions()
+        .iter()
+        .zip(&used)
+        .filter(|(_, &u)| u)
+        .map(|(p, _)| *p)
+        .collect();
+    let n = points.len().max(1) as f64;
+    let c = points.iter().fold([0.0; 3], |c, p| {
+        [c[0] + p[0] / n, c[1] + p[1] / n, c[2] + p[2] / n]
+    });
+    let squares: f64 = points
+        .iter()
+        .map(|p| p.iter().zip(&c).map(|(x, m)| (x - m).powi(2)).sum::<f64>())
+        .sum();
+    (squares / n).sqrt()
+}
+
+/// The warning for a pose `path` whose [`size`] is `ratio` times that of
+/// `reference`, when it looks like an export in other units.
 pub fn size_warning(path: &Path, ratio: f64, reference: &str) -> Option<String> {
     (!(1.0 / POSE_SIZE_RATIO..=POSE_SIZE_RATIO).contains(&ratio)).then(|| {
         format!(
@@ -150,7 +180,7 @@ pub fn read_poses(
         warnings.extend(reordered_faces_warning(path, paths[0], reordered));
         warnings.extend(size_warning(
             path,
-            mesh.bounding_box_diagonal() / first.mesh().bounding_box_diagonal(),
+            size(&mesh) / size(first.mesh()),
             &format!("the {} `{}`", roles[0], paths[0].display()),
         ));
         meshes.push(mesh);
@@ -306,9 +336,7 @@ pub fn turned_over_faces(e: meshmorph::Error, files: &PoseFiles<'_>) -> anyhow::
                 .and_then(|n| n.trim().parse::<usize>().ok());
             match k.and_then(|k| files.poses.get(k.wrapping_sub(1))) {
                 Some(pose) => (Some(pose), count, first, "turned over or collapsed"),
-                None => {
-                    return meshmorph::Error::ReflectedTriangles { mesh, count, first }.into()
-                }
+                None => return meshmorph::Error::ReflectedTriangles { mesh, count, first }.into(),
             }
         }
         e => return e.into(),

@@ -686,7 +686,7 @@ struct ReadPoses {
 fn read_poses(paths: &[PathBuf], source_ref: &Reference) -> Result<ReadPoses> {
     let source_file = &source_ref.file.file;
     let seams = &source_ref.file.seams;
-    let source_diagonal = source_file.mesh().bounding_box_diagonal();
+    let source_size = output::size(&source_ref.mesh);
     let poses: Vec<(Mesh3, usize, usize, f64)> = paths
         .par_iter()
         .map(|path| {
@@ -721,7 +721,7 @@ fn read_poses(paths: &[PathBuf], source_ref: &Reference) -> Result<ReadPoses> {
         ));
         warnings.extend(output::size_warning(
             path,
-            pose.bounding_box_diagonal() / source_diagonal,
+            output::size(pose) / source_size,
             "the source reference",
         ));
     }

@@ -2426,10 +2426,19 @@ fn flipped_triangles_are_named_by_the_files_faces_and_the_flag() {
         args.extend([o.as_str(), a.as_str(), b.as_str()]);
         args.extend(extra);
         let err = fails(&run(&args));
-        assert_mentions(&err, &[&a, &b, "face 19", "numbered from 1", "--allow-flips"]);
+        assert_mentions(
+            &err,
+            &[&a, &b, "face 19", "numbered from 1", "--allow-flips"],
+        );
         assert!(!err.contains("allow_flips"), "library wording: {err}");
         // Face numbers of a 25-face file, not triangle numbers after splitting.
-        let numbers = err.split("in face").nth(1).unwrap().split('(').next().unwrap();
+        let numbers = err
+            .split("in face")
+            .nth(1)
+            .unwrap()
+            .split('(')
+            .next()
+            .unwrap();
         for n in numbers.trim_start_matches('s').split(',') {
             let n: usize = n.trim().parse().unwrap_or_else(|_| panic!("{err}"));
             assert!((1..=25).contains(&n), "{err}");
@@ -2467,4 +2476,81 @@ fn a_degenerate_first_key_is_named_once() {
     let err = fails(&blend(&a, &[(&b, "1")], &dir.path().join("blend.obj"), &[]));
     assert_mentions(&err, &["degenerate", "face 26"]);
     assert_eq!(err.matches(&named).count(), 2, "{err}");
+}
+
+#[test]
+fn a_turned_and_scaled_key_is_said_at_its_true_size() {
+    // The second key is the first turned by 40° about (1, 2, 2)/3 and scaled
+    // 7.5 times: its bounding box grows by another factor, its size not.
+    let dir = tempfile::tempdir().unwrap();
+    let rest = tube(3.0, 0.5, 6, 10);
+    let (c, s) = (40f64.to_radians().cos(), 40f64.to_radians().sin());
+    let [x, y, z] = [1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0];
+    let turn = |p: &[f64; 3]| -> [f64; 3] {
+        // Rodrigues: p cos + (k × p) sin + k (k · p)(1 - cos).
+        let kp = x * p[0] + y * p[1] + z * p[2];
+        let cross = [
+            y * p[2] - z * p[1],
+            z * p[0] - x * p[2],
+            x * p[1] - y * p[0],
+        ];
+        [0, 1, 2].map(|i| 7.5 * (p[i] * c + cross[i] * s + [x, y, z][i] * kp * (1.0 - c)))
+    };
+    let big = rest
+        .with_positions(rest.positions().iter().map(turn).collect())
+        .unwrap();
+    let box_ratio = big.bounding_box_diagonal() / rest.bounding_box_diagonal();
+    assert!(
+        (box_ratio - 7.5).abs() > 0.1,
+        "the box changes: {box_ratio}"
+    );
+    let (a, b) = (dir.path().join("a.obj"), dir.path().join("b.obj"));
+    write(&a, &rest);
+    write(&b, &big);
+    let out = dir.path().join("out");
+    let report = json(&succeeds(&run([
+        "interpolate",
+        &shown(&a),
+        &shown(&b),
+        "-o",
+        &shown(&out),
+        "--frames",
+        "2",
+        "--json",
+    ])));
+    let warnings = report["warnings"].to_string();
+    assert!(
+        warnings.contains("is 7.500 times the size of"),
+        "{warnings}"
+    );
+}
+
+#[test]
+fn a_failed_run_with_json_prints_one_json_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.obj");
+    let out = dir.path().join("out");
+    let (m, o, b) = (
+        shown(&missing),
+        shown(&out),
+        shown(&dir.path().join("b.obj")),
+    );
+    let runs: [Vec<&str>; 3] = [
+        vec!["interpolate", &m, &m, "-o", &o, "--json"],
+        vec!["blend", &m, "--shape", "x.obj=1", "-o", &b, "--json"],
+        vec!["interpolate", &m, &m, "-o", &o],
+    ];
+    for (k, args) in runs.iter().enumerate() {
+        let result = run(args);
+        let err = fails(&result);
+        assert_mentions(&err, &[&m]);
+        if k < 2 {
+            let report = json(&stdout(&result));
+            let message = report["error"].as_str().unwrap();
+            assert_eq!(format!("error: {message}\n"), err);
+            assert_eq!(uint(&report, "exit_status"), 1);
+        } else {
+            assert_eq!(stdout(&result), "", "no JSON without --json");
+        }
+    }
 }

@@ -1,4 +1,5 @@
-//! SIGINT and SIGTERM during a long run: the run stops, removes every
+//! SIGINT, SIGTERM and SIGHUP during a long run: the run stops (status
+//! 128 + the signal's number), removes every
 //! staged file and every folder it created, and leaves the files that were
 //! there before as they were.
 
@@ -32,7 +33,8 @@ fn all_names(dir: &Path) -> Vec<String> {
     out
 }
 
-fn interrupt_a_long_run(signal: &str) {
+/// Interrupts a long run with `signal`; it must exit with status `code`.
+fn interrupt_a_long_run(signal: &str, code: i32) {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let bar = strip(8.0, 1.0, 40, 4);
@@ -89,7 +91,7 @@ fn interrupt_a_long_run(signal: &str) {
     assert!(status.success());
     let out = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    assert_eq!(out.status.code(), Some(code), "{stderr}");
     assert!(stderr.contains("interrupted"), "{stderr}");
     assert!(!stderr.contains(".meshmorph-"), "{stderr}");
     assert_eq!(all_names(d), before, "the folder is as it was");
@@ -101,10 +103,15 @@ fn interrupt_a_long_run(signal: &str) {
 
 #[test]
 fn sigint_leaves_the_folders_as_they_were() {
-    interrupt_a_long_run("-INT");
+    interrupt_a_long_run("-INT", 130);
 }
 
 #[test]
 fn sigterm_leaves_the_folders_as_they_were() {
-    interrupt_a_long_run("-TERM");
+    interrupt_a_long_run("-TERM", 143);
+}
+
+#[test]
+fn sighup_leaves_the_folders_as_they_were() {
+    interrupt_a_long_run("-HUP", 129);
 }

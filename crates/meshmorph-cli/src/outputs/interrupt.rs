@@ -1,5 +1,7 @@
-//! SIGINT and SIGTERM: an interrupted run removes what it staged and the
-//! folders it created, then exits with status 130.
+//! SIGINT, SIGTERM and SIGHUP: an interrupted run removes what it staged
+//! and the folders it created, then exits with status 128 + the signal's
+//! number, as shells report a process the signal ended (130 for SIGINT,
+//! 143 for SIGTERM, 129 for SIGHUP).
 //!
 //! Writers hold [`writing`] (a shared lock) while they write one file; the
 //! handler first marks the run interrupted, so that no new write starts,
@@ -42,13 +44,35 @@ pub fn install() {
     ONCE.call_once(|| {
         // Without a handler (it cannot be installed) the default action
         // still stops the run; staged files would then remain, so say so.
-        if let Err(e) = ctrlc::set_handler(on_interrupt) {
+        if let Err(e) = listen() {
             eprintln!("warning: cannot catch Ctrl-C ({e}): an interrupted run may leave .meshmorph-*.part files");
         }
     });
 }
 
-fn on_interrupt() {
+/// Calls [`on_interrupt`] from a thread of its own when a signal comes.
+#[cfg(unix)]
+fn listen() -> std::io::Result<()> {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP])?;
+    std::thread::Builder::new()
+        .name("interrupt".into())
+        .spawn(move || {
+            if let Some(signal) = signals.forever().next() {
+                on_interrupt(128 + signal);
+            }
+        })?;
+    Ok(())
+}
+
+/// Calls [`on_interrupt`] from a thread of its own on Ctrl-C (or Ctrl-Break
+/// or the console closing): the status of SIGINT.
+#[cfg(not(unix))]
+fn listen() -> Result<(), ctrlc::Error> {
+    ctrlc::set_handler(|| on_interrupt(130))
+}
+
+fn on_interrupt(status: i32) {
     INTERRUPTED.store(true, Ordering::SeqCst);
     let _exclusive = GATE.write().unwrap_or_else(|e| e.into_inner());
     let pending = PENDING.lock().unwrap_or_else(|e| e.into_inner()).take();
@@ -61,7 +85,7 @@ fn on_interrupt() {
         }
         None => eprintln!("interrupted: no output of the current run was written"),
     }
-    std::process::exit(130);
+    std::process::exit(status);
 }
 
 /// A shared hold on writing one file; refused once the run is interrupted.

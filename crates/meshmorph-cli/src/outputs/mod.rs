@@ -32,9 +32,10 @@
 //!   more digits, then `.obj`, `.off`, `.ply` or `.svg`) that this run did
 //!   not write are removed, so that the folder holds one animation. Inputs
 //!   and any other file are left alone.
-//! - **Interrupts.** On SIGINT or SIGTERM, writes in progress finish, then
-//!   every staged file and created folder is removed and the process exits
-//!   (status 130) saying nothing was written: an interrupted run leaves the
+//! - **Interrupts.** On SIGINT, SIGTERM or SIGHUP, writes in progress
+//!   finish, then every staged file and created folder is removed and the
+//!   process exits (status 128 + the signal's number: 130, 143, 129)
+//!   saying nothing was written: an interrupted run leaves the
 //!   output folders as they were. An interrupt during the commit waits for
 //!   it (a few renames) and the finished outputs are kept.
 //! - **Messages name the user's path**, never a temporary one.
