@@ -380,20 +380,17 @@ fn frames_on_demand_write_the_same_file_as_frames_in_memory() {
     assert_eq!(source.asked.into_inner(), 2 * 13);
 }
 
-/// A tube's corner normals with the ring at `hard` a hard edge: corners of
-/// its vertices in triangles on either side get different normals (any
-/// value: only which corners share one counts).
-fn hard_ring_normals(mesh: &meshmorph::Mesh3, segments: u32, hard: u32) -> Vec<[[f32; 3]; 3]> {
+/// A tube's corner normal groups with the ring at `hard` a hard edge:
+/// corners of its vertices in triangles on either side get different
+/// groups.
+fn hard_ring_groups(mesh: &meshmorph::Mesh3, segments: u32, hard: u32) -> Vec<[u32; 3]> {
     mesh.triangles()
         .iter()
         .map(|t| {
             let ring = |v: u32| v / segments;
             // The triangle's side of the hard ring: its lowest ring.
             let below = t.iter().map(|&v| ring(v)).min().unwrap() < hard;
-            t.map(|v| {
-                let side = if ring(v) == hard && below { 1.0 } else { 0.0 };
-                [side, v as f32, 0.0]
-            })
+            t.map(|v| u32::from(ring(v) == hard && below))
         })
         .collect()
 }
@@ -402,7 +399,7 @@ fn hard_ring_normals(mesh: &meshmorph::Mesh3, segments: u32, hard: u32) -> Vec<[
 fn hard_edges_of_the_file_stay_hard_in_every_frame() {
     let (rings, segments) = (9, 12);
     let rest = tube(4.0, 0.5, rings, segments);
-    let normals = hard_ring_normals(&rest, segments as u32, 4);
+    let groups = hard_ring_groups(&rest, segments as u32, 4);
     let poses: Vec<Vec<[f64; 3]>> = [0.6, 1.5]
         .iter()
         .map(|&a| bend(&rest, 4.0, a).positions().to_vec())
@@ -416,7 +413,7 @@ fn hard_edges_of_the_file_stay_hard_in_every_frame() {
         )
         .unwrap(),
     );
-    let base = GltfBase::new(rest.positions(), rest.triangles()).with_corner_normals(&normals);
+    let base = GltfBase::new(rest.positions(), rest.triangles()).with_corner_normal_groups(&groups);
     let hard = read_back(&glb(&base, &poses, &names(2), &GltfOptions::default()).unwrap());
     // The hard ring's vertices are split in two.
     assert_eq!(smooth.positions.len(), rest.num_vertices());
@@ -687,4 +684,53 @@ fn vertex_colours_of_ply_obj_and_off_become_color_0() {
             assert!((got[1][3] - 128.0 / 255.0).abs() < 1e-6);
         }
     }
+}
+
+#[test]
+fn flat_shaded_faces_keep_their_own_normals_even_when_they_share_one_vn() {
+    use meshmorph::io::{Appearance, MeshFile};
+    let dir = tempfile::tempdir().unwrap();
+    // Two coplanar quads naming one normal, as exporters write flat faces.
+    let body = "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nvn 0 0 1\n";
+    let faces = "f 1//1 2//1 5//1 4//1\nf 2//1 3//1 6//1 5//1\n";
+    let count = |shading: &str| {
+        let path = dir
+            .path()
+            .join(format!("{}.obj", shading.replace(' ', "_")));
+        std::fs::write(&path, format!("{body}{shading}\n{faces}")).unwrap();
+        let file = MeshFile::read(&path).unwrap();
+        let look = Appearance::of_file(&file);
+        // The second quad folded up about x = 1.
+        let folded: Vec<[f64; 3]> = file
+            .mesh()
+            .positions()
+            .iter()
+            .map(|p| if p[0] > 1.5 { [1.0, p[1], 1.0] } else { *p })
+            .collect();
+        let base = look.base(file.mesh().positions(), file.mesh().triangles());
+        let back = read_back(&glb(&base, &[folded], &names(1), &GltfOptions::default()).unwrap());
+        // The normals of the vertices on the fold (x = 1) in the folded frame.
+        let mut at_fold: Vec<[f32; 3]> = (0..back.positions.len())
+            .filter(|&i| back.positions[i][0] == 1.0)
+            .map(|i| std::array::from_fn(|c| back.normals[i][c] + back.targets[0].1[i][c]))
+            .collect();
+        at_fold.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        (back.positions.len(), at_fold)
+    };
+    // Flat: each quad its own vertices, and on the fold one normal per face
+    // (+z and -x).
+    let (vertices, normals) = count("s off");
+    assert_eq!(vertices, 8);
+    assert_eq!(normals.len(), 4);
+    for n in &normals {
+        let axis = [n[0].abs(), n[1].abs(), n[2].abs()];
+        assert!(axis.iter().any(|&x| (x - 1.0).abs() < 1e-5), "{normals:?}");
+    }
+    // Smooth: one vertex per position, the fold's normal between the two.
+    let (vertices, normals) = count("s 1");
+    assert_eq!(vertices, 6);
+    assert!(
+        normals.iter().all(|n| n[0].abs() > 0.5 && n[2].abs() > 0.5),
+        "{normals:?}"
+    );
 }

@@ -1270,3 +1270,38 @@ fn ply_and_off_as_obj_keep_texture_coordinates_and_normals() {
         assert!(back.triangle_corner_uvs().is_some());
     }
 }
+
+#[test]
+fn obj_lines_continued_with_a_backslash_read_and_write_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = "v 0 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1 4/1\n";
+    // The same file with lines broken by `\`: spaced or glued to a number,
+    // with spaces after it, with CR LF line ends.
+    let continued = "v 0 0 \\\n  0\nv 1\\\n 0 0\nv 1 1 0.5 \\  \r\n\nv 0 1 0\nvt 0 \\\n0\nf 1/1 2/1 \\\r\n 3/1 4/1\n";
+    let (a, b) = (
+        dir.path().join("plain.obj"),
+        dir.path().join("continued.obj"),
+    );
+    std::fs::write(&a, plain).unwrap();
+    std::fs::write(&b, continued).unwrap();
+    let (fa, fb) = (MeshFile::read(&a).unwrap(), MeshFile::read(&b).unwrap());
+    assert_eq!(fa.mesh().positions(), fb.mesh().positions());
+    assert_eq!(fa.mesh().triangles(), fb.mesh().triangles());
+    assert_eq!(fb.num_faces(), 1);
+    let moved: Vec<[f64; 3]> = fb
+        .mesh()
+        .positions()
+        .iter()
+        .map(|p| p.map(|x| 2.0 * x))
+        .collect();
+    let out = dir.path().join("out.obj");
+    fb.write(&out, &moved, Format::Obj).unwrap();
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(
+        text,
+        "v 0 0 \\\n  0\nv 2\\\n 0 0\nv 2 2 1 \\  \r\n\nv 0 2 0\nvt 0 \\\n0\nf 1/1 2/1 \\\r\n 3/1 4/1\n"
+    );
+    // A `\` that ends the file continues nothing.
+    std::fs::write(&b, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 \\").unwrap();
+    assert!(MeshFile::read(&b).is_err());
+}

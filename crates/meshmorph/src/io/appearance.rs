@@ -20,8 +20,8 @@ const NO_MATERIAL_GREY: [f32; 4] = [0.8, 0.8, 0.8, 1.0];
 pub struct Appearance {
     /// Texture coordinates per triangle corner, when every corner has them.
     pub corner_uvs: Option<Vec<[[f32; 2]; 3]>>,
-    /// The file's normals per triangle corner (which edges are hard).
-    pub corner_normals: Option<Vec<[[f32; 3]; 3]>>,
+    /// Which triangle corners share a normal (which edges are hard).
+    pub corner_normal_groups: Option<Vec<[u32; 3]>>,
     /// Linear RGBA per triangle corner, from the file's vertex colours
     /// (sRGB).
     pub corner_colors: Option<Vec<[[f32; 4]; 3]>>,
@@ -43,7 +43,7 @@ impl Appearance {
     pub fn of_file(file: &MeshFile) -> Self {
         let mut look = Appearance {
             corner_uvs: file.triangle_corner_uvs(),
-            corner_normals: file.triangle_corner_normals(),
+            corner_normal_groups: file.triangle_corner_normal_groups(),
             corner_colors: file.triangle_corner_colors().map(|c| {
                 c.iter()
                     .map(|corners| corners.map(|[r, g, b, a]| [linear(r), linear(g), linear(b), a]))
@@ -59,8 +59,11 @@ impl Appearance {
             .iter()
             .map(String::as_str)
             .filter(|e| {
+                // Smoothing groups carry as the shading they give (flat
+                // faces stay flat).
                 let carried = e.starts_with("texture coordinates")
                     || e.starts_with("normals")
+                    || e.starts_with("smoothing groups")
                     || (*e == "vertex colours" && look.corner_colors.is_some())
                     || (e.starts_with("materials") && !look.materials.is_empty());
                 !carried
@@ -86,8 +89,8 @@ impl Appearance {
         if let Some(uvs) = &self.corner_uvs {
             base = base.with_corner_uvs(uvs);
         }
-        if let Some(normals) = &self.corner_normals {
-            base = base.with_corner_normals(normals);
+        if let Some(groups) = &self.corner_normal_groups {
+            base = base.with_corner_normal_groups(groups);
         }
         if let Some(colors) = &self.corner_colors {
             base = base.with_corner_colors(colors);
@@ -111,9 +114,8 @@ impl Appearance {
             match read_mtl(&library) {
                 Ok(materials) => defined.extend(materials),
                 Err(e) => self.warnings.push(format!(
-                    "the materials of `{}` in `{}` are not in the GLB: {e}",
+                    "the materials of `{}` are not in the GLB: {e}",
                     file.path().display(),
-                    library.display()
                 )),
             }
         }

@@ -128,13 +128,13 @@ pub struct GltfBase<'a, const D: usize> {
     /// [`MeshFile::triangle_corner_uvs`](crate::io::MeshFile::triangle_corner_uvs)
     /// gives them.
     pub corner_uvs: Option<&'a [[[f32; 2]; 3]]>,
-    /// `#T × 3` normals, one per triangle corner, as
-    /// [`MeshFile::triangle_corner_normals`](crate::io::MeshFile::triangle_corner_normals)
-    /// gives them. Only which corners of a vertex share a normal counts:
-    /// corners with different normals lie on the two sides of a hard edge,
-    /// and each side gets vertices of its own, with normals computed from
-    /// its faces alone in every frame. Without them every vertex is smooth.
-    pub corner_normals: Option<&'a [[[f32; 3]; 3]]>,
+    /// `#T × 3` normal groups, one per triangle corner, as
+    /// [`MeshFile::triangle_corner_normal_groups`](crate::io::MeshFile::triangle_corner_normal_groups)
+    /// gives them: the corners of a vertex with the same group share a
+    /// normal, computed in every frame from their faces alone; corners with
+    /// different groups lie on the two sides of a hard edge, and each side
+    /// gets vertices of its own. Without them every vertex is smooth.
+    pub corner_normal_groups: Option<&'a [[u32; 3]]>,
     /// The materials of the triangles; without them every triangle has
     /// one material of [`GltfOptions::color`] (white with vertex colours).
     pub materials: Option<GltfMaterials<'a>>,
@@ -205,7 +205,7 @@ impl<'a, const D: usize> GltfBase<'a, D> {
             positions,
             triangles,
             corner_uvs: None,
-            corner_normals: None,
+            corner_normal_groups: None,
             materials: None,
             corner_colors: None,
         }
@@ -229,9 +229,9 @@ impl<'a, const D: usize> GltfBase<'a, D> {
         self
     }
 
-    /// Adds the file's normals per triangle corner (hard edges).
-    pub fn with_corner_normals(mut self, corner_normals: &'a [[[f32; 3]; 3]]) -> Self {
-        self.corner_normals = Some(corner_normals);
+    /// Adds the normal groups of the triangle corners (hard edges).
+    pub fn with_corner_normal_groups(mut self, groups: &'a [[u32; 3]]) -> Self {
+        self.corner_normal_groups = Some(groups);
         self
     }
 }
@@ -1164,26 +1164,27 @@ fn split_vertices<const D: usize>(base: &GltfBase<'_, D>) -> Result<Split> {
     let n = base.positions.len();
     check_corners(base.corner_uvs, base.triangles.len(), "texture coordinates")?;
     check_corners(base.corner_colors, base.triangles.len(), "colours")?;
-    // The corners of one vertex that share a normal are one group.
-    let corner_groups: Option<Vec<[u32; 3]>> = match base.corner_normals {
+    // The corners of one vertex that share a normal are one group: the
+    // groups are numbered afresh per (vertex, group).
+    let corner_groups: Option<Vec<[u32; 3]>> = match base.corner_normal_groups {
         None => None,
-        Some(normals) if normals.len() != base.triangles.len() => {
+        Some(groups) if groups.len() != base.triangles.len() => {
             return Err(Error::InvalidArgument(format!(
-                "{} triangles but normals for {}",
+                "{} triangles but normal groups for {}",
                 base.triangles.len(),
-                normals.len()
+                groups.len()
             )))
         }
-        Some(normals) => {
-            let mut ids: HashMap<(u32, [u32; 3]), u32> = HashMap::new();
+        Some(groups) => {
+            let mut ids: HashMap<(u32, u32), u32> = HashMap::new();
             Some(
                 base.triangles
                     .iter()
-                    .zip(normals)
-                    .map(|(t, n)| {
+                    .zip(groups)
+                    .map(|(t, g)| {
                         std::array::from_fn(|k| {
                             let next = ids.len() as u32;
-                            *ids.entry((t[k], n[k].map(f32::to_bits))).or_insert(next)
+                            *ids.entry((t[k], g[k])).or_insert(next)
                         })
                     })
                     .collect(),

@@ -353,6 +353,41 @@ impl MeshFile {
         }))
     }
 
+    /// Which corners of each triangle of [`MeshFile::mesh`] share a normal,
+    /// as the file shades them: a corner of a face shaded flat (OBJ `s off`
+    /// or `s 0`) has its face's own normal, whatever normal it names (tools
+    /// share one `vn` among coplanar faces); other corners share the normal
+    /// they name (OBJ `vn` index, PLY vertex), and corners without one are
+    /// smooth. Only equal numbers at one vertex mean anything. `None` when
+    /// the file has no normals and no flat face.
+    pub fn triangle_corner_normal_groups(&self) -> Option<Vec<[u32; 3]>> {
+        let flat = |f: u32| self.flat_faces.get(f as usize).copied().unwrap_or(false);
+        if self.corner_normal.is_empty() && !self.flat_faces.iter().any(|&f| f) {
+            return None;
+        }
+        let smooth = u32::MAX;
+        let named = self.normals.len() as u32;
+        Some(
+            self.split
+                .corners
+                .iter()
+                .zip(&self.split.face)
+                .map(|(corners, &f)| {
+                    corners.map(|k| {
+                        if flat(f) {
+                            named.saturating_add(f)
+                        } else {
+                            match self.corner_normal.get(k as usize) {
+                                Some(&n) if n != NONE => n,
+                                _ => smooth,
+                            }
+                        }
+                    })
+                })
+                .collect(),
+        )
+    }
+
     /// `of_corner(k)` of the file's corner `k` at each corner of each
     /// triangle of [`MeshFile::mesh`].
     fn per_triangle_corner<T>(&self, of_corner: impl Fn(usize) -> T) -> Vec<[T; 3]> {

@@ -457,16 +457,59 @@ impl<'a> Iterator for UncommentedLines<'a> {
     }
 }
 
+/// Whether byte `i` of `text` separates tokens: white space, or a `\` that
+/// ends a line (OBJ's line continuation, see
+/// [`obj::ContinuedLines`]).
+#[inline]
+fn separates(text: &[u8], i: usize) -> bool {
+    let b = text[i];
+    b.is_ascii_whitespace()
+        || (b == b'\\'
+            && text[i + 1..]
+                .iter()
+                .find(|&&c| !matches!(c, b' ' | b'\t' | b'\r'))
+                .is_some_and(|&c| c == b'\n'))
+}
+
 /// Whitespace-separated tokens of a line.
 #[inline]
 fn tokens(line: &[u8]) -> Tokens<'_> {
-    Tokens { rest: line }
+    Tokens {
+        rest: line,
+        continued: false,
+    }
 }
 
-/// The iterator of [`tokens`].
+/// Tokens of a line continued with `\` over several lines (OBJ): the `\`
+/// and line ends separate tokens as white space does.
+#[inline]
+fn continued_tokens(line: &[u8]) -> Tokens<'_> {
+    Tokens {
+        rest: line,
+        continued: true,
+    }
+}
+
+/// The iterator of [`tokens`] and [`continued_tokens`].
 #[derive(Clone)]
 struct Tokens<'a> {
     rest: &'a [u8],
+    continued: bool,
+}
+
+impl<'a> Tokens<'a> {
+    /// The next token of a continued line.
+    #[cold]
+    fn next_continued(&mut self) -> Option<&'a [u8]> {
+        let rest = self.rest;
+        let start = (0..rest.len()).find(|&i| !separates(rest, i))?;
+        let token = &rest[start..];
+        let end = (1..token.len())
+            .find(|&i| separates(token, i))
+            .unwrap_or(token.len());
+        self.rest = &token[end..];
+        Some(&token[..end])
+    }
 }
 
 impl<'a> Iterator for Tokens<'a> {
@@ -474,6 +517,9 @@ impl<'a> Iterator for Tokens<'a> {
 
     #[inline]
     fn next(&mut self) -> Option<&'a [u8]> {
+        if self.continued {
+            return self.next_continued();
+        }
         let start = self.rest.iter().position(|b| !b.is_ascii_whitespace())?;
         let token = &self.rest[start..];
         let end = token

@@ -122,8 +122,13 @@ impl NormalGroups {
     /// normals Blender and most modellers compute for a shape, so that
     /// normals computed from the file's shape are computed again for the
     /// new one, and the shape of a later key gives back that key's own.
+    /// Zero also where the polygons cancel out (to [`AGREE`] of their
+    /// weight: the two faces of a double-sided sheet, listed in both
+    /// windings), whose direction rounding alone would choose: such a
+    /// group keeps its normal.
     fn directions(&self, faces: &Polygons, positions: &[[f64; 3]]) -> Vec<[f64; 3]> {
         let mut sums = vec![[0.0; 3]; self.normal_of.len()];
+        let mut weights = vec![0.0; self.normal_of.len()];
         if sums.is_empty() {
             return sums;
         }
@@ -152,12 +157,13 @@ impl NormalGroups {
                     let sine = if last == 2 { len } else { norm(cross(a, b)) };
                     let angle = corner_angle(sine, dot(a, b));
                     sums[g as usize] = add(sums[g as usize], scale(unit, angle));
+                    weights[g as usize] += angle;
                 }
             }
         }
-        for s in &mut sums {
+        for (s, w) in sums.iter_mut().zip(weights) {
             let len = norm(*s);
-            *s = if len > 0.0 {
+            *s = if len > AGREE * w {
                 scale(*s, 1.0 / len)
             } else {
                 [0.0; 3]
@@ -317,5 +323,23 @@ mod tests {
         let back = turn(from, from, [0.0, 0.0, -1.0]);
         assert!(norm(sub(back, [0.0, 0.0, -1.0])) < 1e-15, "{back:?}");
         assert_eq!(turn([0.3, 0.1, 0.2], to, to), [0.3, 0.1, 0.2]);
+    }
+
+    #[test]
+    fn a_double_sided_sheet_keeps_its_normals() {
+        // One triangle listed in both windings, its corners naming the
+        // normals 0, 1 and 2.
+        let mut faces = Polygons::default();
+        faces.push(&[0, 1, 2], 1);
+        faces.push(&[1, 0, 2], 2);
+        let corner_normal = [0, 1, 2, 1, 0, 2];
+        let rest = [[0.1, 0.2, 0.3], [1.3, 0.7, 0.11], [0.37, 1.9, 0.5]];
+        let normals = [[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [0.0, -1.0, 0.0]];
+        let groups = NormalGroups::new(&faces, &corner_normal, &[], &rest);
+        // Rounding-sized changes of the shape choose no direction.
+        let moved = rest.map(|p| p.map(|x| x * (1.0 + 3e-14)));
+        let got = groups.for_shape(&normals, &faces, &moved);
+        assert_eq!(got.normals, normals);
+        assert!(got.added.is_empty());
     }
 }

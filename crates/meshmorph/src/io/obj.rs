@@ -8,7 +8,8 @@ use std::path::Path;
 use super::mesh_file::{offset_in, Keep, Parsed, Patch, Slot, NONE};
 use super::triangulate::{repeated_index, Polygons};
 use super::{
-    parse_f64, parse_i64, push_f64, push_uint, show, tokens, write_formatted, xyz, UncommentedLines,
+    continued_tokens, parse_f64, parse_i64, push_f64, push_uint, show, tokens, write_formatted,
+    xyz, UncommentedLines,
 };
 use crate::error::{Error, Result};
 
@@ -81,6 +82,46 @@ fn vertex_index(
     })
 }
 
+/// OBJ's logical lines: a line that ends with `\` (before its comment and
+/// line end) goes on on the next one. A logical line is the file's bytes
+/// from its first line to its last, numbered by the first; the `\` and
+/// line ends inside separate tokens as white space does.
+pub(super) struct ContinuedLines<'a> {
+    bytes: &'a [u8],
+    lines: UncommentedLines<'a>,
+}
+
+impl<'a> ContinuedLines<'a> {
+    fn new(bytes: &'a [u8]) -> Self {
+        ContinuedLines {
+            bytes,
+            lines: UncommentedLines::new(bytes),
+        }
+    }
+}
+
+impl<'a> Iterator for ContinuedLines<'a> {
+    /// The first line's number, the logical line, and whether it goes over
+    /// several.
+    type Item = (usize, &'a [u8], bool);
+
+    #[inline]
+    fn next(&mut self) -> Option<Self::Item> {
+        let (number, mut line) = self.lines.next()?;
+        // Each physical line that ends with `\` takes in the next one.
+        let mut last = line;
+        while last.trim_ascii_end().ends_with(b"\\") {
+            let Some((_, more)) = self.lines.next() else {
+                break;
+            };
+            let start = offset_in(self.bytes, line);
+            line = &self.bytes[start..offset_in(self.bytes, more) + more.len()];
+            last = more;
+        }
+        Some((number, line, last.as_ptr() != line.as_ptr()))
+    }
+}
+
 /// The text of `line` after its keyword `keyword`, trimmed.
 fn rest_of_line(line: &[u8], keyword: &[u8]) -> String {
     let after = offset_in(line, keyword) + keyword.len();
@@ -115,8 +156,12 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     // them: their line, largest vertex and texture coordinate indices.
     let mut forward_elements: Vec<(usize, i64, i64)> = Vec::new();
 
-    for (line_no, line) in UncommentedLines::new(bytes) {
-        let mut toks = tokens(line);
+    for (line_no, line, continued) in ContinuedLines::new(bytes) {
+        let mut toks = if continued {
+            continued_tokens(line)
+        } else {
+            tokens(line)
+        };
         let keyword = toks.next();
         match keyword {
             Some(b"v") => {
