@@ -2554,3 +2554,80 @@ fn a_failed_run_with_json_prints_one_json_error() {
         }
     }
 }
+
+/// A folder no file can be created in: a read-only one, or where the tests
+/// run as root (who may write anywhere) on Linux, `/proc`. None elsewhere.
+fn unwritable_folder(dir: &Path) -> Option<PathBuf> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt as _;
+        let ro = dir.join("ro");
+        fs::create_dir(&ro).unwrap();
+        fs::set_permissions(&ro, fs::Permissions::from_mode(0o555)).unwrap();
+        if fs::write(ro.join("probe"), "").is_err() {
+            return Some(ro);
+        }
+        fs::remove_file(ro.join("probe")).unwrap();
+    }
+    let proc = Path::new("/proc");
+    (proc.is_dir() && fs::write(proc.join("meshmorph-probe"), "").is_err())
+        .then(|| proc.to_path_buf())
+}
+
+#[test]
+fn an_output_folder_that_cannot_be_written_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let Some(ro) = unwritable_folder(dir.path()) else {
+        eprintln!("skipped: no folder here refuses new files");
+        return;
+    };
+    // Keys that do not parse: a run that read them would say so instead.
+    let (a, b) = (dir.path().join("a.obj"), dir.path().join("b.obj"));
+    fs::write(&a, "v 0 0 0\nv 1 0 0\nv x 1 0\nf 1 2 3\n").unwrap();
+    fs::write(&b, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let out = dir.path().join("frames");
+    let gif = ro.join("a.gif");
+    let (a_, b_, o, g) = (shown(&a), shown(&b), shown(&out), shown(&gif));
+    for extra in [
+        ["--gif", &g],
+        ["--png", &g.replace(".gif", ".png")],
+        ["--gltf", &g.replace(".gif", ".glb")],
+    ] {
+        let mut args = vec!["interpolate", &a_, &b_, "-o", &o];
+        args.extend(extra);
+        let err = fails(&run(&args));
+        assert_mentions(&err, &[extra[1], &shown(&ro), "does not take new files"]);
+        assert!(!err.contains(".meshmorph-"), "a temporary name: {err}");
+        assert!(!err.contains("line 3"), "the keys were read first: {err}");
+        assert!(!out.exists(), "the frame folder it created stays");
+    }
+    // The frames' own folder, and transfer's saved correspondence.
+    let err = fails(&run([
+        "interpolate",
+        &a_,
+        &b_,
+        "-o",
+        &shown(&ro.join("sub")),
+    ]));
+    assert!(
+        err.contains(&shown(&ro)) && !err.contains(".meshmorph-"),
+        "{err}"
+    );
+    let save = ro.join("saved.corr");
+    let err = fails(&run([
+        "transfer",
+        "--source-ref",
+        &a_,
+        "--target-ref",
+        &b_,
+        "--markers",
+        &b_,
+        "-o",
+        &o,
+        "--save-correspondence",
+        &shown(&save),
+        &a_,
+    ]));
+    assert_mentions(&err, &[&shown(&save), "does not take new files"]);
+    assert!(!out.exists());
+}

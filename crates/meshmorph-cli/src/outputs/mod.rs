@@ -19,7 +19,9 @@
 //!   links and `..` followed, the parent folder made canonical) and, where a
 //!   file already sits at the output path, by device and inode (hard links).
 //!   A clash is refused before any work, naming both paths. So is an output
-//!   slot that holds a folder, and an output folder that is a file.
+//!   slot that holds a folder, an output folder that is a file, and an
+//!   output folder that does not take new files (tried by creating and
+//!   removing an output's staged file there).
 //! - **All or nothing.** [`Staging::write`] hands the writer a temporary
 //!   name (`.meshmorph-<pid>-<n>.part`) in the output's own folder; nothing
 //!   at the user's path changes until [`Staging::commit`], which moves every

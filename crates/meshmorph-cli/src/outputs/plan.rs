@@ -68,8 +68,8 @@ impl Plan {
     /// Checks the plan and gets ready to write: refuses an output that is
     /// an input or another output (by resolved path and by device and
     /// inode), an output slot holding a folder, and an output folder that
-    /// is a file; then creates the missing folders and arms the interrupt
-    /// clean-up.
+    /// is a file; then creates the missing folders, arms the interrupt
+    /// clean-up and refuses a folder that does not take new files.
     ///
     /// # Errors
     /// Naming both paths of a clash, or the path that cannot be used.

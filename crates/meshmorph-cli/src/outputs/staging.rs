@@ -45,7 +45,52 @@ impl Staging {
             committed: false,
         };
         interrupt::arm(staging.cleanup());
+        staging.probe_folders()?;
         Ok(staging)
+    }
+
+    /// Refuses a run whose outputs could not be written, before any work:
+    /// in each output folder, creates the staged file of its first output
+    /// and removes it again.
+    ///
+    /// # Errors
+    /// Naming the user's path and the folder that refused.
+    fn probe_folders(&self) -> Result<()> {
+        let mut probed: Vec<&Path> = Vec::new();
+        for (named, staged) in self.outputs.iter().zip(&self.staged) {
+            let folder = staged.parent().unwrap_or(Path::new(""));
+            if probed.contains(&folder) {
+                continue;
+            }
+            probed.push(folder);
+            let _writing = interrupt::writing()?;
+            // The staged name is this run's own: a file there is replaced.
+            let made = std::fs::OpenOptions::new()
+                .write(true)
+                .create(true)
+                .truncate(true)
+                .open(staged);
+            match made {
+                Ok(file) => {
+                    drop(file);
+                    let _ = std::fs::remove_file(staged);
+                }
+                Err(e) => {
+                    let shown = if folder.as_os_str().is_empty() {
+                        Path::new(".")
+                    } else {
+                        folder
+                    };
+                    return Err(anyhow!(
+                        "cannot write the {} `{}`: the folder `{}` does not take new files ({e}); nothing was computed",
+                        named.role,
+                        named.path.display(),
+                        shown.display()
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Writes one output: `write` gets the staged path to write to (any
@@ -60,10 +105,10 @@ impl Staging {
         let named = &self.outputs[output.0];
         let staged = &self.staged[output.0];
         write(staged).map_err(|e| {
-            let message = format!("{e:#}").replace(
+            let message = without_temporary_names(&format!("{e:#}").replace(
                 &staged.display().to_string(),
                 &named.path.display().to_string(),
-            );
+            ));
             anyhow!(
                 "writing the {} `{}`: {message}",
                 named.role,
@@ -181,5 +226,45 @@ fn sibling(path: &Path, name: &str) -> PathBuf {
     match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.join(name),
         _ => PathBuf::from(name),
+    }
+}
+
+/// `message` without the ` at path "…/.meshmorph-….tmp"` that a writer's
+/// own temporary file adds to an operating system's error: the user's path
+/// is named already.
+fn without_temporary_names(message: &str) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    while let Some(i) = rest.find(" at path \"") {
+        let after = &rest[i + " at path \"".len()..];
+        match after.find('"') {
+            Some(end) if after[..end].contains(".meshmorph-") => {
+                out.push_str(&rest[..i]);
+                rest = &after[end + 1..];
+            }
+            _ => {
+                out.push_str(&rest[..i + 1]);
+                rest = &rest[i + 1..];
+            }
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn temporary_names_are_left_out() {
+        assert_eq!(
+            without_temporary_names(
+                "`ro/a.gif`: Permission denied (os error 13) at path \"/x/ro/.meshmorph-7kUIk1.tmp\""
+            ),
+            "`ro/a.gif`: Permission denied (os error 13)"
+        );
+        let kept = "a file at path \"notes.txt\" stays";
+        assert_eq!(without_temporary_names(kept), kept);
     }
 }
