@@ -205,7 +205,7 @@ pub fn run(args: &Args) -> Result<()> {
     memory::check_reading(&paths)?;
     let mut roles = vec!["base mesh"];
     roles.extend(args.shapes.iter().map(|_| "blend shape"));
-    let mut warnings = Vec::new();
+    let mut warnings = staging.warnings();
     let (base_file, mut shapes) = output::read_poses(&paths, &roles, !args.no_weld, &mut warnings)?;
     let base = shapes.remove(0);
     let meshes: Vec<&Mesh3> = std::iter::once(&base).chain(&shapes).collect();

@@ -11,6 +11,7 @@ use meshmorph::{shapes, Mesh3};
 use crate::animation::FrameOutputs;
 use crate::gltf::GltfArgs;
 use crate::interpolate::{animate, FrameArgs, Keys, Stretch};
+use crate::output;
 use crate::outputs::Plan;
 use crate::pictures::PictureArgs;
 use crate::transfer::{run_transfer, CorrespondArgs, References, TransferArgs};
@@ -141,6 +142,7 @@ fn animate_demo(
         .collect();
     let outputs = FrameOutputs::plan(&mut plan, frames, &dir, times.len(), Format::Obj);
     let staging = plan.prepare()?;
+    output::print_warnings(&staging.warnings());
     for (output, mesh) in key_outputs.into_iter().zip(keys) {
         staging.write(output, |path| {
             Ok(meshmorph::io::write_mesh(path, mesh, Format::Obj)?)
@@ -207,6 +209,7 @@ fn transfer(args: &Args) -> Result<()> {
         .map(|(path, mesh)| (plan.file(path, "demo mesh"), mesh))
         .collect();
     let staging = plan.prepare()?;
+    output::print_warnings(&staging.warnings());
     staging.write(marker_output, |path| {
         Ok(meshmorph::io::write_atomic(path, |w| {
             writeln!(w, "# source-vertex target-vertex (0-based)")?;

@@ -204,7 +204,7 @@ pub fn run(args: &Args) -> Result<()> {
     let paths: Vec<&Path> = args.keys.iter().map(PathBuf::as_path).collect();
     memory::check_reading(&paths)?;
     let role_names: Vec<&str> = roles.iter().map(String::as_str).collect();
-    let mut warnings = Vec::new();
+    let mut warnings = staging.warnings();
     let (first_file, keys) = output::read_poses(&paths, &role_names, !args.no_weld, &mut warnings)?;
     let key_refs: Vec<&Mesh3> = keys.iter().collect();
     let planar = output::is_planar(args.dim, &key_refs, |k| {

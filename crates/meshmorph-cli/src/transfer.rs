@@ -528,8 +528,10 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     read.append(others?);
     let ReadPoses {
         poses,
-        mut warnings,
+        warnings: read_warnings,
     } = read;
+    let mut warnings = staging.warnings();
+    warnings.extend(read_warnings);
     let reordered_pose_faces = poses.iter().map(|(_, reordered, _)| reordered).sum();
     let Prepared {
         correspondence,
@@ -992,10 +994,12 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         "the correspondence",
     )?;
     let begin = Instant::now();
-    let mut warnings: Vec<String> = [&source_ref, &target_ref]
-        .iter()
-        .filter_map(|r| output::folds_warning(&r.file.file))
-        .collect();
+    let mut warnings = staging.warnings();
+    warnings.extend(
+        [&source_ref, &target_ref]
+            .iter()
+            .filter_map(|r| output::folds_warning(&r.file.file)),
+    );
     let (result, markers) =
         args.correspond
             .compute(&args.refs, &source_ref, &target_ref, &mut warnings)?;

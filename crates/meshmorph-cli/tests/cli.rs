@@ -2631,3 +2631,68 @@ fn an_output_folder_that_cannot_be_written_is_refused_before_any_work() {
     assert_mentions(&err, &[&shown(&save), "does not take new files"]);
     assert!(!out.exists());
 }
+
+#[cfg(target_os = "linux")]
+#[test]
+fn staged_files_of_runs_killed_by_force_are_removed_and_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = Pair::bar();
+    fs::create_dir_all(&p.out).unwrap();
+    // A process that has ended, and one that runs (this test).
+    let mut child = Command::new(env!("CARGO_BIN_EXE_meshmorph"))
+        .arg("--version")
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let dead = child.id();
+    child.wait().unwrap();
+    let alive = std::process::id();
+    let stale = [
+        format!(".meshmorph-{dead}-0.part"),
+        format!(".meshmorph-{dead}-17.part"),
+    ];
+    fs::write(p.out.join(&stale[0]), vec![0u8; 1500]).unwrap();
+    fs::write(p.out.join(&stale[1]), vec![0u8; 500]).unwrap();
+    let kept = [
+        format!(".meshmorph-{alive}-0.part"),
+        format!(".meshmorph-{dead}-0.old"),
+        ".meshmorph-7kUIk1.tmp".to_string(),
+        format!(".meshmorph-{dead}-0.part.bak"),
+        format!("meshmorph-{dead}-0.part"),
+        "notes.txt".to_string(),
+    ];
+    for name in &kept {
+        fs::write(p.out.join(name), "keep").unwrap();
+    }
+    // Named like a staged file but a folder, or a link: not a staged file.
+    fs::create_dir(p.out.join(format!(".meshmorph-{dead}-1.part"))).unwrap();
+    let target = dir.path().join("elsewhere.txt");
+    fs::write(&target, "keep").unwrap();
+    std::os::unix::fs::symlink(&target, p.out.join(format!(".meshmorph-{dead}-2.part"))).unwrap();
+    let report = json(&succeeds(&p.interpolate(&["--frames", "2", "--json"])));
+    let warnings = report["warnings"].to_string();
+    assert_mentions(
+        &warnings,
+        &["removed 2 unfinished outputs (2.0 kB)", &shown(&p.out)],
+    );
+    let left = names(&p.out);
+    for name in &stale {
+        assert!(!left.contains(name), "{name} stays: {left:?}");
+    }
+    for name in &kept {
+        assert_eq!(
+            fs::read_to_string(p.out.join(name)).unwrap(),
+            "keep",
+            "{name}"
+        );
+    }
+    assert!(p.out.join(format!(".meshmorph-{dead}-1.part")).is_dir());
+    assert_eq!(fs::read_to_string(&target).unwrap(), "keep");
+    assert!(fs::symlink_metadata(p.out.join(format!(".meshmorph-{dead}-2.part"))).is_ok());
+    // A second run finds nothing to remove.
+    let report = json(&succeeds(&p.interpolate(&["--frames", "2", "--json"])));
+    assert!(
+        !report["warnings"].to_string().contains("removed"),
+        "{report}"
+    );
+}

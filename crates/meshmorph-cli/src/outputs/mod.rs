@@ -40,12 +40,18 @@
 //!   saying nothing was written: an interrupted run leaves the
 //!   output folders as they were. An interrupt during the commit waits for
 //!   it (a few renames) and the finished outputs are kept.
+//! - **Forced stops.** A run killed by a signal it cannot catch (SIGKILL,
+//!   the out-of-memory killer) leaves its staged files. On Linux, a later
+//!   run removes, in each folder it writes to, the files named exactly
+//!   `.meshmorph-<pid>-<n>.part` whose process no longer runs (no
+//!   `/proc/<pid>`), and says how many and how large; elsewhere they stay.
 //! - **Messages name the user's path**, never a temporary one.
 
 mod interrupt;
 mod plan;
 mod resolve;
 mod staging;
+mod stale;
 mod surplus;
 
 pub use plan::{Output, Plan};

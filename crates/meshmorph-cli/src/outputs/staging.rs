@@ -8,6 +8,7 @@ use anyhow::{anyhow, Result};
 use super::interrupt::{self, Cleanup};
 use super::plan::{self, Named, Output, Plan};
 use super::resolve::Resolved;
+use super::stale;
 use super::surplus;
 
 /// A prepared plan: write each output with [`Staging::write`], then
@@ -22,6 +23,8 @@ pub struct Staging {
     staged: Vec<PathBuf>,
     created: Vec<PathBuf>,
     committed: bool,
+    /// What was said of earlier runs' leftovers removed from the folders.
+    warnings: Vec<String>,
 }
 
 impl Staging {
@@ -35,7 +38,7 @@ impl Staging {
             .map(|(k, o)| sibling(&o.path, &format!(".meshmorph-{pid}-{k}.part")))
             .collect();
         let created = plan::create_folders(&plan::missing_folders(&plan.outputs))?;
-        let staging = Self {
+        let mut staging = Self {
             outputs: plan.outputs,
             resolved,
             inputs,
@@ -43,10 +46,35 @@ impl Staging {
             staged,
             created,
             committed: false,
+            warnings: Vec::new(),
         };
         interrupt::arm(staging.cleanup());
         staging.probe_folders()?;
+        let folders: Vec<&Path> = staging.folders().into_iter().map(|(f, _)| f).collect();
+        staging.warnings = stale::remove_stale(&folders);
         Ok(staging)
+    }
+
+    /// The folders of the outputs, each once (`.` for the current one),
+    /// with the first output in each.
+    fn folders(&self) -> Vec<(&Path, usize)> {
+        let mut folders: Vec<(&Path, usize)> = Vec::new();
+        for (k, staged) in self.staged.iter().enumerate() {
+            let folder = match staged.parent() {
+                Some(d) if !d.as_os_str().is_empty() => d,
+                _ => Path::new("."),
+            };
+            if !folders.iter().any(|(f, _)| *f == folder) {
+                folders.push((folder, k));
+            }
+        }
+        folders
+    }
+
+    /// Warnings for the report: staged files of runs stopped by force
+    /// removed from the output folders.
+    pub fn warnings(&self) -> Vec<String> {
+        self.warnings.clone()
     }
 
     /// Refuses a run whose outputs could not be written, before any work:
@@ -56,13 +84,8 @@ impl Staging {
     /// # Errors
     /// Naming the user's path and the folder that refused.
     fn probe_folders(&self) -> Result<()> {
-        let mut probed: Vec<&Path> = Vec::new();
-        for (named, staged) in self.outputs.iter().zip(&self.staged) {
-            let folder = staged.parent().unwrap_or(Path::new(""));
-            if probed.contains(&folder) {
-                continue;
-            }
-            probed.push(folder);
+        for (folder, k) in self.folders() {
+            let (named, staged) = (&self.outputs[k], &self.staged[k]);
             let _writing = interrupt::writing()?;
             // The staged name is this run's own: a file there is replaced.
             let made = std::fs::OpenOptions::new()
@@ -76,16 +99,11 @@ impl Staging {
                     let _ = std::fs::remove_file(staged);
                 }
                 Err(e) => {
-                    let shown = if folder.as_os_str().is_empty() {
-                        Path::new(".")
-                    } else {
-                        folder
-                    };
                     return Err(anyhow!(
                         "cannot write the {} `{}`: the folder `{}` does not take new files ({e}); nothing was computed",
                         named.role,
                         named.path.display(),
-                        shown.display()
+                        folder.display()
                     ));
                 }
             }
