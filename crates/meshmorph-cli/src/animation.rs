@@ -345,9 +345,13 @@ where
         let names: Vec<String> = (0..times.len())
             .map(|k| crate::gltf::mesh_name(&outputs.mesh_path(k)))
             .collect();
-        let options = GltfOptions::default()
-            .with_fps(args.fps)
-            .with_name("interpolation");
+        // Named after the first key's file, as a transfer's after the
+        // target's; keys made in memory have none.
+        let name = file.map_or_else(
+            || "interpolation".to_string(),
+            |f| crate::gltf::mesh_name(f.file.path()),
+        );
+        let options = GltfOptions::default().with_fps(args.fps).with_name(name);
         let base = look.base(base, morph.triangles());
         staging.write(output, |path| {
             Ok(write_glb_frames(

@@ -362,7 +362,9 @@ where
     }
     if let (Some(output), Some(path)) = (outputs.gltf, &args.gltf.gltf) {
         let names: Vec<String> = (0..STEPS).map(|k| format!("blend_{k:02}")).collect();
-        let options = GltfOptions::default().with_fps(args.fps).with_name("blend");
+        let options = GltfOptions::default()
+            .with_fps(args.fps)
+            .with_name(crate::gltf::mesh_name(&args.base));
         let look = Appearance::of_file(&file.file);
         warnings.extend(look.warnings.iter().cloned());
         let gltf_base = look.base(base.positions(), triangles);

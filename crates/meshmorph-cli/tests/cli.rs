@@ -2696,3 +2696,54 @@ fn staged_files_of_runs_killed_by_force_are_removed_and_said() {
         "{report}"
     );
 }
+
+#[test]
+fn interpolation_and_blend_glbs_are_named_after_the_first_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let rest = tube(2.0, 0.5, 5, 8);
+    let (a, b) = (
+        dir.path().join("Körper rest.obj"),
+        dir.path().join("bent.obj"),
+    );
+    write(&a, &rest);
+    write(&b, &bend(&rest, 2.0, 1.0));
+    let (frames_glb, blend_glb) = (dir.path().join("frames.glb"), dir.path().join("blend.glb"));
+    let out = dir.path().join("out");
+    succeeds(&run([
+        "interpolate",
+        &shown(&a),
+        &shown(&b),
+        "-o",
+        &shown(&out),
+        "--frames",
+        "3",
+        "--gltf",
+        &shown(&frames_glb),
+    ]));
+    succeeds(&blend(
+        &a,
+        &[(&b, "0.5")],
+        &dir.path().join("blend.obj"),
+        &["--gltf", &shown(&blend_glb)],
+    ));
+    for glb in [&frames_glb, &blend_glb] {
+        let file = gltf::Gltf::open(glb).unwrap();
+        let meshes: Vec<_> = file
+            .meshes()
+            .map(|m| m.name().map(str::to_string))
+            .collect();
+        let nodes: Vec<_> = file.nodes().map(|n| n.name().map(str::to_string)).collect();
+        assert_eq!(
+            meshes,
+            [Some("Körper rest".to_string())],
+            "{}",
+            glb.display()
+        );
+        assert_eq!(
+            nodes,
+            [Some("Körper rest".to_string())],
+            "{}",
+            glb.display()
+        );
+    }
+}
