@@ -173,7 +173,7 @@ pub fn read_poses(
     warnings: &mut Vec<String>,
 ) -> Result<(WeldedFile, Vec<Mesh3>)> {
     let first = read_mesh_file(paths[0], roles[0])?;
-    warnings.extend(folds_warning(&first));
+    warnings.extend(surface_warnings(&first));
     let mut meshes = vec![first.mesh().clone()];
     for (path, role) in paths.iter().zip(roles).skip(1) {
         let (mesh, reordered) = read_pose(&first, roles[0], path, role)?;
@@ -196,12 +196,32 @@ pub fn read_poses(
     Ok((WeldedFile { file: first, seams }, meshes))
 }
 
+/// What is odd about a file's surface, as warnings: faces that fold onto
+/// others ([`folds_warning`]), faces that list a vertex twice in a row.
+pub fn surface_warnings(file: &MeshFile) -> Vec<String> {
+    let mut warnings: Vec<String> = folds_warning(file).into_iter().collect();
+    let repeats = file.faces_repeating_a_vertex();
+    if let Some(&first) = repeats.first() {
+        warnings.push(format!(
+            "`{}`: {} a vertex twice in a row (the first is face {}, numbered from 1), read without the repeat",
+            file.path().display(),
+            if repeats.len() == 1 {
+                "1 face lists".to_string()
+            } else {
+                format!("{} faces list", repeats.len())
+            },
+            u64::from(first) + 1
+        ));
+    }
+    warnings
+}
+
 /// The warning for a file whose faces repeat another's corners, or whose
 /// edges are shared by more than two faces (a fin, a face given twice, two
 /// surfaces glued along an edge): the solvers take them as they are, and
 /// the surface may crease there. Faces and vertices are numbered from 1, as
 /// in the file.
-pub fn folds_warning(file: &MeshFile) -> Option<String> {
+fn folds_warning(file: &MeshFile) -> Option<String> {
     let mesh = file.mesh();
     let faces = file.triangle_faces();
     let mut corners: Vec<([u32; 3], usize)> = mesh

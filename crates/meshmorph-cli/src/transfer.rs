@@ -761,7 +761,7 @@ fn prepare(
     let (source, target) = (&source_ref.mesh, &target_ref.mesh);
     let mut warnings: Vec<String> = [source_ref, target_ref]
         .iter()
-        .filter_map(|r| output::folds_warning(&r.file.file))
+        .flat_map(|r| output::surface_warnings(&r.file.file))
         .collect();
     let begin = Instant::now();
     let mut marker_report = None;
@@ -998,7 +998,7 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
     warnings.extend(
         [&source_ref, &target_ref]
             .iter()
-            .filter_map(|r| output::folds_warning(&r.file.file)),
+            .flat_map(|r| output::surface_warnings(&r.file.file)),
     );
     let (result, markers) =
         args.correspond

@@ -2065,6 +2065,41 @@ fn a_gltf_keeps_the_materials_and_textures_of_an_obj() {
 }
 
 #[test]
+fn a_face_that_repeats_a_vertex_in_a_row_is_read_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let rest = tube(LENGTH, 0.25, 5, 6);
+    let bent = bend(&rest, LENGTH, 0.5 * PI);
+    let (a, b) = (dir.path().join("a.obj"), dir.path().join("b.obj"));
+    write(&a, &rest);
+    write(&b, &bent);
+    // The third face lists its last vertex twice, in both keys.
+    for path in [&a, &b] {
+        edit_lines(path, |lines| {
+            let i = (0..lines.len())
+                .filter(|&i| lines[i].starts_with("f "))
+                .nth(2)
+                .unwrap();
+            let last = lines[i].split_whitespace().last().unwrap().to_string();
+            lines[i] = format!("{} {last}", lines[i]);
+        });
+    }
+    let report = json(&succeeds(&run([
+        os("interpolate"),
+        a.as_os_str(),
+        b.as_os_str(),
+        os("-o"),
+        dir.path().join("out").as_os_str(),
+        os("--frames"),
+        os("3"),
+        os("--json"),
+    ])));
+    assert_mentions(
+        &report["warnings"].to_string(),
+        &["a.obj", "1 face lists a vertex twice in a row", "face 3"],
+    );
+}
+
+#[test]
 fn interpolate_bad_gltf_options_are_refused_before_any_output() {
     let p = Pair::bar();
     let glb = p.out.join("a.glb");

@@ -1305,3 +1305,38 @@ fn obj_lines_continued_with_a_backslash_read_and_write_back() {
     std::fs::write(&b, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 \\").unwrap();
     assert!(MeshFile::read(&b).is_err());
 }
+
+#[test]
+fn a_vertex_repeated_in_a_row_is_read_without_the_repeat() {
+    let dir = tempfile::tempdir().unwrap();
+    let vertices = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\n";
+    let read = |name: &str, faces: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, format!("{vertices}{faces}")).unwrap();
+        MeshFile::read(&path)
+    };
+    let plain = read("plain.obj", "f 1 2 3 4\nf 2 5 3\n").unwrap();
+    // Repeats in a row, also across the end of the list.
+    let repeated = read("repeated.obj", "f 1 2 3 3 4\nf 2 5 3 2\n").unwrap();
+    assert_eq!(repeated.mesh().triangles(), plain.mesh().triangles());
+    assert_eq!(repeated.faces_repeating_a_vertex(), [0, 1]);
+    assert!(plain.faces_repeating_a_vertex().is_empty());
+    // A pose of it with the same faces; the file written back as it was.
+    let pose = read("pose.obj", "f 1 2 3 3 4\nf 2 5 3 2\n").unwrap();
+    assert!(repeated.pose(&pose).is_ok());
+    let out = dir.path().join("out.obj");
+    repeated
+        .write(&out, repeated.mesh().positions(), Format::Obj)
+        .unwrap();
+    assert!(std::fs::read_to_string(&out)
+        .unwrap()
+        .ends_with("f 1 2 3 3 4\nf 2 5 3 2\n"));
+    // A repeat apart, or too few distinct vertices, is refused.
+    let e = read("apart.obj", "f 1 2 1 3\n").unwrap_err().to_string();
+    assert!(
+        e.contains("vertex 1 (1-based) more than once, not in a row"),
+        "{e}"
+    );
+    let e = read("two.obj", "f 1 2 2\n").unwrap_err().to_string();
+    assert!(e.contains("2 distinct vertices"), "{e}");
+}

@@ -129,6 +129,8 @@ pub(super) struct Parsed {
     /// The colour of each vertex, RGBA from 0 to 1 as the file stores it
     /// (sRGB); empty when the file has none.
     pub(super) colors: Vec<[f32; 4]>,
+    /// The faces that repeat a vertex in a row, read without the repeat.
+    pub(super) repeats_in_a_row: Vec<u32>,
 }
 
 /// The materials an OBJ file gives its faces: the `usemtl` names and the
@@ -172,6 +174,7 @@ impl Parsed {
             extras: Vec::new(),
             materials: FaceMaterials::default(),
             colors: Vec::new(),
+            repeats_in_a_row: Vec::new(),
         }
     }
 
@@ -235,6 +238,7 @@ pub struct MeshFile {
     extras: Vec<String>,
     materials: FaceMaterials,
     colors: Vec<[f32; 4]>,
+    repeats_in_a_row: Vec<u32>,
 }
 
 impl MeshFile {
@@ -281,6 +285,7 @@ impl MeshFile {
             extras: parsed.extras,
             materials: parsed.materials,
             colors: parsed.colors,
+            repeats_in_a_row: parsed.repeats_in_a_row,
         };
         Ok(file)
     }
@@ -431,6 +436,12 @@ impl MeshFile {
         let colors = self.vertex_colors()?;
         let vertex_of = self.faces.corner_vertices();
         Some(self.per_triangle_corner(|k| colors[vertex_of[k] as usize]))
+    }
+
+    /// The faces (0-based) that list a vertex twice in a row (`f 4 5 6 6 7`,
+    /// a corner of no length): each is read without the repeat.
+    pub fn faces_repeating_a_vertex(&self) -> &[u32] {
+        &self.repeats_in_a_row
     }
 
     /// The material libraries the file names (OBJ `mtllib`), resolved from

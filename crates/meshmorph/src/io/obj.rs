@@ -6,7 +6,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::mesh_file::{offset_in, Keep, Parsed, Patch, Slot, NONE};
-use super::triangulate::{repeated_index, Polygons};
+use super::triangulate::{check_corners, Polygons};
 use super::{
     continued_tokens, parse_f64, parse_i64, push_f64, push_uint, show, tokens, write_formatted,
     xyz, UncommentedLines,
@@ -334,14 +334,11 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                         format!("a face needs at least 3 vertices, found {}", face.len()),
                     ));
                 }
-                if let Some(i) = repeated_index(&face) {
-                    return Err(err(
-                        line_no,
-                        format!(
-                            "the face uses vertex {} (1-based) more than once",
-                            i as u64 + 1
-                        ),
-                    ));
+                let collapsed =
+                    check_corners(&face, |i| format!("vertex {} (1-based)", u64::from(i) + 1))
+                        .map_err(|m| err(line_no, m))?;
+                if collapsed {
+                    out.repeats_in_a_row.push(out.faces.len() as u32);
                 }
                 debug_assert_eq!(corner_uv.len() - first_corner, face.len());
                 out.faces.push(&face, line_no);

@@ -4,7 +4,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::mesh_file::{offset_in, Keep, Parsed, Patch, Slot};
-use super::triangulate::{repeated_index, Polygons};
+use super::triangulate::{check_corners, Polygons};
 use super::{
     bad_count, parse_f64, parse_i64, push_f64, push_uint, show, tokens, write_formatted, xyz,
     UncommentedLines,
@@ -244,11 +244,10 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
         if toks.next().is_some() {
             out.note_extra("face colours");
         }
-        if let Some(i) = repeated_index(&face) {
-            return Err(err(
-                line_no,
-                format!("face {f} uses vertex {i} more than once"),
-            ));
+        let collapsed = check_corners(&face, |i| format!("vertex {i}"))
+            .map_err(|m| err(line_no, format!("face {f}: {m}")))?;
+        if collapsed {
+            out.repeats_in_a_row.push(faces.len() as u32);
         }
         faces.push(&face, line_no);
     }

@@ -9,7 +9,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::mesh_file::{offset_in, Coding, Keep, Parsed, Patch, Slot, NONE};
-use super::triangulate::{repeated_index, Polygons};
+use super::triangulate::{check_corners, Polygons};
 use super::{bad_count, parse_f64, parse_i64, show, tokens, xyz, Lines, CHUNK};
 use crate::error::{Error, Result};
 
@@ -705,8 +705,10 @@ fn read_faces(
                 }
                 face.push(v as u32);
             }
-            if let Some(r) = repeated_index(&face) {
-                return Err(body.error(format_args!("the face uses vertex {r} more than once")));
+            let collapsed =
+                check_corners(&face, |i| format!("vertex {i}")).map_err(|m| body.error(m))?;
+            if collapsed {
+                out.repeats_in_a_row.push(i as u32);
             }
         }
         body.end()?;

@@ -72,14 +72,21 @@ impl Polygons {
             corners: Vec::with_capacity(capacity),
         };
         let mut local = Vec::new();
+        let mut distinct = Vec::new();
         for f in 0..self.len() {
             let range = self.range(f);
             let face = &self.indices[range.clone()];
             local.clear();
-            triangulate_polygon(positions, face, &mut local);
+            if repeats_in_a_row(face) {
+                without_repeats_in_a_row(face, &mut distinct);
+                triangulate_polygon(positions, &distinct, &mut local);
+            } else {
+                triangulate_polygon(positions, face, &mut local);
+            }
             for t in &local {
-                // Corners of one face are distinct vertices (checked by the
-                // readers), so each vertex names its corner.
+                // The corners of one face are distinct vertices but for
+                // repeats in a row (checked by the readers), so each vertex
+                // names its first corner.
                 let corner = t.map(|v| {
                     let k = face.iter().position(|&w| w == v).unwrap_or(0);
                     (range.start + k) as u32
@@ -101,6 +108,60 @@ pub(super) struct Split {
     pub(super) face: Vec<u32>,
     /// The flat corner of each triangle vertex.
     pub(super) corners: Vec<[u32; 3]>,
+}
+
+/// Whether `face` repeats a vertex in a row, cyclically (`4 5 6 6 7`, or
+/// `4 5 6 4`): a corner of no length, which modellers and scan tools leave
+/// and readers drop.
+#[inline]
+pub(super) fn repeats_in_a_row(face: &[u32]) -> bool {
+    face.len() > 1 && (face.windows(2).any(|w| w[0] == w[1]) || face.first() == face.last())
+}
+
+/// `face` without the vertices that repeat the one before them (cyclically:
+/// the last ones that repeat the first too), the first corner kept first.
+pub(super) fn without_repeats_in_a_row(face: &[u32], out: &mut Vec<u32>) {
+    out.clear();
+    for &v in face {
+        if out.last() != Some(&v) {
+            out.push(v);
+        }
+    }
+    while out.len() > 1 && out.last() == out.first() {
+        out.pop();
+    }
+}
+
+/// Checks the corners of a face as readers take it: a vertex repeated in a
+/// row is dropped (`Ok(true)`), any other repeat is refused with its
+/// message, as is a face of fewer than 3 distinct vertices; `vertex`
+/// names a vertex in messages (`vertex 15 (1-based)` in OBJ).
+pub(super) fn check_corners(face: &[u32], vertex: impl Fn(u32) -> String) -> Result<bool, String> {
+    let collapsed = repeats_in_a_row(face);
+    let mut distinct = Vec::new();
+    let corners = if collapsed {
+        without_repeats_in_a_row(face, &mut distinct);
+        &distinct[..]
+    } else {
+        face
+    };
+    if let Some(i) = repeated_index(corners) {
+        return Err(format!(
+            "the face uses {} more than once, not in a row",
+            vertex(i)
+        ));
+    }
+    if corners.len() < 3 {
+        let repeated = (0..face.len())
+            .find(|&k| face[k] == face[(k + 1) % face.len()])
+            .map_or(face[0], |k| face[k]);
+        return Err(format!(
+            "the face uses {} more than once: it has {} distinct vertices, and a face needs at least 3",
+            vertex(repeated),
+            corners.len()
+        ));
+    }
+    Ok(collapsed)
 }
 
 /// The first index that occurs twice in `face`, if any.
