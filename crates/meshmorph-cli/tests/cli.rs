@@ -2456,11 +2456,8 @@ fn flipped_triangles_are_named_by_the_files_faces_and_the_flag() {
     fs::write(&b, quad_grid_obj(5, 21, [1.6, 1.6])).unwrap();
     let out = dir.path().join("out");
     for extra in [&[][..], &["--dim", "3"][..]] {
-        let mut args = vec!["interpolate", "-o"];
-        let (a, b, o) = (shown(&a), shown(&b), shown(&out));
-        args.extend([o.as_str(), a.as_str(), b.as_str()]);
-        args.extend(extra);
-        let err = fails(&run(&args));
+        let err = fails(&interpolate_keys(&[a.clone(), b.clone()], &out, extra));
+        let (a, b) = (shown(&a), shown(&b));
         assert_mentions(
             &err,
             &[&a, &b, "face 19", "numbered from 1", "--allow-flips"],
@@ -2543,16 +2540,11 @@ fn a_turned_and_scaled_key_is_said_at_its_true_size() {
     write(&a, &rest);
     write(&b, &big);
     let out = dir.path().join("out");
-    let report = json(&succeeds(&run([
-        "interpolate",
-        &shown(&a),
-        &shown(&b),
-        "-o",
-        &shown(&out),
-        "--frames",
-        "2",
-        "--json",
-    ])));
+    let report = json(&succeeds(&interpolate_keys(
+        &[a, b],
+        &out,
+        &["--frames", "2", "--json"],
+    )));
     let warnings = report["warnings"].to_string();
     assert!(
         warnings.contains("is 7.500 times the size of"),
@@ -2744,17 +2736,11 @@ fn interpolation_and_blend_glbs_are_named_after_the_first_key() {
     write(&b, &bend(&rest, 2.0, 1.0));
     let (frames_glb, blend_glb) = (dir.path().join("frames.glb"), dir.path().join("blend.glb"));
     let out = dir.path().join("out");
-    succeeds(&run([
-        "interpolate",
-        &shown(&a),
-        &shown(&b),
-        "-o",
-        &shown(&out),
-        "--frames",
-        "3",
-        "--gltf",
-        &shown(&frames_glb),
-    ]));
+    succeeds(&interpolate_keys(
+        &[a.clone(), b.clone()],
+        &out,
+        &["--frames", "3", "--gltf", &shown(&frames_glb)],
+    ));
     succeeds(&blend(
         &a,
         &[(&b, "0.5")],
