@@ -2510,27 +2510,31 @@ fn a_degenerate_first_key_is_named_once() {
     assert_eq!(err.matches(&named).count(), 2, "{err}");
 }
 
-#[test]
-fn a_turned_and_scaled_key_is_said_at_its_true_size() {
-    // The second key is the first turned by 40° about (1, 2, 2)/3 and scaled
-    // 7.5 times: its bounding box grows by another factor, its size not.
-    let dir = tempfile::tempdir().unwrap();
-    let rest = tube(3.0, 0.5, 6, 10);
+/// `mesh` turned by 40° about (1, 2, 2)/3 and scaled 7.5 times about the
+/// origin.
+fn turned_and_scaled(mesh: &Mesh3) -> Mesh3 {
     let (c, s) = (40f64.to_radians().cos(), 40f64.to_radians().sin());
-    let [x, y, z] = [1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0];
+    let k = [1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0];
     let turn = |p: &[f64; 3]| -> [f64; 3] {
         // Rodrigues: p cos + (k × p) sin + k (k · p)(1 - cos).
-        let kp = x * p[0] + y * p[1] + z * p[2];
+        let kp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2];
         let cross = [
-            y * p[2] - z * p[1],
-            z * p[0] - x * p[2],
-            x * p[1] - y * p[0],
+            k[1] * p[2] - k[2] * p[1],
+            k[2] * p[0] - k[0] * p[2],
+            k[0] * p[1] - k[1] * p[0],
         ];
-        [0, 1, 2].map(|i| 7.5 * (p[i] * c + cross[i] * s + [x, y, z][i] * kp * (1.0 - c)))
+        [0, 1, 2].map(|i| 7.5 * (p[i] * c + cross[i] * s + k[i] * kp * (1.0 - c)))
     };
-    let big = rest
-        .with_positions(rest.positions().iter().map(turn).collect())
-        .unwrap();
+    mesh.with_positions(mesh.positions().iter().map(turn).collect())
+        .unwrap()
+}
+
+#[test]
+fn a_turned_and_scaled_key_or_pose_is_said_at_its_true_size() {
+    // Its bounding box grows by another factor than 7.5, its size not.
+    let dir = tempfile::tempdir().unwrap();
+    let rest = tube(3.0, 0.5, 6, 10);
+    let big = turned_and_scaled(&rest);
     let box_ratio = big.bounding_box_diagonal() / rest.bounding_box_diagonal();
     assert!(
         (box_ratio - 7.5).abs() > 0.1,
@@ -2545,11 +2549,18 @@ fn a_turned_and_scaled_key_is_said_at_its_true_size() {
         &out,
         &["--frames", "2", "--json"],
     )));
+    let said = "is 7.500 times the size of";
     let warnings = report["warnings"].to_string();
-    assert!(
-        warnings.contains("is 7.500 times the size of"),
-        "{warnings}"
-    );
+    assert!(warnings.contains(said), "{warnings}");
+    // A transfer's pose against the source reference.
+    let rig = Rig::new();
+    let pose = rig.path("big-pose.obj");
+    write(&pose, &turned_and_scaled(&read(&rig.source_ref)));
+    let out = rig.path("out");
+    let markers = [os("--markers"), rig.markers.as_os_str(), os("--json")];
+    let report = json(&succeeds(&rig.transfer(&out, &markers, &[pose])));
+    let warnings = report["warnings"].to_string();
+    assert!(warnings.contains(said), "{warnings}");
 }
 
 #[test]
