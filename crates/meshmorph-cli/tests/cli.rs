@@ -2306,12 +2306,14 @@ fn interpolation_and_blend_keep_the_first_file() {
     assert_eq!(all_but_positions(&blended), expected);
     let b = meshmorph::io::read_mesh(&blended).unwrap();
     assert!(max_diff(b.positions(), k1.positions()) < 1e-9);
-    // Into another format, what it cannot hold is said, once.
+    // Into another format, what it cannot hold is said, once; the texture
+    // coordinates go along.
     let ply = dir.path().join("ply");
     let run = interpolate_keys(&keys, &ply, &["--frames", "3", "--format", "ply"]);
     let stderr = String::from_utf8_lossy(&run.stderr).to_string();
     assert!(run.status.success(), "{stderr}");
-    assert_eq!(stderr.matches("texture coordinates").count(), 1, "{stderr}");
+    assert_eq!(stderr.matches("materials").count(), 1, "{stderr}");
+    assert!(!stderr.contains("texture coordinates"), "{stderr}");
     assert_mentions(
         &stderr,
         &[
@@ -2320,6 +2322,8 @@ fn interpolation_and_blend_keep_the_first_file() {
             "1 face lists its corners",
         ],
     );
+    let frame = meshmorph::io::MeshFile::read(&ply.join("frame_0001.ply")).unwrap();
+    assert!(frame.has_corner_uvs());
 }
 
 /// A tube with a small tube ("an eye") just off its surface, and the whole

@@ -1340,3 +1340,101 @@ fn a_vertex_repeated_in_a_row_is_read_without_the_repeat() {
     let e = read("two.obj", "f 1 2 2\n").unwrap_err().to_string();
     assert!(e.contains("2 distinct vertices"), "{e}");
 }
+
+#[test]
+fn another_format_keeps_what_it_can_hold() {
+    let dir = tempfile::tempdir().unwrap();
+    // A quad and a triangle: coloured vertices, one texture coordinate and
+    // one normal per vertex.
+    let obj = dir.path().join("looks.obj");
+    std::fs::write(
+        &obj,
+        "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 1 1 1\nv 2 0 0 0.5 0.5 0.5\n\
+         vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\nvn 0 0 1\n\
+         f 1/1/1 2/2/1 3/3/1 4/4/1\nf 2/2/1 5/5/1 3/3/1\n",
+    )
+    .unwrap();
+    let file = MeshFile::read(&obj).unwrap();
+    let moved: Vec<[f64; 3]> = file
+        .mesh()
+        .positions()
+        .iter()
+        .map(|p| [p[0], p[1], 0.5 * p[0]])
+        .collect();
+    for format in [Format::Ply, Format::Off] {
+        let out = dir.path().join(format!("looks.{format}"));
+        let dropped = file.write(&out, &moved, format).unwrap();
+        assert!(dropped.is_empty(), "{format}: {dropped:?}");
+        let back = MeshFile::read(&out).unwrap();
+        assert_eq!(back.mesh().positions(), &moved[..]);
+        // Colours as bytes: within one step of 1/255.
+        let (got, want) = (back.vertex_colors().unwrap(), file.vertex_colors().unwrap());
+        for (a, b) in got.iter().zip(want) {
+            assert!(
+                (0..4).all(|k| (a[k] - b[k]).abs() <= 1.0 / 255.0),
+                "{format}: {a:?} {b:?}"
+            );
+        }
+        assert_eq!(
+            back.triangle_corner_uvs(),
+            file.triangle_corner_uvs(),
+            "{format}"
+        );
+        // The normal turned with the tilted plane: (-0.5, 0, 1) normalised.
+        let normals = back.triangle_corner_normals().expect("normals");
+        let want = [-0.5 / 1.25f64.sqrt(), 0.0, 1.0 / 1.25f64.sqrt()];
+        for n in normals.iter().flatten() {
+            for k in 0..3 {
+                assert!((f64::from(n[k]) - want[k]).abs() < 1e-6, "{format}: {n:?}");
+            }
+        }
+    }
+    // A texture seam (vertex 3 with two texture coordinates) and a hard
+    // edge (vertex 2 with two normals): PLY keeps the coordinates per corner,
+    // OFF keeps neither, and both say so.
+    std::fs::write(
+        &obj,
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\n\
+         vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\nvt 0.9 0.9\nvn 0 0 1\nvn 0 1 0\n\
+         f 1/1/1 2/2/1 3/3/1 4/4/1\nf 2/2/2 5/5/2 3/6/2\n",
+    )
+    .unwrap();
+    let file = MeshFile::read(&obj).unwrap();
+    let ply = dir.path().join("seam.ply");
+    let dropped = file
+        .write(&ply, file.mesh().positions(), Format::Ply)
+        .unwrap();
+    assert_eq!(dropped.len(), 1, "{dropped:?}");
+    assert!(dropped[0].contains("normals"), "{dropped:?}");
+    let back = MeshFile::read(&ply).unwrap();
+    assert_eq!(back.triangle_corner_uvs(), file.triangle_corner_uvs());
+    let off = dir.path().join("seam.off");
+    let dropped = file
+        .write(&off, file.mesh().positions(), Format::Off)
+        .unwrap()
+        .join("\n");
+    assert!(
+        dropped.contains("texture coordinates") && dropped.contains("normals"),
+        "{dropped}"
+    );
+    // PLY colours to OBJ: `v x y z r g b`.
+    let coloured = dir.path().join("c.ply");
+    std::fs::write(
+        &coloured,
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+         property uchar red\nproperty uchar green\nproperty uchar blue\n\
+         element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+         0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n3 0 1 2\n",
+    )
+    .unwrap();
+    let file = MeshFile::read(&coloured).unwrap();
+    let as_obj = dir.path().join("c.obj");
+    assert!(file
+        .write(&as_obj, file.mesh().positions(), Format::Obj)
+        .unwrap()
+        .is_empty());
+    assert_eq!(
+        MeshFile::read(&as_obj).unwrap().vertex_colors(),
+        file.vertex_colors()
+    );
+}

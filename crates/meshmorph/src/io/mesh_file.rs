@@ -23,6 +23,7 @@ use super::material_paths::{folder_of, library_names, MaterialPaths};
 use super::normal_groups::{NormalGroups, ShapeNormals};
 use super::ply::Scalar;
 use super::triangulate::{quad_split_the_other_way, Polygons, Split};
+use super::vertex_attributes::{per_vertex, VertexAttributes};
 use super::{push_f64, write_atomic, Format};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh3;
@@ -508,17 +509,29 @@ impl MeshFile {
             return Ok(Vec::new());
         }
         let faces = || (0..self.faces.len()).map(|f| self.face(f));
-        // OBJ holds texture coordinates and normals of any file, by corner.
+        let extra = self.vertex_attributes(format, positions);
+        // What the output holds of what the file holds: OBJ every texture
+        // coordinate and normal, by corner.
         let to_obj = format == Format::Obj;
+        let uvs_kept = if to_obj {
+            !self.corner_uv.is_empty()
+        } else {
+            extra.uvs.is_some() || extra.corner_uvs.is_some()
+        };
+        let normals_kept = if to_obj {
+            self.has_normals()
+        } else {
+            extra.normals.is_some()
+        };
         let carried = |e: &&String| {
-            to_obj
-                && ((e.starts_with("texture coordinates") && !self.corner_uv.is_empty())
-                    || (e.starts_with("normals") && self.has_normals()))
+            (e.starts_with("texture coordinates") && uvs_kept)
+                || (e.starts_with("normals") && normals_kept)
+                || (e.as_str() == "vertex colours" && extra.colors.is_some())
         };
         write_atomic(path, |w| match format {
-            Format::Obj => self.write_obj(w, positions),
-            Format::Off => super::off::write(w, positions, faces(), self.faces.len()),
-            Format::Ply => super::ply::write(w, positions, faces(), self.faces.len()),
+            Format::Obj => self.write_obj(w, positions, &extra),
+            Format::Off => super::off::write(w, positions, faces(), self.faces.len(), &extra),
+            Format::Ply => super::ply::write(w, positions, faces(), self.faces.len(), &extra),
         })?;
         Ok(self
             .extras
@@ -554,33 +567,79 @@ impl MeshFile {
         })
     }
 
+    /// What `format`, another than the file's, holds of its normals (turned
+    /// to the shape `positions`), texture coordinates and vertex colours:
+    /// OBJ all of them (per corner, with `VertexAttributes::normals` and
+    /// `uvs` left empty: see [`MeshFile::write_obj`]), PLY and OFF what
+    /// is one per vertex, and PLY's texture coordinates per corner where a
+    /// vertex has several.
+    fn vertex_attributes(&self, format: Format, positions: &[[f64; 3]]) -> VertexAttributes {
+        let n = self.mesh.num_vertices();
+        let corners = self.faces.corner_vertices();
+        let colors = (!self.colors.is_empty()).then(|| self.colors.clone());
+        if format == Format::Obj {
+            return VertexAttributes {
+                colors,
+                ..Default::default()
+            };
+        }
+        let normals = (self.has_normals() && !self.corner_normal.contains(&NONE))
+            .then(|| {
+                let (all, index) = self.written_normals(positions);
+                per_vertex(n, corners, |c| all[index[c] as usize], [0.0, 0.0, 1.0])
+            })
+            .flatten();
+        let (mut uvs, mut corner_uvs) = (None, None);
+        if self.has_corner_uvs() {
+            let uv_of = |c: usize| self.uvs[self.corner_uv[c] as usize];
+            uvs = per_vertex(n, corners, uv_of, [0.0; 2]);
+            if uvs.is_none() && format == Format::Ply {
+                corner_uvs = Some((0..corners.len()).map(uv_of).collect());
+            }
+        }
+        VertexAttributes {
+            normals,
+            uvs,
+            corner_uvs,
+            colors,
+        }
+    }
+
+    /// The normals an OBJ of the shape `positions` lists (each added one
+    /// right after the normal it was split from), and the index of each
+    /// flat corner's.
+    fn written_normals(&self, positions: &[[f64; 3]]) -> (Vec<[f64; 3]>, Vec<u32>) {
+        let t = self.normals_for_shape(positions);
+        let mut added = t.added.iter().peekable();
+        let mut all = Vec::with_capacity(t.normals.len() + t.added.len());
+        for (n, normal) in t.normals.iter().enumerate() {
+            all.push(*normal);
+            while let Some((_, extra)) = added.next_if(|&&(m, _)| m as usize == n) {
+                all.push(*extra);
+            }
+        }
+        let index = if t.corner_index.is_empty() {
+            self.corner_normal.clone()
+        } else {
+            t.corner_index
+        };
+        (all, index)
+    }
+
     /// The file, of another format, as OBJ with new `positions`: its
     /// polygons, texture coordinates and normals (turned with the surface),
-    /// each corner indexing its own.
-    fn write_obj(&self, w: &mut dyn Write, positions: &[[f64; 3]]) -> std::io::Result<()> {
-        let turned = self
-            .has_normals()
-            .then(|| self.normals_for_shape(positions));
-        // The normals in the order an OBJ of them lists them: each added one
-        // right after the normal it was split from.
-        let (normals, corner_normal) = match &turned {
-            None => (Vec::new(), &self.corner_normal[..]),
-            Some(t) => {
-                let mut added = t.added.iter().peekable();
-                let mut all = Vec::with_capacity(t.normals.len() + t.added.len());
-                for (n, normal) in t.normals.iter().enumerate() {
-                    all.push(*normal);
-                    while let Some((_, extra)) = added.next_if(|&&(m, _)| m as usize == n) {
-                        all.push(*extra);
-                    }
-                }
-                let index = if t.corner_index.is_empty() {
-                    &self.corner_normal[..]
-                } else {
-                    &t.corner_index[..]
-                };
-                (all, index)
-            }
+    /// each corner indexing its own, and its vertex colours (`v x y z r g
+    /// b`).
+    fn write_obj(
+        &self,
+        w: &mut dyn Write,
+        positions: &[[f64; 3]],
+        extra: &VertexAttributes,
+    ) -> std::io::Result<()> {
+        let (normals, corner_normal) = if self.has_normals() {
+            self.written_normals(positions)
+        } else {
+            (Vec::new(), self.corner_normal.clone())
         };
         let uvs = if self.corner_uv.is_empty() {
             &[][..]
@@ -590,9 +649,10 @@ impl MeshFile {
         super::obj::write_with_corners(
             w,
             positions,
+            extra.colors.as_deref(),
             &self.faces,
             (uvs, &self.corner_uv),
-            (&normals, corner_normal),
+            (&normals, &corner_normal),
         )
     }
 

@@ -60,10 +60,12 @@ mod obj;
 mod off;
 mod ply;
 mod triangulate;
+mod vertex_attributes;
 
 pub use appearance::Appearance;
 pub use atomic::write_atomic;
 pub use mesh_file::MeshFile;
+use vertex_attributes::VertexAttributes;
 
 use std::fmt;
 use std::io::Write;
@@ -217,8 +219,20 @@ pub fn write_positions<const D: usize>(
     let faces = || triangles.iter().map(|t| &t[..]);
     write_atomic(path, |w| match format {
         Format::Obj => obj::write(w, positions, faces()),
-        Format::Off => off::write(w, positions, faces(), triangles.len()),
-        Format::Ply => ply::write(w, positions, faces(), triangles.len()),
+        Format::Off => off::write(
+            w,
+            positions,
+            faces(),
+            triangles.len(),
+            &VertexAttributes::default(),
+        ),
+        Format::Ply => ply::write(
+            w,
+            positions,
+            faces(),
+            triangles.len(),
+            &VertexAttributes::default(),
+        ),
     })
 }
 

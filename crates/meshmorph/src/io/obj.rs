@@ -525,18 +525,32 @@ fn write_numbers<const D: usize>(
     })
 }
 
-/// Writes `v`, `vt` and `vn` lines, then `f` lines of `faces` whose corners
-/// index them (`v/vt/vn`, `v/vt`, `v//vn` or `v`, 1-based): `uvs` and
-/// `normals` are each the values and the index of each flat corner
-/// ([`NONE`] for none; empty for none at all).
+/// Writes `v` lines (`v x y z r g b` with `colors`, each 0 to 1), `vt` and
+/// `vn` lines, then `f` lines of `faces` whose corners index them
+/// (`v/vt/vn`, `v/vt`, `v//vn` or `v`, 1-based): `uvs` and `normals` are
+/// each the values and the index of each flat corner ([`NONE`] for none;
+/// empty for none at all).
 pub(super) fn write_with_corners(
     w: &mut dyn Write,
     positions: &[[f64; 3]],
+    colors: Option<&[[f32; 4]]>,
     faces: &Polygons,
     uvs: (&[[f64; 2]], &[u32]),
     normals: (&[[f64; 3]], &[u32]),
 ) -> std::io::Result<()> {
-    write_numbers(w, b"v", positions)?;
+    match colors {
+        None => write_numbers(w, b"v", positions)?,
+        // `v x y z r g b`.
+        Some(colors) => write_formatted(w, positions.iter().zip(colors), |buf, (p, c)| {
+            buf.push(b'v');
+            let rgb = [c[0], c[1], c[2]].map(f64::from);
+            for x in p.iter().chain(&rgb) {
+                buf.push(b' ');
+                push_f64(buf, *x);
+            }
+            buf.push(b'\n');
+        })?,
+    }
     write_formatted(w, uvs.0, |buf, uv| {
         buf.extend_from_slice(b"vt");
         for x in uv {

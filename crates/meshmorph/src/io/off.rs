@@ -5,6 +5,7 @@ use std::path::Path;
 
 use super::mesh_file::{offset_in, Keep, Parsed, Patch, Slot};
 use super::triangulate::{check_corners, Polygons};
+use super::vertex_attributes::{channel_byte, VertexAttributes};
 use super::{
     bad_count, parse_f64, parse_i64, push_f64, push_uint, show, tokens, write_formatted, xyz,
     UncommentedLines,
@@ -282,15 +283,38 @@ pub(super) fn write<'a, const D: usize>(
     positions: &[[f64; D]],
     faces: impl Iterator<Item = &'a [u32]>,
     num_faces: usize,
+    extra: &VertexAttributes,
 ) -> std::io::Result<()> {
-    writeln!(w, "OFF\n{} {num_faces} 0", positions.len())?;
-    write_formatted(w, positions, |buf, p| {
+    // `[ST][C][N]OFF`: each vertex is x y z [nx ny nz] [r g b a] [s t].
+    let keyword = format!(
+        "{}{}{}OFF",
+        if extra.uvs.is_some() { "ST" } else { "" },
+        if extra.colors.is_some() { "C" } else { "" },
+        if extra.normals.is_some() { "N" } else { "" },
+    );
+    writeln!(w, "{keyword}\n{} {num_faces} 0", positions.len())?;
+    write_formatted(w, positions.iter().enumerate(), |buf, (v, p)| {
         let [x, y, z] = xyz(p);
         push_f64(buf, x);
-        buf.push(b' ');
-        push_f64(buf, y);
-        buf.push(b' ');
-        push_f64(buf, z);
+        let numbers = |buf: &mut Vec<u8>, values: &[f64]| {
+            for &x in values {
+                buf.push(b' ');
+                push_f64(buf, x);
+            }
+        };
+        numbers(buf, &[y, z]);
+        if let Some(n) = &extra.normals {
+            numbers(buf, &n[v]);
+        }
+        if let Some(c) = &extra.colors {
+            for x in c[v] {
+                buf.push(b' ');
+                push_uint(buf, u64::from(channel_byte(x)));
+            }
+        }
+        if let Some(uv) = &extra.uvs {
+            numbers(buf, &uv[v]);
+        }
         buf.push(b'\n');
     })?;
     write_formatted(w, faces, |buf, face| {

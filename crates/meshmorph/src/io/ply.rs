@@ -10,6 +10,7 @@ use std::path::Path;
 
 use super::mesh_file::{offset_in, Coding, Keep, Parsed, Patch, Slot, NONE};
 use super::triangulate::{check_corners, Polygons};
+use super::vertex_attributes::{channel_byte, VertexAttributes};
 use super::{bad_count, parse_f64, parse_i64, show, tokens, xyz, Lines, CHUNK};
 use crate::error::{Error, Result};
 
@@ -745,18 +746,47 @@ pub(super) fn write<'a, const D: usize>(
     positions: &[[f64; D]],
     faces: impl Iterator<Item = &'a [u32]>,
     num_faces: usize,
+    extra: &VertexAttributes,
 ) -> std::io::Result<()> {
-    write!(
-        w,
+    let mut header = format!(
         "ply\nformat binary_little_endian 1.0\ncomment written by meshmorph\n\
-         element vertex {}\nproperty double x\nproperty double y\nproperty double z\n\
-         element face {num_faces}\nproperty list uchar int vertex_indices\nend_header\n",
+         element vertex {}\nproperty double x\nproperty double y\nproperty double z\n",
         positions.len(),
-    )?;
+    );
+    if extra.normals.is_some() {
+        header.push_str("property double nx\nproperty double ny\nproperty double nz\n");
+    }
+    if extra.uvs.is_some() {
+        header.push_str("property double s\nproperty double t\n");
+    }
+    let alpha = extra.has_alpha();
+    if extra.colors.is_some() {
+        header.push_str("property uchar red\nproperty uchar green\nproperty uchar blue\n");
+        if alpha {
+            header.push_str("property uchar alpha\n");
+        }
+    }
+    header.push_str(&format!(
+        "element face {num_faces}\nproperty list uchar int vertex_indices\n"
+    ));
+    if extra.corner_uvs.is_some() {
+        header.push_str("property list uchar float texcoord\n");
+    }
+    header.push_str("end_header\n");
+    w.write_all(header.as_bytes())?;
     let mut buf = Vec::with_capacity(CHUNK + 64);
-    for p in positions {
-        for x in xyz(p) {
-            buf.extend_from_slice(&x.to_le_bytes());
+    for (v, p) in positions.iter().enumerate() {
+        let mut put = |x: f64| buf.extend_from_slice(&x.to_le_bytes());
+        xyz(p).into_iter().for_each(&mut put);
+        if let Some(n) = &extra.normals {
+            n[v].into_iter().for_each(&mut put);
+        }
+        if let Some(uv) = &extra.uvs {
+            uv[v].into_iter().for_each(&mut put);
+        }
+        if let Some(c) = &extra.colors {
+            let k = if alpha { 4 } else { 3 };
+            buf.extend(c[v][..k].iter().map(|&x| channel_byte(x)));
         }
         if buf.len() >= CHUNK {
             w.write_all(&buf)?;
@@ -764,6 +794,7 @@ pub(super) fn write<'a, const D: usize>(
         }
     }
     let invalid = |msg: String| std::io::Error::new(std::io::ErrorKind::InvalidInput, msg);
+    let mut corner = 0;
     for face in faces {
         let n = u8::try_from(face.len()).map_err(|_| {
             invalid(format!(
@@ -777,6 +808,16 @@ pub(super) fn write<'a, const D: usize>(
                 .map_err(|_| invalid(format!("vertex index {i} does not fit a PLY `int`")))?;
             buf.extend_from_slice(&i.to_le_bytes());
         }
+        if let Some(uvs) = &extra.corner_uvs {
+            // Two numbers per corner.
+            buf.push(n.saturating_mul(2));
+            for uv in &uvs[corner..corner + face.len()] {
+                for x in uv {
+                    buf.extend_from_slice(&(*x as f32).to_le_bytes());
+                }
+            }
+        }
+        corner += face.len();
         if buf.len() >= CHUNK {
             w.write_all(&buf)?;
             buf.clear();
