@@ -71,6 +71,7 @@ impl Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let json = cli.command.json();
+    outputs::interrupted_as_json(json);
     let result = match cli.command {
         Command::Interpolate(args) => interpolate::run(&args),
         Command::Blend(args) => blend::run(&args),
@@ -88,24 +89,9 @@ fn main() -> ExitCode {
         Err(e) => {
             eprintln!("error: {e:#}");
             if json {
-                // Where a report would have been, so that a pipeline
-                // reading stdout has one object to parse.
-                output::print_json(&ErrorReport {
-                    error: format!("{e:#}"),
-                    exit_status: 1,
-                });
+                output::print_json_error(&format!("{e:#}"), 1);
             }
             ExitCode::FAILURE
         }
     }
-}
-
-/// What `--json` prints on stdout for a run that fails (the message is
-/// also on stderr, as without `--json`).
-#[derive(serde::Serialize)]
-struct ErrorReport {
-    /// The message, as after `error: ` on stderr.
-    error: String,
-    /// The process's exit status.
-    exit_status: u8,
 }

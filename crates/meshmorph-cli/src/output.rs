@@ -456,6 +456,26 @@ pub fn print_json(report: &impl serde::Serialize) {
     );
 }
 
+/// What `--json` prints on stdout for a run that fails or is interrupted,
+/// where its report would have been, so that a pipeline reading stdout has
+/// one object to parse (the message also goes to stderr, as without
+/// `--json`).
+#[derive(serde::Serialize)]
+struct ErrorReport<'a> {
+    /// The message, as after `error: ` on stderr.
+    error: &'a str,
+    /// The process's exit status.
+    exit_status: i32,
+}
+
+/// Prints `{"error": message, "exit_status": status}` as one line on stdout.
+pub fn print_json_error(message: &str, status: i32) {
+    print_json(&ErrorReport {
+        error: message,
+        exit_status: status,
+    });
+}
+
 /// A finite number above zero (a clap value parser).
 pub fn positive_number(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {

@@ -58,6 +58,7 @@ fn interrupt_a_long_run(signal: &str, code: i32) {
             "--svg",
             "--gif",
             "new/anim.gif",
+            "--json",
         ])
         .current_dir(d)
         .stdout(Stdio::piped())
@@ -92,6 +93,18 @@ fn interrupt_a_long_run(signal: &str, code: i32) {
     let out = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(code), "{stderr}");
+    // With --json, one JSON error object on stdout.
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let report: serde_json::Value = serde_json::from_str(stdout.trim()).expect("one JSON object");
+    assert!(
+        report["error"].as_str().unwrap().contains("interrupted"),
+        "{report}"
+    );
+    assert_eq!(
+        report["exit_status"].as_i64(),
+        Some(i64::from(code)),
+        "{report}"
+    );
     assert!(stderr.contains("interrupted"), "{stderr}");
     assert!(!stderr.contains(".meshmorph-"), "{stderr}");
     assert_eq!(all_names(d), before, "the folder is as it was");

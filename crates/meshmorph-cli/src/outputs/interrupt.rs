@@ -17,6 +17,7 @@ use std::sync::{Mutex, RwLock, RwLockReadGuard, RwLockWriteGuard};
 use anyhow::{bail, Result};
 
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+static AS_JSON: AtomicBool = AtomicBool::new(false);
 static GATE: RwLock<()> = RwLock::new(());
 static PENDING: Mutex<Option<Cleanup>> = Mutex::new(None);
 
@@ -72,18 +73,26 @@ fn listen() -> Result<(), ctrlc::Error> {
     ctrlc::set_handler(|| on_interrupt(130))
 }
 
+/// With `json`, an interrupt also prints its message as a JSON error on
+/// stdout (see [`crate::output::print_json_error`]).
+pub fn interrupted_as_json(json: bool) {
+    AS_JSON.store(json, Ordering::SeqCst);
+}
+
 fn on_interrupt(status: i32) {
     INTERRUPTED.store(true, Ordering::SeqCst);
     let _exclusive = GATE.write().unwrap_or_else(|e| e.into_inner());
     let pending = PENDING.lock().unwrap_or_else(|e| e.into_inner()).take();
-    match pending {
+    let message = match pending {
         Some(cleanup) => {
             cleanup.run();
-            eprintln!(
-                "interrupted: this run's outputs were removed (none had been moved into place)"
-            );
+            "interrupted: this run's outputs were removed (none had been moved into place)"
         }
-        None => eprintln!("interrupted: no output of the current run was written"),
+        None => "interrupted: no output of the current run was written",
+    };
+    eprintln!("{message}");
+    if AS_JSON.load(Ordering::SeqCst) {
+        crate::output::print_json_error(message, status);
     }
     std::process::exit(status);
 }
