@@ -196,21 +196,32 @@ pub fn read_poses(
     Ok((WeldedFile { file: first, seams }, meshes))
 }
 
+/// How `file`'s format numbers its vertices and faces, the first number
+/// and its words: from 1 in OBJ, from 0 in PLY and OFF (as the tools that
+/// read them count).
+fn numbering(file: &MeshFile) -> (u64, &'static str) {
+    match file.format() {
+        meshmorph::io::Format::Obj => (1, "numbered from 1, as in OBJ"),
+        _ => (0, "numbered from 0, as PLY and OFF count"),
+    }
+}
+
 /// What is odd about a file's surface, as warnings: faces that fold onto
 /// others ([`folds_warning`]), faces that list a vertex twice in a row.
 pub fn surface_warnings(file: &MeshFile) -> Vec<String> {
     let mut warnings: Vec<String> = folds_warning(file).into_iter().collect();
     let repeats = file.faces_repeating_a_vertex();
     if let Some(&first) = repeats.first() {
+        let (base, words) = numbering(file);
         warnings.push(format!(
-            "`{}`: {} a vertex twice in a row (the first is face {}, numbered from 1), read without the repeat",
+            "`{}`: {} a vertex twice in a row (the first is face {}, {words}), read without the repeat",
             file.path().display(),
             if repeats.len() == 1 {
                 "1 face lists".to_string()
             } else {
                 format!("{} faces list", repeats.len())
             },
-            u64::from(first) + 1
+            u64::from(first) + base
         ));
     }
     warnings
@@ -219,9 +230,10 @@ pub fn surface_warnings(file: &MeshFile) -> Vec<String> {
 /// The warning for a file whose faces repeat another's corners, or whose
 /// edges are shared by more than two faces (a fin, a face given twice, two
 /// surfaces glued along an edge): the solvers take them as they are, and
-/// the surface may crease there. Faces and vertices are numbered from 1, as
-/// in the file.
+/// the surface may crease there. Faces and vertices are numbered as the
+/// file's format counts ([`numbering`]).
 fn folds_warning(file: &MeshFile) -> Option<String> {
+    let (base, words) = numbering(file);
     let mesh = file.mesh();
     let faces = file.triangle_faces();
     let mut corners: Vec<([u32; 3], usize)> = mesh
@@ -264,8 +276,8 @@ fn folds_warning(file: &MeshFile) -> Option<String> {
             } else {
                 format!("{} faces repeat", repeated.len())
             },
-            later + 1,
-            earlier + 1
+            u64::from(later) + base,
+            u64::from(earlier) + base
         ));
     }
     if let Some(e) = crowded.first() {
@@ -276,31 +288,32 @@ fn folds_warning(file: &MeshFile) -> Option<String> {
             } else {
                 format!("{} edges are", crowded.len())
             },
-            e[0] + 1,
-            e[1] + 1
+            u64::from(e[0]) + base,
+            u64::from(e[1]) + base
         ));
     }
     Some(format!(
-        "`{}`: {}: the surface folds onto itself there, and results may crease",
+        "`{}`: {} ({words}): the surface folds onto itself there, and results may crease",
         file.path().display(),
         what.join(" and ")
     ))
 }
 
-/// "face 7" or "faces 7, 12, ...": the faces of `file` (numbered from 1, as
-/// in the file) that hold the triangles `first` (0-based, after splitting),
-/// the first few of `count`.
+/// "face 7" or "faces 7, 12, ...": the faces of `file` (numbered as its
+/// format counts, [`numbering`]) that hold the triangles `first` (0-based,
+/// after splitting), the first few of `count`, and how they are numbered.
 fn faces_holding(file: &MeshFile, first: &[usize], count: usize) -> String {
     let faces = file.triangle_faces();
+    let (base, words) = numbering(file);
     let mut named: Vec<String> = Vec::new();
     for &t in first {
-        let f = (faces[t] + 1).to_string();
+        let f = (u64::from(faces[t]) + base).to_string();
         if !named.contains(&f) {
             named.push(f);
         }
     }
     format!(
-        "face{} {}{}",
+        "face{} {}{} ({words})",
         if named.len() == 1 { "" } else { "s" },
         named.join(", "),
         if count > first.len() { ", ..." } else { "" }
@@ -308,13 +321,13 @@ fn faces_holding(file: &MeshFile, first: &[usize], count: usize) -> String {
 }
 
 /// `e` with the degenerate triangles of the mesh the library calls `label`
-/// (read from `file`) named as `file`'s faces, numbered from 1 as in the
-/// file; any other error as it is.
+/// (read from `file`) named as `file`'s faces ([`numbering`]); any other
+/// error as it is.
 pub fn degenerate_faces(e: meshmorph::Error, file: &MeshFile, label: &str) -> meshmorph::Error {
     match e {
         meshmorph::Error::DegenerateTriangles { mesh, count, first } if mesh == label => {
             meshmorph::Error::InvalidMesh(format!(
-                "{} degenerate (zero-area) triangle{} in the {label} `{}`: in {} (numbered from 1, as in the file)",
+                "{} degenerate (zero-area) triangle{} in the {label} `{}`: in {}",
                 count,
                 if count == 1 { "" } else { "s" },
                 file.path().display(),
@@ -342,8 +355,8 @@ pub struct PoseFiles<'a> {
 /// `e` with the triangles reversed or turned over between the first mesh
 /// and a later one (the library's [`meshmorph::Error::FlippedTriangles`]
 /// and [`meshmorph::Error::ReflectedTriangles`], numbered after splitting
-/// polygons, from 0) said as the first file's faces, numbered from 1 as in
-/// the files, naming both files and the command-line flag that goes on
+/// polygons, from 0) said as the first file's faces ([`numbering`]),
+/// naming both files and the command-line flag that goes on
 /// anyway; any other error as it is.
 pub fn turned_over_faces(e: meshmorph::Error, files: &PoseFiles<'_>) -> anyhow::Error {
     let (pose, count, first, what) = match e {
@@ -365,7 +378,7 @@ pub fn turned_over_faces(e: meshmorph::Error, files: &PoseFiles<'_>) -> anyhow::
         return meshmorph::Error::FlippedTriangles { count, first }.into();
     };
     anyhow::anyhow!(
-        "{count} triangle{} {what} in the {role} `{}` relative to the {} `{}`: in {} (numbered from 1, as in the files); pass --allow-flips to go on anyway",
+        "{count} triangle{} {what} in the {role} `{}` relative to the {} `{}`: in {}; pass --allow-flips to go on anyway",
         if count == 1 { "" } else { "s" },
         path.display(),
         files.first_role,

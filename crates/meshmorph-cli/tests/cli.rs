@@ -2100,6 +2100,39 @@ fn a_face_that_repeats_a_vertex_in_a_row_is_read_with_a_warning() {
 }
 
 #[test]
+fn faces_of_a_ply_are_numbered_from_0() {
+    let dir = tempfile::tempdir().unwrap();
+    let ply = |name: &str, x: f64| {
+        let path = dir.path().join(name);
+        fs::write(
+            &path,
+            format!(
+                "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+                 element face 2\nproperty list uchar int vertex_indices\nend_header\n\
+                 0 0 0\n{x} 0 0\n1 1 0\n0 1 0\n3 0 1 2\n4 0 2 3 3\n"
+            ),
+        )
+        .unwrap();
+        path
+    };
+    let (a, b) = (ply("a.ply", 1.0), ply("b.ply", 1.5));
+    let report = json(&succeeds(&run([
+        os("interpolate"),
+        a.as_os_str(),
+        b.as_os_str(),
+        os("-o"),
+        dir.path().join("out").as_os_str(),
+        os("--frames"),
+        os("2"),
+        os("--json"),
+    ])));
+    assert_mentions(
+        &report["warnings"].to_string(),
+        &["a.ply", "face 1, numbered from 0"],
+    );
+}
+
+#[test]
 fn interpolate_bad_gltf_options_are_refused_before_any_output() {
     let p = Pair::bar();
     let glb = p.out.join("a.glb");
