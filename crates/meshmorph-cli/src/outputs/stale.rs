@@ -1,20 +1,27 @@
 //! Staged files that a run stopped by force (SIGKILL, the out-of-memory
-//! killer, a CI timeout) could not remove: `.meshmorph-<pid>-<n>.part`
+//! killer, a CI timeout) could not remove: `.meshmorph-<pid>-<n>.part`, and
+//! the temporary files of atomic writes, `.meshmorph-<pid>-<random>.tmp`,
 //! whose process no longer runs. A later run into the same folder removes
 //! them.
 
 use std::path::{Path, PathBuf};
 
-/// The process id in `name` when it is exactly a staged file's name:
-/// `.meshmorph-`, decimal digits (the process), `-`, decimal digits (the
-/// output), `.part`.
+/// The process id in `name` when it is exactly a staged file's name,
+/// `.meshmorph-<process>-<output>.part` (decimal digits each), or the name
+/// of the library's temporary file of an atomic write,
+/// `.meshmorph-<process>-<letters and digits>.tmp`.
 pub fn staged_by(name: &str) -> Option<u32> {
-    let rest = name.strip_prefix(".meshmorph-")?.strip_suffix(".part")?;
-    let (pid, n) = rest.split_once('-')?;
+    let rest = name.strip_prefix(".meshmorph-")?;
     let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
-    (digits(pid) && digits(n))
-        .then(|| pid.parse().ok())
-        .flatten()
+    let alphanumeric = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_alphanumeric());
+    let (pid, ok) = if let Some(part) = rest.strip_suffix(".part") {
+        let (pid, n) = part.split_once('-')?;
+        (pid, digits(n))
+    } else {
+        let (pid, random) = rest.strip_suffix(".tmp")?.split_once('-')?;
+        (pid, alphanumeric(random))
+    };
+    (ok && digits(pid)).then(|| pid.parse().ok()).flatten()
 }
 
 /// Whether process `pid` surely no longer runs: on Linux, `/proc` is there
@@ -66,7 +73,7 @@ pub fn remove_stale(dirs: &[&Path]) -> Vec<String> {
         }
         if files > 0 {
             warnings.push(format!(
-                "removed {} ({}) from `{}`: hidden `.meshmorph-<process>-<n>.part` files of runs that were stopped by force (kill -9, out of memory) and can no longer remove them",
+                "removed {} ({}) from `{}`: hidden `.meshmorph-<process>-…` files of runs that were stopped by force (kill -9, out of memory) and can no longer remove them",
                 crate::output::count(files, "unfinished output"),
                 human_bytes(bytes),
                 dir.display()
@@ -94,6 +101,7 @@ mod tests {
     fn only_exact_staged_names() {
         assert_eq!(staged_by(".meshmorph-1234-0.part"), Some(1234));
         assert_eq!(staged_by(".meshmorph-7-41.part"), Some(7));
+        assert_eq!(staged_by(".meshmorph-7-aZ09xY.tmp"), Some(7));
         for other in [
             ".meshmorph-1234-0.old",
             ".meshmorph-7kUIk1.tmp",
@@ -101,6 +109,8 @@ mod tests {
             ".meshmorph--0.part",
             ".meshmorph-12a-0.part",
             ".meshmorph-1234-0.part.bak",
+            ".meshmorph-1234-a.b.tmp",
+            ".meshmorph-1234-.tmp",
             "meshmorph-1234-0.part",
             ".meshmorph-99999999999-0.part",
         ] {

@@ -7,7 +7,8 @@ use std::path::Path;
 use crate::error::{Error, Result};
 
 /// Writes a file atomically: `f` writes into a buffered temporary file in
-/// the same directory as `path`, which is flushed and then renamed to `path`.
+/// the same directory as `path` (named `.meshmorph-<process id>-<random>.tmp`),
+/// which is flushed and then renamed to `path`.
 ///
 /// Readers of `path` see either the old file or the complete new one, never
 /// a partial one. When anything fails (creating the temporary file, `f`
@@ -39,8 +40,12 @@ pub fn write_atomic(
         _ => Path::new("."),
     };
     let err = |e| Error::io(path, e);
+    // `.meshmorph-<process>-<random>.tmp`: the process id tells a later
+    // run whether the file's writer still runs (a writer killed by force
+    // cannot remove it).
+    let prefix = format!(".meshmorph-{}-", std::process::id());
     let mut builder = tempfile::Builder::new();
-    builder.prefix(".meshmorph-").suffix(".tmp");
+    builder.prefix(&prefix).suffix(".tmp");
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt as _;
