@@ -680,8 +680,13 @@ fn vertex_colours_of_ply_obj_and_off_become_color_0() {
         // 0.2 in sRGB is 0.0331 linear; alpha stays as stored.
         assert!((got[2][2] - 0.033_105).abs() < 1e-4, "{got:?}");
         assert_eq!(got[0][0], 1.0);
+        // A translucent vertex makes the material blended.
+        let blended = prim.material().alpha_mode() == gltf::material::AlphaMode::Blend;
         if path == &ply {
             assert!((got[1][3] - 128.0 / 255.0).abs() < 1e-6);
+            assert!(blended);
+        } else {
+            assert!(!blended);
         }
     }
 }
@@ -733,4 +738,33 @@ fn flat_shaded_faces_keep_their_own_normals_even_when_they_share_one_vn() {
         normals.iter().all(|n| n[0].abs() > 0.5 && n[2].abs() > 0.5),
         "{normals:?}"
     );
+}
+
+#[test]
+fn one_vn_per_corner_with_equal_values_stays_smooth() {
+    use meshmorph::io::{Appearance, MeshFile};
+    let dir = tempfile::tempdir().unwrap();
+    // Two triangles meeting along an edge, their corners naming normals of
+    // equal values one by one, as exporters that list a `vn` per corner do.
+    let path = dir.path().join("per_corner.obj");
+    std::fs::write(
+        &path,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0.3\n\
+         vn 0 0 1\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\n\
+         f 1//1 2//2 3//3\nf 2//4 4//5 3//6\n",
+    )
+    .unwrap();
+    let file = MeshFile::read(&path).unwrap();
+    let look = Appearance::of_file(&file);
+    let base = look.base(file.mesh().positions(), file.mesh().triangles());
+    let back = read_back(
+        &glb(
+            &base,
+            &[file.mesh().positions().to_vec()],
+            &names(1),
+            &GltfOptions::default(),
+        )
+        .unwrap(),
+    );
+    assert_eq!(back.positions.len(), 4);
 }

@@ -1301,6 +1301,14 @@ fn obj_lines_continued_with_a_backslash_read_and_write_back() {
         text,
         "v 0 0 \\\n  0\nv 2\\\n 0 0\nv 2 2 1 \\  \r\n\nv 0 2 0\nvt 0 \\\n0\nf 1/1 2/1 \\\r\n 3/1 4/1\n"
     );
+    // A comment after the `\` (and on the lines it joins) is a comment.
+    std::fs::write(
+        &b,
+        "v 0 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0\nvt 0 0\nf 1/1 2/1 \\ # first two\n 3/1 \\# third\n4/1\n",
+    )
+    .unwrap();
+    let fb = MeshFile::read(&b).unwrap();
+    assert_eq!(fb.mesh().triangles(), fa.mesh().triangles());
     // A `\` that ends the file continues nothing.
     std::fs::write(&b, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 \\").unwrap();
     assert!(MeshFile::read(&b).is_err());
@@ -1437,4 +1445,68 @@ fn another_format_keeps_what_it_can_hold() {
         MeshFile::read(&as_obj).unwrap().vertex_colors(),
         file.vertex_colors()
     );
+}
+
+#[test]
+fn off_colours_are_bytes_or_fractions_for_the_whole_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let read = |body: &str| {
+        let path = dir.path().join("c.off");
+        std::fs::write(&path, format!("COFF\n3 1 0\n{body}3 0 1 2\n")).unwrap();
+        MeshFile::read(&path)
+            .unwrap()
+            .vertex_colors()
+            .unwrap()
+            .to_vec()
+    };
+    // Numbers from 0 to 1, one vertex written without a fraction.
+    let c = read("0 0 0 0.5 0.25 0.1 1\n1 0 0 1 0 0 1\n0 1 0 0 0 1\n");
+    assert_eq!(c[1], [1.0, 0.0, 0.0, 1.0]);
+    assert_eq!(c[2], [0.0, 0.0, 1.0, 1.0]);
+    // Bytes.
+    let c = read("0 0 0 255 0 0 255\n1 0 0 0 51 0 255\n0 1 0 0 0 255\n");
+    assert_eq!(c[0], [1.0, 0.0, 0.0, 1.0]);
+    assert!((c[1][1] - 0.2).abs() < 1e-6);
+}
+
+#[test]
+fn ply_texture_coordinates_of_a_face_of_many_corners_read_back() {
+    let dir = tempfile::tempdir().unwrap();
+    // A 130-gon, and a triangle that gives its first vertex a second
+    // texture coordinate (a seam): PLY holds them per corner.
+    let n = 130;
+    let mut text = String::new();
+    for k in 0..n {
+        let a = std::f64::consts::TAU * k as f64 / n as f64;
+        text += &format!(
+            "v {} {} 0\nvt {} {}\n",
+            a.cos(),
+            a.sin(),
+            0.5 + 0.4 * a.cos(),
+            0.5 + 0.4 * a.sin()
+        );
+    }
+    text += &format!(
+        "v 2 0 0\nvt 0.9 0.9\nvt 0.1 0.1\nf {}\n",
+        (1..=n)
+            .map(|k| format!("{k}/{k}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    );
+    text += &format!("f 1/{} {}/{} 2/2\n", n + 2, n + 1, n + 1);
+    let obj = dir.path().join("big.obj");
+    std::fs::write(&obj, text).unwrap();
+    let file = MeshFile::read(&obj).unwrap();
+    let ply = dir.path().join("big.ply");
+    file.write(&ply, file.mesh().positions(), Format::Ply)
+        .unwrap();
+    let back = MeshFile::read(&ply).unwrap();
+    let (a, b) = (
+        back.triangle_corner_uvs().unwrap(),
+        file.triangle_corner_uvs().unwrap(),
+    );
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().flatten().zip(b.iter().flatten()) {
+        assert!((x[0] - y[0]).abs() < 1e-6 && (x[1] - y[1]).abs() < 1e-6);
+    }
 }

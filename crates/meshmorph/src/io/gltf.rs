@@ -708,6 +708,10 @@ impl<'a, const D: usize> Layout<'a, D> {
         root: &mut json::Root,
         options: &GltfOptions,
     ) -> Vec<json::Index<json::Material>> {
+        let translucent = self
+            .colors
+            .as_ref()
+            .is_some_and(|c| c.iter().any(|x| x[3] < 1.0));
         let Some(m) = self.materials else {
             // Vertex colours are the colour.
             let [r, g, b] = if self.colors.is_some() {
@@ -715,7 +719,13 @@ impl<'a, const D: usize> Layout<'a, D> {
             } else {
                 options.color
             };
-            return vec![root.push(material_json("meshmorph", [r, g, b, 1.0], 0.0, 0.7, None))];
+            return vec![root.push(material_json(
+                "meshmorph",
+                [r, g, b, 1.0],
+                (0.0, 0.7),
+                None,
+                translucent,
+            ))];
         };
         // Textures need texture coordinates.
         let textures: Vec<json::Index<json::Texture>> = if self.uvs.is_some() {
@@ -754,9 +764,9 @@ impl<'a, const D: usize> Layout<'a, D> {
                 root.push(material_json(
                     &mat.name,
                     mat.base_color,
-                    mat.metallic,
-                    mat.roughness,
+                    (mat.metallic, mat.roughness),
                     texture,
+                    translucent,
                 ))
             })
             .collect()
@@ -852,18 +862,18 @@ impl<'a, const D: usize> Layout<'a, D> {
 pub const FRAMES_IN_FLIGHT_PER_THREAD: usize = 2;
 
 /// A double-sided material (OBJ files do not say which side shows), blended
-/// when its alpha is below 1.
+/// when its alpha, or a vertex colour's, is below 1.
 fn material_json(
     name: &str,
     base_color: [f32; 4],
-    metallic: f32,
-    roughness: f32,
+    (metallic, roughness): (f32, f32),
     texture: Option<json::Index<json::Texture>>,
+    translucent_vertices: bool,
 ) -> json::Material {
     json::Material {
         double_sided: true,
         name: Some(name.to_string()),
-        alpha_mode: Valid(if base_color[3] < 1.0 {
+        alpha_mode: Valid(if base_color[3] < 1.0 || translucent_vertices {
             json::material::AlphaMode::Blend
         } else {
             json::material::AlphaMode::Opaque

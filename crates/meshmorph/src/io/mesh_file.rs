@@ -362,8 +362,9 @@ impl MeshFile {
     /// Which corners of each triangle of [`MeshFile::mesh`] share a normal,
     /// as the file shades them: a corner of a face shaded flat (OBJ `s off`
     /// or `s 0`) has its face's own normal, whatever normal it names (tools
-    /// share one `vn` among coplanar faces); other corners share the normal
-    /// they name (OBJ `vn` index, PLY vertex), and corners without one are
+    /// share one `vn` among coplanar faces); other corners share a normal
+    /// when they name the same value (OBJ `vn`, whether the file lists it
+    /// once or once per corner; PLY per vertex), and corners without one are
     /// smooth. Only equal numbers at one vertex mean anything. `None` when
     /// the file has no normals and no flat face.
     pub fn triangle_corner_normal_groups(&self) -> Option<Vec<[u32; 3]>> {
@@ -373,6 +374,19 @@ impl MeshFile {
         }
         let smooth = u32::MAX;
         let named = self.normals.len() as u32;
+        // Each normal as the first normal of the same value.
+        let mut first_of_value: std::collections::HashMap<[u64; 3], u32> =
+            std::collections::HashMap::new();
+        let same_as: Vec<u32> = self
+            .normals
+            .iter()
+            .enumerate()
+            .map(|(n, v)| {
+                *first_of_value
+                    .entry(v.map(f64::to_bits))
+                    .or_insert(n as u32)
+            })
+            .collect();
         Some(
             self.split
                 .corners
@@ -384,7 +398,7 @@ impl MeshFile {
                             named.saturating_add(f)
                         } else {
                             match self.corner_normal.get(k as usize) {
-                                Some(&n) if n != NONE => n,
+                                Some(&n) if n != NONE => same_as[n as usize],
                                 _ => smooth,
                             }
                         }

@@ -482,7 +482,7 @@ fn separates(text: &[u8], i: usize) -> bool {
             && text[i + 1..]
                 .iter()
                 .find(|&&c| !matches!(c, b' ' | b'\t' | b'\r'))
-                .is_some_and(|&c| c == b'\n'))
+                .is_some_and(|&c| c == b'\n' || c == b'#'))
 }
 
 /// Whitespace-separated tokens of a line.
@@ -515,8 +515,16 @@ impl<'a> Tokens<'a> {
     /// The next token of a continued line.
     #[cold]
     fn next_continued(&mut self) -> Option<&'a [u8]> {
-        let rest = self.rest;
-        let start = (0..rest.len()).find(|&i| !separates(rest, i))?;
+        let mut rest = self.rest;
+        // Separators, and comments to the end of their physical line.
+        let start = loop {
+            let start = (0..rest.len()).find(|&i| !separates(rest, i))?;
+            if rest[start] != b'#' {
+                break start;
+            }
+            let end = memchr::memchr(b'\n', &rest[start..])?;
+            rest = &rest[start + end..];
+        };
         let token = &rest[start..];
         let end = (1..token.len())
             .find(|&i| separates(token, i))

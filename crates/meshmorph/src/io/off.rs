@@ -31,6 +31,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     // coordinates end each vertex line.
     let mut has_normals = false;
     let mut has_uvs = false;
+    let mut colour_scale = ColourScale::default();
     if let Some(at) = keyword.windows(3).position(|w| w == b"OFF") {
         let (prefix, suffix) = (&keyword[..at], &keyword[at + 3..]);
         has_normals = prefix.contains(&b'N');
@@ -177,19 +178,17 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
         let used = if has_normals { 3 } else { 0 } + if has_uvs { 2 } else { 0 };
         if rest.len() > used {
             out.note_extra("vertex colours");
-            // `r g b [a]` after the normal: integers 0 to 255, or numbers
-            // 0 to 1.
+            // `r g b [a]` after the normal, scaled once every vertex is read.
             let start = if has_normals { 3 } else { 0 };
             let values = &rest[start..rest.len() - if has_uvs { 2 } else { 0 }];
             if out.keeps_whole() && (3..=4).contains(&values.len()) {
-                let integral = values.iter().all(|t| t.iter().all(u8::is_ascii_digit));
-                let scale = if integral { 255.0 } else { 1.0 };
-                let mut color = [1.0f32; 4];
+                let mut color = [f32::NAN; 4];
                 for (c, t) in color.iter_mut().zip(values) {
-                    let x = parse_f64(t).filter(|x| x.is_finite()).unwrap_or(scale);
-                    *c = (x / scale).clamp(0.0, 1.0) as f32;
+                    let x = parse_f64(t).filter(|x| x.is_finite() && *x >= 0.0);
+                    *c = x.map_or(0.0, |x| x as f32);
+                    colour_scale.see(t, *c);
                 }
-                out.colors.resize(v, [1.0; 4]);
+                out.colors.resize(v, [f32::NAN; 4]);
                 out.colors.push(color);
             }
         }
@@ -271,13 +270,48 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     }
     out.faces = faces;
     if !out.colors.is_empty() {
-        out.colors.resize(out.positions.len(), [1.0; 4]);
+        // Vertices without a colour are white (NaN: not given).
+        out.colors.resize(out.positions.len(), [f32::NAN; 4]);
+        let scale = colour_scale.scale();
+        for c in out.colors.iter_mut().flatten() {
+            *c = if c.is_nan() {
+                1.0
+            } else {
+                (*c / scale).clamp(0.0, 1.0)
+            };
+        }
     }
     Ok(out)
 }
 
 /// Writes `OFF`, the counts, `x y z` lines and `n i0 ... i(n-1)` face
 /// lines (0-based).
+/// How a file's colours are written: integers from 0 to 255, or numbers
+/// from 0 to 1. Told once per file, from every colour in it (a file of
+/// numbers writes full red as `1 0 0`): numbers when any has a fraction or
+/// an exponent, or when none is above 1.
+#[derive(Default)]
+struct ColourScale {
+    fraction: bool,
+    largest: f32,
+}
+
+impl ColourScale {
+    fn see(&mut self, token: &[u8], value: f32) {
+        self.fraction |= token.iter().any(|b| matches!(b, b'.' | b'e' | b'E'));
+        self.largest = self.largest.max(value);
+    }
+
+    /// What full intensity is written as.
+    fn scale(&self) -> f32 {
+        if self.fraction || self.largest <= 1.0 {
+            1.0
+        } else {
+            255.0
+        }
+    }
+}
+
 pub(super) fn write<'a, const D: usize>(
     w: &mut dyn Write,
     positions: &[[f64; D]],

@@ -769,8 +769,16 @@ pub(super) fn write<'a, const D: usize>(
     header.push_str(&format!(
         "element face {num_faces}\nproperty list uchar int vertex_indices\n"
     ));
+    // Two numbers per corner: counted in a byte (as MeshLab writes them)
+    // while faces have at most 127 corners.
+    let faces: Vec<&[u32]> = faces.collect();
+    let wide_texcoord = faces.iter().any(|f| f.len() > 127);
     if extra.corner_uvs.is_some() {
-        header.push_str("property list uchar float texcoord\n");
+        header.push_str(if wide_texcoord {
+            "property list int float texcoord\n"
+        } else {
+            "property list uchar float texcoord\n"
+        });
     }
     header.push_str("end_header\n");
     w.write_all(header.as_bytes())?;
@@ -809,8 +817,12 @@ pub(super) fn write<'a, const D: usize>(
             buf.extend_from_slice(&i.to_le_bytes());
         }
         if let Some(uvs) = &extra.corner_uvs {
-            // Two numbers per corner.
-            buf.push(n.saturating_mul(2));
+            let count = 2 * face.len();
+            if wide_texcoord {
+                buf.extend_from_slice(&(count as i32).to_le_bytes());
+            } else {
+                buf.push(count as u8);
+            }
             for uv in &uvs[corner..corner + face.len()] {
                 for x in uv {
                     buf.extend_from_slice(&(*x as f32).to_le_bytes());
