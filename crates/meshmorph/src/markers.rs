@@ -22,6 +22,9 @@ pub struct Markers {
     /// Point pairs not yet snapped to vertices, with their lines.
     pub(crate) points: Vec<([[f64; 3]; 2], usize)>,
     pub(crate) path: Option<PathBuf>,
+    /// The number messages give the first vertex: 1 for a file read as
+    /// 1-based, else 0.
+    pub(crate) first_index: u32,
 }
 
 /// How far [`Markers::snap`] moved the marker points, as fractions of each
@@ -49,6 +52,7 @@ impl Markers {
             lines: Vec::new(),
             points: Vec::new(),
             path: None,
+            first_index: 0,
         }
     }
 
@@ -84,6 +88,7 @@ impl Markers {
             lines: self.lines.clone(),
             points: Vec::new(),
             path: self.path.clone(),
+            first_index: self.first_index,
         };
         let mut snap = Snap {
             points: self.points.len(),
@@ -166,10 +171,18 @@ impl Markers {
             if let Some(&j) = seen.get(&s) {
                 let other = self.pairs[j][1];
                 return if other == t {
-                    fail(format!("the pair {s} {t} repeats {}", self.name(j)))
+                    fail(format!(
+                        "the pair {} {} repeats {}",
+                        self.number(s),
+                        self.number(t),
+                        self.name(j)
+                    ))
                 } else {
                     fail(format!(
-                        "source vertex {s} is paired with target vertex {t} here and with {other} in {}",
+                        "source vertex {} is paired with target vertex {} here and with {} in {}",
+                        self.number(s),
+                        self.number(t),
+                        self.number(other),
                         self.name(j)
                     ))
                 };
@@ -238,11 +251,13 @@ impl Markers {
         for (k, &[s, t]) in self.pairs.iter().enumerate() {
             let message = if s as usize >= source_vertices {
                 format!(
-                    "source vertex {s} is out of range (the source has {source_vertices} vertices)"
+                    "source vertex {} is out of range (the source has {source_vertices} vertices)",
+                    self.number(s)
                 )
             } else if t as usize >= target_vertices {
                 format!(
-                    "target vertex {t} is out of range (the target has {target_vertices} vertices)"
+                    "target vertex {} is out of range (the target has {target_vertices} vertices)",
+                    self.number(t)
                 )
             } else {
                 continue;
@@ -293,7 +308,17 @@ impl Markers {
     /// 52)" or "`file.cons`, line 5 (...)".
     pub fn describe(&self, k: usize) -> String {
         let [s, t] = self.pairs[k];
-        format!("{} (source vertex {s}, target vertex {t})", self.name(k))
+        format!(
+            "{} (source vertex {}, target vertex {})",
+            self.name(k),
+            self.number(s),
+            self.number(t)
+        )
+    }
+
+    /// Vertex `v` (0-based) numbered as the marker file numbers it.
+    fn number(&self, v: u32) -> u64 {
+        u64::from(v) + u64::from(self.first_index)
     }
 
     /// "marker 3" or "`file.cons`, line 5".

@@ -109,6 +109,7 @@ impl Markers {
             lines,
             points,
             path: Some(path.to_path_buf()),
+            first_index: u32::from(one_based),
         })
     }
 }
@@ -147,5 +148,29 @@ mod tests {
         assert!(e.contains("1-based"), "{e}");
         let e = Markers::parse("0 -1\n", p, false).unwrap_err().to_string();
         assert!(e.contains("out of range"), "{e}");
+    }
+
+    #[test]
+    fn messages_number_vertices_as_the_file_does() {
+        let p = Path::new("m.txt");
+        for (one_based, text, shown) in [(false, "0 4\n1 9\n", "9"), (true, "1 5\n2 10\n", "10")] {
+            let m = Markers::parse(text, p, one_based).unwrap();
+            let e = m.check_ranges(5, 6).unwrap_err().to_string();
+            assert!(
+                e.contains(&format!("target vertex {shown} is out of range")),
+                "{e}"
+            );
+            assert!(m.describe(0).contains(if one_based {
+                "target vertex 5"
+            } else {
+                "target vertex 4"
+            }));
+        }
+        let m = Markers::parse("1 5\n1 6\n", p, true).unwrap();
+        let e = m.validate(10, 10).unwrap_err().to_string();
+        assert!(
+            e.contains("source vertex 1 is paired with target vertex 6 here and with 5"),
+            "{e}"
+        );
     }
 }
