@@ -515,7 +515,7 @@ fn write_looks(dir: &Path, with_texture: bool) -> std::path::PathBuf {
         "mtllib looks.mtl\n\
          v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0.2\nv 2 1 0\nv 3 0 0\n\
          vt 0 0\nvt 0.5 0\nvt 1 0\nvt 0 1\nvt 0.5 1\nvt 1 1\nvt 1 0.5\n\
-         f 1/1 2/2 5/5 4/4\nusemtl Skin\nf 2/2 3/3 6/6 5/5\nusemtl Glass\nf 3/3 7/7 6/6\n",
+         f 1/1 2/2 5/5 4/4\nusemtl Skin\nf 2/2 3/3 6/6 5/5\nusemtl Glass\nf 3/3 7/7 6/6\nusemtl Unused\n",
     )
     .unwrap();
     obj
@@ -570,6 +570,8 @@ fn obj_materials_and_textures_are_carried() {
         ));
     }
     assert_eq!(seen.len(), 3);
+    // A material no face uses is left out.
+    assert_eq!(glb.document.materials().count(), 3);
     let (skin, glass, none) = (&seen[0], &seen[1], &seen[2]);
     assert_eq!((skin.0.as_str(), skin.1), ("Skin", 2));
     assert_eq!(skin.2, [1.0; 4], "the texture is the colour");

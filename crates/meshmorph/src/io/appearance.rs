@@ -105,8 +105,8 @@ impl Appearance {
         base
     }
 
-    /// The materials `names` from the file's libraries, and each
-    /// triangle's; faces before any `usemtl` take a grey material of
+    /// The materials `names` that faces use, from the file's libraries, and
+    /// each triangle's; faces before any `usemtl` take a grey material of
     /// their own.
     fn add_materials(&mut self, file: &MeshFile, names: &[String], of_triangle: &[Option<u32>]) {
         let mut defined: Vec<MtlMaterial> = Vec::new();
@@ -120,7 +120,18 @@ impl Appearance {
             }
         }
         let mut image_paths: Vec<PathBuf> = Vec::new();
-        for name in names {
+        // Only the materials some face uses (a `usemtl` before no face
+        // names none), numbered afresh.
+        let mut used = vec![false; names.len()];
+        for &m in of_triangle.iter().flatten() {
+            used[m as usize] = true;
+        }
+        let mut index_of = vec![0u32; names.len()];
+        for (name, k) in names.iter().zip(0..) {
+            if !used[k] {
+                continue;
+            }
+            index_of[k] = self.materials.len() as u32;
             let material = match defined.iter().find(|m| &m.name == name) {
                 Some(m) => self.material_of(m, file.path(), &mut image_paths),
                 None => {
@@ -135,11 +146,14 @@ impl Appearance {
             };
             self.materials.push(material);
         }
-        let unnamed = names.len() as u32;
+        let unnamed = self.materials.len() as u32;
         if of_triangle.iter().any(Option::is_none) {
             self.materials.push(grey("none"));
         }
-        self.of_triangle = of_triangle.iter().map(|m| m.unwrap_or(unnamed)).collect();
+        self.of_triangle = of_triangle
+            .iter()
+            .map(|m| m.map_or(unnamed, |m| index_of[m as usize]))
+            .collect();
     }
 
     /// A GLB material of an MTL one, its colour texture read once per file.
