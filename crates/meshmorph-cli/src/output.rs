@@ -216,11 +216,7 @@ pub fn surface_warnings(file: &MeshFile) -> Vec<String> {
         warnings.push(format!(
             "`{}`: {} a vertex twice in a row (the first is face {}, {words}), read without the repeat",
             file.path().display(),
-            if repeats.len() == 1 {
-                "1 face lists".to_string()
-            } else {
-                format!("{} faces list", repeats.len())
-            },
+            count_doing(repeats.len(), "face", "lists", "list"),
             u64::from(first) + base
         ));
     }
@@ -271,11 +267,7 @@ fn folds_warning(file: &MeshFile) -> Option<String> {
     if let Some(&(later, earlier)) = repeated.first() {
         what.push(format!(
             "{} the corners of another (face {} repeats face {})",
-            if repeated.len() == 1 {
-                "1 face repeats".to_string()
-            } else {
-                format!("{} faces repeat", repeated.len())
-            },
+            count_doing(repeated.len(), "face", "repeats", "repeat"),
             u64::from(later) + base,
             u64::from(earlier) + base
         ));
@@ -283,11 +275,7 @@ fn folds_warning(file: &MeshFile) -> Option<String> {
     if let Some(e) = crowded.first() {
         what.push(format!(
             "{} shared by more than two faces (the first between vertices {} and {})",
-            if crowded.len() == 1 {
-                "1 edge is".to_string()
-            } else {
-                format!("{} edges are", crowded.len())
-            },
+            count_doing(crowded.len(), "edge", "is", "are"),
             u64::from(e[0]) + base,
             u64::from(e[1]) + base
         ));
@@ -448,6 +436,11 @@ pub fn count(n: usize, noun: &str) -> String {
     } else {
         format!("{n} {noun}s")
     }
+}
+
+/// "1 face lists" or "3 faces list": [`count`] with the verb that agrees.
+pub fn count_doing(n: usize, noun: &str, one: &str, many: &str) -> String {
+    format!("{} {}", count(n, noun), if n == 1 { one } else { many })
 }
 
 /// Seconds as a short human string.

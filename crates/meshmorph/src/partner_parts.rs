@@ -102,6 +102,18 @@ mod tests {
         connected_components(m.num_vertices(), m.triangles())
     }
 
+    /// `m` with only the triangles whose vertices all `keep` (its vertices
+    /// all kept).
+    fn with_triangles_of(m: &Mesh3, keep: &dyn Fn(u32) -> bool) -> Mesh3 {
+        let tris: Vec<[u32; 3]> = m
+            .triangles()
+            .iter()
+            .copied()
+            .filter(|t| t.iter().all(|&v| keep(v)))
+            .collect();
+        Mesh3::new(m.positions().to_vec(), tris).unwrap()
+    }
+
     /// `a` and `b` (moved by `by`) as one mesh.
     fn joined(a: &Mesh3, b: &Mesh3, by: [f64; 3]) -> Mesh3 {
         let n = a.num_vertices() as u32;
@@ -129,17 +141,8 @@ mod tests {
         assert_eq!(kept, (0..h + e).map(|t| [t, t]).collect::<Vec<_>>());
         // A target in two pieces (the head cut in half along its rings) and
         // a source in one: every pair is kept.
-        let rings = |m: &Mesh3, keep: &dyn Fn(u32) -> bool| {
-            let tris: Vec<[u32; 3]> = m
-                .triangles()
-                .iter()
-                .copied()
-                .filter(|t| t.iter().all(|&v| keep(v)))
-                .collect();
-            Mesh3::new(m.positions().to_vec(), tris).unwrap()
-        };
-        let near = rings(&head, &|v| v < 4 * 8);
-        let far = rings(&head, &|v| (4 * 8..9 * 8).contains(&v));
+        let near = with_triangles_of(&head, &|v| v < 4 * 8);
+        let far = with_triangles_of(&head, &|v| (4 * 8..9 * 8).contains(&v));
         let split = joined(&near, &far, [0.0; 3]);
         let n = near.num_triangles() as u32;
         let pairs: Vec<[u32; 2]> = (0..split.num_triangles() as u32)
@@ -159,18 +162,9 @@ mod tests {
         let body = tube(10.0, 0.5, 41, 8);
         let watch = tube(0.3, 0.3, 3, 8);
         let source = joined(&body, &watch, [9.5, 0.0, 0.0]);
-        let rings = |keep: &dyn Fn(u32) -> bool| {
-            let tris: Vec<[u32; 3]> = body
-                .triangles()
-                .iter()
-                .copied()
-                .filter(|t| t.iter().all(|&v| keep(v)))
-                .collect();
-            Mesh3::new(body.positions().to_vec(), tris).unwrap()
-        };
         let nv = body.num_vertices() as u32;
-        let near = rings(&|v| v < 37 * 8 || v == nv - 2);
-        let far = rings(&|v| (37 * 8..41 * 8).contains(&v) || v == nv - 1);
+        let near = with_triangles_of(&body, &|v| v < 37 * 8 || v == nv - 2);
+        let far = with_triangles_of(&body, &|v| (37 * 8..41 * 8).contains(&v) || v == nv - 1);
         let target = joined(&near, &far, [0.0; 3]);
         let mut pairs: Vec<[u32; 2]> = Vec::new();
         for (k, t) in target.triangles().iter().enumerate() {

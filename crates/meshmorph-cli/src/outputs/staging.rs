@@ -123,10 +123,10 @@ impl Staging {
         let named = &self.outputs[output.0];
         let staged = &self.staged[output.0];
         write(staged).map_err(|e| {
-            let message = without_temporary_names(&format!("{e:#}").replace(
+            let message = format!("{e:#}").replace(
                 &staged.display().to_string(),
                 &named.path.display().to_string(),
-            ));
+            );
             anyhow!(
                 "writing the {} `{}`: {message}",
                 named.role,
@@ -244,45 +244,5 @@ fn sibling(path: &Path, name: &str) -> PathBuf {
     match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.join(name),
         _ => PathBuf::from(name),
-    }
-}
-
-/// `message` without the ` at path "…/.meshmorph-….tmp"` that a writer's
-/// own temporary file adds to an operating system's error: the user's path
-/// is named already.
-fn without_temporary_names(message: &str) -> String {
-    let mut out = String::with_capacity(message.len());
-    let mut rest = message;
-    while let Some(i) = rest.find(" at path \"") {
-        let after = &rest[i + " at path \"".len()..];
-        match after.find('"') {
-            Some(end) if after[..end].contains(".meshmorph-") => {
-                out.push_str(&rest[..i]);
-                rest = &after[end + 1..];
-            }
-            _ => {
-                out.push_str(&rest[..i + 1]);
-                rest = &rest[i + 1..];
-            }
-        }
-    }
-    out.push_str(rest);
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn temporary_names_are_left_out() {
-        assert_eq!(
-            without_temporary_names(
-                "`ro/a.gif`: Permission denied (os error 13) at path \"/x/ro/.meshmorph-7kUIk1.tmp\""
-            ),
-            "`ro/a.gif`: Permission denied (os error 13)"
-        );
-        let kept = "a file at path \"notes.txt\" stays";
-        assert_eq!(without_temporary_names(kept), kept);
     }
 }

@@ -110,8 +110,9 @@ impl Appearance {
     /// their own.
     fn add_materials(&mut self, file: &MeshFile, names: &[String], of_triangle: &[Option<u32>]) {
         let mut defined: Vec<MtlMaterial> = Vec::new();
-        for library in file.material_libraries() {
-            match read_mtl(&library) {
+        let libraries = file.material_libraries();
+        for library in &libraries {
+            match read_mtl(library) {
                 Ok(materials) => defined.extend(materials),
                 Err(e) => self.warnings.push(format!(
                     "the materials of `{}` are not in the GLB: {e}",
@@ -135,7 +136,7 @@ impl Appearance {
             let material = match defined.iter().find(|m| &m.name == name) {
                 Some(m) => self.material_of(m, file.path(), &mut image_paths),
                 None => {
-                    if file.material_libraries().is_empty() || !defined.is_empty() {
+                    if libraries.is_empty() || !defined.is_empty() {
                         self.warnings.push(format!(
                             "material `{name}` of `{}` is defined in no material library it names: grey in the GLB",
                             file.path().display()

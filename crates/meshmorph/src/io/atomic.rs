@@ -53,11 +53,39 @@ pub fn write_atomic(
         // the umask still applies to this.
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
-    let temp = builder.tempfile_in(dir).map_err(err)?;
+    let temp = builder
+        .tempfile_in(dir)
+        .map_err(|e| err(without_temporary_path(e)))?;
     // From here on, dropping `temp` (on any early return) removes the file.
     let mut writer = BufWriter::with_capacity(1 << 16, temp);
     f(&mut writer).map_err(err)?;
     let temp = writer.into_inner().map_err(|e| err(e.into_error()))?;
     temp.persist(path).map_err(|e| err(e.error))?;
     Ok(())
+}
+
+/// `e`, an error of creating the temporary file, without the temporary
+/// file's name that `tempfile` adds to it (` at path "…"`): the message
+/// names the file asked for, never a name of ours.
+fn without_temporary_path(e: std::io::Error) -> std::io::Error {
+    let text = e.to_string();
+    match text.find(" at path \"") {
+        Some(i) => std::io::Error::new(e.kind(), &text[..i]),
+        None => e,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_failure_names_the_file_asked_for_not_the_temporary_one() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("missing/out.obj");
+        let e = write_atomic(&path, |w| w.write_all(b"x")).unwrap_err();
+        let message = e.to_string();
+        assert!(message.contains("out.obj"), "{message}");
+        assert!(!message.contains(".meshmorph-"), "{message}");
+    }
 }

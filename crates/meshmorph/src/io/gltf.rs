@@ -548,27 +548,25 @@ impl<'a, const D: usize> Layout<'a, D> {
         let mut attributes = std::collections::BTreeMap::new();
         attributes.insert(Valid(json::mesh::Semantic::Positions), positions);
         attributes.insert(Valid(json::mesh::Semantic::Normals), normals);
-        if self.uvs.is_some() {
-            let uv_view = view(&mut root, 8 * n, Some(ArrayBuffer));
-            let uvs = root.push(accessor(
-                uv_view,
-                n,
-                json::accessor::ComponentType::F32,
-                json::accessor::Type::Vec2,
-                None,
-            ));
-            attributes.insert(Valid(json::mesh::Semantic::TexCoords(0)), uvs);
-        }
-        if self.colors.is_some() {
-            let color_view = view(&mut root, 16 * n, Some(ArrayBuffer));
-            let colors = root.push(accessor(
-                color_view,
-                n,
-                json::accessor::ComponentType::F32,
-                json::accessor::Type::Vec4,
-                None,
-            ));
-            attributes.insert(Valid(json::mesh::Semantic::Colors(0)), colors);
+        // The optional attributes of the base, `f32` each: texture
+        // coordinates, colours.
+        use json::accessor::Type::{Vec2, Vec4};
+        use json::mesh::Semantic::{Colors, TexCoords};
+        for (present, kind, components, semantic) in [
+            (self.uvs.is_some(), Vec2, 2, TexCoords(0)),
+            (self.colors.is_some(), Vec4, 4, Colors(0)),
+        ] {
+            if present {
+                let v = view(&mut root, 4 * components * n, Some(ArrayBuffer));
+                let a = root.push(accessor(
+                    v,
+                    n,
+                    json::accessor::ComponentType::F32,
+                    kind,
+                    None,
+                ));
+                attributes.insert(Valid(semantic), a);
+            }
         }
         let shared_zero_normals = if self.frame_normals() {
             None

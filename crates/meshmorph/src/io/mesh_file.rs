@@ -236,6 +236,10 @@ pub struct MeshFile {
     /// found at the first write in the file's own format (poses are read
     /// as files too, and never written).
     normal_groups: OnceLock<NormalGroups>,
+    /// The texture coordinate of each vertex, when every corner of each
+    /// vertex has the same (else `None`); found at the first write in a
+    /// format of one value per vertex.
+    vertex_uvs: OnceLock<Option<Vec<[f64; 2]>>>,
     extras: Vec<String>,
     materials: FaceMaterials,
     colors: Vec<[f32; 4]>,
@@ -283,6 +287,7 @@ impl MeshFile {
             corner_normal: parsed.corner_normal,
             flat_faces: parsed.flat_faces,
             normal_groups: OnceLock::new(),
+            vertex_uvs: OnceLock::new(),
             extras: parsed.extras,
             materials: parsed.materials,
             colors: parsed.colors,
@@ -587,10 +592,10 @@ impl MeshFile {
     /// `uvs` left empty: see [`MeshFile::write_obj`]), PLY and OFF what
     /// is one per vertex, and PLY's texture coordinates per corner where a
     /// vertex has several.
-    fn vertex_attributes(&self, format: Format, positions: &[[f64; 3]]) -> VertexAttributes {
+    fn vertex_attributes(&self, format: Format, positions: &[[f64; 3]]) -> VertexAttributes<'_> {
         let n = self.mesh.num_vertices();
         let corners = self.faces.corner_vertices();
-        let colors = (!self.colors.is_empty()).then(|| self.colors.clone());
+        let colors = (!self.colors.is_empty()).then_some(&self.colors[..]);
         if format == Format::Obj {
             return VertexAttributes {
                 colors,
@@ -605,10 +610,19 @@ impl MeshFile {
             .flatten();
         let (mut uvs, mut corner_uvs) = (None, None);
         if self.has_corner_uvs() {
-            let uv_of = |c: usize| self.uvs[self.corner_uv[c] as usize];
-            uvs = per_vertex(n, corners, uv_of, [0.0; 2]);
+            uvs = self
+                .vertex_uvs
+                .get_or_init(|| {
+                    per_vertex(
+                        n,
+                        corners,
+                        |c| self.uvs[self.corner_uv[c] as usize],
+                        [0.0; 2],
+                    )
+                })
+                .as_deref();
             if uvs.is_none() && format == Format::Ply {
-                corner_uvs = Some((0..corners.len()).map(uv_of).collect());
+                corner_uvs = Some((&self.uvs[..], &self.corner_uv[..]));
             }
         }
         VertexAttributes {
@@ -663,7 +677,7 @@ impl MeshFile {
         super::obj::write_with_corners(
             w,
             positions,
-            extra.colors.as_deref(),
+            extra.colors,
             &self.faces,
             (uvs, &self.corner_uv),
             (&normals, &corner_normal),

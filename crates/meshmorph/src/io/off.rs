@@ -340,13 +340,13 @@ pub(super) fn write<'a, const D: usize>(
         if let Some(n) = &extra.normals {
             numbers(buf, &n[v]);
         }
-        if let Some(c) = &extra.colors {
+        if let Some(c) = extra.colors {
             for x in c[v] {
                 buf.push(b' ');
                 push_uint(buf, u64::from(channel_byte(x)));
             }
         }
-        if let Some(uv) = &extra.uvs {
+        if let Some(uv) = extra.uvs {
             numbers(buf, &uv[v]);
         }
         buf.push(b'\n');

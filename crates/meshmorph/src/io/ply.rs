@@ -789,10 +789,10 @@ pub(super) fn write<'a, const D: usize>(
         if let Some(n) = &extra.normals {
             n[v].into_iter().for_each(&mut put);
         }
-        if let Some(uv) = &extra.uvs {
+        if let Some(uv) = extra.uvs {
             uv[v].into_iter().for_each(&mut put);
         }
-        if let Some(c) = &extra.colors {
+        if let Some(c) = extra.colors {
             let k = if alpha { 4 } else { 3 };
             buf.extend(c[v][..k].iter().map(|&x| channel_byte(x)));
         }
@@ -816,16 +816,16 @@ pub(super) fn write<'a, const D: usize>(
                 .map_err(|_| invalid(format!("vertex index {i} does not fit a PLY `int`")))?;
             buf.extend_from_slice(&i.to_le_bytes());
         }
-        if let Some(uvs) = &extra.corner_uvs {
+        if let Some((uvs, of_corner)) = extra.corner_uvs {
             let count = 2 * face.len();
             if wide_texcoord {
                 buf.extend_from_slice(&(count as i32).to_le_bytes());
             } else {
                 buf.push(count as u8);
             }
-            for uv in &uvs[corner..corner + face.len()] {
-                for x in uv {
-                    buf.extend_from_slice(&(*x as f32).to_le_bytes());
+            for &k in &of_corner[corner..corner + face.len()] {
+                for x in uvs[k as usize] {
+                    buf.extend_from_slice(&(x as f32).to_le_bytes());
                 }
             }
         }

@@ -9,21 +9,24 @@
 //! cannot hold them, except PLY's texture coordinates, which then go per
 //! face corner (the `texcoord` face lists MeshLab writes).
 
-/// Per-vertex (or per-corner) values to write beside the positions.
+/// Per-vertex (or per-corner) values to write beside the positions: the
+/// normals of one shape, and the file's own texture coordinates and
+/// colours, borrowed.
 #[derive(Clone, Debug, Default)]
-pub(super) struct VertexAttributes {
+pub(super) struct VertexAttributes<'a> {
     /// One unit normal per vertex.
     pub(super) normals: Option<Vec<[f64; 3]>>,
     /// One `(u, v)` per vertex.
-    pub(super) uvs: Option<Vec<[f64; 2]>>,
+    pub(super) uvs: Option<&'a [[f64; 2]]>,
     /// One `(u, v)` per flat face corner, when the corners of a vertex
-    /// differ (only PLY holds them).
-    pub(super) corner_uvs: Option<Vec<[f64; 2]>>,
+    /// differ (only PLY holds them): the values and the index of each
+    /// corner's.
+    pub(super) corner_uvs: Option<(&'a [[f64; 2]], &'a [u32])>,
     /// One RGBA colour per vertex, 0 to 1, as the file stores it.
-    pub(super) colors: Option<Vec<[f32; 4]>>,
+    pub(super) colors: Option<&'a [[f32; 4]]>,
 }
 
-impl VertexAttributes {
+impl VertexAttributes<'_> {
     /// Whether any colour is not opaque.
     pub(super) fn has_alpha(&self) -> bool {
         self.colors
