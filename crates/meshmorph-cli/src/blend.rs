@@ -37,7 +37,7 @@ use crate::pictures::{self, GifArgs, PictureArgs};
 /// nothing, as for every command.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The base mesh (OBJ, OFF or PLY).
+    /// The base mesh (OBJ, OFF, PLY or STL).
     pub base: PathBuf,
     /// A shape and its weight, FILE=WEIGHT (repeat for more shapes; the
     /// weight any finite number); every shape has the base's vertices and

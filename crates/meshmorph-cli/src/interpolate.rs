@@ -34,7 +34,7 @@ use crate::outputs::{Plan, Staging};
 /// run did not write are removed; no other file is touched.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The keys, in order (OBJ, OFF or PLY): the first at t = 0, the
+    /// The keys, in order (OBJ, OFF, PLY or STL): the first at t = 0, the
     /// others at t = 1, 2, ...; every key has the first's vertices and
     /// triangles.
     #[arg(num_args = 2.., required = true, value_name = "KEY")]

@@ -15,6 +15,8 @@ pub enum FormatArg {
     Off,
     /// Stanford PLY (binary).
     Ply,
+    /// STL (binary).
+    Stl,
 }
 
 impl From<FormatArg> for Format {
@@ -23,6 +25,7 @@ impl From<FormatArg> for Format {
             FormatArg::Obj => Format::Obj,
             FormatArg::Off => Format::Off,
             FormatArg::Ply => Format::Ply,
+            FormatArg::Stl => Format::Stl,
         }
     }
 }
@@ -198,10 +201,12 @@ pub fn read_poses(
 
 /// How `file`'s format numbers its vertices and faces, the first number
 /// and its words: from 1 in OBJ, from 0 in PLY and OFF (as the tools that
-/// read them count).
+/// read them count), from 1 in STL (vertices in the order their points
+/// first occur).
 fn numbering(file: &MeshFile) -> (u64, &'static str) {
     match file.format() {
         meshmorph::io::Format::Obj => (1, "numbered from 1, as in OBJ"),
+        meshmorph::io::Format::Stl => (1, "numbered from 1 in the order of the file's facets"),
         _ => (0, "numbered from 0, as PLY and OFF count"),
     }
 }

@@ -11,7 +11,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use meshmorph::io::{read_mesh, write_mesh, Format};
+use meshmorph::io::{read_mesh, write_mesh, write_positions, Format};
 use meshmorph::shapes::{bend, curl, nearest_vertex_pairs, strip, tube};
 use meshmorph::{Mesh2, Mesh3};
 use serde_json::Value;
@@ -599,18 +599,18 @@ fn interpolate_non_planar_mesh_names_the_vertex() {
 #[test]
 fn interpolate_unknown_extension() {
     let p = Pair::bar();
-    let stl = p.src.with_extension("stl");
-    fs::copy(&p.src, &stl).unwrap();
+    let fbx = p.src.with_extension("fbx");
+    fs::copy(&p.src, &fbx).unwrap();
     let out = run([
         "interpolate".as_ref(),
-        stl.as_os_str(),
+        fbx.as_os_str(),
         p.tgt.as_os_str(),
         "-o".as_ref(),
         p.out.as_os_str(),
     ]);
     let err = fails(&out);
     assert_empty(&p.out);
-    assert_mentions(&err, &[&shown(&stl), "unknown mesh format"]);
+    assert_mentions(&err, &[&shown(&fbx), "unknown mesh format"]);
 }
 
 #[test]
@@ -668,6 +668,40 @@ fn interpolate_keys(keys: &[PathBuf], out: &Path, extra: &[&str]) -> Output {
     args.extend(["-o".as_ref(), out.as_os_str()]);
     args.extend(extra.iter().map(OsStr::new));
     run(args)
+}
+
+#[test]
+fn stl_keys_give_stl_frames_that_keep_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let (objs, _) = tube_keys(dir.path());
+    let keys: Vec<PathBuf> = objs[..2]
+        .iter()
+        .map(|p| {
+            let stl = p.with_extension("stl");
+            write_positions(&stl, read(p).positions(), read(p).triangles(), Format::Stl).unwrap();
+            stl
+        })
+        .collect();
+    let out = dir.path().join("out");
+    let glb = dir.path().join("tube.glb");
+    succeeds(&interpolate_keys(
+        &keys,
+        &out,
+        &["--frames", "3", "--gltf", glb.to_str().unwrap()],
+    ));
+    assert_eq!(
+        names(&out),
+        ["frame_0000.stl", "frame_0001.stl", "frame_0002.stl"]
+    );
+    // The first frame is the first key, byte for byte; the last has the
+    // last key's corners (its normals are the first key's, turned).
+    assert_eq!(
+        fs::read(out.join("frame_0000.stl")).unwrap(),
+        fs::read(&keys[0]).unwrap()
+    );
+    let last = read(&out.join("frame_0002.stl"));
+    assert!(max_diff(last.positions(), read(&keys[1]).positions()) == 0.0);
+    assert!(fs::metadata(&glb).unwrap().len() > 0);
 }
 
 #[test]
@@ -1829,7 +1863,7 @@ fn transfer_two_poses_with_the_same_stem() {
 fn correspond_bad_deformed_source_name_writes_nothing() {
     let rig = Rig::new();
     let corr = rig.path("map.corr");
-    let deformed = rig.path("deformed.stl");
+    let deformed = rig.path("deformed.fbx");
     let err = fails(&run([
         os("correspond"),
         os("--source-ref"),

@@ -787,14 +787,15 @@ fn formats_and_file_errors() {
     );
     assert_eq!(Format::Off.extension(), "off");
     assert_eq!("obj".parse::<Format>().unwrap(), Format::Obj);
-    assert!("stl"
+    assert_eq!(".STL".parse::<Format>().unwrap(), Format::Stl);
+    assert!("fbx"
         .parse::<Format>()
         .unwrap_err()
         .to_string()
-        .contains("obj, off, ply"));
-    let e = read_mesh(Path::new("mesh.stl")).unwrap_err();
+        .contains("obj, off, ply, stl"));
+    let e = read_mesh(Path::new("mesh.fbx")).unwrap_err();
     assert!(
-        matches!(e, Error::UnknownFormat { .. }) && e.to_string().contains("mesh.stl"),
+        matches!(e, Error::UnknownFormat { .. }) && e.to_string().contains("mesh.fbx"),
         "{e}"
     );
     let e = read_mesh(Path::new("/nonexistent/dir/mesh.obj")).unwrap_err();

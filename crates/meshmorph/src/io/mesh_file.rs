@@ -8,7 +8,8 @@
 //! `g`, `o`, `s`, `mtllib` and `usemtl` statements, the comments and the
 //! polygons stay as they were, in their order; in PLY every other property
 //! and element, in its type and encoding; in OFF the polygons, colours and
-//! comments. Only the numbers that change are rewritten (with the shortest
+//! comments; in STL the header, the facet order and the facet attributes.
+//! Only the numbers that change are rewritten (with the shortest
 //! representation that reads back to the same `f64`; in binary PLY in the
 //! property's own type), and an OBJ written to another folder has its
 //! relative `mtllib` paths made to resolve from there to the same `.mtl`
@@ -551,6 +552,7 @@ impl MeshFile {
             Format::Obj => self.write_obj(w, positions, &extra),
             Format::Off => super::off::write(w, positions, faces(), self.faces.len(), &extra),
             Format::Ply => super::ply::write(w, positions, faces(), self.faces.len(), &extra),
+            Format::Stl => super::stl::write(w, positions, self.mesh.triangles()),
         })?;
         Ok(self
             .extras
@@ -591,10 +593,13 @@ impl MeshFile {
     /// OBJ all of them (per corner, with `VertexAttributes::normals` and
     /// `uvs` left empty: see [`MeshFile::write_obj`]), PLY and OFF what
     /// is one per vertex, and PLY's texture coordinates per corner where a
-    /// vertex has several.
+    /// vertex has several; STL none.
     fn vertex_attributes(&self, format: Format, positions: &[[f64; 3]]) -> VertexAttributes<'_> {
         let n = self.mesh.num_vertices();
         let corners = self.faces.corner_vertices();
+        if format == Format::Stl {
+            return VertexAttributes::default();
+        }
         let colors = (!self.colors.is_empty()).then_some(&self.colors[..]);
         if format == Format::Obj {
             return VertexAttributes {
@@ -852,7 +857,7 @@ impl MeshFile {
             b.extend_from_slice(other);
             b.sort_unstable();
             if a != b {
-                let line = (format != Format::Ply).then(|| faces.line(f));
+                let line = Some(faces.line(f)).filter(|&l| l > 0 && format != Format::Ply);
                 return Err(Error::FaceMismatch {
                     face: f,
                     line,
@@ -932,6 +937,7 @@ pub(super) fn parse_parts(bytes: &[u8], format: Format, path: &Path, keep: Keep)
         Format::Obj => super::obj::parse(bytes, path, keep),
         Format::Off => super::off::parse(bytes, path, keep),
         Format::Ply => super::ply::parse(bytes, path, keep),
+        Format::Stl => super::stl::parse(bytes, path, keep),
     }
 }
 

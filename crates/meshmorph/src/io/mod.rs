@@ -1,4 +1,4 @@
-//! Reading and writing meshes: OBJ, OFF and PLY; animations as binary glTF
+//! Reading and writing meshes: OBJ, OFF, PLY and STL; animations as binary glTF
 //! ([`gltf`]).
 //!
 //! - [`read_mesh`] / [`read_mesh_as`] / [`parse_mesh`] read a triangle mesh
@@ -37,15 +37,21 @@
 //!   `vertex` with scalar properties `x`, `y` and optionally `z` of any type,
 //!   element `face` with a list property `vertex_indices` or `vertex_index`;
 //!   every other element and property is skipped.
+//! - **STL**: ASCII (`solid` ... `endsolid`, several solids in a row) and
+//!   binary (told by its size: binary files whose header starts with
+//!   `solid` are common); corners at the same point are one vertex (see
+//!   `stl.rs`).
 //!
 //! Polygons with more than three vertices are triangulated by ear clipping in
 //! the polygon's best-fit plane, keeping the polygon's orientation (a convex
 //! quad is split along its shorter diagonal).
 //!
-//! Writing produces `v x y z` / `f a b c` OBJ, standard OFF, and
-//! `binary_little_endian` PLY with `double` coordinates. Coordinates are
-//! written with the shortest representation that reads back to the same
-//! `f64`, so reading a written mesh gives back exactly the same mesh.
+//! Writing produces `v x y z` / `f a b c` OBJ, standard OFF,
+//! `binary_little_endian` PLY with `double` coordinates, and binary STL
+//! (`float` corners, as the format holds them). Coordinates of the text
+//! formats and PLY are written with the shortest representation that reads
+//! back to the same `f64`, so reading such a written mesh gives back exactly
+//! the same mesh.
 
 mod appearance;
 mod atomic;
@@ -59,6 +65,7 @@ mod normal_groups;
 mod obj;
 mod off;
 mod ply;
+mod stl;
 mod triangulate;
 mod vertex_attributes;
 
@@ -84,18 +91,20 @@ pub enum Format {
     Off,
     /// Stanford polygon format (`.ply`).
     Ply,
+    /// Stereolithography (`.stl`), ASCII or binary.
+    Stl,
 }
 
 impl Format {
     /// Every format, in the order error messages list them.
-    const ALL: [Format; 3] = [Format::Obj, Format::Off, Format::Ply];
+    const ALL: [Format; 4] = [Format::Obj, Format::Off, Format::Ply, Format::Stl];
 
     /// The format a file name's extension names (case-insensitive:
     /// `mesh.OBJ` is OBJ).
     ///
     /// # Errors
     /// [`Error::UnknownFormat`] when the path has no extension or one that
-    /// is not `obj`, `off` or `ply`.
+    /// is not `obj`, `off`, `ply` or `stl`.
     pub fn from_path(path: &Path) -> Result<Format> {
         path.extension()
             .and_then(|e| e.to_str())
@@ -110,18 +119,19 @@ impl Format {
     }
 
     /// The usual file name extension, lower case and without the dot
-    /// (`"obj"`, `"off"` or `"ply"`).
+    /// (`"obj"`, `"off"`, `"ply"` or `"stl"`).
     pub fn extension(self) -> &'static str {
         match self {
             Format::Obj => "obj",
             Format::Off => "off",
             Format::Ply => "ply",
+            Format::Stl => "stl",
         }
     }
 }
 
 impl fmt::Display for Format {
-    /// The extension: `obj`, `off` or `ply`.
+    /// The extension: `obj`, `off`, `ply` or `stl`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.extension())
     }
@@ -130,7 +140,7 @@ impl fmt::Display for Format {
 impl FromStr for Format {
     type Err = Error;
 
-    /// Parses `obj`, `off` or `ply` (case-insensitive, an optional leading
+    /// Parses `obj`, `off`, `ply` or `stl` (case-insensitive, an optional leading
     /// dot is allowed).
     ///
     /// # Errors
@@ -142,7 +152,7 @@ impl FromStr for Format {
             .find(|f| f.extension().eq_ignore_ascii_case(name))
             .ok_or_else(|| {
                 Error::InvalidArgument(format!(
-                    "unknown mesh format `{s}`: expected one of obj, off, ply"
+                    "unknown mesh format `{s}`: expected one of obj, off, ply, stl"
                 ))
             })
     }
@@ -233,6 +243,7 @@ pub fn write_positions<const D: usize>(
             triangles.len(),
             &VertexAttributes::default(),
         ),
+        Format::Stl => stl::write(w, positions, triangles),
     })
 }
 
@@ -813,7 +824,7 @@ mod tests {
         );
         assert_eq!(Format::from_path(Path::new("b.ply")).unwrap(), Format::Ply);
         assert!(matches!(
-            Format::from_path(Path::new("b.stl")),
+            Format::from_path(Path::new("b.stp")),
             Err(Error::UnknownFormat { .. })
         ));
         assert!(matches!(
@@ -821,7 +832,7 @@ mod tests {
             Err(Error::UnknownFormat { .. })
         ));
         assert_eq!("OFF".parse::<Format>().unwrap(), Format::Off);
-        let e = "stl".parse::<Format>().unwrap_err().to_string();
+        let e = "stp".parse::<Format>().unwrap_err().to_string();
         assert!(e.contains("obj, off, ply"), "{e}");
         assert_eq!(Format::Ply.to_string(), "ply");
     }
