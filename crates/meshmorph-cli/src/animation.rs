@@ -288,7 +288,7 @@ where
                 let begin = Instant::now();
                 let mut dropped = Vec::new();
                 staging.write(outputs.meshes[k], |path| {
-                    check_finite(&positions, k, t)?;
+                    check_finite(&positions, k, t, morph.num_keys() - 1)?;
                     match file {
                         Some(file) => {
                             let lifted: Vec<[f64; 3]> = positions
@@ -411,16 +411,39 @@ where
 
 /// Refuses a frame whose coordinates overflowed (inputs near the largest
 /// representable number, or far extrapolation).
-fn check_finite<const D: usize>(positions: &[[f64; D]], frame: usize, t: f64) -> Result<()> {
+/// Refuses a frame at time `t` (keys at `0..=last`) with a coordinate
+/// that overflowed: far outside the keys the times are the cause, else the
+/// meshes' size.
+fn check_finite<const D: usize>(
+    positions: &[[f64; D]],
+    frame: usize,
+    t: f64,
+    last: usize,
+) -> Result<()> {
     if let Some(v) = positions
         .iter()
         .position(|p| !p.iter().all(|x| x.is_finite()))
     {
+        let advice = if (0.0..=last as f64).contains(&t) {
+            "scale the meshes down".to_string()
+        } else {
+            format!("extrapolate less far: use times nearer the keys' (0 to {last})")
+        };
         bail!(
-            "frame {frame} (t = {t}): vertex {v} overflows (its coordinates exceed the range of floating-point numbers); scale the meshes down"
+            "frame {frame} (t = {}): vertex {v} overflows (its coordinates exceed the range of floating-point numbers); {advice}",
+            compact(t)
         );
     }
     Ok(())
+}
+
+/// `t` as written by hand: `0.25`, or `1e308` rather than 309 digits.
+fn compact(t: f64) -> String {
+    if t != 0.0 && !(1e-4..1e6).contains(&t.abs()) {
+        format!("{t:e}")
+    } else {
+        t.to_string()
+    }
 }
 
 /// The frames of an interpolation at `times`, recomputed (one

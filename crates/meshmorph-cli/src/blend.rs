@@ -16,7 +16,7 @@ use serde::Serialize;
 
 use crate::gltf::GltfArgs;
 use crate::memory;
-use crate::output::{self, positive_number, FormatArg};
+use crate::output::{self, frame_rate, FormatArg};
 use crate::outputs::Staging;
 use crate::outputs::{Output, Plan};
 use crate::pictures::{self, GifArgs, PictureArgs};
@@ -75,7 +75,7 @@ pub struct Args {
     pub gltf: GltfArgs,
     /// Frame rate of the GIF and of the glTF animation (the base turning
     /// into the blend in 24 steps).
-    #[arg(long, default_value_t = 12.0, value_name = "FPS", value_parser = positive_number)]
+    #[arg(long, default_value_t = 12.0, value_name = "FPS", value_parser = frame_rate)]
     pub fps: f64,
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
@@ -180,6 +180,14 @@ struct Outputs {
 pub fn run(args: &Args) -> Result<()> {
     let start = Instant::now();
     let format = output::format_or_like(args.format, &args.output)?;
+    if let Ok(named) = Format::from_path(&args.output) {
+        if named != format {
+            bail!(
+                "the output `{}` is named as {named} but --format asks for {format}: name it .{format}, or leave --format out",
+                args.output.display()
+            );
+        }
+    }
     let mut plan = Plan::new();
     plan.input(&args.base, "base mesh");
     for (path, _) in &args.shapes {

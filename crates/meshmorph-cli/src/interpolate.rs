@@ -14,8 +14,9 @@ use crate::animation::{write_frames, FrameOutputs, Report, Run, Setup};
 use crate::gltf::GltfArgs;
 use crate::memory;
 use crate::output::WeldedFile;
-use crate::output::{self, positive_number, FormatArg};
+use crate::output::{self, finite_number, frame_rate, FormatArg};
 use crate::outputs::{Plan, Staging};
+use crate::pictures::{gif_file, png_file};
 
 /// Interpolate through two or more meshes with the same triangles (keys),
 /// planar or surfaces in space.
@@ -75,6 +76,7 @@ pub struct FrameArgs {
         value_delimiter = ',',
         allow_hyphen_values = true,
         value_name = "LIST",
+        value_parser = finite_number,
         conflicts_with = "frames"
     )]
     pub times: Option<Vec<f64>>,
@@ -102,8 +104,8 @@ pub struct FrameArgs {
     /// over relative to their neighbours in the first key).
     #[arg(long)]
     pub allow_flips: bool,
-    /// Also write an animated GIF of the frames to FILE.
-    #[arg(long, value_name = "FILE")]
+    /// Also write an animated GIF of the frames to FILE.gif.
+    #[arg(long, value_name = "FILE.gif", value_parser = gif_file)]
     pub gif: Option<PathBuf>,
     /// GIF width in pixels.
     #[arg(long, default_value_t = 640, value_name = "PX", value_parser = clap::value_parser!(u32).range(16..=8192))]
@@ -112,7 +114,7 @@ pub struct FrameArgs {
     #[arg(long, value_name = "PX", value_parser = clap::value_parser!(u32).range(16..=8192))]
     pub gif_height: Option<u32>,
     /// Frame rate of the GIF and of the glTF animation.
-    #[arg(long, default_value_t = 25.0, value_name = "FPS", value_parser = positive_number)]
+    #[arg(long, default_value_t = 25.0, value_name = "FPS", value_parser = frame_rate)]
     pub fps: f64,
     /// Play the GIF forward only, instead of forward then back.
     #[arg(long)]
@@ -123,7 +125,7 @@ pub struct FrameArgs {
     pub svg: bool,
     /// Also write a still picture of the first, middle and last frames side
     /// by side (each half --gif-width pixels wide).
-    #[arg(long, value_name = "FILE.png")]
+    #[arg(long, value_name = "FILE.png", value_parser = png_file)]
     pub png: Option<PathBuf>,
     #[command(flatten)]
     pub gltf: GltfArgs,

@@ -495,6 +495,28 @@ pub fn positive_number(text: &str) -> Result<f64, String> {
     }
 }
 
+/// A finite number (a clap value parser): NaN and infinities are refused
+/// with the command line's other mistakes.
+pub fn finite_number(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err(format!("`{text}` is not a finite number")),
+    }
+}
+
+/// A frame rate in [`meshmorph::FRAME_RATES`] (a clap value parser).
+pub fn frame_rate(text: &str) -> Result<f64, String> {
+    let rates = meshmorph::FRAME_RATES;
+    match text.parse::<f64>() {
+        Ok(x) if rates.contains(&x) => Ok(x),
+        _ => Err(format!(
+            "`{text}` is not a frame rate from {} to {} frames per second",
+            rates.start(),
+            rates.end()
+        )),
+    }
+}
+
 /// Prints each warning on stderr.
 pub fn print_warnings(warnings: &[String]) {
     for w in warnings {

@@ -153,14 +153,42 @@ fn space_row<'a>(triangles: &'a [[u32; 3]], poses: Vec<&'a [[f64; 3]]>) -> GridR
     }
 }
 
+/// A path ending in `.ext` (any case), for a file written in that format
+/// (a clap value parser's body): a picture named otherwise would not open
+/// as what it is.
+fn file_named(text: &str, ext: &str) -> Result<PathBuf, String> {
+    let path = PathBuf::from(text);
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case(ext))
+    {
+        Ok(path)
+    } else {
+        Err(format!(
+            "`{text}`: the file is written as {}; name it with the extension .{ext}",
+            ext.to_uppercase()
+        ))
+    }
+}
+
+/// A `.png` path (a clap value parser).
+pub fn png_file(text: &str) -> Result<PathBuf, String> {
+    file_named(text, "png")
+}
+
+/// A `.gif` path (a clap value parser).
+pub fn gif_file(text: &str) -> Result<PathBuf, String> {
+    file_named(text, "gif")
+}
+
 /// `--png` and `--gif` of the commands on meshes in space.
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct PictureArgs {
     /// Also write a still picture (PNG) of the result.
-    #[arg(long, value_name = "FILE.png")]
+    #[arg(long, value_name = "FILE.png", value_parser = png_file)]
     pub png: Option<PathBuf>,
     /// Also write an animated GIF of the result.
-    #[arg(long, value_name = "FILE.gif")]
+    #[arg(long, value_name = "FILE.gif", value_parser = gif_file)]
     pub gif: Option<PathBuf>,
 }
 

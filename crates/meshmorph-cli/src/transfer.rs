@@ -16,7 +16,7 @@ use serde::Serialize;
 
 use crate::gltf::GltfArgs;
 use crate::memory;
-use crate::output::{self, positive_number, FormatArg};
+use crate::output::{self, finite_number, frame_rate, FormatArg};
 use crate::outputs::{Output, Plan, Staging};
 use crate::pictures::PictureArgs;
 use crate::progress;
@@ -39,11 +39,11 @@ pub struct CorrespondArgs {
     #[arg(long)]
     pub no_align: bool,
     /// Weight of the smoothness term w_S [default: 1].
-    #[arg(long, value_name = "W", allow_negative_numbers = true)]
+    #[arg(long, value_name = "W", allow_negative_numbers = true, value_parser = finite_number)]
     pub smoothness_weight: Option<f64>,
     /// Weight of the identity term w_I, above 0 [default: 0.3]: each
     /// triangle keeps its shape up to a turn and a uniform scale.
-    #[arg(long, value_name = "W", allow_negative_numbers = true)]
+    #[arg(long, value_name = "W", allow_negative_numbers = true, value_parser = finite_number)]
     pub identity_weight: Option<f64>,
     /// Weights w_C of the closest-point rounds, comma-separated, after a
     /// first round without closest points, with distances measured in
@@ -53,17 +53,18 @@ pub struct CorrespondArgs {
         long,
         value_delimiter = ',',
         value_name = "LIST",
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = finite_number
     )]
     pub closest_weights: Option<Vec<f64>>,
     /// Largest distance to a closest point, as a fraction of the target's
     /// bounding-box diagonal [default: 0.02].
-    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
+    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true, value_parser = finite_number)]
     pub closest_cutoff: Option<f64>,
     /// Largest centroid distance of matched triangles, as a fraction of the
     /// target's bounding-box diagonal, and never less than the mean edge
     /// length of either mesh [default: 0.01].
-    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
+    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true, value_parser = finite_number)]
     pub match_threshold: Option<f64>,
 }
 
@@ -353,7 +354,7 @@ pub struct TransferArgs {
     #[arg(long, requires = "gltf")]
     pub gltf_shapes: bool,
     /// Frame rate of the glTF animation and of the GIF.
-    #[arg(long, default_value_t = 25.0, value_name = "FPS", value_parser = positive_number)]
+    #[arg(long, default_value_t = 25.0, value_name = "FPS", value_parser = frame_rate)]
     pub fps: f64,
     #[command(flatten)]
     pub pictures: PictureArgs,

@@ -3,6 +3,13 @@
 //! memory is one source, an interpolation recomputing each frame (one
 //! back-substitution) is another.
 
+use std::ops::RangeInclusive;
+
+/// The frame rates an animation may be written at, in frames per second:
+/// from one frame in 100 seconds (a GIF shows a picture for at most 655 s)
+/// to 1000 (glTF's `float` times then keep a million frames apart).
+pub const FRAME_RATES: RangeInclusive<f64> = 0.01..=1000.0;
+
 /// Frames of `D`-dimensional vertex positions, numbered from 0, each
 /// available as often as a writer asks (a writer may ask twice: once to fit
 /// a view or find bounds, once to write).

@@ -81,7 +81,7 @@ pub use correspond::{
 };
 pub use correspondence::Correspondence;
 pub use error::{Error, Result};
-pub use frame_source::FrameSource;
+pub use frame_source::{FrameSource, FRAME_RATES};
 pub use gradient::TriangleMaps;
 pub use interpolate::{
     Blend, Blend3, FrameWorkspace, Interpolator, InterpolatorOptions, PreparedSurface, RestSystem,

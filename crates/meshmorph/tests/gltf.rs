@@ -312,6 +312,13 @@ fn bad_input_is_refused_and_leaves_no_file() {
         ),
         &["frame rate"],
     );
+    // Rates whose `float` times would overflow or all round to 0.
+    for fps in [1e-20, 1e50] {
+        expect(
+            write_glb(&path, &base, &good, &names(1), &opts.clone().with_fps(fps)),
+            &["frame rate must be from 0.01 to 1000"],
+        );
+    }
     expect(
         write_glb(&path, &base, &good, &names(2), &opts),
         &["1 frames but 2 names"],

@@ -262,8 +262,8 @@ pub fn estimate_glb_bytes<const D: usize>(
 ///
 /// # Errors
 /// [`Error::InvalidArgument`] when `names` and `frames` differ in length,
-/// there are no frames, `D` is not 2 or 3, the fps is not a finite positive
-/// number, the corner texture coordinates do not match the triangles or are
+/// there are no frames, `D` is not 2 or 3, the fps is not in
+/// [`FRAME_RATES`](crate::FRAME_RATES), the corner texture coordinates do not match the triangles or are
 /// not finite ([`Error::InvalidTriangle`]), or the file would pass 4 GiB;
 /// [`Error::InvalidMesh`] naming the frame when it has the wrong number of
 /// vertices, [`Error::InvalidVertex`] the frame and the vertex with a
@@ -391,9 +391,11 @@ impl<'a, const D: usize> Layout<'a, D> {
                 names.len()
             )));
         }
-        if !(options.fps.is_finite() && options.fps > 0.0) {
+        if !crate::FRAME_RATES.contains(&options.fps) {
             return Err(Error::InvalidArgument(format!(
-                "the frame rate must be a finite number above 0, not {}",
+                "the frame rate must be from {} to {} frames per second, not {}",
+                crate::FRAME_RATES.start(),
+                crate::FRAME_RATES.end(),
                 options.fps
             )));
         }

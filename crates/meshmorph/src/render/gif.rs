@@ -29,7 +29,8 @@ pub struct GifOptions {
     pub margin_px: u32,
     /// Frames per second (25). GIF delays are whole hundredths of a second
     /// and browsers slow down anything faster than 50, so rates above 50
-    /// play at 50; other rates are kept on average.
+    /// play at 50; other rates are kept on average. A rate outside
+    /// [`FRAME_RATES`](crate::FRAME_RATES) plays at the nearest end of it.
     pub fps: f64,
     /// How long to pause on the first and on the last frame (0.5 s).
     pub hold_ends: Duration,
@@ -64,10 +65,11 @@ impl GifOptions {
     /// `0, 1, ..., n - 1` (then `n - 2, ..., 1` when `boomerang`), each
     /// for one frame time, the first and last also for `hold_ends`.
     pub fn schedule(&self, num_frames: usize) -> Vec<(usize, Duration)> {
-        let fps = if self.fps.is_finite() && self.fps > 0.0 {
-            self.fps
-        } else {
+        let (slowest, fastest) = (*crate::FRAME_RATES.start(), *crate::FRAME_RATES.end());
+        let fps = if self.fps.is_nan() {
             25.0
+        } else {
+            self.fps.clamp(slowest, fastest)
         };
         let step = Duration::from_secs_f64(1.0 / fps);
         let mut order: Vec<usize> = (0..num_frames).collect();
@@ -530,6 +532,22 @@ mod tests {
             self.1.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             use_frame(&self.0[k])
         }
+    }
+
+    #[test]
+    fn rates_beyond_the_frame_rates_play_at_their_ends() {
+        let step = |fps: f64| {
+            let o = GifOptions {
+                fps,
+                boomerang: false,
+                ..GifOptions::default()
+            };
+            o.schedule(3)[1].1.as_secs_f64()
+        };
+        assert_eq!(step(1e-20), 100.0);
+        assert_eq!(step(0.0), 100.0);
+        assert_eq!(step(1e50), 1e-3);
+        assert_eq!(step(f64::NAN), 0.04);
     }
 
     #[test]
