@@ -124,6 +124,67 @@ fn eyes_and_teeth_turn_with_the_head() {
     }
 }
 
+/// An octahedron of radius `r` centred at `c`.
+fn octahedron(c: [f64; 3], r: f64) -> Mesh3 {
+    let mut positions = Vec::new();
+    for k in 0..3 {
+        for sign in [1.0, -1.0] {
+            let mut p = c;
+            p[k] += sign * r;
+            positions.push(p);
+        }
+    }
+    // +x -x +y -y +z -z: each face one of each axis, wound outwards.
+    let triangles = vec![
+        [0, 2, 4],
+        [2, 1, 4],
+        [1, 3, 4],
+        [3, 0, 4],
+        [2, 0, 5],
+        [1, 2, 5],
+        [3, 1, 5],
+        [0, 3, 5],
+    ];
+    Mesh::new(positions, triangles).unwrap()
+}
+
+#[test]
+fn a_ball_centred_in_a_pipe_turns_with_the_pipe() {
+    // Centred on the axis, the ball's offset from the pipe's vertices
+    // around it is zero up to rounding whichever way the pipe turns: it
+    // must still follow the pipe (it slid along the axis at some angles).
+    // The keys as a file holds them: 12 significant digits.
+    let written = |m: &Mesh3| {
+        let p: Vec<[f64; 3]> = m
+            .positions()
+            .iter()
+            .map(|p| p.map(|x| format!("{x:.11e}").parse().unwrap()))
+            .collect();
+        m.with_positions(p).unwrap()
+    };
+    let pipe = tube(4.0, 0.6, 15, 16);
+    let rest = written(&joined(&[pipe, octahedron([3.5, 0.0, 0.0], 0.2)]));
+    let options = InterpolatorOptions::default();
+    for degrees in [30.0, 60.0, 90.0, 120.0, 150.0] {
+        // About the pipe's middle, (2, 0, 0).
+        let (s, c) = (degrees * PI / 180.0).sin_cos();
+        let about_middle: Vec<[f64; 3]> = rest
+            .positions()
+            .iter()
+            .map(|&[x, y, z]| [c * (x - 2.0) - s * y + 2.0, s * (x - 2.0) + c * y, z])
+            .collect();
+        let turned = written(&rest.with_positions(about_middle).unwrap());
+        let keys = [rest.clone(), turned.clone()];
+        let morph = Sequence::new(&keys, &options).unwrap();
+        assert_eq!(morph.parts_following_host(), 1, "{degrees}°");
+        let err = non_rigidity(rest.positions(), &morph.at(0.5));
+        assert!(err < 1e-8, "{degrees}°: not rigid ({err:.2e})");
+        let blend = Blend::new(&rest, std::slice::from_ref(&turned), &options).unwrap();
+        assert_eq!(blend.parts_following_host(), 1, "{degrees}°");
+        assert!(non_rigidity(rest.positions(), &blend.at(&[0.5])) < 1e-8);
+    }
+}
+
 #[test]
 fn eyes_that_move_in_their_sockets_reach_every_key() {
     // The head turns by 120 degrees while the eyes slide along its surface.

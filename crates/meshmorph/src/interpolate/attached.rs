@@ -61,11 +61,13 @@ pub(crate) struct PartAnchors {
 }
 
 /// A part's offset from its anchors in one key: in the world, and in the
-/// anchors' frame of the first key.
+/// anchors' frame of the first key; with the size of the coordinates it
+/// was computed from (what its rounding is relative to).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct KeyOffset<const D: usize> {
     world: [f64; D],
     pub(crate) local: [f64; D],
+    size: f64,
 }
 
 /// Which anchored parts of a sequence or blend follow their anchors.
@@ -183,10 +185,15 @@ impl PartAnchors {
             .iter()
             .map(|(p, anchors)| {
                 let (_, b, R) = rigid_fit(anchors, |v| first[v], |v| key[v]);
-                let world = sub(centroids[*p as usize], b);
+                let centroid = centroids[*p as usize];
+                let world = sub(centroid, b);
                 // Rᵀ world: the offset in the anchors' frame of the first key.
                 let local = std::array::from_fn(|i| (0..D).map(|k| R[k][i] * world[k]).sum());
-                KeyOffset { world, local }
+                let size = anchors
+                    .iter()
+                    .map(|&v| norm(key[v as usize]))
+                    .fold(norm(centroid), f64::max);
+                KeyOffset { world, local, size }
             })
             .collect()
     }
@@ -202,10 +209,13 @@ impl PartAnchors {
                         .map(|k| norm(sub(of(&k[i]), of(&keys[0][i]))))
                         .sum()
                 };
-                // A tie (anchors that do not turn between the keys) goes to
-                // the anchors: in between the keys the surface around the
-                // part may still move, and the part goes with it.
-                let scale: f64 = keys.iter().map(|k| norm(k[i].world)).sum();
+                // A tie (anchors that do not turn between the keys, or a
+                // part centred on its anchors, whose offset is rounding
+                // whichever way they turn) goes to the anchors: in between
+                // the keys the surface around the part may still move, and
+                // the part goes with it. Rounding is relative to the
+                // coordinates the offsets come from, not to the offsets.
+                let scale: f64 = keys.iter().map(|k| k[i].size).sum();
                 spread(&|o| o.local) <= spread(&|o| o.world) + TIE * scale
             };
         }
@@ -268,4 +278,42 @@ fn on_a_line(points: &[[f64; 3]]) -> bool {
         let d = sub(p, first);
         norm(cross(d, axis)) / length <= 1e-6 * length
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_part_centred_on_its_anchors_follows_them() {
+        // A ball centred in a pipe of size 4 that turns: its offsets from
+        // the pipe's vertices around it are rounding, 2e-12 in the world
+        // and a hair more in the anchors' frame (as read from files of 12
+        // digits). That is a tie, and the ball goes with the pipe.
+        let anchors = PartAnchors {
+            count: 2,
+            parts: vec![(1, vec![0, 1, 2])],
+        };
+        let key = |world: [f64; 3], local: [f64; 3]| {
+            vec![KeyOffset {
+                world,
+                local,
+                size: 4.0,
+            }]
+        };
+        let keys = [
+            key([0.0, 6.9e-18, -1.4e-17], [0.0, 6.9e-18, -1.4e-17]),
+            key(
+                [2.0827783941967937e-12, 6.25e-14, -1.4e-17],
+                [2.0827818646478e-12, 6.25e-14, -1.4e-17],
+            ),
+        ];
+        assert!(anchors.attached(&keys).holds(1));
+        // Offsets that differ in the anchors' frame beyond rounding do not.
+        let keys = [
+            key([0.5, 0.0, 0.0], [0.5, 0.0, 0.0]),
+            key([0.5, 0.0, 0.0], [0.0, 0.5, 0.0]),
+        ];
+        assert!(!anchors.attached(&keys).holds(1));
+    }
 }
