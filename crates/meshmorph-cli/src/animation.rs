@@ -354,13 +354,8 @@ where
         let options = GltfOptions::default().with_fps(args.fps).with_name(name);
         let base = look.base(base, morph.triangles());
         staging.write(output, |path| {
-            Ok(write_glb_frames(
-                path,
-                &base,
-                &recomputed,
-                &names,
-                &options,
-            )?)
+            let counted = crate::progress::Counted::new(&recomputed, "glTF");
+            Ok(write_glb_frames(path, &base, &counted, &names, &options)?)
         })?;
         files_written.extend(args.gltf.gltf.clone());
     }

@@ -100,7 +100,8 @@ pub fn write_gif<const D: usize>(
         boomerang: args.boomerang,
         ..GifOptions::default()
     };
-    let frames = InDim(frames);
+    let counted = crate::progress::Counted::new(frames, "GIF");
+    let frames = InDim(&counted);
     if D == 2 {
         render::write_gif_2d_frames(path, &frames, triangles, &options, &style_2d())?;
     } else {
