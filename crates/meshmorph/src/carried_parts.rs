@@ -19,12 +19,17 @@ use rstar::primitives::GeomWithData;
 use rstar::RTree;
 
 use crate::geometry::{add, sub};
+use crate::nearest_vertices::{nearest_with_ties, VertexTree};
 use crate::similarity::rigid_fit;
 use crate::topology::Components;
 
 /// How many nearest vertices of the surrounding parts each vertex of a
-/// carried part contributes to its anchors.
+/// carried part contributes to its anchors (more where several are as
+/// near: `nearest_vertices.rs`).
 const ANCHORS_PER_VERTEX: usize = 4;
+
+/// How many nearest vertices are looked at for those.
+const ANCHOR_SEARCH: usize = 16 * ANCHORS_PER_VERTEX;
 
 /// How close, relative to half a part's area, its paired area counts as
 /// exactly half. Far above the rounding of summing the areas (about 1e-16
@@ -83,7 +88,7 @@ impl CarriedParts {
                 others.push(GeomWithData::new(positions[v], v as u32));
             }
         }
-        let tree = RTree::bulk_load(others);
+        let tree: VertexTree = RTree::bulk_load(others);
         let parts = members
             .into_iter()
             .filter(|m| !m.is_empty())
@@ -91,9 +96,13 @@ impl CarriedParts {
                 let mut anchors: Vec<u32> = vertices
                     .iter()
                     .flat_map(|&v| {
-                        tree.nearest_neighbor_iter(positions[v as usize])
-                            .take(ANCHORS_PER_VERTEX)
-                            .map(|a| a.data)
+                        nearest_with_ties(
+                            &tree,
+                            positions[v as usize],
+                            ANCHORS_PER_VERTEX,
+                            ANCHOR_SEARCH,
+                            |_| true,
+                        )
                     })
                     .collect();
                 anchors.sort_unstable();

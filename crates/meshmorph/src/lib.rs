@@ -62,6 +62,7 @@ pub mod io;
 mod markers;
 mod matrix;
 mod mesh;
+mod nearest_vertices;
 mod partner_parts;
 mod polar;
 pub mod polar3;

@@ -1712,3 +1712,60 @@ fn what_stays_still_in_the_source_stays_still_in_the_target() {
     assert!(far > 0.1 * diagonal);
     assert!(near < 1e-3 * diagonal);
 }
+
+/// An octahedron of radius `r` centred at `c`.
+fn octahedron(c: P3, r: f64) -> Mesh3 {
+    let mut positions = Vec::new();
+    for k in 0..3 {
+        for sign in [1.0, -1.0] {
+            let mut p = c;
+            p[k] += sign * r;
+            positions.push(p);
+        }
+    }
+    let triangles = vec![
+        [0, 2, 4],
+        [2, 1, 4],
+        [1, 3, 4],
+        [3, 0, 4],
+        [2, 0, 5],
+        [1, 2, 5],
+        [3, 1, 5],
+        [0, 3, 5],
+    ];
+    Mesh3::new(positions, triangles).unwrap()
+}
+
+#[test]
+fn a_ball_carried_in_a_pipe_goes_to_one_place_whatever_the_rounding() {
+    // A ball centred on the target pipe's axis is carried by the pipe's
+    // vertices around it, whole rings equally near. The target in single
+    // precision (as a float PLY holds it) must carry it to the same place
+    // up to that rounding: taking 4 of a ring's vertices by the last bits
+    // of their coordinates moved it by 0.15 % of the diagonal.
+    let s0 = THIN.mesh();
+    let exact = union(&THICK.mesh(), &octahedron([3.5, 0.0, 0.0], 0.2));
+    let single = mapped(&exact, |p| p.map(|x| f64::from(x as f32)));
+    let markers = tube_markers(THIN, THICK, &tube_picks(THIN, 4));
+    let pose = bend(&s0, 4.0, 1.2);
+    let carried_ball = |target: &Mesh3| {
+        let result = correspond(
+            &s0,
+            target,
+            &markers,
+            &CorrespondOptions::default(),
+            &mut |_| {},
+        )
+        .unwrap();
+        let transfer =
+            Transfer::new(&s0, target, &result.correspondence, &Default::default()).unwrap();
+        assert_eq!(transfer.carried_parts(), 1);
+        let out = transfer.apply(&pose).unwrap();
+        out[out.len() - 6..].to_vec()
+    };
+    let d = max_distance(&carried_ball(&exact), &carried_ball(&single));
+    assert!(
+        d < 1e-5 * exact.bounding_box_diagonal(),
+        "the ball moves by {d:.2e} with the rounding"
+    );
+}

@@ -33,11 +33,12 @@ use rstar::RTree;
 
 use crate::geometry::{cross, norm, sub};
 use crate::matrix::Mat;
+use crate::nearest_vertices::{nearest_with_ties, VertexTree};
 use crate::similarity::rigid_fit;
 use crate::topology::Components;
 
 /// How many nearest vertices of larger parts each vertex of a part adds to
-/// its anchors.
+/// its anchors (more where several are as near: `nearest_vertices.rs`).
 const ANCHORS_PER_VERTEX: usize = 4;
 
 /// How many nearest vertices of the larger parts are searched for each
@@ -121,7 +122,7 @@ impl PartAnchors {
             let p = positions[v as usize];
             std::array::from_fn(|i| if i < D { p[i] } else { 0.0 })
         };
-        let mut tree: RTree<GeomWithData<[f64; 3], u32>> = RTree::bulk_load(
+        let mut tree: VertexTree = RTree::bulk_load(
             members[order[0]]
                 .iter()
                 .map(|&v| GeomWithData::new(point(v), v))
@@ -151,10 +152,9 @@ impl PartAnchors {
             let mut anchors: Vec<u32> = members[p]
                 .iter()
                 .flat_map(|&v| {
-                    nearest(v)
-                        .take(ANCHOR_SEARCH)
-                        .filter(in_host)
-                        .take(ANCHORS_PER_VERTEX)
+                    nearest_with_ties(&tree, point(v), ANCHORS_PER_VERTEX, ANCHOR_SEARCH, |a| {
+                        in_host(&a)
+                    })
                 })
                 .collect();
             anchors.sort_unstable();
