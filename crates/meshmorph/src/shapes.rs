@@ -128,6 +128,32 @@ pub fn tube(length: f64, radius: f64, rings: usize, segments: usize) -> Mesh3 {
     Mesh3::new(positions, triangles).expect("a tube is a valid mesh")
 }
 
+/// A regular octahedron of `radius` (centre to vertex) centred at `centre`:
+/// a small closed part (an eye, a ball) for tests of separate parts.
+/// Triangles face outwards.
+pub fn octahedron(centre: [f64; 3], radius: f64) -> Mesh3 {
+    // Vertices +x -x +y -y +z -z; each face takes one of each axis.
+    let mut positions = Vec::with_capacity(6);
+    for axis in 0..3 {
+        for sign in [1.0, -1.0] {
+            let mut p = centre;
+            p[axis] += sign * radius;
+            positions.push(p);
+        }
+    }
+    let triangles = vec![
+        [0, 2, 4],
+        [2, 1, 4],
+        [1, 3, 4],
+        [3, 0, 4],
+        [2, 0, 5],
+        [1, 2, 5],
+        [3, 1, 5],
+        [0, 3, 5],
+    ];
+    Mesh3::new(positions, triangles).expect("an octahedron is a valid mesh")
+}
+
 /// Bends a mesh lying along the x axis from 0 to `length` in the x-y plane:
 /// the point at `x` turns about the z axis by `angle · (x / length)`,
 /// following a circular arc, so a straight tube becomes a bent one with

@@ -4,7 +4,7 @@
 
 use std::f64::consts::PI;
 
-use meshmorph::shapes::{rigid_motion, rigid_motion3, strip, tube};
+use meshmorph::shapes::{octahedron, rigid_motion, rigid_motion3, strip, tube};
 use meshmorph::{Blend, Interpolator, InterpolatorOptions, Mesh, Mesh2, Mesh3, Sequence};
 
 /// The meshes' vertices and triangles one after the other.
@@ -122,30 +122,6 @@ fn eyes_and_teeth_turn_with_the_head() {
         }
         assert!(max_distance(&sequence.at(2.0), turned.positions()) < 1e-9);
     }
-}
-
-/// An octahedron of radius `r` centred at `c`.
-fn octahedron(c: [f64; 3], r: f64) -> Mesh3 {
-    let mut positions = Vec::new();
-    for k in 0..3 {
-        for sign in [1.0, -1.0] {
-            let mut p = c;
-            p[k] += sign * r;
-            positions.push(p);
-        }
-    }
-    // +x -x +y -y +z -z: each face one of each axis, wound outwards.
-    let triangles = vec![
-        [0, 2, 4],
-        [2, 1, 4],
-        [1, 3, 4],
-        [3, 0, 4],
-        [2, 0, 5],
-        [1, 2, 5],
-        [3, 1, 5],
-        [0, 3, 5],
-    ];
-    Mesh::new(positions, triangles).unwrap()
 }
 
 #[test]

@@ -5,7 +5,7 @@
 use std::f64::consts::{PI, TAU};
 use std::path::{Path, PathBuf};
 
-use meshmorph::shapes::{bend, tube};
+use meshmorph::shapes::{bend, octahedron, tube};
 use meshmorph::{
     correspond, io, topology, CorrespondOptions, CorrespondResult, Correspondence, Error, Markers,
     Mesh3, Transfer, TransferOptions,
@@ -1711,29 +1711,6 @@ fn what_stays_still_in_the_source_stays_still_in_the_target() {
     );
     assert!(far > 0.1 * diagonal);
     assert!(near < 1e-3 * diagonal);
-}
-
-/// An octahedron of radius `r` centred at `c`.
-fn octahedron(c: P3, r: f64) -> Mesh3 {
-    let mut positions = Vec::new();
-    for k in 0..3 {
-        for sign in [1.0, -1.0] {
-            let mut p = c;
-            p[k] += sign * r;
-            positions.push(p);
-        }
-    }
-    let triangles = vec![
-        [0, 2, 4],
-        [2, 1, 4],
-        [1, 3, 4],
-        [3, 0, 4],
-        [2, 0, 5],
-        [1, 2, 5],
-        [3, 1, 5],
-        [0, 3, 5],
-    ];
-    Mesh3::new(positions, triangles).unwrap()
 }
 
 #[test]
