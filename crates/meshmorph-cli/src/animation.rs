@@ -118,8 +118,9 @@ pub struct Report {
     /// The largest number of triangles reversed (planar) or turned over (in
     /// space) relative to the first key in any frame.
     pub max_flipped_triangles: usize,
-    /// The frame (index) where that happened.
-    pub max_flipped_frame: usize,
+    /// The first frame (index, from 0) where that happened; null when no
+    /// frame has such triangles.
+    pub max_flipped_frame: Option<usize>,
     /// The GIF written, if any.
     pub gif: Option<PathBuf>,
     /// The PNG written, if any.
@@ -156,11 +157,11 @@ impl Report {
             "planar"
         };
         println!(
-            "wrote {} ({} vertices, {} triangles, {space}, {} keys) to {}",
+            "wrote {} ({}, {}, {space}, {}) to {}",
             output::count(self.frames_written, "frame"),
-            self.vertices,
-            self.triangles,
-            self.keys,
+            output::vertices(self.vertices),
+            output::count(self.triangles, "triangle"),
+            output::count(self.keys, "key"),
             self.output.display()
         );
         println!(
@@ -192,23 +193,21 @@ impl Report {
         } else {
             "flipped"
         };
-        if self.max_flipped_triangles == 0 {
-            println!("{what} triangles: none in any frame");
-        } else {
-            println!(
-                "{what} triangles: at most {} (frame {})",
-                self.max_flipped_triangles, self.max_flipped_frame
-            );
+        match self.max_flipped_frame {
+            Some(frame) => println!(
+                "{what} triangles: at most {} (frame {frame})",
+                self.max_flipped_triangles
+            ),
+            None => println!("{what} triangles: none in any frame"),
         }
-        for (label, file) in [
-            ("animation:", &self.gif),
-            ("picture:  ", &self.png),
-            ("glTF:     ", &self.gltf),
-        ] {
-            if let Some(f) = file {
-                println!("{label} {}", f.display());
-            }
-        }
+        output::print_files(
+            &[
+                ("animation:", self.gif.as_deref()),
+                ("picture:", self.png.as_deref()),
+                ("glTF:", self.gltf.as_deref()),
+            ],
+            11,
+        );
         if self.unused_vertices > 0 {
             println!(
                 "unused vertices: {} (in no triangle; carried along unchanged)",
@@ -223,8 +222,8 @@ impl Report {
         }
         if self.surplus_frames_removed > 0 {
             println!(
-                "removed {} frame files of an earlier run",
-                self.surplus_frames_removed
+                "removed {} of an earlier run",
+                output::count(self.surplus_frames_removed, "frame file")
             );
         }
     }
@@ -371,7 +370,8 @@ where
     if max_flipped > 0 {
         let what = if D == 3 { "turned over" } else { "reversed" };
         warnings.push(format!(
-            "frame {max_flipped_frame} has {max_flipped} triangles {what} relative to the first key"
+            "frame {max_flipped_frame} has {} {what} relative to the first key",
+            output::count(max_flipped, "triangle")
         ));
     }
     output::print_warnings(&warnings);
@@ -391,7 +391,7 @@ where
         write_seconds_per_frame: frames.iter().map(|f| f.write).sum::<f64>() / n,
         total_seconds: start.elapsed().as_secs_f64(),
         max_flipped_triangles: max_flipped,
-        max_flipped_frame,
+        max_flipped_frame: (max_flipped > 0).then_some(max_flipped_frame),
         gif: args.gif.clone(),
         png: args.png.clone(),
         gltf: args.gltf.gltf.clone(),

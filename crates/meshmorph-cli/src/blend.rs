@@ -36,6 +36,10 @@ use crate::pictures::{self, GifArgs, PictureArgs};
 /// Inputs are never written, and OUT (with the pictures) is written all or
 /// nothing, as for every command.
 #[derive(Debug, clap::Args)]
+#[command(
+    mut_arg("png", |a| a.help("Also write a still picture (PNG) of the base, the blend about halfway and the blend, side by side")),
+    mut_arg("gif", |a| a.help("Also write an animated GIF of the base turning into the blend, the weights growing from 0 to theirs")),
+)]
 pub struct Args {
     /// The base mesh (OBJ, OFF, PLY or STL).
     pub base: PathBuf,
@@ -66,9 +70,7 @@ pub struct Args {
     /// the surface does not crack along them; the files keep their vertices.
     #[arg(long)]
     pub no_weld: bool,
-    /// The PNG shows the base, the halfway blend and the blend; the GIF
-    /// (and the GLB, as morph targets) the base turning into the blend, the
-    /// weights growing from 0 to theirs.
+    /// `--png` and `--gif`, with their help for blends (above).
     #[command(flatten)]
     pub pictures: PictureArgs,
     #[command(flatten)]
@@ -142,10 +144,10 @@ impl Report {
             return;
         }
         println!(
-            "wrote {} ({} vertices, {} triangles, {}, {})",
+            "wrote {} ({}, {}, {}, {})",
             self.output.display(),
-            self.vertices,
-            self.triangles,
+            output::vertices(self.vertices),
+            output::count(self.triangles, "triangle"),
             output::count(self.shapes, "shape"),
             if self.dimension == 3 {
                 "in space"

@@ -40,8 +40,19 @@ pub fn format_or_like(asked: Option<FormatArg>, like: &Path) -> Result<Format> {
 
 /// Reads a mesh file kept whole, saying which file and what role on failure.
 pub fn read_mesh_file(path: &Path, role: &str) -> Result<meshmorph::io::MeshFile> {
-    meshmorph::io::MeshFile::read(path)
-        .with_context(|| format!("reading {role} `{}`", path.display()))
+    meshmorph::io::MeshFile::read(path).map_err(|e| reading_error(e, role, path))
+}
+
+/// `e`, an error of reading `path` (called `role`), said as "reading
+/// {role} `path`" and the library's message, the file named once: the
+/// library's messages about a file begin with its name.
+fn reading_error(e: meshmorph::Error, role: &str, path: &Path) -> anyhow::Error {
+    let named = format!("`{}`", path.display());
+    let text = e.to_string();
+    match text.strip_prefix(&named) {
+        Some(rest) => anyhow::anyhow!("reading {role} {named}{rest}"),
+        None => anyhow::Error::new(e).context(format!("reading {role} {named}")),
+    }
 }
 
 /// Reads `path` (called `role`) as new positions for the faces of `first`
@@ -56,16 +67,15 @@ pub fn read_pose(
     path: &Path,
     role: &str,
 ) -> Result<(meshmorph::Mesh3, usize)> {
-    first.read_pose(path).map_err(|e| {
-        let context = match e {
-            meshmorph::Error::Mismatch(_) | meshmorph::Error::FaceMismatch { .. } => format!(
+    first.read_pose(path).map_err(|e| match e {
+        meshmorph::Error::Mismatch(_) | meshmorph::Error::FaceMismatch { .. } => {
+            anyhow::Error::new(e).context(format!(
                 "the {role} `{}` does not fit the {first_role} `{}`",
                 path.display(),
                 first.path().display()
-            ),
-            _ => format!("reading {role} `{}`", path.display()),
-        };
-        anyhow::Error::new(e).context(context)
+            ))
+        }
+        e => reading_error(e, role, path),
     })
 }
 
@@ -404,7 +414,7 @@ pub fn welded_line(welded: usize) -> Option<String> {
     (welded > 0).then(|| {
         format!(
             "{} at the same place as another (copies at seams) welded for the solve; the files keep them",
-            if welded == 1 { "1 vertex".to_string() } else { format!("{welded} vertices") }
+            vertices(welded)
         )
     })
 }
@@ -434,12 +444,32 @@ pub fn dropped_for(output: &Path, dropped: &[String]) -> Vec<String> {
         .collect()
 }
 
+/// Prints a report's lines for the files a run wrote beside its main
+/// output, those written only: each label ("picture:", "animation:", ...)
+/// padded so that the names begin in `column`, as the report's other values.
+pub fn print_files(files: &[(&str, Option<&Path>)], column: usize) {
+    for (label, file) in files {
+        if let Some(f) = file {
+            println!("{label:<column$}{}", f.display());
+        }
+    }
+}
+
 /// `n` and the noun, plural unless `n` is 1: "1 pose", "2 poses".
 pub fn count(n: usize, noun: &str) -> String {
     if n == 1 {
         format!("1 {noun}")
     } else {
         format!("{n} {noun}s")
+    }
+}
+
+/// "1 vertex" or "2 vertices": `n` and how many vertices.
+pub fn vertices(n: usize) -> String {
+    if n == 1 {
+        "1 vertex".to_string()
+    } else {
+        format!("{n} vertices")
     }
 }
 

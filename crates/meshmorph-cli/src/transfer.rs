@@ -30,7 +30,7 @@ pub struct CorrespondArgs {
     /// the count.
     #[arg(long, value_name = "FILE")]
     pub markers: Option<PathBuf>,
-    /// Vertex indices (markers and --pin) start at 1 instead of 0.
+    /// Vertex indices in the marker file start at 1 instead of 0.
     #[arg(long)]
     pub one_based: bool,
     /// Do not bring the source onto the target by the similarity (rotation,
@@ -222,8 +222,8 @@ impl MarkerReport {
         let mut line = format!("markers:        {}", self.markers);
         if self.snapped_points > 0 {
             line += &format!(
-                " ({} points snapped to vertices, at most {:.3} % of the source's and {:.3} % of the target's diagonal away)",
-                self.snapped_points,
+                " ({} snapped to vertices, at most {:.3} % of the source's and {:.3} % of the target's diagonal away)",
+                output::count(self.snapped_points, "point"),
                 100.0 * self.largest_snap_source,
                 100.0 * self.largest_snap_target
             );
@@ -315,6 +315,11 @@ impl Reference {
 ///
 /// Writes one mesh per pose: DIR/<the pose file's stem>.<ext>.
 #[derive(Debug, clap::Args)]
+#[command(
+    mut_arg("one_based", |a| a.help("Vertex indices (markers and --pin) start at 1 instead of 0")),
+    mut_arg("png", |a| a.help("Also write a still picture (PNG): source poses above, transferred poses below (the first, middle and last)")),
+    mut_arg("gif", |a| a.help("Also write an animated GIF: every source pose above its transferred pose")),
+)]
 pub struct TransferArgs {
     #[command(flatten)]
     pub refs: References,
@@ -328,8 +333,9 @@ pub struct TransferArgs {
     #[arg(long, value_name = "FILE")]
     pub save_correspondence: Option<PathBuf>,
     /// Target vertices (comma-separated, 0-based unless --one-based) held at
-    /// their rest positions in every pose, instead of placing the result by
-    /// its centroid.
+    /// their rest positions in every pose: the parts of the target that hold
+    /// one are placed by them, instead of by the shift most of their pairs
+    /// agree on (the weighted geometric median of the pairs' shifts).
     #[arg(
         long,
         value_delimiter = ',',
@@ -388,14 +394,23 @@ pub struct TransferReport {
     /// One pose with reading and writing, averaged over the poses run in parallel.
     pub seconds_per_pose_with_io: f64,
     pub matched_pairs: usize,
+    /// Source triangles in no pair: their deformation is carried to no
+    /// target triangle.
     pub unmatched_source_triangles: usize,
+    /// Target triangles in no pair: `gap_target_triangles` +
+    /// `unpaired_target_triangles`.
     pub unmatched_target_triangles: usize,
+    /// Unmatched target triangles in gaps of the matching (enclosed by the
+    /// paired surface, or near a paired triangle): deformed as their
+    /// neighbours.
+    pub gap_target_triangles: usize,
+    /// Unmatched target triangles beyond the source (no source partner
+    /// nearby): kept in their rest shape, turned with the paired surface.
+    pub unpaired_target_triangles: usize,
     /// How the markers fitted (absent when the correspondence was loaded).
     pub markers: Option<MarkerReport>,
     /// Pose faces that list the reference's corners in another order or winding.
     pub reordered_pose_faces: usize,
-    /// Target triangles without a partner nearby, kept at their rest shape.
-    pub unpaired_target_triangles: usize,
     /// Separate parts of the target carried rigidly by the surface around them.
     pub carried_parts: usize,
     /// Target vertices no triangle uses: written at their rest positions.
@@ -405,6 +420,12 @@ pub struct TransferReport {
     pub welded_source_vertices: usize,
     pub welded_target_vertices: usize,
     pub total_seconds: f64,
+    /// The correspondence saved, if any.
+    pub saved_correspondence: Option<PathBuf>,
+    /// The GIF written, if any.
+    pub gif: Option<PathBuf>,
+    /// The PNG written, if any.
+    pub png: Option<PathBuf>,
     /// The GLB written, if any.
     pub gltf: Option<PathBuf>,
     /// Every file written, in order.
@@ -428,17 +449,29 @@ impl TransferReport {
             self.output.display()
         );
         println!(
-            "correspondence: {} ({} pairs; unmatched: {} source, {} target triangles){}",
+            "correspondence: {} ({}){}",
             output::human_seconds(self.correspondence_seconds),
-            self.matched_pairs,
-            self.unmatched_source_triangles,
-            self.unmatched_target_triangles,
+            output::count(self.matched_pairs, "pair"),
             if self.correspondence_loaded {
                 ", loaded"
             } else {
                 ""
             }
         );
+        print_unmatched(
+            self.unmatched_source_triangles,
+            self.unmatched_target_triangles,
+        );
+        if self.unmatched_target_triangles > 0 {
+            println!(
+                "  in gaps:      {} (holes in the match: deformed as their neighbours)",
+                output::count(self.gap_target_triangles, "target triangle")
+            );
+            println!(
+                "  kept at rest: {} (beyond the source: rest shape, turned with the paired surface)",
+                output::count(self.unpaired_target_triangles, "target triangle")
+            );
+        }
         print_welded(self.welded_source_vertices, self.welded_target_vertices);
         if self.unused_target_vertices > 0 {
             println!(
@@ -459,10 +492,25 @@ impl TransferReport {
             "total:          {}",
             output::human_seconds(self.total_seconds)
         );
-        if let Some(g) = &self.gltf {
-            println!("glTF:           {}", g.display());
-        }
+        output::print_files(
+            &[
+                ("saved:", self.saved_correspondence.as_deref()),
+                ("picture:", self.png.as_deref()),
+                ("animation:", self.gif.as_deref()),
+                ("glTF:", self.gltf.as_deref()),
+            ],
+            16,
+        );
     }
+}
+
+/// The report's line for the triangles of either reference in no pair.
+fn print_unmatched(source: usize, target: usize) {
+    println!(
+        "unmatched:      {}, {}",
+        output::count(source, "source triangle"),
+        output::count(target, "target triangle")
+    );
 }
 
 /// One pose done: seconds solving, seconds with reading and writing, what
@@ -627,10 +675,21 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
             .map(|_| ())
         })?);
     }
-    if transfer.unpaired_triangles() > 0 {
+    let unpaired = transfer.unpaired_triangles();
+    if unpaired > 0 {
+        let (lie, keep) = if unpaired == 1 {
+            ("lies", "it keeps its rest shape and turns")
+        } else {
+            ("lie", "they keep their rest shape and turn")
+        };
+        let gaps = match transfer.gap_triangles() {
+            0 => String::new(),
+            1 => "; the other one fills a gap and takes its neighbours' deformation".to_string(),
+            n => format!("; the other {n} fill gaps and take their neighbours' deformation"),
+        };
         warnings.push(format!(
-            "{} target triangles have no source partner nearby: they keep their rest shape and turn with the paired surface",
-            transfer.unpaired_triangles()
+            "{unpaired} of the {} {lie} beyond the source, with no source partner nearby: {keep} with the paired surface{gaps}",
+            output::count(correspondence.unmatched_target(), "unmatched target triangle"),
         ));
     }
     if transfer.carried_parts() > 0 {
@@ -663,14 +722,18 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         matched_pairs: correspondence.pairs().len(),
         unmatched_source_triangles: correspondence.unmatched_source(),
         unmatched_target_triangles: correspondence.unmatched_target(),
+        gap_target_triangles: transfer.gap_triangles(),
+        unpaired_target_triangles: transfer.unpaired_triangles(),
         markers: marker_report,
         reordered_pose_faces,
-        unpaired_target_triangles: transfer.unpaired_triangles(),
         carried_parts: transfer.carried_parts(),
         unused_target_vertices: target.num_unused_vertices(),
         welded_source_vertices: source_ref.file.seams.num_welded(),
         welded_target_vertices: target_ref.file.seams.num_welded(),
         total_seconds: start.elapsed().as_secs_f64(),
+        saved_correspondence: args.save_correspondence.clone(),
+        gif: args.pictures.gif.clone(),
+        png: args.pictures.png.clone(),
         gltf,
         files_written,
         warnings,
@@ -877,8 +940,8 @@ fn pin_positions(
             };
             let p = target.positions().get(v as usize).with_context(|| {
                 format!(
-                    "--pin {given}: the target has {} vertices",
-                    target.num_vertices()
+                    "--pin {given}: the target has {}",
+                    output::vertices(target.num_vertices())
                 )
             })?;
             Ok((v, *p))
@@ -925,6 +988,10 @@ fn output_paths(poses: &[PathBuf], dir: &Path, ext: &str) -> Result<Vec<PathBuf>
 
 /// Compute the triangle correspondence between two meshes and save it.
 #[derive(Debug, clap::Args)]
+#[command(
+    mut_arg("png", |a| a.help("Also write a still picture (PNG): the deformed source above the target")),
+    mut_arg("gif", |a| a.help("Also write an animated GIF: the source reference turning into the deformed source, above the target")),
+)]
 pub struct CorrespondCommand {
     #[command(flatten)]
     pub refs: References,
@@ -937,8 +1004,7 @@ pub struct CorrespondCommand {
     /// well it fits.
     #[arg(long, value_name = "MESH")]
     pub deformed_source: Option<PathBuf>,
-    /// Pictures: the deformed source (above) over the target (below); the
-    /// GIF turns the source reference into the deformed source.
+    /// `--png` and `--gif`, with their help for correspondences (above).
     #[command(flatten)]
     pub pictures: PictureArgs,
     /// Print the report as one JSON object on stdout.
@@ -958,6 +1024,12 @@ pub struct CorrespondReport {
     /// in the target.
     pub welded_source_vertices: usize,
     pub welded_target_vertices: usize,
+    /// The source reference deformed onto the target, if written.
+    pub deformed_source: Option<PathBuf>,
+    /// The GIF written, if any.
+    pub gif: Option<PathBuf>,
+    /// The PNG written, if any.
+    pub png: Option<PathBuf>,
     /// Every file written, in order.
     pub files_written: Vec<PathBuf>,
     /// How the markers fitted.
@@ -1033,8 +1105,8 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
     })?);
     if c.unmatched_target() > 0 {
         warnings.push(format!(
-            "{} target triangles have no source partner",
-            c.unmatched_target()
+            "{} no source partner",
+            output::count_doing(c.unmatched_target(), "target triangle", "has", "have")
         ));
     }
     output::print_warnings(&warnings);
@@ -1047,6 +1119,9 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         unmatched_target_triangles: c.unmatched_target(),
         welded_source_vertices: source_ref.file.seams.num_welded(),
         welded_target_vertices: target_ref.file.seams.num_welded(),
+        deformed_source: args.deformed_source.clone(),
+        gif: args.pictures.gif.clone(),
+        png: args.pictures.png.clone(),
         files_written,
         markers,
         warnings,
@@ -1056,14 +1131,24 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
     } else {
         report.markers.print();
         println!(
-            "correspondence: {} pairs in {} (unmatched: {} source, {} target triangles), saved to {}",
-            report.matched_pairs,
+            "correspondence: {} in {}, saved to {}",
+            output::count(report.matched_pairs, "pair"),
             output::human_seconds(seconds),
-            report.unmatched_source_triangles,
-            report.unmatched_target_triangles,
             args.output.display()
         );
+        print_unmatched(
+            report.unmatched_source_triangles,
+            report.unmatched_target_triangles,
+        );
         print_welded(report.welded_source_vertices, report.welded_target_vertices);
+        output::print_files(
+            &[
+                ("deformed:", report.deformed_source.as_deref()),
+                ("picture:", report.png.as_deref()),
+                ("animation:", report.gif.as_deref()),
+            ],
+            16,
+        );
     }
     Ok(())
 }

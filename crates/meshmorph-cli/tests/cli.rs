@@ -236,6 +236,120 @@ fn help_lists_commands_and_flags() {
     }
 }
 
+#[test]
+fn help_of_shared_options_fits_each_command() {
+    // The help as words: clap wraps it at the terminal's width.
+    let help = |command: &str| {
+        let text = succeeds(&run([command, "--help"]));
+        text.split_whitespace().collect::<Vec<_>>().join(" ")
+    };
+    let correspond = help("correspond");
+    assert_mentions(
+        &correspond,
+        &["--one-based", "the deformed source above the target"],
+    );
+    assert!(!correspond.contains("--pin"), "{correspond}");
+    let transfer = help("transfer");
+    assert_mentions(&transfer, &["markers and --pin", "transferred poses below"]);
+    let pin = transfer
+        .split("--pin <LIST>")
+        .nth(1)
+        .and_then(|rest| rest.split(" -o, --output").next())
+        .unwrap_or_else(|| panic!("no --pin in:\n{transfer}"));
+    assert_mentions(pin, &["geometric median"]);
+    assert!(!pin.contains("centroid"), "{pin}");
+    assert_mentions(
+        &help("blend"),
+        &["the base, the blend about halfway and the blend"],
+    );
+}
+
+/// The names of the files under `dir`, at any depth.
+fn file_names(dir: &Path, into: &mut Vec<String>) {
+    for entry in fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            file_names(&path, into);
+        } else {
+            into.push(path.file_name().unwrap().to_string_lossy().into_owned());
+        }
+    }
+}
+
+/// The README's commands run as written from the repository root: the
+/// files of `../shared/data` they name are given by their path there, and
+/// exist.
+#[test]
+fn readme_commands_name_the_shared_data_by_its_paths() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let data = root.join("../shared/data");
+    if !data.is_dir() {
+        eprintln!("skipped: ../shared/data not found");
+        return;
+    }
+    let mut data_files = Vec::new();
+    file_names(&data, &mut data_files);
+    let readme = fs::read_to_string(root.join("README.md")).unwrap();
+    let (mut in_shell, mut variables) = (false, Vec::<(String, String)>::new());
+    let mut named = 0;
+    for line in readme.lines() {
+        if line.starts_with("```") {
+            in_shell = line == "```sh";
+            variables.clear();
+            continue;
+        }
+        if !in_shell {
+            continue;
+        }
+        for word in line.split_whitespace() {
+            if let Some((name, value)) = word.split_once('=') {
+                if !name.is_empty() && name.chars().all(|c| c.is_ascii_uppercase()) {
+                    variables.push((name.to_string(), value.to_string()));
+                    continue;
+                }
+            }
+            let mut word = word.to_string();
+            for (name, value) in &variables {
+                word = word.replace(&format!("${name}"), value);
+            }
+            if word.starts_with("../shared/data/") {
+                assert!(root.join(&word).exists(), "README: `{word}` does not exist");
+                named += 1;
+            } else {
+                assert!(
+                    !data_files.contains(&word),
+                    "README: `{word}` is in ../shared/data: give its path there"
+                );
+            }
+        }
+    }
+    assert!(
+        named > 0,
+        "the README's commands name no file of ../shared/data"
+    );
+}
+
+/// A planar mesh of one triangle, and the same triangle turned and stretched.
+fn one_triangle() -> (Mesh2, Mesh2) {
+    let a = Mesh2::new(vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], vec![[0, 1, 2]]).unwrap();
+    let b = Mesh2::new(vec![[0.0, 0.0], [0.0, 2.0], [-1.0, 0.0]], vec![[0, 1, 2]]).unwrap();
+    (a, b)
+}
+
+#[test]
+fn reports_count_one_triangle_in_the_singular() {
+    let (a, b) = one_triangle();
+    let p = Pair::new(&a, &b);
+    let text = succeeds(&p.interpolate(&["--frames", "3"]));
+    assert_mentions(
+        &text,
+        &["wrote 3 frames (3 vertices, 1 triangle, planar, 2 keys)"],
+    );
+    let out = p.out.join("blend.obj");
+    let text = succeeds(&blend(&p.src, &[(&p.tgt, "0.5")], &out, &[]));
+    assert_mentions(&text, &["(3 vertices, 1 triangle, 1 shape, planar)"]);
+}
+
 // ---------------------------------------------------------------------------
 // interpolate: happy paths.
 
@@ -404,6 +518,8 @@ fn interpolate_spiral_tears_only_without_consistency() {
     let p = Pair::new(&bar, &spiral);
     let report = json(&succeeds(&p.interpolate(&["--frames", "9", "--json"])));
     assert_eq!(uint(&report, "max_flipped_triangles"), 0, "{report}");
+    // No frame to name: not frame 0.
+    assert!(report["max_flipped_frame"].is_null(), "{report}");
 
     let q = Pair::new(&bar, &spiral);
     let report = json(&succeeds(&q.interpolate(&[
@@ -464,6 +580,39 @@ fn interpolate_face_repeating_a_vertex() {
             "more than once",
         ],
     );
+}
+
+#[test]
+fn a_file_that_cannot_be_read_is_named_once_with_its_role() {
+    let p = Pair::bar();
+    edit_lines(&p.tgt, |l| l[4] = "v 1.0 NaN 0".into());
+    let err = p.interpolate_fails(&[]);
+    let named = format!("`{}`", shown(&p.tgt));
+    assert_mentions(&err, &[&format!("reading target mesh {named}, line 5: ")]);
+    assert_eq!(err.matches(&named).count(), 1, "{err}");
+
+    let rig = Rig::new();
+    let bad = rig.path("bad.obj");
+    fs::copy(&rig.poses[1], &bad).unwrap();
+    edit_lines(&bad, |l| l[2] = "v 1.0 NaN 0".into());
+    let named = format!("`{}`", shown(&bad));
+    let out = rig.path("out");
+    let pose = fails(&rig.transfer(
+        &out,
+        &[os("--markers"), rig.markers.as_os_str()],
+        std::slice::from_ref(&bad),
+    ));
+    let target = fails(&transfer_between(
+        [&rig.source_ref, &bad, &rig.markers],
+        &out,
+        &[],
+        &rig.poses,
+    ));
+    for (err, role) in [(pose, "source pose"), (target, "target reference")] {
+        assert_mentions(&err, &[&format!("reading {role} {named}, line 3: ")]);
+        assert_eq!(err.matches(&named).count(), 1, "{err}");
+    }
+    assert_empty(&out);
 }
 
 #[test]
@@ -1163,19 +1312,33 @@ impl Rig {
         self.dir.path().join(name)
     }
 
-    /// `transfer --source-ref .. --target-ref .. -o OUT EXTRA.. POSES..`.
-    fn transfer(&self, out: &Path, extra: &[&OsStr], poses: &[PathBuf]) -> Output {
-        let mut args: Vec<&OsStr> = vec![
-            "transfer".as_ref(),
+    /// `COMMAND --source-ref .. --target-ref .. -o OUT`.
+    fn between_references<'a>(&'a self, command: &'a str, out: &'a Path) -> Vec<&'a OsStr> {
+        vec![
+            command.as_ref(),
             "--source-ref".as_ref(),
             self.source_ref.as_os_str(),
             "--target-ref".as_ref(),
             self.target_ref.as_os_str(),
             "-o".as_ref(),
             out.as_os_str(),
-        ];
+        ]
+    }
+
+    /// `transfer --source-ref .. --target-ref .. -o OUT EXTRA.. POSES..`.
+    fn transfer(&self, out: &Path, extra: &[&OsStr], poses: &[PathBuf]) -> Output {
+        let mut args = self.between_references("transfer", out);
         args.extend_from_slice(extra);
         args.extend(poses.iter().map(|p| p.as_os_str()));
+        run(args)
+    }
+
+    /// `correspond` between the rig's references with its markers, saving
+    /// to `corr`, with `extra` options.
+    fn correspond(&self, corr: &Path, extra: &[&OsStr]) -> Output {
+        let mut args = self.between_references("correspond", corr);
+        args.extend(["--markers".as_ref(), self.markers.as_os_str()]);
+        args.extend_from_slice(extra);
         run(args)
     }
 
@@ -1270,20 +1433,10 @@ fn correspond_writes_the_map_and_the_deformed_source() {
     let rig = Rig::new();
     let corr = rig.path("map.corr");
     let deformed = rig.path("deformed.ply");
-    let out = run([
-        os("correspond"),
-        os("--source-ref"),
-        rig.source_ref.as_os_str(),
-        os("--target-ref"),
-        rig.target_ref.as_os_str(),
-        os("--markers"),
-        rig.markers.as_os_str(),
-        os("-o"),
-        corr.as_os_str(),
-        os("--deformed-source"),
-        deformed.as_os_str(),
-        os("--json"),
-    ]);
+    let out = rig.correspond(
+        &corr,
+        &[os("--deformed-source"), deformed.as_os_str(), os("--json")],
+    );
     let report = json(&succeeds(&out));
     let pairs = uint(&report, "matched_pairs");
     assert!(pairs > 0, "{report}");
@@ -1711,17 +1864,7 @@ fn transfer_without_markers_or_correspondence() {
 fn transfer_saved_correspondence_with_other_meshes() {
     let rig = Rig::new();
     let corr = rig.path("map.corr");
-    succeeds(&run([
-        os("correspond"),
-        os("--source-ref"),
-        rig.source_ref.as_os_str(),
-        os("--target-ref"),
-        rig.target_ref.as_os_str(),
-        os("--markers"),
-        rig.markers.as_os_str(),
-        os("-o"),
-        corr.as_os_str(),
-    ]));
+    succeeds(&rig.correspond(&corr, &[]));
     // Another thick tube, more finely tessellated.
     let other = rig.path("other.obj");
     write(&other, &tube(LENGTH, 0.5, 13, 16));
@@ -1799,17 +1942,7 @@ fn transfer_corrupted_correspondence() {
 fn transfer_degenerate_target_triangle() {
     let rig = Rig::new();
     let corr = rig.path("map.corr");
-    succeeds(&run([
-        os("correspond"),
-        os("--source-ref"),
-        rig.source_ref.as_os_str(),
-        os("--target-ref"),
-        rig.target_ref.as_os_str(),
-        os("--markers"),
-        rig.markers.as_os_str(),
-        os("-o"),
-        corr.as_os_str(),
-    ]));
+    succeeds(&rig.correspond(&corr, &[]));
     let thick = thick_tube();
     let mut positions = thick.positions().to_vec();
     // Vertex 1 onto vertex 0: triangle 0 = [0, 1, 17] and the cap triangle
@@ -1869,19 +2002,7 @@ fn correspond_bad_deformed_source_name_writes_nothing() {
     let rig = Rig::new();
     let corr = rig.path("map.corr");
     let deformed = rig.path("deformed.fbx");
-    let err = fails(&run([
-        os("correspond"),
-        os("--source-ref"),
-        rig.source_ref.as_os_str(),
-        os("--target-ref"),
-        rig.target_ref.as_os_str(),
-        os("--markers"),
-        rig.markers.as_os_str(),
-        os("-o"),
-        corr.as_os_str(),
-        os("--deformed-source"),
-        deformed.as_os_str(),
-    ]));
+    let err = fails(&rig.correspond(&corr, &[os("--deformed-source"), deformed.as_os_str()]));
     assert_mentions(&err, &[&shown(&deformed), "unknown mesh format"]);
     assert!(!corr.exists() && !deformed.exists());
 }
@@ -2246,26 +2367,116 @@ fn correspond_draws_the_deformed_source_over_the_target() {
     let png = rig.path("fit.png");
     let gif = rig.path("fit.gif");
     let corr = rig.path("c.corr");
-    let report = json(&succeeds(&run([
-        "correspond".as_ref(),
-        "--source-ref".as_ref(),
-        rig.source_ref.as_os_str(),
-        "--target-ref".as_ref(),
-        rig.target_ref.as_os_str(),
-        "--markers".as_ref(),
-        rig.markers.as_os_str(),
-        "-o".as_ref(),
-        corr.as_os_str(),
-        "--png".as_ref(),
-        png.as_os_str(),
-        "--gif".as_ref(),
-        gif.as_os_str(),
-        "--json".as_ref(),
-    ])));
+    let report = json(&succeeds(&rig.correspond(
+        &corr,
+        &[
+            os("--png"),
+            png.as_os_str(),
+            os("--gif"),
+            gif.as_os_str(),
+            os("--json"),
+        ],
+    )));
     assert!(fs::read(&png).unwrap().starts_with(b"\x89PNG"));
     assert!(fs::read(&gif).unwrap().starts_with(b"GIF89a"));
     let files = report["files_written"].as_array().unwrap();
     assert_eq!(files.len(), 3, "{files:?}");
+}
+
+/// Runs a command with `files` (each `--flag path`) and checks that its
+/// report names each: as a line `label path` in text, as the key's value
+/// with `--json`.
+fn assert_reports_name(command: impl Fn(&[&OsStr]) -> Output, files: &[(&str, &Path, &str, &str)]) {
+    let mut args: Vec<&OsStr> = Vec::new();
+    for (flag, path, _, _) in files {
+        args.extend([os(flag), path.as_os_str()]);
+    }
+    let text = succeeds(&command(&args));
+    args.push(os("--json"));
+    let report = json(&succeeds(&command(&args)));
+    for (_, path, label, key) in files {
+        let named = text.lines().any(|l| {
+            l.strip_prefix(label)
+                .is_some_and(|rest| rest.trim_start() == shown(path))
+        });
+        assert!(named, "no `{label} {}` in:\n{text}", shown(path));
+        assert_eq!(report[key].as_str(), Some(shown(path).as_str()), "{report}");
+    }
+}
+
+#[test]
+fn transfer_and_correspond_reports_name_every_file_they_write() {
+    let rig = Rig::new();
+    let out = rig.path("out");
+    let [glb, png, gif, corr, deformed] =
+        ["poses.glb", "poses.png", "poses.gif", "map.corr", "fit.obj"].map(|n| rig.path(n));
+    // Both draw pictures; each writes one more file of its own.
+    let pictures = [
+        ("--png", png.as_path(), "picture:", "png"),
+        ("--gif", gif.as_path(), "animation:", "gif"),
+    ];
+    let transfer_files = [
+        (
+            "--save-correspondence",
+            corr.as_path(),
+            "saved:",
+            "saved_correspondence",
+        ),
+        ("--gltf", glb.as_path(), "glTF:", "gltf"),
+    ];
+    assert_reports_name(
+        |args| rig.transfer_with_markers(&out, args),
+        &[&pictures[..], &transfer_files[..]].concat(),
+    );
+    let deformed_file = (
+        "--deformed-source",
+        deformed.as_path(),
+        "deformed:",
+        "deformed_source",
+    );
+    assert_reports_name(
+        |args| rig.correspond(&corr, args),
+        &[&pictures[..], &[deformed_file]].concat(),
+    );
+}
+
+#[test]
+fn transfer_report_splits_the_unmatched_target_triangles() {
+    let rig = Rig::new();
+    // A target twice as long as the source: its far half lies beyond it,
+    // and a few triangles near the middle are holes of the match.
+    let long = tube(2.0 * LENGTH, 0.5, 21, 16);
+    let target = rig.path("long.obj");
+    write(&target, &long);
+    let markers = rig.path("long-markers.txt");
+    write_markers(&markers, &marker_pairs(&thin_tube(), &long), 0);
+    let out = rig.path("out");
+    let transfer = |extra: &[&OsStr]| {
+        let files = [rig.source_ref.as_path(), &target, &markers];
+        transfer_between(files, &out, extra, &rig.poses[1..2])
+    };
+    let report = json(&succeeds(&transfer(&[os("--json")])));
+    let unmatched = uint(&report, "unmatched_target_triangles");
+    let gaps = uint(&report, "gap_target_triangles");
+    let rest = uint(&report, "unpaired_target_triangles");
+    assert!(gaps > 1 && rest > 1, "{report}");
+    assert_eq!(gaps + rest, unmatched, "{report}");
+    assert_mentions(
+        &report["warnings"].to_string(),
+        &[&format!(
+            "{rest} of the {unmatched} unmatched target triangles lie beyond the source"
+        )],
+    );
+    let out = transfer(&[]);
+    assert_mentions(
+        &succeeds(&out),
+        &[
+            &format!("unmatched:      0 source triangles, {unmatched} target triangles\n"),
+            &format!("in gaps:      {gaps} target triangles ("),
+            &format!("kept at rest: {rest} target triangles ("),
+        ],
+    );
+    assert_mentions(&stderr(&out), &[&format!("the other {gaps} fill gaps")]);
 }
 
 #[test]

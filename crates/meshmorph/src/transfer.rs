@@ -130,6 +130,9 @@ pub struct Transfer {
     /// The unpaired triangles that are not gaps: held to their rest shape,
     /// turned.
     unpaired: Vec<u32>,
+    /// How many unpaired triangles are gaps of the matching (deformed as
+    /// their neighbours).
+    gaps: usize,
     /// Separate parts carried by the surface around them.
     carried: CarriedParts,
     /// The target reference's positions (carried parts move them rigidly).
@@ -283,6 +286,7 @@ impl Transfer {
         let unpaired: Vec<u32> = (0..target_ref.num_triangles() as u32)
             .filter(|&t| !paired[t as usize] && !is_gap[t as usize])
             .collect();
+        let gaps = is_gap.iter().filter(|&&g| g).count();
         let matrix = normal_equations(&target_gradients, &tri_edges, &is_gap, &weights);
         let components = connected_components(target_ref.num_vertices(), target_ref.triangles());
         let mut pins = target_pins(&options.pins, target_ref.num_vertices())?;
@@ -318,6 +322,7 @@ impl Transfer {
             weights,
             field,
             unpaired,
+            gaps,
             carried,
             target_rest: target_ref.positions().to_vec(),
             system,
@@ -463,10 +468,20 @@ impl Transfer {
         self.carried.len()
     }
 
-    /// Number of target triangles without a partner nearby (held to their
-    /// rest shape, turned by the spread rotation).
+    /// Number of target triangles in no pair that lie beyond the source
+    /// (not gaps of the matching: no partner nearby), held to their rest
+    /// shape, turned by the spread rotation.
     pub fn unpaired_triangles(&self) -> usize {
         self.unpaired.len()
+    }
+
+    /// Number of target triangles in no pair that are gaps of the matching
+    /// (enclosed by the paired surface, or near a paired triangle): they
+    /// take their neighbours' deformation. With
+    /// [`Transfer::unpaired_triangles`] they make up every target triangle
+    /// in no pair.
+    pub fn gap_triangles(&self) -> usize {
+        self.gaps
     }
 
     /// The weighted sum of the gradients of triangle `t`'s partners (its
