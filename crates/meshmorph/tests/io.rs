@@ -1511,3 +1511,34 @@ fn ply_texture_coordinates_of_a_face_of_many_corners_read_back() {
         assert!((x[0] - y[0]).abs() < 1e-6 && (x[1] - y[1]).abs() < 1e-6);
     }
 }
+
+#[test]
+fn planar_obj_lines_stay_planar_unless_the_shape_leaves_the_plane() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("flat.obj");
+    std::fs::write(&path, "v 0 0\nv 1 0\nv 0 1\nf 1 2 3\n").unwrap();
+    let file = MeshFile::read(&path).unwrap();
+    let out = dir.path().join("moved.obj");
+    file.write(
+        &out,
+        &[[0.5, 0.0, 0.0], [1.5, 0.0, 0.0], [0.5, 1.0, 0.0]],
+        Format::Obj,
+    )
+    .unwrap();
+    assert_eq!(
+        std::fs::read_to_string(&out).unwrap(),
+        "v 0.5 0\nv 1.5 0\nv 0.5 1\nf 1 2 3\n"
+    );
+    file.write(
+        &out,
+        &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.25], [0.0, 1.0, 0.0]],
+        Format::Obj,
+    )
+    .unwrap();
+    assert_eq!(
+        std::fs::read_to_string(&out).unwrap(),
+        "v 0 0 0\nv 1 0 0.25\nv 0 1 0\nf 1 2 3\n"
+    );
+    // Read back: a file never mixes 2 and 3 coordinates.
+    assert_eq!(read_mesh(&out).unwrap().positions()[1], [1.0, 0.0, 0.25]);
+}

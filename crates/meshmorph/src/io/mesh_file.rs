@@ -61,7 +61,9 @@ pub(super) enum Slot {
 pub(super) enum Coding {
     /// Replaces the text in the range.
     Text,
-    /// Inserted (after a space) at the range's start, which is its end.
+    /// Inserted (after a space) at the range's start, which is its end;
+    /// left out while every z is 0 (planar `v x y` lines stay as they were;
+    /// a file never mixes lines of 2 and of 3 coordinates).
     Appended,
     /// Binary, in the given type, big endian or not.
     Binary(Scalar, bool),
@@ -701,6 +703,7 @@ impl MeshFile {
         let mut buf: Vec<u8> = Vec::with_capacity(super::CHUNK + 1024);
         let mut at = 0;
         let mut added = normals.added.iter().peekable();
+        let planar = positions.iter().all(|p| p[2] == 0.0);
         // Found at the first `mtllib`: `None` in the source's own folder.
         let mut materials: Option<Option<MaterialPaths>> = None;
         for p in &self.patches {
@@ -768,6 +771,8 @@ impl MeshFile {
                     buf.extend_from_slice(&self.bytes[p.bytes.clone()])
                 }
                 Coding::Text => push_f64(&mut buf, value),
+                // Planar lines (`v x y`) stay planar while the shape is.
+                Coding::Appended if planar => {}
                 Coding::Appended => {
                     buf.push(b' ');
                     push_f64(&mut buf, value);
