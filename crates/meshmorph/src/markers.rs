@@ -121,9 +121,11 @@ impl Markers {
                         marker: self.pairs.len() + k,
                         line: self.path.as_ref().map(|_| line),
                         message: format!(
-                            "{name}: the {which} point {point:?} is {:.3} % of the {which} mesh's diagonal from its nearest vertex ({v}); \
+                            "{name}: the {which} point {point:?} is {:.3} % of the {which} mesh's diagonal from its nearest vertex ({which} vertex {}, numbered from {}); \
                              marker points must lie on the mesh (within {} %)",
                             100.0 * d / diagonal,
+                            self.number(v),
+                            self.first_index,
                             100.0 * SNAP_LIMIT
                         ),
                     });

@@ -473,6 +473,14 @@ fn marker_points_snap_to_the_nearest_vertex_and_far_points_are_refused() {
         e.contains("picks.txt") && e.contains("line 2") && e.contains("source point"),
         "{e}"
     );
+    // The nearest vertex is numbered as the file numbers vertices.
+    assert!(
+        e.contains("source vertex") && e.contains("numbered from 0"),
+        "{e}"
+    );
+    let m = Markers::parse(text, Path::new("picks.txt"), true).unwrap();
+    let e = m.snap(&thin, &thick).unwrap_err().to_string();
+    assert!(e.contains("numbered from 1"), "{e}");
 }
 
 /// Two meshes as one (indices of the second shifted).

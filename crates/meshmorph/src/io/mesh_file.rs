@@ -873,7 +873,7 @@ impl MeshFile {
         }
         if faces.len() != self.faces.len() {
             return Err(Error::Mismatch(format!(
-                "`{theirs}` has {} faces but `{mine}` has {}: a pose has the reference's faces",
+                "`{theirs}` has {} faces but `{mine}` has {}: a pose (or a later key) has the faces of its reference (the first key)",
                 faces.len(),
                 self.faces.len()
             )));
@@ -929,7 +929,7 @@ impl MeshFile {
             None => format!("face {number}"),
         };
         format!(
-            "`{theirs}`, {place}: vertices {} but face {number} of `{mine}` has {} (faces and vertices numbered from 1): a pose has the reference's faces",
+            "`{theirs}`, {place}: vertices {} but face {number} of `{mine}` has {} (faces and vertices numbered from 1): a pose (or a later key) has the faces of its reference (the first key)",
             show_face(other(f)),
             show_face(self.face(f))
         )
