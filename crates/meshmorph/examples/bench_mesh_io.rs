@@ -2,7 +2,7 @@
 //! pose read as new positions for the source reference's faces, a reference
 //! kept whole, and a target pose written back into the target reference's
 //! file (normals turned with the surface), for horse -> camel and
-//! face -> head.
+//! face -> head; and the head as binary and ASCII STL.
 //!
 //! Run with `cargo run --release -p meshmorph --example bench_mesh_io [RUNS]
 //! [TEXT]`: RUNS calls of each row (default 21), only the rows whose name
@@ -102,6 +102,53 @@ fn pair(
     Ok(())
 }
 
+/// The same mesh as binary and as ASCII STL (written from `mesh` into the
+/// temporary folder): reading each, and writing a pose back into the binary
+/// one.
+fn stl(dir: &Path, mesh: &str, runs: &Runs) -> Result<(), Box<dyn std::error::Error>> {
+    let m = MeshFile::read(&dir.join(mesh))?.into_mesh();
+    let tmp = std::env::temp_dir();
+    let binary = tmp.join(format!("meshmorph-bench-io-{}.stl", std::process::id()));
+    meshmorph::io::write_mesh(&binary, &m, Format::Stl)?;
+    let file = MeshFile::read(&binary)?;
+    let name = Path::new(mesh).file_stem().unwrap_or_default().to_string_lossy();
+    row(
+        &format!("read `{name}` as binary STL (`MeshFile::read`)"),
+        size(&binary),
+        runs,
+        || MeshFile::read(&binary).unwrap(),
+    );
+    let out = tmp.join(format!("meshmorph-bench-io-{}-out.stl", std::process::id()));
+    row(
+        &format!("write a pose of `{name}` as binary STL (`MeshFile::write`)"),
+        size(&binary),
+        runs,
+        || file.write(&out, file.mesh().positions(), Format::Stl).unwrap(),
+    );
+    // ASCII as CAD tools write it: `%e` numbers.
+    let ascii = tmp.join(format!("meshmorph-bench-io-{}-ascii.stl", std::process::id()));
+    let mut text = String::from("solid bench\n");
+    for t in 0..m.num_triangles() {
+        text += "facet normal 0 0 0\nouter loop\n";
+        for p in m.corners(t) {
+            text += &format!("vertex {:e} {:e} {:e}\n", p[0], p[1], p[2]);
+        }
+        text += "endloop\nendfacet\n";
+    }
+    text += "endsolid bench\n";
+    std::fs::write(&ascii, text)?;
+    row(
+        &format!("read `{name}` as ASCII STL (`MeshFile::read`)"),
+        size(&ascii),
+        runs,
+        || MeshFile::read(&ascii).unwrap(),
+    );
+    for f in [binary, out, ascii] {
+        std::fs::remove_file(f)?;
+    }
+    Ok(())
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let runs = Runs {
@@ -142,5 +189,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &out,
         &runs,
     )?;
+    stl(&dir, "face-head/head-poses/head-reference.obj", &runs)?;
     Ok(())
 }
