@@ -31,7 +31,7 @@ use crate::pictures::{gif_file, png_file};
 /// temporary name and moved into place only when the whole run has
 /// succeeded; a failed or interrupted (Ctrl-C) run leaves the output folder
 /// as it was. After a successful run, files of an earlier run in DIR named
-/// exactly like frames (frame_ + digits + .obj/.off/.ply/.svg) that this
+/// exactly like frames (frame_ + digits + .obj/.off/.ply/.stl/.svg) that this
 /// run did not write are removed; no other file is touched.
 #[derive(Debug, clap::Args)]
 pub struct Args {

@@ -981,7 +981,11 @@ fn output_paths(poses: &[PathBuf], dir: &Path, ext: &str) -> Result<Vec<PathBuf>
                     stem.to_string_lossy()
                 );
             }
-            Ok(dir.join(stem).with_extension(ext))
+            // `pose.01.obj` -> `pose.01.ply`: the stem whole, dots and all.
+            let mut name = stem.to_os_string();
+            name.push(".");
+            name.push(ext);
+            Ok(dir.join(name))
         })
         .collect()
 }

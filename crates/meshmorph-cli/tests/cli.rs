@@ -1998,6 +1998,22 @@ fn transfer_two_poses_with_the_same_stem() {
 }
 
 #[test]
+fn transfer_poses_with_dots_in_their_names_keep_them() {
+    // `walk.01.obj` and `walk.02.obj` are two outputs, not one `walk.obj`.
+    let rig = Rig::new();
+    let poses: Vec<PathBuf> = (0..2)
+        .map(|k| {
+            let p = rig.path(&format!("walk.0{k}.obj"));
+            fs::copy(&rig.poses[k], &p).unwrap();
+            p
+        })
+        .collect();
+    let out = rig.path("out");
+    succeeds(&rig.transfer(&out, &[os("--markers"), rig.markers.as_os_str()], &poses));
+    assert_eq!(names(&out), ["walk.00.obj", "walk.01.obj"]);
+}
+
+#[test]
 fn correspond_bad_deformed_source_name_writes_nothing() {
     let rig = Rig::new();
     let corr = rig.path("map.corr");

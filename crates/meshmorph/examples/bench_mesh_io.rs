@@ -111,7 +111,10 @@ fn stl(dir: &Path, mesh: &str, runs: &Runs) -> Result<(), Box<dyn std::error::Er
     let binary = tmp.join(format!("meshmorph-bench-io-{}.stl", std::process::id()));
     meshmorph::io::write_mesh(&binary, &m, Format::Stl)?;
     let file = MeshFile::read(&binary)?;
-    let name = Path::new(mesh).file_stem().unwrap_or_default().to_string_lossy();
+    let name = Path::new(mesh)
+        .file_stem()
+        .unwrap_or_default()
+        .to_string_lossy();
     row(
         &format!("read `{name}` as binary STL (`MeshFile::read`)"),
         size(&binary),
@@ -123,10 +126,16 @@ fn stl(dir: &Path, mesh: &str, runs: &Runs) -> Result<(), Box<dyn std::error::Er
         &format!("write a pose of `{name}` as binary STL (`MeshFile::write`)"),
         size(&binary),
         runs,
-        || file.write(&out, file.mesh().positions(), Format::Stl).unwrap(),
+        || {
+            file.write(&out, file.mesh().positions(), Format::Stl)
+                .unwrap()
+        },
     );
     // ASCII as CAD tools write it: `%e` numbers.
-    let ascii = tmp.join(format!("meshmorph-bench-io-{}-ascii.stl", std::process::id()));
+    let ascii = tmp.join(format!(
+        "meshmorph-bench-io-{}-ascii.stl",
+        std::process::id()
+    ));
     let mut text = String::from("solid bench\n");
     for t in 0..m.num_triangles() {
         text += "facet normal 0 0 0\nouter loop\n";

@@ -23,8 +23,8 @@ pub(crate) type VertexTree = RTree<GeomWithData<[f64; 3], u32>>;
 const TIE: f64 = 1e-6;
 
 /// The `count` vertices of `tree` nearest to `p` that `keep` accepts, among
-/// its `search` nearest, and every further accepted one (within those) as
-/// near as the last of them (see the module documentation).
+/// its `search` nearest, and every further accepted one as near as the last
+/// of them, however many (see the module documentation).
 pub(crate) fn nearest_with_ties(
     tree: &VertexTree,
     p: [f64; 3],
@@ -34,15 +34,17 @@ pub(crate) fn nearest_with_ties(
 ) -> Vec<u32> {
     let mut out = Vec::with_capacity(count);
     let mut last = f64::INFINITY;
-    for item in tree.nearest_neighbor_iter(p).take(search) {
+    for (seen, item) in tree.nearest_neighbor_iter(p).enumerate() {
+        let d = norm(sub(*item.geom(), p));
+        let full = out.len() >= count;
+        // Past `search` only to finish a tie: a whole ring, however many.
+        if (full && d - last > TIE * (norm(p) + last)) || (!full && seen >= search) {
+            break;
+        }
         if !keep(item.data) {
             continue;
         }
-        let d = norm(sub(*item.geom(), p));
-        if out.len() >= count && d - last > TIE * (norm(p) + last) {
-            break;
-        }
-        if out.len() < count {
+        if !full {
             last = d;
         }
         out.push(item.data);
@@ -76,5 +78,8 @@ mod tests {
         assert_eq!(got.len(), 16);
         let got = nearest_with_ties(&tree, [3.5, 0.0, 0.0], 2, 64, |v| v >= 16);
         assert_eq!(got, vec![16, 17]);
+        // A tie is finished past the search: 4 asked among the 5 nearest.
+        let got = nearest_with_ties(&tree, [3.5, 0.0, 0.0], 4, 5, |v| v != 16);
+        assert_eq!(got.len(), 16);
     }
 }

@@ -248,3 +248,58 @@ fn broken_stl_files_are_refused_naming_what_is_wrong() {
     // No facets.
     assert!(message(b"solid empty\nendsolid empty\n").contains("no facets"));
 }
+
+#[test]
+fn stl_as_other_tools_write_it_byte_order_marks_upper_case_and_solid_headers() {
+    let m = tube();
+    // A byte-order mark; keywords in capitals.
+    let text = ascii(&m);
+    assert_same(&parse(format!("\u{feff}{text}").as_bytes()).unwrap(), &m);
+    assert_same(&parse(text.to_uppercase().as_bytes()).unwrap(), &m);
+    // A binary file with a `solid` header cut short is told as binary.
+    let bytes = binary(&m, b"solid exported");
+    let e = parse(&bytes[..bytes.len() - 10]).unwrap_err().to_string();
+    assert!(e.contains("announces") && e.contains("bytes"), "{e}");
+}
+
+#[test]
+fn what_single_precision_cannot_hold_is_refused_when_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.stl");
+    let tri = [[0u32, 1, 2]];
+    // Beyond the range of `float`.
+    let e = write_positions(
+        &path,
+        &[[0.0, 0.0, 0.0], [1e39, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        &tri,
+        Format::Stl,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("out.stl") && e.contains("vertex 2") && e.contains("range"),
+        "{e}"
+    );
+    // Two corners one point once rounded.
+    let e = write_positions(
+        &path,
+        &[[1.0, 0.0, 0.0], [1.00000001, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        &tri,
+        Format::Stl,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("corners 1 and 2 of facet 1") && e.contains("fall on one point"),
+        "{e}"
+    );
+    assert!(!path.exists());
+    // Into a binary STL kept whole, the same.
+    let input = dir.path().join("in.stl");
+    std::fs::write(&input, binary(&tube(), b"x")).unwrap();
+    let file = MeshFile::read(&input).unwrap();
+    let mut huge = file.mesh().positions().to_vec();
+    huge[0][1] = 1e39;
+    assert!(file.write(&path, &huge, Format::Stl).is_err());
+    assert!(!path.exists());
+}

@@ -46,9 +46,9 @@ const ANCHORS_PER_VERTEX: usize = 4;
 /// fewer vertices than asked for does not make it walk the whole tree.
 const ANCHOR_SEARCH: usize = 16 * ANCHORS_PER_VERTEX;
 
-/// Differences of offsets below this, relative to the offsets, are
-/// rounding: a part whose offsets vary as much in the anchors' frame as in
-/// the world follows its anchors.
+/// Differences of offsets below this, relative to the size of the
+/// coordinates they come from, are rounding: a part whose offsets vary as
+/// much in the anchors' frame as in the world follows its anchors.
 const TIE: f64 = 1e-9;
 
 /// The anchors of every part but the largest (rest geometry only).

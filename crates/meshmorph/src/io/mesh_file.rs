@@ -525,6 +525,13 @@ impl MeshFile {
             )));
         }
         super::check_writable(path, positions, &[])?;
+        let binary = self
+            .patches
+            .iter()
+            .any(|p| matches!(p.coding, Coding::Binary(..)));
+        if format == Format::Stl && (format != self.format || binary) {
+            super::stl::check_float_corners(path, positions, self.mesh.triangles())?;
+        }
         if format == self.format {
             let normals = self.normals_for_shape(positions);
             write_atomic(path, |w| self.write_patched(w, path, positions, &normals))?;

@@ -226,6 +226,9 @@ pub fn write_positions<const D: usize>(
     format: Format,
 ) -> Result<()> {
     check_writable(path, positions, triangles)?;
+    if format == Format::Stl {
+        stl::check_float_corners(path, positions, triangles)?;
+    }
     let faces = || triangles.iter().map(|t| &t[..]);
     write_atomic(path, |w| match format {
         Format::Obj => obj::write(w, positions, faces()),

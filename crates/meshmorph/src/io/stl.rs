@@ -1,10 +1,13 @@
 //! STL (stereolithography), ASCII and binary.
 //!
 //! An STL file lists each facet with its own three corners and a normal:
-//! there are no shared vertices. Corners at the same point (bit for bit)
-//! are one vertex, numbered in the order they first occur, so a pose
-//! exported from the same mesh numbers its vertices alike. A facet whose
-//! corners are not three distinct points is refused, naming it.
+//! there are no shared vertices. Corners at the same point (bit for bit,
+//! but 0 and -0 alike: written back, such a corner takes the sign of the
+//! vertex's first) are one vertex, numbered in the order they first occur,
+//! so a pose exported from the same mesh numbers its vertices alike. A
+//! facet whose corners are not three distinct points is refused, naming
+//! it; so is, when written, a shape that `float` corners cannot hold
+//! (beyond their range, or corners of a facet rounded onto one point).
 //!
 //! Written back in STL, the file keeps its header or `solid` name, its facet
 //! order, and (binary) each facet's attribute bytes; each facet's corners
@@ -37,11 +40,16 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
         .then(|| u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize);
     let sized_as_binary = count.is_some_and(|n| HEADER + FACET * n == bytes.len());
     // Binary files whose header starts with `solid` are common: the size
-    // decides first.
+    // decides first; a file that starts as text but is not (a binary file
+    // cut short, say) is judged as binary.
     let mut out = if sized_as_binary || !starts_as_ascii(bytes) {
         parse_binary(bytes, path, keep)?
     } else {
-        parse_ascii(bytes, path, keep)?
+        match parse_ascii(bytes, path, keep) {
+            Ok(ascii) if ascii.faces.len() > 0 || is_text(bytes) => ascii,
+            Err(e) if is_text(bytes) => return Err(e),
+            _ => parse_binary(bytes, path, keep)?,
+        }
     };
     if out.faces.len() == 0 {
         return Err(Error::parse(
@@ -54,13 +62,30 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     Ok(out)
 }
 
-/// Whether the file begins with the `solid` keyword (after blanks).
+/// Whether the file begins with the `solid` keyword (after a byte-order
+/// mark and blanks; in any case, as some tools write it).
 fn starts_as_ascii(bytes: &[u8]) -> bool {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let start = bytes
         .iter()
         .position(|b| !b.is_ascii_whitespace())
         .unwrap_or(bytes.len());
-    bytes[start..].starts_with(b"solid")
+    bytes[start..]
+        .get(..5)
+        .is_some_and(|w| w.eq_ignore_ascii_case(b"solid"))
+}
+
+/// Whether the file holds text only (no control bytes but blanks): an
+/// ASCII STL does, a binary one almost never.
+fn is_text(bytes: &[u8]) -> bool {
+    bytes
+        .iter()
+        .all(|&b| b >= 0x20 || matches!(b, b'\n' | b'\r' | b'\t' | 0x0c))
+}
+
+/// Whether `token` is the keyword `word`, in any case.
+fn is(token: &[u8], word: &[u8]) -> bool {
+    token.eq_ignore_ascii_case(word)
 }
 
 /// Gives corners one vertex per distinct point, in order of first use.
@@ -218,11 +243,11 @@ fn parse_ascii(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
         let mut toks = tokens(line);
         let keyword = toks.next().unwrap_or_default();
         match (in_solid, keyword) {
-            (false, b"solid") => in_solid = true,
-            (true, b"endsolid") => in_solid = false,
-            (true, b"facet") => {
+            (false, k) if is(k, b"solid") => in_solid = true,
+            (true, k) if is(k, b"endsolid") => in_solid = false,
+            (true, k) if is(k, b"facet") => {
                 let f = faces.len();
-                if toks.next() != Some(&b"normal"[..]) {
+                if !toks.next().is_some_and(|t| is(t, b"normal")) {
                     return Err(err(no, "expected `facet normal nx ny nz`".into()));
                 }
                 let normal: Vec<&[u8]> = toks.collect();
@@ -250,7 +275,9 @@ fn parse_ascii(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                 out.normals.push(n);
                 let mut expect = |word: &[u8]| -> Result<(usize, &[u8])> {
                     match lines.next() {
-                        Some((no, line)) if tokens(line).next() == Some(word) => Ok((no, line)),
+                        Some((no, line)) if tokens(line).next().is_some_and(|t| is(t, word)) => {
+                            Ok((no, line))
+                        }
                         Some((no, line)) => Err(err(
                             no,
                             format!(
@@ -337,6 +364,46 @@ fn parse_ascii(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     out.corner_normal = (0..faces.len() as u32).flat_map(|f| [f; 3]).collect();
     out.faces = faces;
     Ok(out)
+}
+
+/// Refuses what binary STL, which holds `float` corners, cannot hold so that
+/// it reads back: a coordinate beyond the range of `float`, a facet whose
+/// corners fall on one point once rounded to `float`.
+///
+/// # Errors
+/// [`Error::InvalidMesh`] naming `path` and the vertex or facet (from 1).
+pub(super) fn check_float_corners<const D: usize>(
+    path: &Path,
+    positions: &[[f64; D]],
+    triangles: &[[u32; 3]],
+) -> Result<()> {
+    let float = |v: u32| xyz(&positions[v as usize]).map(|x| x as f32);
+    for (f, t) in triangles.iter().enumerate() {
+        let corners = t.map(float);
+        if let Some(k) = (0..3).find(|&k| corners[k].iter().any(|x| !x.is_finite())) {
+            return Err(Error::InvalidMesh(format!(
+                "cannot write `{}`: STL holds single-precision numbers, and vertex {} of facet {} ({:?}) lies beyond their range; scale the mesh down or write another format",
+                path.display(),
+                t[k] + 1,
+                f + 1,
+                xyz(&positions[t[k] as usize])
+            )));
+        }
+        for (a, b) in [(0, 1), (1, 2), (0, 2)] {
+            if corners[a] == corners[b] {
+                return Err(Error::InvalidMesh(format!(
+                    "cannot write `{}`: STL holds single-precision numbers, and in them corners {} and {} of facet {} (vertices {} and {}, numbered from 1) fall on one point, which no reader takes back; write another format",
+                    path.display(),
+                    a + 1,
+                    b + 1,
+                    f + 1,
+                    t[a] + 1,
+                    t[b] + 1
+                )));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Writes binary STL: an 80-byte header, the facet count, and per
