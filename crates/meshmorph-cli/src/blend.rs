@@ -223,12 +223,11 @@ pub fn run(args: &Args) -> Result<()> {
         .chain(args.shapes.iter().map(|(p, _)| p))
         .collect();
     let planar = output::is_planar(args.dim, &meshes, |k| format!("`{}`", paths[k].display()))?;
-    let (vertices, triangles) = (base.num_vertices(), base.num_triangles());
-    let has_uvs = base_file.file.has_corner_uvs();
+    let triangles = base.num_triangles();
     if planar {
-        args.gltf.check::<2>(vertices, triangles, STEPS, has_uvs)?;
+        args.gltf.check::<2>(Some(&base_file.file), &base, STEPS)?;
     } else {
-        args.gltf.check::<3>(vertices, triangles, STEPS, has_uvs)?;
+        args.gltf.check::<3>(Some(&base_file.file), &base, STEPS)?;
     }
     memory::check_setup(triangles, "the blend")?;
     memory::check_sequence(triangles, shapes.len())?;
@@ -270,7 +269,7 @@ pub fn run(args: &Args) -> Result<()> {
     Report {
         output: args.output.clone(),
         dimension: if planar { 2 } else { 3 },
-        vertices: vertices + base_file.seams.num_welded(),
+        vertices: base.num_vertices() + base_file.seams.num_welded(),
         triangles,
         shapes: shapes.len(),
         setup_seconds,

@@ -3,9 +3,17 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
-use meshmorph::io::gltf::{estimate_glb_bytes, write_glb, GltfBase, GltfOptions};
+use meshmorph::io::gltf::{estimate_glb_bytes, vertex_count, write_glb, GltfBase, GltfOptions};
+use meshmorph::io::{Appearance, MeshFile};
+use meshmorph::Mesh3;
 
 use crate::output::positive_number;
+use crate::pictures::file_named;
+
+/// A `.glb` path (a clap value parser).
+fn glb_file(text: &str) -> Result<PathBuf, String> {
+    file_named(text, "glb", "binary glTF")
+}
 
 /// Options of the glTF output.
 #[derive(Debug, Clone, clap::Args)]
@@ -15,7 +23,7 @@ pub struct GltfArgs {
     /// animation playing them at --fps. It weighs about 24 bytes x vertices x
     /// frames (12 for planar meshes): a 10,000-vertex mesh in space with 100
     /// frames makes 24 MB.
-    #[arg(long, value_name = "FILE.glb")]
+    #[arg(long, value_name = "FILE.glb", value_parser = glb_file)]
     pub gltf: Option<PathBuf>,
     /// Refuse to write a GLB heavier than this many megabytes (10^6 bytes).
     #[arg(long, default_value_t = 256.0, value_name = "MB", value_parser = positive_number)]
@@ -23,28 +31,28 @@ pub struct GltfArgs {
 }
 
 impl GltfArgs {
-    /// Refuses, before any work, a GLB path that is not `.glb` or a file
-    /// that would weigh more than `--max-gltf-mb`.
+    /// Refuses, before any work, a GLB that would weigh more than
+    /// `--max-gltf-mb`: `frames` frames of `mesh` (read from `file`, whose
+    /// texture coordinates, hard edges and colours split its vertices in
+    /// the GLB as they will be written), with `D` coordinates.
     pub fn check<const D: usize>(
         &self,
-        vertices: usize,
-        triangles: usize,
+        file: Option<&MeshFile>,
+        mesh: &Mesh3,
         frames: usize,
-        uvs: bool,
     ) -> Result<()> {
         let Some(path) = &self.gltf else {
             return Ok(());
         };
-        let glb = path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("glb"));
-        if !glb {
-            bail!(
-                "--gltf `{}`: the file is binary glTF; name it with the extension .glb",
-                path.display()
-            );
-        }
-        let bytes = estimate_glb_bytes::<D>(vertices, triangles, frames, uvs);
+        let look = file.map(Appearance::of_file).unwrap_or_default();
+        let base = look.base(mesh.positions(), mesh.triangles());
+        let vertices = vertex_count(&base)?;
+        let bytes = estimate_glb_bytes::<D>(
+            vertices,
+            mesh.num_triangles(),
+            frames,
+            base.corner_uvs.is_some(),
+        );
         let mb = bytes as f64 / 1e6;
         if mb > self.max_gltf_mb {
             bail!(

@@ -322,24 +322,21 @@ pub fn animate(
 ) -> Result<Report> {
     let (file, read_warnings, keys) = (keys.file, keys.warnings, keys.meshes);
     let first = &keys[0];
-    let (vertices, triangles) = (first.num_vertices(), first.num_triangles());
-    let has_uvs = file.is_some_and(|f| f.file.has_corner_uvs());
+    let look_of = file.map(|f| &f.file);
     if planar {
-        args.gltf
-            .check::<2>(vertices, triangles, times.len(), has_uvs)?;
+        args.gltf.check::<2>(look_of, first, times.len())?;
     } else {
         if args.svg {
             bail!("--svg draws planar frames only: use --gif, --png or --gltf for meshes in space");
         }
-        args.gltf
-            .check::<3>(vertices, triangles, times.len(), has_uvs)?;
+        args.gltf.check::<3>(look_of, first, times.len())?;
     }
     if args.turns != 0 && !(planar && keys.len() == 2) {
         bail!(
             "--turns applies to two planar keys only: in space there is no common axis to turn about, and a sequence's whole turns come from its keys"
         );
     }
-    memory::check_setup(triangles, "the interpolation")?;
+    memory::check_setup(first.num_triangles(), "the interpolation")?;
     let run = Run {
         args,
         times,

@@ -154,10 +154,10 @@ fn space_row<'a>(triangles: &'a [[u32; 3]], poses: Vec<&'a [[f64; 3]]>) -> GridR
     }
 }
 
-/// A path ending in `.ext` (any case), for a file written in that format
-/// (a clap value parser's body): a picture named otherwise would not open
-/// as what it is.
-fn file_named(text: &str, ext: &str) -> Result<PathBuf, String> {
+/// A path ending in `.ext` (any case), for a file written as `what` (a
+/// clap value parser's body): a file named otherwise would not open as
+/// what it is.
+pub fn file_named(text: &str, ext: &str, what: &str) -> Result<PathBuf, String> {
     let path = PathBuf::from(text);
     if path
         .extension()
@@ -166,20 +166,19 @@ fn file_named(text: &str, ext: &str) -> Result<PathBuf, String> {
         Ok(path)
     } else {
         Err(format!(
-            "`{text}`: the file is written as {}; name it with the extension .{ext}",
-            ext.to_uppercase()
+            "`{text}`: the file is written as {what}; name it with the extension .{ext}"
         ))
     }
 }
 
 /// A `.png` path (a clap value parser).
 pub fn png_file(text: &str) -> Result<PathBuf, String> {
-    file_named(text, "png")
+    file_named(text, "png", "PNG")
 }
 
 /// A `.gif` path (a clap value parser).
 pub fn gif_file(text: &str) -> Result<PathBuf, String> {
-    file_named(text, "gif")
+    file_named(text, "gif", "GIF")
 }
 
 /// `--png` and `--gif` of the commands on meshes in space.

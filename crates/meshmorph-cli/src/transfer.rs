@@ -554,12 +554,8 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     memory::check_reading(&read)?;
     let (source_ref, target_ref) = args.refs.read()?;
     let (source, target) = (&source_ref.mesh, &target_ref.mesh);
-    args.gltf.check::<3>(
-        target.num_vertices(),
-        target.num_triangles(),
-        args.poses.len(),
-        false,
-    )?;
+    args.gltf
+        .check::<3>(Some(&target_ref.file.file), target, args.poses.len())?;
     let pins = pin_positions(&args.pin, args.correspond.one_based, &target_ref)?;
 
     // Each pose is new positions for the reference's faces, split as the

@@ -855,7 +855,25 @@ fn stl_keys_give_stl_frames_that_keep_the_file() {
     );
     let last = read(&out.join("frame_0002.stl"));
     assert!(max_diff(last.positions(), read(&keys[1]).positions()) == 0.0);
-    assert!(fs::metadata(&glb).unwrap().len() > 0);
+    // Flat facets give the GLB three vertices per triangle: its size limit
+    // counts them (it counted the mesh's vertices, a sixth of them).
+    let bytes = fs::metadata(&glb).unwrap().len() as f64;
+    let limit = format!("{}", 0.8 * bytes / 1e6);
+    let refused = dir.path().join("refused.glb");
+    let err = fails(&interpolate_keys(
+        &keys,
+        &dir.path().join("refused"),
+        &[
+            "--frames",
+            "3",
+            "--gltf",
+            refused.to_str().unwrap(),
+            "--max-gltf-mb",
+            &limit,
+        ],
+    ));
+    assert_mentions(&err, &["would weigh about", "--max-gltf-mb"]);
+    assert!(!refused.exists());
 }
 
 #[test]
@@ -2318,7 +2336,7 @@ fn interpolate_bad_gltf_options_are_refused_before_any_output() {
         assert_mentions(&err, &["--fps", "not a frame rate from 0.01 to 1000"]);
         assert!(!p.out.exists());
     }
-    let err = p.interpolate_fails(&["--gltf", p.out.join("a.gltf").to_str().unwrap()]);
+    let err = usage_error(&p.interpolate(&["--gltf", p.out.join("a.gltf").to_str().unwrap()]));
     assert_mentions(&err, &["a.gltf", ".glb"]);
     let err = p.interpolate_fails(&["--gltf", g, "--frames", "100", "--max-gltf-mb", "0.01"]);
     assert_mentions(&err, &["a.glb", "MB", "100 frames", "--max-gltf-mb"]);

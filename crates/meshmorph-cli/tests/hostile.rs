@@ -456,7 +456,7 @@ fn catalogue() -> Vec<Case> {
             |d| append(d, "thick.obj", "v 10 10 10\n")),
         with_setup(case("transfer onto a target with an unused vertex", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "out", "pose1.obj"], 0, &["wrote 1 pose ", "unused target vertices: 1"]),
             |d| append(d, "thick.obj", "v 10 10 10\n")),
-        case("--gltf onto the source", &[I, "src.obj", "dst.obj", "-o", "out", "--gltf", "src.obj"], 1, &["would overwrite the source mesh `src.obj`"]),
+        case("--gltf onto the source", &[I, "src.obj", "dst.obj", "-o", "out", "--gltf", "src.obj"], 2, &["extension .glb"]),
         case("--gltf equal to --gif", &[I, "src.obj", "dst.obj", "-o", "out", "--gltf", "a.glb", "--gif", "a.glb"], 2, &["extension .gif"]),
         case("transfer --png onto the target reference", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "--png", "thick.obj", "-o", "out", "pose1.obj"], 2, &["extension .png"]),
         case("transfer --gif onto a pose output", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "--gif", "out/pose1.obj", "-o", "out", "pose1.obj"], 2, &["extension .gif"]),

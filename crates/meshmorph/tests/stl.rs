@@ -256,6 +256,14 @@ fn stl_as_other_tools_write_it_byte_order_marks_upper_case_and_solid_headers() {
     let text = ascii(&m);
     assert_same(&parse(format!("\u{feff}{text}").as_bytes()).unwrap(), &m);
     assert_same(&parse(text.to_uppercase().as_bytes()).unwrap(), &m);
+    // A normal that is not a number, as old exporters wrote them.
+    let odd = text.replacen("facet normal ", "facet normal -1.#IND00e+000 ", 1);
+    let odd = odd.replacen(
+        &odd[odd.find("-1.#IND").unwrap()..odd.find("\n    outer").unwrap()],
+        "-1.#IND00e+000 0 1",
+        1,
+    );
+    assert_same(&parse(odd.as_bytes()).unwrap(), &m);
     // A binary file with a `solid` header cut short is told as binary.
     let bytes = binary(&m, b"solid exported");
     let e = parse(&bytes[..bytes.len() - 10]).unwrap_err().to_string();
@@ -302,4 +310,33 @@ fn what_single_precision_cannot_hold_is_refused_when_written() {
     huge[0][1] = 1e39;
     assert!(file.write(&path, &huge, Format::Stl).is_err());
     assert!(!path.exists());
+}
+
+#[test]
+fn a_pose_that_numbers_its_points_otherwise_is_refused_saying_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = tube();
+    let reference = dir.path().join("ref.stl");
+    std::fs::write(&reference, binary(&m, b"x")).unwrap();
+    let file = MeshFile::read(&reference).unwrap();
+    // The same shape, its first facet listed from its second corner: its
+    // points first occur in another order, so its vertices are numbered
+    // otherwise.
+    let mut rotated = m.triangles().to_vec();
+    rotated[0] = [rotated[0][1], rotated[0][2], rotated[0][0]];
+    let pose = dir.path().join("pose.stl");
+    std::fs::write(
+        &pose,
+        binary(&Mesh3::new(m.positions().to_vec(), rotated).unwrap(), b"x"),
+    )
+    .unwrap();
+    let e = file.read_pose(&pose).unwrap_err().to_string();
+    assert!(
+        e.contains("pose.stl") && e.contains("STL has no vertex indices"),
+        "{e}"
+    );
+    // Listed as the reference lists them: a pose.
+    let same = dir.path().join("same.stl");
+    std::fs::write(&same, binary(&m, b"y")).unwrap();
+    assert!(file.read_pose(&same).is_ok());
 }

@@ -236,11 +236,21 @@ impl<'a, const D: usize> GltfBase<'a, D> {
     }
 }
 
+/// How many vertices the GLB of `base` has: one per used vertex and
+/// distinct texture coordinates, normal group and colour of its corners (a
+/// mesh shaded flat has three per triangle). Count them with this before
+/// [`estimate_glb_bytes`].
+///
+/// # Errors
+/// As [`write_glb`] for corner data that does not fit the triangles.
+pub fn vertex_count<const D: usize>(base: &GltfBase<'_, D>) -> Result<usize> {
+    Ok(split_vertices(base)?.original.len())
+}
+
 /// About how many bytes a GLB of `frames` frames of a mesh with `vertices`
-/// vertices, `triangles` triangles and `D` coordinates weighs: 24 bytes per
-/// vertex and frame in space, 12 in the plane, plus the base mesh, the
-/// animation and the JSON (texture seams, which split vertices, add a
-/// little).
+/// glTF vertices ([`vertex_count`]), `triangles` triangles and `D`
+/// coordinates weighs: 24 bytes per vertex and frame in space, 12 in the
+/// plane, plus the base mesh, the animation and the JSON.
 pub fn estimate_glb_bytes<const D: usize>(
     vertices: usize,
     triangles: usize,

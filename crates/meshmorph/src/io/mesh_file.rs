@@ -29,6 +29,11 @@ use super::{push_f64, write_atomic, Format};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh3;
 
+/// What a pose of an STL file (or an STL pose) must be, said when it is
+/// not: STL has no vertex indices, so a vertex's number is where its point
+/// first occurs.
+const STL_POSES: &str = " (STL has no vertex indices: corners at one point are one vertex, numbered in the order the points first occur, so a pose lists the reference's facets in the same order, each from the same corner; vertices that touch in one pose become one there, which STL cannot tell apart: export such poses as OBJ or PLY)";
+
 /// No index (a corner without texture coordinates or normal).
 pub(super) const NONE: u32 = u32::MAX;
 
@@ -844,9 +849,15 @@ impl MeshFile {
         faces: &Polygons,
     ) -> Result<(Mesh3, usize)> {
         let (mine, theirs) = (self.path.display(), path.display());
+        // STL numbers vertices by where their points first occur.
+        let stl = if format == Format::Stl || self.format == Format::Stl {
+            STL_POSES
+        } else {
+            ""
+        };
         if positions.len() != self.mesh.num_vertices() {
             return Err(Error::Mismatch(format!(
-                "`{theirs}` has {} vertices but `{mine}` has {}: a pose has the reference's vertices",
+                "`{theirs}` has {} vertices but `{mine}` has {}: a pose has the reference's vertices{stl}",
                 positions.len(),
                 self.mesh.num_vertices()
             )));
@@ -873,14 +884,14 @@ impl MeshFile {
                 return Err(Error::FaceMismatch {
                     face: f,
                     line,
-                    message: self.face_mismatch(f, &theirs, faces, line),
+                    message: self.face_mismatch(f, &theirs, faces, line) + stl,
                 });
             }
             reordered += 1;
         }
         if faces.len() != self.faces.len() {
             return Err(Error::Mismatch(format!(
-                "`{theirs}` has {} faces but `{mine}` has {}: a pose (or a later key) has the faces of its reference (the first key)",
+                "`{theirs}` has {} faces but `{mine}` has {}: a pose (or a later key) has the faces of its reference (the first key){stl}",
                 faces.len(),
                 self.faces.len()
             )));

@@ -263,9 +263,10 @@ fn parse_ascii(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                 }
                 let mut n = [0.0; 3];
                 for (axis, tok) in normal.iter().enumerate() {
-                    let x = parse_f64(tok)
-                        .ok_or_else(|| err(no, format!("`{}` is not a number", show(tok))))?;
-                    n[axis] = if x.is_finite() { x } else { 0.0 };
+                    // Normals are recomputed by every reader: one that is
+                    // not a number (`-1.#IND00e+000` of old exporters) is 0.
+                    let x = parse_f64(tok).filter(|x| x.is_finite()).unwrap_or(0.0);
+                    n[axis] = x;
                     let start = offset_in(bytes, tok);
                     out.patch(Patch::text(
                         start..start + tok.len(),
