@@ -21,9 +21,9 @@ pub fn bar(len: u64, what: &str) -> ProgressBar {
     bar
 }
 
-/// Frames read through a counter shown as `what: N frames read`: a writer
-/// that reads every frame (a GIF, a GLB), perhaps twice (once to fit its
-/// view or bounds), is seen at work. Hidden when stderr is not a terminal.
+/// Frames read through a counter shown as `what: R reads of N frames`: a
+/// writer that reads every frame (a GIF, a GLB), perhaps twice (once to fit
+/// its view or bounds, once to draw or write), is seen at work. Hidden when stderr is not a terminal.
 pub struct Counted<'a, const D: usize> {
     frames: &'a dyn FrameSource<D>,
     counter: ProgressBar,
@@ -35,11 +35,12 @@ impl<'a, const D: usize> Counted<'a, D> {
             let c = ProgressBar::new_spinner();
             c.set_style(
                 ProgressStyle::with_template(
-                    "{msg:>12} {spinner} {pos} frames read {elapsed_precise}",
+                    "{msg:>12} {spinner} {pos} reads of {prefix} frames {elapsed_precise}",
                 )
                 .expect("valid template"),
             );
             c.set_message(what.to_string());
+            c.set_prefix(frames.num_frames().to_string());
             // Alive between frames too: drawing one may take a while.
             c.enable_steady_tick(std::time::Duration::from_millis(120));
             c

@@ -857,7 +857,7 @@ impl MeshFile {
         };
         if positions.len() != self.mesh.num_vertices() {
             return Err(Error::Mismatch(format!(
-                "`{theirs}` has {} vertices but `{mine}` has {}: a pose has the reference's vertices{stl}",
+                "`{theirs}` has {} vertices but `{mine}` has {}: a pose (or a later key) has the vertices of its reference (the first key){stl}",
                 positions.len(),
                 self.mesh.num_vertices()
             )));
