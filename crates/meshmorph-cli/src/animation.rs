@@ -359,6 +359,7 @@ where
         files_written.extend(args.gltf.gltf.clone());
     }
     let mut warnings = read_warnings.to_vec();
+    warnings.extend(output::gif_rate_warning(args.gif.is_some(), args.fps));
     if args.gltf.gltf.is_some() {
         warnings.extend(look.warnings.iter().cloned());
     }

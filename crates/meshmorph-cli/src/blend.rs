@@ -216,6 +216,10 @@ pub fn run(args: &Args) -> Result<()> {
     let mut roles = vec!["base mesh"];
     roles.extend(args.shapes.iter().map(|_| "blend shape"));
     let mut warnings = staging.warnings();
+    warnings.extend(output::gif_rate_warning(
+        args.pictures.gif.is_some(),
+        args.fps,
+    ));
     let (base_file, mut shapes) = output::read_poses(&paths, &roles, !args.no_weld, &mut warnings)?;
     let base = shapes.remove(0);
     let meshes: Vec<&Mesh3> = std::iter::once(&base).chain(&shapes).collect();

@@ -547,6 +547,15 @@ pub fn frame_rate(text: &str) -> Result<f64, String> {
     }
 }
 
+/// The warning that a GIF plays `fps` above 50 at 50 (its delays are whole
+/// hundredths of a second, and browsers slow down shorter ones), when a GIF
+/// is written; the GLB keeps the rate.
+pub fn gif_rate_warning(gif: bool, fps: f64) -> Option<String> {
+    (gif && fps > 50.0).then(|| {
+        format!("the GIF plays at 50 frames per second, not {fps}: its delays are whole hundredths of a second, and browsers slow down shorter ones (a GLB keeps {fps})")
+    })
+}
+
 /// Prints each warning on stderr.
 pub fn print_warnings(warnings: &[String]) {
     for w in warnings {

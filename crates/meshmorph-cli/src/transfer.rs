@@ -577,6 +577,10 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     } = read;
     let mut warnings = staging.warnings();
     warnings.extend(read_warnings);
+    warnings.extend(output::gif_rate_warning(
+        args.pictures.gif.is_some(),
+        args.fps,
+    ));
     let reordered_pose_faces = poses.iter().map(|(_, reordered, _)| reordered).sum();
     let Prepared {
         correspondence,
