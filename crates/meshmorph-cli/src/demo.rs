@@ -263,12 +263,8 @@ fn transfer(args: &Args) -> Result<()> {
         },
         poses: pose_paths,
     })?;
+    // The transfer's report names its pictures.
     if !args.json {
-        println!(
-            "pictures: {}, {}",
-            dir.join("transfer.gif").display(),
-            dir.join("transfer.png").display()
-        );
         println!(
             "rerun: meshmorph transfer --source-ref {} --target-ref {} --markers {} -o {} {}",
             source_ref.display(),
