@@ -44,7 +44,8 @@ impl GltfArgs {
         let Some(path) = &self.gltf else {
             return Ok(());
         };
-        let look = file.map(Appearance::of_file).unwrap_or_default();
+        // The corners decide the vertices; the materials need not be read.
+        let look = file.map(Appearance::of_corners).unwrap_or_default();
         let base = look.base(mesh.positions(), mesh.triangles());
         let vertices = vertex_count(&base)?;
         let bytes = estimate_glb_bytes::<D>(

@@ -1519,24 +1519,16 @@ fn planar_obj_lines_stay_planar_unless_the_shape_leaves_the_plane() {
     std::fs::write(&path, "v 0 0\nv 1 0\nv 0 1\nf 1 2 3\n").unwrap();
     let file = MeshFile::read(&path).unwrap();
     let out = dir.path().join("moved.obj");
-    file.write(
-        &out,
-        &[[0.5, 0.0, 0.0], [1.5, 0.0, 0.0], [0.5, 1.0, 0.0]],
-        Format::Obj,
-    )
-    .unwrap();
+    let written = |positions: &[[f64; 3]]| {
+        file.write(&out, positions, Format::Obj).unwrap();
+        std::fs::read_to_string(&out).unwrap()
+    };
     assert_eq!(
-        std::fs::read_to_string(&out).unwrap(),
+        written(&[[0.5, 0.0, 0.0], [1.5, 0.0, 0.0], [0.5, 1.0, 0.0]]),
         "v 0.5 0\nv 1.5 0\nv 0.5 1\nf 1 2 3\n"
     );
-    file.write(
-        &out,
-        &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.25], [0.0, 1.0, 0.0]],
-        Format::Obj,
-    )
-    .unwrap();
     assert_eq!(
-        std::fs::read_to_string(&out).unwrap(),
+        written(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.25], [0.0, 1.0, 0.0]]),
         "v 0 0 0\nv 1 0 0.25\nv 0 1 0\nf 1 2 3\n"
     );
     // Read back: a file never mixes 2 and 3 coordinates.

@@ -38,10 +38,12 @@ pub struct Appearance {
 }
 
 impl Appearance {
-    /// The looks of `file`, reading its material libraries and their
-    /// colour textures (PNG or JPEG, embedded as they are).
-    pub fn of_file(file: &MeshFile) -> Self {
-        let mut look = Appearance {
+    /// What of `file`'s looks is given per triangle corner (texture
+    /// coordinates, hard edges, colours), without reading its materials:
+    /// all that decides the GLB's vertices
+    /// ([`vertex_count`](super::gltf::vertex_count)).
+    pub fn of_corners(file: &MeshFile) -> Self {
+        Appearance {
             corner_uvs: file.triangle_corner_uvs(),
             corner_normal_groups: file.triangle_corner_normal_groups(),
             corner_colors: file.triangle_corner_colors().map(|c| {
@@ -50,7 +52,13 @@ impl Appearance {
                     .collect()
             }),
             ..Default::default()
-        };
+        }
+    }
+
+    /// The looks of `file`, reading its material libraries and their
+    /// colour textures (PNG or JPEG, embedded as they are).
+    pub fn of_file(file: &MeshFile) -> Self {
+        let mut look = Self::of_corners(file);
         if let Some((names, of_triangle)) = file.triangle_materials() {
             look.add_materials(file, names, &of_triangle);
         }

@@ -530,11 +530,13 @@ impl MeshFile {
             )));
         }
         super::check_writable(path, positions, &[])?;
-        let binary = self
-            .patches
-            .iter()
-            .any(|p| matches!(p.coding, Coding::Binary(..)));
-        if format == Format::Stl && (format != self.format || binary) {
+        // A binary STL's patches are all binary; an ASCII one's all text.
+        let binary = || {
+            self.patches
+                .first()
+                .is_some_and(|p| matches!(p.coding, Coding::Binary(..)))
+        };
+        if format == Format::Stl && (format != self.format || binary()) {
             super::stl::check_float_corners(path, positions, self.mesh.triangles())?;
         }
         if format == self.format {
