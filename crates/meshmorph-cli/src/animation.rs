@@ -273,48 +273,64 @@ where
     )?;
     let bar = progress::bar(times.len() as u64, "frames");
     let wall = Instant::now();
+    // Each thread solves a few frames together (one substitution for all),
+    // then writes them.
+    let together = meshmorph::frames_per_solve(times.len());
     let results: Vec<Result<Frame>> = times
-        .par_iter()
+        .par_chunks(together)
         .enumerate()
         .map_init(
             || morph.workspace(),
-            |ws, (k, &t)| {
+            |ws, (chunk, chunk_times)| {
                 let begin = Instant::now();
-                let mut positions = vec![[0.0; D]; morph.num_vertices()];
-                morph.at_into(t, &mut positions, ws);
-                let compute = begin.elapsed().as_secs_f64();
-                let flipped = morph.count_turned_over(&positions);
-                let begin = Instant::now();
-                let mut dropped = Vec::new();
-                staging.write(outputs.meshes[k], |path| {
-                    check_finite(&positions, k, t, morph.num_keys() - 1)?;
-                    match file {
-                        Some(file) => {
-                            let lifted: Vec<[f64; 3]> = positions
-                                .iter()
-                                .map(|p| std::array::from_fn(|i| if i < D { p[i] } else { 0.0 }))
-                                .collect();
-                            dropped = file.write(path, &lifted, outputs.format)?;
+                let mut solved = vec![vec![[0.0; D]; morph.num_vertices()]; chunk_times.len()];
+                let mut outs: Vec<&mut [[f64; D]]> =
+                    solved.iter_mut().map(Vec::as_mut_slice).collect();
+                morph.frames_into(chunk_times, &mut outs, ws);
+                let compute = begin.elapsed().as_secs_f64() / chunk_times.len() as f64;
+                let write_one = |(i, positions): (usize, Vec<[f64; D]>)| -> Result<Frame> {
+                    let (k, t) = (chunk * together + i, chunk_times[i]);
+                    let flipped = morph.count_turned_over(&positions);
+                    let begin = Instant::now();
+                    let mut dropped = Vec::new();
+                    staging.write(outputs.meshes[k], |path| {
+                        check_finite(&positions, k, t, morph.num_keys() - 1)?;
+                        match file {
+                            Some(file) => {
+                                let lifted: Vec<[f64; 3]> = positions
+                                    .iter()
+                                    .map(|p| {
+                                        std::array::from_fn(|i| if i < D { p[i] } else { 0.0 })
+                                    })
+                                    .collect();
+                                dropped = file.write(path, &lifted, outputs.format)?;
+                            }
+                            None => meshmorph::io::write_positions(
+                                path,
+                                &positions,
+                                morph.triangles(),
+                                outputs.format,
+                            )?,
                         }
-                        None => meshmorph::io::write_positions(
-                            path,
-                            &positions,
-                            morph.triangles(),
-                            outputs.format,
-                        )?,
-                    }
-                    Ok(())
-                })?;
-                let write = begin.elapsed().as_secs_f64();
-                bar.inc(1);
-                Ok(Frame {
-                    compute,
-                    write,
-                    flipped,
-                    dropped,
-                })
+                        Ok(())
+                    })?;
+                    let write = begin.elapsed().as_secs_f64();
+                    bar.inc(1);
+                    Ok(Frame {
+                        compute,
+                        write,
+                        flipped,
+                        dropped,
+                    })
+                };
+                solved
+                    .into_iter()
+                    .enumerate()
+                    .map(write_one)
+                    .collect::<Vec<_>>()
             },
         )
+        .flatten_iter()
         .collect();
     let wall_seconds = wall.elapsed().as_secs_f64();
     bar.finish_and_clear();

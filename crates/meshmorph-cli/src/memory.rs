@@ -82,18 +82,21 @@ pub fn check_sequence(triangles: usize, segments: usize) -> Result<()> {
 
 /// What an animation holds of its frames: with frames streamed to their
 /// files (and recomputed for the pictures and the GLB), each thread holds
-/// about a frame's positions, its solver scratch (about as large again, for
-/// a few right-hand sides) and, writing a GLB, the bytes of
-/// [`FRAMES_IN_FLIGHT_PER_THREAD`] frames (24 per vertex); the run also
-/// keeps about a kilobyte per frame file (names, timings, the report).
+/// the positions of the frames it solves together
+/// ([`meshmorph::FRAMES_PER_SOLVE`]), its solver scratch (as large again)
+/// and, writing a GLB, the bytes of [`FRAMES_IN_FLIGHT_PER_THREAD`] frames
+/// (24 per vertex); the run also keeps about a kilobyte per frame file
+/// (names, timings, the report).
 pub fn check_frames_in_flight(
     vertices: usize,
     dim: usize,
     threads: usize,
     frames: usize,
 ) -> Result<()> {
-    let per_thread = (vertices as u64)
-        .saturating_mul(8 * dim as u64 * 4 + 24 * FRAMES_IN_FLIGHT_PER_THREAD as u64);
+    let per_thread = (vertices as u64).saturating_mul(
+        8 * dim as u64 * 2 * meshmorph::FRAMES_PER_SOLVE as u64
+            + 24 * FRAMES_IN_FLIGHT_PER_THREAD as u64,
+    );
     let bookkeeping = (frames as u64).saturating_mul(FRAME_FILE_BYTES);
     check(
         per_thread

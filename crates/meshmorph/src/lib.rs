@@ -76,6 +76,7 @@ pub mod similarity;
 mod solve;
 pub mod topology;
 mod transfer;
+mod trig;
 
 pub use correspond::{
     correspond, correspond_steps, CorrespondOptions, CorrespondResult, MIN_MARKERS,
@@ -85,8 +86,9 @@ pub use error::{Error, Result};
 pub use frame_source::{FrameSource, FRAME_RATES};
 pub use gradient::TriangleMaps;
 pub use interpolate::{
-    Blend, Blend3, FrameWorkspace, Interpolator, InterpolatorOptions, PreparedSurface, RestSystem,
-    Sequence, Sequence3, SequenceWorkspace, StretchMode,
+    frames_per_solve, Blend, Blend3, FrameWorkspace, Interpolator, InterpolatorOptions,
+    PreparedSurface, RestSystem, Sequence, Sequence3, SequenceWorkspace, StretchMode,
+    FRAMES_PER_SOLVE,
 };
 pub use markers::{Markers, Snap, SNAP_LIMIT};
 pub use matrix::Mat;

@@ -19,7 +19,7 @@ pub struct Polar2 {
 /// The rotation matrix `R(θ)`.
 #[inline]
 pub fn rotation(angle: f64) -> Mat2 {
-    let (s, c) = angle.sin_cos();
+    let (s, c) = crate::trig::sin_cos(angle);
     [[c, -s], [s, c]]
 }
 

@@ -115,7 +115,7 @@ pub fn quat_dot(a: Quat, b: Quat) -> f64 {
 /// The quaternion of the rotation by `angle` radians about the unit `axis`.
 #[inline]
 pub fn quat_axis_angle(axis: [f64; 3], angle: f64) -> Quat {
-    let (s, c) = (0.5 * angle).sin_cos();
+    let (s, c) = crate::trig::sin_cos(0.5 * angle);
     [c, s * axis[0], s * axis[1], s * axis[2]]
 }
 

@@ -92,12 +92,22 @@ impl<const D: usize, const K: usize> GradientOperators<D, K> {
     #[inline]
     pub(crate) fn add_fit_rhs(&self, rhs: &mut [f64], t: usize, Q: &Mat<D>, weight: f64) {
         let m = self.num_unknowns();
-        let G = &self.operators[t];
-        for (k, u) in self.unknowns(t).into_iter().enumerate() {
+        for (u, row) in self.unknowns(t).into_iter().zip(self.fit_rhs(t, Q, weight)) {
             for i in 0..D {
-                rhs[i * m + u] += weight * (0..D).map(|j| G[k][j] * Q[i][j]).sum::<f64>();
+                rhs[i * m + u] += row[i];
             }
         }
+    }
+
+    /// The rows of `weight · G_t Qᵀ` ([`GradientOperators::add_fit_rhs`]),
+    /// one per unknown of triangle `t`, for a caller that lays the
+    /// right-hand side out its own way.
+    #[inline]
+    pub(crate) fn fit_rhs(&self, t: usize, Q: &Mat<D>, weight: f64) -> [[f64; D]; K] {
+        let G = &self.operators[t];
+        std::array::from_fn(|k| {
+            std::array::from_fn(|i| weight * (0..D).map(|j| G[k][j] * Q[i][j]).sum::<f64>())
+        })
     }
 
     /// `weight · ‖X G_a − X G_b‖²_F` (no right-hand side): triangles `a`

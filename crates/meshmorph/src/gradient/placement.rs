@@ -93,6 +93,35 @@ impl<const D: usize> Placement<D> {
         }
     }
 
+    /// [`Placement::centroids_by`] of several frames at once, in one pass:
+    /// `rows(v)` holds vertex `v` in each frame, `D` coordinates per frame
+    /// side by side, and `out[f]` receives frame `f`'s centroids.
+    #[inline]
+    pub(crate) fn centroids_of_frames<'r, const K: usize>(
+        &self,
+        rows: impl Fn(usize) -> &'r [f64; K],
+        out: &mut [Vec<[f64; D]>],
+    ) {
+        let mut sums = vec![[0.0; K]; self.count()];
+        for (v, &c) in self.vertex_part.iter().enumerate() {
+            if c != u32::MAX {
+                let (row, w) = (rows(v), self.vertex_weight[v]);
+                let sum = &mut sums[c as usize];
+                for k in 0..K {
+                    sum[k] += w * row[k];
+                }
+            }
+        }
+        for (f, out) in out.iter_mut().enumerate() {
+            out.clear();
+            out.extend(
+                sums.iter()
+                    .zip(&self.part_weight)
+                    .map(|(sum, w)| std::array::from_fn(|i| sum[f * D + i] / w)),
+            );
+        }
+    }
+
     /// Moves every vertex of each placed part by the part's `shift`.
     pub(crate) fn translate(&self, positions: &mut [[f64; D]], shifts: &[[f64; D]]) {
         for (v, p) in positions.iter_mut().enumerate() {

@@ -11,6 +11,9 @@ pub(crate) struct FactoredSystem<const D: usize> {
     system: PinnedSystem,
     /// Column-major `#pinned × D`.
     pinned_values: Vec<f64>,
+    /// The row of each unknown in the layout of
+    /// [`FactoredSystem::solve_in_rows`].
+    row_of: Vec<u32>,
 }
 
 /// Per-thread scratch for [`FactoredSystem::solve`].
@@ -29,8 +32,10 @@ impl<const D: usize> FactoredSystem<D> {
     /// [`Error::Solver`](crate::Error::Solver) when what remains is not
     /// positive definite.
     pub(crate) fn new(matrix: &SymmetricMatrix, pins: &Pins<D>, kind: FactorKind) -> Result<Self> {
+        let system = PinnedSystem::new(matrix, pins.vertices(), kind)?;
         Ok(Self {
-            system: PinnedSystem::new(matrix, pins.vertices(), kind)?,
+            row_of: system.rows_of_unknowns(),
+            system,
             pinned_values: pins.packed_values(),
         })
     }
@@ -40,7 +45,9 @@ impl<const D: usize> FactoredSystem<D> {
     /// # Errors
     /// As [`FactoredSystem::new`].
     pub(crate) fn refactor(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
-        self.system.refactor(matrix)
+        self.system.refactor(matrix)?;
+        self.row_of = self.system.rows_of_unknowns();
+        Ok(())
     }
 
     /// Number of unknowns, pinned ones included.
@@ -80,5 +87,34 @@ impl<const D: usize> FactoredSystem<D> {
     pub(crate) fn position(&self, ws: &SolveWorkspace, v: usize) -> [f64; D] {
         let m = self.num_unknowns();
         std::array::from_fn(|i| ws.x[i * m + v])
+    }
+
+    /// The row of unknown `u` in the layout of
+    /// [`FactoredSystem::solve_in_rows`].
+    #[inline]
+    pub(crate) fn row_of(&self, u: usize) -> usize {
+        self.row_of[u] as usize
+    }
+
+    /// Solves for `K / D` right-hand sides of `D` coordinates each, side by
+    /// side, in rows laid out as [`FactoredSystem::row_of`] says: on entry
+    /// the rows of the free unknowns hold the right-hand side (whatever the
+    /// rows of pinned unknowns hold is ignored); on return every row holds
+    /// its unknown's value, the pinned ones their pinned values.
+    ///
+    /// # Panics
+    /// If `rows` does not have one row per unknown, or `K` is not a multiple
+    /// of `D`.
+    #[track_caller]
+    pub(crate) fn solve_in_rows<const K: usize>(&self, rows: &mut [[f64; K]]) {
+        assert_eq!(K % D, 0, "whole right-hand sides of D coordinates");
+        let (m, np) = (
+            self.num_unknowns() - self.pinned_values.len() / D,
+            self.pinned_values.len() / D,
+        );
+        for (q, row) in rows[m..].iter_mut().enumerate() {
+            *row = std::array::from_fn(|c| self.pinned_values[(c % D) * np + q]);
+        }
+        self.system.solve_in_rows(rows);
     }
 }

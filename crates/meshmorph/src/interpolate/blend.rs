@@ -282,8 +282,14 @@ where
             mul(Space::<D>::exp(&R), Space::<D>::stretch_exp(&L))
         };
         let offset = |i: usize| blended(self.base_offsets[i], &|s| s.offsets[i]);
-        self.rest
-            .solve_frame(map, centroid, &self.attached, offset, out, ws);
+        self.rest.solve_frames(
+            |_, t| self.rest.fit_rows(t, &map(t)),
+            |_, c| centroid(c),
+            &self.attached,
+            |_, i| offset(i),
+            &mut [&mut *out],
+            ws,
+        );
         let base = self.rest.source().positions();
         for &v in self.rest.loose_vertices() {
             let v = v as usize;

@@ -28,7 +28,7 @@ mod sequence;
 use std::sync::Arc;
 
 use crate::error::{Error, Result, LIST_LIMIT};
-use crate::gradient::{SolveWorkspace, TriangleMaps};
+use crate::gradient::TriangleMaps;
 use crate::mesh::Mesh;
 use crate::rotation::Rotations;
 use crate::topology::TriangleAdjacency;
@@ -38,7 +38,7 @@ pub use blend::{Blend, Blend3};
 pub use options::{InterpolatorOptions, StretchMode};
 pub(crate) use poses::{turned_over_in_space, RestDihedrals};
 pub use rest::{PreparedSurface, RestSystem};
-pub use sequence::{Sequence, Sequence3, SequenceWorkspace};
+pub use sequence::{frames_per_solve, Sequence, Sequence3, SequenceWorkspace};
 
 use sequence::Log;
 
@@ -81,13 +81,22 @@ where
 /// [`Blend::at_into`]) and [`RestSystem::solve_into`].
 #[derive(Debug)]
 pub struct FrameWorkspace<const D: usize = 2> {
-    solve: SolveWorkspace,
-    /// One vector per part: its centroid, then its shift.
-    parts: Vec<[f64; D]>,
-    /// The frame's rotations of the segment's shared whole turns
+    /// The right-hand sides and then the solutions of the frames solved
+    /// together, side by side in the rows of the factored system.
+    rows: Vec<f64>,
+    /// For each frame, one vector per part: its centroid, then its shift.
+    parts: Vec<Vec<[f64; D]>>,
+    /// For each frame, its rotations of the segment's shared whole turns
     /// ([`Rotations::turns_at`]).
-    turns: Vec<[f64; 4]>,
+    turns: Vec<Vec<[f64; 4]>>,
 }
+
+/// The most frames solved together ([`Sequence::frames_into`]): one pass
+/// over the triangles and one substitution serve them all, reading the
+/// factor and the triangles' data once. Two: a frame's own arithmetic (a
+/// rotation per triangle) does not shrink with more, while the wider rows
+/// of the right-hand side cost more to gather (BENCHMARKS.md).
+pub const FRAMES_PER_SOLVE: usize = 2;
 
 impl<const D: usize> Interpolator<D>
 where

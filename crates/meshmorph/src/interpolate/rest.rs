@@ -12,7 +12,7 @@
 //! sides.
 
 use super::attached::{Attached, PartAnchors};
-use super::FrameWorkspace;
+use super::{FrameWorkspace, FRAMES_PER_SOLVE};
 use crate::error::Result;
 use crate::gradient::weights::vertex_weights;
 use crate::gradient::{FactoredSystem, GradientOperators, Pins, Placement, TriangleMaps};
@@ -43,6 +43,9 @@ pub struct RestSystem<const D: usize = 2> {
     pub(super) anchors: PartAnchors,
     /// Vertices no triangle uses: they move on straight lines.
     pub(super) loose: Vec<u32>,
+    /// The rows of each triangle's corners in the layout of the factored
+    /// system's solves ([`FactoredSystem::row_of`]).
+    corner_rows: Vec<[u32; 3]>,
 }
 
 impl<const D: usize> RestSystem<D>
@@ -99,7 +102,12 @@ where
         let loose = (0..n as u32)
             .filter(|&v| components.of_vertex[v as usize].is_none())
             .collect();
+        let corner_rows = tris
+            .iter()
+            .map(|t| t.map(|v| system.row_of(v as usize) as u32))
+            .collect();
         Ok(Self {
+            corner_rows,
             source: source.clone(),
             weights,
             operators,
@@ -167,8 +175,8 @@ where
     /// Scratch for [`RestSystem::solve_into`]; one per thread.
     pub fn workspace(&self) -> FrameWorkspace<D> {
         FrameWorkspace {
-            solve: self.system.workspace(),
-            parts: vec![[0.0; D]; self.num_components()],
+            rows: Vec::new(),
+            parts: Vec::new(),
             turns: Vec::new(),
         }
     }
@@ -192,68 +200,154 @@ where
             self.num_components(),
             "one centroid per part"
         );
-        self.solve_frame(
-            map,
-            |c| centroids[c],
+        self.solve_frames(
+            |_, t| self.fit_rows(t, &map(t)),
+            |_, c| centroids[c],
             &Attached::none(),
-            |_| [0.0; D],
-            out,
+            |_, _| [0.0; D],
+            &mut [out],
             ws,
         );
     }
 
-    /// [`RestSystem::solve_into`] with the centroid of part `c` given by
-    /// `centroid(c)`, except for the `attached` parts, placed by their
-    /// anchors with the offset `offset(i)` of the `i`-th anchored part
-    /// ([`PartAnchors::place`]): one pass over the solution for the parts'
-    /// centroids, one to write each vertex moved with its part.
+    /// The rows of the right-hand side that ask triangle `t` to take the map
+    /// `map` (one row per corner): `w_t G_t mapᵀ`, with `w_t` its weight and
+    /// `G_t` its gradient operator. Linear in `map`.
+    #[inline]
+    pub(super) fn fit_rows(&self, t: usize, map: &Mat<D>) -> [[f64; D]; 3] {
+        self.operators.fit_rhs(t, map, self.weights[t])
+    }
+
+    /// Up to [`FRAMES_PER_SOLVE`] frames at once: frame `f` (of
+    /// `outs.len()`) gives triangle `t` the rows `rows_of(f, t)` of the
+    /// right-hand side ([`RestSystem::fit_rows`] of the triangle's map) and
+    /// part `c` the centroid `centroid(f, c)`, except for the `attached`
+    /// parts, placed by their anchors with the offset `offset(f, i)` of the
+    /// `i`-th anchored part ([`PartAnchors::place`]).
+    ///
+    /// One pass over the triangles builds every frame's right-hand side,
+    /// straight in the factor's row order with the frames side by side; one
+    /// substitution solves them all, reading the factor once for all; one
+    /// pass over the solution finds every frame's parts' centroids, and one
+    /// writes every frame's vertices, each moved with its part.
     #[track_caller]
-    pub(super) fn solve_frame(
+    pub(super) fn solve_frames(
         &self,
-        map: impl Fn(usize) -> Mat<D>,
-        centroid: impl Fn(usize) -> [f64; D],
+        rows_of: impl Fn(usize, usize) -> [[f64; D]; 3],
+        centroid: impl Fn(usize, usize) -> [f64; D],
         attached: &Attached,
-        offset: impl Fn(usize) -> [f64; D],
-        out: &mut [[f64; D]],
+        offset: impl Fn(usize, usize) -> [f64; D],
+        outs: &mut [&mut [[f64; D]]],
         ws: &mut FrameWorkspace<D>,
     ) {
-        assert_eq!(
-            out.len(),
-            self.num_vertices(),
-            "output has the wrong number of vertices"
-        );
-        let solve = &mut ws.solve;
-        solve.rhs.fill(0.0);
-        for (t, &w) in self.weights.iter().enumerate() {
-            self.operators.add_fit_rhs(&mut solve.rhs, t, &map(t), w);
+        // The arms below cover up to two frames in the plane and in space.
+        const { assert!(FRAMES_PER_SOLVE <= 2) };
+        let frames = FrameInputs {
+            rows_of,
+            centroid,
+            attached,
+            offset,
+        };
+        match D * outs.len() {
+            2 => self.solve_columns::<2>(&frames, outs, ws),
+            3 => self.solve_columns::<3>(&frames, outs, ws),
+            4 => self.solve_columns::<4>(&frames, outs, ws),
+            6 => self.solve_columns::<6>(&frames, outs, ws),
+            _ => panic!("from 1 to {FRAMES_PER_SOLVE} frames at once"),
         }
-        self.system.solve(solve);
-        let solve = &ws.solve;
-        self.placement
-            .centroids_by(|v| self.system.position(solve, v), &mut ws.parts);
-        for (c, shift) in ws.parts.iter_mut().enumerate() {
-            if !attached.holds(c) {
-                let target = centroid(c);
-                *shift = std::array::from_fn(|i| target[i] - shift[i]);
+    }
+
+    /// [`RestSystem::solve_frames`] with its `K = D · frames` columns.
+    #[track_caller]
+    fn solve_columns<const K: usize>(
+        &self,
+        frames: &FrameInputs<
+            '_,
+            impl Fn(usize, usize) -> [[f64; D]; 3],
+            impl Fn(usize, usize) -> [f64; D],
+            impl Fn(usize, usize) -> [f64; D],
+        >,
+        outs: &mut [&mut [[f64; D]]],
+        ws: &mut FrameWorkspace<D>,
+    ) {
+        let FrameInputs {
+            rows_of,
+            centroid,
+            attached,
+            offset,
+        } = frames;
+        let n = self.num_vertices();
+        for out in outs.iter() {
+            assert_eq!(out.len(), n, "output has the wrong number of vertices");
+        }
+        let frames = K / D;
+        ws.rows.clear();
+        ws.rows.resize(K * n, 0.0);
+        let rows: &mut [[f64; K]] = bytemuck::cast_slice_mut(&mut ws.rows);
+        for (t, corners) in self.corner_rows.iter().enumerate() {
+            // The triangle's rows for every frame side by side, then added
+            // to its corners' rows whole.
+            let mut local = [[0.0; K]; 3];
+            for f in 0..frames {
+                for (row, add) in local.iter_mut().zip(rows_of(f, t)) {
+                    row[f * D..(f + 1) * D].copy_from_slice(&add);
+                }
+            }
+            for (&r, add) in corners.iter().zip(&local) {
+                let row = &mut rows[r as usize];
+                for c in 0..K {
+                    row[c] += add[c];
+                }
             }
         }
-        if attached.count() > 0 {
-            self.anchors.place(
-                attached,
-                self.source.positions(),
-                |v| self.system.position(solve, v),
-                |v| self.placement.part_of_vertex(v).unwrap_or(0),
-                offset,
-                &mut ws.parts,
-            );
+        self.system.solve_in_rows(rows);
+        let rows = &*rows;
+        let position = |f: usize, v: usize| -> [f64; D] {
+            let row = &rows[self.system.row_of(v)];
+            std::array::from_fn(|i| row[f * D + i])
+        };
+        ws.parts.resize_with(frames, Vec::new);
+        let parts = &mut ws.parts[..frames];
+        self.placement
+            .centroids_of_frames(|v| &rows[self.system.row_of(v)], parts);
+        for (f, parts) in parts.iter_mut().enumerate() {
+            for (c, shift) in parts.iter_mut().enumerate() {
+                if !attached.holds(c) {
+                    let target = centroid(f, c);
+                    *shift = std::array::from_fn(|i| target[i] - shift[i]);
+                }
+            }
+            if attached.count() > 0 {
+                self.anchors.place(
+                    attached,
+                    self.source.positions(),
+                    |v| position(f, v),
+                    |v| self.placement.part_of_vertex(v).unwrap_or(0),
+                    |i| offset(f, i),
+                    parts,
+                );
+            }
         }
-        for (v, o) in out.iter_mut().enumerate() {
+        for v in 0..n {
             if let Some(c) = self.placement.part_of_vertex(v) {
-                let x = self.system.position(solve, v);
-                *o = std::array::from_fn(|i| x[i] + ws.parts[c][i]);
+                let row = &rows[self.system.row_of(v)];
+                for (f, out) in outs.iter_mut().enumerate() {
+                    let shift = ws.parts[f][c];
+                    out[v] = std::array::from_fn(|i| row[f * D + i] + shift[i]);
+                }
             }
         }
     }
+}
+
+/// What [`RestSystem::solve_frames`] takes for its frames (each argument
+/// of frame `f`): the triangles' rows of the right-hand side, the parts'
+/// centroids, the attached parts and their offsets.
+struct FrameInputs<'a, Rows, Centroid, Offset> {
+    rows_of: Rows,
+    centroid: Centroid,
+    attached: &'a Attached,
+    offset: Offset,
 }
 
 /// The rest system of a surface in space.

@@ -41,7 +41,7 @@ use rayon::prelude::*;
 
 use super::attached::Attached;
 use super::poses::{check_poses, decompose};
-use super::{FrameWorkspace, InterpolatorOptions, RestSystem, StretchMode};
+use super::{FrameWorkspace, InterpolatorOptions, RestSystem, StretchMode, FRAMES_PER_SOLVE};
 use crate::error::{Error, Result};
 use crate::gradient::TriangleMaps;
 use crate::matrix::{identity, lerp, lerp_from_identity, mul, Mat};
@@ -71,6 +71,15 @@ where
     FromIdentity(Vec<Mat<D>>),
     /// `(S_j, S_{j+1})`, interpolated linearly.
     Linear(Vec<(Mat<D>, Mat<D>)>),
+    /// Either of the two above, folded into each triangle's right-hand side
+    /// ([`Sequence::build`]): the rows `(P_0, P_1)` of
+    /// [`RestSystem::fit_rows`] for the maps `B S_j` and `B S_{j+1}`, with
+    /// `B` the segment's starting rotation. The map at `u` is `R_u B S_u`
+    /// with `R_u` the rotation from the start and `S_u` linear in `u`, so
+    /// its rows are `((1 − u) P_0 + u P_1) R_uᵀ`: a frame turns three
+    /// precomputed rows instead of multiplying the stretch, the rotations
+    /// and the gradient operator.
+    Fitted(Vec<[[[f64; D]; 3]; 2]>),
     /// `S_1ᵘ` (first segment, log mode).
     Power(Vec<StretchPowers<D>>),
     /// `(log S_j, log S_{j+1})`, interpolated linearly, then exponentiated.
@@ -88,6 +97,37 @@ where
     stretches: SegmentStretches<D>,
     /// Whether the segment starts at key 0.
     first: bool,
+}
+
+impl<const D: usize> Segment<D>
+where
+    Space<D>: Rotations<D> + TriangleMaps<D>,
+{
+    /// The segment with its linear stretches folded into the right-hand
+    /// side of `rest` ([`SegmentStretches::Fitted`]).
+    fn fitted(self, rest: &RestSystem<D>) -> Self {
+        let rotations = &self.rotations;
+        let fit = |t: usize, a: &Mat<D>, b: &Mat<D>| {
+            let B = Space::<D>::segment_start(&rotations[t]);
+            [rest.fit_rows(t, &mul(B, *a)), rest.fit_rows(t, &mul(B, *b))]
+        };
+        let stretches = match &self.stretches {
+            SegmentStretches::FromIdentity(v) => SegmentStretches::Fitted(
+                v.par_iter()
+                    .enumerate()
+                    .map(|(t, S)| fit(t, &identity(), S))
+                    .collect(),
+            ),
+            SegmentStretches::Linear(v) => SegmentStretches::Fitted(
+                v.par_iter()
+                    .enumerate()
+                    .map(|(t, (a, b))| fit(t, a, b))
+                    .collect(),
+            ),
+            _ => return self,
+        };
+        Self { stretches, ..self }
+    }
 }
 
 /// A keyframe sequence of meshes in the plane (`D = 2`) or surfaces in
@@ -225,6 +265,12 @@ where
         later: &[Mesh<D>],
         segments: Vec<Segment<D>>,
     ) -> Self {
+        // The linear stretches are folded into the right-hand side here, where
+        // the rest system is at hand.
+        let segments = segments
+            .into_iter()
+            .map(|segment| segment.fitted(&rest))
+            .collect();
         let first = rest.source().positions();
         let keys = || std::iter::once(first).chain(later.iter().map(Mesh::positions));
         let centroids: Vec<_> = keys().map(|k| rest.centroids(k)).collect();
@@ -312,18 +358,23 @@ where
         out
     }
 
-    /// Frames at each of `times`, computed in parallel.
+    /// Frames at each of `times`, computed in parallel, up to
+    /// [`FRAMES_PER_SOLVE`] at a time on each thread
+    /// ([`Sequence::frames_into`]).
     pub fn frames(&self, times: &[f64]) -> Vec<Vec<[f64; D]>> {
         times
-            .par_iter()
+            .par_chunks(frames_per_solve(times.len()))
             .map_init(
                 || self.workspace(),
-                |ws, &s| {
-                    let mut out = vec![[0.0; D]; self.num_vertices()];
-                    self.at_into(s, &mut out, ws);
-                    out
+                |ws, times| {
+                    let mut frames = vec![vec![[0.0; D]; self.num_vertices()]; times.len()];
+                    let mut outs: Vec<&mut [[f64; D]]> =
+                        frames.iter_mut().map(Vec::as_mut_slice).collect();
+                    self.frames_into(times, &mut outs, ws);
+                    frames
                 },
             )
+            .flatten_iter()
             .collect()
     }
 
@@ -333,76 +384,155 @@ where
     /// If `out.len()` is not the number of vertices.
     #[track_caller]
     pub fn at_into(&self, s: f64, out: &mut [[f64; D]], ws: &mut FrameWorkspace<D>) {
+        self.frames_into(&[s], &mut [out], ws);
+    }
+
+    /// The frames at `times` into the caller's buffers `outs` (one per
+    /// time), with a caller's scratch. Consecutive times within one segment
+    /// are solved together, up to [`FRAMES_PER_SOLVE`] at once: one pass
+    /// over the triangles and one substitution for all of them, which takes
+    /// less time than solving them one by one.
+    ///
+    /// # Panics
+    /// If `outs` does not have one buffer per time, or a buffer's length is
+    /// not the number of vertices.
+    #[track_caller]
+    pub fn frames_into(
+        &self,
+        times: &[f64],
+        outs: &mut [&mut [[f64; D]]],
+        ws: &mut FrameWorkspace<D>,
+    ) {
+        assert_eq!(times.len(), outs.len(), "one buffer per time");
+        let mut group: Option<(usize, usize)> = None;
+        for (k, &s) in times.iter().enumerate() {
+            let (j, u) = self.locate(s);
+            if let Some((start, segment)) = group {
+                if segment != j || k - start == FRAMES_PER_SOLVE || u == 0.0 || u == 1.0 {
+                    self.segment_frames(segment, &times[start..k], &mut outs[start..k], ws);
+                    group = None;
+                }
+            }
+            if u == 0.0 || u == 1.0 {
+                outs[k].copy_from_slice(self.key(j + u as usize));
+            } else if group.is_none() {
+                group = Some((k, j));
+            }
+        }
+        if let Some((start, segment)) = group {
+            let end = times.len();
+            self.segment_frames(segment, &times[start..end], &mut outs[start..end], ws);
+        }
+    }
+
+    /// The segment of time `s` and the time `u` within it.
+    fn locate(&self, s: f64) -> (usize, f64) {
         let last = self.segments.len() - 1;
         let j = if s.is_nan() {
             0
         } else {
             (s.floor().max(0.0) as usize).min(last)
         };
-        let u = s - j as f64;
-        if u == 0.0 || u == 1.0 {
-            out.copy_from_slice(self.key(j + u as usize));
-            return;
-        }
+        (j, s - j as f64)
+    }
+
+    /// The frames at `times` (at most [`FRAMES_PER_SOLVE`]), all within
+    /// segment `j` and none at a key, solved together.
+    fn segment_frames(
+        &self,
+        j: usize,
+        times: &[f64],
+        outs: &mut [&mut [[f64; D]]],
+        ws: &mut FrameWorkspace<D>,
+    ) {
+        let us: Vec<f64> = times.iter().map(|&s| s - j as f64).collect();
         let seg = &self.segments[j];
-        let between = |a: [f64; D], b: [f64; D]| -> [f64; D] {
-            std::array::from_fn(|k| (1.0 - u) * a[k] + u * b[k])
+        let between = |f: usize, a: [f64; D], b: [f64; D]| -> [f64; D] {
+            std::array::from_fn(|k| (1.0 - us[f]) * a[k] + us[f] * b[k])
         };
         // Each part's centroid is on its straight path.
         let (from, to) = (&self.centroids[j], &self.centroids[j + 1]);
-        let centroid = |c: usize| between(from[c], to[c]);
+        let centroid = |f: usize, c: usize| between(f, from[c], to[c]);
         let (from, to) = (&self.offsets[j], &self.offsets[j + 1]);
-        let offset = |i: usize| between(from[i], to[i]);
+        let offset = |f: usize, i: usize| between(f, from[i], to[i]);
         let attached = &self.attached;
         let mut turns_at = std::mem::take(&mut ws.turns);
-        Space::<D>::turns_at(&seg.turns, u, &mut turns_at);
-        let rot = |t: usize| Space::<D>::segment_at(&seg.rotations[t], &turns_at, u, seg.first);
+        turns_at.resize_with(us.len(), Vec::new);
+        for (turns, &u) in turns_at.iter_mut().zip(&us) {
+            Space::<D>::turns_at(&seg.turns, u, turns);
+        }
+        let rot = |f: usize, t: usize| {
+            Space::<D>::segment_at(&seg.rotations[t], &turns_at[f], us[f], seg.first)
+        };
         let rest = &*self.rest;
         match &seg.stretches {
-            SegmentStretches::FromIdentity(v) => rest.solve_frame(
-                |t| mul(rot(t), lerp_from_identity(&v[t], u)),
-                centroid,
-                attached,
-                offset,
-                out,
-                ws,
-            ),
-            SegmentStretches::Linear(v) => rest.solve_frame(
-                |t| {
-                    let (a, b) = &v[t];
-                    mul(rot(t), lerp(a, b, u))
+            SegmentStretches::Fitted(p) => rest.solve_frames(
+                |f, t| {
+                    let R = Space::<D>::turn_at(&seg.rotations[t], &turns_at[f], us[f]);
+                    let ([a, b], u) = (&p[t], us[f]);
+                    std::array::from_fn(|k| {
+                        let row: [f64; D] =
+                            std::array::from_fn(|m| (1.0 - u) * a[k][m] + u * b[k][m]);
+                        std::array::from_fn(|i| (0..D).map(|m| R[i][m] * row[m]).sum())
+                    })
                 },
                 centroid,
                 attached,
                 offset,
-                out,
+                outs,
                 ws,
             ),
-            SegmentStretches::Power(v) => rest.solve_frame(
-                |t| mul(rot(t), Space::<D>::stretch_power(&v[t], u, LOG_FLOOR)),
+            SegmentStretches::FromIdentity(v) => rest.solve_frames(
+                |f, t| rest.fit_rows(t, &mul(rot(f, t), lerp_from_identity(&v[t], us[f]))),
                 centroid,
                 attached,
                 offset,
-                out,
+                outs,
                 ws,
             ),
-            SegmentStretches::LogLinear(v) => rest.solve_frame(
-                |t| {
+            SegmentStretches::Linear(v) => rest.solve_frames(
+                |f, t| {
                     let (a, b) = &v[t];
-                    mul(rot(t), Space::<D>::stretch_exp(&lerp(a, b, u)))
+                    rest.fit_rows(t, &mul(rot(f, t), lerp(a, b, us[f])))
                 },
                 centroid,
                 attached,
                 offset,
-                out,
+                outs,
+                ws,
+            ),
+            SegmentStretches::Power(v) => rest.solve_frames(
+                |f, t| {
+                    let S = Space::<D>::stretch_power(&v[t], us[f], LOG_FLOOR);
+                    rest.fit_rows(t, &mul(rot(f, t), S))
+                },
+                centroid,
+                attached,
+                offset,
+                outs,
+                ws,
+            ),
+            SegmentStretches::LogLinear(v) => rest.solve_frames(
+                |f, t| {
+                    let (a, b) = &v[t];
+                    let S = Space::<D>::stretch_exp(&lerp(a, b, us[f]));
+                    rest.fit_rows(t, &mul(rot(f, t), S))
+                },
+                centroid,
+                attached,
+                offset,
+                outs,
                 ws,
             ),
         }
+        let (from, to) = (self.key(j), self.key(j + 1));
         for &v in rest.loose_vertices() {
-            let (a, b) = (self.key(j)[v as usize], self.key(j + 1)[v as usize]);
-            // A vertex that does not move stays exactly where it is.
-            let c = between(a, b);
-            out[v as usize] = std::array::from_fn(|i| if a[i] == b[i] { a[i] } else { c[i] });
+            let (a, b) = (from[v as usize], to[v as usize]);
+            for (f, out) in outs.iter_mut().enumerate() {
+                // A vertex that does not move stays exactly where it is.
+                let c = between(f, a, b);
+                out[v as usize] = std::array::from_fn(|i| if a[i] == b[i] { a[i] } else { c[i] });
+            }
         }
         ws.turns = turns_at;
     }
@@ -523,4 +653,13 @@ where
         previous_stretch = maps.stretches;
     }
     Ok((segments, previous_logs))
+}
+
+/// How many frames each thread solves together when `count` frames are
+/// shared among the threads: as many as [`FRAMES_PER_SOLVE`] allows, but
+/// no thread left without frames for it.
+pub fn frames_per_solve(count: usize) -> usize {
+    count
+        .div_ceil(rayon::current_num_threads())
+        .clamp(1, FRAMES_PER_SOLVE)
 }

@@ -111,6 +111,12 @@ pub trait Rotations<const D: usize>: TriangleMaps<D> {
     /// segment's [`Rotations::turns_at`] for `u`; `first` when the segment
     /// starts from key 0 (the identity).
     fn segment_at(segment: &Self::Segment, turns_at: &[[f64; 4]], u: f64, first: bool) -> Mat<D>;
+    /// The rotation at the start of `segment` (its key's rotation):
+    /// [`Rotations::segment_at`] is [`Rotations::turn_at`] times it.
+    fn segment_start(segment: &Self::Segment) -> Mat<D>;
+    /// The rotation from the start of `segment` a fraction `u` along it,
+    /// with its segment's [`Rotations::turns_at`] for `u`.
+    fn turn_at(segment: &Self::Segment, turns_at: &[[f64; 4]], u: f64) -> Mat<D>;
     /// Whether `segment` takes whole turns beyond the shortest way.
     fn has_whole_turns(segment: &Self::Segment) -> bool;
     /// `sum + w · log`, for blends (Baxter et al. 2008, section 5).

@@ -113,6 +113,15 @@ impl Rotations<2> for Space<2> {
         rotation(segment.start + u * segment.turn)
     }
 
+    fn segment_start(segment: &AngleSegment) -> Mat2 {
+        rotation(segment.start)
+    }
+
+    #[inline]
+    fn turn_at(segment: &AngleSegment, _: &[[f64; 4]], u: f64) -> Mat2 {
+        rotation(u * segment.turn)
+    }
+
     fn has_whole_turns(segment: &AngleSegment) -> bool {
         // Beyond half a turn (exactly half a turn is either way).
         segment.turn.abs() > std::f64::consts::PI

@@ -345,6 +345,15 @@ impl Rotations<3> for Space<3> {
         segment.at(turns_at, u, !first)
     }
 
+    fn segment_start(segment: &SegmentRotation) -> Mat3 {
+        quat_to_matrix(segment.base)
+    }
+
+    #[inline]
+    fn turn_at(segment: &SegmentRotation, turns_at: &[Quat], u: f64) -> Mat3 {
+        segment.at(turns_at, u, false)
+    }
+
     fn has_whole_turns(segment: &SegmentRotation) -> bool {
         segment.turns != NO_TURNS
     }

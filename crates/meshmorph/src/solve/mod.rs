@@ -475,7 +475,7 @@ impl Cholesky {
 pub struct Workspace {
     mem: MemBuffer,
     reduced: Vec<f64>,
-    /// `Vec<[f64; ncols]>` of one row per free unknown, for 1 to 4 columns.
+    /// `Vec<[f64; ncols]>` of one row per unknown, for 1 to 4 columns.
     rows: Box<dyn std::any::Any + Send + Sync>,
     ncols: usize,
 }
@@ -592,10 +592,10 @@ impl PinnedSystem {
     pub fn workspace(&self, ncols: usize) -> Workspace {
         let m = self.free.len();
         let rows: Box<dyn std::any::Any + Send + Sync> = match ncols {
-            1 => Box::new(vec![[0.0; 1]; m]),
-            2 => Box::new(vec![[0.0; 2]; m]),
-            3 => Box::new(vec![[0.0; 3]; m]),
-            4 => Box::new(vec![[0.0; 4]; m]),
+            1 => Box::new(vec![[0.0; 1]; self.n]),
+            2 => Box::new(vec![[0.0; 2]; self.n]),
+            3 => Box::new(vec![[0.0; 3]; self.n]),
+            4 => Box::new(vec![[0.0; 4]; self.n]),
             _ => Box::new(()),
         };
         let columns = if ncols <= 4 { 0 } else { m * ncols };
@@ -674,7 +674,7 @@ impl PinnedSystem {
     }
 
     /// [`PinnedSystem::solve`] for `K` columns: gathered straight into the
-    /// factor's row order with the columns side by side, substituted, and
+    /// row layout ([`PinnedSystem::solve_in_rows`]), solved there, and
     /// scattered back (three passes over the unknowns).
     fn solve_rows<const K: usize>(
         &self,
@@ -683,7 +683,7 @@ impl PinnedSystem {
         x: &mut [f64],
         ws: &mut Workspace,
     ) {
-        let (n, np) = (self.n, self.pinned.len());
+        let (n, np, m) = (self.n, self.pinned.len(), self.free.len());
         let rows = ws
             .rows
             .downcast_mut::<Vec<[f64; K]>>()
@@ -693,29 +693,53 @@ impl PinnedSystem {
         }
         if let Some(values) = pinned_values {
             assert_eq!(values.len(), np * K, "pinned values have the wrong size");
-            for q in 0..np {
-                let xp: [f64; K] = std::array::from_fn(|c| values[c * np + q]);
-                if xp != [0.0; K] {
-                    for &(r, a) in &self.coupling[self.coupling_ptr[q]..self.coupling_ptr[q + 1]] {
-                        let row = &mut rows[self.row_of_reduced[r as usize] as usize];
-                        for c in 0..K {
-                            row[c] -= a * xp[c];
-                        }
-                    }
-                }
-            }
         }
-        self.cholesky.solve_rows(rows);
-        for (row, &i) in rows.iter().zip(&self.order) {
+        for (q, row) in rows[m..].iter_mut().enumerate() {
+            *row = std::array::from_fn(|c| pinned_values.map_or(0.0, |v| v[c * np + q]));
+        }
+        self.solve_in_rows(rows);
+        for (row, &i) in rows.iter().zip(self.order.iter().chain(&self.pinned)) {
             for c in 0..K {
                 x[c * n + i as usize] = row[c];
             }
         }
-        for (q, &p) in self.pinned.iter().enumerate() {
-            for c in 0..K {
-                x[c * n + p as usize] = pinned_values.map_or(0.0, |v| v[c * np + q]);
+    }
+
+    /// The row of each unknown in the layout of
+    /// [`PinnedSystem::solve_in_rows`]: the free unknowns in the factor's
+    /// order, then the pinned ones in the order they were given.
+    pub fn rows_of_unknowns(&self) -> Vec<u32> {
+        let mut row_of = vec![0u32; self.n];
+        for (row, &i) in self.order.iter().chain(&self.pinned).enumerate() {
+            row_of[i as usize] = row as u32;
+        }
+        row_of
+    }
+
+    /// Solves for `K` right-hand sides side by side, one row per unknown in
+    /// the layout of [`PinnedSystem::rows_of_unknowns`]: on entry the free
+    /// rows hold the right-hand side and the pinned rows their values; on
+    /// return the free rows hold the solution. Whoever builds the right-hand
+    /// side straight in this layout saves the passes of
+    /// [`PinnedSystem::solve`] that gather and scatter it.
+    ///
+    /// # Panics
+    /// If `rows` does not have one row per unknown.
+    #[track_caller]
+    pub fn solve_in_rows<const K: usize>(&self, rows: &mut [[f64; K]]) {
+        assert_eq!(rows.len(), self.n, "one row per unknown");
+        let (free, pinned) = rows.split_at_mut(self.free.len());
+        for (q, xp) in pinned.iter().enumerate() {
+            if *xp != [0.0; K] {
+                for &(r, a) in &self.coupling[self.coupling_ptr[q]..self.coupling_ptr[q + 1]] {
+                    let row = &mut free[self.row_of_reduced[r as usize] as usize];
+                    for c in 0..K {
+                        row[c] -= a * xp[c];
+                    }
+                }
             }
         }
+        self.cholesky.solve_rows(free);
     }
 
     /// Reduced index of unknown `i`, `None` if it is pinned.
