@@ -72,11 +72,11 @@ where
     /// `(S_j, S_{j+1})`, interpolated linearly.
     Linear(Vec<(Mat<D>, Mat<D>)>),
     /// Either of the two above, folded into each triangle's right-hand side
-    /// ([`Sequence::build`]): the rows `(P_0, P_1)` of
-    /// [`RestSystem::fit_rows`] for the maps `B S_j` and `B S_{j+1}`, with
+    /// ([`Sequence::build`]): `(P_0, P_1 − P_0)` with `P_0`, `P_1` the rows of
+    /// [`RestSystem::fit_rows`] for the maps `B S_j` and `B S_{j+1}`, and
     /// `B` the segment's starting rotation. The map at `u` is `R_u B S_u`
     /// with `R_u` the rotation from the start and `S_u` linear in `u`, so
-    /// its rows are `((1 − u) P_0 + u P_1) R_uᵀ`: a frame turns three
+    /// its rows are `(P_0 + u (P_1 − P_0)) R_uᵀ`: a frame turns three
     /// precomputed rows instead of multiplying the stretch, the rotations
     /// and the gradient operator.
     Fitted(Vec<[[[f64; D]; 3]; 2]>),
@@ -109,7 +109,11 @@ where
         let rotations = &self.rotations;
         let fit = |t: usize, a: &Mat<D>, b: &Mat<D>| {
             let B = Space::<D>::segment_start(&rotations[t]);
-            [rest.fit_rows(t, &mul(B, *a)), rest.fit_rows(t, &mul(B, *b))]
+            let (from, to) = (rest.fit_rows(t, &mul(B, *a)), rest.fit_rows(t, &mul(B, *b)));
+            [
+                from,
+                std::array::from_fn(|k| std::array::from_fn(|m| to[k][m] - from[k][m])),
+            ]
         };
         let stretches = match &self.stretches {
             SegmentStretches::FromIdentity(v) => SegmentStretches::Fitted(
@@ -358,23 +362,26 @@ where
         out
     }
 
-    /// Frames at each of `times`, computed in parallel, up to
-    /// [`FRAMES_PER_SOLVE`] at a time on each thread
-    /// ([`Sequence::frames_into`]).
+    /// Frames at each of `times`, computed in parallel: each thread takes
+    /// an equal share of the times, with one scratch for all of them, and
+    /// solves them [`FRAMES_PER_SOLVE`] at a time ([`Sequence::frames_into`]).
     pub fn frames(&self, times: &[f64]) -> Vec<Vec<[f64; D]>> {
+        let share = times.len().div_ceil(rayon::current_num_threads()).max(1);
         times
-            .par_chunks(frames_per_solve(times.len()))
-            .map_init(
-                || self.workspace(),
-                |ws, times| {
-                    let mut frames = vec![vec![[0.0; D]; self.num_vertices()]; times.len()];
-                    let mut outs: Vec<&mut [[f64; D]]> =
-                        frames.iter_mut().map(Vec::as_mut_slice).collect();
-                    self.frames_into(times, &mut outs, ws);
-                    frames
-                },
-            )
-            .flatten_iter()
+            .par_chunks(share)
+            .flat_map_iter(|times| {
+                let mut ws = self.workspace();
+                times
+                    .chunks(FRAMES_PER_SOLVE)
+                    .flat_map(|times| {
+                        let mut frames = vec![vec![[0.0; D]; self.num_vertices()]; times.len()];
+                        let mut outs: Vec<&mut [[f64; D]]> =
+                            frames.iter_mut().map(Vec::as_mut_slice).collect();
+                        self.frames_into(times, &mut outs, &mut ws);
+                        frames
+                    })
+                    .collect::<Vec<_>>()
+            })
             .collect()
     }
 
@@ -469,10 +476,9 @@ where
             SegmentStretches::Fitted(p) => rest.solve_frames(
                 |f, t| {
                     let R = Space::<D>::turn_at(&seg.rotations[t], &turns_at[f], us[f]);
-                    let ([a, b], u) = (&p[t], us[f]);
+                    let ([from, change], u) = (&p[t], us[f]);
                     std::array::from_fn(|k| {
-                        let row: [f64; D] =
-                            std::array::from_fn(|m| (1.0 - u) * a[k][m] + u * b[k][m]);
+                        let row: [f64; D] = std::array::from_fn(|m| from[k][m] + u * change[k][m]);
                         std::array::from_fn(|i| (0..D).map(|m| R[i][m] * row[m]).sum())
                     })
                 },

@@ -122,7 +122,7 @@ pub struct SegmentTurns(Vec<AxisAngle>);
 const NO_TURNS: u32 = u32::MAX;
 
 impl SegmentRotation {
-    #[inline]
+    #[inline(always)]
     fn at(&self, turns_at: &[Quat], u: f64, has_base: bool) -> Mat3 {
         let mut q = self.principal.quat_at(u);
         if self.turns != NO_TURNS {
