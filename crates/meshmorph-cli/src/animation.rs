@@ -103,8 +103,10 @@ pub struct Report {
     pub triangles_with_whole_turns: Option<usize>,
     /// Building the interpolator: decompositions, factorization.
     pub setup_seconds: f64,
-    /// Time per frame: computing one frame on its own thread, averaged over
-    /// the frames. Frames run in parallel, so this is not the throughput.
+    /// Time per frame: the computing time of a frame on one thread (each
+    /// thread solves its frames two at a time, one substitution for both,
+    /// and counts half the time for each), averaged over the frames. Frames
+    /// run in parallel, so this is not the throughput.
     pub seconds_per_frame: f64,
     /// Throughput: the wall time of computing and writing all frames,
     /// divided by the number of frames (with `threads` threads).
@@ -169,7 +171,7 @@ impl Report {
             output::human_seconds(self.setup_seconds)
         );
         println!(
-            "time per frame: {} (one frame on its own thread; + {} writing)",
+            "time per frame: {} (computing, on one thread; + {} writing)",
             output::human_seconds(self.seconds_per_frame),
             output::human_seconds(self.write_seconds_per_frame)
         );

@@ -932,7 +932,7 @@ fn interpolate_keys_in_space_pass_through_every_key() {
         &[
             "in space, 3 keys",
             "time per frame:",
-            "one frame on its own thread",
+            "computing, on one thread",
             "throughput:",
             "wall time of all frames / frames",
         ],
