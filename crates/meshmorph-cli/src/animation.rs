@@ -104,9 +104,10 @@ pub struct Report {
     /// Building the interpolator: decompositions, factorization.
     pub setup_seconds: f64,
     /// Time per frame: the computing time of a frame on one thread (each
-    /// thread solves its frames two at a time, one substitution for both,
-    /// and counts half the time for each), averaged over the frames. Frames
-    /// run in parallel, so this is not the throughput.
+    /// thread solves its frames up to [`meshmorph::FRAMES_PER_SOLVE`] at a
+    /// time, one substitution for them, and counts each its share),
+    /// averaged over the frames. Frames run in parallel, so this is not the
+    /// throughput.
     pub seconds_per_frame: f64,
     /// Throughput: the wall time of computing and writing all frames,
     /// divided by the number of frames (with `threads` threads).

@@ -83,20 +83,6 @@ pub fn lerp<const D: usize>(A: &Mat<D>, B: &Mat<D>, t: f64) -> Mat<D> {
     std::array::from_fn(|i| std::array::from_fn(|j| (1.0 - t) * A[i][j] + t * B[i][j]))
 }
 
-/// `(1 − t) I + t S`.
-#[inline]
-pub fn lerp_from_identity<const D: usize>(S: &Mat<D>, t: f64) -> Mat<D> {
-    std::array::from_fn(|i| {
-        std::array::from_fn(|j| {
-            if i == j {
-                (1.0 - t) + t * S[i][j]
-            } else {
-                t * S[i][j]
-            }
-        })
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -113,7 +99,7 @@ mod tests {
         assert_eq!(det2([[1.0, 2.0], [3.0, 4.0]]), -2.0);
         assert!(inverse3([[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 0.0, 1.0]]).is_none());
         assert_eq!(
-            lerp_from_identity(&[[3.0, 1.0], [1.0, 5.0]], 0.5),
+            lerp(&identity(), &[[3.0, 1.0], [1.0, 5.0]], 0.5),
             [[2.0, 0.5], [0.5, 3.0]]
         );
     }

@@ -242,6 +242,10 @@ where
     ) {
         // The arms below cover up to two frames in the plane and in space.
         const { assert!(FRAMES_PER_SOLVE <= 2) };
+        assert!(
+            (1..=FRAMES_PER_SOLVE).contains(&outs.len()),
+            "from 1 to {FRAMES_PER_SOLVE} frames at once"
+        );
         let frames = FrameInputs {
             rows_of,
             centroid,
@@ -253,7 +257,7 @@ where
             3 => self.solve_columns::<3>(&frames, outs, ws),
             4 => self.solve_columns::<4>(&frames, outs, ws),
             6 => self.solve_columns::<6>(&frames, outs, ws),
-            _ => panic!("from 1 to {FRAMES_PER_SOLVE} frames at once"),
+            _ => unreachable!("D · frames is 2, 3, 4 or 6"),
         }
     }
 

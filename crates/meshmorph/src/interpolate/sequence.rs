@@ -44,7 +44,7 @@ use super::poses::{check_poses, decompose};
 use super::{FrameWorkspace, InterpolatorOptions, RestSystem, StretchMode, FRAMES_PER_SOLVE};
 use crate::error::{Error, Result};
 use crate::gradient::TriangleMaps;
-use crate::matrix::{identity, lerp, lerp_from_identity, mul, Mat};
+use crate::matrix::{identity, lerp, mul, Mat};
 use crate::mesh::Mesh;
 use crate::rotation::{consistent_rotations, Rotations};
 use crate::topology::TriangleAdjacency;
@@ -132,6 +132,19 @@ where
         };
         Self { stretches, ..self }
     }
+}
+
+/// The rows of the right-hand side of a triangle with folded rows `fit`
+/// ([`SegmentStretches::Fitted`]) a fraction `u` along its segment, `turn`
+/// its rotation from the segment's start there: `(P_0 + u (P_1 − P_0))
+/// turnᵀ`.
+#[inline]
+fn fitted_rows<const D: usize>(fit: &[[[f64; D]; 3]; 2], turn: &Mat<D>, u: f64) -> [[f64; D]; 3] {
+    let [from, change] = fit;
+    std::array::from_fn(|k| {
+        let row: [f64; D] = std::array::from_fn(|m| from[k][m] + u * change[k][m]);
+        std::array::from_fn(|i| (0..D).map(|m| turn[i][m] * row[m]).sum())
+    })
 }
 
 /// A keyframe sequence of meshes in the plane (`D = 2`) or surfaces in
@@ -475,12 +488,8 @@ where
         match &seg.stretches {
             SegmentStretches::Fitted(p) => rest.solve_frames(
                 |f, t| {
-                    let R = Space::<D>::turn_at(&seg.rotations[t], &turns_at[f], us[f]);
-                    let ([from, change], u) = (&p[t], us[f]);
-                    std::array::from_fn(|k| {
-                        let row: [f64; D] = std::array::from_fn(|m| from[k][m] + u * change[k][m]);
-                        std::array::from_fn(|i| (0..D).map(|m| R[i][m] * row[m]).sum())
-                    })
+                    let turn = Space::<D>::turn_at(&seg.rotations[t], &turns_at[f], us[f]);
+                    fitted_rows(&p[t], &turn, us[f])
                 },
                 centroid,
                 attached,
@@ -488,25 +497,9 @@ where
                 outs,
                 ws,
             ),
-            SegmentStretches::FromIdentity(v) => rest.solve_frames(
-                |f, t| rest.fit_rows(t, &mul(rot(f, t), lerp_from_identity(&v[t], us[f]))),
-                centroid,
-                attached,
-                offset,
-                outs,
-                ws,
-            ),
-            SegmentStretches::Linear(v) => rest.solve_frames(
-                |f, t| {
-                    let (a, b) = &v[t];
-                    rest.fit_rows(t, &mul(rot(f, t), lerp(a, b, us[f])))
-                },
-                centroid,
-                attached,
-                offset,
-                outs,
-                ws,
-            ),
+            SegmentStretches::FromIdentity(_) | SegmentStretches::Linear(_) => {
+                unreachable!("linear stretches are folded into rows when the sequence is built")
+            }
             SegmentStretches::Power(v) => rest.solve_frames(
                 |f, t| {
                     let S = Space::<D>::stretch_power(&v[t], us[f], LOG_FLOOR);
@@ -668,4 +661,65 @@ pub fn frames_per_solve(count: usize) -> usize {
     count
         .div_ceil(rayon::current_num_threads())
         .clamp(1, FRAMES_PER_SOLVE)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::{bend, curl, strip, tube, twist};
+
+    /// The folded rows of every triangle, segment and a few times are the
+    /// rows of its map `R_u S_u` (the rotation from key 0, the stretch
+    /// interpolated linearly) computed the long way.
+    fn folded_rows_are_the_maps_rows<const D: usize>(keys: &[Mesh<D>])
+    where
+        Space<D>: Rotations<D> + TriangleMaps<D>,
+    {
+        let options = InterpolatorOptions::default();
+        let sequence = Sequence::new(keys, &options).unwrap();
+        let rest = &*sequence.rest;
+        let (unfolded, _) = segments(&keys[0], &sequence.adjacency, &keys[1..], &options).unwrap();
+        let mut turns_at = Vec::new();
+        for (folded, long) in sequence.segments.iter().zip(&unfolded) {
+            let SegmentStretches::Fitted(fits) = &folded.stretches else {
+                panic!("linear stretches are folded");
+            };
+            for u in [0.3, 0.8, 1.7] {
+                Space::<D>::turns_at(&long.turns, u, &mut turns_at);
+                for t in 0..keys[0].num_triangles() {
+                    let R = Space::<D>::segment_at(&long.rotations[t], &turns_at, u, long.first);
+                    let S = match &long.stretches {
+                        SegmentStretches::FromIdentity(v) => lerp(&identity(), &v[t], u),
+                        SegmentStretches::Linear(v) => lerp(&v[t].0, &v[t].1, u),
+                        _ => unreachable!(),
+                    };
+                    let expected = rest.fit_rows(t, &mul(R, S));
+                    let turn = Space::<D>::turn_at(&folded.rotations[t], &turns_at, u);
+                    let got = fitted_rows(&fits[t], &turn, u);
+                    let scale = expected
+                        .iter()
+                        .flatten()
+                        .fold(1.0f64, |m, x| m.max(x.abs()));
+                    for (e, g) in expected.iter().flatten().zip(got.iter().flatten()) {
+                        assert!(
+                            (e - g).abs() < 1e-12 * scale,
+                            "triangle {t} at {u}: {e} against {g}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn folded_rows_in_space_and_in_the_plane() {
+        let t = tube(4.0, 0.3, 21, 10);
+        folded_rows_are_the_maps_rows(&[
+            t.clone(),
+            bend(&t, 4.0, 3.0 * std::f64::consts::PI),
+            twist(&bend(&t, 4.0, 1.0), 4.0, 2.0),
+        ]);
+        let s = strip(10.0, 0.5, 40, 2);
+        folded_rows_are_the_maps_rows(&[s.clone(), curl(&s, 2.0), curl(&s, 7.0)]);
+    }
 }
