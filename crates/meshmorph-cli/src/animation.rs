@@ -276,6 +276,39 @@ where
     )?;
     let bar = progress::bar(times.len() as u64, "frames");
     let wall = Instant::now();
+    // Frame `k` at time `t`, computed in `compute` seconds: checked, written.
+    let write_frame = |k: usize, t: f64, positions: &[[f64; D]], compute: f64| -> Result<Frame> {
+        let flipped = morph.count_turned_over(positions);
+        let begin = Instant::now();
+        let mut dropped = Vec::new();
+        staging.write(outputs.meshes[k], |path| {
+            check_finite(positions, k, t, morph.num_keys() - 1)?;
+            match file {
+                Some(file) => {
+                    let lifted: Vec<[f64; 3]> = positions
+                        .iter()
+                        .map(|p| std::array::from_fn(|i| if i < D { p[i] } else { 0.0 }))
+                        .collect();
+                    dropped = file.write(path, &lifted, outputs.format)?;
+                }
+                None => meshmorph::io::write_positions(
+                    path,
+                    positions,
+                    morph.triangles(),
+                    outputs.format,
+                )?,
+            }
+            Ok(())
+        })?;
+        let write = begin.elapsed().as_secs_f64();
+        bar.inc(1);
+        Ok(Frame {
+            compute,
+            write,
+            flipped,
+            dropped,
+        })
+    };
     // Each thread solves a few frames together (one substitution for all),
     // then writes them.
     let together = meshmorph::frames_per_solve(times.len());
@@ -286,50 +319,15 @@ where
             || morph.workspace(),
             |ws, (chunk, chunk_times)| {
                 let begin = Instant::now();
-                let mut solved = vec![vec![[0.0; D]; morph.num_vertices()]; chunk_times.len()];
-                let mut outs: Vec<&mut [[f64; D]]> =
-                    solved.iter_mut().map(Vec::as_mut_slice).collect();
-                morph.frames_into(chunk_times, &mut outs, ws);
+                let solved = morph.frames_with(chunk_times, ws);
                 let compute = begin.elapsed().as_secs_f64() / chunk_times.len() as f64;
-                let write_one = |(i, positions): (usize, Vec<[f64; D]>)| -> Result<Frame> {
-                    let (k, t) = (chunk * together + i, chunk_times[i]);
-                    let flipped = morph.count_turned_over(&positions);
-                    let begin = Instant::now();
-                    let mut dropped = Vec::new();
-                    staging.write(outputs.meshes[k], |path| {
-                        check_finite(&positions, k, t, morph.num_keys() - 1)?;
-                        match file {
-                            Some(file) => {
-                                let lifted: Vec<[f64; 3]> = positions
-                                    .iter()
-                                    .map(|p| {
-                                        std::array::from_fn(|i| if i < D { p[i] } else { 0.0 })
-                                    })
-                                    .collect();
-                                dropped = file.write(path, &lifted, outputs.format)?;
-                            }
-                            None => meshmorph::io::write_positions(
-                                path,
-                                &positions,
-                                morph.triangles(),
-                                outputs.format,
-                            )?,
-                        }
-                        Ok(())
-                    })?;
-                    let write = begin.elapsed().as_secs_f64();
-                    bar.inc(1);
-                    Ok(Frame {
-                        compute,
-                        write,
-                        flipped,
-                        dropped,
-                    })
-                };
                 solved
-                    .into_iter()
+                    .iter()
+                    .zip(chunk_times)
                     .enumerate()
-                    .map(write_one)
+                    .map(|(i, (positions, &t))| {
+                        write_frame(chunk * together + i, t, positions, compute)
+                    })
                     .collect::<Vec<_>>()
             },
         )
@@ -424,8 +422,6 @@ where
     })
 }
 
-/// Refuses a frame whose coordinates overflowed (inputs near the largest
-/// representable number, or far extrapolation).
 /// Refuses a frame at time `t` (keys at `0..=last`) with a coordinate
 /// that overflowed: far outside the keys the times are the cause, else the
 /// meshes' size.

@@ -68,32 +68,14 @@ impl<const D: usize> Placement<D> {
     /// # Panics
     /// If `out` does not have one entry per placed part.
     pub(crate) fn centroids(&self, positions: &[[f64; D]], out: &mut [[f64; D]]) {
-        self.centroids_by(|v| positions[v], out);
-    }
-
-    /// [`Placement::centroids`] of the positions `position(v)` of the
-    /// vertices `v` (read once each, in order).
-    ///
-    /// # Panics
-    /// If `out` does not have one entry per placed part.
-    #[inline]
-    pub(crate) fn centroids_by(&self, position: impl Fn(usize) -> [f64; D], out: &mut [[f64; D]]) {
         assert_eq!(out.len(), self.count(), "one centroid per part");
-        out.fill([0.0; D]);
-        for (v, &c) in self.vertex_part.iter().enumerate() {
-            if c != u32::MAX {
-                let p = position(v);
-                for i in 0..D {
-                    out[c as usize][i] += self.vertex_weight[v] * p[i];
-                }
-            }
-        }
+        self.weighted_sums(|v| &positions[v], out);
         for (c, w) in out.iter_mut().zip(&self.part_weight) {
             *c = c.map(|x| x / w);
         }
     }
 
-    /// [`Placement::centroids_by`] of several frames at once, in one pass:
+    /// [`Placement::centroids`] of several frames at once, in one pass:
     /// `rows(v)` holds vertex `v` in each frame, `D` coordinates per frame
     /// side by side, and `out[f]` receives frame `f`'s centroids.
     #[inline]
@@ -103,6 +85,26 @@ impl<const D: usize> Placement<D> {
         out: &mut [Vec<[f64; D]>],
     ) {
         let mut sums = vec![[0.0; K]; self.count()];
+        self.weighted_sums(rows, &mut sums);
+        for (f, out) in out.iter_mut().enumerate() {
+            out.clear();
+            out.extend(
+                sums.iter()
+                    .zip(&self.part_weight)
+                    .map(|(sum, w)| std::array::from_fn(|i| sum[f * D + i] / w)),
+            );
+        }
+    }
+
+    /// The sum over each placed part's vertices `v` of their weight times
+    /// `rows(v)` (read once each, in order), into `sums`.
+    #[inline]
+    fn weighted_sums<'r, const K: usize>(
+        &self,
+        rows: impl Fn(usize) -> &'r [f64; K],
+        sums: &mut [[f64; K]],
+    ) {
+        sums.fill([0.0; K]);
         for (v, &c) in self.vertex_part.iter().enumerate() {
             if c != u32::MAX {
                 let (row, w) = (rows(v), self.vertex_weight[v]);
@@ -111,14 +113,6 @@ impl<const D: usize> Placement<D> {
                     sum[k] += w * row[k];
                 }
             }
-        }
-        for (f, out) in out.iter_mut().enumerate() {
-            out.clear();
-            out.extend(
-                sums.iter()
-                    .zip(&self.part_weight)
-                    .map(|(sum, w)| std::array::from_fn(|i| sum[f * D + i] / w)),
-            );
         }
     }
 

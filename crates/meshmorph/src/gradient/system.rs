@@ -108,11 +108,9 @@ impl<const D: usize> FactoredSystem<D> {
     #[track_caller]
     pub(crate) fn solve_in_rows<const K: usize>(&self, rows: &mut [[f64; K]]) {
         assert_eq!(K % D, 0, "whole right-hand sides of D coordinates");
-        let (m, np) = (
-            self.num_unknowns() - self.pinned_values.len() / D,
-            self.pinned_values.len() / D,
-        );
-        for (q, row) in rows[m..].iter_mut().enumerate() {
+        let np = self.pinned_values.len() / D;
+        let free = self.num_unknowns() - np;
+        for (q, row) in rows[free..].iter_mut().enumerate() {
             *row = std::array::from_fn(|c| self.pinned_values[(c % D) * np + q]);
         }
         self.system.solve_in_rows(rows);

@@ -246,17 +246,11 @@ where
             (1..=FRAMES_PER_SOLVE).contains(&outs.len()),
             "from 1 to {FRAMES_PER_SOLVE} frames at once"
         );
-        let frames = FrameInputs {
-            rows_of,
-            centroid,
-            attached,
-            offset,
-        };
         match D * outs.len() {
-            2 => self.solve_columns::<2>(&frames, outs, ws),
-            3 => self.solve_columns::<3>(&frames, outs, ws),
-            4 => self.solve_columns::<4>(&frames, outs, ws),
-            6 => self.solve_columns::<6>(&frames, outs, ws),
+            2 => self.solve_columns::<2>(&rows_of, &centroid, attached, &offset, outs, ws),
+            3 => self.solve_columns::<3>(&rows_of, &centroid, attached, &offset, outs, ws),
+            4 => self.solve_columns::<4>(&rows_of, &centroid, attached, &offset, outs, ws),
+            6 => self.solve_columns::<6>(&rows_of, &centroid, attached, &offset, outs, ws),
             _ => unreachable!("D · frames is 2, 3, 4 or 6"),
         }
     }
@@ -265,21 +259,13 @@ where
     #[track_caller]
     fn solve_columns<const K: usize>(
         &self,
-        frames: &FrameInputs<
-            '_,
-            impl Fn(usize, usize) -> [[f64; D]; 3],
-            impl Fn(usize, usize) -> [f64; D],
-            impl Fn(usize, usize) -> [f64; D],
-        >,
+        rows_of: &impl Fn(usize, usize) -> [[f64; D]; 3],
+        centroid: &impl Fn(usize, usize) -> [f64; D],
+        attached: &Attached,
+        offset: &impl Fn(usize, usize) -> [f64; D],
         outs: &mut [&mut [[f64; D]]],
         ws: &mut FrameWorkspace<D>,
     ) {
-        let FrameInputs {
-            rows_of,
-            centroid,
-            attached,
-            offset,
-        } = frames;
         let n = self.num_vertices();
         for out in outs.iter() {
             assert_eq!(out.len(), n, "output has the wrong number of vertices");
@@ -306,14 +292,12 @@ where
         }
         self.system.solve_in_rows(rows);
         let rows = &*rows;
-        let position = |f: usize, v: usize| -> [f64; D] {
-            let row = &rows[self.system.row_of(v)];
-            std::array::from_fn(|i| row[f * D + i])
-        };
+        let row = |v: usize| &rows[self.system.row_of(v)];
+        let position =
+            |f: usize, v: usize| -> [f64; D] { std::array::from_fn(|i| row(v)[f * D + i]) };
         ws.parts.resize_with(frames, Vec::new);
         let parts = &mut ws.parts[..frames];
-        self.placement
-            .centroids_of_frames(|v| &rows[self.system.row_of(v)], parts);
+        self.placement.centroids_of_frames(row, parts);
         for (f, parts) in parts.iter_mut().enumerate() {
             for (c, shift) in parts.iter_mut().enumerate() {
                 if !attached.holds(c) {
@@ -334,24 +318,14 @@ where
         }
         for v in 0..n {
             if let Some(c) = self.placement.part_of_vertex(v) {
-                let row = &rows[self.system.row_of(v)];
+                let solved = row(v);
                 for (f, out) in outs.iter_mut().enumerate() {
                     let shift = ws.parts[f][c];
-                    out[v] = std::array::from_fn(|i| row[f * D + i] + shift[i]);
+                    out[v] = std::array::from_fn(|i| solved[f * D + i] + shift[i]);
                 }
             }
         }
     }
-}
-
-/// What [`RestSystem::solve_frames`] takes for its frames (each argument
-/// of frame `f`): the triangles' rows of the right-hand side, the parts'
-/// centroids, the attached parts and their offsets.
-struct FrameInputs<'a, Rows, Centroid, Offset> {
-    rows_of: Rows,
-    centroid: Centroid,
-    attached: &'a Attached,
-    offset: Offset,
 }
 
 /// The rest system of a surface in space.

@@ -376,26 +376,23 @@ where
     }
 
     /// Frames at each of `times`, computed in parallel: each thread takes
-    /// an equal share of the times, with one scratch for all of them, and
-    /// solves them [`FRAMES_PER_SOLVE`] at a time ([`Sequence::frames_into`]).
+    /// an equal share of the times, with one scratch for all of them
+    /// ([`Sequence::frames_with`]).
     pub fn frames(&self, times: &[f64]) -> Vec<Vec<[f64; D]>> {
         let share = times.len().div_ceil(rayon::current_num_threads()).max(1);
         times
             .par_chunks(share)
-            .flat_map_iter(|times| {
-                let mut ws = self.workspace();
-                times
-                    .chunks(FRAMES_PER_SOLVE)
-                    .flat_map(|times| {
-                        let mut frames = vec![vec![[0.0; D]; self.num_vertices()]; times.len()];
-                        let mut outs: Vec<&mut [[f64; D]]> =
-                            frames.iter_mut().map(Vec::as_mut_slice).collect();
-                        self.frames_into(times, &mut outs, &mut ws);
-                        frames
-                    })
-                    .collect::<Vec<_>>()
-            })
+            .flat_map_iter(|times| self.frames_with(times, &mut self.workspace()))
             .collect()
+    }
+
+    /// The frames at `times`, on this thread, with a caller's scratch
+    /// ([`Sequence::frames_into`] into new buffers).
+    pub fn frames_with(&self, times: &[f64], ws: &mut FrameWorkspace<D>) -> Vec<Vec<[f64; D]>> {
+        let mut frames = vec![vec![[0.0; D]; self.num_vertices()]; times.len()];
+        let mut outs: Vec<&mut [[f64; D]]> = frames.iter_mut().map(Vec::as_mut_slice).collect();
+        self.frames_into(times, &mut outs, ws);
+        frames
     }
 
     /// [`Sequence::at`] into a caller's buffer, with a caller's scratch.
