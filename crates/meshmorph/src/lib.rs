@@ -59,6 +59,7 @@ mod geometry;
 mod gradient;
 mod interpolate;
 pub mod io;
+mod lanes;
 mod markers;
 mod matrix;
 mod mesh;

@@ -8,6 +8,7 @@
 //! `w ≥ 0`.
 #![allow(non_snake_case)]
 
+use crate::lanes::Real;
 use crate::matrix::Mat3;
 
 /// A unit quaternion `[w, x, y, z]`, scalar first.
@@ -67,20 +68,33 @@ pub fn quat_from_matrix(R: &Mat3) -> Quat {
 /// The rotation matrix of a unit quaternion.
 #[inline]
 pub fn quat_to_matrix(q: Quat) -> Mat3 {
-    let [w, x, y, z] = q;
-    let (xx, yy, zz) = (x * x, y * y, z * z);
-    let (xy, xz, yz) = (x * y, x * z, y * z);
-    let (wx, wy, wz) = (w * x, w * y, w * z);
-    [
-        [1.0 - 2.0 * (yy + zz), 2.0 * (xy - wz), 2.0 * (xz + wy)],
-        [2.0 * (xy + wz), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wx)],
-        [2.0 * (xz - wy), 2.0 * (yz + wx), 1.0 - 2.0 * (xx + yy)],
-    ]
+    matrix_of(q)
 }
 
 /// The product `a b` (the rotation `b` first, then `a`).
 #[inline]
 pub fn quat_mul(a: Quat, b: Quat) -> Quat {
+    product(a, b)
+}
+
+/// [`quat_to_matrix`] in any [`Real`] arithmetic.
+#[inline(always)]
+pub(crate) fn matrix_of<T: Real>(q: [T; 4]) -> [[T; 3]; 3] {
+    let [w, x, y, z] = q;
+    let (xx, yy, zz) = (x * x, y * y, z * z);
+    let (xy, xz, yz) = (x * y, x * z, y * z);
+    let (wx, wy, wz) = (w * x, w * y, w * z);
+    let (one, two) = (T::splat(1.0), T::splat(2.0));
+    [
+        [one - two * (yy + zz), two * (xy - wz), two * (xz + wy)],
+        [two * (xy + wz), one - two * (xx + zz), two * (yz - wx)],
+        [two * (xz - wy), two * (yz + wx), one - two * (xx + yy)],
+    ]
+}
+
+/// [`quat_mul`] in any [`Real`] arithmetic.
+#[inline(always)]
+pub(crate) fn product<T: Real>(a: [T; 4], b: [T; 4]) -> [T; 4] {
     [
         a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
         a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],

@@ -16,6 +16,8 @@
 //! for a value that small: a rotation does not notice). Beyond it (angles
 //! no frame of a mesh reaches) the standard library answers.
 
+use crate::lanes::{Lanes, Real};
+
 /// Angles up to this magnitude are reduced here: the multiple `k` of `π/2`
 /// then has at most 16 bits, so `k` times each of the first three 33-bit
 /// parts of `π/2` is exact.
@@ -63,41 +65,69 @@ const C: [f64; 6] = [
 /// documentation; NaN for NaN and infinities.
 #[inline]
 pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
-    if x.abs() > REDUCED_LIMIT || x.is_nan() {
-        return x.sin_cos();
+    let (s, c) = sin_cos_lanes(Lanes([x]));
+    (s.0[0], c.0[0])
+}
+
+/// [`sin_cos`] of every lane: the same steps on all of them, without a
+/// branch unless a lane is beyond [`REDUCED_LIMIT`] or NaN.
+#[inline(always)]
+pub(crate) fn sin_cos_lanes<const F: usize>(x: Lanes<F>) -> (Lanes<F>, Lanes<F>) {
+    let mut beyond = false;
+    for x in x.0 {
+        beyond |= x.abs() > REDUCED_LIMIT || x.is_nan();
+    }
+    if beyond {
+        let mut both = (x, x);
+        for f in 0..F {
+            (both.0 .0[f], both.1 .0[f]) = x.0[f].sin_cos();
+        }
+        return both;
     }
     // The nearest whole multiple `k` of π/2, rounded by adding and taking
     // away 1.5 · 2⁵² (an instruction set without a rounding instruction
     // would call a library function); its last two bits are the quadrant.
-    let shifted = x * std::f64::consts::FRAC_2_PI + ROUNDING_SHIFT;
-    let k = shifted - ROUNDING_SHIFT;
-    let y = (((x - k * PI_2_HI) - k * PI_2_MID) - k * PI_2_LO) - k * PI_2_TAIL;
+    let shifted = x.map(|x| x * std::f64::consts::FRAC_2_PI + ROUNDING_SHIFT);
+    let k = shifted - Lanes::splat(ROUNDING_SHIFT);
+    let y = x.zip(k, |x, k| {
+        (((x - k * PI_2_HI) - k * PI_2_MID) - k * PI_2_LO) - k * PI_2_TAIL
+    });
     let (s, c) = (kernel_sin(y), kernel_cos(y));
-    match shifted.to_bits() & 3 {
-        0 => (s, c),
-        1 => (c, -s),
-        2 => (-s, -c),
-        _ => (-c, s),
+    // Odd quadrants swap the two; the sine is negative in quadrants 2 and 3,
+    // the cosine in 1 and 2 (the sign bit flipped, without a branch).
+    let (mut sin, mut cos) = (s, c);
+    for f in 0..F {
+        let quadrant = shifted.0[f].to_bits() & 3;
+        if quadrant & 1 == 1 {
+            (sin.0[f], cos.0[f]) = (c.0[f], s.0[f]);
+        }
+        let flip = |v: f64, negative: u64| f64::from_bits(v.to_bits() ^ ((negative & 2) << 62));
+        sin.0[f] = flip(sin.0[f], quadrant);
+        cos.0[f] = flip(cos.0[f], quadrant + 1);
     }
+    (sin, cos)
 }
 
 /// `sin y` for `|y| ≤ π/4` (a little beyond, after rounding `k`).
-#[inline]
-fn kernel_sin(y: f64) -> f64 {
+#[inline(always)]
+fn kernel_sin<T: Real>(y: T) -> T {
     let z = y * y;
-    let r = S[1] + z * (S[2] + z * (S[3] + z * (S[4] + z * S[5])));
-    y + y * z * (S[0] + z * r)
+    let s = |i: usize| T::splat(S[i]);
+    let r = s(1) + z * (s(2) + z * (s(3) + z * (s(4) + z * s(5))));
+    y + y * z * (s(0) + z * r)
 }
 
 /// `cos y` for `|y| ≤ π/4`: `1 − z/2` summed with its rounding error
 /// carried into the small terms, as fdlibm does.
-#[inline]
-fn kernel_cos(y: f64) -> f64 {
+#[inline(always)]
+fn kernel_cos<T: Real>(y: T) -> T {
     let z = y * y;
-    let r = z * (C[0] + z * (C[1] + z * (C[2] + z * (C[3] + z * (C[4] + z * C[5])))));
-    let hz = 0.5 * z;
-    let w = 1.0 - hz;
-    w + (((1.0 - w) - hz) + z * r)
+    let c = |i: usize| T::splat(C[i]);
+    let r = z * (c(0) + z * (c(1) + z * (c(2) + z * (c(3) + z * (c(4) + z * c(5))))));
+    let hz = T::splat(0.5) * z;
+    let one = T::splat(1.0);
+    let w = one - hz;
+    w + (((one - w) - hz) + z * r)
 }
 
 #[cfg(test)]
@@ -146,5 +176,21 @@ mod tests {
         assert!(worst <= 2.0, "{worst} units apart");
         assert_eq!(sin_cos(0.0), (0.0, 1.0));
         assert!(sin_cos(f64::NAN).0.is_nan() && sin_cos(f64::INFINITY).1.is_nan());
+    }
+
+    #[test]
+    fn every_lane_is_its_own_angle() {
+        // Every quadrant side by side, then one lane beyond the reduction.
+        let angles: Vec<f64> = (-9..9).map(|k| 0.7 * k as f64 + 0.1).collect();
+        for four in angles.chunks_exact(4) {
+            let (s, c) = sin_cos_lanes(Lanes([four[0], four[1], four[2], four[3]]));
+            for (f, &x) in four.iter().enumerate() {
+                assert_eq!((s.0[f], c.0[f]), sin_cos(x), "lane {f}, angle {x}");
+            }
+        }
+        let far = 3.0 * REDUCED_LIMIT;
+        let (s, c) = sin_cos_lanes(Lanes([0.5, far]));
+        assert_eq!((s.0[0], c.0[0]), sin_cos(0.5));
+        assert_eq!((s.0[1], c.0[1]), far.sin_cos());
     }
 }

@@ -283,7 +283,11 @@ where
         };
         let offset = |i: usize| blended(self.base_offsets[i], &|s| s.offsets[i]);
         self.rest.solve_frames(
-            |_, t| self.rest.fit_rows(t, &map(t)),
+            |first, rows: &mut [[[f64; D]; 3]]| {
+                for (i, rows) in rows.iter_mut().enumerate() {
+                    *rows = self.rest.fit_rows(first + i, &map(first + i));
+                }
+            },
             |_, c| centroid(c),
             &self.attached,
             |_, i| offset(i),

@@ -98,6 +98,13 @@ pub struct FrameWorkspace<const D: usize = 2> {
 /// of the right-hand side cost more to gather (BENCHMARKS.md).
 pub const FRAMES_PER_SOLVE: usize = 2;
 
+/// How many triangles a frame's pass over the triangles takes at a time.
+/// A triangle's rotation at a time is one long chain of dependent steps
+/// (a sine and cosine, a quaternion, a matrix, its rows); the steps of
+/// several triangles side by side keep the processor busy while each waits
+/// for the one before.
+const TRIANGLES_PER_STEP: usize = 4;
+
 impl<const D: usize> Interpolator<D>
 where
     Space<D>: Rotations<D> + TriangleMaps<D>,

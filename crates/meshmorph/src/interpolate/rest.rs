@@ -12,7 +12,7 @@
 //! sides.
 
 use super::attached::{Attached, PartAnchors};
-use super::{FrameWorkspace, FRAMES_PER_SOLVE};
+use super::{FrameWorkspace, FRAMES_PER_SOLVE, TRIANGLES_PER_STEP};
 use crate::error::Result;
 use crate::gradient::weights::vertex_weights;
 use crate::gradient::{FactoredSystem, GradientOperators, Pins, Placement, TriangleMaps};
@@ -201,7 +201,11 @@ where
             "one centroid per part"
         );
         self.solve_frames(
-            |_, t| self.fit_rows(t, &map(t)),
+            |first, rows: &mut [[[f64; D]; 3]]| {
+                for (i, rows) in rows.iter_mut().enumerate() {
+                    *rows = self.fit_rows(first + i, &map(first + i));
+                }
+            },
             |_, c| centroids[c],
             &Attached::none(),
             |_, _| [0.0; D],
@@ -218,12 +222,14 @@ where
         self.operators.fit_rhs(t, map, self.weights[t])
     }
 
-    /// Up to [`FRAMES_PER_SOLVE`] frames at once: frame `f` (of
-    /// `outs.len()`) gives triangle `t` the rows `rows_of(f, t)` of the
-    /// right-hand side ([`RestSystem::fit_rows`] of the triangle's map) and
-    /// part `c` the centroid `centroid(f, c)`, except for the `attached`
-    /// parts, placed by their anchors with the offset `offset(f, i)` of the
-    /// `i`-th anchored part ([`PartAnchors::place`]).
+    /// Up to [`FRAMES_PER_SOLVE`] frames at once (`frames = outs.len()`):
+    /// `rows_of(first, rows)` gives the triangles from `first` on their rows
+    /// of the right-hand side in each frame ([`RestSystem::fit_rows`] of the
+    /// triangle's map), those of triangle `first + i` in frame `f` into
+    /// `rows[i * frames + f]`, for up to [`TRIANGLES_PER_STEP`] triangles at
+    /// a time; part `c` takes the centroid `centroid(f, c)`, except for the
+    /// `attached` parts, placed by their anchors with the offset `offset(f,
+    /// i)` of the `i`-th anchored part ([`PartAnchors::place`]).
     ///
     /// One pass over the triangles builds every frame's right-hand side,
     /// straight in the factor's row order with the frames side by side; one
@@ -233,7 +239,7 @@ where
     #[track_caller]
     pub(super) fn solve_frames(
         &self,
-        rows_of: impl Fn(usize, usize) -> [[f64; D]; 3],
+        rows_of: impl TriangleRows<D>,
         centroid: impl Fn(usize, usize) -> [f64; D],
         attached: &Attached,
         offset: impl Fn(usize, usize) -> [f64; D],
@@ -259,7 +265,7 @@ where
     #[track_caller]
     fn solve_columns<const K: usize>(
         &self,
-        rows_of: &impl Fn(usize, usize) -> [[f64; D]; 3],
+        rows_of: &impl TriangleRows<D>,
         centroid: &impl Fn(usize, usize) -> [f64; D],
         attached: &Attached,
         offset: &impl Fn(usize, usize) -> [f64; D],
@@ -274,22 +280,11 @@ where
         ws.rows.clear();
         ws.rows.resize(K * n, 0.0);
         let rows: &mut [[f64; K]] = bytemuck::cast_slice_mut(&mut ws.rows);
-        for (t, corners) in self.corner_rows.iter().enumerate() {
-            // The triangle's rows for every frame side by side, then added
-            // to its corners' rows whole.
-            let mut local = [[0.0; K]; 3];
-            for f in 0..frames {
-                for (row, add) in local.iter_mut().zip(rows_of(f, t)) {
-                    row[f * D..(f + 1) * D].copy_from_slice(&add);
-                }
-            }
-            for (&r, add) in corners.iter().zip(&local) {
-                let row = &mut rows[r as usize];
-                for c in 0..K {
-                    row[c] += add[c];
-                }
-            }
-        }
+        pulp::Arch::new().dispatch(RightHandSide::<_, D, K> {
+            rows_of,
+            corner_rows: &self.corner_rows,
+            rows: &mut *rows,
+        });
         self.system.solve_in_rows(rows);
         let rows = &*rows;
         let row = |v: usize| &rows[self.system.row_of(v)];
@@ -328,5 +323,63 @@ where
     }
 }
 
+/// The rows of the right-hand side a frame gives each triangle, for
+/// [`RestSystem::solve_frames`]: `rows(first, rows)` gives the triangles
+/// from `first` on their rows in each of the `frames` frames solved
+/// together, those of triangle `first + i` in frame `f` into
+/// `rows[i * frames + f]`, up to [`TRIANGLES_PER_STEP`] triangles at a time.
+/// Any closure of that shape is one.
+pub(super) trait TriangleRows<const D: usize> {
+    fn rows(&self, first: usize, rows: &mut [[[f64; D]; 3]]);
+}
+
+impl<const D: usize, F: Fn(usize, &mut [[[f64; D]; 3]])> TriangleRows<D> for F {
+    #[inline(always)]
+    fn rows(&self, first: usize, rows: &mut [[[f64; D]; 3]]) {
+        self(first, rows)
+    }
+}
+
+/// The right-hand side of `K / D` frames side by side in the factor's rows,
+/// each triangle's rows added to its corners' rows; with the widest vector
+/// instructions the processor has (chosen when it runs), which the
+/// triangles' rows, computed several at a time, make use of.
+struct RightHandSide<'a, R, const D: usize, const K: usize> {
+    rows_of: &'a R,
+    corner_rows: &'a [[u32; 3]],
+    rows: &'a mut [[f64; K]],
+}
+
+impl<R: TriangleRows<D>, const D: usize, const K: usize> pulp::WithSimd
+    for RightHandSide<'_, R, D, K>
+{
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _: S) {
+        let frames = K / D;
+        let mut of_step = [[[0.0; D]; 3]; TRIANGLES_PER_STEP * FRAMES_PER_SOLVE];
+        for (step, triangles) in self.corner_rows.chunks(TRIANGLES_PER_STEP).enumerate() {
+            let of_step = &mut of_step[..triangles.len() * frames];
+            self.rows_of.rows(step * TRIANGLES_PER_STEP, of_step);
+            for (corners, of_frames) in triangles.iter().zip(of_step.chunks(frames)) {
+                // The triangle's rows for every frame side by side, then
+                // added to its corners' rows whole.
+                let mut local = [[0.0; K]; 3];
+                for (f, of_frame) in of_frames.iter().enumerate() {
+                    for (row, add) in local.iter_mut().zip(of_frame) {
+                        row[f * D..(f + 1) * D].copy_from_slice(add);
+                    }
+                }
+                for (&r, add) in corners.iter().zip(&local) {
+                    let row = &mut self.rows[r as usize];
+                    for c in 0..K {
+                        row[c] += add[c];
+                    }
+                }
+            }
+        }
+    }
+}
 /// The rest system of a surface in space.
 pub type PreparedSurface = RestSystem<3>;

@@ -41,9 +41,14 @@ use rayon::prelude::*;
 
 use super::attached::Attached;
 use super::poses::{check_poses, decompose};
-use super::{FrameWorkspace, InterpolatorOptions, RestSystem, StretchMode, FRAMES_PER_SOLVE};
+use super::rest::TriangleRows;
+use super::{
+    FrameWorkspace, InterpolatorOptions, RestSystem, StretchMode, FRAMES_PER_SOLVE,
+    TRIANGLES_PER_STEP as STEP,
+};
 use crate::error::{Error, Result};
 use crate::gradient::TriangleMaps;
+use crate::lanes::Lanes;
 use crate::matrix::{identity, lerp, mul, Mat};
 use crate::mesh::Mesh;
 use crate::rotation::{consistent_rotations, Rotations};
@@ -134,17 +139,94 @@ where
     }
 }
 
-/// The rows of the right-hand side of a triangle with folded rows `fit`
-/// ([`SegmentStretches::Fitted`]) a fraction `u` along its segment, `turn`
-/// its rotation from the segment's start there: `(P_0 + u (P_1 − P_0))
-/// turnᵀ`.
-#[inline]
-fn fitted_rows<const D: usize>(fit: &[[[f64; D]; 3]; 2], turn: &Mat<D>, u: f64) -> [[f64; D]; 3] {
-    let [from, change] = fit;
+/// The rows of the right-hand side of triangles with folded rows `fit`
+/// ([`SegmentStretches::Fitted`]) fractions `u` along their segment, `turn`
+/// their rotation from the segment's start there: `(P_0 + u (P_1 − P_0))
+/// turnᵀ`, one triangle and time per lane.
+#[inline(always)]
+fn fitted_rows<const D: usize, const L: usize>(
+    fit: [&[[[f64; D]; 3]; 2]; L],
+    turn: &[[Lanes<L>; D]; D],
+    u: Lanes<L>,
+) -> [[Lanes<L>; D]; 3] {
     std::array::from_fn(|k| {
-        let row: [f64; D] = std::array::from_fn(|m| from[k][m] + u * change[k][m]);
-        std::array::from_fn(|i| (0..D).map(|m| turn[i][m] * row[m]).sum())
+        let row: [Lanes<L>; D] = std::array::from_fn(|m| {
+            Lanes(std::array::from_fn(|l| {
+                fit[l][0][k][m] + u.0[l] * fit[l][1][k][m]
+            }))
+        });
+        std::array::from_fn(|i| {
+            (1..D).fold(turn[i][0] * row[0], |sum, m| sum + turn[i][m] * row[m])
+        })
     })
+}
+
+/// [`fitted_rows`] of the triangles from `first` on of segment `seg`
+/// (`rows.len() / F` of them, at most `L / F`), whose folded rows are
+/// `fits`, in `F` frames at the fractions `us` with the segment's whole
+/// turns `turns_at` at each: those of triangle `first + i` in frame `f` into
+/// `rows[i * F + f]`. Lane `l` holds triangle `l / F` in frame `l % F`; lanes
+/// beyond the triangles repeat the last one.
+#[inline(always)]
+fn fitted_rows_of_step<const D: usize, const F: usize, const L: usize>(
+    seg: &Segment<D>,
+    fits: &[[[[f64; D]; 3]; 2]],
+    first: usize,
+    turns_at: &[Vec<[f64; 4]>],
+    us: &[f64],
+    rows: &mut [[[f64; D]; 3]],
+) where
+    Space<D>: Rotations<D>,
+{
+    debug_assert!(L % F == 0 && rows.len() <= L && rows.len() % F == 0);
+    let last = first + rows.len() / F - 1;
+    let triangle = |l: usize| (first + l / F).min(last);
+    let u = Lanes::<L>(std::array::from_fn(|l| us[l % F]));
+    let turn = Space::<D>::turn_at(
+        std::array::from_fn(|l| &seg.rotations[triangle(l)]),
+        std::array::from_fn(|l| turns_at[l % F].as_slice()),
+        u,
+    );
+    let fitted = fitted_rows(std::array::from_fn(|l| &fits[triangle(l)]), &turn, u);
+    for (l, rows) in rows.iter_mut().enumerate() {
+        for (row, fitted) in rows.iter_mut().zip(&fitted) {
+            for (x, lanes) in row.iter_mut().zip(fitted) {
+                *x = lanes.0[l];
+            }
+        }
+    }
+}
+
+/// The rows of a segment's triangles with folded rows `fits` in the frames
+/// at fractions `us` along it, with the segment's whole turns `turns_at` at
+/// each ([`fitted_rows_of_step`]).
+struct FittedRows<'a, const D: usize>
+where
+    Space<D>: Rotations<D>,
+{
+    seg: &'a Segment<D>,
+    fits: &'a [[[[f64; D]; 3]; 2]],
+    turns_at: &'a [Vec<[f64; 4]>],
+    us: &'a [f64],
+}
+
+impl<const D: usize> TriangleRows<D> for FittedRows<'_, D>
+where
+    Space<D>: Rotations<D>,
+{
+    #[inline(always)]
+    fn rows(&self, first: usize, rows: &mut [[[f64; D]; 3]]) {
+        let Self {
+            seg,
+            fits,
+            turns_at,
+            us,
+        } = *self;
+        match us.len() {
+            1 => fitted_rows_of_step::<D, 1, STEP>(seg, fits, first, turns_at, us, rows),
+            _ => fitted_rows_of_step::<D, 2, { 2 * STEP }>(seg, fits, first, turns_at, us, rows),
+        }
+    }
 }
 
 /// A keyframe sequence of meshes in the plane (`D = 2`) or surfaces in
@@ -483,10 +565,12 @@ where
         };
         let rest = &*self.rest;
         match &seg.stretches {
-            SegmentStretches::Fitted(p) => rest.solve_frames(
-                |f, t| {
-                    let turn = Space::<D>::turn_at(&seg.rotations[t], &turns_at[f], us[f]);
-                    fitted_rows(&p[t], &turn, us[f])
+            SegmentStretches::Fitted(fits) => rest.solve_frames(
+                FittedRows {
+                    seg,
+                    fits,
+                    turns_at: &turns_at,
+                    us: &us,
                 },
                 centroid,
                 attached,
@@ -498,9 +582,14 @@ where
                 unreachable!("linear stretches are folded into rows when the sequence is built")
             }
             SegmentStretches::Power(v) => rest.solve_frames(
-                |f, t| {
-                    let S = Space::<D>::stretch_power(&v[t], us[f], LOG_FLOOR);
-                    rest.fit_rows(t, &mul(rot(f, t), S))
+                |first, rows: &mut [[[f64; D]; 3]]| {
+                    for (i, rows) in rows.chunks_mut(us.len()).enumerate() {
+                        let t = first + i;
+                        for (f, rows) in rows.iter_mut().enumerate() {
+                            let S = Space::<D>::stretch_power(&v[t], us[f], LOG_FLOOR);
+                            *rows = rest.fit_rows(t, &mul(rot(f, t), S));
+                        }
+                    }
                 },
                 centroid,
                 attached,
@@ -509,10 +598,15 @@ where
                 ws,
             ),
             SegmentStretches::LogLinear(v) => rest.solve_frames(
-                |f, t| {
-                    let (a, b) = &v[t];
-                    let S = Space::<D>::stretch_exp(&lerp(a, b, us[f]));
-                    rest.fit_rows(t, &mul(rot(f, t), S))
+                |first, rows: &mut [[[f64; D]; 3]]| {
+                    for (i, rows) in rows.chunks_mut(us.len()).enumerate() {
+                        let t = first + i;
+                        let (a, b) = &v[t];
+                        for (f, rows) in rows.iter_mut().enumerate() {
+                            let S = Space::<D>::stretch_exp(&lerp(a, b, us[f]));
+                            *rows = rest.fit_rows(t, &mul(rot(f, t), S));
+                        }
+                    }
                 },
                 centroid,
                 attached,
@@ -691,17 +785,34 @@ mod tests {
                         _ => unreachable!(),
                     };
                     let expected = rest.fit_rows(t, &mul(R, S));
-                    let turn = Space::<D>::turn_at(&folded.rotations[t], &turns_at, u);
-                    let got = fitted_rows(&fits[t], &turn, u);
+                    // One frame, and two frames side by side, with the
+                    // triangle first and last in a step.
+                    let both = [turns_at.clone(), turns_at.clone()];
+                    let mut one = [[[0.0; D]; 3]; STEP];
+                    fitted_rows_of_step::<D, 1, STEP>(folded, fits, t, &both, &[u], &mut one[..1]);
+                    let mut two = [[[0.0; D]; 3]; 2 * STEP];
+                    let start = t.saturating_sub(STEP - 1);
+                    let (rows, at) = (&mut two[..2 * (t - start + 1)], 2 * (t - start));
+                    fitted_rows_of_step::<D, 2, { 2 * STEP }>(
+                        folded,
+                        fits,
+                        start,
+                        &both,
+                        &[u, u],
+                        rows,
+                    );
+                    let two = [rows[at], rows[at + 1]];
                     let scale = expected
                         .iter()
                         .flatten()
                         .fold(1.0f64, |m, x| m.max(x.abs()));
-                    for (e, g) in expected.iter().flatten().zip(got.iter().flatten()) {
-                        assert!(
-                            (e - g).abs() < 1e-12 * scale,
-                            "triangle {t} at {u}: {e} against {g}"
-                        );
+                    for got in [one[0], two[0], two[1]] {
+                        for (e, g) in expected.iter().flatten().zip(got.iter().flatten()) {
+                            assert!(
+                                (e - g).abs() < 1e-12 * scale,
+                                "triangle {t} at {u}: {e} against {g}"
+                            );
+                        }
                     }
                 }
             }

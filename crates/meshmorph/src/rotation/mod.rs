@@ -15,6 +15,7 @@ mod spatial;
 use std::fmt::Debug;
 
 use crate::gradient::TriangleMaps;
+use crate::lanes::Lanes;
 use crate::matrix::Mat;
 use crate::topology::TriangleAdjacency;
 
@@ -114,9 +115,14 @@ pub trait Rotations<const D: usize>: TriangleMaps<D> {
     /// The rotation at the start of `segment` (its key's rotation):
     /// [`Rotations::segment_at`] is [`Rotations::turn_at`] times it.
     fn segment_start(segment: &Self::Segment) -> Mat<D>;
-    /// The rotation from the start of `segment` a fraction `u` along it,
-    /// with its segment's [`Rotations::turns_at`] for `u`.
-    fn turn_at(segment: &Self::Segment, turns_at: &[[f64; 4]], u: f64) -> Mat<D>;
+    /// The rotations from the start of segments a fraction along them, one
+    /// per lane: lane `l` the rotation of `segments[l]` at `u[l]`, with its
+    /// segment's [`Rotations::turns_at`] for that fraction, `turns_at[l]`.
+    fn turn_at<const L: usize>(
+        segments: [&Self::Segment; L],
+        turns_at: [&[[f64; 4]]; L],
+        u: Lanes<L>,
+    ) -> [[Lanes<L>; D]; D];
     /// Whether `segment` takes whole turns beyond the shortest way.
     fn has_whole_turns(segment: &Self::Segment) -> bool;
     /// `sum + w · log`, for blends (Baxter et al. 2008, section 5).

@@ -8,9 +8,11 @@
 use std::f64::consts::TAU;
 
 use super::{make_consistent, Rotations, Space};
+use crate::lanes::Lanes;
 use crate::matrix::Mat2;
 use crate::polar::{polar_decomposition, rotation, SymmetricEigen2};
 use crate::topology::TriangleAdjacency;
+use crate::trig::sin_cos_lanes;
 
 /// `angle + 2πk` for the integer `k` that brings it nearest to `reference`.
 #[inline]
@@ -117,9 +119,14 @@ impl Rotations<2> for Space<2> {
         rotation(segment.start)
     }
 
-    #[inline]
-    fn turn_at(segment: &AngleSegment, _: &[[f64; 4]], u: f64) -> Mat2 {
-        rotation(u * segment.turn)
+    #[inline(always)]
+    fn turn_at<const L: usize>(
+        segments: [&AngleSegment; L],
+        _: [&[[f64; 4]]; L],
+        u: Lanes<L>,
+    ) -> [[Lanes<L>; 2]; 2] {
+        let (s, c) = sin_cos_lanes(Lanes(std::array::from_fn(|l| u.0[l] * segments[l].turn)));
+        [[c, -s], [s, c]]
     }
 
     fn has_whole_turns(segment: &AngleSegment) -> bool {

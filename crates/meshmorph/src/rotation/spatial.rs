@@ -31,13 +31,15 @@
 use super::patches::{nearest_whole_turns, whole_turns};
 use super::{Rotations, Space};
 use crate::geometry::{add, norm, sub};
+use crate::lanes::Lanes;
 use crate::matrix::Mat3;
 use crate::polar3::{polar_decomposition3, SymmetricEigen3};
 use crate::rotation3::{
-    quat_axis_angle, quat_conj, quat_dot, quat_exp, quat_from_matrix, quat_log, quat_mul,
-    quat_principal, quat_to_matrix, Quat,
+    matrix_of, product, quat_axis_angle, quat_conj, quat_dot, quat_exp, quat_from_matrix, quat_log,
+    quat_mul, quat_principal, quat_to_matrix, Quat,
 };
 use crate::topology::TriangleAdjacency;
+use crate::trig::sin_cos_lanes;
 
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -349,9 +351,33 @@ impl Rotations<3> for Space<3> {
         quat_to_matrix(segment.base)
     }
 
-    #[inline]
-    fn turn_at(segment: &SegmentRotation, turns_at: &[Quat], u: f64) -> Mat3 {
-        segment.at(turns_at, u, false)
+    #[inline(always)]
+    fn turn_at<const L: usize>(
+        segments: [&SegmentRotation; L],
+        turns_at: [&[Quat]; L],
+        u: Lanes<L>,
+    ) -> [[Lanes<L>; 3]; 3] {
+        let half = Lanes(std::array::from_fn(|l| {
+            0.5 * (segments[l].principal.angle * u.0[l])
+        }));
+        let (s, c) = sin_cos_lanes(half);
+        let axis = |k: usize| Lanes(std::array::from_fn(|l| segments[l].principal.axis[k]));
+        let mut q = [c, s * axis(0), s * axis(1), s * axis(2)];
+        let mut any_turns = false;
+        for segment in &segments {
+            any_turns |= segment.turns != NO_TURNS;
+        }
+        if any_turns {
+            // Lanes without whole turns turn by the identity.
+            let turns = std::array::from_fn(|k| {
+                Lanes(std::array::from_fn(|l| match segments[l].turns {
+                    NO_TURNS => [1.0, 0.0, 0.0, 0.0][k],
+                    c => turns_at[l][c as usize][k],
+                }))
+            });
+            q = product(turns, q);
+        }
+        matrix_of(q)
     }
 
     fn has_whole_turns(segment: &SegmentRotation) -> bool {

@@ -441,10 +441,7 @@ impl Cholesky {
     #[track_caller]
     pub fn solve_rows<const K: usize>(&self, rows: &mut [[f64; K]]) {
         assert_eq!(rows.len(), self.dim(), "right-hand side has the wrong size");
-        match self.symbolic.raw() {
-            SymbolicCholeskyRaw::Simplicial(s) => substitution::simplicial(s, &self.l_values, rows),
-            SymbolicCholeskyRaw::Supernodal(s) => substitution::supernodal(s, &self.l_values, rows),
-        }
+        pulp::Arch::new().dispatch(Substitution { factor: self, rows });
     }
 
     /// Scratch space needed to solve `ncols` right-hand sides at once.
@@ -468,6 +465,31 @@ impl Cholesky {
             Par::Seq,
             stack,
         );
+    }
+}
+
+/// [`Cholesky::solve_rows`] with the widest vector instructions the
+/// processor has (chosen when it runs): the interleaved rows of several
+/// right-hand sides are then one or two vectors each.
+struct Substitution<'a, const K: usize> {
+    factor: &'a Cholesky,
+    rows: &'a mut [[f64; K]],
+}
+
+impl<const K: usize> pulp::WithSimd for Substitution<'_, K> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _: S) {
+        let Self { factor, rows } = self;
+        match factor.symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(s) => {
+                substitution::simplicial(s, &factor.l_values, rows)
+            }
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                substitution::supernodal(s, &factor.l_values, rows)
+            }
+        }
     }
 }
 

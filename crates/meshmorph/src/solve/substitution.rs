@@ -16,6 +16,7 @@ use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 
 /// `x ← L⁻ᵀ L⁻¹ x` for a simplicial factor: columns of `L` in compressed
 /// form, each starting with its diagonal entry.
+#[inline(always)]
 pub(super) fn simplicial<const K: usize>(
     symbolic: &SymbolicSimplicialCholesky<usize>,
     values: &[f64],
@@ -74,6 +75,7 @@ fn dot<const K: usize>(l: &[f64], rows: &[usize], x: &[[f64; K]]) -> [f64; K] {
 /// `x ← L⁻ᵀ L⁻¹ x` for a supernodal factor: each supernode a dense
 /// column-major block, its diagonal block (lower triangle) on top of the
 /// rows of its pattern.
+#[inline(always)]
 pub(super) fn supernodal<const K: usize>(
     symbolic: &SymbolicSupernodalCholesky<usize>,
     values: &[f64],

@@ -1,0 +1,90 @@
+//! The same arithmetic on several frames at once.
+//!
+//! Frames solved together ask every triangle for its rotation at each of
+//! their times: the same steps on different numbers. [`Lanes`] holds one
+//! number per frame, side by side, and its operations act on all of them,
+//! which the compiler turns into vector instructions. The small-matrix and
+//! quaternion steps that frames share are written once over [`Real`], which
+//! both `f64` and [`Lanes`] are.
+
+use std::ops::{Add, Mul, Neg, Sub};
+
+/// One number per frame (`F` frames).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lanes<const F: usize>(pub [f64; F]);
+
+impl<const F: usize> Lanes<F> {
+    /// `f(x)` in every lane.
+    #[inline(always)]
+    pub fn map(self, f: impl Fn(f64) -> f64) -> Self {
+        Self(std::array::from_fn(|i| f(self.0[i])))
+    }
+
+    /// `f(x, y)` lane by lane.
+    #[inline(always)]
+    pub fn zip(self, other: Self, f: impl Fn(f64, f64) -> f64) -> Self {
+        Self(std::array::from_fn(|i| f(self.0[i], other.0[i])))
+    }
+}
+
+/// The arithmetic the shared steps use: `f64`, or [`Lanes`] of them.
+pub trait Real:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self>
+{
+    /// `x` in every lane.
+    fn splat(x: f64) -> Self;
+}
+
+impl Real for f64 {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        x
+    }
+}
+
+impl<const F: usize> Real for Lanes<F> {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        Self([x; F])
+    }
+}
+
+impl<const F: usize> Add for Lanes<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, other: Self) -> Self {
+        self.zip(other, |a, b| a + b)
+    }
+}
+
+impl<const F: usize> Sub for Lanes<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, other: Self) -> Self {
+        self.zip(other, |a, b| a - b)
+    }
+}
+
+impl<const F: usize> Mul for Lanes<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, other: Self) -> Self {
+        self.zip(other, |a, b| a * b)
+    }
+}
+
+impl<const F: usize> Neg for Lanes<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        self.map(|a| -a)
+    }
+}
+
+impl<const F: usize> Mul<Lanes<F>> for f64 {
+    type Output = Lanes<F>;
+    #[inline(always)]
+    fn mul(self, other: Lanes<F>) -> Lanes<F> {
+        other.map(|b| self * b)
+    }
+}
