@@ -17,14 +17,28 @@ impl<const F: usize> Lanes<F> {
     /// `f(x)` in every lane.
     #[inline(always)]
     pub fn map(self, f: impl Fn(f64) -> f64) -> Self {
-        Self(std::array::from_fn(|i| f(self.0[i])))
+        Self(array(|i| f(self.0[i])))
     }
 
     /// `f(x, y)` lane by lane.
     #[inline(always)]
     pub fn zip(self, other: Self, f: impl Fn(f64, f64) -> f64) -> Self {
-        Self(std::array::from_fn(|i| f(self.0[i], other.0[i])))
+        Self(array(|i| f(self.0[i], other.0[i])))
     }
+}
+
+/// The array of `f(0), …, f(N − 1)`, built by a plain loop. Always
+/// inlined: the nested closures of `std::array::from_fn` may be left out of
+/// line, and then run without the vector instructions of the code that
+/// calls them.
+#[inline(always)]
+pub(crate) fn array<T: Copy, const N: usize>(f: impl Fn(usize) -> T) -> [T; N] {
+    const { assert!(N > 0) };
+    let mut out = [f(0); N];
+    for (i, x) in out.iter_mut().enumerate().skip(1) {
+        *x = f(i);
+    }
+    out
 }
 
 /// The arithmetic the shared steps use: `f64`, or [`Lanes`] of them.

@@ -48,7 +48,7 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::gradient::TriangleMaps;
-use crate::lanes::Lanes;
+use crate::lanes::{array, Lanes, Real};
 use crate::matrix::{identity, lerp, mul, Mat};
 use crate::mesh::Mesh;
 use crate::rotation::{consistent_rotations, Rotations};
@@ -149,16 +149,25 @@ fn fitted_rows<const D: usize, const L: usize>(
     turn: &[[Lanes<L>; D]; D],
     u: Lanes<L>,
 ) -> [[Lanes<L>; D]; 3] {
-    std::array::from_fn(|k| {
-        let row: [Lanes<L>; D] = std::array::from_fn(|m| {
-            Lanes(std::array::from_fn(|l| {
-                fit[l][0][k][m] + u.0[l] * fit[l][1][k][m]
-            }))
-        });
-        std::array::from_fn(|i| {
-            (1..D).fold(turn[i][0] * row[0], |sum, m| sum + turn[i][m] * row[m])
-        })
-    })
+    // Plain loops: closures here may be left out of line, and then run
+    // without the vector instructions of the frame's pass.
+    let mut rows = [[Lanes::splat(0.0); D]; 3];
+    for (k, out) in rows.iter_mut().enumerate() {
+        let mut row = [Lanes::splat(0.0); D];
+        for (m, row) in row.iter_mut().enumerate() {
+            for (l, x) in row.0.iter_mut().enumerate() {
+                *x = fit[l][0][k][m] + u.0[l] * fit[l][1][k][m];
+            }
+        }
+        for (i, out) in out.iter_mut().enumerate() {
+            let mut sum = turn[i][0] * row[0];
+            for m in 1..D {
+                sum = sum + turn[i][m] * row[m];
+            }
+            *out = sum;
+        }
+    }
+    rows
 }
 
 /// [`fitted_rows`] of the triangles from `first` on of segment `seg`
@@ -181,13 +190,13 @@ fn fitted_rows_of_step<const D: usize, const F: usize, const L: usize>(
     debug_assert!(L % F == 0 && rows.len() <= L && rows.len() % F == 0);
     let last = first + rows.len() / F - 1;
     let triangle = |l: usize| (first + l / F).min(last);
-    let u = Lanes::<L>(std::array::from_fn(|l| us[l % F]));
+    let u = Lanes::<L>(array(|l| us[l % F]));
     let turn = Space::<D>::turn_at(
-        std::array::from_fn(|l| &seg.rotations[triangle(l)]),
-        std::array::from_fn(|l| turns_at[l % F].as_slice()),
+        array(|l| &seg.rotations[triangle(l)]),
+        array(|l| turns_at[l % F].as_slice()),
         u,
     );
-    let fitted = fitted_rows(std::array::from_fn(|l| &fits[triangle(l)]), &turn, u);
+    let fitted = fitted_rows(array(|l| &fits[triangle(l)]), &turn, u);
     for (l, rows) in rows.iter_mut().enumerate() {
         for (row, fitted) in rows.iter_mut().zip(&fitted) {
             for (x, lanes) in row.iter_mut().zip(fitted) {

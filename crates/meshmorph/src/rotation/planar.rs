@@ -8,7 +8,7 @@
 use std::f64::consts::TAU;
 
 use super::{make_consistent, Rotations, Space};
-use crate::lanes::Lanes;
+use crate::lanes::{array, Lanes};
 use crate::matrix::Mat2;
 use crate::polar::{polar_decomposition, rotation, SymmetricEigen2};
 use crate::topology::TriangleAdjacency;
@@ -125,7 +125,7 @@ impl Rotations<2> for Space<2> {
         _: [&[[f64; 4]]; L],
         u: Lanes<L>,
     ) -> [[Lanes<L>; 2]; 2] {
-        let (s, c) = sin_cos_lanes(Lanes(std::array::from_fn(|l| u.0[l] * segments[l].turn)));
+        let (s, c) = sin_cos_lanes(Lanes(array(|l| u.0[l] * segments[l].turn)));
         [[c, -s], [s, c]]
     }
 

@@ -31,7 +31,7 @@
 use super::patches::{nearest_whole_turns, whole_turns};
 use super::{Rotations, Space};
 use crate::geometry::{add, norm, sub};
-use crate::lanes::Lanes;
+use crate::lanes::{array, Lanes};
 use crate::matrix::Mat3;
 use crate::polar3::{polar_decomposition3, SymmetricEigen3};
 use crate::rotation3::{
@@ -357,11 +357,9 @@ impl Rotations<3> for Space<3> {
         turns_at: [&[Quat]; L],
         u: Lanes<L>,
     ) -> [[Lanes<L>; 3]; 3] {
-        let half = Lanes(std::array::from_fn(|l| {
-            0.5 * (segments[l].principal.angle * u.0[l])
-        }));
+        let half = Lanes(array(|l| 0.5 * (segments[l].principal.angle * u.0[l])));
         let (s, c) = sin_cos_lanes(half);
-        let axis = |k: usize| Lanes(std::array::from_fn(|l| segments[l].principal.axis[k]));
+        let axis = |k: usize| Lanes(array(|l| segments[l].principal.axis[k]));
         let mut q = [c, s * axis(0), s * axis(1), s * axis(2)];
         let mut any_turns = false;
         for segment in &segments {
@@ -369,8 +367,8 @@ impl Rotations<3> for Space<3> {
         }
         if any_turns {
             // Lanes without whole turns turn by the identity.
-            let turns = std::array::from_fn(|k| {
-                Lanes(std::array::from_fn(|l| match segments[l].turns {
+            let turns = array(|k| {
+                Lanes(array(|l| match segments[l].turns {
                     NO_TURNS => [1.0, 0.0, 0.0, 0.0][k],
                     c => turns_at[l][c as usize][k],
                 }))
