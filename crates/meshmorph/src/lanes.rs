@@ -1,19 +1,20 @@
-//! The same arithmetic on several frames at once.
+//! The same arithmetic on several numbers at once.
 //!
-//! Frames solved together ask every triangle for its rotation at each of
-//! their times: the same steps on different numbers. [`Lanes`] holds one
-//! number per frame, side by side, and its operations act on all of them,
-//! which the compiler turns into vector instructions. The small-matrix and
-//! quaternion steps that frames share are written once over [`Real`], which
+//! A frame's pass over the triangles takes several triangles at a time, and
+//! frames solved together ask each of them for its rotation at each of
+//! their times: the same steps on different numbers. [`Lanes`] holds those
+//! numbers side by side, one per triangle and frame, and its operations act
+//! on all of them, which the compiler turns into vector instructions. The
+//! small-matrix and quaternion steps are written once over [`Real`], which
 //! both `f64` and [`Lanes`] are.
 
 use std::ops::{Add, Mul, Neg, Sub};
 
-/// One number per frame (`F` frames).
+/// `L` numbers side by side (lanes).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Lanes<const F: usize>(pub [f64; F]);
+pub struct Lanes<const L: usize>(pub [f64; L]);
 
-impl<const F: usize> Lanes<F> {
+impl<const L: usize> Lanes<L> {
     /// `f(x)` in every lane.
     #[inline(always)]
     pub fn map(self, f: impl Fn(f64) -> f64) -> Self {
@@ -56,14 +57,14 @@ impl Real for f64 {
     }
 }
 
-impl<const F: usize> Real for Lanes<F> {
+impl<const L: usize> Real for Lanes<L> {
     #[inline(always)]
     fn splat(x: f64) -> Self {
-        Self([x; F])
+        Self([x; L])
     }
 }
 
-impl<const F: usize> Add for Lanes<F> {
+impl<const L: usize> Add for Lanes<L> {
     type Output = Self;
     #[inline(always)]
     fn add(self, other: Self) -> Self {
@@ -71,7 +72,7 @@ impl<const F: usize> Add for Lanes<F> {
     }
 }
 
-impl<const F: usize> Sub for Lanes<F> {
+impl<const L: usize> Sub for Lanes<L> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, other: Self) -> Self {
@@ -79,7 +80,7 @@ impl<const F: usize> Sub for Lanes<F> {
     }
 }
 
-impl<const F: usize> Mul for Lanes<F> {
+impl<const L: usize> Mul for Lanes<L> {
     type Output = Self;
     #[inline(always)]
     fn mul(self, other: Self) -> Self {
@@ -87,18 +88,10 @@ impl<const F: usize> Mul for Lanes<F> {
     }
 }
 
-impl<const F: usize> Neg for Lanes<F> {
+impl<const L: usize> Neg for Lanes<L> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
         self.map(|a| -a)
-    }
-}
-
-impl<const F: usize> Mul<Lanes<F>> for f64 {
-    type Output = Lanes<F>;
-    #[inline(always)]
-    fn mul(self, other: Lanes<F>) -> Lanes<F> {
-        other.map(|b| self * b)
     }
 }

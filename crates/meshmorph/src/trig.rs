@@ -69,21 +69,11 @@ pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
     (s.0[0], c.0[0])
 }
 
-/// [`sin_cos`] of every lane: the same steps on all of them, without a
-/// branch unless a lane is beyond [`REDUCED_LIMIT`] or NaN.
+/// [`sin_cos`] of every lane, each lane as [`sin_cos`] of its own angle:
+/// the same steps on all of them, without a branch unless a lane is beyond
+/// [`REDUCED_LIMIT`] or NaN (the standard library answers for that lane).
 #[inline(always)]
-pub(crate) fn sin_cos_lanes<const F: usize>(x: Lanes<F>) -> (Lanes<F>, Lanes<F>) {
-    let mut beyond = false;
-    for x in x.0 {
-        beyond |= x.abs() > REDUCED_LIMIT || x.is_nan();
-    }
-    if beyond {
-        let mut both = (x, x);
-        for f in 0..F {
-            (both.0 .0[f], both.1 .0[f]) = x.0[f].sin_cos();
-        }
-        return both;
-    }
+pub(crate) fn sin_cos_lanes<const L: usize>(x: Lanes<L>) -> (Lanes<L>, Lanes<L>) {
     // The nearest whole multiple `k` of π/2, rounded by adding and taking
     // away 1.5 · 2⁵² (an instruction set without a rounding instruction
     // would call a library function); its last two bits are the quadrant.
@@ -96,14 +86,25 @@ pub(crate) fn sin_cos_lanes<const F: usize>(x: Lanes<F>) -> (Lanes<F>, Lanes<F>)
     // Odd quadrants swap the two; the sine is negative in quadrants 2 and 3,
     // the cosine in 1 and 2 (the sign bit flipped, without a branch).
     let (mut sin, mut cos) = (s, c);
-    for f in 0..F {
-        let quadrant = shifted.0[f].to_bits() & 3;
+    for l in 0..L {
+        let quadrant = shifted.0[l].to_bits() & 3;
         if quadrant & 1 == 1 {
-            (sin.0[f], cos.0[f]) = (c.0[f], s.0[f]);
+            (sin.0[l], cos.0[l]) = (c.0[l], s.0[l]);
         }
         let flip = |v: f64, negative: u64| f64::from_bits(v.to_bits() ^ ((negative & 2) << 62));
-        sin.0[f] = flip(sin.0[f], quadrant);
-        cos.0[f] = flip(cos.0[f], quadrant + 1);
+        sin.0[l] = flip(sin.0[l], quadrant);
+        cos.0[l] = flip(cos.0[l], quadrant + 1);
+    }
+    let mut beyond = false;
+    for x in x.0 {
+        beyond |= x.abs() > REDUCED_LIMIT || x.is_nan();
+    }
+    if beyond {
+        for l in 0..L {
+            if x.0[l].abs() > REDUCED_LIMIT || x.0[l].is_nan() {
+                (sin.0[l], cos.0[l]) = x.0[l].sin_cos();
+            }
+        }
     }
     (sin, cos)
 }
@@ -188,9 +189,18 @@ mod tests {
                 assert_eq!((s.0[f], c.0[f]), sin_cos(x), "lane {f}, angle {x}");
             }
         }
+        // Beside an angle the standard library answers for (or NaN), each
+        // lane keeps its own answer (the two differ in the last place for
+        // some of these angles).
         let far = 3.0 * REDUCED_LIMIT;
-        let (s, c) = sin_cos_lanes(Lanes([0.5, far]));
-        assert_eq!((s.0[0], c.0[0]), sin_cos(0.5));
-        assert_eq!((s.0[1], c.0[1]), far.sin_cos());
+        for other in [far, f64::NAN] {
+            for k in 0..1000 {
+                let x = 0.001 + 0.00314 * k as f64;
+                let (s, c) = sin_cos_lanes(Lanes([x, other]));
+                assert_eq!((s.0[0], c.0[0]), sin_cos(x), "beside {other}");
+                assert_eq!(s.0[1].to_bits(), other.sin_cos().0.to_bits());
+                assert_eq!(c.0[1].to_bits(), other.sin_cos().1.to_bits());
+            }
+        }
     }
 }

@@ -25,6 +25,7 @@ use std::sync::{Arc, OnceLock};
 
 use super::attached::Attached;
 use super::poses::{check_poses, decompose};
+use super::rest::EachTriangle;
 use super::sequence::{Log, LOG_FLOOR};
 use super::{FrameWorkspace, InterpolatorOptions, RestSystem};
 use crate::error::{Error, Result};
@@ -283,10 +284,9 @@ where
         };
         let offset = |i: usize| blended(self.base_offsets[i], &|s| s.offsets[i]);
         self.rest.solve_frames(
-            |first, rows: &mut [[[f64; D]; 3]]| {
-                for (i, rows) in rows.iter_mut().enumerate() {
-                    *rows = self.rest.fit_rows(first + i, &map(first + i));
-                }
+            EachTriangle {
+                frames: 1,
+                rows_of: |t, _| self.rest.fit_rows(t, &map(t)),
             },
             |_, c| centroid(c),
             &self.attached,

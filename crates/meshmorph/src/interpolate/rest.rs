@@ -201,10 +201,9 @@ where
             "one centroid per part"
         );
         self.solve_frames(
-            |first, rows: &mut [[[f64; D]; 3]]| {
-                for (i, rows) in rows.iter_mut().enumerate() {
-                    *rows = self.fit_rows(first + i, &map(first + i));
-                }
+            EachTriangle {
+                frames: 1,
+                rows_of: |t, _| self.fit_rows(t, &map(t)),
             },
             |_, c| centroids[c],
             &Attached::none(),
@@ -323,26 +322,36 @@ where
     }
 }
 
-/// The rows of the right-hand side a frame gives each triangle, for
+/// The rows of the right-hand side each frame gives each triangle, for
 /// [`RestSystem::solve_frames`]: `rows(first, rows)` gives the triangles
 /// from `first` on their rows in each of the `frames` frames solved
 /// together, those of triangle `first + i` in frame `f` into
 /// `rows[i * frames + f]`, up to [`TRIANGLES_PER_STEP`] triangles at a time.
-/// Any closure of that shape is one.
 pub(super) trait TriangleRows<const D: usize> {
     fn rows(&self, first: usize, rows: &mut [[[f64; D]; 3]]);
 }
 
-impl<const D: usize, F: Fn(usize, &mut [[[f64; D]; 3]])> TriangleRows<D> for F {
-    #[inline(always)]
+/// [`TriangleRows`] one triangle and frame at a time: `rows_of(t, f)` of
+/// triangle `t` in frame `f`, of `frames` frames.
+pub(super) struct EachTriangle<R> {
+    pub frames: usize,
+    pub rows_of: R,
+}
+
+impl<const D: usize, R: Fn(usize, usize) -> [[f64; D]; 3]> TriangleRows<D> for EachTriangle<R> {
+    #[inline]
     fn rows(&self, first: usize, rows: &mut [[[f64; D]; 3]]) {
-        self(first, rows)
+        for (i, rows) in rows.chunks_mut(self.frames).enumerate() {
+            for (f, rows) in rows.iter_mut().enumerate() {
+                *rows = (self.rows_of)(first + i, f);
+            }
+        }
     }
 }
 
 /// The right-hand side of `K / D` frames side by side in the factor's rows,
-/// each triangle's rows added to its corners' rows; with the widest vector
-/// instructions the processor has (chosen when it runs), which the
+/// each triangle's rows added to its corners' rows; with AVX2 (x86-64-v3)
+/// when the processor has it (chosen when the program runs), which the
 /// triangles' rows, computed several at a time, make use of.
 struct RightHandSide<'a, R, const D: usize, const K: usize> {
     rows_of: &'a R,

@@ -41,7 +41,7 @@ use rayon::prelude::*;
 
 use super::attached::Attached;
 use super::poses::{check_poses, decompose};
-use super::rest::TriangleRows;
+use super::rest::{EachTriangle, TriangleRows};
 use super::{
     FrameWorkspace, InterpolatorOptions, RestSystem, StretchMode, FRAMES_PER_SOLVE,
     TRIANGLES_PER_STEP as STEP,
@@ -233,7 +233,8 @@ where
         } = *self;
         match us.len() {
             1 => fitted_rows_of_step::<D, 1, STEP>(seg, fits, first, turns_at, us, rows),
-            _ => fitted_rows_of_step::<D, 2, { 2 * STEP }>(seg, fits, first, turns_at, us, rows),
+            2 => fitted_rows_of_step::<D, 2, { 2 * STEP }>(seg, fits, first, turns_at, us, rows),
+            _ => unreachable!("at most {FRAMES_PER_SOLVE} frames at once"),
         }
     }
 }
@@ -591,14 +592,12 @@ where
                 unreachable!("linear stretches are folded into rows when the sequence is built")
             }
             SegmentStretches::Power(v) => rest.solve_frames(
-                |first, rows: &mut [[[f64; D]; 3]]| {
-                    for (i, rows) in rows.chunks_mut(us.len()).enumerate() {
-                        let t = first + i;
-                        for (f, rows) in rows.iter_mut().enumerate() {
-                            let S = Space::<D>::stretch_power(&v[t], us[f], LOG_FLOOR);
-                            *rows = rest.fit_rows(t, &mul(rot(f, t), S));
-                        }
-                    }
+                EachTriangle {
+                    frames: us.len(),
+                    rows_of: |t, f| {
+                        let S = Space::<D>::stretch_power(&v[t], us[f], LOG_FLOOR);
+                        rest.fit_rows(t, &mul(rot(f, t), S))
+                    },
                 },
                 centroid,
                 attached,
@@ -607,15 +606,13 @@ where
                 ws,
             ),
             SegmentStretches::LogLinear(v) => rest.solve_frames(
-                |first, rows: &mut [[[f64; D]; 3]]| {
-                    for (i, rows) in rows.chunks_mut(us.len()).enumerate() {
-                        let t = first + i;
+                EachTriangle {
+                    frames: us.len(),
+                    rows_of: |t, f| {
                         let (a, b) = &v[t];
-                        for (f, rows) in rows.iter_mut().enumerate() {
-                            let S = Space::<D>::stretch_exp(&lerp(a, b, us[f]));
-                            *rows = rest.fit_rows(t, &mul(rot(f, t), S));
-                        }
-                    }
+                        let S = Space::<D>::stretch_exp(&lerp(a, b, us[f]));
+                        rest.fit_rows(t, &mul(rot(f, t), S))
+                    },
                 },
                 centroid,
                 attached,

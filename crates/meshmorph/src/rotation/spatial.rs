@@ -124,17 +124,47 @@ pub struct SegmentTurns(Vec<AxisAngle>);
 const NO_TURNS: u32 = u32::MAX;
 
 impl SegmentRotation {
+    /// The rotation a fraction `u` along the segment, from its start or, with
+    /// `has_base`, from key 0.
     #[inline(always)]
     fn at(&self, turns_at: &[Quat], u: f64, has_base: bool) -> Mat3 {
-        let mut q = self.principal.quat_at(u);
-        if self.turns != NO_TURNS {
-            q = quat_mul(turns_at[self.turns as usize], q);
-        }
+        let turn = turn_quats([self], [turns_at], Lanes([u]));
+        let mut q = array(|k| turn[k].0[0]);
         if has_base {
             q = quat_mul(q, self.base);
         }
         quat_to_matrix(q)
     }
+}
+
+/// The quaternions `exp(u c) exp(u e)` of the rotations from the start of
+/// `segments[l]` a fraction `u[l]` along it, lane by lane, with the whole
+/// turns `turns_at[l]` of its segment at that fraction.
+#[inline(always)]
+fn turn_quats<const L: usize>(
+    segments: [&SegmentRotation; L],
+    turns_at: [&[Quat]; L],
+    u: Lanes<L>,
+) -> [Lanes<L>; 4] {
+    let half = Lanes(array(|l| 0.5 * (segments[l].principal.angle * u.0[l])));
+    let (s, c) = sin_cos_lanes(half);
+    let axis = |k: usize| Lanes(array(|l| segments[l].principal.axis[k]));
+    let q = [c, s * axis(0), s * axis(1), s * axis(2)];
+    let mut any_turns = false;
+    for segment in &segments {
+        any_turns |= segment.turns != NO_TURNS;
+    }
+    if !any_turns {
+        return q;
+    }
+    // Lanes without whole turns turn by the identity.
+    let turns = array(|k| {
+        Lanes(array(|l| match segments[l].turns {
+            NO_TURNS => [1.0, 0.0, 0.0, 0.0][k],
+            c => turns_at[l][c as usize][k],
+        }))
+    });
+    product(turns, q)
 }
 
 /// One triangle's rotation from `from` to `to`: its base, its principal
@@ -357,25 +387,7 @@ impl Rotations<3> for Space<3> {
         turns_at: [&[Quat]; L],
         u: Lanes<L>,
     ) -> [[Lanes<L>; 3]; 3] {
-        let half = Lanes(array(|l| 0.5 * (segments[l].principal.angle * u.0[l])));
-        let (s, c) = sin_cos_lanes(half);
-        let axis = |k: usize| Lanes(array(|l| segments[l].principal.axis[k]));
-        let mut q = [c, s * axis(0), s * axis(1), s * axis(2)];
-        let mut any_turns = false;
-        for segment in &segments {
-            any_turns |= segment.turns != NO_TURNS;
-        }
-        if any_turns {
-            // Lanes without whole turns turn by the identity.
-            let turns = array(|k| {
-                Lanes(array(|l| match segments[l].turns {
-                    NO_TURNS => [1.0, 0.0, 0.0, 0.0][k],
-                    c => turns_at[l][c as usize][k],
-                }))
-            });
-            q = product(turns, q);
-        }
-        matrix_of(q)
+        matrix_of(turn_quats(segments, turns_at, u))
     }
 
     fn has_whole_turns(segment: &SegmentRotation) -> bool {

@@ -468,8 +468,8 @@ impl Cholesky {
     }
 }
 
-/// [`Cholesky::solve_rows`] with the widest vector instructions the
-/// processor has (chosen when it runs): the interleaved rows of several
+/// [`Cholesky::solve_rows`] with AVX2 (x86-64-v3) when the processor has
+/// it (chosen when the program runs): the interleaved rows of several
 /// right-hand sides are then one or two vectors each.
 struct Substitution<'a, const K: usize> {
     factor: &'a Cholesky,
