@@ -11,9 +11,6 @@ pub(crate) struct FactoredSystem<const D: usize> {
     system: PinnedSystem,
     /// Column-major `#pinned × D`.
     pinned_values: Vec<f64>,
-    /// The row of each unknown in the layout of
-    /// [`FactoredSystem::solve_in_rows`].
-    row_of: Vec<u32>,
 }
 
 /// Per-thread scratch for [`FactoredSystem::solve`].
@@ -32,10 +29,8 @@ impl<const D: usize> FactoredSystem<D> {
     /// [`Error::Solver`](crate::Error::Solver) when what remains is not
     /// positive definite.
     pub(crate) fn new(matrix: &SymmetricMatrix, pins: &Pins<D>, kind: FactorKind) -> Result<Self> {
-        let system = PinnedSystem::new(matrix, pins.vertices(), kind)?;
         Ok(Self {
-            row_of: system.rows_of_unknowns(),
-            system,
+            system: PinnedSystem::new(matrix, pins.vertices(), kind)?,
             pinned_values: pins.packed_values(),
         })
     }
@@ -45,9 +40,7 @@ impl<const D: usize> FactoredSystem<D> {
     /// # Errors
     /// As [`FactoredSystem::new`].
     pub(crate) fn refactor(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
-        self.system.refactor(matrix)?;
-        self.row_of = self.system.rows_of_unknowns();
-        Ok(())
+        self.system.refactor(matrix)
     }
 
     /// Number of unknowns, pinned ones included.
@@ -93,7 +86,7 @@ impl<const D: usize> FactoredSystem<D> {
     /// [`FactoredSystem::solve_in_rows`].
     #[inline]
     pub(crate) fn row_of(&self, u: usize) -> usize {
-        self.row_of[u] as usize
+        self.system.row_of(u)
     }
 
     /// Solves for `K / D` right-hand sides of `D` coordinates each, side by

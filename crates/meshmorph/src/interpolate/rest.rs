@@ -390,5 +390,6 @@ impl<R: TriangleRows<D>, const D: usize, const K: usize> pulp::WithSimd
         }
     }
 }
+
 /// The rest system of a surface in space.
 pub type PreparedSurface = RestSystem<3>;

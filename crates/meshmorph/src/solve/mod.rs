@@ -530,8 +530,10 @@ pub struct PinnedSystem {
     /// The unknown at each row of the factored system (free unknowns in
     /// the factor's ordering).
     order: Vec<u32>,
-    /// The row of the factored system of each free unknown (by reduced index).
-    row_of_reduced: Vec<u32>,
+    /// The row of each unknown in the layout of
+    /// [`PinnedSystem::solve_in_rows`]: the free unknowns in the factor's
+    /// order, then the pinned ones in the order they were given.
+    row_of: Vec<u32>,
 }
 
 impl PinnedSystem {
@@ -562,7 +564,7 @@ impl PinnedSystem {
         let pinned: Vec<u32> = pinned.iter().map(|&p| p as u32).collect();
         let (reduced, coupling_ptr, coupling) = split(matrix, &reduced_of, &free, &pinned);
         let cholesky = Cholesky::new(&reduced, kind)?;
-        let (order, row_of_reduced) = ordering(&cholesky, &free);
+        let (order, row_of) = ordering(&cholesky, &free, &pinned);
         Ok(Self {
             n,
             reduced_of,
@@ -572,7 +574,7 @@ impl PinnedSystem {
             coupling,
             cholesky,
             order,
-            row_of_reduced,
+            row_of,
         })
     }
 
@@ -589,7 +591,7 @@ impl PinnedSystem {
         let (reduced, coupling_ptr, coupling) =
             split(matrix, &self.reduced_of, &self.free, &self.pinned);
         self.cholesky.refactor(&reduced)?;
-        (self.order, self.row_of_reduced) = ordering(&self.cholesky, &self.free);
+        (self.order, self.row_of) = ordering(&self.cholesky, &self.free, &self.pinned);
         self.coupling_ptr = coupling_ptr;
         self.coupling = coupling;
         Ok(())
@@ -727,19 +729,16 @@ impl PinnedSystem {
         }
     }
 
-    /// The row of each unknown in the layout of
+    /// The row of unknown `u` in the layout of
     /// [`PinnedSystem::solve_in_rows`]: the free unknowns in the factor's
     /// order, then the pinned ones in the order they were given.
-    pub fn rows_of_unknowns(&self) -> Vec<u32> {
-        let mut row_of = vec![0u32; self.n];
-        for (row, &i) in self.order.iter().chain(&self.pinned).enumerate() {
-            row_of[i as usize] = row as u32;
-        }
-        row_of
+    #[inline]
+    pub fn row_of(&self, u: usize) -> usize {
+        self.row_of[u] as usize
     }
 
     /// Solves for `K` right-hand sides side by side, one row per unknown in
-    /// the layout of [`PinnedSystem::rows_of_unknowns`]: on entry the free
+    /// the layout of [`PinnedSystem::row_of`]: on entry the free
     /// rows hold the right-hand side and the pinned rows their values; on
     /// return the free rows hold the solution. Whoever builds the right-hand
     /// side straight in this layout saves the passes of
@@ -754,7 +753,7 @@ impl PinnedSystem {
         for (q, xp) in pinned.iter().enumerate() {
             if *xp != [0.0; K] {
                 for &(r, a) in &self.coupling[self.coupling_ptr[q]..self.coupling_ptr[q + 1]] {
-                    let row = &mut free[self.row_of_reduced[r as usize] as usize];
+                    let row = &mut free[self.row_of(self.free[r as usize] as usize)];
                     for c in 0..K {
                         row[c] -= a * xp[c];
                     }
@@ -774,25 +773,19 @@ impl PinnedSystem {
     }
 }
 
-/// The unknown at each row of the factored system, and the row of each
-/// free unknown (by reduced index).
-fn ordering(cholesky: &Cholesky, free: &[u32]) -> (Vec<u32>, Vec<u32>) {
+/// The unknown at each row of the factored system (the free unknowns in
+/// the factor's order), and the row of each unknown
+/// ([`PinnedSystem::row_of`]: the pinned ones after the free ones).
+fn ordering(cholesky: &Cholesky, free: &[u32], pinned: &[u32]) -> (Vec<u32>, Vec<u32>) {
     let order: Vec<u32> = match cholesky.permutation() {
         Some(p) => p.iter().map(|&r| free[r]).collect(),
         None => free.to_vec(),
     };
-    let mut row_of_reduced = vec![0u32; free.len()];
-    match cholesky.permutation() {
-        Some(p) => p
-            .iter()
-            .enumerate()
-            .for_each(|(row, &r)| row_of_reduced[r] = row as u32),
-        None => row_of_reduced
-            .iter_mut()
-            .enumerate()
-            .for_each(|(row, r)| *r = row as u32),
+    let mut row_of = vec![0u32; free.len() + pinned.len()];
+    for (row, &i) in order.iter().chain(pinned).enumerate() {
+        row_of[i as usize] = row as u32;
     }
-    (order, row_of_reduced)
+    (order, row_of)
 }
 
 /// The free-free block of `matrix` and the free-pinned coupling, by pinned
