@@ -153,6 +153,11 @@ impl CorrespondArgs {
             marker_residual_rms: rms / diagonal,
             marker_residual_max: r.iter().copied().fold(0.0, f64::max) / diagonal,
             suspicious_markers: suspicious,
+            turn_from_marker_fit: result
+                .marker_fit
+                .angle_to(result.correspondence.alignment())
+                .to_degrees(),
+            mirror_plane_misfits: result.mirror_planes.map(|p| p.map(|p| p.misfit)),
         };
         Ok((result, report))
     }
@@ -215,6 +220,13 @@ pub struct MarkerReport {
     pub marker_residual_rms: f64,
     pub marker_residual_max: f64,
     pub suspicious_markers: Vec<String>,
+    /// How far (degrees) the orientation the deformations are transferred
+    /// in turns from the markers' fit: that of the matched surface.
+    pub turn_from_marker_fit: f64,
+    /// When the source's and the target's planes of symmetry were kept
+    /// together: how far each mesh is from its mirror image (RMS over its
+    /// diagonal).
+    pub mirror_plane_misfits: Option<[f64; 2]>,
 }
 
 impl MarkerReport {
@@ -236,6 +248,18 @@ impl MarkerReport {
                 100.0 * self.marker_residual_rms,
                 100.0 * self.marker_residual_max
             );
+            let mut line = format!(
+                "orientation:    the matched surface's, {:.2} degrees from the markers' fit",
+                self.turn_from_marker_fit
+            );
+            if let Some([source, target]) = self.mirror_plane_misfits {
+                line += &format!(
+                    ", the planes of symmetry kept together (each mesh its own mirror image to {:.2} % and {:.2} % of its diagonal)",
+                    100.0 * source,
+                    100.0 * target
+                );
+            }
+            println!("{line}");
         } else {
             println!(
                 "alignment:      off, marker distance {:.3} % of the target's diagonal (RMS)",

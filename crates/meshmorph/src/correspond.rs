@@ -18,6 +18,10 @@
 //! 2. Triangles of the deformed source and of the target are paired with the
 //!    closest compatible triangle of the other mesh (centroids within a
 //!    threshold, normals less than 90° apart), in both directions.
+//! 3. The transfer's own turn is fitted to the normals of the matched pairs
+//!    (the markers' fit reads every difference of shape as a turn), and
+//!    keeps the two planes of symmetry together when both meshes are their
+//!    own mirror images.
 #![allow(non_snake_case)]
 
 use rayon::prelude::*;
@@ -25,12 +29,13 @@ use rayon::prelude::*;
 use crate::closest::{unit_normal, vertex_normals, CentroidIndex, SurfaceIndex};
 use crate::correspondence::Correspondence;
 use crate::error::{Error, Result};
-use crate::geometry::{add, centroid, scale, sub};
+use crate::geometry::{add, centroid, cross, dot, scale, sub};
 use crate::gradient::weights::{normalise_by_mean, normalised_by_mean, vertex_weights};
 use crate::gradient::{FactoredSystem, GradientOperators, Pins};
 use crate::markers::Markers;
-use crate::matrix::{identity, Mat3};
+use crate::matrix::{identity, mul, mul_vec, Mat3};
 use crate::mesh::{used_vertices, Mesh3};
+use crate::mirror_plane::{mirror_plane, MirrorPlane};
 use crate::partner_parts::between_partner_parts;
 use crate::similarity::{closest_rotation, fit_robust, residuals, robust_rotation, Similarity};
 use crate::solve::{FactorKind, SymmetricBuilder, SymmetricMatrix};
@@ -180,7 +185,7 @@ pub struct CorrespondResult {
     /// (the identity without alignment). The correspondence's own
     /// [`alignment`](Correspondence::alignment), which the transfer
     /// applies, has the same scale, turned to the orientation of the matched
-    /// surface.
+    /// surface (and of the planes of symmetry, when both meshes have one).
     pub marker_fit: Similarity,
     /// The source reference (brought onto the target by
     /// [`CorrespondResult::marker_fit`]) deformed onto the target reference.
@@ -189,6 +194,10 @@ pub struct CorrespondResult {
     /// vertex brought onto the target by the alignment (in the order of the
     /// markers; the misfit of the similarity, in the target's units).
     pub marker_residuals: Vec<f64>,
+    /// The planes of symmetry of the source (brought onto the target by
+    /// [`CorrespondResult::marker_fit`]) and of the target, when both have
+    /// one and the transfer's turn keeps them together ([`mirror_plane`]).
+    pub mirror_planes: Option<[MirrorPlane; 2]>,
 }
 
 /// The fewest markers [`correspond`] accepts: fewer cannot fix an orientation.
@@ -246,7 +255,17 @@ pub fn correspond(
         aligned = source.with_positions(alignment.apply_all(source.positions()))?;
         &aligned
     };
-    let deformed = deform(source, target, &components, markers, options, progress)?;
+    // The mirror planes the turn keeps together are found beside the
+    // deformation (which leaves a core idle between its factorizations).
+    let mut mirror_planes = (None, None);
+    let deformed = rayon::in_place_scope(|scope| {
+        if options.align {
+            scope.spawn(|_| {
+                mirror_planes = rayon::join(|| mirror_plane(source), || mirror_plane(target));
+            });
+        }
+        deform(source, target, &components, markers, options, progress)
+    })?;
     let deformed_source = source.with_positions(deformed)?;
     // Centroids of two differently tessellated surfaces lie up to about an
     // edge apart even where the surfaces coincide: never ask for less.
@@ -261,10 +280,11 @@ pub fn correspond(
     // The markers' fit reads every difference of shape between the two as a
     // turn of the whole source: the transfer works in the orientation the
     // matched surface agrees on instead.
-    let transfer_alignment = if options.align {
-        alignment.then(&matched_orientation(source, target, &matched))
+    let (transfer_alignment, mirror_planes) = if options.align {
+        let (turn, kept) = matched_orientation(source, target, &matched, mirror_planes);
+        (alignment.then(&turn), kept)
     } else {
-        Similarity::IDENTITY
+        (Similarity::IDENTITY, None)
     };
     let correspondence = matched.with_alignment(transfer_alignment);
     progress(correspond_steps(options));
@@ -273,6 +293,7 @@ pub fn correspond(
         marker_fit: alignment,
         deformed_source,
         marker_residuals,
+        mirror_planes,
     })
 }
 
@@ -287,11 +308,18 @@ pub fn correspond(
 /// instead ([`robust_rotation`], each pair weighing the smaller of its two
 /// areas): the whole surface takes part, no lever arm lets a long neck
 /// dominate, and the L1 fit follows the orientation most of the surface
-/// agrees on. It depends only on the source brought onto the target and on
-/// the target, so moving, turning or scaling the source still changes
-/// nothing. Where the normals leave a turn free (a flat source), the
-/// markers' orientation stands.
-fn matched_orientation(source: &Mesh3, target: &Mesh3, matched: &Correspondence) -> Similarity {
+/// agrees on. When both surfaces are their own mirror images, the turn then
+/// brings their planes of symmetry together ([`mirror_planes_together`]).
+/// It depends only on the source brought onto the target and on the target,
+/// so moving, turning or scaling the source still changes nothing. Where the
+/// normals leave a turn free (a flat source), the markers' orientation
+/// stands.
+fn matched_orientation(
+    source: &Mesh3,
+    target: &Mesh3,
+    matched: &Correspondence,
+    mirror_planes: (Option<MirrorPlane>, Option<MirrorPlane>),
+) -> (Similarity, Option<[MirrorPlane; 2]>) {
     let (source_areas, target_areas) = (source.triangle_areas(), target.triangle_areas());
     let n = matched.pairs().len();
     let (mut from, mut to, mut weights) = (
@@ -304,8 +332,10 @@ fn matched_orientation(source: &Mesh3, target: &Mesh3, matched: &Correspondence)
         to.push(unit_normal(target.corners(t as usize)));
         weights.push(source_areas[s as usize].min(target_areas[t as usize]));
     }
+    let (rotation, kept) =
+        mirror_planes_together(robust_rotation(&from, &to, &weights), mirror_planes);
     let turn = Similarity {
-        rotation: robust_rotation(&from, &to, &weights),
+        rotation,
         scale: 1.0,
         translation: [0.0; 3],
     };
@@ -314,10 +344,58 @@ fn matched_orientation(source: &Mesh3, target: &Mesh3, matched: &Correspondence)
         centre = add(centre, scale(centroid(source.corners(t)), *a));
     }
     let centre = scale(centre, 1.0 / source_areas.iter().sum::<f64>());
-    Similarity {
+    let turn = Similarity {
         translation: sub(centre, turn.rotate(centre)),
         ..turn
+    };
+    (turn, kept)
+}
+
+/// How far apart (degrees) the source's mirror plane, turned, and the
+/// target's may stand for [`mirror_planes_together`] to bring them together:
+/// the matched normals fix the turn to a degree or two, and planes farther
+/// apart than this are not each other's.
+pub const MIRROR_PLANES_APART: f64 = 10.0;
+
+/// `turn`, corrected by the least rotation that brings the source's mirror
+/// plane onto the target's, when both have one ([`mirror_plane`]) and the
+/// turn already brings them within [`MIRROR_PLANES_APART`] (then with the
+/// two planes).
+///
+/// The matched normals fix the turn to a degree or two in every direction:
+/// a tail held to one side, a head turned a little, or a tessellation that
+/// differs left and right tilts their fit. Where both characters are their
+/// own mirror images (most animals and people, faces and heads), the planes
+/// of symmetry fix two of the turn's three degrees of freedom exactly (no
+/// yaw, no roll between the two), and the normals are left to fix the
+/// third: the pitch, a turn about the planes' common normal.
+fn mirror_planes_together(
+    turn: Mat3,
+    (from, to): (Option<MirrorPlane>, Option<MirrorPlane>),
+) -> (Mat3, Option<[MirrorPlane; 2]>) {
+    let (Some(from), Some(to)) = (from, to) else {
+        return (turn, None);
+    };
+    let mut a = mul_vec(&turn, from.normal);
+    let b = to.normal;
+    if dot(a, b) < 0.0 {
+        a = scale(a, -1.0);
     }
+    let c = dot(a, b);
+    if c < MIRROR_PLANES_APART.to_radians().cos() {
+        return (turn, None);
+    }
+    // The rotation about a × b taking a onto b: I + [v]× + [v]×² / (1 + c).
+    let v = cross(a, b);
+    let k = [[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]];
+    let k2 = mul(k, k);
+    let least: Mat3 = std::array::from_fn(|i| {
+        std::array::from_fn(|j| {
+            let id = if i == j { 1.0 } else { 0.0 };
+            id + k[i][j] + k2[i][j] / (1.0 + c)
+        })
+    });
+    (mul(least, turn), Some([from, to]))
 }
 
 /// Mean length of the edges of a mesh.
@@ -660,6 +738,41 @@ mod tests {
     use crate::gradient::spatial::fourth_vertex;
     use crate::matrix::mul;
     use crate::shapes::{bend, tube};
+
+    #[test]
+    fn the_turn_keeps_mirror_planes_together_and_its_turn_about_them() {
+        let about = |axis: usize, a: f64| -> Mat3 {
+            let (s, c) = a.sin_cos();
+            let (i, j) = [(1, 2), (2, 0), (0, 1)][axis];
+            let mut m = identity();
+            m[i][i] = c;
+            m[j][j] = c;
+            m[i][j] = -s;
+            m[j][i] = s;
+            m
+        };
+        let plane = |normal: [f64; 3]| MirrorPlane {
+            normal,
+            offset: 0.0,
+            misfit: 0.0,
+        };
+        // A turn of 0.3 about the planes' normal (z), tilted by 0.02 about x.
+        let turn = mul(about(0, 0.02), about(2, 0.3));
+        let (kept, together) = mirror_planes_together(
+            turn,
+            (Some(plane([0.0, 0.0, 1.0])), Some(plane([0.0, 0.0, -1.0]))),
+        );
+        let z = mul_vec(&kept, [0.0, 0.0, 1.0]);
+        assert!((z[2] - 1.0).abs() < 1e-12, "{z:?}");
+        let angle = kept[1][0].atan2(kept[0][0]);
+        assert!((angle - 0.3).abs() < 1e-3, "turn about the normal {angle}");
+        assert!(together.is_some());
+        // Planes the turn leaves far apart, or a missing plane: unchanged.
+        let tilted = mul(about(0, 0.5), about(2, 0.3));
+        let planes = (Some(plane([0.0, 0.0, 1.0])), Some(plane([0.0, 0.0, 1.0])));
+        assert_eq!(mirror_planes_together(tilted, planes), (tilted, None));
+        assert_eq!(mirror_planes_together(turn, (None, planes.1)), (turn, None));
+    }
 
     #[test]
     fn a_similar_copy_gives_every_triangle_its_similarity_as_shape_target() {

@@ -63,6 +63,7 @@ mod lanes;
 mod markers;
 mod matrix;
 mod mesh;
+pub mod mirror_plane;
 mod nearest_vertices;
 mod partner_parts;
 mod polar;

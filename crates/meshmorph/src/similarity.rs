@@ -80,6 +80,16 @@ impl Similarity {
             .acos()
     }
 
+    /// The angle (radians) between this rotation and `other`'s: that of the
+    /// turn taking one onto the other.
+    pub fn angle_to(&self, other: &Similarity) -> f64 {
+        let (A, B) = (&self.rotation, &other.rotation);
+        let trace: f64 = (0..3)
+            .map(|i| (0..3).map(|j| A[i][j] * B[i][j]).sum::<f64>())
+            .sum();
+        ((trace - 1.0) / 2.0).clamp(-1.0, 1.0).acos()
+    }
+
     /// Every point mapped.
     pub fn apply_all(&self, points: &[[f64; 3]]) -> Vec<[f64; 3]> {
         points.iter().map(|&p| self.apply(p)).collect()
