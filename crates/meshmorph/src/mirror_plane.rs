@@ -117,34 +117,28 @@ pub fn mirror_plane(mesh: &Mesh3) -> Option<MirrorPlane> {
     let tree = Bvh::new(points.iter().map(|p| p.0).collect(), |p| {
         Aabb::around(std::slice::from_ref(p))
     });
-    let planes: Vec<MirrorPlane> = starts(axes)
-        .into_iter()
-        .map(|normal| {
-            refine(
-                &points,
-                &tree,
-                diagonal,
-                MirrorPlane {
-                    normal,
-                    offset: dot(normal, centre),
-                    misfit: f64::INFINITY,
-                },
-            )
-        })
-        .collect();
-    // The planes that fit, each once (starts that settle on the same plane
-    // agree to within a few degrees): the best of them if they are one.
-    let mut fitting: Vec<MirrorPlane> = planes
-        .into_iter()
-        .filter(|p| p.misfit <= MIRROR_MISFIT)
-        .collect();
-    fitting.sort_by(|a, b| a.misfit.total_cmp(&b.misfit));
-    let best = *fitting.first()?;
-    let same = SAME_PLANE.to_radians().cos();
-    fitting
-        .iter()
-        .all(|p| dot(p.normal, best.normal).abs() >= same)
-        .then_some(best)
+    // The planes that fit, each once: a start that comes within
+    // [`SAME_PLANE`] of a plane already found stops there, and a second
+    // plane ends the search (a surface of revolution would otherwise refine
+    // every start to the full).
+    let mut found: Option<MirrorPlane> = None;
+    for normal in starts(axes) {
+        let start = MirrorPlane {
+            normal,
+            offset: dot(normal, centre),
+            misfit: f64::INFINITY,
+        };
+        let Some(plane) = refine(&points, &tree, diagonal, start, found.as_ref()) else {
+            continue;
+        };
+        if plane.misfit <= MIRROR_MISFIT {
+            if found.is_some() {
+                return None;
+            }
+            found = Some(plane);
+        }
+    }
+    found
 }
 
 /// The normals the planes start from, in the frame of the principal axes
@@ -169,12 +163,16 @@ fn starts(axes: [[f64; 3]; 3]) -> Vec<[f64; 3]> {
 }
 
 /// Iterates closest points from `plane` (see the module documentation).
+///
+/// `None` once it comes within [`SAME_PLANE`] of `found`.
 fn refine(
     points: &[([f64; 3], f64)],
     tree: &Bvh<[f64; 3]>,
     diagonal: f64,
     mut plane: MirrorPlane,
-) -> MirrorPlane {
+    found: Option<&MirrorPlane>,
+) -> Option<MirrorPlane> {
+    let same = SAME_PLANE.to_radians().cos();
     let total: f64 = points.iter().map(|p| p.1).sum();
     let mut settled = false;
     // For each vertex, the vertex nearest to its image and that distance:
@@ -256,15 +254,18 @@ fn refine(
             < SETTLED;
         plane.normal = normal;
         plane.offset = offset;
+        if found.is_some_and(|f| dot(f.normal, normal).abs() >= same) {
+            return None;
+        }
     }
-    plane
+    Some(plane)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::geometry::norm;
-    use crate::shapes::{bend, rigid_motion3, tube, twist};
+    use crate::shapes::{bend, octahedron, rigid_motion3, tube, twist};
 
     /// A tube that widens along x and curves up in y: the mirror image of
     /// itself about z = 0 alone.
@@ -327,6 +328,8 @@ mod tests {
         assert_eq!(mirror_plane(&tube(4.0, 0.5, 17, 12)), None);
         // Bent evenly: the bend's plane and the plane across its middle.
         assert_eq!(mirror_plane(&bend(&tube(4.0, 0.5, 17, 12), 4.0, 1.0)), None);
+        // A regular octahedron: nine.
+        assert_eq!(mirror_plane(&octahedron([1.0, 2.0, 3.0], 0.5)), None);
         // Twisted and bent unevenly: none.
         let twisted = twist(&one_plane(), 4.0, 0.8);
         assert_eq!(mirror_plane(&twisted), None);
