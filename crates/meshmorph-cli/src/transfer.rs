@@ -224,8 +224,8 @@ pub struct MarkerReport {
     /// in turns from the markers' fit: that of the matched surface.
     pub turn_from_marker_fit: f64,
     /// When the source's and the target's planes of symmetry were kept
-    /// together: how far each mesh is from its mirror image (RMS over its
-    /// diagonal).
+    /// together: how far each mesh is from its mirror image (RMS, over the
+    /// RMS distance of its surface from its centroid).
     pub mirror_plane_misfits: Option<[f64; 2]>,
 }
 
@@ -254,7 +254,7 @@ impl MarkerReport {
             );
             if let Some([source, target]) = self.mirror_plane_misfits {
                 line += &format!(
-                    ", the planes of symmetry kept together (each mesh its own mirror image to {:.2} % and {:.2} % of its diagonal)",
+                    ", the planes of symmetry kept together (each mesh its own mirror image to {:.2} % and {:.2} % of its size)",
                     100.0 * source,
                     100.0 * target
                 );

@@ -89,8 +89,10 @@ pub struct CorrespondOptions {
     /// without a pair takes its neighbours' deformation in the transfer.
     pub match_threshold: f64,
     /// Bring the source onto the target by the similarity that best fits
-    /// the markers before anything else. Default `true`; off, the two
-    /// references must already overlap.
+    /// the markers before anything else, and transfer the deformations in
+    /// the orientation the matched surface agrees on (with the planes of
+    /// symmetry together when both meshes have one). Default `true`; off,
+    /// the two references must already overlap, and nothing is turned.
     pub align: bool,
 }
 
@@ -355,7 +357,7 @@ fn matched_orientation(
 /// target's may stand for [`mirror_planes_together`] to bring them together:
 /// the matched normals fix the turn to a degree or two, and planes farther
 /// apart than this are not each other's.
-pub const MIRROR_PLANES_APART: f64 = 10.0;
+const MIRROR_PLANES_APART: f64 = 10.0;
 
 /// `turn`, corrected by the least rotation that brings the source's mirror
 /// plane onto the target's, when both have one ([`mirror_plane`]) and the

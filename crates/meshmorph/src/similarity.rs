@@ -74,10 +74,7 @@ impl Similarity {
 
     /// The angle of the rotation, in radians.
     pub fn angle(&self) -> f64 {
-        let R = &self.rotation;
-        ((R[0][0] + R[1][1] + R[2][2] - 1.0) / 2.0)
-            .clamp(-1.0, 1.0)
-            .acos()
+        self.angle_to(&Similarity::IDENTITY)
     }
 
     /// The angle (radians) between this rotation and `other`'s: that of the

@@ -6,7 +6,10 @@ use std::path::Path;
 
 use meshmorph::io::{Format, MeshFile};
 use meshmorph::shapes::{bend, nearest_vertex_pairs, tube};
-use meshmorph::{correspond, CorrespondOptions, Correspondence, Error, Markers, Mesh3, Transfer};
+use meshmorph::{
+    correspond, CorrespondOptions, CorrespondResult, Correspondence, Error, Markers, Mesh3,
+    Transfer,
+};
 
 type P3 = [f64; 3];
 
@@ -342,6 +345,51 @@ fn mapped(m: &Mesh3, f: impl Fn(P3) -> P3) -> Mesh3 {
         .unwrap()
 }
 
+/// The correspondence of `source` and `target` (default options), and
+/// `pose` transferred through it.
+fn transferred(
+    source: &Mesh3,
+    target: &Mesh3,
+    markers: &Markers,
+    pose: &Mesh3,
+) -> (CorrespondResult, Vec<P3>) {
+    let found = correspond(
+        source,
+        target,
+        markers,
+        &CorrespondOptions::default(),
+        &mut |_| {},
+    )
+    .unwrap();
+    let out = Transfer::new(source, target, &found.correspondence, &Default::default())
+        .unwrap()
+        .apply(pose)
+        .unwrap();
+    (found, out)
+}
+
+/// How far the transfer of `pose` (`here`) moves when the source and the
+/// pose are turned, scaled and moved together ([`turn_scale_move`]): the
+/// largest distance between a result vertex and itself.
+fn moved_with_the_source(
+    source: &Mesh3,
+    target: &Mesh3,
+    markers: &Markers,
+    pose: &Mesh3,
+    here: &[P3],
+) -> f64 {
+    let (_, elsewhere) = transferred(
+        &mapped(source, turn_scale_move),
+        target,
+        markers,
+        &mapped(pose, turn_scale_move),
+    );
+    here.iter()
+        .zip(&elsewhere)
+        .map(|(p, q)| (0..3).map(|i| (p[i] - q[i]).powi(2)).sum::<f64>().sqrt())
+        .fold(0.0, f64::max)
+}
+
 #[test]
 fn moving_turning_and_scaling_the_source_changes_nothing() {
     let thin = tube(4.0, 0.25, 17, 12);
@@ -354,32 +402,56 @@ fn moving_turning_and_scaling_the_source_changes_nothing() {
     let ends = [0, 3, 6, 9, 96, 99, 102, 105, 192, 195, 198, 201];
     let markers = Markers::new(nearest_vertex_pairs(&widened, thick.positions(), &ends));
     let pose = bend(&thin, 4.0, 1.0);
-    let run = |source: &Mesh3, pose: &Mesh3| {
-        let found = correspond(
-            source,
-            &thick,
-            &markers,
-            &CorrespondOptions::default(),
-            &mut |_| {},
-        )
-        .unwrap();
-        Transfer::new(source, &thick, &found.correspondence, &Default::default())
-            .unwrap()
-            .apply(pose)
-            .unwrap()
-    };
-    let here = run(&thin, &pose);
-    let elsewhere = run(
-        &mapped(&thin, turn_scale_move),
-        &mapped(&pose, turn_scale_move),
+    let (_, here) = transferred(&thin, &thick, &markers, &pose);
+    let worst = moved_with_the_source(&thin, &thick, &markers, &pose, &here);
+    assert!(
+        worst < 1e-8 * thick.bounding_box_diagonal(),
+        "moved by {worst}"
     );
-    let diagonal = thick.bounding_box_diagonal();
-    let worst = here
-        .iter()
-        .zip(&elsewhere)
-        .map(|(a, b)| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt())
-        .fold(0.0, f64::max);
-    assert!(worst < 1e-8 * diagonal, "moved by {worst}");
+}
+
+/// A tube along x that widens and curves up: its own mirror image about
+/// z = 0 alone. `bump` raises a patch on its z > 0 side, which leaves the
+/// plane but tilts the normals' fit of the turn.
+fn symmetric_body(radius: f64, bump: f64) -> Mesh3 {
+    mapped(&tube(4.0, radius, 17, 12), |[x, y, z]| {
+        let u = x / 4.0;
+        let hump = bump * (-((x - 2.0) / 0.4).powi(2)).exp() * (z / radius).max(0.0);
+        [
+            x,
+            y * (1.0 + 0.5 * u) + 0.8 * u * u,
+            z * (1.0 + 0.3 * u) + hump,
+        ]
+    })
+}
+
+#[test]
+fn symmetric_characters_keep_their_planes_together_wherever_the_source_stands() {
+    let source = symmetric_body(0.25, 0.0);
+    let target = symmetric_body(0.5, 0.08);
+    let ends = [0, 3, 6, 9, 96, 99, 102, 105, 192, 195, 198, 201];
+    let markers = tube_pair(&source, &target, &ends);
+    let pose = bend(&source, 4.0, 1.0);
+    let (found, here) = transferred(&source, &target, &markers, &pose);
+    let [from, to] = found.mirror_planes.expect("both have one plane");
+    assert!(to.normal[2].abs() > 0.9999, "{to:?}");
+    assert!(from.misfit < 1e-9, "{from:?}");
+    // The transfer's turn (its rotation after the markers') brings the
+    // source's plane, as the markers placed it, onto the target's.
+    let (all, markers_only) = (
+        found.correspondence.alignment().rotation,
+        found.marker_fit.rotation,
+    );
+    let unturned: P3 =
+        std::array::from_fn(|j| (0..3).map(|i| markers_only[i][j] * from.normal[i]).sum());
+    let turned: P3 = std::array::from_fn(|i| (0..3).map(|j| all[i][j] * unturned[j]).sum());
+    let along: f64 = (0..3).map(|i| turned[i] * to.normal[i]).sum();
+    assert!(along.abs() > 1.0 - 1e-12, "planes {along} apart");
+    let worst = moved_with_the_source(&source, &target, &markers, &pose, &here);
+    assert!(
+        worst < 1e-8 * target.bounding_box_diagonal(),
+        "moved by {worst}"
+    );
 }
 
 /// Both references (and the pose) scaled by 7.5 and moved: the source
@@ -402,18 +474,7 @@ fn scaling_both_references_scales_the_result_and_changes_nothing_else() {
     let markers = Markers::new(nearest_vertex_pairs(&widened, target.positions(), &ends));
     let pose = bend(&source, 4.0, 1.0);
     let run = |source: &Mesh3, target: &Mesh3, pose: &Mesh3| {
-        let found = correspond(
-            source,
-            target,
-            &markers,
-            &CorrespondOptions::default(),
-            &mut |_| {},
-        )
-        .unwrap();
-        let out = Transfer::new(source, target, &found.correspondence, &Default::default())
-            .unwrap()
-            .apply(pose)
-            .unwrap();
+        let (found, out) = transferred(source, target, &markers, pose);
         (found.deformed_source.positions().to_vec(), out)
     };
     let here = run(&source, &target, &pose);

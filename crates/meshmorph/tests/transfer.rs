@@ -1442,7 +1442,7 @@ fn horse_and_camel_are_their_own_mirror_images_about_their_files_middle_plane() 
         assert!(plane.normal[0].abs() > 0.9999, "{name}: {plane:?}");
         let size = mesh.bounding_box_diagonal();
         assert!(plane.offset.abs() < 0.01 * size, "{name}: {plane:?}");
-        assert!(plane.misfit < 0.008, "{name}: {plane:?}");
+        assert!(plane.misfit < 0.03, "{name}: {plane:?}");
     }
 }
 
