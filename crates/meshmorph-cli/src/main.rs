@@ -69,6 +69,7 @@ impl Command {
 }
 
 fn main() -> ExitCode {
+    memory::share_one_heap();
     let cli = Cli::parse();
     let json = cli.command.json();
     outputs::interrupted_as_json(json);
