@@ -1,8 +1,11 @@
 //! Memory estimates before large allocations: a run that would not fit
 //! stops with a message giving the estimate, instead of being killed (or
-//! aborting) half way.
+//! aborting) half way. And one allocator heap shared by every thread.
 
 use std::path::Path;
+
+use anyhow::{bail, Result};
+use meshmorph::io::gltf::FRAMES_IN_FLIGHT_PER_THREAD;
 
 /// Makes every thread allocate from one heap (glibc's `M_ARENA_MAX` of 1).
 /// By default each thread that allocates gets an arena of its own, and
@@ -19,9 +22,6 @@ pub fn share_one_heap() {
         libc::mallopt(libc::M_ARENA_MAX, 1);
     }
 }
-
-use anyhow::{bail, Result};
-use meshmorph::io::gltf::FRAMES_IN_FLIGHT_PER_THREAD;
 
 /// Bytes a run may still allocate: the smaller of the memory the system
 /// reports available (`MemAvailable` on Linux) and what the address-space

@@ -29,11 +29,11 @@ use rayon::prelude::*;
 use crate::closest::{unit_normal, vertex_normals, CentroidIndex, SurfaceIndex};
 use crate::correspondence::Correspondence;
 use crate::error::{Error, Result};
-use crate::geometry::{add, centroid, cross, dot, scale, sub};
+use crate::geometry::{add, centroid, dot, least_turn, scale, sub};
 use crate::gradient::weights::{normalise_by_mean, normalised_by_mean, vertex_weights};
 use crate::gradient::{FactoredSystem, GradientOperators, Pins};
 use crate::markers::Markers;
-use crate::matrix::{identity, mul, mul_vec, Mat3};
+use crate::matrix::{identity, mul_vec, Mat3};
 use crate::mesh::{used_vertices, Mesh3};
 use crate::mirror_plane::{mirror_plane, MirrorPlane};
 use crate::partner_parts::between_partner_parts;
@@ -387,17 +387,11 @@ fn mirror_planes_together(
     if c < MIRROR_PLANES_APART.to_radians().cos() {
         return (turn, None);
     }
-    // The rotation about a × b taking a onto b: I + [v]× + [v]×² / (1 + c).
-    let v = cross(a, b);
-    let k = [[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]];
-    let k2 = mul(k, k);
-    let least: Mat3 = std::array::from_fn(|i| {
-        std::array::from_fn(|j| {
-            let id = if i == j { 1.0 } else { 0.0 };
-            id + k[i][j] + k2[i][j] / (1.0 + c)
-        })
-    });
-    (mul(least, turn), Some([from, to]))
+    // Each column of the turn turned by the least rotation taking a onto b.
+    let columns: [[f64; 3]; 3] =
+        std::array::from_fn(|j| least_turn([turn[0][j], turn[1][j], turn[2][j]], a, b));
+    let corrected = std::array::from_fn(|i| std::array::from_fn(|j| columns[j][i]));
+    (corrected, Some([from, to]))
 }
 
 /// Mean length of the edges of a mesh.

@@ -141,9 +141,49 @@ pub fn angle_weighted_normals(
     normals
 }
 
+/// `v` turned by the smallest rotation taking unit `from` to unit `to`
+/// (unchanged when either is zero or they coincide; for opposite
+/// directions, the half turn about an axis orthogonal to `from`).
+pub(crate) fn least_turn(v: [f64; 3], from: [f64; 3], to: [f64; 3]) -> [f64; 3] {
+    if from == to || v.iter().any(|x| !x.is_finite()) || norm(from) == 0.0 || norm(to) == 0.0 {
+        return v;
+    }
+    let c = dot(from, to);
+    let axis = cross(from, to);
+    if c <= -1.0 + 1e-12 {
+        // Half turn about any axis orthogonal to `from`.
+        let e = if from[0].abs() < 0.9 {
+            [1.0, 0.0, 0.0]
+        } else {
+            [0.0, 1.0, 0.0]
+        };
+        let k = cross(from, e);
+        let k = scale(k, 1.0 / norm(k));
+        return sub(scale(k, 2.0 * dot(k, v)), v);
+    }
+    // Rodrigues with the unnormalised axis: v c + (a × v) + a (a·v) / (1 + c).
+    add(
+        add(scale(v, c), cross(axis, v)),
+        scale(axis, dot(axis, v) / (1.0 + c)),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn turn_takes_from_to_to() {
+        let from = [0.0, 0.0, 1.0];
+        let to = [0.0, 1.0, 0.0];
+        let got = least_turn(from, from, to);
+        assert!(norm(sub(got, to)) < 1e-15, "{got:?}");
+        let other = least_turn([1.0, 0.0, 0.0], from, to);
+        assert!(norm(sub(other, [1.0, 0.0, 0.0])) < 1e-15, "{other:?}");
+        let back = least_turn(from, from, [0.0, 0.0, -1.0]);
+        assert!(norm(sub(back, [0.0, 0.0, -1.0])) < 1e-15, "{back:?}");
+        assert_eq!(least_turn([0.3, 0.1, 0.2], to, to), [0.3, 0.1, 0.2]);
+    }
 
     #[test]
     fn corner_angles_are_atan2_to_1e7() {

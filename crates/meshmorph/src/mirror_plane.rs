@@ -103,7 +103,10 @@ pub fn mirror_plane(mesh: &Mesh3) -> Option<MirrorPlane> {
     // Worked on in units of the bounding box, about its centre, with the
     // weights summing to 1: every sum below stays in range whatever the
     // units of the file.
-    let (origin, unit) = box_centre_and_diagonal(used.iter().map(|p| p.0));
+    let positions: Vec<[f64; 3]> = used.iter().map(|p| p.0).collect();
+    let bounds = Aabb::around(&positions);
+    let origin = scale(add(bounds.lo, bounds.hi), 0.5);
+    let unit = crate::mesh::bounding_box_diagonal(&[bounds.lo, bounds.hi]);
     let total: f64 = used.iter().map(|p| p.1).sum();
     if used.len() < 4 || !(unit > 0.0 && unit.is_finite() && total > 0.0) {
         return None;
@@ -162,19 +165,6 @@ pub fn mirror_plane(mesh: &Mesh3) -> Option<MirrorPlane> {
     })
 }
 
-/// The centre and the diagonal of the bounding box of `points`.
-fn box_centre_and_diagonal(points: impl Iterator<Item = [f64; 3]>) -> ([f64; 3], f64) {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in points {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    let centre = std::array::from_fn(|k| 0.5 * lo[k] + 0.5 * hi[k]);
-    (centre, crate::mesh::bounding_box_diagonal(&[lo, hi]))
-}
-
 /// The normals the planes start from, in the frame of the principal axes
 /// (`axes`, columns): the three axes, the six halfway between two of them
 /// and the four halfway between all three. A symmetric surface has its
@@ -207,7 +197,6 @@ fn refine(
     found: Option<&MirrorPlane>,
 ) -> Option<MirrorPlane> {
     let same = SAME_PLANE.to_radians().cos();
-    let total: f64 = points.iter().map(|p| p.1).sum();
     let mut settled = false;
     // For each vertex, the vertex nearest to its image and that distance:
     // the last round's partner bounds the search, and an image farther than
@@ -247,7 +236,8 @@ fn refine(
             .zip(&partners)
             .map(|(&(_, w), &(_, d))| w * d * d)
             .sum();
-        plane.misfit = (squares / total).sqrt() / size;
+        // (The weights sum to 1.)
+        plane.misfit = squares.sqrt() / size;
         // A principal axis of a symmetric surface is its plane's normal, so
         // a mirror plane starts near the limit; a plane that does not is
         // not one, and would only drift.

@@ -20,7 +20,7 @@ use std::collections::HashMap;
 
 use super::mesh_file::NONE;
 use super::triangulate::Polygons;
-use crate::geometry::{add, corner_angle, cross, dot, norm, scale, sub};
+use crate::geometry::{add, corner_angle, cross, dot, least_turn, norm, scale, sub};
 
 /// Turned normals whose coordinates agree to this are one normal: far below
 /// what shading shows (exporters round normals to 4 to 6 digits), far above
@@ -186,7 +186,7 @@ impl NormalGroups {
         let now = self.directions(faces, positions);
         let turned: Vec<[f64; 3]> = (0..self.normal_of.len())
             .map(|g| {
-                turn(
+                least_turn(
                     normals[self.normal_of[g] as usize],
                     self.rest_directions[g],
                     now[g],
@@ -281,49 +281,9 @@ fn newell_normal(vertices: &[u32], positions: &[[f64; 3]]) -> [f64; 3] {
     n
 }
 
-/// `v` turned by the smallest rotation taking unit `from` to unit `to`
-/// (unchanged when either is zero or they coincide; for opposite
-/// directions, the half turn about an axis orthogonal to `from`).
-fn turn(v: [f64; 3], from: [f64; 3], to: [f64; 3]) -> [f64; 3] {
-    if from == to || v.iter().any(|x| !x.is_finite()) || norm(from) == 0.0 || norm(to) == 0.0 {
-        return v;
-    }
-    let c = dot(from, to);
-    let axis = cross(from, to);
-    if c <= -1.0 + 1e-12 {
-        // Half turn about any axis orthogonal to `from`.
-        let e = if from[0].abs() < 0.9 {
-            [1.0, 0.0, 0.0]
-        } else {
-            [0.0, 1.0, 0.0]
-        };
-        let k = cross(from, e);
-        let k = scale(k, 1.0 / norm(k));
-        return sub(scale(k, 2.0 * dot(k, v)), v);
-    }
-    // Rodrigues with the unnormalised axis: v c + (a × v) + a (a·v) / (1 + c).
-    add(
-        add(scale(v, c), cross(axis, v)),
-        scale(axis, dot(axis, v) / (1.0 + c)),
-    )
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn turn_takes_from_to_to() {
-        let from = [0.0, 0.0, 1.0];
-        let to = [0.0, 1.0, 0.0];
-        let got = turn(from, from, to);
-        assert!(norm(sub(got, to)) < 1e-15, "{got:?}");
-        let other = turn([1.0, 0.0, 0.0], from, to);
-        assert!(norm(sub(other, [1.0, 0.0, 0.0])) < 1e-15, "{other:?}");
-        let back = turn(from, from, [0.0, 0.0, -1.0]);
-        assert!(norm(sub(back, [0.0, 0.0, -1.0])) < 1e-15, "{back:?}");
-        assert_eq!(turn([0.3, 0.1, 0.2], to, to), [0.3, 0.1, 0.2]);
-    }
 
     #[test]
     fn a_double_sided_sheet_keeps_its_normals() {
