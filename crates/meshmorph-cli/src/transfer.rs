@@ -437,6 +437,9 @@ pub struct TransferReport {
     pub reordered_pose_faces: usize,
     /// Separate parts of the target carried rigidly by the surface around them.
     pub carried_parts: usize,
+    /// Separate parts of the target with their own partners, placed by the
+    /// main part around them (their shape follows their partners).
+    pub following_parts: usize,
     /// Target vertices no triangle uses: written at their rest positions.
     pub unused_target_vertices: usize,
     /// Vertices at the same place as another (copies at seams), welded for
@@ -494,6 +497,12 @@ impl TransferReport {
             println!(
                 "  kept at rest: {} (beyond the source: rest shape, turned with the paired surface)",
                 output::count(self.unpaired_target_triangles, "target triangle")
+            );
+        }
+        if self.carried_parts + self.following_parts > 0 {
+            println!(
+                "separate parts: {} with partners (shaped by them, placed by the main part around them), {} carried rigidly",
+                self.following_parts, self.carried_parts
             );
         }
         print_welded(self.welded_source_vertices, self.welded_target_vertices);
@@ -751,6 +760,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         markers: marker_report,
         reordered_pose_faces,
         carried_parts: transfer.carried_parts(),
+        following_parts: transfer.following_parts(),
         unused_target_vertices: target.num_unused_vertices(),
         welded_source_vertices: source_ref.file.seams.num_welded(),
         welded_target_vertices: target_ref.file.seams.num_welded(),

@@ -29,12 +29,33 @@ pub(crate) struct Aabb {
 
 impl Aabb {
     /// The box around `points`.
-    pub(crate) fn around(points: &[[f64; 3]]) -> Self {
+    pub(crate) fn around(points: impl IntoIterator<Item = [f64; 3]>) -> Self {
         let mut b = Self::EMPTY;
         for p in points {
-            b = b.union(&Self { lo: *p, hi: *p });
+            b = b.union(&Self { lo: p, hi: p });
         }
         b
+    }
+
+    /// The length of the box's diagonal.
+    pub(crate) fn diagonal(&self) -> f64 {
+        (0..3)
+            .map(|i| (self.hi[i] - self.lo[i]).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    }
+
+    /// The box grown by `margin` on every side.
+    pub(crate) fn grown(&self, margin: f64) -> Self {
+        Self {
+            lo: self.lo.map(|x| x - margin),
+            hi: self.hi.map(|x| x + margin),
+        }
+    }
+
+    /// Whether the two boxes share a point.
+    pub(crate) fn meets(&self, other: &Self) -> bool {
+        (0..3).all(|i| self.lo[i] <= other.hi[i] && other.lo[i] <= self.hi[i])
     }
 
     const EMPTY: Self = Self {
@@ -264,7 +285,7 @@ mod tests {
         let items = points(1000);
         let bvh = Bvh::new(
             items.iter().copied().enumerate().collect::<Vec<_>>(),
-            |(_, p)| Aabb::around(&[*p]),
+            |(_, p)| Aabb::around([*p]),
         );
         for (k, q) in points(300).into_iter().enumerate() {
             let max2 = [0.001, 0.01, 1.0, 10.0][k % 4];
@@ -288,10 +309,10 @@ mod tests {
     #[test]
     fn ties_go_to_the_first_item_and_empty_trees_find_nothing() {
         let same = vec![[1.0, 2.0, 3.0]; 40];
-        let bvh = Bvh::new(same, |p| Aabb::around(&[*p]));
+        let bvh = Bvh::new(same, |p| Aabb::around([*p]));
         let found = bvh.nearest([0.0; 3], 100.0, |_| true, |p| d2(*p, [0.0; 3]));
         assert_eq!(found.map(|f| f.0), Some(0));
-        let empty: Bvh<[f64; 3]> = Bvh::new(Vec::new(), |p| Aabb::around(&[*p]));
+        let empty: Bvh<[f64; 3]> = Bvh::new(Vec::new(), |p| Aabb::around([*p]));
         assert!(empty.nearest([0.0; 3], 1.0, |_| true, |_| 0.0).is_none());
     }
 }

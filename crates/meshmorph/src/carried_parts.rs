@@ -12,12 +12,25 @@
 //! A part with exactly half of its area paired (within a relative
 //! `HALF_TOLERANCE`, so that rounding cannot tip it one way in some units
 //! and the other way in others) counts as paired and follows its partners.
+//!
+//! A paired part next to the main one (the part with the most paired area)
+//! takes its shape from its partners (an eye that looks aside turns), but
+//! where it sits is carried by the main part: its partners give its motion
+//! in the source, and the main part around it is where the target's own
+//! shape put it. A camel's neck is longer than a horse's, so the camel's
+//! head does not end where the horse's head goes; its eyes, placed by the
+//! horse's eyes alone, would leave their sockets. The part is moved by as
+//! much as the main part around it (its anchors, the main part's vertices
+//! nearest to its own) stands off where its own pairs would put it
+//! (`Transfer::place`). A part farther from the main part than its own size
+//! (a second character in the same file) is placed by its pairs alone.
 
 #![allow(non_snake_case)]
 
 use rstar::primitives::GeomWithData;
 use rstar::RTree;
 
+use crate::bvh::Aabb;
 use crate::geometry::{add, sub};
 use crate::nearest_vertices::{nearest_with_ties, VertexTree};
 use crate::similarity::rigid_fit;
@@ -45,10 +58,21 @@ struct CarriedPart {
     anchors: Vec<u32>,
 }
 
-/// The carried parts of a target and their anchors.
+/// A paired part whose place follows the main part around it.
+#[derive(Clone, Debug)]
+pub(crate) struct FollowingPart {
+    /// Its connected component.
+    pub(crate) component: u32,
+    /// The main part's vertices nearest to its own.
+    pub(crate) anchors: Vec<u32>,
+}
+
+/// The carried parts of a target and their anchors, and the paired parts
+/// that follow the main part.
 #[derive(Clone, Debug, Default)]
 pub struct CarriedParts {
     parts: Vec<CarriedPart>,
+    following: Vec<FollowingPart>,
 }
 
 impl CarriedParts {
@@ -75,8 +99,15 @@ impl CarriedParts {
         let carried: Vec<bool> = (0..c)
             .map(|p| Some(p) != leader && matched[p] < 0.5 * total[p] * (1.0 - HALF_TOLERANCE))
             .collect();
-        if !carried.contains(&true) || leader.is_none_or(|l| matched[l] == 0.0) {
+        let Some(leader) = leader.filter(|&l| matched[l] > 0.0) else {
             return Self::default();
+        };
+        let following = following_parts(positions, components, &carried, leader);
+        if !carried.contains(&true) {
+            return Self {
+                parts: Vec::new(),
+                following,
+            };
         }
         let mut members: Vec<Vec<u32>> = vec![Vec::new(); c];
         let mut others = Vec::new();
@@ -92,25 +123,17 @@ impl CarriedParts {
         let parts = members
             .into_iter()
             .filter(|m| !m.is_empty())
-            .map(|vertices| {
-                let mut anchors: Vec<u32> = vertices
-                    .iter()
-                    .flat_map(|&v| {
-                        nearest_with_ties(
-                            &tree,
-                            positions[v as usize],
-                            ANCHORS_PER_VERTEX,
-                            ANCHOR_SEARCH,
-                            |_| true,
-                        )
-                    })
-                    .collect();
-                anchors.sort_unstable();
-                anchors.dedup();
-                CarriedPart { vertices, anchors }
+            .map(|vertices| CarriedPart {
+                anchors: anchors(&tree, positions, &vertices),
+                vertices,
             })
             .collect();
-        Self { parts }
+        Self { parts, following }
+    }
+
+    /// The paired parts next to the main one, whose place follows it.
+    pub(crate) fn following(&self) -> &[FollowingPart] {
+        &self.following
     }
 
     /// Number of carried parts.
@@ -135,5 +158,104 @@ impl CarriedParts {
                 out[v as usize] = add(cb, turned);
             }
         }
+    }
+}
+
+/// The vertices of `tree` nearest to each of `vertices` (sorted, each
+/// once): a part's anchors.
+fn anchors(tree: &VertexTree, positions: &[[f64; 3]], vertices: &[u32]) -> Vec<u32> {
+    let mut anchors: Vec<u32> = vertices
+        .iter()
+        .flat_map(|&v| {
+            nearest_with_ties(
+                tree,
+                positions[v as usize],
+                ANCHORS_PER_VERTEX,
+                ANCHOR_SEARCH,
+                |_| true,
+            )
+        })
+        .collect();
+    anchors.sort_unstable();
+    anchors.dedup();
+    anchors
+}
+
+/// The parts neither carried nor the `leader` whose bounding boxes meet
+/// the leader's (each grown by the part's own size, the diagonal of its
+/// box), with their anchors: the leader's vertices nearest to theirs.
+fn following_parts(
+    positions: &[[f64; 3]],
+    components: &Components,
+    carried: &[bool],
+    leader: usize,
+) -> Vec<FollowingPart> {
+    let mut members: Vec<Vec<u32>> = vec![Vec::new(); components.count];
+    for (v, part) in components.of_vertex.iter().enumerate() {
+        if let Some(p) = part.map(|p| p as usize).filter(|&p| !carried[p]) {
+            members[p].push(v as u32);
+        }
+    }
+    let main = std::mem::take(&mut members[leader]);
+    if members.iter().all(Vec::is_empty) {
+        return Vec::new();
+    }
+    let main_box = Aabb::around(main.iter().map(|&v| positions[v as usize]));
+    let tree: VertexTree = RTree::bulk_load(
+        main.iter()
+            .map(|&v| GeomWithData::new(positions[v as usize], v))
+            .collect(),
+    );
+    members
+        .into_iter()
+        .enumerate()
+        .filter(|(_, m)| !m.is_empty())
+        .filter(|(_, m)| {
+            let part_box = Aabb::around(m.iter().map(|&v| positions[v as usize]));
+            part_box.grown(part_box.diagonal()).meets(&main_box)
+        })
+        .map(|(component, vertices)| FollowingPart {
+            component: component as u32,
+            anchors: anchors(&tree, positions, &vertices),
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::tube;
+    use crate::topology::connected_components;
+
+    #[test]
+    fn a_paired_part_in_the_body_follows_it_and_one_standing_apart_does_not() {
+        // A body, an eye inside it, a smaller body beside it (a gap of a
+        // tenth of its size) and another farther than its own size (each
+        // triangle weighs 1: the first body, with the most triangles, is
+        // the main part).
+        let parts = [
+            (tube(4.0, 0.5, 9, 8), [0.0, 0.0, 0.0]),
+            (tube(0.3, 0.06, 3, 6), [3.5, 0.1, 0.0]),
+            (tube(4.0, 0.5, 5, 8), [0.0, 1.4, 0.0]),
+            (tube(4.0, 0.5, 5, 8), [0.0, 9.0, 0.0]),
+        ];
+        let (mut positions, mut triangles) = (Vec::new(), Vec::new());
+        for (mesh, at) in &parts {
+            let n = positions.len() as u32;
+            positions.extend(mesh.positions().iter().map(|p| add(*p, *at)));
+            triangles.extend(mesh.triangles().iter().map(|t| t.map(|v| v + n)));
+        }
+        let components = connected_components(positions.len(), &triangles);
+        let area = vec![1.0; triangles.len()];
+        let found = CarriedParts::new(&positions, &components, &vec![true; triangles.len()], &area);
+        assert!(found.is_empty());
+        let following: Vec<u32> = found.following().iter().map(|f| f.component).collect();
+        assert_eq!(following, vec![1, 2]);
+        // The eye's anchors are the body's vertices around its end.
+        let eye = &found.following()[0];
+        assert!(eye.anchors.iter().all(|&a| {
+            let p = positions[a as usize];
+            components.of_vertex[a as usize] == Some(0) && p[0] > 2.5
+        }));
     }
 }

@@ -120,7 +120,7 @@ impl SurfaceIndex {
             })
             .collect();
         Self {
-            tree: Bvh::new(items, |t| Aabb::around(&t.corners)),
+            tree: Bvh::new(items, |t| Aabb::around(t.corners)),
         }
     }
 
@@ -175,7 +175,7 @@ impl CentroidIndex {
             })
             .collect();
         Self {
-            tree: Bvh::new(items, |c| Aabb::around(&[c.point])),
+            tree: Bvh::new(items, |c| Aabb::around([c.point])),
         }
     }
 

@@ -109,9 +109,9 @@ pub fn mirror_plane(mesh: &Mesh3) -> Option<MirrorPlane> {
     // weights summing to 1: every sum below stays in range whatever the
     // units of the file.
     let positions: Vec<[f64; 3]> = used.iter().map(|p| p.0).collect();
-    let bounds = Aabb::around(&positions);
+    let bounds = Aabb::around(positions.iter().copied());
     let origin = scale(add(bounds.lo, bounds.hi), 0.5);
-    let unit = crate::mesh::bounding_box_diagonal(&[bounds.lo, bounds.hi]);
+    let unit = bounds.diagonal();
     let total: f64 = used.iter().map(|p| p.1).sum();
     let area_total: f64 = areas.iter().sum();
     if used.len() < 4 || !(unit > 0.0 && unit.is_finite() && total > 0.0 && area_total > 0.0) {
@@ -148,9 +148,7 @@ pub fn mirror_plane(mesh: &Mesh3) -> Option<MirrorPlane> {
         return None;
     }
     let axes = SymmetricEigen3::new(spread).vectors;
-    let tree = Bvh::new(points.iter().map(|p| p.0).collect(), |p| {
-        Aabb::around(std::slice::from_ref(p))
-    });
+    let tree = Bvh::new(points.iter().map(|p| p.0).collect(), |p| Aabb::around([*p]));
     // The planes that fit, each once: a start that comes within
     // [`SAME_PLANE`] of a plane already found stops there, and two planes
     // that both fit to within [`TIE`] end the search (a surface of

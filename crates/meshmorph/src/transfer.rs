@@ -31,7 +31,11 @@
 //! paired region smoothly, a rigid motion of the whole source still moves
 //! the whole target rigidly, and a local deformation of the source leaves
 //! them as they are. Separate parts with few pairs (eyes, teeth) are carried
-//! rigidly by the surface around them ([`CarriedParts`]).
+//! rigidly by the surface around them ([`CarriedParts`]); separate parts
+//! with partners of their own take their shape from them, and move by as
+//! much as the main part around them stands off where its own pairs would
+//! put it (the target's longer neck puts its head elsewhere than the
+//! source's: its eyes stay in it).
 //!
 //! The energy does not see translations. Each connected part of the target
 //! is placed so that the centroid of each paired target triangle sits where
@@ -51,7 +55,7 @@ use rayon::prelude::*;
 use crate::carried_parts::CarriedParts;
 use crate::correspondence::Correspondence;
 use crate::error::{Error, Result};
-use crate::geometry::centroid;
+use crate::geometry::{centroid, sub};
 use crate::gradient::spatial::{deformation_gradient, frame_inverses};
 use crate::gradient::weights::{normalised_by_mean, vertex_weights};
 use crate::gradient::{FactoredSystem, GradientOperators, Pins, Placement, SolveWorkspace};
@@ -61,7 +65,7 @@ use crate::rotation_field::{FieldWorkspace, RotationField};
 use crate::similarity::Similarity;
 use crate::similarity::{closest_rotation, geometric_median};
 use crate::solve::{FactorKind, SymmetricBuilder};
-use crate::topology::{connected_components, edges, Edge, TriangleAdjacency};
+use crate::topology::{connected_components, edges, Components, Edge, TriangleAdjacency};
 
 /// Options of [`Transfer::new`].
 #[derive(Clone, Debug, PartialEq)]
@@ -142,6 +146,8 @@ pub struct Transfer {
     placement: Placement<3>,
     /// How each placed part follows the source, by placed part.
     anchors: Vec<PartAnchor>,
+    /// The paired parts whose place follows the main part around them.
+    following: Vec<FollowingAnchors>,
 }
 
 /// The source triangles paired with each target triangle, with their
@@ -203,6 +209,22 @@ struct PartAnchor {
     /// The part's own area-weighted centroid in the target reference, where
     /// a part without pairs stays.
     target_rest: [f64; 3],
+}
+
+/// How a paired part next to the target's main part follows it (see
+/// `carried_parts.rs`): where its anchors, the main part's vertices nearest
+/// to it, would be if they followed their own pairs as a placed part does.
+#[derive(Clone, Debug)]
+struct FollowingAnchors {
+    /// The placed part that follows.
+    part: usize,
+
+    /// `(source triangle, anchor vertex, weight)` for each pair of each
+    /// triangle around each anchor.
+    pairs: Vec<(u32, u32, f64)>,
+    /// For each pair, the offset from the centroid of its source triangle to
+    /// the anchor in the references.
+    offsets: Vec<[f64; 3]>,
 }
 
 /// Scratch of [`Transfer::place`].
@@ -308,10 +330,18 @@ impl Transfer {
                     ),
                 );
                 let anchors = part_anchors(&placement, &pairs, source_ref, target_ref);
-                Ok((field, carried, placement, anchors))
+                let following = following_anchors(
+                    &carried,
+                    &components,
+                    &placement,
+                    &pairs,
+                    source_ref,
+                    target_ref,
+                );
+                Ok((field, carried, placement, anchors, following))
             },
         );
-        let (field, carried, placement, anchors) = rest?;
+        let (field, carried, placement, anchors, following) = rest?;
         let system = system?;
         Ok(Self {
             alignment,
@@ -328,6 +358,7 @@ impl Transfer {
             system,
             placement,
             anchors,
+            following,
         })
     }
 
@@ -468,6 +499,12 @@ impl Transfer {
         self.carried.len()
     }
 
+    /// Number of separate parts of the target with partners of their own
+    /// that are placed by the main part around them (see [`CarriedParts`]).
+    pub fn following_parts(&self) -> usize {
+        self.following.len()
+    }
+
     /// Number of target triangles in no pair that lie beyond the source
     /// (not gaps of the matching: no partner nearby), held to their rest
     /// shape, turned by the spread rotation.
@@ -504,6 +541,24 @@ impl Transfer {
         Some(sum)
     }
 
+    /// Where source triangle `s` carries a point at `offset` from its
+    /// centroid in the references: its centroid in `pose` plus the offset
+    /// mapped by its deformation gradient.
+    #[inline]
+    fn carried_by(
+        &self,
+        s: u32,
+        offset: &[f64; 3],
+        pose: &[[f64; 3]],
+        gradients: &[Mat3],
+    ) -> [f64; 3] {
+        let cs = centroid(self.source_ref.triangles()[s as usize].map(|v| pose[v as usize]));
+        let Q = &gradients[s as usize];
+        std::array::from_fn(|i| {
+            cs[i] + Q[i][0] * offset[0] + Q[i][1] * offset[1] + Q[i][2] * offset[2]
+        })
+    }
+
     /// Moves each unpinned part so that its paired triangles' centroids
     /// follow those of their source triangles: each at its source triangle's
     /// centroid in `pose` plus the rest offset between the two mapped by the
@@ -529,16 +584,29 @@ impl Transfer {
             }
             shifts.clear();
             for (&(s, t, w), o) in anchor.pairs.iter().zip(&anchor.offsets) {
-                let cs =
-                    centroid(self.source_ref.triangles()[s as usize].map(|v| pose[v as usize]));
                 let ct = centroid(self.target_triangles()[t as usize].map(|v| out[v as usize]));
-                let Q = &gradients[s as usize];
-                let shift = std::array::from_fn(|i| {
-                    cs[i] + Q[i][0] * o[0] + Q[i][1] * o[1] + Q[i][2] * o[2] - ct[i]
-                });
-                shifts.push((shift, w));
+                shifts.push((sub(self.carried_by(s, o, pose, gradients), ct), w));
             }
             *part = geometric_median(shifts);
+        }
+        self.placement.translate(out, parts);
+        if self.following.is_empty() {
+            return;
+        }
+        // A part next to the main one moves by as much as the main part
+        // around it stands off where its own pairs would put it.
+        parts.fill([0.0; 3]);
+        for follower in &self.following {
+            shifts.clear();
+            for (&(s, a, w), o) in follower.pairs.iter().zip(&follower.offsets) {
+                shifts.push((
+                    sub(out[a as usize], self.carried_by(s, o, pose, gradients)),
+                    w,
+                ));
+            }
+            if !shifts.is_empty() {
+                parts[follower.part] = geometric_median(shifts);
+            }
         }
         self.placement.translate(out, parts);
     }
@@ -716,6 +784,56 @@ fn target_pins(pins: &[(u32, [f64; 3])], n: usize) -> Result<Pins<3>> {
         debug_assert!(pinned);
     }
     Ok(out)
+}
+
+/// For each paired part that follows the main part (and is not held by a
+/// pin): the pairs of the triangles around its anchors, with the anchors'
+/// rest offsets from their source triangles.
+fn following_anchors(
+    carried: &CarriedParts,
+    components: &Components,
+    placement: &Placement<3>,
+    pairs: &PairsByTarget,
+    source_ref: &Mesh3,
+    target_ref: &Mesh3,
+) -> Vec<FollowingAnchors> {
+    if carried.following().is_empty() {
+        return Vec::new();
+    }
+    let mut placed_part = vec![None; components.count];
+    for (v, c) in components.of_vertex.iter().enumerate() {
+        if let Some(c) = c {
+            placed_part[*c as usize] = placement.part_of_vertex(v);
+        }
+    }
+    let mut out = Vec::new();
+    let mut followers_of = vec![Vec::new(); target_ref.num_vertices()];
+    for f in carried.following() {
+        let Some(part) = placed_part[f.component as usize] else {
+            continue;
+        };
+        for &a in &f.anchors {
+            followers_of[a as usize].push(out.len());
+        }
+        out.push(FollowingAnchors {
+            part,
+            pairs: Vec::new(),
+            offsets: Vec::new(),
+        });
+    }
+    for (t, tri) in target_ref.triangles().iter().enumerate() {
+        for &a in tri {
+            for &f in &followers_of[a as usize] {
+                for &(s, w) in pairs.of(t) {
+                    let cs = centroid(source_ref.corners(s as usize));
+                    let p = target_ref.positions()[a as usize];
+                    out[f].pairs.push((s, a, w));
+                    out[f].offsets.push(std::array::from_fn(|i| p[i] - cs[i]));
+                }
+            }
+        }
+    }
+    out
 }
 
 /// For each placed part: its pairs with their rest offsets, and its rest

@@ -345,14 +345,9 @@ fn mapped(m: &Mesh3, f: impl Fn(P3) -> P3) -> Mesh3 {
         .unwrap()
 }
 
-/// The correspondence of `source` and `target` (default options), and
-/// `pose` transferred through it.
-fn transferred(
-    source: &Mesh3,
-    target: &Mesh3,
-    markers: &Markers,
-    pose: &Mesh3,
-) -> (CorrespondResult, Vec<P3>) {
+/// The correspondence of `source` and `target` (default options), and the
+/// transfer through it.
+fn set_up(source: &Mesh3, target: &Mesh3, markers: &Markers) -> (CorrespondResult, Transfer) {
     let found = correspond(
         source,
         target,
@@ -361,11 +356,21 @@ fn transferred(
         &mut |_| {},
     )
     .unwrap();
-    let out = Transfer::new(source, target, &found.correspondence, &Default::default())
-        .unwrap()
-        .apply(pose)
-        .unwrap();
-    (found, out)
+    let transfer =
+        Transfer::new(source, target, &found.correspondence, &Default::default()).unwrap();
+    (found, transfer)
+}
+
+/// The correspondence of `source` and `target` (default options), and
+/// `pose` transferred through it.
+fn transferred(
+    source: &Mesh3,
+    target: &Mesh3,
+    markers: &Markers,
+    pose: &Mesh3,
+) -> (CorrespondResult, Vec<P3>) {
+    let (found, transfer) = set_up(source, target, markers);
+    (found, transfer.apply(pose).unwrap())
 }
 
 /// How far the transfer of `pose` (`here`) moves when the source and the
@@ -602,16 +607,7 @@ fn eyes_and_teeth_inside_a_head_stay_in_place() {
         &head,
         &[0, 3, 6, 9, 96, 99, 102, 105, 192, 195, 198, 201],
     );
-    let found = correspond(
-        &thin,
-        &target,
-        &markers,
-        &CorrespondOptions::default(),
-        &mut |_| {},
-    )
-    .unwrap();
-    let transfer =
-        Transfer::new(&thin, &target, &found.correspondence, &Default::default()).unwrap();
+    let (_, transfer) = set_up(&thin, &target, &markers);
     assert_eq!(transfer.carried_parts(), 3);
     let diagonal = target.bounding_box_diagonal();
     // A rigid turn: the parts stay where they were relative to the head.
@@ -644,6 +640,56 @@ fn eyes_and_teeth_inside_a_head_stay_in_place() {
         let d = distance(out[a], out[b]) - distance(target.positions()[a], target.positions()[b]);
         assert!(d.abs() < 1e-9, "a part stretched by {d}");
     }
+}
+
+/// How far the vertices `part` of `out` lie from where the rigid motion
+/// that best takes the `around` vertices of `rest` to `out` puts them.
+fn off_the_motion_around(rest: &[P3], out: &[P3], around: &[usize], part: &[usize]) -> f64 {
+    let (from, to): (Vec<P3>, Vec<P3>) = around.iter().map(|&v| (rest[v], out[v])).unzip();
+    let motion = rigid_fit(&from, &to, 0..around.len());
+    part.iter()
+        .map(|&v| distance(out[v], motion(rest[v])))
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn a_paired_eye_follows_the_head_its_own_shape_puts_elsewhere() {
+    // The source and the target both have an "eye" inside the far end of a
+    // tube, paired with each other. The target's far half is twice as long,
+    // so when the tube bends its head ends up elsewhere than the source's:
+    // the eye must stay in the target's head, not follow the source's eye.
+    let body = tube(4.0, 0.25, 17, 12);
+    let eye = tube(0.3, 0.06, 3, 6);
+    let source = union(&body, &mapped(&eye, |p| [p[0] + 3.4, p[1] + 0.1, p[2]]));
+    let longer = |x: f64| if x < 2.0 { x } else { 2.0 + 3.0 * (x - 2.0) };
+    let target = union(
+        &mapped(&body, |p| [longer(p[0]), p[1], p[2]]),
+        &mapped(&eye, |p| [p[0] + longer(3.4), p[1] + 0.1, p[2]]),
+    );
+    let rings: Vec<u32> = (0..=16)
+        .step_by(4)
+        .flat_map(|r| [0, 3, 6, 9].map(|s| 12 * r + s))
+        .collect();
+    let markers = Markers::new(rings.iter().map(|&v| [v, v]).collect());
+    let (_, transfer) = set_up(&source, &target, &markers);
+    assert_eq!(transfer.carried_parts(), 0, "the eye has its partner");
+    assert_eq!(transfer.following_parts(), 1);
+    let rest = target.positions();
+    let eye_vertices: Vec<usize> = (body.num_vertices()..target.num_vertices()).collect();
+    let head: Vec<usize> = (0..body.num_vertices())
+        .filter(|&v| (rest[v][0] - longer(3.55)).abs() < 0.8)
+        .collect();
+    let diagonal = target.bounding_box_diagonal();
+    // A rigid turn moves the eye with the head.
+    let out = transfer.apply(&mapped(&source, turn_move)).unwrap();
+    let off = off_the_motion_around(rest, &out, &head, &eye_vertices);
+    assert!(off < 1e-8 * diagonal, "turned: the eye {off} off the head");
+    // A bend: the eye stays in the head around it.
+    let out = transfer.apply(&bend(&source, 4.0, 1.2)).unwrap();
+    let off = off_the_motion_around(rest, &out, &head, &eye_vertices);
+    // (The head itself bends: 1.2e-3 of the diagonal off its own best rigid
+    // motion. An eye placed by its partner alone lies 6.2e-3 off.)
+    assert!(off < 4e-3 * diagonal, "bent: the eye {off} off the head");
 }
 
 #[test]
