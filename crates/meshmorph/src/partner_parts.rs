@@ -16,7 +16,10 @@
 //! sliver of it). A pair of triangles is kept when either's part is the
 //! other's partner. A target split into several parts (a hand cut off at a
 //! seam) keeps its pairs with a source in one piece, and the other way
-//! round; meshes of one part each keep every pair.
+//! round; meshes of one part each keep every pair. But a target triangle
+//! paired with its own part's partner takes nothing from other parts of the
+//! source: a source eye that looks aside leaves the skin of a target without
+//! eyes where it is, wherever the source's skin pairs with it too.
 
 use std::collections::{HashMap, HashSet};
 
@@ -83,12 +86,21 @@ pub(crate) fn between_partner_parts(
             best_target[q as usize] = Some((p, covered));
         }
     }
+    // The target triangles paired with their own part's partner: those take
+    // no deformation from another part of the source.
+    let is_partner = |q: u32, p: u32| best_source[p as usize].is_some_and(|b| b.0 == q);
+    let mut with_partner = vec![false; target_parts.len()];
+    for &[s, t] in &pairs {
+        if is_partner(source_parts[s as usize], target_parts[t as usize]) {
+            with_partner[t as usize] = true;
+        }
+    }
     pairs
         .into_iter()
         .filter(|&[s, t]| {
             let (q, p) = (source_parts[s as usize], target_parts[t as usize]);
-            best_source[p as usize].is_some_and(|b| b.0 == q)
-                || best_target[q as usize].is_some_and(|b| b.0 == p)
+            is_partner(q, p)
+                || (best_target[q as usize].is_some_and(|b| b.0 == p) && !with_partner[t as usize])
         })
         .collect()
 }
@@ -152,6 +164,25 @@ mod tests {
             between_partner_parts(pairs.clone(), &head, &parts(&head), &split),
             pairs
         );
+    }
+
+    #[test]
+    fn a_source_eye_gives_nothing_to_skin_its_partner_covers() {
+        // Source: a head and an eye; target: the head alone. The eye pairs
+        // with two skin triangles the source's head covers too, and with one
+        // it alone covers (as a source hand cut off at a seam covers the
+        // target's hand): only that pair is kept.
+        let (head, eye) = (tube(2.0, 0.5, 9, 8), tube(0.2, 0.1, 3, 6));
+        let source = joined(&head, &eye, [1.0, 0.55, 0.0]);
+        let h = head.num_triangles() as u32;
+        let mut pairs: Vec<[u32; 2]> = (0..h).filter(|&t| t != 7).map(|t| [t, t]).collect();
+        pairs.extend([[h, 3], [h + 1, 4], [h + 2, 7]]);
+        pairs.sort_unstable();
+        let kept = between_partner_parts(pairs.clone(), &source, &parts(&source), &head);
+        let mut expected: Vec<[u32; 2]> = (0..h).filter(|&t| t != 7).map(|t| [t, t]).collect();
+        expected.push([h + 2, 7]);
+        expected.sort_unstable();
+        assert_eq!(kept, expected);
     }
 
     #[test]

@@ -693,6 +693,40 @@ fn a_paired_eye_follows_the_head_its_own_shape_puts_elsewhere() {
 }
 
 #[test]
+fn a_source_eye_that_looks_aside_leaves_a_target_without_eyes_at_rest() {
+    // The same head on both sides; the source has an "eye" just under its
+    // skin, the target none. The eye turns about its own centre, the head
+    // does not move: neither does any of the target.
+    let head = tube(4.0, 0.5, 17, 12);
+    let eye = |turn: f64| {
+        mapped(&tube(0.3, 0.1, 3, 6), move |p| {
+            let (x, z) = (p[0] - 0.15, p[2]);
+            [
+                3.5 + x * turn.cos() - z * turn.sin(),
+                p[1] + 0.35,
+                x * turn.sin() + z * turn.cos(),
+            ]
+        })
+    };
+    let source = union(&head, &eye(0.0));
+    let markers = Markers::new(
+        [0, 3, 6, 9, 96, 99, 102, 105, 192, 195, 198, 201]
+            .map(|v| [v, v])
+            .to_vec(),
+    );
+    let (_, out) = transferred(&source, &head, &markers, &union(&head, &eye(0.5)));
+    let worst = out
+        .iter()
+        .zip(head.positions())
+        .map(|(&p, &q)| distance(p, q))
+        .fold(0.0, f64::max);
+    assert!(
+        worst < 1e-9 * head.bounding_box_diagonal(),
+        "the target moved by {worst}"
+    );
+}
+
+#[test]
 fn a_source_covering_half_the_target_leaves_the_other_half_at_rest() {
     let half = tube(2.0, 0.25, 9, 12);
     let whole = tube(4.0, 0.5, 21, 16);
