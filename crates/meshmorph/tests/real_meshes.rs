@@ -684,8 +684,12 @@ fn a_paired_eye_follows_the_head_its_own_shape_puts_elsewhere() {
     let out = transfer.apply(&mapped(&source, turn_move)).unwrap();
     let off = off_the_motion_around(rest, &out, &head, &eye_vertices);
     assert!(off < 1e-8 * diagonal, "turned: the eye {off} off the head");
-    // A bend: the eye stays in the head around it.
-    let out = transfer.apply(&bend(&source, 4.0, 1.2)).unwrap();
+    // A bend: the eye stays in the head around it, wherever the source
+    // stands.
+    let pose = bend(&source, 4.0, 1.2);
+    let out = transfer.apply(&pose).unwrap();
+    let moved = moved_with_the_source(&source, &target, &markers, &pose, &out);
+    assert!(moved < 1e-8 * diagonal, "moved with the source by {moved}");
     let off = off_the_motion_around(rest, &out, &head, &eye_vertices);
     // (The head itself bends: 1.2e-3 of the diagonal off its own best rigid
     // motion. An eye placed by its partner alone lies 6.2e-3 off.)
