@@ -6,8 +6,10 @@
 //! of its area paired) has no deformation of its own to follow, and on its
 //! own it would float. It is carried instead: in each pose it takes the
 //! rigid motion (Horn's best-fit rotation and translation) of its anchors,
-//! the vertices of the other parts nearest to its own at rest: the eyelids
-//! around an eye, the gums or lips around teeth.
+//! the vertices of the main part (the part with the most paired area)
+//! nearest to its own at rest: the eyelids around an eye, the lips around
+//! teeth. Not a smaller part beside it: an eyebrow touching an eyeball does
+//! not turn when the eye looks aside.
 //!
 //! A part with exactly half of its area paired (within a relative
 //! `HALF_TOLERANCE`, so that rounding cannot tip it one way in some units
@@ -22,8 +24,9 @@
 //! horse's eyes alone, would leave their sockets. The part is moved by as
 //! much as the main part around it (its anchors, the main part's vertices
 //! nearest to its own) stands off where its own pairs would put it
-//! (`Transfer::place`). A part farther from the main part than its own size
-//! (a second character in the same file) is placed by its pairs alone.
+//! (`Transfer::place`). A part whose bounding box, grown by its own size,
+//! does not meet the main part's (a second character in the same file) is
+//! placed by its pairs alone.
 
 #![allow(non_snake_case)]
 
@@ -102,32 +105,51 @@ impl CarriedParts {
         let Some(leader) = leader.filter(|&l| matched[l] > 0.0) else {
             return Self::default();
         };
-        let following = following_parts(positions, components, &carried, leader);
-        if !carried.contains(&true) {
-            return Self {
-                parts: Vec::new(),
-                following,
-            };
-        }
         let mut members: Vec<Vec<u32>> = vec![Vec::new(); c];
-        let mut others = Vec::new();
         for (v, part) in components.of_vertex.iter().enumerate() {
-            let Some(part) = part else { continue };
-            if carried[*part as usize] {
-                members[*part as usize].push(v as u32);
-            } else {
-                others.push(GeomWithData::new(positions[v], v as u32));
+            if let Some(p) = part {
+                members[*p as usize].push(v as u32);
             }
         }
-        let tree: VertexTree = RTree::bulk_load(others);
-        let parts = members
-            .into_iter()
-            .filter(|m| !m.is_empty())
-            .map(|vertices| CarriedPart {
-                anchors: anchors(&tree, positions, &vertices),
-                vertices,
-            })
-            .collect();
+        if members
+            .iter()
+            .enumerate()
+            .all(|(p, m)| p == leader || m.is_empty())
+        {
+            return Self::default();
+        }
+        // Every other part is anchored to the main part: a part is carried
+        // or placed by the surface it sits in, not by a smaller part beside
+        // it (an eyebrow by the head, not by the eyeball it touches).
+        let main = std::mem::take(&mut members[leader]);
+        let main_box = Aabb::around(main.iter().map(|&v| positions[v as usize]));
+        let tree: VertexTree = RTree::bulk_load(
+            main.iter()
+                .map(|&v| GeomWithData::new(positions[v as usize], v))
+                .collect(),
+        );
+        let (mut parts, mut following) = (Vec::new(), Vec::new());
+        for (component, vertices) in members.into_iter().enumerate() {
+            if vertices.is_empty() {
+                continue;
+            }
+            if carried[component] {
+                parts.push(CarriedPart {
+                    anchors: anchors(&tree, positions, &vertices),
+                    vertices,
+                });
+                continue;
+            }
+            // A part apart from the main one (a second character in the
+            // same file) is placed by its own pairs alone.
+            let part_box = Aabb::around(vertices.iter().map(|&v| positions[v as usize]));
+            if part_box.grown(part_box.diagonal()).meets(&main_box) {
+                following.push(FollowingPart {
+                    component: component as u32,
+                    anchors: anchors(&tree, positions, &vertices),
+                });
+            }
+        }
         Self { parts, following }
     }
 
@@ -179,46 +201,6 @@ fn anchors(tree: &VertexTree, positions: &[[f64; 3]], vertices: &[u32]) -> Vec<u
     anchors.sort_unstable();
     anchors.dedup();
     anchors
-}
-
-/// The parts neither carried nor the `leader` whose bounding boxes meet
-/// the leader's (each grown by the part's own size, the diagonal of its
-/// box), with their anchors: the leader's vertices nearest to theirs.
-fn following_parts(
-    positions: &[[f64; 3]],
-    components: &Components,
-    carried: &[bool],
-    leader: usize,
-) -> Vec<FollowingPart> {
-    let mut members: Vec<Vec<u32>> = vec![Vec::new(); components.count];
-    for (v, part) in components.of_vertex.iter().enumerate() {
-        if let Some(p) = part.map(|p| p as usize).filter(|&p| !carried[p]) {
-            members[p].push(v as u32);
-        }
-    }
-    let main = std::mem::take(&mut members[leader]);
-    if members.iter().all(Vec::is_empty) {
-        return Vec::new();
-    }
-    let main_box = Aabb::around(main.iter().map(|&v| positions[v as usize]));
-    let tree: VertexTree = RTree::bulk_load(
-        main.iter()
-            .map(|&v| GeomWithData::new(positions[v as usize], v))
-            .collect(),
-    );
-    members
-        .into_iter()
-        .enumerate()
-        .filter(|(_, m)| !m.is_empty())
-        .filter(|(_, m)| {
-            let part_box = Aabb::around(m.iter().map(|&v| positions[v as usize]));
-            part_box.grown(part_box.diagonal()).meets(&main_box)
-        })
-        .map(|(component, vertices)| FollowingPart {
-            component: component as u32,
-            anchors: anchors(&tree, positions, &vertices),
-        })
-        .collect()
 }
 
 #[cfg(test)]

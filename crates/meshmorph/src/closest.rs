@@ -10,6 +10,13 @@
 use crate::bvh::{Aabb, Bvh};
 use crate::geometry::{add, cross, dot, norm, scale, sub};
 
+/// Cosines of the angle between two normals up to this count as a right
+/// angle: such faces are not compatible. Faces at exactly 90° (a tube's
+/// side and its cap, as procedural and CAD meshes have them) would
+/// otherwise be compatible or not by the rounding of their coordinates, and
+/// moving the same mesh elsewhere could change the result.
+const PERPENDICULAR: f64 = 1e-9;
+
 /// Unit normal of a triangle (zero for a degenerate one).
 #[inline]
 pub fn unit_normal(p: [[f64; 3]; 3]) -> [f64; 3] {
@@ -136,7 +143,7 @@ impl SurfaceIndex {
         let (triangle, tri, d2) = self.tree.nearest(
             q,
             max_distance * max_distance,
-            |t| dot(t.normal, normal) > 0.0,
+            |t| dot(t.normal, normal) > PERPENDICULAR,
             |t| {
                 let d = sub(closest_point_on_triangle(q, t.corners), q);
                 dot(d, d)
@@ -150,10 +157,11 @@ impl SurfaceIndex {
     }
 }
 
-/// A triangle's centroid and unit normal.
+/// A triangle's centroid and unit normal, and the part it belongs to.
 struct Centroid {
     point: [f64; 3],
     normal: [f64; 3],
+    part: u32,
 }
 
 /// Triangle centroids with their unit normals, for nearest-triangle queries.
@@ -162,15 +170,18 @@ pub struct CentroidIndex {
 }
 
 impl CentroidIndex {
-    /// Indexes the centroids of the triangles of a mesh.
-    pub fn new(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> Self {
+    /// Indexes the centroids of the triangles of a mesh, each in the part
+    /// `parts[t]`.
+    pub fn new(positions: &[[f64; 3]], triangles: &[[u32; 3]], parts: &[u32]) -> Self {
         let items = triangles
             .iter()
-            .map(|tri| {
+            .zip(parts)
+            .map(|(tri, &part)| {
                 let p = tri.map(|v| positions[v as usize]);
                 Centroid {
                     point: crate::geometry::centroid(p),
                     normal: unit_normal(p),
+                    part,
                 }
             })
             .collect();
@@ -180,19 +191,20 @@ impl CentroidIndex {
     }
 
     /// The triangle whose centroid is nearest to `q` among those whose normal
-    /// is less than 90° from `normal`, if one lies within `max_distance` (of
-    /// equally near ones, the first).
+    /// is less than 90° from `normal` (and in part `part`, if given), if one
+    /// lies within `max_distance` (of equally near ones, the first).
     pub fn nearest_compatible(
         &self,
         q: [f64; 3],
         normal: [f64; 3],
         max_distance: f64,
+        part: Option<u32>,
     ) -> Option<u32> {
         self.tree
             .nearest(
                 q,
                 max_distance * max_distance,
-                |c| dot(c.normal, normal) > 0.0,
+                |c| dot(c.normal, normal) > PERPENDICULAR && part.is_none_or(|p| c.part == p),
                 |c| {
                     let d = sub(c.point, q);
                     dot(d, d)
@@ -251,9 +263,28 @@ mod tests {
         let down = s.closest_compatible(q, [0.0, 0.0, -1.0], 10.0).unwrap();
         assert!(down.triangle >= 2 && (down.distance - 0.1).abs() < 1e-12);
         assert!(s.closest_compatible(q, [0.0, 0.0, 1.0], 0.5).is_none());
-        let c = CentroidIndex::new(&p, &t);
-        assert!(c.nearest_compatible(q, [0.0, 0.0, 1.0], 10.0).unwrap() < 2);
-        assert!(c.nearest_compatible(q, [0.0, 0.0, -1.0], 10.0).unwrap() >= 2);
-        assert!(c.nearest_compatible(q, [0.0, 0.0, 1.0], 0.5).is_none());
+        let c = CentroidIndex::new(&p, &t, &[0, 1, 0, 1]);
+        assert!(
+            c.nearest_compatible(q, [0.0, 0.0, 1.0], 10.0, None)
+                .unwrap()
+                < 2
+        );
+        assert!(
+            c.nearest_compatible(q, [0.0, 0.0, -1.0], 10.0, None)
+                .unwrap()
+                >= 2
+        );
+        assert!(c
+            .nearest_compatible(q, [0.0, 0.0, 1.0], 0.5, None)
+            .is_none());
+        // Within one part only.
+        assert_eq!(
+            c.nearest_compatible(q, [0.0, 0.0, 1.0], 10.0, Some(1)),
+            Some(1)
+        );
+        assert_eq!(
+            c.nearest_compatible(q, [0.0, 0.0, -1.0], 10.0, Some(0)),
+            Some(2)
+        );
     }
 }

@@ -36,7 +36,7 @@ use crate::markers::Markers;
 use crate::matrix::{identity, mul_vec, Mat3};
 use crate::mesh::{used_vertices, Mesh3};
 use crate::mirror_plane::{mirror_plane, MirrorPlane};
-use crate::partner_parts::between_partner_parts;
+use crate::partner_parts::Partners;
 use crate::similarity::{closest_rotation, fit_robust, residuals, robust_rotation, Similarity};
 use crate::solve::{FactorKind, SymmetricBuilder, SymmetricMatrix};
 use crate::topology::{connected_components, edges, Components, Edge};
@@ -687,45 +687,111 @@ fn closest_points(
 /// Pairs each triangle of `source` with the nearest compatible triangle of
 /// `target` (centroids within `threshold`, normals less than 90° apart) and
 /// each triangle of `target` with the nearest compatible one of `source`.
-/// The union of both, sorted, is the map, less the pairs between separate
-/// parts neither of which is the other's partner (an eyeball and eyelid skin:
-/// see `partner_parts.rs`).
+/// The union of both, sorted, is the map. Where either mesh has separate
+/// parts, a triangle whose nearest lies in another part than its own part's
+/// partner looks again among its partner's triangles (a target's skin pairs
+/// with the source's skin within reach, not with an eye just under it), and
+/// pairs between parts neither of which is the other's partner are left out
+/// (an eyeball and eyelid skin: see `partner_parts.rs`).
 pub fn match_triangles(
     source: &Mesh3,
     source_parts: &Components,
     target: &Mesh3,
     threshold: f64,
 ) -> Correspondence {
+    let target_parts = connected_components(target.num_vertices(), target.triangles());
     let (source_index, target_index) = rayon::join(
-        || CentroidIndex::new(source.positions(), source.triangles()),
-        || CentroidIndex::new(target.positions(), target.triangles()),
+        || {
+            CentroidIndex::new(
+                source.positions(),
+                source.triangles(),
+                &source_parts.of_triangle,
+            )
+        },
+        || {
+            CentroidIndex::new(
+                target.positions(),
+                target.triangles(),
+                &target_parts.of_triangle,
+            )
+        },
     );
+    let nearest = |from: &Mesh3, t: usize, index: &CentroidIndex, part: Option<u32>| {
+        let p = from.corners(t);
+        index.nearest_compatible(centroid(p), unit_normal(p), threshold, part)
+    };
     let query = |from: &Mesh3, index: &CentroidIndex| -> Vec<Option<u32>> {
         (0..from.num_triangles())
             .into_par_iter()
-            .map(|t| {
-                let p = from.corners(t);
-                index.nearest_compatible(centroid(p), unit_normal(p), threshold)
-            })
+            .map(|t| nearest(from, t, index, None))
             .collect()
     };
-    let forward = query(source, &target_index);
-    let backward = query(target, &source_index);
-    let mut pairs: Vec<[u32; 2]> = forward
-        .iter()
-        .enumerate()
-        .filter_map(|(s, t)| t.map(|t| [s as u32, t]))
-        .chain(
-            backward
-                .iter()
-                .enumerate()
-                .filter_map(|(t, s)| s.map(|s| [s, t as u32])),
-        )
-        .collect();
-    pairs.sort_unstable();
-    pairs.dedup();
-    let pairs = between_partner_parts(pairs, source, source_parts, target);
-    Correspondence::new(pairs, source, target)
+    let (mut forward, mut backward) = rayon::join(
+        || query(source, &target_index),
+        || query(target, &source_index),
+    );
+    let union = |forward: &[Option<u32>], backward: &[Option<u32>]| {
+        let mut pairs: Vec<[u32; 2]> = forward
+            .iter()
+            .enumerate()
+            .filter_map(|(s, t)| t.map(|t| [s as u32, t]))
+            .chain(
+                backward
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(t, s)| s.map(|s| [s, t as u32])),
+            )
+            .collect();
+        pairs.sort_unstable();
+        pairs.dedup();
+        pairs
+    };
+    let pairs = union(&forward, &backward);
+    if source_parts.count <= 1 && target_parts.count <= 1 {
+        return Correspondence::new(pairs, source, target);
+    }
+    let partners = Partners::new(&pairs, source, source_parts, target, &target_parts);
+    // A triangle whose nearest lies in another part than its own part's
+    // partner looks again among the partner's triangles, and keeps what it
+    // found first when none is within reach.
+    let look_again = |found: &mut [Option<u32>],
+                      from: &Mesh3,
+                      index: &CentroidIndex,
+                      partner: &(dyn Fn(u32) -> Option<u32> + Sync),
+                      part: &(dyn Fn(u32) -> u32 + Sync)| {
+        let redo: Vec<(usize, u32)> = found
+            .iter()
+            .enumerate()
+            .filter_map(|(t, n)| {
+                let p = partner(t as u32)?;
+                (part((*n)?) != p).then_some((t, p))
+            })
+            .collect();
+        let again: Vec<Option<u32>> = redo
+            .par_iter()
+            .map(|&(t, p)| nearest(from, t, index, Some(p)))
+            .collect();
+        for (&(t, _), n) in redo.iter().zip(again) {
+            if n.is_some() {
+                found[t] = n;
+            }
+        }
+    };
+    look_again(
+        &mut forward,
+        source,
+        &target_index,
+        &|s| partners.of_source_triangle(s),
+        &|t| partners.target_part(t),
+    );
+    look_again(
+        &mut backward,
+        target,
+        &source_index,
+        &|t| partners.of_target_triangle(t),
+        &|s| partners.source_part(s),
+    );
+    Correspondence::new(partners.keep(union(&forward, &backward)), source, target)
 }
 
 #[cfg(test)]

@@ -660,7 +660,13 @@ fn a_paired_eye_follows_the_head_its_own_shape_puts_elsewhere() {
     // the eye must stay in the target's head, not follow the source's eye.
     let body = tube(4.0, 0.25, 17, 12);
     let eye = tube(0.3, 0.06, 3, 6);
-    let source = union(&body, &mapped(&eye, |p| [p[0] + 3.4, p[1] + 0.1, p[2]]));
+    // (The source's eye a little off the plane z = 0: on it, its closest
+    // points on the target's eye tie between mirror-image triangles, and
+    // the rounding of where the source stands would pick one.)
+    let source = union(
+        &body,
+        &mapped(&eye, |p| [p[0] + 3.4, p[1] + 0.1, p[2] + 0.03]),
+    );
     let longer = |x: f64| if x < 2.0 { x } else { 2.0 + 3.0 * (x - 2.0) };
     let target = union(
         &mapped(&body, |p| [longer(p[0]), p[1], p[2]]),
@@ -692,14 +698,13 @@ fn a_paired_eye_follows_the_head_its_own_shape_puts_elsewhere() {
     assert!(moved < 1e-8 * diagonal, "moved with the source by {moved}");
     let off = off_the_motion_around(rest, &out, &head, &eye_vertices);
     // (The head itself bends: 1.2e-3 of the diagonal off its own best rigid
-    // motion. An eye placed by its partner alone lies 6.2e-3 off.)
+    // motion. An eye placed by its partner alone lies 6.3e-3 off.)
     assert!(off < 4e-3 * diagonal, "bent: the eye {off} off the head");
 }
 
 #[test]
 fn a_source_eye_that_looks_aside_leaves_a_target_without_eyes_at_rest() {
-    // The same head on both sides; the source has an "eye" just under its
-    // skin, the target none. The eye turns about its own centre, the head
+    // The source has an "eye" just under its skin, the target none. The eye turns about its own centre, the head
     // does not move: neither does any of the target.
     let head = tube(4.0, 0.5, 17, 12);
     let eye = |turn: f64| {
@@ -713,21 +718,25 @@ fn a_source_eye_that_looks_aside_leaves_a_target_without_eyes_at_rest() {
         })
     };
     let source = union(&head, &eye(0.0));
-    let markers = Markers::new(
-        [0, 3, 6, 9, 96, 99, 102, 105, 192, 195, 198, 201]
-            .map(|v| [v, v])
-            .to_vec(),
-    );
-    let (_, out) = transferred(&source, &head, &markers, &union(&head, &eye(0.5)));
-    let worst = out
-        .iter()
-        .zip(head.positions())
-        .map(|(&p, &q)| distance(p, q))
-        .fold(0.0, f64::max);
-    assert!(
-        worst < 1e-9 * head.bounding_box_diagonal(),
-        "the target moved by {worst}"
-    );
+    // The target the same head, or a finer one (the source's coarse skin
+    // then lies farther from much of the target's than the eye does).
+    for target in [head.clone(), tube(4.0, 0.5, 33, 24)] {
+        let markers = Markers::new(nearest_vertex_pairs(
+            head.positions(),
+            target.positions(),
+            &[0, 3, 6, 9, 96, 99, 102, 105, 192, 195, 198, 201],
+        ));
+        let (_, out) = transferred(&source, &target, &markers, &union(&head, &eye(0.5)));
+        let worst = out
+            .iter()
+            .zip(target.positions())
+            .map(|(&p, &q)| distance(p, q))
+            .fold(0.0, f64::max);
+        assert!(
+            worst < 1e-9 * target.bounding_box_diagonal(),
+            "the target moved by {worst}"
+        );
+    }
 }
 
 #[test]
