@@ -21,6 +21,8 @@ use std::collections::HashMap;
 use super::mesh_file::NONE;
 use super::triangulate::Polygons;
 use crate::geometry::{add, corner_angle, cross, dot, least_turn, norm, scale, sub};
+use crate::matrix::Mat3;
+use crate::similarity::closest_rotation;
 
 /// Turned normals whose coordinates agree to this are one normal: far below
 /// what shading shows (exporters round normals to 4 to 6 digits), far above
@@ -40,6 +42,9 @@ pub(super) struct NormalGroups {
     /// Each group's direction in the file's shape: the area-weighted mean
     /// normal of the polygons of its corners (unit, or zero).
     rest_directions: Vec<[f64; 3]>,
+    /// The file's positions, kept when some group's polygons cancel out
+    /// (see [`NormalGroups::directions`]); empty otherwise.
+    rest_positions: Vec<[f64; 3]>,
 }
 
 /// The normals of a file in a new shape.
@@ -112,8 +117,12 @@ impl NormalGroups {
             corner_group,
             normal_of,
             rest_directions: Vec::new(),
+            rest_positions: Vec::new(),
         };
         groups.rest_directions = groups.directions(faces, positions);
+        if groups.rest_directions.contains(&[0.0; 3]) {
+            groups.rest_positions = positions.to_vec();
+        }
         groups
     }
 
@@ -125,7 +134,8 @@ impl NormalGroups {
     /// Zero also where the polygons cancel out (to [`AGREE`] of their
     /// weight: the two faces of a double-sided sheet, listed in both
     /// windings), whose direction rounding alone would choose: such a
-    /// group keeps its normal.
+    /// group's normal turns with its polygons instead
+    /// ([`NormalGroups::turns_of_cancelled`]).
     fn directions(&self, faces: &Polygons, positions: &[[f64; 3]]) -> Vec<[f64; 3]> {
         let mut sums = vec![[0.0; 3]; self.normal_of.len()];
         let mut weights = vec![0.0; self.normal_of.len()];
@@ -184,13 +194,22 @@ impl NormalGroups {
         positions: &[[f64; 3]],
     ) -> ShapeNormals {
         let now = self.directions(faces, positions);
+        let cancelled = self.turns_of_cancelled(faces, positions);
         let turned: Vec<[f64; 3]> = (0..self.normal_of.len())
             .map(|g| {
-                least_turn(
-                    normals[self.normal_of[g] as usize],
-                    self.rest_directions[g],
-                    now[g],
-                )
+                let normal = normals[self.normal_of[g] as usize];
+                match cancelled[g] {
+                    Some(turn) => {
+                        let t = std::array::from_fn(|i| dot(turn[i], normal));
+                        // The file's own shape keeps the file's normal.
+                        if norm(sub(t, normal)) <= AGREE * norm(normal) {
+                            normal
+                        } else {
+                            t
+                        }
+                    }
+                    None => least_turn(normal, self.rest_directions[g], now[g]),
+                }
             })
             .collect();
         let mut out = ShapeNormals {
@@ -269,6 +288,68 @@ impl NormalGroups {
     }
 }
 
+impl NormalGroups {
+    /// For each group whose polygons cancel out in the file's shape (no
+    /// direction to turn from), the rotation that best takes its polygons
+    /// from the file's shape to `positions`: the nearest rotation to the sum
+    /// over its corners of `e' eᵀ` for the two edges at the corner and of
+    /// `n' nᵀ` for the unit normal of the corner's polygon. `None` for the
+    /// other groups. A rigid motion turns such a normal with everything
+    /// else.
+    fn turns_of_cancelled(&self, faces: &Polygons, positions: &[[f64; 3]]) -> Vec<Option<Mat3>> {
+        let mut sums: Vec<Option<Mat3>> = vec![None; self.normal_of.len()];
+        let rest = &self.rest_positions;
+        if rest.is_empty() {
+            return sums;
+        }
+        let unit = |n: [f64; 3]| {
+            let len = norm(n);
+            if len > 0.0 {
+                scale(n, 1.0 / len)
+            } else {
+                n
+            }
+        };
+        for f in 0..faces.len() {
+            let range = faces.range(f);
+            let vertices = &faces.corner_vertices()[range.clone()];
+            let (n0, n1) = (
+                unit(newell_normal(vertices, rest)),
+                unit(newell_normal(vertices, positions)),
+            );
+            let last = vertices.len() - 1;
+            for (k, &g) in self.corner_group[range].iter().enumerate() {
+                if g == NONE || self.rest_directions[g as usize] != [0.0; 3] {
+                    continue;
+                }
+                let sum = sums[g as usize].get_or_insert([[0.0; 3]; 3]);
+                let mut add_outer = |a: [f64; 3], b: [f64; 3]| {
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            sum[i][j] += a[i] * b[j];
+                        }
+                    }
+                };
+                let at = vertices[k] as usize;
+                for other in [
+                    if k == 0 { last } else { k - 1 },
+                    if k == last { 0 } else { k + 1 },
+                ] {
+                    let other = vertices[other] as usize;
+                    add_outer(
+                        sub(positions[other], positions[at]),
+                        sub(rest[other], rest[at]),
+                    );
+                }
+                add_outer(n1, n0);
+            }
+        }
+        sums.into_iter()
+            .map(|s| s.map(|s| closest_rotation(&s)))
+            .collect()
+    }
+}
+
 /// Twice the area vector of a polygon (Newell's formula).
 fn newell_normal(vertices: &[u32], positions: &[[f64; 3]]) -> [f64; 3] {
     let mut n = [0.0; 3];
@@ -301,5 +382,12 @@ mod tests {
         let got = groups.for_shape(&normals, &faces, &moved);
         assert_eq!(got.normals, normals);
         assert!(got.added.is_empty());
+        // A turn of the whole sheet turns its normals with it.
+        let (c, s) = (0.6, 0.8);
+        let turn = |p: [f64; 3]| [c * p[0] - s * p[1], s * p[0] + c * p[1], p[2]];
+        let got = groups.for_shape(&normals, &faces, &rest.map(turn));
+        for (got, want) in got.normals.iter().zip(normals.map(turn)) {
+            assert!(norm(sub(*got, want)) < 1e-12, "{got:?} against {want:?}");
+        }
     }
 }
