@@ -1,6 +1,6 @@
 //! `meshmorph transfer` and `meshmorph correspond`.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -1002,16 +1002,18 @@ fn pin_positions(
 /// DIR/<stem>.<ext> for each pose, refusing two poses with the same stem.
 /// (Clashes with inputs are the output plan's to refuse.)
 fn output_paths(poses: &[PathBuf], dir: &Path, ext: &str) -> Result<Vec<PathBuf>> {
-    let mut seen = HashSet::new();
+    let mut seen = HashMap::new();
     poses
         .iter()
         .map(|p| {
             let stem = p
                 .file_stem()
                 .with_context(|| format!("pose `{}` has no file name", p.display()))?;
-            if !seen.insert(stem.to_os_string()) {
+            if let Some(first) = seen.insert(stem.to_os_string(), p) {
                 bail!(
-                    "two poses are named `{}`: their outputs would overwrite each other",
+                    "poses `{}` and `{}` are both named `{}`: their outputs would overwrite each other",
+                    first.display(),
+                    p.display(),
                     stem.to_string_lossy()
                 );
             }

@@ -2012,7 +2012,7 @@ fn transfer_two_poses_with_the_same_stem() {
         &[a.join("bend.obj"), b.join("bend.ply")],
     ));
     assert_empty(&out);
-    assert_mentions(&err, &["two poses are named `bend`"]);
+    assert_mentions(&err, &["are both named `bend`"]);
 }
 
 #[test]

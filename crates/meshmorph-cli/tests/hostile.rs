@@ -417,7 +417,9 @@ fn catalogue() -> Vec<Case> {
         #[cfg(unix)]
         with_setup(case("a pose slot linked to the source reference", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "-o", "out", "pose1.obj"], 1, &["would overwrite the source reference `thin.obj`"]),
             |d| { mkdir(d, "out"); symlink(d, "thin.obj", "out/pose1.obj"); }),
-        with_setup(case("two poses with one name", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "-o", "out", "pose1.obj", "b/pose1.obj"], 1, &["two poses are named `pose1`"]),
+        with_setup(case("a folder given as a pose", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "-o", "out", "poses"], 1, &["`poses`", "a folder, not a mesh file"]),
+            |d| mkdir(d, "poses")),
+        with_setup(case("two poses with one name", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "-o", "out", "pose1.obj", "b/pose1.obj"], 1, &["are both named `pose1`", "pose1.obj", "b/pose1.obj"]),
             |d| { mkdir(d, "b"); fs::copy(d.join("pose1.obj"), d.join("b/pose1.obj")).unwrap(); }),
         case("--pin 3,-1", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "--pin", "3,-1", "-o", "out", "pose1.obj"], 2, &["-1 is not a vertex index"]),
         case("--pin beyond the target", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "--pin", "99999", "-o", "out", "pose1.obj"], 1, &["--pin 99999"]),

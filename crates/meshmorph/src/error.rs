@@ -34,7 +34,7 @@ pub enum Error {
     },
 
     /// A file whose extension names no format meshmorph knows.
-    #[error("`{}`: unknown mesh format (expected .obj, .off or .ply)", path.display())]
+    #[error("`{}`: {}", path.display(), if path.is_dir() { "a folder, not a mesh file" } else { "unknown mesh format (expected .obj, .off, .ply or .stl)" })]
     UnknownFormat {
         /// The file.
         path: PathBuf,

@@ -250,16 +250,27 @@ impl Markers {
     /// # Errors
     /// [`Error::InvalidMarker`] naming the first marker out of range.
     pub fn check_ranges(&self, source_vertices: usize, target_vertices: usize) -> Result<()> {
+        // Counting from 0, the last vertex is numbered one less than the
+        // count: a marker naming the count itself most likely counts from 1.
+        let hint = |v: u32, count: usize| {
+            if self.first_index == 0 && v as usize == count {
+                "; if the file counts vertices from 1, use --one-based"
+            } else {
+                ""
+            }
+        };
         for (k, &[s, t]) in self.pairs.iter().enumerate() {
             let message = if s as usize >= source_vertices {
                 format!(
-                    "source vertex {} is out of range (the source has {source_vertices} vertices)",
-                    self.number(s)
+                    "source vertex {} is out of range (the source has {source_vertices} vertices){}",
+                    self.number(s),
+                    hint(s, source_vertices)
                 )
             } else if t as usize >= target_vertices {
                 format!(
-                    "target vertex {} is out of range (the target has {target_vertices} vertices)",
-                    self.number(t)
+                    "target vertex {} is out of range (the target has {target_vertices} vertices){}",
+                    self.number(t),
+                    hint(t, target_vertices)
                 )
             } else {
                 continue;
