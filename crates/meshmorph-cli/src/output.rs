@@ -330,11 +330,12 @@ pub fn degenerate_faces(e: meshmorph::Error, file: &MeshFile, label: &str) -> me
     match e {
         meshmorph::Error::DegenerateTriangles { mesh, count, first } if mesh == label => {
             meshmorph::Error::InvalidMesh(format!(
-                "{} degenerate (zero-area) triangle{} in the {label} `{}`: in {}",
+                "{} degenerate (zero-area) triangle{} in the {label} `{}`: in {}; {}",
                 count,
                 if count == 1 { "" } else { "s" },
                 file.path().display(),
                 faces_holding(file, &first, count),
+                meshmorph::DEGENERATE_FIX,
             ))
         }
         e => e,

@@ -106,7 +106,7 @@ pub enum Error {
 
     /// Triangles of zero (or numerically zero) area where the method needs a
     /// proper frame.
-    #[error("{count} degenerate (zero-area) triangle{} in the {mesh}: {}", plural(*count), list(first, *count))]
+    #[error("{count} degenerate (zero-area) triangle{} in the {mesh}: {}; {DEGENERATE_FIX}", plural(*count), list(first, *count))]
     DegenerateTriangles {
         /// Which mesh ("source", "target reference", ...).
         mesh: String,
@@ -162,6 +162,10 @@ fn plural(n: usize) -> &'static str {
         "s"
     }
 }
+
+/// How degenerate triangles are removed, for the messages that name them.
+pub const DEGENERATE_FIX: &str =
+    "a modeller's clean-up removes them, e.g. Blender's Mesh > Clean Up > Degenerate Dissolve";
 
 /// "triangles 3, 9, 12, ..." for the first few of `count` triangle indices.
 pub(crate) fn list(items: &[usize], count: usize) -> String {

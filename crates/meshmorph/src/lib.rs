@@ -84,7 +84,7 @@ pub use correspond::{
     correspond, correspond_steps, CorrespondOptions, CorrespondResult, MIN_MARKERS,
 };
 pub use correspondence::Correspondence;
-pub use error::{Error, Result};
+pub use error::{Error, Result, DEGENERATE_FIX};
 pub use frame_source::{FrameSource, FRAME_RATES};
 pub use gradient::TriangleMaps;
 pub use interpolate::{
