@@ -37,12 +37,10 @@ impl Aabb {
         b
     }
 
-    /// The length of the box's diagonal.
+    /// The length of the box's diagonal (without overflow or underflow at
+    /// extreme coordinates: [`crate::mesh::bounding_box_diagonal`]).
     pub(crate) fn diagonal(&self) -> f64 {
-        (0..3)
-            .map(|i| (self.hi[i] - self.lo[i]).powi(2))
-            .sum::<f64>()
-            .sqrt()
+        crate::mesh::bounding_box_diagonal(&[self.lo, self.hi])
     }
 
     /// The box grown by `margin` on every side.

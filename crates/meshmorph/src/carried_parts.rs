@@ -6,10 +6,11 @@
 //! of its area paired) has no deformation of its own to follow, and on its
 //! own it would float. It is carried instead: in each pose it takes the
 //! rigid motion (Horn's best-fit rotation and translation) of its anchors,
-//! the vertices of the main part (the part with the most paired area)
-//! nearest to its own at rest: the eyelids around an eye, the lips around
-//! teeth. Not a smaller part beside it: an eyebrow touching an eyeball does
-//! not turn when the eye looks aside.
+//! the vertices of the main part (the part with the most paired area) or of
+//! a part standing apart from it (a second character) nearest to its own at
+//! rest: the eyelids around an eye, the lips around teeth. Not a smaller
+//! part beside it: an eyebrow touching an eyeball does not turn when the eye
+//! looks aside.
 //!
 //! A part with exactly half of its area paired (within a relative
 //! `HALF_TOLERANCE`, so that rounding cannot tip it one way in some units
@@ -39,9 +40,9 @@ use crate::nearest_vertices::{nearest_with_ties, VertexTree};
 use crate::similarity::rigid_fit;
 use crate::topology::Components;
 
-/// How many nearest vertices of the surrounding parts each vertex of a
-/// carried part contributes to its anchors (more where several are as
-/// near: `nearest_vertices.rs`).
+/// How many nearest vertices of the parts that bear it each vertex of a
+/// carried or following part contributes to its anchors (more where several
+/// are as near: `nearest_vertices.rs`).
 const ANCHORS_PER_VERTEX: usize = 4;
 
 /// How many nearest vertices are looked at for those.
@@ -81,14 +82,19 @@ pub struct CarriedParts {
 impl CarriedParts {
     /// Finds the parts to carry: those with less than half of their area in
     /// `paired` triangles (`area[t]` each), when some other part has more
-    /// (the part with the most paired area is never carried). A paired area
-    /// within `HALF_TOLERANCE` (relative) of half the part's area counts
-    /// as half: that part is not carried, at any scale of the target.
+    /// (the main part, with the most paired area, the lowest numbered of
+    /// equals, is never carried). A paired area within `HALF_TOLERANCE`
+    /// (relative) of half the part's area counts as half: that part is not
+    /// carried, at any scale of the target. The other paired parts whose
+    /// bounding box, grown by its own size, meets the main part's follow
+    /// the main part (see the module documentation). Parts `held` (by a
+    /// user's pin) are neither: the pins place them.
     pub fn new(
         positions: &[[f64; 3]],
         components: &Components,
         paired: &[bool],
         area: &[f64],
+        held: &[bool],
     ) -> Self {
         let c = components.count;
         let (mut total, mut matched) = (vec![0.0; c], vec![0.0; c]);
@@ -98,10 +104,7 @@ impl CarriedParts {
                 matched[part as usize] += area[t];
             }
         }
-        let leader = (0..c).max_by(|&a, &b| matched[a].total_cmp(&matched[b]));
-        let carried: Vec<bool> = (0..c)
-            .map(|p| Some(p) != leader && matched[p] < 0.5 * total[p] * (1.0 - HALF_TOLERANCE))
-            .collect();
+        let leader = (0..c).max_by(|&a, &b| matched[a].total_cmp(&matched[b]).then(b.cmp(&a)));
         let Some(leader) = leader.filter(|&l| matched[l] > 0.0) else {
             return Self::default();
         };
@@ -111,45 +114,59 @@ impl CarriedParts {
                 members[*p as usize].push(v as u32);
             }
         }
-        if members
-            .iter()
-            .enumerate()
-            .all(|(p, m)| p == leader || m.is_empty())
-        {
+        let is_held = |p: usize| held.get(p).copied().unwrap_or(false);
+        let carried: Vec<bool> = (0..c)
+            .map(|p| {
+                p != leader && !is_held(p) && matched[p] < 0.5 * total[p] * (1.0 - HALF_TOLERANCE)
+            })
+            .collect();
+        let bounds = |p: usize| Aabb::around(members[p].iter().map(|&v| positions[v as usize]));
+        let main_box = bounds(leader);
+        let follows: Vec<bool> = (0..c)
+            .map(|p| {
+                p != leader && !carried[p] && !is_held(p) && !members[p].is_empty() && {
+                    let part_box = bounds(p);
+                    part_box.grown(part_box.diagonal()).meets(&main_box)
+                }
+            })
+            .collect();
+        if !carried.contains(&true) && !follows.contains(&true) {
             return Self::default();
         }
-        // Every other part is anchored to the main part: a part is carried
-        // or placed by the surface it sits in, not by a smaller part beside
-        // it (an eyebrow by the head, not by the eyeball it touches).
-        let main = std::mem::take(&mut members[leader]);
-        let main_box = Aabb::around(main.iter().map(|&v| positions[v as usize]));
-        let tree: VertexTree = RTree::bulk_load(
-            main.iter()
-                .map(|&v| GeomWithData::new(positions[v as usize], v))
-                .collect(),
-        );
-        let (mut parts, mut following) = (Vec::new(), Vec::new());
-        for (component, vertices) in members.into_iter().enumerate() {
-            if vertices.is_empty() {
-                continue;
-            }
-            if carried[component] {
-                parts.push(CarriedPart {
-                    anchors: anchors(&tree, positions, &vertices),
-                    vertices,
-                });
-                continue;
-            }
-            // A part apart from the main one (a second character in the
-            // same file) is placed by its own pairs alone.
-            let part_box = Aabb::around(vertices.iter().map(|&v| positions[v as usize]));
-            if part_box.grown(part_box.diagonal()).meets(&main_box) {
-                following.push(FollowingPart {
-                    component: component as u32,
-                    anchors: anchors(&tree, positions, &vertices),
-                });
-            }
-        }
+        // A following part is anchored to the main part. A carried part is
+        // anchored to the main part or to a part standing apart from it (a
+        // second character's body), whichever is nearest: not to a smaller
+        // part beside it (an eyebrow to the head, not to the eyeball it
+        // touches).
+        let tree_of = |keep: &dyn Fn(usize) -> bool| -> VertexTree {
+            RTree::bulk_load(
+                (0..c)
+                    .filter(|&p| keep(p))
+                    .flat_map(|p| members[p].iter())
+                    .map(|&v| GeomWithData::new(positions[v as usize], v))
+                    .collect(),
+            )
+        };
+        let main_tree = tree_of(&|p| p == leader);
+        let following = (0..c)
+            .filter(|&p| follows[p])
+            .map(|p| FollowingPart {
+                component: p as u32,
+                anchors: anchors(&main_tree, positions, &members[p]),
+            })
+            .collect();
+        let parts = if carried.contains(&true) {
+            let bearers = tree_of(&|p| !carried[p] && !follows[p]);
+            (0..c)
+                .filter(|&p| carried[p] && !members[p].is_empty())
+                .map(|p| CarriedPart {
+                    anchors: anchors(&bearers, positions, &members[p]),
+                    vertices: members[p].clone(),
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         Self { parts, following }
     }
 
@@ -229,7 +246,13 @@ mod tests {
         }
         let components = connected_components(positions.len(), &triangles);
         let area = vec![1.0; triangles.len()];
-        let found = CarriedParts::new(&positions, &components, &vec![true; triangles.len()], &area);
+        let found = CarriedParts::new(
+            &positions,
+            &components,
+            &vec![true; triangles.len()],
+            &area,
+            &[],
+        );
         assert!(found.is_empty());
         let following: Vec<u32> = found.following().iter().map(|f| f.component).collect();
         assert_eq!(following, vec![1, 2]);
@@ -239,5 +262,16 @@ mod tests {
             let p = positions[a as usize];
             components.of_vertex[a as usize] == Some(0) && p[0] > 2.5
         }));
+        // A part held by a pin is neither carried nor following.
+        let held = [false, true, false, false];
+        let found = CarriedParts::new(
+            &positions,
+            &components,
+            &vec![true; triangles.len()],
+            &area,
+            &held,
+        );
+        let following: Vec<u32> = found.following().iter().map(|f| f.component).collect();
+        assert_eq!(following, vec![2]);
     }
 }

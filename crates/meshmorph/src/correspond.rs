@@ -758,13 +758,13 @@ pub fn match_triangles(
                       from: &Mesh3,
                       index: &CentroidIndex,
                       partner: &(dyn Fn(u32) -> Option<u32> + Sync),
-                      part: &(dyn Fn(u32) -> u32 + Sync)| {
+                      stays: &(dyn Fn(u32, u32) -> bool + Sync)| {
         let redo: Vec<(usize, u32)> = found
             .iter()
             .enumerate()
             .filter_map(|(t, n)| {
                 let p = partner(t as u32)?;
-                (part((*n)?) != p).then_some((t, p))
+                (!stays(t as u32, (*n)?)).then_some((t, p))
             })
             .collect();
         let again: Vec<Option<u32>> = redo
@@ -777,19 +777,24 @@ pub fn match_triangles(
             }
         }
     };
+    // A source triangle also keeps a nearest target part whose partner is
+    // its own part: a hand cut off a one-piece arm at a seam.
     look_again(
         &mut forward,
         source,
         &target_index,
         &|s| partners.of_source_triangle(s),
-        &|t| partners.target_part(t),
+        &|s, t| {
+            Some(partners.target_part(t)) == partners.of_source_triangle(s)
+                || partners.of_target_triangle(t) == Some(partners.source_part(s))
+        },
     );
     look_again(
         &mut backward,
         target,
         &source_index,
         &|t| partners.of_target_triangle(t),
-        &|s| partners.source_part(s),
+        &|t, s| Some(partners.source_part(s)) == partners.of_target_triangle(t),
     );
     Correspondence::new(partners.keep(union(&forward, &backward)), source, target)
 }

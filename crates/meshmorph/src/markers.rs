@@ -254,7 +254,7 @@ impl Markers {
         // count: a marker naming the count itself most likely counts from 1.
         let hint = |v: u32, count: usize| {
             if self.first_index == 0 && v as usize == count {
-                "; if the file counts vertices from 1, use --one-based"
+                "; if the file counts vertices from 1, read it so (--one-based on the command line)"
             } else {
                 ""
             }

@@ -318,8 +318,13 @@ impl Transfer {
             || FactoredSystem::new(&matrix, &pins, options.factor),
             || -> Result<_> {
                 let field = RotationField::new(&adjacency, &paired, &weights)?;
-                let carried =
-                    CarriedParts::new(target_ref.positions(), &components, &paired, &target_areas);
+                let carried = CarriedParts::new(
+                    target_ref.positions(),
+                    &components,
+                    &paired,
+                    &target_areas,
+                    &held_by_pin,
+                );
                 let placement = Placement::new(
                     &components,
                     |c| !held_by_pin[c],
@@ -567,7 +572,10 @@ impl Transfer {
     /// that does not move in the source does not move in the target while
     /// another region deforms (a skull while the jaw opens). A rigid (or
     /// affine) motion of the source moves every pair alike, and the target
-    /// by the same motion. A part without pairs stays where it is.
+    /// by the same motion. A part without pairs stays where it is. Then each
+    /// part that follows the main part (`carried_parts.rs`) moves by as much
+    /// as the main part's vertices around it (its anchors) stand off where
+    /// their own pairs would put them (the weighted geometric median).
     fn place(
         &self,
         pose: &[[f64; 3]],

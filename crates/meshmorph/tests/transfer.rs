@@ -803,7 +803,7 @@ fn bad_markers_are_refused() {
         &[
             &format!("marker {}", good.len()),
             &format!("source vertex {ns} is out of range (the source has {ns} vertices)"),
-            "if the file counts vertices from 1, use --one-based",
+            "if the file counts vertices from 1, read it so (--one-based on the command line)",
         ],
     );
     assert_error(

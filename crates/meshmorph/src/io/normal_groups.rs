@@ -292,8 +292,9 @@ impl NormalGroups {
     /// For each group whose polygons cancel out in the file's shape (no
     /// direction to turn from), the rotation that best takes its polygons
     /// from the file's shape to `positions`: the nearest rotation to the sum
-    /// over its corners of `e' eᵀ` for the two edges at the corner and of
-    /// `n' nᵀ` for the unit normal of the corner's polygon. `None` for the
+    /// over its corners of `e' eᵀ` for the two edges at the corner (divided
+    /// by their length in the file) and of `n' nᵀ` for the unit normal of the
+    /// corner's polygon. `None` for the
     /// other groups. A rigid motion turns such a normal with everything
     /// else.
     fn turns_of_cancelled(&self, faces: &Polygons, positions: &[[f64; 3]]) -> Vec<Option<Mat3>> {
@@ -335,11 +336,17 @@ impl NormalGroups {
                     if k == 0 { last } else { k - 1 },
                     if k == last { 0 } else { k + 1 },
                 ] {
+                    // Each edge in units of its length in the file, as the
+                    // unit normals: the same sum in any units.
                     let other = vertices[other] as usize;
-                    add_outer(
-                        sub(positions[other], positions[at]),
-                        sub(rest[other], rest[at]),
-                    );
+                    let e = sub(rest[other], rest[at]);
+                    let len = norm(e);
+                    if len > 0.0 {
+                        add_outer(
+                            scale(sub(positions[other], positions[at]), 1.0 / len),
+                            scale(e, 1.0 / len),
+                        );
+                    }
                 }
                 add_outer(n1, n0);
             }
