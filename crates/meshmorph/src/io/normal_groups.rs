@@ -42,8 +42,7 @@ pub(super) struct NormalGroups {
     /// Each group's direction in the file's shape: the area-weighted mean
     /// normal of the polygons of its corners (unit, or zero).
     rest_directions: Vec<[f64; 3]>,
-    /// The file's positions, kept when some group's polygons cancel out
-    /// (see [`NormalGroups::directions`]); empty otherwise.
+    /// The file's positions (empty when the file has no normals).
     rest_positions: Vec<[f64; 3]>,
 }
 
@@ -120,9 +119,7 @@ impl NormalGroups {
             rest_positions: Vec::new(),
         };
         groups.rest_directions = groups.directions(faces, positions);
-        if groups.rest_directions.contains(&[0.0; 3]) {
-            groups.rest_positions = positions.to_vec();
-        }
+        groups.rest_positions = positions.to_vec();
         groups
     }
 
@@ -184,9 +181,11 @@ impl NormalGroups {
 
     /// The file's `normals` for the shape `positions`: each group's normal
     /// turned by the smallest rotation that takes the group's direction from
-    /// the file's shape to the new one. Authored normals and hard edges stay
-    /// as they were relative to the surface, and the file's own shape gives
-    /// back its own normals with nothing added.
+    /// the file's shape to the new one, then about the new direction by the
+    /// turn of the edges around it ([`NormalGroups::twists`]). Authored
+    /// normals and hard edges stay as they were relative to the surface, a
+    /// rigid motion turns every normal with it, and the file's own shape
+    /// gives back its own normals with nothing added.
     pub(super) fn for_shape(
         &self,
         normals: &[[f64; 3]],
@@ -195,6 +194,7 @@ impl NormalGroups {
     ) -> ShapeNormals {
         let now = self.directions(faces, positions);
         let cancelled = self.turns_of_cancelled(faces, positions);
+        let twists = self.twists(faces, positions, &now);
         let turned: Vec<[f64; 3]> = (0..self.normal_of.len())
             .map(|g| {
                 let normal = normals[self.normal_of[g] as usize];
@@ -208,7 +208,11 @@ impl NormalGroups {
                             t
                         }
                     }
-                    None => least_turn(normal, self.rest_directions[g], now[g]),
+                    None => about(
+                        least_turn(normal, self.rest_directions[g], now[g]),
+                        now[g],
+                        twists[g],
+                    ),
                 }
             })
             .collect();
@@ -289,6 +293,52 @@ impl NormalGroups {
 }
 
 impl NormalGroups {
+    /// For each group, the turn (cosine and sine, not normalised) about its
+    /// direction in `positions` (`now`) that the edges at its corners make
+    /// beyond the smallest rotation of the group's direction: the sum over
+    /// its corners of the angle from the file's edge to the corner's next
+    /// vertex, turned by that smallest rotation, to the same edge now, both
+    /// seen along the new direction. The smallest rotation alone does not
+    /// turn about the direction, so an authored normal that leans off it
+    /// (a weighted normal, a hard edge's) would turn differently from the
+    /// surface under a rigid motion; with the twist it turns with it. For
+    /// the file's own shape every twist is exactly none.
+    fn twists(&self, faces: &Polygons, positions: &[[f64; 3]], now: &[[f64; 3]]) -> Vec<[f64; 2]> {
+        let mut sums = vec![[0.0; 2]; self.normal_of.len()];
+        let rest = &self.rest_positions;
+        if sums.is_empty() {
+            return sums;
+        }
+        for f in 0..faces.len() {
+            let range = faces.range(f);
+            let vertices = &faces.corner_vertices()[range.clone()];
+            let last = vertices.len() - 1;
+            for (k, &g) in self.corner_group[range].iter().enumerate() {
+                if g == NONE {
+                    continue;
+                }
+                let (g, d) = (g as usize, now[g as usize]);
+                if norm(d) == 0.0 || self.rest_directions[g] == [0.0; 3] {
+                    continue;
+                }
+                let (at, next) = (
+                    vertices[k] as usize,
+                    vertices[if k == last { 0 } else { k + 1 }] as usize,
+                );
+                let on_plane = |v: [f64; 3]| sub(v, scale(d, dot(v, d)));
+                let was = on_plane(least_turn(
+                    sub(rest[next], rest[at]),
+                    self.rest_directions[g],
+                    d,
+                ));
+                let is = on_plane(sub(positions[next], positions[at]));
+                sums[g][0] += dot(was, is);
+                sums[g][1] += dot(d, cross(was, is));
+            }
+        }
+        sums
+    }
+
     /// For each group whose polygons cancel out in the file's shape (no
     /// direction to turn from), the rotation that best takes its polygons
     /// from the file's shape to `positions`: the nearest rotation to the sum
@@ -300,7 +350,7 @@ impl NormalGroups {
     fn turns_of_cancelled(&self, faces: &Polygons, positions: &[[f64; 3]]) -> Vec<Option<Mat3>> {
         let mut sums: Vec<Option<Mat3>> = vec![None; self.normal_of.len()];
         let rest = &self.rest_positions;
-        if rest.is_empty() {
+        if !self.rest_directions.contains(&[0.0; 3]) {
             return sums;
         }
         let unit = |n: [f64; 3]| {
@@ -357,6 +407,21 @@ impl NormalGroups {
     }
 }
 
+/// `v` turned about the unit `axis` by the angle whose cosine and sine are
+/// proportional to `turn` (unchanged for no turn, or an undefined one).
+fn about(v: [f64; 3], axis: [f64; 3], turn: [f64; 2]) -> [f64; 3] {
+    let r = turn[0].hypot(turn[1]);
+    if turn[1] == 0.0 || !(r > 0.0 && r.is_finite()) {
+        return v;
+    }
+    let (c, s) = (turn[0] / r, turn[1] / r);
+    // Rodrigues: v c + (a × v) s + a (a·v)(1 − c).
+    add(
+        add(scale(v, c), scale(cross(axis, v), s)),
+        scale(axis, dot(axis, v) * (1.0 - c)),
+    )
+}
+
 /// Twice the area vector of a polygon (Newell's formula).
 fn newell_normal(vertices: &[u32], positions: &[[f64; 3]]) -> [f64; 3] {
     let mut n = [0.0; 3];
@@ -372,6 +437,44 @@ fn newell_normal(vertices: &[u32], positions: &[[f64; 3]]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn authored_normals_turn_with_a_rigid_motion_of_any_shape() {
+        // A pyramid's fan of four triangles about its apex, every corner at
+        // the apex naming normal 0, which leans off the fan's mean normal
+        // (as a weighted or custom normal does); the base corners name 1.
+        let mut faces = Polygons::default();
+        for k in 0..4u32 {
+            faces.push(&[4, k, (k + 1) % 4], 1);
+        }
+        let corner_normal: Vec<u32> = (0..4).flat_map(|_| [0, 1, 1]).collect();
+        let rest = [
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.1, 0.2, 0.8],
+        ];
+        let lean = 1.0 / (0.3_f64 * 0.3 + 1.0).sqrt();
+        let normals = [[0.3 * lean, 0.0, lean], [0.0, 0.0, 1.0]];
+        let groups = NormalGroups::new(&faces, &corner_normal, &[], &rest);
+        // The file's own shape gives back the file's normals, exactly.
+        assert_eq!(groups.for_shape(&normals, &faces, &rest).normals, normals);
+        // A shape that stretches and bends the fan, and the same shape
+        // turned: its normals are the first one's, turned.
+        let bent = rest.map(|p| [1.3 * p[0], p[1] + 0.2 * p[0] * p[0], p[2] + 0.1 * p[1]]);
+        let (c, s) = (0.28, 0.96);
+        let turn = |p: [f64; 3]| [c * p[0] - s * p[2], p[1], s * p[0] + c * p[2]];
+        let here = groups.for_shape(&normals, &faces, &bent);
+        let there = groups.for_shape(&normals, &faces, &bent.map(turn));
+        for (a, b) in here.normals.iter().zip(&there.normals) {
+            assert!(
+                norm(sub(turn(*a), *b)) < 1e-12,
+                "{:?} against {b:?}",
+                turn(*a)
+            );
+        }
+    }
 
     #[test]
     fn a_double_sided_sheet_keeps_its_normals() {
