@@ -218,7 +218,6 @@ struct PartAnchor {
 struct FollowingAnchors {
     /// The placed part that follows.
     part: usize,
-
     /// `(source triangle, anchor vertex, weight)` for each pair of each
     /// triangle around each anchor.
     pairs: Vec<(u32, u32, f64)>,

@@ -151,10 +151,7 @@ impl NormalGroups {
             let last = vertices.len() - 1;
             for (k, &g) in self.corner_group[range].iter().enumerate() {
                 if g != NONE {
-                    let (before, after) = (
-                        if k == 0 { last } else { k - 1 },
-                        if k == last { 0 } else { k + 1 },
-                    );
+                    let [before, after] = beside(k, last);
                     let at = positions[vertices[k] as usize];
                     let (a, b) = (
                         sub(positions[vertices[before] as usize], at),
@@ -321,10 +318,7 @@ impl NormalGroups {
                 if norm(d) == 0.0 || self.rest_directions[g] == [0.0; 3] {
                     continue;
                 }
-                let (at, next) = (
-                    vertices[k] as usize,
-                    vertices[if k == last { 0 } else { k + 1 }] as usize,
-                );
+                let (at, next) = (vertices[k] as usize, vertices[beside(k, last)[1]] as usize);
                 let on_plane = |v: [f64; 3]| sub(v, scale(d, dot(v, d)));
                 let was = on_plane(least_turn(
                     sub(rest[next], rest[at]),
@@ -344,9 +338,8 @@ impl NormalGroups {
     /// from the file's shape to `positions`: the nearest rotation to the sum
     /// over its corners of `e' eᵀ` for the two edges at the corner (divided
     /// by their length in the file) and of `n' nᵀ` for the unit normal of the
-    /// corner's polygon. `None` for the
-    /// other groups. A rigid motion turns such a normal with everything
-    /// else.
+    /// corner's polygon. `None` for the other groups. A rigid motion turns
+    /// such a normal with everything else.
     fn turns_of_cancelled(&self, faces: &Polygons, positions: &[[f64; 3]]) -> Vec<Option<Mat3>> {
         let mut sums: Vec<Option<Mat3>> = vec![None; self.normal_of.len()];
         let rest = &self.rest_positions;
@@ -361,8 +354,16 @@ impl NormalGroups {
                 n
             }
         };
+        let cancelled = |g: u32| g != NONE && self.rest_directions[g as usize] == [0.0; 3];
         for f in 0..faces.len() {
             let range = faces.range(f);
+            // Only the few polygons around such groups are looked at.
+            if !self.corner_group[range.clone()]
+                .iter()
+                .any(|&g| cancelled(g))
+            {
+                continue;
+            }
             let vertices = &faces.corner_vertices()[range.clone()];
             let (n0, n1) = (
                 unit(newell_normal(vertices, rest)),
@@ -370,7 +371,7 @@ impl NormalGroups {
             );
             let last = vertices.len() - 1;
             for (k, &g) in self.corner_group[range].iter().enumerate() {
-                if g == NONE || self.rest_directions[g as usize] != [0.0; 3] {
+                if !cancelled(g) {
                     continue;
                 }
                 let sum = sums[g as usize].get_or_insert([[0.0; 3]; 3]);
@@ -382,10 +383,7 @@ impl NormalGroups {
                     }
                 };
                 let at = vertices[k] as usize;
-                for other in [
-                    if k == 0 { last } else { k - 1 },
-                    if k == last { 0 } else { k + 1 },
-                ] {
+                for other in beside(k, last) {
                     // Each edge in units of its length in the file, as the
                     // unit normals: the same sum in any units.
                     let other = vertices[other] as usize;
@@ -420,6 +418,15 @@ fn about(v: [f64; 3], axis: [f64; 3], turn: [f64; 2]) -> [f64; 3] {
         add(scale(v, c), scale(cross(axis, v), s)),
         scale(axis, dot(axis, v) * (1.0 - c)),
     )
+}
+
+/// The corners before and after corner `k` of a polygon whose last corner
+/// is `last`.
+fn beside(k: usize, last: usize) -> [usize; 2] {
+    [
+        if k == 0 { last } else { k - 1 },
+        if k == last { 0 } else { k + 1 },
+    ]
 }
 
 /// Twice the area vector of a polygon (Newell's formula).
