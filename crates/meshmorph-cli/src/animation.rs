@@ -86,6 +86,7 @@ pub struct Setup {
 #[derive(Debug, Serialize)]
 pub struct Report {
     /// Where the frames went.
+    #[serde(serialize_with = "output::lossy")]
     pub output: PathBuf,
     /// Number of frame files written.
     pub frames_written: usize,
@@ -125,12 +126,16 @@ pub struct Report {
     /// frame has such triangles.
     pub max_flipped_frame: Option<usize>,
     /// The GIF written, if any.
+    #[serde(serialize_with = "output::lossy")]
     pub gif: Option<PathBuf>,
     /// The PNG written, if any.
+    #[serde(serialize_with = "output::lossy")]
     pub png: Option<PathBuf>,
     /// The GLB written, if any.
+    #[serde(serialize_with = "output::lossy")]
     pub gltf: Option<PathBuf>,
     /// Every file written, in order.
+    #[serde(serialize_with = "output::lossy")]
     pub files_written: Vec<PathBuf>,
     /// The warnings given (also printed on stderr).
     pub warnings: Vec<String>,
@@ -159,7 +164,7 @@ impl Report {
         } else {
             "planar"
         };
-        println!(
+        say!(
             "wrote {} ({}, {}, {space}, {}) to {}",
             output::count(self.frames_written, "frame"),
             output::vertices(self.vertices),
@@ -167,27 +172,27 @@ impl Report {
             output::count(self.keys, "key"),
             self.output.display()
         );
-        println!(
+        say!(
             "setup:          {}",
             output::human_seconds(self.setup_seconds)
         );
-        println!(
+        say!(
             "time per frame: {} (computing, on one thread; + {} writing)",
             output::human_seconds(self.seconds_per_frame),
             output::human_seconds(self.write_seconds_per_frame)
         );
-        println!(
+        say!(
             "throughput:     {} a frame (wall time of all frames / frames, {} threads)",
             output::human_seconds(self.throughput_seconds_per_frame),
             self.threads
         );
         if let Some(n) = self.triangles_with_whole_turns {
-            println!(
+            say!(
                 "whole turns:    {} (rotation consistency)",
                 output::count(n, "triangle")
             );
         }
-        println!(
+        say!(
             "total:          {}",
             output::human_seconds(self.total_seconds)
         );
@@ -197,11 +202,11 @@ impl Report {
             "flipped"
         };
         match self.max_flipped_frame {
-            Some(frame) => println!(
+            Some(frame) => say!(
                 "{what} triangles: at most {} (frame {frame})",
                 self.max_flipped_triangles
             ),
-            None => println!("{what} triangles: none in any frame"),
+            None => say!("{what} triangles: none in any frame"),
         }
         output::print_files(
             &[
@@ -212,19 +217,19 @@ impl Report {
             11,
         );
         if self.unused_vertices > 0 {
-            println!(
+            say!(
                 "unused vertices: {} (in no triangle; carried along unchanged)",
                 self.unused_vertices
             );
         }
         if let Some(line) = crate::output::welded_line(self.welded_vertices) {
-            println!("welded:   {line}");
+            say!("welded:   {line}");
         }
         if let Some(line) = crate::output::following_line(self.parts_following_host) {
-            println!("parts:    {line}");
+            say!("parts:    {line}");
         }
         if self.surplus_frames_removed > 0 {
-            println!(
+            say!(
                 "removed {} of an earlier run",
                 output::count(self.surplus_frames_removed, "frame file")
             );

@@ -109,6 +109,7 @@ fn parse_shape(text: &str) -> Result<(PathBuf, f64), String> {
 #[derive(Debug, Serialize)]
 pub struct Report {
     /// The file written.
+    #[serde(serialize_with = "output::lossy")]
     pub output: PathBuf,
     /// 2 for planar meshes, 3 for meshes in space.
     pub dimension: usize,
@@ -129,6 +130,7 @@ pub struct Report {
     /// Separate parts (eyes, teeth) placed by the surface they sit in.
     pub parts_following_host: usize,
     /// Every file written.
+    #[serde(serialize_with = "output::lossy")]
     pub files_written: Vec<PathBuf>,
     /// The warnings given (also printed on stderr).
     pub warnings: Vec<String>,
@@ -143,7 +145,7 @@ impl Report {
             output::print_json(self);
             return;
         }
-        println!(
+        say!(
             "wrote {} ({}, {}, {}, {})",
             self.output.display(),
             output::vertices(self.vertices),
@@ -155,18 +157,18 @@ impl Report {
                 "planar"
             }
         );
-        println!("setup: {}", output::human_seconds(self.setup_seconds));
-        println!("blend: {}", output::human_seconds(self.blend_seconds));
-        println!("total: {}", output::human_seconds(self.total_seconds));
-        println!("turned-over triangles: {}", self.turned_over_triangles);
+        say!("setup: {}", output::human_seconds(self.setup_seconds));
+        say!("blend: {}", output::human_seconds(self.blend_seconds));
+        say!("total: {}", output::human_seconds(self.total_seconds));
+        say!("turned-over triangles: {}", self.turned_over_triangles);
         if let Some(line) = output::following_line(self.parts_following_host) {
-            println!("parts: {line}");
+            say!("parts: {line}");
         }
         if let Some(line) = output::welded_line(self.welded_vertices) {
-            println!("welded: {line}");
+            say!("welded: {line}");
         }
         for f in self.files_written.iter().skip(1) {
-            println!("also:  {}", f.display());
+            say!("also:  {}", f.display());
         }
     }
 }
@@ -221,6 +223,7 @@ pub fn run(args: &Args) -> Result<()> {
         args.fps,
     ));
     let (base_file, mut shapes) = output::read_poses(&paths, &roles, !args.no_weld, &mut warnings)?;
+    output::protect_side_files(&staging, &base_file.file, "base mesh")?;
     let base = shapes.remove(0);
     let meshes: Vec<&Mesh3> = std::iter::once(&base).chain(&shapes).collect();
     let paths: Vec<&PathBuf> = std::iter::once(&args.base)

@@ -159,7 +159,7 @@ fn animate_demo(
     )?;
     report.surplus_frames_removed = staging.commit()?;
     if !args.json {
-        println!("{heading}");
+        say!("{heading}");
     }
     report.print(args.json);
     Ok(())
@@ -226,7 +226,7 @@ fn transfer(args: &Args) -> Result<()> {
     }
     staging.commit()?;
     if !args.json {
-        println!("\n== deformation transfer: a thin tube's bends onto a thick tube ==");
+        say!("\n== deformation transfer: a thin tube's bends onto a thick tube ==");
     }
     let out = dir.join("target");
     run_transfer(&TransferArgs {
@@ -265,7 +265,7 @@ fn transfer(args: &Args) -> Result<()> {
     })?;
     // The transfer's report names its pictures.
     if !args.json {
-        println!(
+        say!(
             "rerun: meshmorph transfer --source-ref {} --target-ref {} --markers {} -o {} {}",
             source_ref.display(),
             target_ref.display(),

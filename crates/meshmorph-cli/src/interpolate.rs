@@ -208,6 +208,7 @@ pub fn run(args: &Args) -> Result<()> {
     let role_names: Vec<&str> = roles.iter().map(String::as_str).collect();
     let mut warnings = staging.warnings();
     let (first_file, keys) = output::read_poses(&paths, &role_names, !args.no_weld, &mut warnings)?;
+    output::protect_side_files(&staging, &first_file.file, role_names[0])?;
     let key_refs: Vec<&Mesh3> = keys.iter().collect();
     let planar = output::is_planar(args.dim, &key_refs, |k| {
         format!("the {} `{}`", roles[k], args.keys[k].display())

@@ -3,6 +3,17 @@
 //! A thin layer over the `meshmorph` library: each subcommand parses its
 //! arguments, reads files, reports progress and calls the library.
 
+/// `println!` that never panics: a closed or full stdout is said once the
+/// run is over ([`output::print_line`]).
+macro_rules! say {
+    () => {
+        $crate::output::print_line(format_args!(""))
+    };
+    ($($arg:tt)*) => {
+        $crate::output::print_line(format_args!($($arg)*))
+    };
+}
+
 mod animation;
 mod blend;
 mod demo;
@@ -14,6 +25,7 @@ mod output;
 mod outputs;
 mod pictures;
 mod progress;
+mod threads;
 mod transfer;
 
 use std::process::ExitCode;
@@ -71,6 +83,7 @@ impl Command {
 fn main() -> ExitCode {
     memory::share_one_heap();
     let cli = Cli::parse();
+    threads::start_pool();
     let json = cli.command.json();
     outputs::interrupted_as_json(json);
     let result = match cli.command {
@@ -85,14 +98,21 @@ fn main() -> ExitCode {
         }
         Command::Man(args) => manual::man(Cli::command(), &args),
     };
-    match result {
+    let status = match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
             if json {
                 output::print_json_error(&format!("{e:#}"), 1);
             }
-            ExitCode::FAILURE
+            return ExitCode::FAILURE;
         }
+    };
+    // The run succeeded and its outputs are in place; only its report (or
+    // the printed page) did not get through.
+    if let Err(e) = output::finish_stdout() {
+        eprintln!("error: printing on stdout failed ({e}); every file the run writes was written");
+        return ExitCode::FAILURE;
     }
+    status
 }

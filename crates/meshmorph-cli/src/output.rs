@@ -1,6 +1,10 @@
 //! What every subcommand shares: output paths, formats, reports.
 
-use std::path::Path;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+use serde::Serialize as _;
 
 use anyhow::{Context, Result};
 use meshmorph::io::{Format, MeshFile};
@@ -451,7 +455,7 @@ pub fn dropped_for(output: &Path, dropped: &[String]) -> Vec<String> {
 pub fn print_files(files: &[(&str, Option<&Path>)], column: usize) {
     for (label, file) in files {
         if let Some(f) = file {
-            println!("{label:<column$}{}", f.display());
+            say!("{label:<column$}{}", f.display());
         }
     }
 }
@@ -490,12 +494,96 @@ pub fn human_seconds(s: f64) -> String {
     }
 }
 
+/// The first failure to print on stdout, said once the run is over.
+static STDOUT_FAILURE: Mutex<Option<std::io::Error>> = Mutex::new(None);
+
+/// Adds the files beside `file` (its material libraries and their
+/// textures) to the run's inputs, so that no output replaces one.
+///
+/// # Errors
+/// An output that is one of them, naming both.
+pub fn protect_side_files(
+    staging: &crate::outputs::Staging,
+    file: &MeshFile,
+    role: &str,
+) -> Result<()> {
+    let role = format!("material file of the {role} `{}`", file.path().display());
+    staging.also_reads(&file.side_files(), &role)
+}
+
+/// Prints bytes on stdout, as every report line does (the `say!` macro).
+/// A stdout that is closed (`| head -1`) or full (`> /dev/full`) does not
+/// stop the run, whose outputs are written regardless: the first failure
+/// is kept for [`finish_stdout`] and later prints are dropped.
+pub fn print_bytes(bytes: &[u8]) {
+    let mut failure = STDOUT_FAILURE.lock().unwrap_or_else(|e| e.into_inner());
+    if failure.is_none() {
+        let mut out = std::io::stdout().lock();
+        if let Err(e) = out.write_all(bytes).and_then(|()| out.flush()) {
+            *failure = Some(e);
+        }
+    }
+}
+
+/// One line on stdout (see [`print_bytes`]).
+pub fn print_line(line: std::fmt::Arguments) {
+    let mut text = line.to_string();
+    text.push('\n');
+    print_bytes(text.as_bytes());
+}
+
+/// Whether everything printed on stdout reached it.
+///
+/// # Errors
+/// The first failure to print, once the run is over.
+pub fn finish_stdout() -> std::io::Result<()> {
+    let failure = STDOUT_FAILURE
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .take();
+    failure.map_or(Ok(()), Err)
+}
+
 /// Prints a report as one line of JSON on stdout.
 pub fn print_json(report: &impl serde::Serialize) {
-    println!(
-        "{}",
-        serde_json::to_string(report).expect("a report serialises")
-    );
+    match serde_json::to_string(report) {
+        Ok(line) => print_line(format_args!("{line}")),
+        // Reports hold numbers, strings and paths written lossily
+        // ([`lossy`]): nothing in them fails to serialise.
+        Err(e) => eprintln!("error: the report cannot be written as JSON: {e}"),
+    }
+}
+
+/// Paths in JSON reports, as strings: a name that is not UTF-8 is written
+/// with U+FFFD for the bytes that are not (`#[serde(serialize_with =
+/// "output::lossy")]`); serde's own would refuse it.
+pub fn lossy<S: serde::Serializer, P: LossyPaths>(paths: &P, s: S) -> Result<S::Ok, S::Error> {
+    paths.lossy().serialize(s)
+}
+
+/// A path, or paths, as [`lossy`] writes them.
+pub trait LossyPaths {
+    /// JSON's value: a string, null or a list of strings.
+    fn lossy(&self) -> serde_json::Value;
+}
+
+impl LossyPaths for PathBuf {
+    fn lossy(&self) -> serde_json::Value {
+        self.to_string_lossy().into()
+    }
+}
+
+impl LossyPaths for Option<PathBuf> {
+    fn lossy(&self) -> serde_json::Value {
+        self.as_ref()
+            .map_or(serde_json::Value::Null, LossyPaths::lossy)
+    }
+}
+
+impl LossyPaths for Vec<PathBuf> {
+    fn lossy(&self) -> serde_json::Value {
+        self.iter().map(LossyPaths::lossy).collect()
+    }
 }
 
 /// What `--json` prints on stdout for a run that fails or is interrupted,

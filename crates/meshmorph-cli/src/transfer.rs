@@ -200,7 +200,7 @@ fn signed_for(c: &Correspondence, source: &Mesh3, target: &Mesh3) -> Corresponde
 fn print_welded(source: usize, target: usize) {
     for (mesh, welded) in [("source", source), ("target", target)] {
         if let Some(line) = output::welded_line(welded) {
-            println!("welded in the {mesh}: {line}");
+            say!("welded in the {mesh}: {line}");
         }
     }
 }
@@ -240,9 +240,9 @@ impl MarkerReport {
                 100.0 * self.largest_snap_target
             );
         }
-        println!("{line}");
+        say!("{line}");
         if self.aligned {
-            println!(
+            say!(
                 "alignment:      scale {:.6}, marker residual {:.3} % of the target's diagonal (RMS), {:.3} % at most",
                 self.alignment_scale,
                 100.0 * self.marker_residual_rms,
@@ -259,9 +259,9 @@ impl MarkerReport {
                     100.0 * target
                 );
             }
-            println!("{line}");
+            say!("{line}");
         } else {
-            println!(
+            say!(
                 "alignment:      off, marker distance {:.3} % of the target's diagonal (RMS)",
                 100.0 * self.marker_residual_rms
             );
@@ -406,6 +406,7 @@ fn vertex_index(text: &str) -> Result<u32, String> {
 /// What a transfer did.
 #[derive(Debug, Serialize)]
 pub struct TransferReport {
+    #[serde(serialize_with = "output::lossy")]
     pub output: PathBuf,
     pub poses_written: usize,
     /// Computing (or loading) the correspondence.
@@ -448,14 +449,19 @@ pub struct TransferReport {
     pub welded_target_vertices: usize,
     pub total_seconds: f64,
     /// The correspondence saved, if any.
+    #[serde(serialize_with = "output::lossy")]
     pub saved_correspondence: Option<PathBuf>,
     /// The GIF written, if any.
+    #[serde(serialize_with = "output::lossy")]
     pub gif: Option<PathBuf>,
     /// The PNG written, if any.
+    #[serde(serialize_with = "output::lossy")]
     pub png: Option<PathBuf>,
     /// The GLB written, if any.
+    #[serde(serialize_with = "output::lossy")]
     pub gltf: Option<PathBuf>,
     /// Every file written, in order.
+    #[serde(serialize_with = "output::lossy")]
     pub files_written: Vec<PathBuf>,
     /// The warnings given (also printed on stderr).
     pub warnings: Vec<String>,
@@ -470,12 +476,12 @@ impl TransferReport {
         if let Some(m) = &self.markers {
             m.print();
         }
-        println!(
+        say!(
             "wrote {} to {}",
             output::count(self.poses_written, "pose"),
             self.output.display()
         );
-        println!(
+        say!(
             "correspondence: {} ({}){}",
             output::human_seconds(self.correspondence_seconds),
             output::count(self.matched_pairs, "pair"),
@@ -490,38 +496,38 @@ impl TransferReport {
             self.unmatched_target_triangles,
         );
         if self.unmatched_target_triangles > 0 {
-            println!(
+            say!(
                 "  in gaps:      {} (holes in the match: deformed as their neighbours)",
                 output::count(self.gap_target_triangles, "target triangle")
             );
-            println!(
+            say!(
                 "  kept at rest: {} (beyond the source: rest shape, turned with the paired surface)",
                 output::count(self.unpaired_target_triangles, "target triangle")
             );
         }
         if self.carried_parts + self.following_parts > 0 {
-            println!(
+            say!(
                 "separate parts: {} with partners (shaped by them, placed by the main part around them), {} carried rigidly",
                 self.following_parts, self.carried_parts
             );
         }
         print_welded(self.welded_source_vertices, self.welded_target_vertices);
         if self.unused_target_vertices > 0 {
-            println!(
+            say!(
                 "unused target vertices: {} (in no triangle; kept at rest)",
                 self.unused_target_vertices
             );
         }
-        println!(
+        say!(
             "setup:          {}",
             output::human_seconds(self.setup_seconds)
         );
-        println!(
+        say!(
             "time per pose:  {} solving, {} with reading and writing",
             output::human_seconds(self.seconds_per_pose),
             output::human_seconds(self.seconds_per_pose_with_io)
         );
-        println!(
+        say!(
             "total:          {}",
             output::human_seconds(self.total_seconds)
         );
@@ -539,7 +545,7 @@ impl TransferReport {
 
 /// The report's line for the triangles of either reference in no pair.
 fn print_unmatched(source: usize, target: usize) {
-    println!(
+    say!(
         "unmatched:      {}, {}",
         output::count(source, "source triangle"),
         output::count(target, "target triangle")
@@ -586,6 +592,8 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     ]);
     memory::check_reading(&read)?;
     let (source_ref, target_ref) = args.refs.read()?;
+    output::protect_side_files(&staging, &source_ref.file.file, "source reference")?;
+    output::protect_side_files(&staging, &target_ref.file.file, "target reference")?;
     let (source, target) = (&source_ref.mesh, &target_ref.mesh);
     args.gltf
         .check::<3>(Some(&target_ref.file.file), target, args.poses.len())?;
@@ -1055,6 +1063,7 @@ pub struct CorrespondCommand {
 /// What `correspond` did.
 #[derive(Debug, Serialize)]
 pub struct CorrespondReport {
+    #[serde(serialize_with = "output::lossy")]
     pub output: PathBuf,
     pub seconds: f64,
     pub matched_pairs: usize,
@@ -1065,12 +1074,16 @@ pub struct CorrespondReport {
     pub welded_source_vertices: usize,
     pub welded_target_vertices: usize,
     /// The source reference deformed onto the target, if written.
+    #[serde(serialize_with = "output::lossy")]
     pub deformed_source: Option<PathBuf>,
     /// The GIF written, if any.
+    #[serde(serialize_with = "output::lossy")]
     pub gif: Option<PathBuf>,
     /// The PNG written, if any.
+    #[serde(serialize_with = "output::lossy")]
     pub png: Option<PathBuf>,
     /// Every file written, in order.
+    #[serde(serialize_with = "output::lossy")]
     pub files_written: Vec<PathBuf>,
     /// How the markers fitted.
     pub markers: MarkerReport,
@@ -1101,6 +1114,8 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
     let staging = plan.prepare()?;
     memory::check_reading(&[&args.refs.source_ref, &args.refs.target_ref])?;
     let (source_ref, target_ref) = args.refs.read()?;
+    output::protect_side_files(&staging, &source_ref.file.file, "source reference")?;
+    output::protect_side_files(&staging, &target_ref.file.file, "target reference")?;
     let (source, target) = (&source_ref.mesh, &target_ref.mesh);
     memory::check_setup(
         source.num_triangles() + target.num_triangles(),
@@ -1170,7 +1185,7 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         output::print_json(&report);
     } else {
         report.markers.print();
-        println!(
+        say!(
             "correspondence: {} in {}, saved to {}",
             output::count(report.matched_pairs, "pair"),
             output::human_seconds(seconds),

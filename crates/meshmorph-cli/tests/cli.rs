@@ -3029,15 +3029,20 @@ fn staged_files_of_runs_killed_by_force_are_removed_and_said() {
     let dead = child.id();
     child.wait().unwrap();
     let alive = std::process::id();
+    // Staged outputs (named as before and with a run's random token), and
+    // the second name of a file an output was replacing.
     let stale = [
         format!(".meshmorph-{dead}-0.part"),
-        format!(".meshmorph-{dead}-17.part"),
+        format!(".meshmorph-{dead}-x3kQ9ae2LmZp01Tb-17.part"),
+        format!(".meshmorph-{dead}-x3kQ9ae2LmZp01Tb-3.old"),
     ];
     fs::write(p.out.join(&stale[0]), vec![0u8; 1500]).unwrap();
     fs::write(p.out.join(&stale[1]), vec![0u8; 500]).unwrap();
+    fs::write(p.out.join(&stale[2]), b"").unwrap();
     let kept = [
         format!(".meshmorph-{alive}-0.part"),
-        format!(".meshmorph-{dead}-0.old"),
+        // Moved aside without a second name: perhaps the only copy.
+        format!(".meshmorph-{dead}-x3kQ9ae2LmZp01Tb-4.aside"),
         ".meshmorph-7kUIk1.tmp".to_string(),
         format!(".meshmorph-{dead}-0.part.bak"),
         format!("meshmorph-{dead}-0.part"),
@@ -3055,7 +3060,12 @@ fn staged_files_of_runs_killed_by_force_are_removed_and_said() {
     let warnings = report["warnings"].to_string();
     assert_mentions(
         &warnings,
-        &["removed 2 unfinished outputs (2.0 kB)", &shown(&p.out)],
+        &[
+            "removed 3 unfinished outputs (2.0 kB)",
+            &shown(&p.out),
+            &format!(".meshmorph-{dead}-x3kQ9ae2LmZp01Tb-4.aside"),
+            "moved aside",
+        ],
     );
     let left = names(&p.out);
     for name in &stale {

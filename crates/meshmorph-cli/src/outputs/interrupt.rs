@@ -1,7 +1,11 @@
-//! SIGINT, SIGTERM and SIGHUP: an interrupted run removes what it staged
-//! and the folders it created, then exits with status 128 + the signal's
-//! number, as shells report a process the signal ended (130 for SIGINT,
-//! 143 for SIGTERM, 129 for SIGHUP).
+//! Signals that would end the process (SIGINT, SIGTERM, SIGHUP, SIGQUIT,
+//! SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGXCPU): an interrupted run
+//! removes what it staged and the folders it created, then exits with
+//! status 128 + the signal's number, as shells report a process the signal
+//! ended (130 for SIGINT, 143 for SIGTERM, 129 for SIGHUP, 131 for
+//! SIGQUIT). SIGXFSZ (a file past `ulimit -f`) does not end the run: the
+//! write fails with "File too large" and the run fails as on a full disk,
+//! removing what it staged.
 //!
 //! Writers hold [`writing`] (a shared lock) while they write one file; the
 //! handler first marks the run interrupted, so that no new write starts,
@@ -17,6 +21,8 @@ use std::sync::{Mutex, RwLock, RwLockReadGuard, RwLockWriteGuard};
 use anyhow::{bail, Result};
 
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+/// Every output of the run is in place (see [`committed`]).
+static COMMITTED: AtomicBool = AtomicBool::new(false);
 static AS_JSON: AtomicBool = AtomicBool::new(false);
 static GATE: RwLock<()> = RwLock::new(());
 static PENDING: Mutex<Option<Cleanup>> = Mutex::new(None);
@@ -54,8 +60,14 @@ pub fn install() {
 /// Calls [`on_interrupt`] from a thread of its own when a signal comes.
 #[cfg(unix)]
 fn listen() -> std::io::Result<()> {
-    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
-    let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP])?;
+    use signal_hook::consts::{
+        SIGALRM, SIGHUP, SIGINT, SIGQUIT, SIGTERM, SIGUSR1, SIGUSR2, SIGVTALRM, SIGXCPU, SIGXFSZ,
+    };
+    // Caught and ignored: the write past the limit then fails as an error.
+    signal_hook::flag::register(SIGXFSZ, std::sync::Arc::new(AtomicBool::new(false)))?;
+    let mut signals = signal_hook::iterator::Signals::new([
+        SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGXCPU,
+    ])?;
     std::thread::Builder::new()
         .name("interrupt".into())
         .spawn(move || {
@@ -88,6 +100,9 @@ fn on_interrupt(status: i32) {
             cleanup.run();
             "interrupted: this run's outputs were removed (none had been moved into place)"
         }
+        None if COMMITTED.load(Ordering::SeqCst) => {
+            "interrupted after every output of this run had been moved into place: they are all written"
+        }
         None => "interrupted: no output of the current run was written",
     };
     eprintln!("{message}");
@@ -118,6 +133,12 @@ pub(super) fn exclusive() -> Result<RwLockWriteGuard<'static, ()>> {
 /// Registers what an interrupt must undo (replacing an earlier run's).
 pub(super) fn arm(cleanup: Cleanup) {
     *PENDING.lock().unwrap_or_else(|e| e.into_inner()) = Some(cleanup);
+}
+
+/// Every output is in place: nothing to undo, and an interrupt says so.
+pub(super) fn committed() {
+    COMMITTED.store(true, Ordering::SeqCst);
+    disarm();
 }
 
 /// Nothing left to undo: committed, or already cleaned up.

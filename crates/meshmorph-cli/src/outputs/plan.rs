@@ -1,11 +1,12 @@
 //! The plan of a run: every file it reads and every file it will write,
 //! checked against each other before any work.
 
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 
-use super::resolve::Resolved;
+use super::resolve::{Resolved, Resolver};
 use super::staging::Staging;
 use super::surplus::frame_path;
 
@@ -74,18 +75,25 @@ impl Plan {
     /// # Errors
     /// Naming both paths of a clash, or the path that cannot be used.
     pub fn prepare(self) -> Result<Staging> {
-        let inputs: Vec<Resolved> = self.inputs.iter().map(|i| Resolved::new(&i.path)).collect();
+        let mut resolver = Resolver::default();
+        let inputs: Vec<Resolved> = self
+            .inputs
+            .iter()
+            .map(|i| resolver.resolve(&i.path))
+            .collect();
+        let read = Inputs::new(&inputs);
         let mut outputs: Vec<Resolved> = Vec::with_capacity(self.outputs.len());
         for out in &self.outputs {
-            let r = check_slot(out)?;
-            if let Some(k) = inputs.iter().position(|i| i.same_file(&r)) {
-                let input = &self.inputs[k];
+            let r = check_slot(out, &mut resolver)?;
+            if let Some(k) = read.find(&r) {
                 bail!(
-                    "the {} `{}` would overwrite the {} `{}`: meshmorph never writes over its inputs; choose another output path",
-                    out.role,
-                    out.path.display(),
-                    input.role,
-                    input.path.display()
+                    "{}",
+                    overwrite_message(
+                        &out.role,
+                        &out.path,
+                        &self.inputs[k].role,
+                        &self.inputs[k].path
+                    )
                 );
             }
             outputs.push(r);
@@ -95,8 +103,51 @@ impl Plan {
     }
 }
 
+/// The message refusing an output that is an input.
+pub(super) fn overwrite_message(role: &str, path: &Path, input_role: &str, input: &Path) -> String {
+    format!(
+        "the {role} `{}` would overwrite the {input_role} `{}`: meshmorph never writes over its inputs; choose another output path",
+        path.display(),
+        input.display()
+    )
+}
+
+/// Resolved files looked up by path and by device and inode, in constant
+/// time: a million frames are checked in time proportional to a million.
+#[derive(Debug, Default)]
+pub(super) struct Inputs {
+    paths: HashMap<PathBuf, usize>,
+    ids: HashMap<(u64, u64), usize>,
+}
+
+impl Inputs {
+    pub fn new(files: &[Resolved]) -> Self {
+        let mut found = Self::default();
+        for (k, f) in files.iter().enumerate() {
+            found.insert(f, k);
+        }
+        found
+    }
+
+    /// Adds `file` as the `k`-th (an earlier one of the same file stays).
+    pub fn insert(&mut self, file: &Resolved, k: usize) {
+        self.paths.entry(file.path.clone()).or_insert(k);
+        if let Some(id) = file.id {
+            self.ids.entry(id).or_insert(k);
+        }
+    }
+
+    /// The index of the file `r` is, if any (see [`Resolved::same_file`]).
+    pub fn find(&self, r: &Resolved) -> Option<usize> {
+        self.paths
+            .get(&r.path)
+            .or_else(|| r.id.and_then(|id| self.ids.get(&id)))
+            .copied()
+    }
+}
+
 /// The output's resolved path, after refusing a slot that cannot take a file.
-fn check_slot(out: &Named) -> Result<Resolved> {
+fn check_slot(out: &Named, resolver: &mut Resolver) -> Result<Resolved> {
     let path = &out.path;
     if path.file_name().is_none() || path.as_os_str().to_string_lossy().ends_with('/') {
         bail!("the {} `{}` is not a file name", out.role, path.display());
@@ -123,7 +174,7 @@ fn check_slot(out: &Named) -> Result<Resolved> {
         }
         ancestor = dir.parent();
     }
-    Ok(Resolved::new(path))
+    Ok(resolver.resolve(path))
 }
 
 /// Refuses two outputs that are one file.
@@ -160,7 +211,12 @@ fn check_distinct(named: &[Named], resolved: &[Resolved]) -> Result<()> {
 /// The folders to create for `paths` (missing ancestors, outermost first).
 pub(super) fn missing_folders(paths: &[Named]) -> Vec<PathBuf> {
     let mut missing: Vec<PathBuf> = Vec::new();
+    let mut seen: std::collections::HashSet<&Path> = std::collections::HashSet::new();
     for p in paths {
+        // Frames share their folder: each folder is looked at once.
+        if !seen.insert(p.path.parent().unwrap_or(Path::new(""))) {
+            continue;
+        }
         let mut chain = Vec::new();
         let mut dir = p.path.parent();
         while let Some(d) = dir.filter(|d| !d.as_os_str().is_empty()) {

@@ -3,6 +3,7 @@
 //! that does not exist yet, its nearest existing folder made canonical and
 //! the rest appended) and, for an existing file, its device and inode.
 
+use std::collections::HashMap;
 use std::path::{Component, Path, PathBuf};
 
 /// A path as the file system sees it.
@@ -59,6 +60,53 @@ pub fn canonical(path: &Path) -> PathBuf {
     out
 }
 
+/// Resolves many paths, most of them in a few folders (a run's frames):
+/// each folder is made canonical once, and a path that is not a symbolic
+/// link costs one `lstat`.
+#[derive(Debug, Default)]
+pub struct Resolver {
+    folders: HashMap<PathBuf, PathBuf>,
+}
+
+impl Resolver {
+    /// As [`Resolved::new`].
+    pub fn resolve(&mut self, path: &Path) -> Resolved {
+        let (Some(name), Some(parent)) = (path.file_name(), path.parent()) else {
+            return Resolved::new(path);
+        };
+        let meta = match std::fs::symlink_metadata(path) {
+            Ok(m) if m.file_type().is_symlink() => return Resolved::new(path),
+            Ok(m) => Some(m),
+            Err(_) => None,
+        };
+        if name == ".." {
+            return Resolved::new(path);
+        }
+        let folder = self.folders.entry(parent.to_path_buf()).or_insert_with(|| {
+            canonical(if parent.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                parent
+            })
+        });
+        Resolved {
+            path: folder.join(name),
+            id: meta.as_ref().and_then(metadata_id),
+        }
+    }
+}
+
+#[cfg(unix)]
+fn metadata_id(m: &std::fs::Metadata) -> Option<(u64, u64)> {
+    use std::os::unix::fs::MetadataExt as _;
+    Some((m.dev(), m.ino()))
+}
+
+#[cfg(not(unix))]
+fn metadata_id(_m: &std::fs::Metadata) -> Option<(u64, u64)> {
+    None
+}
+
 #[cfg(unix)]
 fn file_id(path: &Path) -> Option<(u64, u64)> {
     use std::os::unix::fs::MetadataExt as _;
@@ -97,6 +145,23 @@ mod tests {
             std::fs::hard_link(&a, &hard).unwrap();
             assert!(Resolved::new(&a).same_file(&Resolved::new(&hard)));
             assert!(!Resolved::new(&a).same_file(&Resolved::new(&missing)));
+        }
+        // The resolver that caches folders agrees with the one-off form.
+        let mut resolver = Resolver::default();
+        for p in [
+            &a,
+            &dotted,
+            &missing,
+            &dir.path().join("sub"),
+            &dir.path().join("sub/x"),
+        ] {
+            let (one, many) = (Resolved::new(p), resolver.resolve(p));
+            assert_eq!((one.path, one.id), (many.path, many.id), "{}", p.display());
+        }
+        #[cfg(unix)]
+        for p in [dir.path().join("link.obj"), dir.path().join("hard.obj")] {
+            let (one, many) = (Resolved::new(&p), resolver.resolve(&p));
+            assert_eq!((one.path, one.id), (many.path, many.id), "{}", p.display());
         }
     }
 }

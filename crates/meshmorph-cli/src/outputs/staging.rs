@@ -2,12 +2,13 @@
 //! moved there together by [`Staging::commit`], removed if the run fails.
 
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
-use anyhow::{anyhow, Result};
+use anyhow::{anyhow, bail, Result};
 
 use super::interrupt::{self, Cleanup};
-use super::plan::{self, Named, Output, Plan};
-use super::resolve::Resolved;
+use super::plan::{self, Inputs, Named, Output, Plan};
+use super::resolve::{Resolved, Resolver};
 use super::stale;
 use super::surplus;
 
@@ -18,8 +19,13 @@ use super::surplus;
 pub struct Staging {
     outputs: Vec<Named>,
     resolved: Vec<Resolved>,
-    inputs: Vec<Resolved>,
+    /// Every file the run reads: those of the plan, then side files
+    /// ([`Staging::also_reads`]), with their names and roles.
+    inputs: Mutex<(Vec<Resolved>, Vec<Named>)>,
     frame_folders: Vec<PathBuf>,
+    /// This run's own part of every staged name: unpredictable, so that
+    /// nothing can be planted at a staged path before the run makes it.
+    token: String,
     staged: Vec<PathBuf>,
     created: Vec<PathBuf>,
     committed: bool,
@@ -31,18 +37,20 @@ impl Staging {
     pub(super) fn new(plan: Plan, inputs: Vec<Resolved>, resolved: Vec<Resolved>) -> Result<Self> {
         interrupt::install();
         let pid = std::process::id();
+        let token = stale::token();
         let staged = plan
             .outputs
             .iter()
             .enumerate()
-            .map(|(k, o)| sibling(&o.path, &format!(".meshmorph-{pid}-{k}.part")))
+            .map(|(k, o)| sibling(&o.path, &format!(".meshmorph-{pid}-{token}-{k}.part")))
             .collect();
         let created = plan::create_folders(&plan::missing_folders(&plan.outputs))?;
         let mut staging = Self {
+            inputs: Mutex::new((inputs, plan.inputs)),
             outputs: plan.outputs,
             resolved,
-            inputs,
             frame_folders: plan.frame_folders,
+            token,
             staged,
             created,
             committed: false,
@@ -53,6 +61,37 @@ impl Staging {
         let folders: Vec<&Path> = staging.folders().into_iter().map(|(f, _)| f).collect();
         staging.warnings = stale::remove_stale(&folders);
         Ok(staging)
+    }
+
+    /// Files the run reads that the plan could not name before the meshes
+    /// were read: an OBJ's material libraries and the textures they name.
+    /// Call it before writing anything.
+    ///
+    /// # Errors
+    /// An output that is one of `paths`, naming both.
+    pub fn also_reads(&self, paths: &[PathBuf], role: &str) -> Result<()> {
+        let mut resolver = Resolver::default();
+        let mut inputs = self.inputs.lock().unwrap_or_else(|e| e.into_inner());
+        for path in paths {
+            let r = resolver.resolve(path);
+            if let Some(k) = self.resolved.iter().position(|o| o.same_file(&r)) {
+                bail!(
+                    "{}",
+                    plan::overwrite_message(
+                        &self.outputs[k].role,
+                        &self.outputs[k].path,
+                        role,
+                        path
+                    )
+                );
+            }
+            inputs.0.push(r);
+            inputs.1.push(Named {
+                path: path.clone(),
+                role: role.to_string(),
+            });
+        }
+        Ok(())
     }
 
     /// The folders of the outputs, each once (`.` for the current one),
@@ -87,11 +126,10 @@ impl Staging {
         for (folder, k) in self.folders() {
             let (named, staged) = (&self.outputs[k], &self.staged[k]);
             let _writing = interrupt::writing()?;
-            // The staged name is this run's own: a file there is replaced.
+            // Created afresh (never through a file or link already there).
             let made = std::fs::OpenOptions::new()
                 .write(true)
-                .create(true)
-                .truncate(true)
+                .create_new(true)
                 .open(staged);
             match made {
                 Ok(file) => {
@@ -143,6 +181,10 @@ impl Staging {
     /// # Errors
     /// An output that was never written, or a move the system refused.
     pub fn commit(mut self) -> Result<usize> {
+        // Another run moving outputs into one of these folders finishes
+        // first: two runs' frames never mix. Taken before the interrupt's
+        // hold, so that Ctrl-C while waiting still cleans up at once.
+        let _locks = self.lock_folders();
         let _exclusive = interrupt::exclusive()?;
         if let Some(k) = (0..self.staged.len()).find(|&k| !self.staged[k].exists()) {
             return Err(anyhow!(
@@ -152,52 +194,88 @@ impl Staging {
             ));
         }
         let pid = std::process::id();
-        // (final path, backup of the file it replaced)
-        let mut placed: Vec<(usize, Option<PathBuf>)> = Vec::new();
+        // (output, where the file it replaced is kept until every move is done)
+        let mut placed: Vec<(usize, Option<Aside>)> = Vec::with_capacity(self.staged.len());
         for k in 0..self.staged.len() {
             let target = &self.outputs[k].path;
-            let backup = sibling(target, &format!(".meshmorph-{pid}-{k}.old"));
-            let had = std::fs::symlink_metadata(target).is_ok();
             let moved = (|| {
-                if had {
-                    std::fs::rename(target, &backup)?;
-                }
-                std::fs::rename(&self.staged[k], target).inspect_err(|_| {
-                    if had {
-                        let _ = std::fs::rename(&backup, target);
+                let aside = if std::fs::symlink_metadata(target).is_ok() {
+                    Some(set_aside(
+                        target,
+                        &format!(".meshmorph-{pid}-{}-{k}", self.token),
+                    )?)
+                } else {
+                    None
+                };
+                match std::fs::rename(&self.staged[k], target) {
+                    Ok(()) => Ok(aside),
+                    Err(e) => {
+                        if let Some(a) = &aside {
+                            a.put_back(target);
+                        }
+                        Err(e)
                     }
-                })
+                }
             })();
-            if let Err(e) = moved {
-                roll_back(&self.outputs, &placed);
-                return Err(anyhow!(
-                    "moving the {} into place at `{}`: {e}; no output was changed",
-                    self.outputs[k].role,
-                    target.display()
-                ));
+            match moved {
+                Ok(aside) => placed.push((k, aside)),
+                Err(e) => {
+                    roll_back(&self.outputs, &placed);
+                    return Err(anyhow!(
+                        "moving the {} into place at `{}`: {e}; no output was changed",
+                        self.outputs[k].role,
+                        target.display()
+                    ));
+                }
             }
-            placed.push((k, had.then_some(backup)));
         }
-        for (_, backup) in &placed {
-            if let Some(b) = backup {
-                let _ = std::fs::remove_file(b);
+        for (_, aside) in &placed {
+            if let Some(a) = aside {
+                let _ = std::fs::remove_file(a.path());
             }
         }
         self.committed = true;
-        interrupt::disarm();
+        interrupt::committed();
         Ok(self.remove_surplus())
+    }
+
+    /// Holds every output folder against other runs' commits (an advisory
+    /// lock on the folder itself: no file is made for it) until dropped.
+    /// A folder that cannot be locked (a file system without locks) is
+    /// written without.
+    fn lock_folders(&self) -> Vec<std::fs::File> {
+        let mut folders: Vec<PathBuf> = self
+            .folders()
+            .into_iter()
+            .map(|(f, _)| super::resolve::canonical(f))
+            .collect();
+        // One order for every run, so that two never wait for each other.
+        folders.sort();
+        folders.dedup();
+        folders
+            .iter()
+            .filter_map(|f| {
+                let folder = std::fs::File::open(f).ok()?;
+                folder.lock().ok()?;
+                Some(folder)
+            })
+            .collect()
     }
 
     /// Frame files in the frame folders that this run did not write and
     /// that are not inputs.
     fn remove_surplus(&self) -> usize {
+        let mut keep = Inputs::new(&self.resolved);
+        {
+            let inputs = self.inputs.lock().unwrap_or_else(|e| e.into_inner());
+            for r in &inputs.0 {
+                keep.insert(r, 0);
+            }
+        }
+        let mut resolver = Resolver::default();
         let mut removed = 0;
         for dir in &self.frame_folders {
-            let keep = |p: &Path| {
-                let r = Resolved::new(p);
-                self.resolved.iter().any(|o| o.same_file(&r))
-                    || self.inputs.iter().any(|i| i.same_file(&r))
-            };
+            let keep = |p: &Path| keep.find(&resolver.resolve(p)).is_some();
             for p in surplus::surplus_frames(dir, keep) {
                 if std::fs::remove_file(&p).is_ok() {
                     removed += 1;
@@ -224,14 +302,49 @@ impl Drop for Staging {
     }
 }
 
+/// A file an output replaces, kept aside until every move is done.
+#[derive(Debug)]
+enum Aside {
+    /// A second name of the file (a hard link): the output's path is
+    /// never empty, and the link may be removed whatever happens.
+    Linked(PathBuf),
+    /// The file itself, moved (where the file system has no hard links):
+    /// until it is moved back or the output replaces it, it is the only
+    /// copy, so a later run reports it and never removes it.
+    Moved(PathBuf),
+}
+
+impl Aside {
+    fn path(&self) -> &Path {
+        match self {
+            Aside::Linked(p) | Aside::Moved(p) => p,
+        }
+    }
+
+    /// Restores the file at `target`.
+    fn put_back(&self, target: &Path) {
+        let _ = std::fs::rename(self.path(), target);
+    }
+}
+
+/// Keeps the file at `target` under `name` (`.old` for a link, `.aside`
+/// when moved) in its folder.
+fn set_aside(target: &Path, name: &str) -> std::io::Result<Aside> {
+    let linked = sibling(target, &format!("{name}.old"));
+    if std::fs::hard_link(target, &linked).is_ok() {
+        return Ok(Aside::Linked(linked));
+    }
+    let moved = sibling(target, &format!("{name}.aside"));
+    std::fs::rename(target, &moved)?;
+    Ok(Aside::Moved(moved))
+}
+
 /// Undoes the moves done so far, last first.
-fn roll_back(outputs: &[Named], placed: &[(usize, Option<PathBuf>)]) {
-    for (k, backup) in placed.iter().rev() {
+fn roll_back(outputs: &[Named], placed: &[(usize, Option<Aside>)]) {
+    for (k, aside) in placed.iter().rev() {
         let target = &outputs[*k].path;
-        match backup {
-            Some(b) => {
-                let _ = std::fs::rename(b, target);
-            }
+        match aside {
+            Some(a) => a.put_back(target),
             None => {
                 let _ = std::fs::remove_file(target);
             }

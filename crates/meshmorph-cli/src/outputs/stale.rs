@@ -1,27 +1,67 @@
-//! Staged files that a run stopped by force (SIGKILL, the out-of-memory
-//! killer, a CI timeout) could not remove: `.meshmorph-<pid>-<n>.part`, and
-//! the temporary files of atomic writes, `.meshmorph-<pid>-<random>.tmp`,
-//! whose process no longer runs. A later run into the same folder removes
-//! them.
+//! Files that a run stopped by force (SIGKILL, the out-of-memory killer, a
+//! CI timeout) could not remove: its staged outputs
+//! `.meshmorph-<pid>-<token>-<n>.part`, the temporary files of atomic
+//! writes `.meshmorph-<pid>-<random>.tmp`, and the second names
+//! `.meshmorph-<pid>-<token>-<n>.old` of files its outputs were replacing.
+//! A later run into the same folder removes those whose process no longer
+//! runs. A file moved aside where hard links are not available
+//! (`….aside`) may be the only copy of a file: it is reported, never
+//! removed.
 
+use std::hash::{BuildHasher as _, Hasher as _};
 use std::path::{Path, PathBuf};
 
-/// The process id in `name` when it is exactly a staged file's name,
-/// `.meshmorph-<process>-<output>.part` (decimal digits each), or the name
-/// of the library's temporary file of an atomic write,
-/// `.meshmorph-<process>-<letters and digits>.tmp`.
-pub fn staged_by(name: &str) -> Option<u32> {
+/// A leftover of an ended run, by the end of its name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Leftover {
+    /// `.part`, `.tmp` or `.old`: safe to remove.
+    Removable,
+    /// `.aside`: perhaps the only copy of a file.
+    Kept,
+}
+
+/// The process id in `name` when it is exactly the name of a file a run
+/// leaves while it works: `.meshmorph-<process>-<letters, digits and
+/// dashes>` then `.part`, `.tmp`, `.old` or `.aside`.
+pub fn staged_by(name: &str) -> Option<(u32, Leftover)> {
     let rest = name.strip_prefix(".meshmorph-")?;
-    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
-    let alphanumeric = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_alphanumeric());
-    let (pid, ok) = if let Some(part) = rest.strip_suffix(".part") {
-        let (pid, n) = part.split_once('-')?;
-        (pid, digits(n))
-    } else {
-        let (pid, random) = rest.strip_suffix(".tmp")?.split_once('-')?;
-        (pid, alphanumeric(random))
-    };
-    (ok && digits(pid)).then(|| pid.parse().ok()).flatten()
+    let (stem, kind) = [
+        (".part", Leftover::Removable),
+        (".tmp", Leftover::Removable),
+        (".old", Leftover::Removable),
+        (".aside", Leftover::Kept),
+    ]
+    .into_iter()
+    .find_map(|(end, kind)| rest.strip_suffix(end).map(|s| (s, kind)))?;
+    let (pid, own) = stem.split_once('-')?;
+    let digits = !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit());
+    let own_ok = !own.is_empty()
+        && !own.starts_with('-')
+        && own.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'-');
+    (digits && own_ok)
+        .then(|| pid.parse().ok())
+        .flatten()
+        .map(|pid| (pid, kind))
+}
+
+/// This run's part of its staged names: 16 letters and digits from the
+/// system's randomness (the keys of std's `RandomState`), so that no other
+/// user can know a staged name before the run makes the file.
+pub fn token() -> String {
+    let mut hasher = std::collections::hash_map::RandomState::new().build_hasher();
+    hasher.write_u32(std::process::id());
+    let mut bits = u128::from(hasher.finish());
+    let mut second = std::collections::hash_map::RandomState::new().build_hasher();
+    second.write_u64(bits as u64);
+    bits |= u128::from(second.finish()) << 64;
+    const LETTERS: &[u8] = b"abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789";
+    (0..16)
+        .map(|_| {
+            let c = LETTERS[(bits % LETTERS.len() as u128) as usize];
+            bits /= LETTERS.len() as u128;
+            c as char
+        })
+        .collect()
 }
 
 /// Whether process `pid` surely no longer runs: on Linux, `/proc` is there
@@ -35,38 +75,43 @@ fn surely_ended(pid: u32) -> bool {
     proc.join("self").exists() && !proc.join(pid.to_string()).exists()
 }
 
-/// The regular files in `dir` named as staged files of processes that no
-/// longer run, with their sizes in bytes.
-fn stale_in(dir: &Path) -> Vec<(PathBuf, u64)> {
+/// The regular files in `dir` named as leftovers of processes that no
+/// longer run, with their sizes in bytes and what to do with them.
+fn stale_in(dir: &Path) -> Vec<(PathBuf, u64, Leftover)> {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return Vec::new();
     };
-    let mut found: Vec<(PathBuf, u64)> = entries
+    let mut found: Vec<(PathBuf, u64, Leftover)> = entries
         .filter_map(Result::ok)
-        .filter(|e| {
-            e.file_name()
-                .to_str()
-                .and_then(staged_by)
-                .is_some_and(surely_ended)
+        .filter_map(|e| {
+            let (pid, kind) = e.file_name().to_str().and_then(staged_by)?;
+            surely_ended(pid).then_some((e, kind))
         })
         // Not followed: a symbolic link is not a staged file.
-        .filter_map(|e| {
+        .filter_map(|(e, kind)| {
             let m = std::fs::symlink_metadata(e.path()).ok()?;
-            m.is_file().then(|| (e.path(), m.len()))
+            m.is_file().then(|| (e.path(), m.len(), kind))
         })
         .collect();
-    found.sort();
+    found.sort_by(|a, b| a.0.cmp(&b.0));
     found
 }
 
-/// Removes the staged files of ended processes in each of `dirs`; returns
-/// a warning for each folder where it removed some.
+/// Removes the leftovers of ended processes in each of `dirs`; returns a
+/// warning for each folder where it removed some, and one for each file
+/// it keeps.
 pub fn remove_stale(dirs: &[&Path]) -> Vec<String> {
     let mut warnings = Vec::new();
     for dir in dirs {
         let (mut files, mut bytes) = (0usize, 0u64);
-        for (path, size) in stale_in(dir) {
-            if std::fs::remove_file(&path).is_ok() {
+        for (path, size, kind) in stale_in(dir) {
+            if kind == Leftover::Kept {
+                warnings.push(format!(
+                    "`{}` is a file a stopped run moved aside while replacing it (kill -9 or out of memory during its last step): if a file of yours is missing from `{}`, this is it; meshmorph leaves it there",
+                    path.display(),
+                    dir.display()
+                ));
+            } else if std::fs::remove_file(&path).is_ok() {
                 files += 1;
                 bytes += size;
             }
@@ -99,11 +144,20 @@ mod tests {
 
     #[test]
     fn only_exact_staged_names() {
-        assert_eq!(staged_by(".meshmorph-1234-0.part"), Some(1234));
-        assert_eq!(staged_by(".meshmorph-7-41.part"), Some(7));
-        assert_eq!(staged_by(".meshmorph-7-aZ09xY.tmp"), Some(7));
+        use Leftover::{Kept, Removable};
+        assert_eq!(staged_by(".meshmorph-1234-0.part"), Some((1234, Removable)));
+        assert_eq!(staged_by(".meshmorph-7-41.part"), Some((7, Removable)));
+        assert_eq!(staged_by(".meshmorph-7-aZ09xY.tmp"), Some((7, Removable)));
+        assert_eq!(
+            staged_by(".meshmorph-7-aZ09xY-12.part"),
+            Some((7, Removable))
+        );
+        assert_eq!(
+            staged_by(".meshmorph-7-aZ09xY-12.old"),
+            Some((7, Removable))
+        );
+        assert_eq!(staged_by(".meshmorph-7-aZ09xY-12.aside"), Some((7, Kept)));
         for other in [
-            ".meshmorph-1234-0.old",
             ".meshmorph-7kUIk1.tmp",
             ".meshmorph-1234.part",
             ".meshmorph--0.part",
@@ -111,10 +165,19 @@ mod tests {
             ".meshmorph-1234-0.part.bak",
             ".meshmorph-1234-a.b.tmp",
             ".meshmorph-1234-.tmp",
+            ".meshmorph-1234--x.tmp",
             "meshmorph-1234-0.part",
             ".meshmorph-99999999999-0.part",
         ] {
             assert_eq!(staged_by(other), None, "{other}");
         }
+    }
+
+    #[test]
+    fn tokens_differ_and_fit_the_names() {
+        let (a, b) = (token(), token());
+        assert_ne!(a, b);
+        assert_eq!(a.len(), 16);
+        assert!(staged_by(&format!(".meshmorph-5-{a}-3.part")).is_some());
     }
 }

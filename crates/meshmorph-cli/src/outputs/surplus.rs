@@ -26,7 +26,7 @@ pub fn is_frame_name(name: &str) -> bool {
 }
 
 /// The regular files in `dir` with frame names for which `keep` is false.
-pub fn surplus_frames(dir: &Path, keep: impl Fn(&Path) -> bool) -> Vec<PathBuf> {
+pub fn surplus_frames(dir: &Path, mut keep: impl FnMut(&Path) -> bool) -> Vec<PathBuf> {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return Vec::new();
     };

@@ -57,9 +57,12 @@ pub fn write_atomic(
         .tempfile_in(dir)
         .map_err(|e| err(without_temporary_path(e)))?;
     // From here on, dropping `temp` (on any early return) removes the file.
-    let mut writer = BufWriter::with_capacity(1 << 16, temp);
+    // Written through the plain file: `NamedTempFile`'s own writes add the
+    // temporary path to their errors (a full disk), and messages name the
+    // file asked for.
+    let mut writer = BufWriter::with_capacity(1 << 16, temp.as_file());
     f(&mut writer).map_err(err)?;
-    let temp = writer.into_inner().map_err(|e| err(e.into_error()))?;
+    writer.into_inner().map_err(|e| err(e.into_error()))?;
     temp.persist(path).map_err(|e| err(e.error))?;
     Ok(())
 }

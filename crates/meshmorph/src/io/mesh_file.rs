@@ -484,6 +484,24 @@ impl MeshFile {
             .collect()
     }
 
+    /// Every file beside this one that reading it for an output may read
+    /// or that an output keeping its materials refers to: the material
+    /// libraries ([`MeshFile::material_libraries`]) and the textures each
+    /// existing one names ([`mtl::named_files`]). A library that cannot
+    /// be read is listed without its textures.
+    pub fn side_files(&self) -> Vec<PathBuf> {
+        let mut files = Vec::new();
+        for library in self.material_libraries() {
+            let named = match super::mtl::read_text(&library) {
+                Ok(text) => super::mtl::named_files(&text, &library),
+                Err(_) => Vec::new(),
+            };
+            files.push(library);
+            files.extend(named);
+        }
+        files
+    }
+
     /// Whether every corner of every face has texture coordinates (then
     /// [`MeshFile::triangle_corner_uvs`] gives them).
     pub fn has_corner_uvs(&self) -> bool {

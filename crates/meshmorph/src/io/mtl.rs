@@ -52,8 +52,14 @@ impl MtlMaterial {
 /// [`Error::Io`] when it cannot be read; [`Error::Parse`] naming the line
 /// when a number of a statement read here is not a number.
 pub fn read_mtl(path: &Path) -> Result<Vec<MtlMaterial>> {
+    parse_mtl(&read_text(path)?, path)
+}
+
+/// The text of the material library at `path` (bytes that are not UTF-8
+/// replaced).
+pub(crate) fn read_text(path: &Path) -> Result<String> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    parse_mtl(&String::from_utf8_lossy(&bytes), path)
+    Ok(String::from_utf8_lossy(&bytes).into_owned())
 }
 
 /// Parses a material library's text; `path` names it in messages, and
@@ -149,6 +155,35 @@ pub fn parse_mtl(text: &str, path: &Path) -> Result<Vec<MtlMaterial>> {
     Ok(materials)
 }
 
+/// Every file a material library's text names (`map_Kd` and the other
+/// texture maps, `bump`, `disp`, `decal`, `refl`), resolved from the
+/// folder of `path` when relative: the files an output that keeps the
+/// library refers to, so that a run never writes over one.
+pub fn named_files(text: &str, path: &Path) -> Vec<PathBuf> {
+    let folder = path.parent().unwrap_or(Path::new(""));
+    let mut files: Vec<PathBuf> = Vec::new();
+    for line in text.lines() {
+        let line = line.split('#').next().unwrap_or("").trim();
+        let Some((keyword, rest)) = split_keyword(line) else {
+            continue;
+        };
+        let names_file =
+            keyword.starts_with("map_") || matches!(keyword, "bump" | "disp" | "decal" | "refl");
+        let file = if names_file {
+            texture_file(rest)
+        } else {
+            String::new()
+        };
+        if !file.is_empty() {
+            let file = folder.join(file);
+            if !files.contains(&file) {
+                files.push(file);
+            }
+        }
+    }
+    files
+}
+
 /// The keyword of a statement and the rest of the line, trimmed.
 fn split_keyword(line: &str) -> Option<(&str, &str)> {
     if line.is_empty() {
@@ -191,6 +226,21 @@ fn texture_file(rest: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn names_every_texture_map() {
+        let text =
+            "newmtl a\nmap_Kd -s 1 1 1 skin albedo.png\nmap_Bump -bm 0.5 n.png\nbump n.png\n\
+                    disp /abs/d.png\nrefl -type sphere r.png\nKd 1 1 1\n# map_Ks c.png\n";
+        let files = named_files(text, Path::new("/assets/head.mtl"));
+        let expect = [
+            "/assets/skin albedo.png",
+            "/assets/n.png",
+            "/abs/d.png",
+            "/assets/r.png",
+        ];
+        assert_eq!(files, expect.map(PathBuf::from));
+    }
 
     #[test]
     fn reads_colours_opacity_and_textures() {
