@@ -14,6 +14,7 @@ macro_rules! say {
     };
 }
 
+mod allocator;
 mod animation;
 mod blend;
 mod demo;
@@ -31,6 +32,9 @@ mod transfer;
 use std::process::ExitCode;
 
 use clap::{CommandFactory, Parser, Subcommand};
+
+#[global_allocator]
+static ALLOCATOR: allocator::Refusing = allocator::Refusing;
 
 /// Gradient-domain shape animation on triangle meshes.
 ///
@@ -82,6 +86,7 @@ impl Command {
 
 fn main() -> ExitCode {
     memory::share_one_heap();
+    allocator::reserve();
     let cli = Cli::parse();
     threads::start_pool();
     let json = cli.command.json();

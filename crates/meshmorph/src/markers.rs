@@ -300,17 +300,14 @@ impl Markers {
         // Markers on two copies of one vertex, to two copies of another,
         // are one marker (a pair given twice as it is stays twice, for
         // [`Markers::validate`] to refuse).
-        let mut given: Vec<[u32; 2]> = Vec::with_capacity(self.pairs.len());
+        // The pair first given for each welded pair kept (a welded pair is
+        // kept again only as an exact repeat of it): linear in the markers.
+        let mut given: HashMap<[u32; 2], [u32; 2]> = HashMap::with_capacity(self.pairs.len());
         for (k, &[s, t]) in self.pairs.iter().enumerate() {
             let pair = [source.welded(s), target.welded(t)];
-            let through_copies = out
-                .pairs
-                .iter()
-                .zip(&given)
-                .any(|(w, g)| *w == pair && *g != [s, t]);
-            if !through_copies {
+            let first = *given.entry(pair).or_insert([s, t]);
+            if first == [s, t] {
                 out.pairs.push(pair);
-                given.push([s, t]);
                 out.lines.extend(self.lines.get(k));
             }
         }

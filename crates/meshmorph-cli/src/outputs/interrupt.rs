@@ -52,7 +52,7 @@ pub fn install() {
         // Without a handler (it cannot be installed) the default action
         // still stops the run; staged files would then remain, so say so.
         if let Err(e) = listen() {
-            eprintln!("warning: cannot catch Ctrl-C ({e}): an interrupted run may leave .meshmorph-*.part files");
+            eprintln!("warning: cannot catch Ctrl-C ({e}): an interrupted run may leave its hidden unfinished files behind, which the next run into the folder removes");
         }
     });
 }
@@ -110,6 +110,34 @@ fn on_interrupt(status: i32) {
         crate::output::print_json_error(message, status);
     }
     std::process::exit(status);
+}
+
+/// Ends the run at once on a failure that cannot be returned (a failed
+/// allocation): no new write starts, the staged files and created folders
+/// are removed, `message` is said and the process exits with status 1.
+/// The interrupt's hold is not taken: the failing thread may be writing.
+pub fn abandon(message: &str) -> ! {
+    INTERRUPTED.store(true, Ordering::SeqCst);
+    let pending = match PENDING.try_lock() {
+        Ok(mut p) => p.take(),
+        Err(std::sync::TryLockError::Poisoned(e)) => e.into_inner().take(),
+        Err(std::sync::TryLockError::WouldBlock) => None,
+    };
+    let done = match pending {
+        Some(cleanup) => {
+            cleanup.run();
+            "; this run's outputs were removed (none had been moved into place)"
+        }
+        None if COMMITTED.load(Ordering::SeqCst) => {
+            "; every output of this run had been moved into place"
+        }
+        None => "",
+    };
+    eprintln!("error: {message}{done}");
+    if AS_JSON.load(Ordering::SeqCst) {
+        crate::output::print_json_error(&format!("{message}{done}"), 1);
+    }
+    std::process::exit(1);
 }
 
 /// A shared hold on writing one file; refused once the run is interrupted.

@@ -54,7 +54,7 @@ mod staging;
 mod stale;
 mod surplus;
 
-pub use interrupt::interrupted_as_json;
+pub use interrupt::{abandon, interrupted_as_json};
 pub use plan::{Output, Plan};
 pub use staging::Staging;
 pub use surplus::frame_path;

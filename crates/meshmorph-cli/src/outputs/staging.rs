@@ -359,3 +359,53 @@ fn sibling(path: &Path, name: &str) -> PathBuf {
         _ => PathBuf::from(name),
     }
 }
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_link_planted_at_a_staged_name_is_replaced_not_followed() {
+        let dir = tempfile::tempdir().unwrap();
+        let victim = dir.path().join("victim.txt");
+        std::fs::write(&victim, "precious").unwrap();
+        let mut plan = Plan::new();
+        let out = plan.file(&dir.path().join("out/a.txt"), "test output");
+        let staging = plan.prepare().unwrap();
+        staging
+            .write(out, |staged| {
+                assert!(staged.to_string_lossy().contains(&staging.token));
+                // Planted between the plan and the write: the writer's
+                // rename replaces the link.
+                std::os::unix::fs::symlink(&victim, staged).unwrap();
+                Ok(meshmorph::io::write_atomic(staged, |w| {
+                    w.write_all(b"new")
+                })?)
+            })
+            .unwrap();
+        staging.commit().unwrap();
+        assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
+        assert_eq!(
+            std::fs::read_to_string(dir.path().join("out/a.txt")).unwrap(),
+            "new"
+        );
+    }
+
+    #[test]
+    fn a_replaced_file_keeps_its_path_during_the_moves() {
+        // Kept aside as a second name: the user's path is never empty, and
+        // a failed move puts every earlier output back.
+        let dir = tempfile::tempdir().unwrap();
+        let old = dir.path().join("a.txt");
+        std::fs::write(&old, "old").unwrap();
+        let aside = set_aside(&old, ".meshmorph-1-x-0").unwrap();
+        assert!(matches!(aside, Aside::Linked(_)));
+        assert_eq!(std::fs::read_to_string(&old).unwrap(), "old");
+        assert_eq!(std::fs::read_to_string(aside.path()).unwrap(), "old");
+        std::fs::write(dir.path().join("new"), "new").unwrap();
+        std::fs::rename(dir.path().join("new"), &old).unwrap();
+        aside.put_back(&old);
+        assert_eq!(std::fs::read_to_string(&old).unwrap(), "old");
+        assert!(!aside.path().exists());
+    }
+}
