@@ -1,7 +1,7 @@
 //! The plan of a run: every file it reads and every file it will write,
 //! checked against each other before any work.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
@@ -83,8 +83,9 @@ impl Plan {
             .collect();
         let read = Inputs::new(&inputs);
         let mut outputs: Vec<Resolved> = Vec::with_capacity(self.outputs.len());
+        let mut checked = HashSet::new();
         for out in &self.outputs {
-            let r = check_slot(out, &mut resolver)?;
+            let r = check_slot(out, &mut resolver, &mut checked)?;
             if let Some(k) = read.find(&r) {
                 bail!(
                     "{}",
@@ -146,35 +147,47 @@ impl Inputs {
     }
 }
 
-/// The output's resolved path, after refusing a slot that cannot take a file.
-fn check_slot(out: &Named, resolver: &mut Resolver) -> Result<Resolved> {
+/// The output's resolved path, after refusing a slot that cannot take a
+/// file. The folders above it are looked at once per folder (`checked`):
+/// a million frames in one folder cost a million `lstat`s, no more.
+fn check_slot(
+    out: &Named,
+    resolver: &mut Resolver,
+    checked: &mut HashSet<PathBuf>,
+) -> Result<Resolved> {
     let path = &out.path;
     if path.file_name().is_none() || path.as_os_str().to_string_lossy().ends_with('/') {
         bail!("the {} `{}` is not a file name", out.role, path.display());
     }
-    if std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
+    let resolved = resolver.resolve(path);
+    // An existing file or link (with an id): is it, or does it lead to, a folder?
+    if resolved.id.is_some() && std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
         bail!(
             "the {} `{}` is a folder: meshmorph writes a file there; move the folder or choose another output",
             out.role,
             path.display()
         );
     }
-    let mut ancestor = path.parent();
-    while let Some(dir) = ancestor {
-        if let Ok(m) = std::fs::metadata(dir) {
-            if !m.is_dir() {
-                bail!(
-                    "cannot write the {} `{}`: `{}` is a file, not a folder",
-                    out.role,
-                    path.display(),
-                    dir.display()
-                );
+    let parent = path.parent().unwrap_or(Path::new(""));
+    if !checked.contains(parent) {
+        let mut ancestor = Some(parent);
+        while let Some(dir) = ancestor {
+            if let Ok(m) = std::fs::metadata(dir) {
+                if !m.is_dir() {
+                    bail!(
+                        "cannot write the {} `{}`: `{}` is a file, not a folder",
+                        out.role,
+                        path.display(),
+                        dir.display()
+                    );
+                }
+                break;
             }
-            break;
+            ancestor = dir.parent();
         }
-        ancestor = dir.parent();
+        checked.insert(parent.to_path_buf());
     }
-    Ok(resolver.resolve(path))
+    Ok(resolved)
 }
 
 /// Refuses two outputs that are one file.

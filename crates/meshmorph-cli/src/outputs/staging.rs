@@ -186,13 +186,6 @@ impl Staging {
         // hold, so that Ctrl-C while waiting still cleans up at once.
         let _locks = self.lock_folders();
         let _exclusive = interrupt::exclusive()?;
-        if let Some(k) = (0..self.staged.len()).find(|&k| !self.staged[k].exists()) {
-            return Err(anyhow!(
-                "the {} `{}` was not written",
-                self.outputs[k].role,
-                self.outputs[k].path.display()
-            ));
-        }
         let pid = std::process::id();
         // (output, where the file it replaced is kept until every move is done)
         let mut placed: Vec<(usize, Option<Aside>)> = Vec::with_capacity(self.staged.len());
@@ -221,11 +214,11 @@ impl Staging {
                 Ok(aside) => placed.push((k, aside)),
                 Err(e) => {
                     roll_back(&self.outputs, &placed);
-                    return Err(anyhow!(
-                        "moving the {} into place at `{}`: {e}; no output was changed",
-                        self.outputs[k].role,
-                        target.display()
-                    ));
+                    let (role, path) = (&self.outputs[k].role, target.display());
+                    if e.kind() == std::io::ErrorKind::NotFound && !self.staged[k].exists() {
+                        bail!("the {role} `{path}` was not written; no output was changed");
+                    }
+                    bail!("moving the {role} into place at `{path}`: {e}; no output was changed");
                 }
             }
         }

@@ -2,7 +2,7 @@
 //! rename it over the target.
 
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 
@@ -40,42 +40,106 @@ pub fn write_atomic(
         _ => Path::new("."),
     };
     let err = |e| Error::io(path, e);
-    // `.meshmorph-<process>-<random>.tmp`: the process id tells a later
-    // run whether the file's writer still runs (a writer killed by force
-    // cannot remove it).
-    let prefix = format!(".meshmorph-{}-", std::process::id());
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(&prefix).suffix(".tmp");
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt as _;
-        // The default 0o600 of temporary files would stick to the output;
-        // the umask still applies to this.
-        builder.permissions(std::fs::Permissions::from_mode(0o666));
-    }
-    let temp = builder
-        .tempfile_in(dir)
-        .map_err(|e| err(without_temporary_path(e)))?;
+    let temp = Temporary::create(dir).map_err(err)?;
     // From here on, dropping `temp` (on any early return) removes the file.
-    // Written through the plain file: `NamedTempFile`'s own writes add the
-    // temporary path to their errors (a full disk), and messages name the
-    // file asked for.
-    let mut writer = BufWriter::with_capacity(1 << 16, temp.as_file());
+    let mut writer = BufWriter::with_capacity(1 << 16, &temp.file);
     f(&mut writer).map_err(err)?;
     writer.into_inner().map_err(|e| err(e.into_error()))?;
-    temp.persist(path).map_err(|e| err(e.error))?;
+    std::fs::rename(&temp.path, path).map_err(err)?;
+    temp.kept();
     Ok(())
 }
 
-/// `e`, an error of creating the temporary file, without the temporary
-/// file's name that `tempfile` adds to it (` at path "…"`): the message
-/// names the file asked for, never a name of ours.
-fn without_temporary_path(e: std::io::Error) -> std::io::Error {
-    let text = e.to_string();
-    match text.find(" at path \"") {
-        Some(i) => std::io::Error::new(e.kind(), &text[..i]),
-        None => e,
+/// A temporary file made afresh (never through a file or link already at
+/// its name), removed when dropped unless [`Temporary::kept`].
+struct Temporary {
+    path: PathBuf,
+    file: std::fs::File,
+    keep: bool,
+}
+
+impl Temporary {
+    /// `.meshmorph-<process id>-<10 random letters and digits>.tmp` in
+    /// `dir`: the process id tells a later run whether the file's writer
+    /// still runs (a writer killed by force cannot remove it), the random
+    /// part keeps anyone from knowing the name before it is made.
+    fn create(dir: &Path) -> std::io::Result<Self> {
+        let mut options = std::fs::OpenOptions::new();
+        options.write(true).create_new(true);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::OpenOptionsExt as _;
+            // The usual permissions of a new file (the umask applies).
+            options.mode(0o666);
+        }
+        let mut last = None;
+        for _ in 0..16 {
+            let path = dir.join(format!(".meshmorph-{}-{}.tmp", process_id(), random_name()));
+            match options.open(&path) {
+                Ok(file) => {
+                    return Ok(Temporary {
+                        path,
+                        file,
+                        keep: false,
+                    })
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = Some(e),
+                Err(e) => return Err(e),
+            }
+        }
+        Err(last.expect("sixteen tries"))
     }
+
+    /// The file was moved into place: nothing to remove.
+    fn kept(mut self) {
+        self.keep = true;
+    }
+}
+
+impl Drop for Temporary {
+    fn drop(&mut self) {
+        if !self.keep {
+            let _ = std::fs::remove_file(&self.path);
+        }
+    }
+}
+
+/// This process's id, asked once (a system call each time otherwise).
+fn process_id() -> u32 {
+    static ID: std::sync::OnceLock<u32> = std::sync::OnceLock::new();
+    *ID.get_or_init(std::process::id)
+}
+
+/// 10 letters and digits from a generator seeded by the system's
+/// randomness (the keys of std's `RandomState`), one per thread.
+fn random_name() -> String {
+    use std::cell::Cell;
+    use std::hash::{BuildHasher as _, Hasher as _};
+    thread_local! {
+        static STATE: Cell<u64> = Cell::new({
+            let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+            h.write_u32(process_id());
+            h.finish() | 1
+        });
+    }
+    const LETTERS: &[u8] = b"abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789";
+    STATE.with(|state| {
+        // xorshift64*: the seed is secret, the sequence unpredictable
+        // without it.
+        let mut x = state.get();
+        x ^= x >> 12;
+        x ^= x << 25;
+        x ^= x >> 27;
+        state.set(x);
+        let mut bits = x.wrapping_mul(0x2545_F491_4F6C_DD1D);
+        (0..10)
+            .map(|_| {
+                let c = LETTERS[(bits % LETTERS.len() as u64) as usize];
+                bits /= LETTERS.len() as u64;
+                c as char
+            })
+            .collect()
+    })
 }
 
 #[cfg(test)]
