@@ -1,5 +1,6 @@
-//! SIGINT, SIGTERM and SIGHUP during a long run: the run stops (status
-//! 128 + the signal's number), removes every
+//! SIGINT, SIGTERM, SIGHUP, SIGQUIT and the other signals that would end
+//! the process, during a long run: the run stops (status 128 + the
+//! signal's number), removes every
 //! staged file and every folder it created, and leaves the files that were
 //! there before as they were.
 
@@ -127,4 +128,81 @@ fn sigterm_leaves_the_folders_as_they_were() {
 #[test]
 fn sighup_leaves_the_folders_as_they_were() {
     interrupt_a_long_run("-HUP", 129);
+}
+
+#[test]
+fn sigquit_leaves_the_folders_as_they_were() {
+    interrupt_a_long_run("-QUIT", 131);
+}
+
+#[test]
+fn sigusr1_and_sigalrm_leave_the_folders_as_they_were() {
+    interrupt_a_long_run("-USR1", 138);
+    interrupt_a_long_run("-ALRM", 142);
+}
+
+#[test]
+fn an_interrupt_during_the_final_moves_lets_them_finish_and_says_so() {
+    // The moves of many frames take a moment: a signal sent once the
+    // first frame is in place waits for the rest, and the run says that
+    // every output was written.
+    for frames in [20_000usize, 60_000, 150_000] {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        fs::write(d.join("a.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        fs::write(d.join("b.obj"), "v 0 0 0\nv 0 1 0\nv -1 0 0\nf 1 2 3\n").unwrap();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_meshmorph"))
+            .args(["interpolate", "a.obj", "b.obj", "-o", "out", "--frames"])
+            .arg(frames.to_string())
+            .current_dir(d)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let first = d.join("out").join(format!(
+            "frame_{:0w$}.obj",
+            0,
+            w = (frames - 1).to_string().len()
+        ));
+        let caught = loop {
+            if first.exists() {
+                break child.try_wait().unwrap().is_none();
+            }
+            if child.try_wait().unwrap().is_some() {
+                break false;
+            }
+            std::thread::sleep(Duration::from_micros(200));
+        };
+        if !caught {
+            let _ = child.wait();
+            continue;
+        }
+        let status = Command::new("kill")
+            .args(["-INT", &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(status.success());
+        let out = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        if out.status.success() {
+            // The signal came after the run ended.
+            continue;
+        }
+        assert_eq!(out.status.code(), Some(130), "{stderr}");
+        assert!(
+            stderr.contains("every output of this run had been moved into place"),
+            "{stderr}"
+        );
+        let names = all_names(d);
+        assert_eq!(
+            names.iter().filter(|n| n.contains("frame_")).count(),
+            frames
+        );
+        assert!(
+            !names.iter().any(|n| n.contains(".meshmorph-")),
+            "{names:?}"
+        );
+        return;
+    }
+    panic!("every run ended before the signal reached its final moves");
 }
