@@ -23,28 +23,36 @@
 //!   output folder that does not take new files (tried by creating and
 //!   removing an output's staged file there).
 //! - **All or nothing.** [`Staging::write`] hands the writer a temporary
-//!   name (`.meshmorph-<pid>-<n>.part`) in the output's own folder; nothing
-//!   at the user's path changes until [`Staging::commit`], which moves every
-//!   staged file into place (keeping the files it replaces aside until all
-//!   moves succeeded, and putting them back if one fails). A run that fails
-//!   or is dropped before committing removes its staged files and the
-//!   folders it created, and nothing else.
+//!   name (`.meshmorph-<pid>-<token>-<n>.part`, the token random for each
+//!   run) in the output's own folder; nothing at the user's path changes
+//!   until [`Staging::commit`], which moves every staged file into place
+//!   (keeping a second name of each file it replaces until all moves
+//!   succeeded, and putting them back if one fails). Nothing opens an
+//!   existing path for writing: files are created new, and reach their
+//!   names by renames. A run that fails or is dropped before committing
+//!   removes its staged files and the folders it created, and nothing
+//!   else.
+//! - **Side files.** [`Staging::also_reads`] adds the files found while
+//!   reading (material libraries, textures) to the inputs, before any write.
+//! - **One commit at a time per folder**: the moves and the sweep below
+//!   hold an advisory lock on each output folder.
 //! - **Surplus frames.** After a successful commit, files in a frame folder
 //!   named exactly as meshmorph names frames (`frame_` followed by four or
-//!   more digits, then `.obj`, `.off`, `.ply` or `.svg`) that this run did
-//!   not write are removed, so that the folder holds one animation. Inputs
-//!   and any other file are left alone.
-//! - **Interrupts.** On SIGINT, SIGTERM or SIGHUP, writes in progress
-//!   finish, then every staged file and created folder is removed and the
-//!   process exits (status 128 + the signal's number: 130, 143, 129)
-//!   saying nothing was written: an interrupted run leaves the
-//!   output folders as they were. An interrupt during the commit waits for
-//!   it (a few renames) and the finished outputs are kept.
+//!   more digits, then `.obj`, `.off`, `.ply`, `.stl` or `.svg`) that this
+//!   run did not write are removed, so that the folder holds one
+//!   animation. Inputs and any other file are left alone.
+//! - **Interrupts.** On SIGINT, SIGTERM, SIGHUP, SIGQUIT (and the other
+//!   signals that would end the process), writes in progress finish, then
+//!   every staged file and created folder is removed and the process exits
+//!   (status 128 + the signal's number) saying nothing was written: an
+//!   interrupted run leaves the output folders as they were. An interrupt
+//!   during the commit waits for it and says every output is in place. A
+//!   failed allocation ([`abandon`]) removes the staged files too.
 //! - **Forced stops.** A run killed by a signal it cannot catch (SIGKILL,
 //!   the out-of-memory killer) leaves its staged files. On Linux, a later
-//!   run removes, in each folder it writes to, the files named exactly
-//!   `.meshmorph-<pid>-<n>.part` whose process no longer runs (no
-//!   `/proc/<pid>`), and says how many and how large; elsewhere they stay.
+//!   run removes, in each folder it writes to, the staged, temporary and
+//!   second-name files whose process no longer runs (no `/proc/<pid>`),
+//!   and says how many and how large; elsewhere they stay.
 //! - **Messages name the user's path**, never a temporary one.
 
 mod interrupt;
