@@ -95,21 +95,7 @@ fn on_interrupt(status: i32) {
     INTERRUPTED.store(true, Ordering::SeqCst);
     let _exclusive = GATE.write().unwrap_or_else(|e| e.into_inner());
     let pending = PENDING.lock().unwrap_or_else(|e| e.into_inner()).take();
-    let message = match pending {
-        Some(cleanup) => {
-            cleanup.run();
-            "interrupted: this run's outputs were removed (none had been moved into place)"
-        }
-        None if COMMITTED.load(Ordering::SeqCst) => {
-            "interrupted after every output of this run had been moved into place: they are all written"
-        }
-        None => "interrupted: no output of the current run was written",
-    };
-    eprintln!("{message}");
-    if AS_JSON.load(Ordering::SeqCst) {
-        crate::output::print_json_error(message, status);
-    }
-    std::process::exit(status);
+    stop(&format!("interrupted: {}", undo(pending)), status);
 }
 
 /// Ends the run at once on a failure that cannot be returned (a failed
@@ -123,21 +109,30 @@ pub fn abandon(message: &str) -> ! {
         Err(std::sync::TryLockError::Poisoned(e)) => e.into_inner().take(),
         Err(std::sync::TryLockError::WouldBlock) => None,
     };
-    let done = match pending {
+    stop(&format!("error: {message}; {}", undo(pending)), 1);
+}
+
+/// Removes what `pending` staged; says what became of the run's outputs.
+fn undo(pending: Option<Cleanup>) -> &'static str {
+    match pending {
         Some(cleanup) => {
             cleanup.run();
-            "; this run's outputs were removed (none had been moved into place)"
+            "this run's outputs were removed (none had been moved into place)"
         }
         None if COMMITTED.load(Ordering::SeqCst) => {
-            "; every output of this run had been moved into place"
+            "every output of this run had been moved into place: they are all written"
         }
-        None => "",
-    };
-    eprintln!("error: {message}{done}");
-    if AS_JSON.load(Ordering::SeqCst) {
-        crate::output::print_json_error(&format!("{message}{done}"), 1);
+        None => "no output of the current run was written",
     }
-    std::process::exit(1);
+}
+
+/// Says `message` (also as JSON with `--json`) and exits with `status`.
+fn stop(message: &str, status: i32) -> ! {
+    eprintln!("{message}");
+    if AS_JSON.load(Ordering::SeqCst) {
+        crate::output::print_json_error(message, status);
+    }
+    std::process::exit(status);
 }
 
 /// A shared hold on writing one file; refused once the run is interrupted.

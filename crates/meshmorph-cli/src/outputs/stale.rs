@@ -8,7 +8,6 @@
 //! (`….aside`) may be the only copy of a file: it is reported, never
 //! removed.
 
-use std::hash::{BuildHasher as _, Hasher as _};
 use std::path::{Path, PathBuf};
 
 /// A leftover of an ended run, by the end of its name.
@@ -44,24 +43,10 @@ pub fn staged_by(name: &str) -> Option<(u32, Leftover)> {
         .map(|pid| (pid, kind))
 }
 
-/// This run's part of its staged names: 16 letters and digits from the
-/// system's randomness (the keys of std's `RandomState`), so that no other
-/// user can know a staged name before the run makes the file.
+/// This run's part of its staged names: no other user can know a staged
+/// name before the run makes the file.
 pub fn token() -> String {
-    let mut hasher = std::collections::hash_map::RandomState::new().build_hasher();
-    hasher.write_u32(std::process::id());
-    let mut bits = u128::from(hasher.finish());
-    let mut second = std::collections::hash_map::RandomState::new().build_hasher();
-    second.write_u64(bits as u64);
-    bits |= u128::from(second.finish()) << 64;
-    const LETTERS: &[u8] = b"abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789";
-    (0..16)
-        .map(|_| {
-            let c = LETTERS[(bits % LETTERS.len() as u128) as usize];
-            bits /= LETTERS.len() as u128;
-            c as char
-        })
-        .collect()
+    meshmorph::io::random_name(16)
 }
 
 /// Whether process `pid` surely no longer runs: on Linux, `/proc` is there

@@ -74,7 +74,11 @@ impl Temporary {
         }
         let mut last = None;
         for _ in 0..16 {
-            let path = dir.join(format!(".meshmorph-{}-{}.tmp", process_id(), random_name()));
+            let path = dir.join(format!(
+                ".meshmorph-{}-{}.tmp",
+                process_id(),
+                random_name(10)
+            ));
             match options.open(&path) {
                 Ok(file) => {
                     return Ok(Temporary {
@@ -110,9 +114,12 @@ fn process_id() -> u32 {
     *ID.get_or_init(std::process::id)
 }
 
-/// 10 letters and digits from a generator seeded by the system's
-/// randomness (the keys of std's `RandomState`), one per thread.
-fn random_name() -> String {
+/// `len` letters and digits that no one can know in advance: for the
+/// names of files made beside a user's (temporary and staged files), so
+/// that nothing can be planted at a name before it is made. From a
+/// generator per thread (xorshift64*) seeded by the system's randomness
+/// (the keys of std's `RandomState`).
+pub fn random_name(len: usize) -> String {
     use std::cell::Cell;
     use std::hash::{BuildHasher as _, Hasher as _};
     thread_local! {
@@ -123,23 +130,23 @@ fn random_name() -> String {
         });
     }
     const LETTERS: &[u8] = b"abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789";
-    STATE.with(|state| {
-        // xorshift64*: the seed is secret, the sequence unpredictable
-        // without it.
-        let mut x = state.get();
-        x ^= x >> 12;
-        x ^= x << 25;
-        x ^= x >> 27;
-        state.set(x);
-        let mut bits = x.wrapping_mul(0x2545_F491_4F6C_DD1D);
-        (0..10)
-            .map(|_| {
-                let c = LETTERS[(bits % LETTERS.len() as u64) as usize];
-                bits /= LETTERS.len() as u64;
-                c as char
-            })
-            .collect()
-    })
+    // Ten letters from each 64 random bits (62^10 < 2^64).
+    let mut name = String::with_capacity(len);
+    while name.len() < len {
+        let mut bits = STATE.with(|state| {
+            let mut x = state.get();
+            x ^= x >> 12;
+            x ^= x << 25;
+            x ^= x >> 27;
+            state.set(x);
+            x.wrapping_mul(0x2545_F491_4F6C_DD1D)
+        });
+        for _ in 0..10.min(len - name.len()) {
+            name.push(LETTERS[(bits % LETTERS.len() as u64) as usize] as char);
+            bits /= LETTERS.len() as u64;
+        }
+    }
+    name
 }
 
 #[cfg(test)]

@@ -70,7 +70,7 @@ mod triangulate;
 mod vertex_attributes;
 
 pub use appearance::Appearance;
-pub use atomic::write_atomic;
+pub use atomic::{random_name, write_atomic};
 pub use mesh_file::MeshFile;
 use vertex_attributes::VertexAttributes;
 
