@@ -587,8 +587,9 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     memory::check_reading(&read)?;
     let (source_ref, target_ref) = args.refs.read()?;
     let (source, target) = (&source_ref.mesh, &target_ref.mesh);
-    args.gltf
-        .check::<3>(Some(&target_ref.file.file), target, args.poses.len())?;
+    let image_budget =
+        args.gltf
+            .check::<3>(Some(&target_ref.file.file), target, args.poses.len())?;
     let pins = pin_positions(&args.pin, args.correspond.one_based, &target_ref)?;
 
     // Each pose is new positions for the reference's faces, split as the
@@ -683,7 +684,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         .with_name(crate::gltf::mesh_name(&args.refs.target_ref));
     let mut gltf = None;
     if let Some(output) = gltf_output {
-        let look = Appearance::of_file(&target_ref.file.file);
+        let look = Appearance::of_file(&target_ref.file.file, image_budget)?;
         let base = look.base(target.positions(), target.triangles());
         staging.write(output, |path| {
             let mut staged = args.gltf.clone();

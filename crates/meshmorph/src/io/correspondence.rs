@@ -38,10 +38,13 @@ impl Correspondence {
     /// Reads a map written by [`Correspondence::save`].
     ///
     /// # Errors
-    /// [`Error::Io`] when the file cannot be read, [`Error::Parse`] naming
-    /// the line that does not parse.
+    /// [`Error::Io`] when the file cannot be read, [`Error::FileRefused`]
+    /// when it is not a regular file or is larger than a third of the
+    /// memory available, [`Error::Parse`] naming the line that does not
+    /// parse or whose alignment is not a similarity.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let bytes = crate::io::read::read_file(path, &crate::io::read::Limit::memory())?;
+        let text = crate::io::read::utf8(bytes, path)?;
         Self::parse(&text, path)
     }
 

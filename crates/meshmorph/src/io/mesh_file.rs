@@ -268,7 +268,7 @@ impl MeshFile {
     /// # Errors
     /// As [`read_mesh_as`](super::read_mesh_as).
     pub fn read_as(path: &Path, format: Format) -> Result<Self> {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let bytes = super::read_mesh_bytes(path, format)?;
         Self::parse(bytes, format, path)
     }
 
@@ -835,7 +835,7 @@ impl MeshFile {
     /// (1.4 MB OBJ files) 0.85 of the time of [`MeshFile::read`] alone.
     pub fn read_pose(&self, path: &Path) -> Result<(Mesh3, usize)> {
         let format = Format::from_path(path)?;
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let bytes = super::read_mesh_bytes(path, format)?;
         let parsed = parse_parts(&bytes, format, path, Keep::Mesh)?;
         super::check_has_faces(path, parsed.positions.len(), parsed.faces.len())?;
         self.fit_pose(path, format, parsed.positions, &parsed.faces)

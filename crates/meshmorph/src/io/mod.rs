@@ -65,6 +65,7 @@ mod normal_groups;
 mod obj;
 mod off;
 mod ply;
+pub(crate) mod read;
 mod stl;
 mod triangulate;
 mod vertex_attributes;
@@ -72,6 +73,7 @@ mod vertex_attributes;
 pub use appearance::Appearance;
 pub use atomic::write_atomic;
 pub use mesh_file::MeshFile;
+pub use read::{available_memory, MAX_MATERIAL_LIBRARY_BYTES, MEMORY_PER_FILE_BYTE};
 use vertex_attributes::VertexAttributes;
 
 use std::fmt;
@@ -162,7 +164,9 @@ impl FromStr for Format {
 ///
 /// # Errors
 /// [`Error::UnknownFormat`] for an unknown extension, [`Error::Io`] when the
-/// file cannot be read, [`Error::Parse`] naming the file (and the line, for
+/// file cannot be read, [`Error::FileRefused`] when it is not a regular
+/// file or is larger than a third of the memory available (see
+/// [`available_memory`]), [`Error::Parse`] naming the file (and the line, for
 /// text formats) when its contents are not a valid mesh.
 pub fn read_mesh(path: &Path) -> Result<Mesh3> {
     read_mesh_as(path, Format::from_path(path)?)
@@ -171,12 +175,26 @@ pub fn read_mesh(path: &Path) -> Result<Mesh3> {
 /// Reads a triangle mesh in the given format, whatever the file's extension.
 ///
 /// # Errors
-/// [`Error::Io`] when the file cannot be read, [`Error::Parse`] naming the
+/// [`Error::Io`] when the file cannot be read, [`Error::FileRefused`] as
+/// for [`read_mesh`], [`Error::Parse`] naming the
 /// file (and the line, for text formats) when its contents are not a valid
 /// mesh.
 pub fn read_mesh_as(path: &Path, format: Format) -> Result<Mesh3> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = read_mesh_bytes(path, format)?;
     parse_mesh(&bytes, format, path)
+}
+
+/// The bytes of the mesh file `path` in `format`: a regular file, at most
+/// a third of the memory available (see [`read`]); an STL file is refused
+/// at once when its first bytes and its size say it is none (before the
+/// rest is read).
+fn read_mesh_bytes(path: &Path, format: Format) -> Result<Vec<u8>> {
+    let mut input = read::open(path)?;
+    if format == Format::Stl {
+        let len = input.len();
+        stl::check_start(input.head(stl::START)?, len, path)?;
+    }
+    input.read_to_end(&read::Limit::memory())
 }
 
 /// Parses a triangle mesh from a file's contents; `path_for_messages` only
