@@ -140,6 +140,9 @@ pub(super) struct Parsed {
     pub(super) colors: Vec<[f32; 4]>,
     /// The faces that repeat a vertex in a row, read without the repeat.
     pub(super) repeats_in_a_row: Vec<u32>,
+    /// What is odd about the file but read anyway (content past what its
+    /// header announces), each naming the file.
+    pub(super) warnings: Vec<String>,
 }
 
 /// The materials an OBJ file gives its faces: the `usemtl` names and the
@@ -184,6 +187,7 @@ impl Parsed {
             materials: FaceMaterials::default(),
             colors: Vec::new(),
             repeats_in_a_row: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 
@@ -252,6 +256,7 @@ pub struct MeshFile {
     materials: FaceMaterials,
     colors: Vec<[f32; 4]>,
     repeats_in_a_row: Vec<u32>,
+    warnings: Vec<String>,
 }
 
 impl MeshFile {
@@ -300,6 +305,7 @@ impl MeshFile {
             materials: parsed.materials,
             colors: parsed.colors,
             repeats_in_a_row: parsed.repeats_in_a_row,
+            warnings: parsed.warnings,
         };
         Ok(file)
     }
@@ -470,6 +476,14 @@ impl MeshFile {
     /// a corner of no length): each is read without the repeat.
     pub fn faces_repeating_a_vertex(&self) -> &[u32] {
         &self.repeats_in_a_row
+    }
+
+    /// What is odd about the file but was read anyway, each naming the
+    /// file: an OFF or PLY file with content past what its header
+    /// announces (more faces or elements, trailing bytes), which is
+    /// ignored (and kept as it is when the file is written back).
+    pub fn read_warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// The material libraries the file names (OBJ `mtllib`), resolved from

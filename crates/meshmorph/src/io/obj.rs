@@ -261,6 +261,18 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                             format!("`{}` is not a normal coordinate", show(tok)),
                         )
                     })?;
+                    // Refused as a vertex's: a normal is turned with the
+                    // surface and written into every frame.
+                    if !n[count].is_finite() {
+                        return Err(err(
+                            line_no,
+                            format!(
+                                "normal {} (1-based) has a coordinate that is not a finite number: `{}`",
+                                normal + 1,
+                                show(tok)
+                            ),
+                        ));
+                    }
                     let start = offset_in(bytes, tok);
                     out.patch(Patch::text(
                         start..start + tok.len(),
