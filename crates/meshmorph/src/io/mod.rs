@@ -185,17 +185,44 @@ pub fn read_mesh_as(path: &Path, format: Format) -> Result<Mesh3> {
 }
 
 /// The bytes of the mesh file `path` in `format`: a regular file, at most
-/// a third of the memory available (see [`read`]); an STL file is refused
-/// at once when its first bytes and its size say it is none (before the
-/// rest is read).
+/// a third of the memory available (see [`read`]). A file larger than its
+/// first [`START`] bytes is refused at once, before the rest is read, when
+/// they show it is not of its format: an STL file neither of the size its
+/// header gives nor beginning as an ASCII one ([`stl::check_start`]), a
+/// PLY file without `ply` on its first line, an OBJ or OFF file with a NUL
+/// byte (they are text).
 fn read_mesh_bytes(path: &Path, format: Format) -> Result<Vec<u8>> {
     let mut input = read::open(path)?;
-    if format == Format::Stl {
-        let len = input.len();
-        stl::check_start(input.head(stl::START)?, len, path)?;
+    let len = input.len();
+    let start = input.head(START)?;
+    if (start.len() as u64) < len {
+        match format {
+            Format::Stl => stl::check_start(start, len, path)?,
+            Format::Ply if Lines::new(start).next().is_none_or(|(_, l)| l != b"ply") => {
+                return Err(Error::parse(
+                    path,
+                    Some(1),
+                    "not a PLY file: the first line is not `ply`",
+                ));
+            }
+            Format::Obj | Format::Off => {
+                if let Some(at) = memchr::memchr(0, start) {
+                    return Err(Error::parse(
+                        path,
+                        Some(1 + memchr::memchr_iter(b'\n', &start[..at]).count()),
+                        format!("not a text file: byte {at} is 0 (an {format} file is text)"),
+                    ));
+                }
+            }
+            Format::Ply => {}
+        }
     }
     input.read_to_end(&read::Limit::memory())
 }
+
+/// How many first bytes of a mesh file [`read_mesh_bytes`] looks at before
+/// reading the rest.
+const START: usize = 64 << 10;
 
 /// Parses a triangle mesh from a file's contents; `path_for_messages` only
 /// names the source in error messages.

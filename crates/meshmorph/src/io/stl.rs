@@ -62,21 +62,13 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     Ok(out)
 }
 
-/// How many first bytes of a file [`check_start`] looks at.
-pub(super) const START: usize = 64 << 10;
-
 /// Refuses at once (before the rest is read) a file of `len` bytes that
-/// begins with `start` (its first [`START`] bytes, or all of it) and is no
-/// STL: neither of the size of a binary file (84 + 50 bytes per facet the
-/// header counts) nor beginning as an ASCII one (`solid`, then `facet` or
-/// `endsolid` in its first [`START`] bytes). What is refused here is what
-/// [`parse`] would refuse once the whole file is read, with the same
-/// message.
+/// begins with `start` (some kilobytes, less than the whole file) and is
+/// no STL: neither of the size of a binary file (84 + 50 bytes per facet
+/// the header counts) nor beginning as an ASCII one (`solid`, then `facet`
+/// or `endsolid` in `start`). What is refused here is what [`parse`] would
+/// refuse once the whole file is read, with the same message.
 pub(super) fn check_start(start: &[u8], len: u64, path: &Path) -> Result<()> {
-    if start.len() as u64 >= len {
-        // The whole file: parsing says what it is.
-        return Ok(());
-    }
     let count = (start.len() >= HEADER)
         .then(|| u32::from_le_bytes([start[80], start[81], start[82], start[83]]));
     if count.is_some_and(|n| HEADER as u64 + FACET as u64 * u64::from(n) == len) {
