@@ -17,6 +17,17 @@
 //!   ([`Correspondence::save`](crate::Correspondence::save) and
 //!   [`Correspondence::load`](crate::Correspondence::load)).
 //!
+//! Every file is read whole, from regular files only (links followed): a
+//! folder, a FIFO or a device (`/dev/zero`) is refused naming it and what
+//! it is, without waiting on it ([`Error::FileRefused`]). Sizes are checked
+//! before and while reading: a mesh, marker or correspondence file may take
+//! a third of the memory available ([`available_memory`],
+//! [`MEMORY_PER_FILE_BYTE`]), a material library
+//! [`MAX_MATERIAL_LIBRARY_BYTES`], textures what the GLB may still take
+//! ([`Appearance::of_file`]); a mesh file larger than 64 KiB that its first
+//! 64 KiB show is not of its format (an STL of neither the binary size nor
+//! ASCII text, say) is refused before the rest is read.
+//!
 //! Reading accepts:
 //!
 //! - **OBJ**: `v x y [z] [w]` (z is 0 in a planar file, whose vertices all
