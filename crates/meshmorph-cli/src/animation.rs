@@ -250,6 +250,9 @@ pub struct Run<'a> {
     pub file: Option<&'a WeldedFile>,
     /// Warnings of reading the keys, reported with the run's.
     pub read_warnings: &'a [String],
+    /// The bytes the GLB's textures may take (see
+    /// [`GltfArgs::check`](crate::gltf::GltfArgs::check)).
+    pub image_budget: u64,
 }
 
 /// Writes every frame of `morph` at the run's times (and the pictures
@@ -272,6 +275,7 @@ where
         start,
         file,
         read_warnings,
+        image_budget,
     } = *run;
     crate::memory::check_frames_in_flight(
         morph.num_vertices(),
@@ -359,7 +363,7 @@ where
     )?);
     // The first key's looks for the GLB, when it comes from a file.
     let look = match (outputs.gltf, file) {
-        (Some(_), Some(file)) => Appearance::of_file(&file.file),
+        (Some(_), Some(file)) => Appearance::of_file(&file.file, image_budget)?,
         _ => Appearance::default(),
     };
     if let Some(output) = outputs.gltf {

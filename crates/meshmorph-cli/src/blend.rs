@@ -231,11 +231,11 @@ pub fn run(args: &Args) -> Result<()> {
         .collect();
     let planar = output::is_planar(args.dim, &meshes, |k| format!("`{}`", paths[k].display()))?;
     let triangles = base.num_triangles();
-    if planar {
-        args.gltf.check::<2>(Some(&base_file.file), &base, STEPS)?;
+    let image_budget = if planar {
+        args.gltf.check::<2>(Some(&base_file.file), &base, STEPS)?
     } else {
-        args.gltf.check::<3>(Some(&base_file.file), &base, STEPS)?;
-    }
+        args.gltf.check::<3>(Some(&base_file.file), &base, STEPS)?
+    };
     memory::check_setup(triangles, "the blend")?;
     memory::check_sequence(triangles, shapes.len())?;
     let options = InterpolatorOptions::default()
@@ -247,6 +247,7 @@ pub fn run(args: &Args) -> Result<()> {
         staging: &staging,
         options: &options,
         file: (&base_file, format),
+        image_budget,
     };
     let blended = if planar {
         let base = base.to_2d()?;
@@ -300,6 +301,9 @@ struct BlendRun<'a> {
     options: &'a InterpolatorOptions,
     /// The base's file, and the format of the output.
     file: (&'a WeldedFile, Format),
+    /// The bytes the GLB's textures may take (see
+    /// [`GltfArgs::check`](crate::gltf::GltfArgs::check)).
+    image_budget: u64,
 }
 
 /// What the report says of a blend written.
@@ -330,6 +334,7 @@ where
         staging,
         options,
         file: (file, format),
+        image_budget,
     } = *run;
     let context = || format!("blending `{}`", args.base.display());
     let setup = Instant::now();
@@ -381,7 +386,7 @@ where
         let options = GltfOptions::default()
             .with_fps(args.fps)
             .with_name(crate::gltf::mesh_name(&args.base));
-        let look = Appearance::of_file(&file.file);
+        let look = Appearance::of_file(&file.file, image_budget)?;
         warnings.extend(look.warnings.iter().cloned());
         let gltf_base = look.base(base.positions(), triangles);
         staging.write(output, |p| {

@@ -34,15 +34,19 @@ impl GltfArgs {
     /// Refuses, before any work, a GLB that would weigh more than
     /// `--max-gltf-mb`: `frames` frames of `mesh` (read from `file`, whose
     /// texture coordinates, hard edges and colours split its vertices in
-    /// the GLB as they will be written), with `D` coordinates.
+    /// the GLB as they will be written, and whose colour textures it
+    /// embeds), with `D` coordinates. Returns the bytes the textures may
+    /// take when they are read ([`Appearance::of_file`]): the limit less
+    /// the rest of the file, so that a texture that grows in the meantime
+    /// is refused too.
     pub fn check<const D: usize>(
         &self,
         file: Option<&MeshFile>,
         mesh: &Mesh3,
         frames: usize,
-    ) -> Result<()> {
+    ) -> Result<u64> {
         let Some(path) = &self.gltf else {
-            return Ok(());
+            return Ok(0);
         };
         // The corners decide the vertices; the materials need not be read.
         let look = file.map(Appearance::of_corners).unwrap_or_default();
@@ -54,11 +58,21 @@ impl GltfArgs {
             frames,
             base.corner_uvs.is_some(),
         );
-        let mb = bytes as f64 / 1e6;
+        let textures = file.map_or(0, Appearance::texture_bytes);
+        let total = bytes.saturating_add(textures);
+        let mb = total as f64 / 1e6;
         if mb > self.max_gltf_mb {
+            let (texture_part, smaller) = if textures > 0 {
+                (
+                    format!(", and {:.0} MB of textures", textures as f64 / 1e6),
+                    "use smaller textures, ",
+                )
+            } else {
+                (String::new(), "")
+            };
             bail!(
                 "--gltf `{}` would weigh about {mb:.0} MB ({frames} frames x {vertices} vertices x {} bytes, \
-                 plus the base mesh), over the limit of {} MB: write fewer frames, or raise the limit \
+                 plus the base mesh{texture_part}), over the limit of {} MB: write fewer frames, {smaller}or raise the limit \
                  with --max-gltf-mb {}",
                 path.display(),
                 if D == 3 { 24 } else { 12 },
@@ -66,7 +80,12 @@ impl GltfArgs {
                 mb.ceil()
             );
         }
-        Ok(())
+        Ok(self.max_bytes().saturating_sub(bytes))
+    }
+
+    /// `--max-gltf-mb` in bytes.
+    fn max_bytes(&self) -> u64 {
+        (self.max_gltf_mb * 1e6) as u64
     }
 
     /// Writes the GLB asked for, if any, and returns its path.

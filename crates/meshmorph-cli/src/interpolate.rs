@@ -324,14 +324,14 @@ pub fn animate(
     let (file, read_warnings, keys) = (keys.file, keys.warnings, keys.meshes);
     let first = &keys[0];
     let look_of = file.map(|f| &f.file);
-    if planar {
-        args.gltf.check::<2>(look_of, first, times.len())?;
+    let image_budget = if planar {
+        args.gltf.check::<2>(look_of, first, times.len())?
     } else {
         if args.svg {
             bail!("--svg draws planar frames only: use --gif, --png or --gltf for meshes in space");
         }
-        args.gltf.check::<3>(look_of, first, times.len())?;
-    }
+        args.gltf.check::<3>(look_of, first, times.len())?
+    };
     if args.turns != 0 && !(planar && keys.len() == 2) {
         bail!(
             "--turns applies to two planar keys only: in space there is no common axis to turn about, and a sequence's whole turns come from its keys"
@@ -346,6 +346,7 @@ pub fn animate(
         start,
         file,
         read_warnings,
+        image_budget,
     };
     let begin = Instant::now();
     let unused_vertices = first.num_unused_vertices();

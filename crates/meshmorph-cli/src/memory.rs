@@ -6,6 +6,7 @@ use std::path::Path;
 
 use anyhow::{bail, Result};
 use meshmorph::io::gltf::FRAMES_IN_FLIGHT_PER_THREAD;
+use meshmorph::io::MEMORY_PER_FILE_BYTE;
 
 /// Makes every thread allocate from one heap (glibc's `M_ARENA_MAX` of 1).
 /// By default each thread that allocates gets an arena of its own, and
@@ -25,17 +26,10 @@ pub fn share_one_heap() {
 
 /// Bytes a run may still allocate: the smaller of the memory the system
 /// reports available (`MemAvailable` on Linux) and what the address-space
-/// limit (`ulimit -v`) leaves; `None` where neither is known.
+/// limit (`ulimit -v`) leaves; `None` where neither is known (the figure
+/// the library bounds its reads by: [`meshmorph::io::available_memory`]).
 pub fn available() -> Option<u64> {
-    let system = read_kib("/proc/meminfo", "MemAvailable:");
-    let limit = address_space_limit().map(|limit| {
-        let used = read_kib("/proc/self/status", "VmSize:").unwrap_or(0);
-        limit.saturating_sub(used)
-    });
-    match (system, limit) {
-        (Some(a), Some(b)) => Some(a.min(b)),
-        (a, b) => a.or(b),
-    }
+    meshmorph::io::available_memory()
 }
 
 /// Refuses to go on when `bytes` (what `what` needs) exceeds [`available`].
@@ -56,14 +50,21 @@ pub fn check(bytes: u64, what: &str) -> Result<()> {
 }
 
 /// Reading meshes: the file's bytes, then the parsed positions and
-/// triangles (smaller than the text; a binary PLY's are about its size).
+/// triangles (smaller than the text; a binary PLY's are about its size),
+/// [`MEMORY_PER_FILE_BYTE`] times the bytes of the regular files among
+/// `paths` (the library refuses the others when it reads them, and bounds
+/// each read by the same figure).
 pub fn check_reading(paths: &[&Path]) -> Result<()> {
     let bytes: u64 = paths
         .iter()
         .filter_map(|p| std::fs::metadata(p).ok())
+        .filter(std::fs::Metadata::is_file)
         .map(|m| m.len())
-        .sum();
-    check(bytes.saturating_mul(3), "reading the meshes")
+        .fold(0, u64::saturating_add);
+    check(
+        bytes.saturating_mul(MEMORY_PER_FILE_BYTE),
+        "reading the meshes",
+    )
 }
 
 /// Bytes per triangle of a solver setup (interpolation or transfer),
@@ -133,25 +134,6 @@ fn human_bytes(b: u64) -> String {
     } else {
         format!("{:.0} MB", (b / 1e6).max(1.0))
     }
-}
-
-/// A `Key: N kB` line of a /proc file, in bytes.
-fn read_kib(file: &str, key: &str) -> Option<u64> {
-    let text = std::fs::read_to_string(file).ok()?;
-    let line = text.lines().find(|l| l.starts_with(key))?;
-    let kib: u64 = line[key.len()..].split_whitespace().next()?.parse().ok()?;
-    Some(kib * 1024)
-}
-
-/// The soft `Max address space` of /proc/self/limits, when not unlimited.
-fn address_space_limit() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/self/limits").ok()?;
-    let line = text.lines().find(|l| l.starts_with("Max address space"))?;
-    line["Max address space".len()..]
-        .split_whitespace()
-        .next()?
-        .parse()
-        .ok()
 }
 
 #[cfg(test)]

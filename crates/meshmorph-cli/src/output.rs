@@ -228,7 +228,8 @@ fn numbering(file: &MeshFile) -> (u64, &'static str) {
 /// What is odd about a file's surface, as warnings: faces that fold onto
 /// others ([`folds_warning`]), faces that list a vertex twice in a row.
 pub fn surface_warnings(file: &MeshFile) -> Vec<String> {
-    let mut warnings: Vec<String> = folds_warning(file).into_iter().collect();
+    let mut warnings: Vec<String> = file.read_warnings().to_vec();
+    warnings.extend(folds_warning(file));
     let repeats = file.faces_repeating_a_vertex();
     if let Some(&first) = repeats.first() {
         let (base, words) = numbering(file);

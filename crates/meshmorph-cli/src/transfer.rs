@@ -595,8 +595,9 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     output::protect_side_files(&staging, &source_ref.file.file, "source reference")?;
     output::protect_side_files(&staging, &target_ref.file.file, "target reference")?;
     let (source, target) = (&source_ref.mesh, &target_ref.mesh);
-    args.gltf
-        .check::<3>(Some(&target_ref.file.file), target, args.poses.len())?;
+    let image_budget =
+        args.gltf
+            .check::<3>(Some(&target_ref.file.file), target, args.poses.len())?;
     let pins = pin_positions(&args.pin, args.correspond.one_based, &target_ref)?;
 
     // Each pose is new positions for the reference's faces, split as the
@@ -691,7 +692,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         .with_name(crate::gltf::mesh_name(&args.refs.target_ref));
     let mut gltf = None;
     if let Some(output) = gltf_output {
-        let look = Appearance::of_file(&target_ref.file.file);
+        let look = Appearance::of_file(&target_ref.file.file, image_budget)?;
         let base = look.base(target.positions(), target.triangles());
         staging.write(output, |path| {
             let mut staged = args.gltf.clone();

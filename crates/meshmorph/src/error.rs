@@ -33,8 +33,18 @@ pub enum Error {
         message: String,
     },
 
+    /// A file that is not read: not a regular file (a folder, a FIFO, a
+    /// device such as `/dev/zero`), or larger than what it may hold.
+    #[error("`{}`: {message}", path.display())]
+    FileRefused {
+        /// The file.
+        path: PathBuf,
+        /// What it is, or how large, and the limit.
+        message: String,
+    },
+
     /// A file whose extension names no format meshmorph knows.
-    #[error("`{}`: {}", path.display(), if path.is_dir() { "a folder, not a mesh file" } else { "unknown mesh format (expected .obj, .off, .ply or .stl)" })]
+    #[error("`{}`: {}", path.display(), unknown_format(path))]
     UnknownFormat {
         /// The file.
         path: PathBuf,
@@ -154,6 +164,18 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 /// How many indices an error message lists before "...".
 pub(crate) const LIST_LIMIT: usize = 5;
+
+/// Why a path names no mesh file: what it is when it is not a regular
+/// file (a folder, a device, ...), else its extension.
+fn unknown_format(path: &std::path::Path) -> String {
+    match std::fs::metadata(path)
+        .ok()
+        .and_then(|m| crate::io::read::not_a_file(&m))
+    {
+        Some(what) => format!("{what}, not a mesh file"),
+        None => "unknown mesh format (expected .obj, .off, .ply or .stl)".to_string(),
+    }
+}
 
 fn plural(n: usize) -> &'static str {
     if n == 1 {

@@ -534,7 +534,7 @@ fn obj_materials_and_textures_are_carried() {
     let dir = tempfile::tempdir().unwrap();
     let obj = write_looks(dir.path(), true);
     let file = MeshFile::read(&obj).unwrap();
-    let look = Appearance::of_file(&file);
+    let look = Appearance::of_file(&file, u64::MAX).unwrap();
     assert!(look.warnings.is_empty(), "{:?}", look.warnings);
     let positions = file.mesh().positions();
     let frame: Vec<[f64; 3]> = positions
@@ -602,7 +602,7 @@ fn missing_textures_and_undefined_materials_are_warned_of() {
         .replace("usemtl Glass", "usemtl Gold");
     std::fs::write(&obj, text).unwrap();
     let file = MeshFile::read(&obj).unwrap();
-    let look = Appearance::of_file(&file);
+    let look = Appearance::of_file(&file, u64::MAX).unwrap();
     let all = look.warnings.join("\n");
     assert!(all.contains("skin.png") && all.contains("`Skin`"), "{all}");
     assert!(all.contains("`Gold`") && all.contains("grey"), "{all}");
@@ -656,7 +656,7 @@ fn vertex_colours_of_ply_obj_and_off_become_color_0() {
                 assert!((c[k] - want[k]).abs() < 1e-6, "{}: {c:?}", path.display());
             }
         }
-        let look = Appearance::of_file(&file);
+        let look = Appearance::of_file(&file, u64::MAX).unwrap();
         assert!(look.warnings.is_empty(), "{:?}", look.warnings);
         let base = look.base(file.mesh().positions(), file.mesh().triangles());
         let bytes = glb(
@@ -713,7 +713,7 @@ fn flat_shaded_faces_keep_their_own_normals_even_when_they_share_one_vn() {
             .join(format!("{}.obj", shading.replace(' ', "_")));
         std::fs::write(&path, format!("{body}{shading}\n{faces}")).unwrap();
         let file = MeshFile::read(&path).unwrap();
-        let look = Appearance::of_file(&file);
+        let look = Appearance::of_file(&file, u64::MAX).unwrap();
         // The second quad folded up about x = 1.
         let folded: Vec<[f64; 3]> = file
             .mesh()
@@ -764,7 +764,7 @@ fn one_vn_per_corner_with_equal_values_stays_smooth() {
     )
     .unwrap();
     let file = MeshFile::read(&path).unwrap();
-    let look = Appearance::of_file(&file);
+    let look = Appearance::of_file(&file, u64::MAX).unwrap();
     let base = look.base(file.mesh().positions(), file.mesh().triangles());
     let back = read_back(
         &glb(

@@ -1534,3 +1534,62 @@ fn planar_obj_lines_stay_planar_unless_the_shape_leaves_the_plane() {
     // Read back: a file never mixes 2 and 3 coordinates.
     assert_eq!(read_mesh(&out).unwrap().positions()[1], [1.0, 0.0, 0.25]);
 }
+
+/// OFF and PLY files with more than their header announces are read as
+/// the header says, with a warning naming the file and where the rest
+/// begins.
+#[test]
+fn content_past_the_header_counts_is_read_with_a_warning() {
+    let warnings = |bytes: &[u8], format: Format| {
+        let path = PathBuf::from(format!("extra.{format}"));
+        MeshFile::parse(bytes.to_vec(), format, &path)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .read_warnings()
+            .to_vec()
+    };
+    // OBJ normals that are not numbers (exporters write them for faces of
+    // no area) are read, and said.
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn nan 0 1\nvn 0 inf 1\nf 1//2 2//3 3//1\n";
+    let w = warnings(obj.as_bytes(), Format::Obj);
+    assert!(
+        w.len() == 1 && w[0].contains("`extra.obj`, line 5: 2 normals (`vn`) with a coordinate that is not a finite number (the first is normal 2"),
+        "{w:?}"
+    );
+    let off = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    assert!(warnings(off.as_bytes(), Format::Off).is_empty());
+    let w = warnings(
+        format!("{off}3 0 2 1\n# end\n\n3 1 2 0\n").as_bytes(),
+        Format::Off,
+    );
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains("`extra.off`, line 7: 2 more lines")
+            && w[0].contains("1 faces that line 2 announces"),
+        "{w:?}"
+    );
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+               element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0\n1 0\n0 1\n3 0 1 2\n";
+    assert!(warnings(ply.as_bytes(), Format::Ply).is_empty());
+    let w = warnings(format!("{ply}3 0 2 1\n").as_bytes(), Format::Ply);
+    assert!(
+        w[0].contains("`extra.ply`, line 13: 1 more line after"),
+        "{w:?}"
+    );
+    let mut binary = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n\
+                       property float y\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+        .to_vec();
+    for x in [0.0f32, 0.0, 1.0, 0.0, 0.0, 1.0] {
+        binary.extend(x.to_le_bytes());
+    }
+    binary.push(3);
+    for i in [0i32, 1, 2] {
+        binary.extend(i.to_le_bytes());
+    }
+    assert!(warnings(&binary, Format::Ply).is_empty());
+    binary.extend([0; 7]);
+    let w = warnings(&binary, Format::Ply);
+    assert!(
+        w[0].contains("`extra.ply`: 7 bytes after the elements"),
+        "{w:?}"
+    );
+}

@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 
 use super::gltf::{GltfBase, GltfImage, GltfMaterial, GltfMaterials};
 use super::mtl::{read_mtl, MtlMaterial};
+use super::read::{human_bytes, Limit};
 use super::MeshFile;
+use crate::error::{Error, Result};
 
 /// The colour of faces without a material, or with one no library defines:
 /// the grey Blender shows them in.
@@ -56,11 +58,20 @@ impl Appearance {
     }
 
     /// The looks of `file`, reading its material libraries and their
-    /// colour textures (PNG or JPEG, embedded as they are).
-    pub fn of_file(file: &MeshFile) -> Self {
+    /// colour textures (PNG or JPEG, embedded as they are), which may take
+    /// `max_image_bytes` together (what the GLB may still take besides its
+    /// mesh: see [`Appearance::texture_bytes`]). A library or a texture
+    /// that cannot be read (missing, not a regular file, ...) is left out
+    /// with a warning.
+    ///
+    /// # Errors
+    /// [`Error::FileRefused`] naming the texture that brings the images
+    /// past `max_image_bytes`: its size says so before it is read, or it
+    /// grows past them while it is read.
+    pub fn of_file(file: &MeshFile, max_image_bytes: u64) -> Result<Self> {
         let mut look = Self::of_corners(file);
         if let Some((names, of_triangle)) = file.triangle_materials() {
-            look.add_materials(file, names, &of_triangle);
+            look.add_materials(file, names, &of_triangle, max_image_bytes)?;
         }
         let dropped: Vec<&str> = file
             .extras()
@@ -84,7 +95,40 @@ impl Appearance {
                 file.path().display()
             ));
         }
-        look
+        Ok(look)
+    }
+
+    /// The bytes of the colour textures that [`Appearance::of_file`] would
+    /// embed in a GLB of `file`, from their sizes (nothing is read of them;
+    /// the material libraries are read): to count them against a limit on
+    /// the GLB before any work. Textures that cannot be read count 0 (they
+    /// are left out).
+    pub fn texture_bytes(file: &MeshFile) -> u64 {
+        if file.triangle_corner_uvs().is_none() {
+            return 0;
+        }
+        let Some((names, of_triangle)) = file.triangle_materials() else {
+            return 0;
+        };
+        let defined: Vec<MtlMaterial> = file
+            .material_libraries()
+            .iter()
+            .filter_map(|library| read_mtl(library).ok())
+            .flatten()
+            .collect();
+        let mut textures: Vec<&Path> = of_triangle
+            .iter()
+            .flatten()
+            .filter_map(|&m| defined.iter().find(|d| d.name == names[m as usize]))
+            .filter_map(|d| d.diffuse_map.as_deref())
+            .collect();
+        textures.sort_unstable();
+        textures.dedup();
+        textures
+            .iter()
+            .filter_map(|path| super::read::open(path).ok())
+            .map(|input| input.len())
+            .fold(0, u64::saturating_add)
     }
 
     /// The base mesh of a GLB with these looks.
@@ -116,7 +160,14 @@ impl Appearance {
     /// The materials `names` that faces use, from the file's libraries, and
     /// each triangle's; faces before any `usemtl` take a grey material of
     /// their own.
-    fn add_materials(&mut self, file: &MeshFile, names: &[String], of_triangle: &[Option<u32>]) {
+    fn add_materials(
+        &mut self,
+        file: &MeshFile,
+        names: &[String],
+        of_triangle: &[Option<u32>],
+        max_image_bytes: u64,
+    ) -> Result<()> {
+        let mut images_left = max_image_bytes;
         let mut defined: Vec<MtlMaterial> = Vec::new();
         let libraries = file.material_libraries();
         for library in &libraries {
@@ -142,7 +193,7 @@ impl Appearance {
             }
             index_of[k] = self.materials.len() as u32;
             let material = match defined.iter().find(|m| &m.name == name) {
-                Some(m) => self.material_of(m, file.path(), &mut image_paths),
+                Some(m) => self.material_of(m, file.path(), &mut image_paths, &mut images_left)?,
                 None => {
                     if libraries.is_empty() || !defined.is_empty() {
                         self.warnings.push(format!(
@@ -163,15 +214,18 @@ impl Appearance {
             .iter()
             .map(|m| m.map_or(unnamed, |m| index_of[m as usize]))
             .collect();
+        Ok(())
     }
 
-    /// A GLB material of an MTL one, its colour texture read once per file.
+    /// A GLB material of an MTL one, its colour texture read once per file
+    /// (taking its bytes from `images_left`).
     fn material_of(
         &mut self,
         m: &MtlMaterial,
         obj: &Path,
         image_paths: &mut Vec<PathBuf>,
-    ) -> GltfMaterial {
+        images_left: &mut u64,
+    ) -> Result<GltfMaterial> {
         let mut image = None;
         if let Some(path) = &m.diffuse_map {
             if self.corner_uvs.is_none() {
@@ -184,7 +238,7 @@ impl Appearance {
             } else if let Some(i) = image_paths.iter().position(|p| p == path) {
                 image = Some(i);
             } else {
-                match std::fs::read(path).map(GltfImage::from_bytes) {
+                match read_texture(path, &m.name, images_left)? {
                     Ok(Some(img)) => {
                         self.images.push(img);
                         image_paths.push(path.clone());
@@ -196,9 +250,10 @@ impl Appearance {
                         m.name
                     )),
                     Err(e) => self.warnings.push(format!(
-                        "the texture `{}` of material `{}` is not in the GLB: {e}",
+                        "the texture `{}` of material `{}` is not in the GLB: {}",
                         path.display(),
-                        m.name
+                        m.name,
+                        without_path(&e)
                     )),
                 }
             }
@@ -206,13 +261,53 @@ impl Appearance {
         // With a texture, the texture is the colour (as Blender's importer
         // shows it), kept translucent by the opacity.
         let [r, g, b] = if image.is_some() { [1.0; 3] } else { m.diffuse };
-        GltfMaterial {
+        Ok(GltfMaterial {
             name: m.name.clone(),
             base_color: [r, g, b, m.opacity],
             metallic: m.metallic.unwrap_or(0.0),
             roughness: m.roughness.unwrap_or(0.5),
             image,
-        }
+        })
+    }
+}
+
+/// The texture at `path` (of the material `material`) as an image, taking
+/// its bytes from `left`: `Ok(Err(e))` when it cannot be read (left out
+/// with a warning), `Ok(Ok(None))` when it is no PNG or JPEG.
+///
+/// # Errors
+/// [`Error::FileRefused`] when it holds more than `left` bytes.
+fn read_texture(
+    path: &Path,
+    material: &str,
+    left: &mut u64,
+) -> Result<std::result::Result<Option<GltfImage>, Error>> {
+    let input = match super::read::open(path) {
+        Ok(input) => input,
+        Err(e) => return Ok(Err(e)),
+    };
+    let limit = Limit {
+        bytes: *left,
+        why: format!(
+            "the {} left for the images of the GLB (the texture of material `{material}`)",
+            human_bytes(*left)
+        ),
+    };
+    let bytes = match input.read_to_end(&limit) {
+        Ok(bytes) => bytes,
+        Err(e @ Error::FileRefused { .. }) => return Err(e),
+        Err(e) => return Ok(Err(e)),
+    };
+    *left -= bytes.len() as u64;
+    Ok(Ok(GltfImage::from_bytes(bytes)))
+}
+
+/// What `e`, an error reading a file named beside it, says of it.
+fn without_path(e: &Error) -> String {
+    match e {
+        Error::Io { error, .. } => error.to_string(),
+        Error::FileRefused { message, .. } => message.clone(),
+        other => other.to_string(),
     }
 }
 

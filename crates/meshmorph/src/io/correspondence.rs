@@ -9,6 +9,51 @@ use crate::similarity::Similarity;
 
 const MAGIC: &str = "meshmorph-correspondence 1";
 
+/// The range of an alignment's scale: nine orders of magnitude either
+/// way, past any change of units between two models of one thing
+/// (nanometres to metres), while the squares of lengths (areas) stay
+/// twelve orders of magnitude or more inside what an `f64` holds, so the
+/// aligned source keeps its triangles.
+const SCALES: std::ops::RangeInclusive<f64> = 1e-9..=1e9;
+
+/// How far from orthonormal a rotation may be (the largest entry of
+/// $R R^T - I$): rotations written with 6 significant digits pass, a
+/// matrix that stretches or shears does not.
+const ORTHONORMAL_TOLERANCE: f64 = 1e-5;
+
+/// Why `a` is not an alignment a transfer can apply: a scale out of
+/// [`SCALES`], a rotation that is not orthonormal (within
+/// [`ORTHONORMAL_TOLERANCE`]) or that mirrors.
+fn check_alignment(a: &Similarity) -> std::result::Result<(), String> {
+    if !SCALES.contains(&a.scale) {
+        return Err(format!(
+            "the alignment's scale {:e} is out of the range {:e} to {:e}: this file was not written by `meshmorph correspond` (or was edited); make it again",
+            a.scale,
+            SCALES.start(),
+            SCALES.end()
+        ));
+    }
+    let r = &a.rotation;
+    let off = (0..3)
+        .flat_map(|i| (0..3).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let dot: f64 = (0..3).map(|k| r[i][k] * r[j][k]).sum();
+            (dot - if i == j { 1.0 } else { 0.0 }).abs()
+        })
+        .fold(0.0, f64::max);
+    if off > ORTHONORMAL_TOLERANCE {
+        return Err(format!(
+            "the alignment's rotation is not a rotation (its rows are {off:.2e} from orthonormal, more than {ORTHONORMAL_TOLERANCE:e}): this file was not written by `meshmorph correspond` (or was edited); make it again"
+        ));
+    }
+    if crate::matrix::det3(*r) < 0.0 {
+        return Err(
+            "the alignment's rotation mirrors (its determinant is -1): this file was not written by `meshmorph correspond` (or was edited); make it again".into(),
+        );
+    }
+    Ok(())
+}
+
 impl Correspondence {
     /// Writes the map as text, atomically.
     ///
@@ -38,10 +83,13 @@ impl Correspondence {
     /// Reads a map written by [`Correspondence::save`].
     ///
     /// # Errors
-    /// [`Error::Io`] when the file cannot be read, [`Error::Parse`] naming
-    /// the line that does not parse.
+    /// [`Error::Io`] when the file cannot be read, [`Error::FileRefused`]
+    /// when it is not a regular file or is larger than a third of the
+    /// memory available, [`Error::Parse`] naming the line that does not
+    /// parse or whose alignment is not a similarity.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let bytes = crate::io::read::read_file(path, &crate::io::read::Limit::memory())?;
+        let text = crate::io::read::utf8(bytes, path)?;
         Self::parse(&text, path)
     }
 
@@ -112,6 +160,7 @@ impl Correspondence {
                 rotation: [[v[1], v[2], v[3]], [v[4], v[5], v[6]], [v[7], v[8], v[9]]],
                 translation: [v[10], v[11], v[12]],
             };
+            check_alignment(&alignment).map_err(|m| Error::parse(path, Some(line), m))?;
             (line, l) = next("the pair count")?;
         }
         let count: usize = l
@@ -156,5 +205,49 @@ impl Correspondence {
             target,
             alignment,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A map of one pair with the alignment `values` (13 numbers).
+    fn with_alignment(values: &str) -> String {
+        format!("{MAGIC}\nsource 3 1 0\ntarget 3 1 0\nalignment {values}\npairs 1\n0 0\n")
+    }
+
+    #[test]
+    fn alignments_that_are_similarities_are_read() {
+        let p = Path::new("m.corr");
+        let turn = "2.5 0 -1 0 1 0 0 0 0 1 1 2 3";
+        let c = Correspondence::parse(&with_alignment(turn), p).unwrap();
+        assert_eq!(c.alignment().scale, 2.5);
+        // Six significant digits of a turn about z by 30 degrees.
+        let rounded = "1 0.866025 -0.5 0 0.5 0.866025 0 0 0 1 0 0 0";
+        assert!(Correspondence::parse(&with_alignment(rounded), p).is_ok());
+    }
+
+    #[test]
+    fn alignments_that_are_not_are_blamed_on_the_file() {
+        let p = Path::new("m.corr");
+        for (values, says) in [
+            (
+                "1e308 1 0 0 0 1 0 0 0 1 0 0 0",
+                "scale 1e308 is out of the range",
+            ),
+            ("1e-300 1 0 0 0 1 0 0 0 1 0 0 0", "scale 1e-300"),
+            ("1 1 0.5 0 0 1 0 0 0 1 0 0 0", "is not a rotation"),
+            ("1 2 0 0 0 2 0 0 0 2 0 0 0", "is not a rotation"),
+            ("1 -1 0 0 0 1 0 0 0 1 0 0 0", "mirrors"),
+        ] {
+            let e = Correspondence::parse(&with_alignment(values), p)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("`m.corr`, line 4") && e.contains(says),
+                "{values}: {e}"
+            );
+        }
     }
 }

@@ -13,10 +13,13 @@ impl Markers {
     /// checked. Indices are 0-based unless `one_based`.
     ///
     /// # Errors
-    /// [`Error::Io`] if the file cannot be read, [`Error::Parse`] naming the
-    /// line of the first entry that does not parse.
+    /// [`Error::Io`] if the file cannot be read, [`Error::FileRefused`] when
+    /// it is not a regular file or is larger than a third of the memory
+    /// available, [`Error::Parse`] naming the line of the first entry that
+    /// does not parse (or of a byte that is not UTF-8).
     pub fn read(path: &Path, one_based: bool) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let bytes = crate::io::read::read_file(path, &crate::io::read::Limit::memory())?;
+        let text = crate::io::read::utf8(bytes, path)?;
         Self::parse(&text, path, one_based)
     }
 

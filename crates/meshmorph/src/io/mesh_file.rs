@@ -140,6 +140,9 @@ pub(super) struct Parsed {
     pub(super) colors: Vec<[f32; 4]>,
     /// The faces that repeat a vertex in a row, read without the repeat.
     pub(super) repeats_in_a_row: Vec<u32>,
+    /// What is odd about the file but read anyway (content past what its
+    /// header announces), each naming the file.
+    pub(super) warnings: Vec<String>,
 }
 
 /// The materials an OBJ file gives its faces: the `usemtl` names and the
@@ -184,6 +187,7 @@ impl Parsed {
             materials: FaceMaterials::default(),
             colors: Vec::new(),
             repeats_in_a_row: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 
@@ -252,6 +256,7 @@ pub struct MeshFile {
     materials: FaceMaterials,
     colors: Vec<[f32; 4]>,
     repeats_in_a_row: Vec<u32>,
+    warnings: Vec<String>,
 }
 
 impl MeshFile {
@@ -268,7 +273,7 @@ impl MeshFile {
     /// # Errors
     /// As [`read_mesh_as`](super::read_mesh_as).
     pub fn read_as(path: &Path, format: Format) -> Result<Self> {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let bytes = super::read_mesh_bytes(path, format)?;
         Self::parse(bytes, format, path)
     }
 
@@ -300,6 +305,7 @@ impl MeshFile {
             materials: parsed.materials,
             colors: parsed.colors,
             repeats_in_a_row: parsed.repeats_in_a_row,
+            warnings: parsed.warnings,
         };
         Ok(file)
     }
@@ -470,6 +476,14 @@ impl MeshFile {
     /// a corner of no length): each is read without the repeat.
     pub fn faces_repeating_a_vertex(&self) -> &[u32] {
         &self.repeats_in_a_row
+    }
+
+    /// What is odd about the file but was read anyway, each naming the
+    /// file: an OFF or PLY file with content past what its header
+    /// announces (more faces or elements, trailing bytes), which is
+    /// ignored (and kept as it is when the file is written back).
+    pub fn read_warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// The material libraries the file names (OBJ `mtllib`), resolved from
@@ -853,7 +867,7 @@ impl MeshFile {
     /// (1.4 MB OBJ files) 0.85 of the time of [`MeshFile::read`] alone.
     pub fn read_pose(&self, path: &Path) -> Result<(Mesh3, usize)> {
         let format = Format::from_path(path)?;
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let bytes = super::read_mesh_bytes(path, format)?;
         let parsed = parse_parts(&bytes, format, path, Keep::Mesh)?;
         super::check_has_faces(path, parsed.positions.len(), parsed.faces.len())?;
         self.fit_pose(path, format, parsed.positions, &parsed.faces)

@@ -17,6 +17,17 @@
 //!   ([`Correspondence::save`](crate::Correspondence::save) and
 //!   [`Correspondence::load`](crate::Correspondence::load)).
 //!
+//! Every file is read whole, from regular files only (links followed): a
+//! folder, a FIFO or a device (`/dev/zero`) is refused naming it and what
+//! it is, without waiting on it ([`Error::FileRefused`]). Sizes are checked
+//! before and while reading: a mesh, marker or correspondence file may take
+//! a third of the memory available ([`available_memory`],
+//! [`MEMORY_PER_FILE_BYTE`]), a material library
+//! [`MAX_MATERIAL_LIBRARY_BYTES`], textures what the GLB may still take
+//! ([`Appearance::of_file`]); a mesh file larger than 64 KiB that its first
+//! 64 KiB show is not of its format (an STL of neither the binary size nor
+//! ASCII text, say) is refused before the rest is read.
+//!
 //! Reading accepts:
 //!
 //! - **OBJ**: `v x y [z] [w]` (z is 0 in a planar file, whose vertices all
@@ -65,6 +76,7 @@ mod normal_groups;
 mod obj;
 mod off;
 mod ply;
+pub(crate) mod read;
 mod stl;
 mod triangulate;
 mod vertex_attributes;
@@ -72,6 +84,7 @@ mod vertex_attributes;
 pub use appearance::Appearance;
 pub use atomic::{random_name, write_atomic};
 pub use mesh_file::MeshFile;
+pub use read::{available_memory, MAX_MATERIAL_LIBRARY_BYTES, MEMORY_PER_FILE_BYTE};
 use vertex_attributes::VertexAttributes;
 
 use std::fmt;
@@ -162,7 +175,9 @@ impl FromStr for Format {
 ///
 /// # Errors
 /// [`Error::UnknownFormat`] for an unknown extension, [`Error::Io`] when the
-/// file cannot be read, [`Error::Parse`] naming the file (and the line, for
+/// file cannot be read, [`Error::FileRefused`] when it is not a regular
+/// file or is larger than a third of the memory available (see
+/// [`available_memory`]), [`Error::Parse`] naming the file (and the line, for
 /// text formats) when its contents are not a valid mesh.
 pub fn read_mesh(path: &Path) -> Result<Mesh3> {
     read_mesh_as(path, Format::from_path(path)?)
@@ -171,13 +186,54 @@ pub fn read_mesh(path: &Path) -> Result<Mesh3> {
 /// Reads a triangle mesh in the given format, whatever the file's extension.
 ///
 /// # Errors
-/// [`Error::Io`] when the file cannot be read, [`Error::Parse`] naming the
+/// [`Error::Io`] when the file cannot be read, [`Error::FileRefused`] as
+/// for [`read_mesh`], [`Error::Parse`] naming the
 /// file (and the line, for text formats) when its contents are not a valid
 /// mesh.
 pub fn read_mesh_as(path: &Path, format: Format) -> Result<Mesh3> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = read_mesh_bytes(path, format)?;
     parse_mesh(&bytes, format, path)
 }
+
+/// The bytes of the mesh file `path` in `format`: a regular file, at most
+/// a third of the memory available (see [`read`]). A file larger than its
+/// first [`START`] bytes is refused at once, before the rest is read, when
+/// they show it is not of its format: an STL file neither of the size its
+/// header gives nor beginning as an ASCII one ([`stl::check_start`]), a
+/// PLY file without `ply` on its first line, an OBJ or OFF file with a NUL
+/// byte (they are text).
+fn read_mesh_bytes(path: &Path, format: Format) -> Result<Vec<u8>> {
+    let mut input = read::open(path)?;
+    let len = input.len();
+    let start = input.head(START)?;
+    if (start.len() as u64) < len {
+        match format {
+            Format::Stl => stl::check_start(start, len, path)?,
+            Format::Ply if Lines::new(start).next().is_none_or(|(_, l)| l != b"ply") => {
+                return Err(Error::parse(
+                    path,
+                    Some(1),
+                    "not a PLY file: the first line is not `ply`",
+                ));
+            }
+            Format::Obj | Format::Off => {
+                if let Some(at) = memchr::memchr(0, start) {
+                    return Err(Error::parse(
+                        path,
+                        Some(1 + memchr::memchr_iter(b'\n', &start[..at]).count()),
+                        format!("not a text file: byte {at} is 0 (an {format} file is text)"),
+                    ));
+                }
+            }
+            Format::Ply => {}
+        }
+    }
+    input.read_to_end(&read::Limit::memory())
+}
+
+/// How many first bytes of a mesh file [`read_mesh_bytes`] looks at before
+/// reading the rest.
+const START: usize = 64 << 10;
 
 /// Parses a triangle mesh from a file's contents; `path_for_messages` only
 /// names the source in error messages.

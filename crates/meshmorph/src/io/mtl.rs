@@ -49,16 +49,24 @@ impl MtlMaterial {
 /// Reads the material library at `path`.
 ///
 /// # Errors
-/// [`Error::Io`] when it cannot be read; [`Error::Parse`] naming the line
-/// when a number of a statement read here is not a number.
+/// [`Error::Io`] when it cannot be read; [`Error::FileRefused`] when it is
+/// not a regular file or holds more than
+/// [`MAX_MATERIAL_LIBRARY_BYTES`](super::MAX_MATERIAL_LIBRARY_BYTES);
+/// [`Error::Parse`] naming the line when a number of a statement read here
+/// is not a number.
 pub fn read_mtl(path: &Path) -> Result<Vec<MtlMaterial>> {
     parse_mtl(&read_text(path)?, path)
 }
 
 /// The text of the material library at `path` (bytes that are not UTF-8
-/// replaced).
+/// replaced), read through the bounded reads: a regular file of at most
+/// 64 MiB.
 pub(crate) fn read_text(path: &Path) -> Result<String> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let limit = super::read::Limit {
+        bytes: super::MAX_MATERIAL_LIBRARY_BYTES,
+        why: "the 64 MiB a material library may hold".to_string(),
+    };
+    let bytes = super::read::read_file(path, &limit)?;
     Ok(String::from_utf8_lossy(&bytes).into_owned())
 }
 

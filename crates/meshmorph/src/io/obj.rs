@@ -151,6 +151,10 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     // The line of the first vertex with 2 coordinates and of the first with
     // 3 or more: a file is planar (`v x y`) or in space, never both.
     let mut first_planar: Option<usize> = None;
+    // Normals with a coordinate that is not a finite number: how many, and
+    // the first with its line.
+    let mut not_finite_normals = 0usize;
+    let mut first_not_finite: Option<(u32, usize)> = None;
     let mut first_spatial: Option<usize> = None;
     // Lines and points (`l`, `p`) with an index past what was defined before
     // them: their line, largest vertex and texture coordinate indices.
@@ -286,6 +290,12 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
                         None => bytes.len(),
                     };
                     out.patch(Patch::text(next..next, Slot::NormalsAfter(normal, crlf)));
+                }
+                // Read, and said: exporters write them for faces of no
+                // area (Sumner's camel poses hold some).
+                if n.iter().any(|x| !x.is_finite()) {
+                    not_finite_normals += 1;
+                    first_not_finite.get_or_insert((normal, line_no));
                 }
                 out.normals.push(n);
             }
@@ -505,6 +515,14 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
         // Vertices after the last coloured one are white.
         out.colors.resize(out.positions.len(), [1.0; 4]);
         out.note_extra("vertex colours");
+    }
+    if let Some((normal, line)) = first_not_finite {
+        out.warnings.push(format!(
+            "`{}`, line {line}: {} (`vn`) with a coordinate that is not a finite number (the first is normal {}, numbered from 1): copied as written into outputs in OBJ; a GLB's normals come from the shape",
+            path.display(),
+            if not_finite_normals == 1 { "1 normal".to_string() } else { format!("{not_finite_normals} normals") },
+            normal + 1
+        ));
     }
     Ok(out)
 }

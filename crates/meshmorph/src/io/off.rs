@@ -259,6 +259,14 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
             format!("no triangles: the file has {num_vertices} vertices and no faces"),
         ));
     }
+    if let Some((line_no, _)) = lines.next() {
+        let more = 1 + lines.count();
+        out.warnings.push(format!(
+            "`{}`, line {line_no}: {more} more line{} after the {num_vertices} vertices and {num_faces} faces that line {counts_line} announces: ignored (the counts may be wrong)",
+            path.display(),
+            if more == 1 { "" } else { "s" }
+        ));
+    }
     let corners = faces.corner_vertices().to_vec();
     if has_normals {
         out.corner_normal = corners.clone();

@@ -237,6 +237,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
             format!("no triangles: the file has {num_vertices} vertices and no faces"),
         ));
     }
+    out.warnings.extend(body.left_over());
     Ok(out)
 }
 
@@ -377,6 +378,32 @@ impl<'a> Body<'a> {
             self.next = 0;
         }
         Ok(())
+    }
+
+    /// What is left past the last element the header announces, as a
+    /// warning: lines with values (ascii) or bytes (binary).
+    fn left_over(&mut self) -> Option<String> {
+        let path = self.path.display();
+        match &mut self.ascii {
+            Some(lines) => {
+                let mut rest = lines.by_ref().filter(|(_, l)| tokens(l).next().is_some());
+                let (first, _) = rest.next()?;
+                let more = 1 + rest.count();
+                Some(format!(
+                    "`{path}`, line {first}: {more} more line{} after the elements the header announces: ignored (the counts may be wrong)",
+                    if more == 1 { "" } else { "s" }
+                ))
+            }
+            None => {
+                let left = self.bytes.len() - self.pos;
+                (left > 0).then(|| {
+                    format!(
+                        "`{path}`: {left} byte{} after the elements the header announces: ignored (the counts may be wrong)",
+                        if left == 1 { "" } else { "s" }
+                    )
+                })
+            }
+        }
     }
 
     /// Ends the current instance: an ascii line must hold nothing more.

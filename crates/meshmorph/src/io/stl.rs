@@ -62,6 +62,47 @@ pub(super) fn parse(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
     Ok(out)
 }
 
+/// Refuses at once (before the rest is read) a file of `len` bytes that
+/// begins with `start` (some kilobytes, less than the whole file) and is
+/// no STL: neither of the size of a binary file (84 + 50 bytes per facet
+/// the header counts) nor beginning as an ASCII one (`solid`, then `facet`
+/// or `endsolid` in `start`). What is refused here is what [`parse`] would
+/// refuse once the whole file is read, with the same message.
+pub(super) fn check_start(start: &[u8], len: u64, path: &Path) -> Result<()> {
+    let count = (start.len() >= HEADER)
+        .then(|| u32::from_le_bytes([start[80], start[81], start[82], start[83]]));
+    if count.is_some_and(|n| HEADER as u64 + FACET as u64 * u64::from(n) == len) {
+        return Ok(());
+    }
+    let has = |word: &[u8]| {
+        start
+            .windows(word.len())
+            .any(|w| w.eq_ignore_ascii_case(word))
+    };
+    if starts_as_ascii(start) && (has(b"facet") || has(b"endsolid")) {
+        return Ok(());
+    }
+    Err(binary_size_error(path, count, len))
+}
+
+/// The error of a file read as binary STL whose size is not the one its
+/// header's facet count gives (`count`, `None` when shorter than the
+/// header).
+fn binary_size_error(path: &Path, count: Option<u32>, len: u64) -> Error {
+    let message = match count {
+        None => format!(
+            "a binary STL file has an 84-byte header, this file has {len} bytes (and does not start with `solid`)"
+        ),
+        Some(count) => {
+            let expected = HEADER as u64 + FACET as u64 * u64::from(count);
+            format!(
+                "the header announces {count} facets, which take {expected} bytes, but the file has {len} bytes"
+            )
+        }
+    };
+    Error::parse(path, None, message)
+}
+
 /// Whether the file begins with the `solid` keyword (after a byte-order
 /// mark and blanks; in any case, as some tools write it).
 fn starts_as_ascii(bytes: &[u8]) -> bool {
@@ -148,28 +189,15 @@ fn check_facet(
 }
 
 fn parse_binary(bytes: &[u8], path: &Path, keep: Keep) -> Result<Parsed> {
+    let len = bytes.len() as u64;
     if bytes.len() < HEADER {
-        return Err(Error::parse(
-            path,
-            None,
-            format!(
-                "a binary STL file has an 84-byte header, this file has {} bytes (and does not start with `solid`)",
-                bytes.len()
-            ),
-        ));
+        return Err(binary_size_error(path, None, len));
     }
-    let count = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
-    let expected = HEADER as u128 + FACET as u128 * count as u128;
-    if expected != bytes.len() as u128 {
-        return Err(Error::parse(
-            path,
-            None,
-            format!(
-                "the header announces {count} facets, which take {expected} bytes, but the file has {} bytes",
-                bytes.len()
-            ),
-        ));
+    let count = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]);
+    if HEADER as u64 + FACET as u64 * u64::from(count) != len {
+        return Err(binary_size_error(path, Some(count), len));
     }
+    let count = count as usize;
     let mut out = Parsed::new(keep);
     let mut welder = Welder::new(count / 2 + 3);
     let mut faces = Polygons::with_capacity(count);
