@@ -2,8 +2,12 @@
 //! edges, connected components.
 //!
 //! Everything here works on plain `#T × 3` index lists and is robust to
-//! boundaries and non-manifold edges (an edge shared by three or more
-//! triangles makes all of them neighbours of one another).
+//! boundaries and non-manifold edges: an edge shared by three to
+//! [`ALL_PAIRS_UP_TO`] triangles makes all of them neighbours of one
+//! another; past that, each is the neighbour of the next in order (see
+//! [`linked_pairs`]), so that every structure over neighbours stays linear
+//! in the number of triangles whatever the mesh (a book of 100,000 pages on
+//! one spine, one triangle repeated 100,000 times).
 
 use rayon::slice::ParallelSliceMut;
 
@@ -15,6 +19,30 @@ pub struct Edge {
     /// The triangles containing the edge: one on a boundary, two inside a
     /// manifold surface, more at a non-manifold edge.
     pub triangles: Vec<u32>,
+}
+
+/// The most triangles on one edge that are all neighbours of one another.
+///
+/// Eight covers every surface met in practice (a manifold edge has two, a
+/// double-sided sheet four, a few sheets meeting six or eight) and bounds
+/// the neighbour pairs at `21 #T` for any mesh (`6 #T` on a manifold one).
+pub const ALL_PAIRS_UP_TO: usize = 8;
+
+/// The pairs `(a, b)` of triangles that are neighbours across one edge,
+/// given the triangles on it, `on_edge` (increasing, without repeats):
+/// every pair, `a` before `b`, in the order of `on_edge`, when there are at
+/// most [`ALL_PAIRS_UP_TO`]; past that, each triangle and the next (a chain
+/// that still connects them all).
+///
+/// # Performance
+/// At most `max(ALL_PAIRS_UP_TO - 1, 1)` pairs per triangle on the edge.
+pub fn linked_pairs(on_edge: &[u32]) -> impl Iterator<Item = (u32, u32)> + '_ {
+    let all = on_edge.len() <= ALL_PAIRS_UP_TO;
+    on_edge.iter().enumerate().flat_map(move |(k, &a)| {
+        let rest = &on_edge[k + 1..];
+        let partners = if all { rest } else { &rest[..rest.len().min(1)] };
+        partners.iter().map(move |&b| (a, b))
+    })
 }
 
 /// All undirected edges of `triangles`, sorted by vertex pair.
@@ -46,7 +74,8 @@ pub fn edges(triangles: &[[u32; 3]]) -> Vec<Edge> {
 
 /// Triangle adjacency in compressed form: the neighbours of triangle `t` are
 /// `neighbors[offsets[t]..offsets[t + 1]]`, every triangle sharing an edge
-/// with `t`, in increasing order, without repeats.
+/// with `t` (as [`linked_pairs`] links them at an edge shared by more than
+/// [`ALL_PAIRS_UP_TO`]), in increasing order, without repeats.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct TriangleAdjacency {
     /// `#T + 1` offsets into `neighbors`.
@@ -60,7 +89,8 @@ impl TriangleAdjacency {
     ///
     /// # Performance
     /// One parallel sort of `3 #T` small records, then bucketing by
-    /// triangle; no allocation per edge or triangle.
+    /// triangle; no allocation per edge or triangle. At most `21 #T`
+    /// neighbour pairs, whatever the mesh.
     pub fn new(triangles: &[[u32; 3]]) -> Self {
         let mut half: Vec<(u64, u32)> = Vec::with_capacity(3 * triangles.len());
         for (t, tri) in triangles.iter().enumerate() {
@@ -73,13 +103,15 @@ impl TriangleAdjacency {
         // is the same on any number of threads.
         half.par_sort_unstable();
         let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(half.len());
+        let mut on_edge: Vec<u32> = Vec::new();
         for run in half.chunk_by(|x, y| x.0 == y.0) {
-            for &(_, a) in run {
-                for &(_, b) in run {
-                    if a != b {
-                        pairs.push((a, b));
-                    }
-                }
+            on_edge.clear();
+            // A degenerate triangle may hold one edge twice.
+            on_edge.extend(run.iter().map(|&(_, t)| t));
+            on_edge.dedup();
+            for (a, b) in linked_pairs(&on_edge) {
+                pairs.push((a, b));
+                pairs.push((b, a));
             }
         }
         Self::from_pairs(triangles.len(), pairs)
@@ -89,12 +121,9 @@ impl TriangleAdjacency {
     pub fn from_edges(num_triangles: usize, edges: &[Edge]) -> Self {
         let mut pairs = Vec::new();
         for e in edges {
-            for &a in &e.triangles {
-                for &b in &e.triangles {
-                    if a != b {
-                        pairs.push((a, b));
-                    }
-                }
+            for (a, b) in linked_pairs(&e.triangles) {
+                pairs.push((a, b));
+                pairs.push((b, a));
             }
         }
         Self::from_pairs(num_triangles, pairs)
