@@ -320,7 +320,14 @@ impl<F: Fn(u32) -> K, K: Ord> Tree<'_, F> {
     }
 
     /// Makes `nodes[at]` the leaf of the items `order`.
-    fn leaf(&self, nodes: &mut [Node], at: usize, bounds: Aabb, order: &[u32], kept: &mut Vec<u32>) {
+    fn leaf(
+        &self,
+        nodes: &mut [Node],
+        at: usize,
+        bounds: Aabb,
+        order: &[u32],
+        kept: &mut Vec<u32>,
+    ) {
         nodes[at] = Node {
             bounds,
             first: kept.len() as u32,
@@ -376,6 +383,42 @@ mod tests {
                 assert_eq!(d, d2(items[i as usize], q));
             }
         }
+    }
+
+    #[test]
+    fn piles_at_one_place_keep_one_item_per_key_and_answer_as_before() {
+        // One triangle repeated: one item kept.
+        let pile = vec![[0.25; 3]; 3000];
+        let bvh = Bvh::new(pile, |p| Aabb::around([*p]), |p| p.map(f64::to_bits));
+        assert_eq!((bvh.items.len(), bvh.index.as_slice()), (1, &[0][..]));
+        // 3000 items at 3 places, with 2 keys at each: the piles shrink to
+        // their 6 keys, with a few more where a split falls between piles.
+        let places = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let items: Vec<(usize, [f64; 3])> = (0..3000).map(|i| (i % 6, places[i % 3])).collect();
+        let bvh = Bvh::new(items.clone(), |(_, p)| Aabb::around([*p]), |&(k, _)| k);
+        assert!(bvh.items.len() < 100, "{} items kept", bvh.items.len());
+        for (k, q) in points(200).into_iter().enumerate() {
+            let accept = |key: usize| key % 2 == k % 2;
+            let expected = items
+                .iter()
+                .enumerate()
+                .filter(|&(_, (key, _))| accept(*key))
+                .min_by(|a, b| d2(a.1 .1, q).total_cmp(&d2(b.1 .1, q)).then(a.0.cmp(&b.0)))
+                .map(|(i, _)| i as u32);
+            let found = bvh.nearest(q, 10.0, |(key, _)| accept(*key), |(_, p)| d2(*p, q));
+            assert_eq!(found.map(|f| f.0), expected, "query {k}");
+        }
+        // Distinct keys at one place are all kept, and the first wins.
+        let pile: Vec<(usize, [f64; 3])> = (0..5000).map(|i| (i, [0.5; 3])).collect();
+        let bvh = Bvh::new(pile, |(_, p)| Aabb::around([*p]), |&(k, _)| k);
+        assert_eq!(bvh.items.len(), 5000);
+        let found = bvh.nearest(
+            [0.0; 3],
+            10.0,
+            |&(k, _)| k >= 4000,
+            |(_, p)| d2(*p, [0.0; 3]),
+        );
+        assert_eq!(found.map(|f| f.0), Some(4000));
     }
 
     #[test]

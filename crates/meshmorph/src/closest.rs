@@ -194,7 +194,13 @@ impl CentroidIndex {
             tree: Bvh::new(
                 items,
                 |c| Aabb::around([c.point]),
-                |c| (c.point.map(f64::to_bits), c.normal.map(f64::to_bits), c.part),
+                |c| {
+                    (
+                        c.point.map(f64::to_bits),
+                        c.normal.map(f64::to_bits),
+                        c.part,
+                    )
+                },
             ),
         }
     }
