@@ -10,6 +10,11 @@
 //! query opens a few leaves around its point. The answer is exactly the
 //! accepted item nearest to the point (ties go to the lowest item index),
 //! whatever order the walk takes.
+//!
+//! Piles of items at one place (a triangle repeated 30,000 times) would make
+//! every query open them all: items with equal keys are kept once (the
+//! first), and each node knows the lowest index below it, so that a node no
+//! nearer than the best item so far, with no lower index, is skipped.
 
 /// Most items in a leaf.
 const LEAF_SIZE: usize = 4;
@@ -82,12 +87,22 @@ impl Aabb {
 
 /// A node: a leaf holds items `first..first + count`; an inner node
 /// (`count == 0`) has its two children at `first` and `first + 1`.
+/// `lowest` is the lowest index (in the list given to [`Bvh::new`]) of the
+/// items below it.
 #[derive(Clone, Copy, Debug)]
 struct Node {
     bounds: Aabb,
     first: u32,
     count: u32,
+    lowest: u32,
 }
+
+const EMPTY_NODE: Node = Node {
+    bounds: Aabb::EMPTY,
+    first: 0,
+    count: 0,
+    lowest: u32::MAX,
+};
 
 /// Items of type `T` in a bounding volume hierarchy.
 #[derive(Clone, Debug)]
@@ -105,10 +120,21 @@ pub(crate) type Nearest<'a, T> = (u32, &'a T, f64);
 
 impl<T> Bvh<T> {
     /// The hierarchy over `items`, each within the box `bounds(item)`.
+    /// Items with the same `key` must be alike for every query (the same
+    /// box, accepted or not together, at the same distance): of those, only
+    /// the first is kept, the only one a query could answer.
+    ///
+    /// # Performance
+    /// `O(n log n)`; keys are compared only among items whose boxes have
+    /// the same centre.
     ///
     /// # Panics
     /// If there are `u32::MAX` items or more.
-    pub(crate) fn new(items: Vec<T>, bounds: impl Fn(&T) -> Aabb) -> Self {
+    pub(crate) fn new<K: Ord>(
+        items: Vec<T>,
+        bounds: impl Fn(&T) -> Aabb,
+        key: impl Fn(&T) -> K,
+    ) -> Self {
         assert!(items.len() < u32::MAX as usize, "too many items");
         let boxes: Vec<Aabb> = items.iter().map(&bounds).collect();
         let centres: Vec<[f64; 3]> = boxes
@@ -116,23 +142,26 @@ impl<T> Bvh<T> {
             .map(|b| std::array::from_fn(|i| 0.5 * (b.lo[i] + b.hi[i])))
             .collect();
         let mut order: Vec<u32> = (0..items.len() as u32).collect();
-        let mut nodes = vec![Node {
-            bounds: Aabb::EMPTY,
-            first: 0,
-            count: 0,
-        }];
+        let mut nodes = vec![EMPTY_NODE];
+        let mut kept = Vec::with_capacity(items.len());
         if !items.is_empty() {
-            build(&mut nodes, 0, &mut order, 0, &boxes, &centres);
+            let tree = Tree {
+                boxes: &boxes,
+                centres: &centres,
+                key: |k: u32| key(&items[k as usize]),
+            };
+            tree.build(&mut nodes, 0, &mut order, &mut kept, false);
         }
+        drop(order);
         let mut slots: Vec<Option<T>> = items.into_iter().map(Some).collect();
-        let items = order
+        let items = kept
             .iter()
             .map(|&k| slots[k as usize].take().expect("each item once"))
             .collect();
         Self {
             nodes,
             items,
-            index: order,
+            index: kept,
         }
     }
 
@@ -164,6 +193,10 @@ impl<T> Bvh<T> {
                 continue;
             }
             let node = self.nodes[n as usize];
+            if d2 == bound && best.is_some_and(|(b, _)| node.lowest > self.index[b]) {
+                // Nothing below is nearer, nor as near with a lower index.
+                continue;
+            }
             if node.count > 0 {
                 let start = node.first as usize;
                 for k in start..start + node.count as usize {
@@ -207,55 +240,102 @@ impl<T> Bvh<T> {
     }
 }
 
-/// Makes `nodes[at]` the node of the items `order[..]` (which start at
-/// `first` in leaf order), and its subtree.
-fn build(
-    nodes: &mut Vec<Node>,
-    at: usize,
-    order: &mut [u32],
-    first: usize,
-    boxes: &[Aabb],
-    centres: &[[f64; 3]],
-) {
-    let bounds = order
-        .iter()
-        .fold(Aabb::EMPTY, |b, &k| b.union(&boxes[k as usize]));
-    if order.len() <= LEAF_SIZE {
+/// What the build reads: the items' boxes, their centres and their keys.
+struct Tree<'a, F> {
+    boxes: &'a [Aabb],
+    centres: &'a [[f64; 3]],
+    key: F,
+}
+
+impl<F: Fn(u32) -> K, K: Ord> Tree<'_, F> {
+    /// Makes `nodes[at]` the node of the items `order[..]`, and its
+    /// subtree, appending the items it keeps to `kept` in leaf order.
+    /// `distinct`: the keys of `order` are known to differ.
+    fn build(
+        &self,
+        nodes: &mut Vec<Node>,
+        at: usize,
+        order: &mut [u32],
+        kept: &mut Vec<u32>,
+        distinct: bool,
+    ) {
+        let bounds = order
+            .iter()
+            .fold(Aabb::EMPTY, |b, &k| b.union(&self.boxes[k as usize]));
+        if order.len() <= LEAF_SIZE {
+            self.leaf(nodes, at, bounds, order, kept);
+            return;
+        }
+        let spread = order.iter().fold(Aabb::EMPTY, |b, &k| {
+            let c = self.centres[k as usize];
+            b.union(&Aabb { lo: c, hi: c })
+        });
+        let (order, distinct) = if !distinct && spread.lo == spread.hi {
+            // All at one place: keep the first of each key.
+            let n = self.first_of_each_key(order);
+            (&mut order[..n], true)
+        } else {
+            (order, distinct)
+        };
+        if order.len() <= LEAF_SIZE {
+            self.leaf(nodes, at, bounds, order, kept);
+            return;
+        }
+        let axis = (0..3)
+            .max_by(|&i, &j| {
+                (spread.hi[i] - spread.lo[i]).total_cmp(&(spread.hi[j] - spread.lo[j]))
+            })
+            .unwrap_or(0);
+        let mid = order.len() / 2;
+        order.select_nth_unstable_by(mid, |&i, &j| {
+            self.centres[i as usize][axis]
+                .total_cmp(&self.centres[j as usize][axis])
+                .then(i.cmp(&j))
+        });
+        let children = nodes.len();
+        nodes.extend([EMPTY_NODE, EMPTY_NODE]);
+        let (left, right) = order.split_at_mut(mid);
+        self.build(nodes, children, left, kept, distinct);
+        self.build(nodes, children + 1, right, kept, distinct);
         nodes[at] = Node {
             bounds,
-            first: first as u32,
-            count: order.len() as u32,
+            first: children as u32,
+            count: 0,
+            lowest: nodes[children].lowest.min(nodes[children + 1].lowest),
         };
-        return;
     }
-    let spread = order.iter().fold(Aabb::EMPTY, |b, &k| {
-        let c = centres[k as usize];
-        b.union(&Aabb { lo: c, hi: c })
-    });
-    let axis = (0..3)
-        .max_by(|&i, &j| (spread.hi[i] - spread.lo[i]).total_cmp(&(spread.hi[j] - spread.lo[j])))
-        .unwrap_or(0);
-    let mid = order.len() / 2;
-    order.select_nth_unstable_by(mid, |&i, &j| {
-        centres[i as usize][axis]
-            .total_cmp(&centres[j as usize][axis])
-            .then(i.cmp(&j))
-    });
-    let children = nodes.len();
-    let empty = Node {
-        bounds: Aabb::EMPTY,
-        first: 0,
-        count: 0,
-    };
-    nodes.extend([empty, empty]);
-    nodes[at] = Node {
-        bounds,
-        first: children as u32,
-        count: 0,
-    };
-    let (left, right) = order.split_at_mut(mid);
-    build(nodes, children, left, first, boxes, centres);
-    build(nodes, children + 1, right, first + mid, boxes, centres);
+
+    /// Moves the first item (lowest index) of each key in `order` to its
+    /// front; returns how many there are.
+    fn first_of_each_key(&self, order: &mut [u32]) -> usize {
+        order.sort_unstable_by(|&i, &j| (self.key)(i).cmp(&(self.key)(j)).then(i.cmp(&j)));
+        let mut n = 0;
+        for k in 0..order.len() {
+            if n == 0 || (self.key)(order[n - 1]) != (self.key)(order[k]) {
+                order[n] = order[k];
+                n += 1;
+            }
+        }
+        n
+    }
+
+    /// Makes `nodes[at]` the leaf of the items `order`.
+    fn leaf(
+        &self,
+        nodes: &mut [Node],
+        at: usize,
+        bounds: Aabb,
+        order: &[u32],
+        kept: &mut Vec<u32>,
+    ) {
+        nodes[at] = Node {
+            bounds,
+            first: kept.len() as u32,
+            count: order.len() as u32,
+            lowest: order.iter().copied().min().unwrap_or(u32::MAX),
+        };
+        kept.extend_from_slice(order);
+    }
 }
 
 #[cfg(test)]
@@ -284,6 +364,7 @@ mod tests {
         let bvh = Bvh::new(
             items.iter().copied().enumerate().collect::<Vec<_>>(),
             |(_, p)| Aabb::around([*p]),
+            |&(i, _)| i,
         );
         for (k, q) in points(300).into_iter().enumerate() {
             let max2 = [0.001, 0.01, 1.0, 10.0][k % 4];
@@ -305,12 +386,48 @@ mod tests {
     }
 
     #[test]
+    fn piles_at_one_place_keep_one_item_per_key_and_answer_as_before() {
+        // One triangle repeated: one item kept.
+        let pile = vec![[0.25; 3]; 3000];
+        let bvh = Bvh::new(pile, |p| Aabb::around([*p]), |p| p.map(f64::to_bits));
+        assert_eq!((bvh.items.len(), bvh.index.as_slice()), (1, &[0][..]));
+        // 3000 items at 3 places, with 2 keys at each: the piles shrink to
+        // their 6 keys, with a few more where a split falls between piles.
+        let places = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let items: Vec<(usize, [f64; 3])> = (0..3000).map(|i| (i % 6, places[i % 3])).collect();
+        let bvh = Bvh::new(items.clone(), |(_, p)| Aabb::around([*p]), |&(k, _)| k);
+        assert!(bvh.items.len() < 100, "{} items kept", bvh.items.len());
+        for (k, q) in points(200).into_iter().enumerate() {
+            let accept = |key: usize| key % 2 == k % 2;
+            let expected = items
+                .iter()
+                .enumerate()
+                .filter(|&(_, (key, _))| accept(*key))
+                .min_by(|a, b| d2(a.1 .1, q).total_cmp(&d2(b.1 .1, q)).then(a.0.cmp(&b.0)))
+                .map(|(i, _)| i as u32);
+            let found = bvh.nearest(q, 10.0, |(key, _)| accept(*key), |(_, p)| d2(*p, q));
+            assert_eq!(found.map(|f| f.0), expected, "query {k}");
+        }
+        // Distinct keys at one place are all kept, and the first wins.
+        let pile: Vec<(usize, [f64; 3])> = (0..5000).map(|i| (i, [0.5; 3])).collect();
+        let bvh = Bvh::new(pile, |(_, p)| Aabb::around([*p]), |&(k, _)| k);
+        assert_eq!(bvh.items.len(), 5000);
+        let found = bvh.nearest(
+            [0.0; 3],
+            10.0,
+            |&(k, _)| k >= 4000,
+            |(_, p)| d2(*p, [0.0; 3]),
+        );
+        assert_eq!(found.map(|f| f.0), Some(4000));
+    }
+
+    #[test]
     fn ties_go_to_the_first_item_and_empty_trees_find_nothing() {
         let same = vec![[1.0, 2.0, 3.0]; 40];
-        let bvh = Bvh::new(same, |p| Aabb::around([*p]));
+        let bvh = Bvh::new(same, |p| Aabb::around([*p]), |_| ());
         let found = bvh.nearest([0.0; 3], 100.0, |_| true, |p| d2(*p, [0.0; 3]));
         assert_eq!(found.map(|f| f.0), Some(0));
-        let empty: Bvh<[f64; 3]> = Bvh::new(Vec::new(), |p| Aabb::around([*p]));
+        let empty: Bvh<[f64; 3]> = Bvh::new(Vec::new(), |p| Aabb::around([*p]), |_| ());
         assert!(empty.nearest([0.0; 3], 1.0, |_| true, |_| 0.0).is_none());
     }
 }

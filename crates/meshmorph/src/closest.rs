@@ -127,7 +127,12 @@ impl SurfaceIndex {
             })
             .collect();
         Self {
-            tree: Bvh::new(items, |t| Aabb::around(t.corners)),
+            // The normal follows from the corners.
+            tree: Bvh::new(
+                items,
+                |t| Aabb::around(t.corners),
+                |t| t.corners.map(|c| c.map(f64::to_bits)),
+            ),
         }
     }
 
@@ -186,7 +191,17 @@ impl CentroidIndex {
             })
             .collect();
         Self {
-            tree: Bvh::new(items, |c| Aabb::around([c.point])),
+            tree: Bvh::new(
+                items,
+                |c| Aabb::around([c.point]),
+                |c| {
+                    (
+                        c.point.map(f64::to_bits),
+                        c.normal.map(f64::to_bits),
+                        c.part,
+                    )
+                },
+            ),
         }
     }
 

@@ -148,7 +148,11 @@ pub fn mirror_plane(mesh: &Mesh3) -> Option<MirrorPlane> {
         return None;
     }
     let axes = SymmetricEigen3::new(spread).vectors;
-    let tree = Bvh::new(points.iter().map(|p| p.0).collect(), |p| Aabb::around([*p]));
+    let tree = Bvh::new(
+        points.iter().map(|p| p.0).collect(),
+        |p| Aabb::around([*p]),
+        |p| p.map(f64::to_bits),
+    );
     // The planes that fit, each once: a start that comes within
     // [`SAME_PLANE`] of a plane already found stops there, and two planes
     // that both fit to within [`TIE`] end the search (a surface of

@@ -2,8 +2,12 @@
 //! edges, connected components.
 //!
 //! Everything here works on plain `#T × 3` index lists and is robust to
-//! boundaries and non-manifold edges (an edge shared by three or more
-//! triangles makes all of them neighbours of one another).
+//! boundaries and non-manifold edges: an edge shared by three to
+//! [`ALL_PAIRS_UP_TO`] triangles makes all of them neighbours of one
+//! another; past that, each is the neighbour of the next in order (see
+//! [`linked_pairs`]), so that every structure over neighbours stays linear
+//! in the number of triangles whatever the mesh (a book of 100,000 pages on
+//! one spine, one triangle repeated 100,000 times).
 
 use rayon::slice::ParallelSliceMut;
 
@@ -15,6 +19,34 @@ pub struct Edge {
     /// The triangles containing the edge: one on a boundary, two inside a
     /// manifold surface, more at a non-manifold edge.
     pub triangles: Vec<u32>,
+}
+
+/// The most triangles on one edge that are all neighbours of one another.
+///
+/// Eight covers every surface met in practice (a manifold edge has two, a
+/// double-sided sheet four, a few sheets meeting six or eight) and bounds
+/// the neighbour pairs at `21 #T` for any mesh (`6 #T` on a manifold one).
+pub const ALL_PAIRS_UP_TO: usize = 8;
+
+/// The pairs `(a, b)` of triangles that are neighbours across one edge,
+/// given the triangles on it, `on_edge` (increasing, without repeats):
+/// every pair, `a` before `b`, in the order of `on_edge`, when there are at
+/// most [`ALL_PAIRS_UP_TO`]; past that, each triangle and the next (a chain
+/// that still connects them all).
+///
+/// # Performance
+/// At most `max(ALL_PAIRS_UP_TO - 1, 1)` pairs per triangle on the edge.
+pub fn linked_pairs(on_edge: &[u32]) -> impl Iterator<Item = (u32, u32)> + '_ {
+    let all = on_edge.len() <= ALL_PAIRS_UP_TO;
+    on_edge.iter().enumerate().flat_map(move |(k, &a)| {
+        let rest = &on_edge[k + 1..];
+        let partners = if all {
+            rest
+        } else {
+            &rest[..rest.len().min(1)]
+        };
+        partners.iter().map(move |&b| (a, b))
+    })
 }
 
 /// All undirected edges of `triangles`, sorted by vertex pair.
@@ -46,7 +78,8 @@ pub fn edges(triangles: &[[u32; 3]]) -> Vec<Edge> {
 
 /// Triangle adjacency in compressed form: the neighbours of triangle `t` are
 /// `neighbors[offsets[t]..offsets[t + 1]]`, every triangle sharing an edge
-/// with `t`, in increasing order, without repeats.
+/// with `t` (as [`linked_pairs`] links them at an edge shared by more than
+/// [`ALL_PAIRS_UP_TO`]), in increasing order, without repeats.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct TriangleAdjacency {
     /// `#T + 1` offsets into `neighbors`.
@@ -60,7 +93,8 @@ impl TriangleAdjacency {
     ///
     /// # Performance
     /// One parallel sort of `3 #T` small records, then bucketing by
-    /// triangle; no allocation per edge or triangle.
+    /// triangle; no allocation per edge or triangle. At most `21 #T`
+    /// neighbour pairs, whatever the mesh.
     pub fn new(triangles: &[[u32; 3]]) -> Self {
         let mut half: Vec<(u64, u32)> = Vec::with_capacity(3 * triangles.len());
         for (t, tri) in triangles.iter().enumerate() {
@@ -73,13 +107,15 @@ impl TriangleAdjacency {
         // is the same on any number of threads.
         half.par_sort_unstable();
         let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(half.len());
+        let mut on_edge: Vec<u32> = Vec::new();
         for run in half.chunk_by(|x, y| x.0 == y.0) {
-            for &(_, a) in run {
-                for &(_, b) in run {
-                    if a != b {
-                        pairs.push((a, b));
-                    }
-                }
+            on_edge.clear();
+            // A degenerate triangle may hold one edge twice.
+            on_edge.extend(run.iter().map(|&(_, t)| t));
+            on_edge.dedup();
+            for (a, b) in linked_pairs(&on_edge) {
+                pairs.push((a, b));
+                pairs.push((b, a));
             }
         }
         Self::from_pairs(triangles.len(), pairs)
@@ -89,12 +125,9 @@ impl TriangleAdjacency {
     pub fn from_edges(num_triangles: usize, edges: &[Edge]) -> Self {
         let mut pairs = Vec::new();
         for e in edges {
-            for &a in &e.triangles {
-                for &b in &e.triangles {
-                    if a != b {
-                        pairs.push((a, b));
-                    }
-                }
+            for (a, b) in linked_pairs(&e.triangles) {
+                pairs.push((a, b));
+                pairs.push((b, a));
             }
         }
         Self::from_pairs(num_triangles, pairs)
@@ -273,6 +306,99 @@ mod tests {
         assert_eq!(adj.of(0), &[1, 2, 3]);
         assert_eq!(adj.of(1), &[0, 2]);
         assert_eq!(adj.of(3), &[0]);
+    }
+
+    /// `n` triangles on the edge (0, 1), each with its own third vertex.
+    fn book(n: u32) -> Vec<[u32; 3]> {
+        (0..n).map(|k| [0, 1, k + 2]).collect()
+    }
+
+    /// Every pair of triangles sharing an edge, by brute force.
+    fn all_pairs(tris: &[[u32; 3]]) -> Vec<Vec<u32>> {
+        let shares_edge =
+            |a: [u32; 3], b: [u32; 3]| a.iter().filter(|v| b.contains(v)).count() >= 2;
+        (0..tris.len())
+            .map(|t| {
+                (0..tris.len() as u32)
+                    .filter(|&u| u as usize != t && shares_edge(tris[t], tris[u as usize]))
+                    .collect()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn up_to_eight_triangles_on_an_edge_are_all_neighbours() {
+        // A strip whose triangles are repeated 1 to 4 times: edges shared
+        // by up to 8 triangles.
+        let mut tris = Vec::new();
+        for i in 0..6u32 {
+            for _ in 0..=(i % 4) {
+                tris.push([2 * i, 2 * i + 1, 2 * i + 2]);
+                tris.push([2 * i + 1, 2 * i + 3, 2 * i + 2]);
+            }
+        }
+        let adj = TriangleAdjacency::new(&tris);
+        let expected = all_pairs(&tris);
+        for (t, near) in expected.iter().enumerate() {
+            assert_eq!(adj.of(t), near.as_slice(), "triangle {t}");
+        }
+        assert_eq!(
+            TriangleAdjacency::from_edges(tris.len(), &edges(&tris)),
+            adj
+        );
+        for n in 1..=ALL_PAIRS_UP_TO as u32 {
+            let b = book(n);
+            assert_eq!(
+                TriangleAdjacency::new(&b).neighbors.len(),
+                (n * (n - 1)) as usize
+            );
+        }
+    }
+
+    #[test]
+    fn many_triangles_on_one_edge_stay_linear() {
+        let n = 10_000;
+        let repeated = vec![[0, 1, 2]; n as usize];
+        // A book of n pages, and one of n pages each printed twice.
+        let twice: Vec<[u32; 3]> = book(n).into_iter().flat_map(|t| [t, t]).collect();
+        for tris in [book(n), repeated, twice] {
+            let t = tris.len();
+            let adj = TriangleAdjacency::new(&tris);
+            // Past eight on an edge, each triangle meets the one before and
+            // the one after it: a chain, connected, no triangle with more
+            // than two neighbours per edge.
+            assert!(
+                adj.neighbors.len() <= 6 * t,
+                "{} pairs",
+                adj.neighbors.len()
+            );
+            assert!((0..t).all(|k| adj.of(k).len() <= 6));
+            assert_eq!(adj.edge_components().1, 1);
+            assert_eq!(TriangleAdjacency::from_edges(t, &edges(&tris)), adj);
+            let pairs: usize = edges(&tris)
+                .iter()
+                .map(|e| linked_pairs(&e.triangles).count())
+                .sum();
+            assert!(pairs <= 3 * t, "{pairs} smoothness pairs");
+        }
+        let fan = TriangleAdjacency::new(&book(n));
+        assert_eq!(fan.of(0), &[1]);
+        assert_eq!(fan.of(5), &[4, 6]);
+    }
+
+    #[test]
+    fn linked_pairs_are_all_pairs_then_a_chain() {
+        let pairs: Vec<_> = linked_pairs(&[3, 5, 9]).collect();
+        assert_eq!(pairs, [(3, 5), (3, 9), (5, 9)]);
+        let many: Vec<u32> = (0..ALL_PAIRS_UP_TO as u32 + 1).collect();
+        let chain: Vec<_> = linked_pairs(&many).collect();
+        assert_eq!(
+            chain,
+            (0..ALL_PAIRS_UP_TO as u32)
+                .map(|k| (k, k + 1))
+                .collect::<Vec<_>>()
+        );
+        assert_eq!(linked_pairs(&[7]).count(), 0);
     }
 
     #[test]

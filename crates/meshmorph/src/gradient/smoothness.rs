@@ -2,13 +2,14 @@
 
 use super::GradientOperators;
 use crate::solve::SymmetricBuilder;
-use crate::topology::Edge;
+use crate::topology::{linked_pairs, Edge};
 
 impl<const D: usize, const K: usize> GradientOperators<D, K> {
     /// `Σ scale · ½ (w_a + w_b) ‖X G_a − X G_b‖²_F` over every pair of
-    /// triangles `a`, `b` sharing one of `edges` for which `include(a, b)`:
-    /// each pair counts in proportion to the mean weight `w` (area) of its
-    /// two triangles.
+    /// triangles `a`, `b` sharing one of `edges` (as
+    /// [`linked_pairs`] links them) for which `include(a, b)`: each pair
+    /// counts in proportion to the mean weight `w` (area) of its two
+    /// triangles.
     pub(crate) fn add_smoothness(
         &self,
         builder: &mut SymmetricBuilder,
@@ -18,13 +19,11 @@ impl<const D: usize, const K: usize> GradientOperators<D, K> {
         include: impl Fn(usize, usize) -> bool,
     ) {
         for e in edges {
-            for (k, &a) in e.triangles.iter().enumerate() {
-                for &b in &e.triangles[k + 1..] {
-                    let (a, b) = (a as usize, b as usize);
-                    if include(a, b) {
-                        let w = scale * 0.5 * (triangle_weights[a] + triangle_weights[b]);
-                        self.add_difference(builder, a, b, w);
-                    }
+            for (a, b) in linked_pairs(&e.triangles) {
+                let (a, b) = (a as usize, b as usize);
+                if include(a, b) {
+                    let w = scale * 0.5 * (triangle_weights[a] + triangle_weights[b]);
+                    self.add_difference(builder, a, b, w);
                 }
             }
         }
