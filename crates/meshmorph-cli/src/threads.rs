@@ -1,11 +1,17 @@
 //! The thread pool every parallel step runs on.
 
-/// Starts rayon's global pool with a thread per core, or on the main
+/// Starts rayon's global pool with a thread per core (or
+/// `RAYON_NUM_THREADS`), or on the main
 /// thread alone where that many threads cannot be started (a limit on
 /// processes, `ulimit -u`): rayon would otherwise panic at its first
 /// parallel call.
 pub fn start_pool() {
-    let wanted = std::thread::available_parallelism().map_or(1, |n| n.get());
+    // As rayon's own default: RAYON_NUM_THREADS, else a thread per core.
+    let wanted = std::env::var("RAYON_NUM_THREADS")
+        .ok()
+        .and_then(|n| n.parse::<usize>().ok())
+        .filter(|&n| n > 0)
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     // rayon starts its pool once, and panics on later use if that failed:
     // the threads are tried first.
     let builder = if can_start_threads(wanted) {

@@ -32,8 +32,8 @@ static PENDING: Mutex<Option<Cleanup>> = Mutex::new(None);
 pub(super) struct Cleanup {
     /// Staged files (they may not exist yet).
     pub staged: Vec<PathBuf>,
-    /// Folders the run created, outermost first.
-    pub created: Vec<PathBuf>,
+    /// Staged folders (hidden, made by the run), removed with what they hold.
+    pub folders: Vec<PathBuf>,
 }
 
 impl Cleanup {
@@ -41,7 +41,10 @@ impl Cleanup {
         for p in &self.staged {
             let _ = std::fs::remove_file(p);
         }
-        super::plan::remove_folders(&self.created);
+        for dir in &self.folders {
+            // Not followed if it is a link: only the link goes.
+            let _ = std::fs::remove_dir_all(dir);
+        }
     }
 }
 

