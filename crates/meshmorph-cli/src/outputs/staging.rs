@@ -224,11 +224,66 @@ impl Staging {
         // hold, so that Ctrl-C while waiting still cleans up at once.
         let _locks = self.lock_folders();
         let _exclusive = interrupt::exclusive()?;
-        let pid = std::process::id();
         // (output, where the file it replaced is kept until every move is
         // done); the outputs in staged folders move with their folder.
         let mut placed: Vec<(usize, Option<Aside>)> = Vec::new();
-        for k in (0..self.staged.len()).filter(|&k| self.in_folder[k].is_none()) {
+        let loose: Vec<usize> = (0..self.staged.len())
+            .filter(|&k| self.in_folder[k].is_none())
+            .collect();
+        if let Err(e) = self.move_files(&loose, &mut placed) {
+            roll_back(&self.outputs, &placed, &[]);
+            return Err(e);
+        }
+        let mut moved_folders = 0;
+        for (j, (folder, staged)) in self.folders.iter().enumerate() {
+            if std::fs::rename(staged, folder).is_ok() {
+                moved_folders = j + 1;
+                continue;
+            }
+            // The folder was made meanwhile (another run into it, which
+            // committed before this one took its locks, so that this one
+            // holds that folder's lock too): its outputs move in one by one,
+            // as into any existing folder.
+            let inside: Vec<usize> = (0..self.staged.len())
+                .filter(|&k| self.in_folder[k] == Some(j))
+                .collect();
+            let made = inside.iter().try_for_each(|&k| {
+                std::fs::create_dir_all(parent_of(&self.outputs[k].path)).map_err(|e| {
+                    anyhow!(
+                        "creating the folder `{}`: {e}",
+                        parent_of(&self.outputs[k].path).display()
+                    )
+                })
+            });
+            if let Err(e) = made.and_then(|()| self.move_files(&inside, &mut placed)) {
+                roll_back(&self.outputs, &placed, &self.folders[..moved_folders]);
+                return Err(e);
+            }
+            let _ = std::fs::remove_dir_all(staged);
+        }
+        for (_, aside) in &placed {
+            if let Some(a) = aside {
+                let _ = std::fs::remove_file(a.path());
+            }
+        }
+        self.committed = true;
+        interrupt::committed();
+        Ok(self.remove_surplus())
+    }
+
+    /// Moves the staged files of `outputs` into place, each file it
+    /// replaces kept aside (see [`Aside`]), adding each to `placed`.
+    ///
+    /// # Errors
+    /// The output that could not be moved (those in `placed` are to be
+    /// rolled back).
+    fn move_files(
+        &self,
+        outputs: &[usize],
+        placed: &mut Vec<(usize, Option<Aside>)>,
+    ) -> Result<()> {
+        let pid = std::process::id();
+        for &k in outputs {
             let target = &self.outputs[k].path;
             let moved = (|| {
                 let aside = if std::fs::symlink_metadata(target).is_ok() {
@@ -252,7 +307,6 @@ impl Staging {
             match moved {
                 Ok(aside) => placed.push((k, aside)),
                 Err(e) => {
-                    roll_back(&self.outputs, &placed, &[]);
                     let (role, path) = (&self.outputs[k].role, target.display());
                     if e.kind() == std::io::ErrorKind::NotFound && !self.staged[k].exists() {
                         bail!("the {role} `{path}` was not written; no output was changed");
@@ -261,25 +315,7 @@ impl Staging {
                 }
             }
         }
-        for (j, (folder, staged)) in self.folders.iter().enumerate() {
-            // The folder was missing when the run began: a rename never
-            // replaces one that appeared meanwhile with anything in it.
-            if let Err(e) = std::fs::rename(staged, folder) {
-                roll_back(&self.outputs, &placed, &self.folders[..j]);
-                bail!(
-                    "moving the folder `{}` into place: {e} (another program made it meanwhile?); no output was changed",
-                    folder.display()
-                );
-            }
-        }
-        for (_, aside) in &placed {
-            if let Some(a) = aside {
-                let _ = std::fs::remove_file(a.path());
-            }
-        }
-        self.committed = true;
-        interrupt::committed();
-        Ok(self.remove_surplus())
+        Ok(())
     }
 
     /// Holds every output folder against other runs' commits (an advisory
@@ -287,22 +323,12 @@ impl Staging {
     /// A folder that cannot be locked (a file system without locks) is
     /// written without.
     fn lock_folders(&self) -> Vec<std::fs::File> {
-        let mut folders: Vec<PathBuf> = self
-            .folders()
-            .into_iter()
-            .map(|(f, _)| super::resolve::canonical(f))
-            .collect();
-        // One order for every run, so that two never wait for each other.
-        folders.sort();
-        folders.dedup();
-        folders
-            .iter()
-            .filter_map(|f| {
-                let folder = std::fs::File::open(f).ok()?;
-                folder.lock().ok()?;
-                Some(folder)
-            })
-            .collect()
+        // The folders the outputs go to, and the folders the staged
+        // folders are moved into.
+        let mut finals: std::collections::BTreeSet<&Path> =
+            self.outputs.iter().map(|o| parent_of(&o.path)).collect();
+        finals.extend(self.folders.iter().map(|(r, _)| parent_of(r)));
+        lock(finals.into_iter())
     }
 
     /// Frame files in the frame folders that this run did not write and
@@ -350,6 +376,24 @@ impl Drop for Staging {
             interrupt::disarm();
         }
     }
+}
+
+/// Advisory locks on `folders` (those that exist), taken in one order for
+/// every run (by canonical path), so that two runs never wait for each
+/// other; held until the files are dropped. A folder that cannot be
+/// locked (a file system without locks) is written without.
+fn lock<'a>(folders: impl Iterator<Item = &'a Path>) -> Vec<std::fs::File> {
+    let mut canonical: Vec<PathBuf> = folders.filter_map(|f| f.canonicalize().ok()).collect();
+    canonical.sort();
+    canonical.dedup();
+    canonical
+        .iter()
+        .filter_map(|f| {
+            let folder = std::fs::File::open(f).ok()?;
+            folder.lock().ok()?;
+            Some(folder)
+        })
+        .collect()
 }
 
 /// A file an output replaces, kept aside until every move is done.
