@@ -157,14 +157,13 @@ fn links_planted_at_staged_names_are_never_written_through() {
 
 /// A textured square whose material library names a texture and a bump map.
 fn textured() -> tempfile::TempDir {
-    let dir = folder(&[
+    folder(&[
         ("a.obj", TEXTURED),
         ("b.obj", TEXTURED_TURNED),
         ("look.mtl", MTL),
         ("tex/skin.png", "not really a picture"),
         ("normal.png", "nor this"),
-    ]);
-    dir
+    ])
 }
 
 #[test]

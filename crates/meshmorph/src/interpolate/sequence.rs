@@ -187,7 +187,7 @@ fn fitted_rows_of_step<const D: usize, const F: usize, const L: usize>(
 ) where
     Space<D>: Rotations<D>,
 {
-    debug_assert!(L % F == 0 && rows.len() <= L && rows.len() % F == 0);
+    debug_assert!(L.is_multiple_of(F) && rows.len() <= L && rows.len().is_multiple_of(F));
     let last = first + rows.len() / F - 1;
     let triangle = |l: usize| (first + l / F).min(last);
     let u = Lanes::<L>(array(|l| us[l % F]));
