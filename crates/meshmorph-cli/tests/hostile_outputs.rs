@@ -329,7 +329,26 @@ fn limited(dir: &Path, limit: &str, args: &[&str]) -> Option<Output> {
     } else {
         Command::new("prlimit")
     };
-    let out = cmd.arg(limit).arg(BIN).args(args).current_dir(dir).output();
+    // The user nobody may not reach the build's folder (a clone under
+    // /root): a copy of the binary in the test's folder runs instead.
+    let bin = if nobody {
+        use std::os::unix::fs::PermissionsExt as _;
+        let copy = dir.join("meshmorph-for-nobody");
+        fs::copy(BIN, &copy).unwrap();
+        fs::set_permissions(&copy, fs::Permissions::from_mode(0o755)).unwrap();
+        copy
+    } else {
+        PathBuf::from(BIN)
+    };
+    let out = cmd
+        .arg(limit)
+        .arg(&bin)
+        .args(args)
+        .current_dir(dir)
+        .output();
+    if nobody {
+        let _ = fs::remove_file(&bin);
+    }
     match out {
         Ok(out) => Some(out),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
