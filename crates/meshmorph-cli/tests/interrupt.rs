@@ -151,6 +151,9 @@ fn an_interrupt_during_the_final_moves_lets_them_finish_and_says_so() {
         let d = dir.path();
         fs::write(d.join("a.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
         fs::write(d.join("b.obj"), "v 0 0 0\nv 0 1 0\nv -1 0 0\nf 1 2 3\n").unwrap();
+        // An existing folder takes the frames one rename each (a new one
+        // would be moved into place whole, at once).
+        fs::create_dir(d.join("out")).unwrap();
         let mut child = Command::new(env!("CARGO_BIN_EXE_meshmorph"))
             .args(["interpolate", "a.obj", "b.obj", "-o", "out", "--frames"])
             .arg(frames.to_string())
