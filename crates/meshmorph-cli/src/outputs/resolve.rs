@@ -107,15 +107,9 @@ fn metadata_id(_m: &std::fs::Metadata) -> Option<(u64, u64)> {
     None
 }
 
-#[cfg(unix)]
+/// Device and inode of the file at `path`, links followed.
 fn file_id(path: &Path) -> Option<(u64, u64)> {
-    use std::os::unix::fs::MetadataExt as _;
-    std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
-}
-
-#[cfg(not(unix))]
-fn file_id(_path: &Path) -> Option<(u64, u64)> {
-    None
+    std::fs::metadata(path).ok().as_ref().and_then(metadata_id)
 }
 
 #[cfg(test)]

@@ -133,10 +133,7 @@ impl Staging {
     fn folders(&self) -> Vec<(&Path, usize)> {
         let mut folders: Vec<(&Path, usize)> = Vec::new();
         for (k, staged) in self.staged.iter().enumerate() {
-            let folder = match staged.parent() {
-                Some(d) if !d.as_os_str().is_empty() => d,
-                _ => Path::new("."),
-            };
+            let folder = parent_of(staged);
             if !folders.iter().any(|(f, _)| *f == folder) {
                 folders.push((folder, k));
             }
