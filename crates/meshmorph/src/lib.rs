@@ -48,58 +48,39 @@
 // Numeric kernels index small fixed-size arrays by position, as the papers do.
 #![allow(clippy::needless_range_loop)]
 
-mod bvh;
-pub mod carried_parts;
-mod closest;
-mod correspond;
-mod correspondence;
 mod error;
-mod frame_source;
-mod geometry;
 mod gradient;
 mod interpolate;
 pub mod io;
-mod lanes;
-mod markers;
-mod matrix;
+mod linalg;
 mod mesh;
-pub mod mirror_plane;
-mod nearest_vertices;
-mod partner_parts;
-mod polar;
-pub mod polar3;
 pub mod render;
-mod rotation;
-pub mod rotation3;
-pub mod rotation_field;
-mod seams;
-pub mod shapes;
-pub mod similarity;
-mod solve;
-pub mod topology;
 mod transfer;
-mod trig;
 
-pub use correspond::{
-    correspond, correspond_steps, CorrespondOptions, CorrespondResult, MIN_MARKERS,
-};
-pub use correspondence::Correspondence;
 pub use error::{Error, Result, DEGENERATE_FIX};
-pub use frame_source::{FrameSource, FRAME_RATES};
+pub use gradient::solve::FactorKind;
 pub use gradient::TriangleMaps;
+pub use interpolate::rotation::{RotationLog3, Rotations};
 pub use interpolate::{
     frames_per_solve, Blend, Blend3, FrameWorkspace, Interpolator, InterpolatorOptions,
     PreparedSurface, RestSystem, Sequence, Sequence3, SequenceWorkspace, StretchMode,
     FRAMES_PER_SOLVE,
 };
-pub use markers::{Markers, Snap, SNAP_LIMIT};
-pub use matrix::Mat;
+pub use linalg::matrix::Mat;
+pub use linalg::Space;
+pub use linalg::{polar as polar3, quaternion as rotation3, similarity};
+pub use mesh::frame_source::{FrameSource, FRAME_RATES};
+pub use mesh::seams::Seams;
+pub use mesh::{shapes, topology};
 pub use mesh::{Mesh, Mesh2, Mesh3};
-pub use rotation::{RotationLog3, Rotations, Space};
-pub use seams::Seams;
 pub use similarity::Similarity;
-pub use solve::FactorKind;
-pub use transfer::{PoseWorkspace, Transfer, TransferOptions};
+pub use transfer::correspondence::Correspondence;
+pub use transfer::markers::{Markers, Snap, SNAP_LIMIT};
+pub use transfer::matching::{
+    correspond, correspond_steps, CorrespondOptions, CorrespondResult, MIN_MARKERS,
+};
+pub use transfer::pose_transfer::{PoseWorkspace, Transfer, TransferOptions};
+pub use transfer::{carried_parts, mirror_plane, rotation_field};
 
 /// The README's examples, compiled and run as doctests.
 #[cfg(doctest)]

@@ -22,11 +22,13 @@
 //! - [`FactoredSystem`]: the normal matrix, pins eliminated, factored once;
 //! - [`Placement`]: each connected part's area-weighted centroid and shift.
 
+mod folds;
 mod operators;
 mod pins;
 mod placement;
 mod planar;
 mod smoothness;
+pub(crate) mod solve;
 pub(crate) mod spatial;
 mod surface;
 mod system;

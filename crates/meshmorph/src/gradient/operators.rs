@@ -10,8 +10,8 @@
 //! side has `D` columns (column-major, `#unknowns × D`).
 #![allow(non_snake_case)]
 
-use crate::matrix::Mat;
-use crate::solve::SymmetricBuilder;
+use crate::gradient::solve::SymmetricBuilder;
+use crate::linalg::matrix::Mat;
 
 /// The operators `G_t` (`K × D`) of the triangles of a rest mesh over its
 /// unknowns: the `#V` vertices, then (for `K = 4`) one fourth vertex per

@@ -8,7 +8,7 @@
 //! Pinned unknowns are eliminated from the system, which keeps it symmetric
 //! positive definite (`solve::PinnedSystem`).
 
-use crate::topology::Components;
+use crate::mesh::topology::Components;
 
 /// Vertices held at given positions, in the order they were pinned.
 #[derive(Clone, Debug)]

@@ -2,7 +2,7 @@
 //! translation, which the caller chooses from the part's area-weighted
 //! centroid.
 
-use crate::topology::Components;
+use crate::mesh::topology::Components;
 
 /// The parts of a mesh that are moved after each solve, with the area
 /// weight of each vertex in its part's centroid.

@@ -2,11 +2,11 @@
 //! functions (piecewise-linear interpolation) of each triangle.
 
 use super::TriangleMaps;
-use crate::geometry::signed_area2;
-use crate::matrix::Mat2;
+use crate::linalg::matrix::Mat2;
+use crate::linalg::vector::signed_area2;
+use crate::linalg::Space;
+use crate::mesh::topology::TriangleAdjacency;
 use crate::mesh::Mesh2;
-use crate::topology::TriangleAdjacency;
-use crate::Space;
 
 impl TriangleMaps<2> for Space<2> {
     #[inline]

@@ -1,8 +1,8 @@
 //! Smoothness across edges: neighbouring triangles asked to deform alike.
 
 use super::GradientOperators;
-use crate::solve::SymmetricBuilder;
-use crate::topology::{linked_pairs, Edge};
+use crate::gradient::solve::SymmetricBuilder;
+use crate::mesh::topology::{linked_pairs, Edge};
 
 impl<const D: usize, const K: usize> GradientOperators<D, K> {
     /// `Σ scale · ½ (w_a + w_b) ‖X G_a − X G_b‖²_F` over every pair of

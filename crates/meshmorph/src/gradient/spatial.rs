@@ -14,8 +14,8 @@
 
 use super::GradientOperators;
 use crate::error::{Error, Result};
-use crate::geometry::{add, cross, norm, scale, sub};
-use crate::matrix::{inverse3, mul, Mat3};
+use crate::linalg::matrix::{inverse3, mul, Mat3};
+use crate::linalg::vector::{add, cross, norm, scale, sub};
 use crate::mesh::Mesh3;
 
 /// The fourth vertex of a triangle: `v1 + n / √|n|` with `n` the (unnormalised)
@@ -105,7 +105,7 @@ pub(crate) fn frame_inverses(mesh: &Mesh3, name: &str) -> Result<Vec<Mat3>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::matrix::det3;
+    use crate::linalg::matrix::det3;
 
     #[test]
     fn frames_of_a_rotated_triangle_give_the_rotation() {

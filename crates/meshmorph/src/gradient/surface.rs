@@ -9,14 +9,14 @@
 //! of the rest mesh, the same for x, y and z: one factorization, three
 //! right-hand sides.
 
+use super::folds::{turned_over_in_space, RestDihedrals};
 use super::spatial::{deformation_gradient, frame};
 use super::TriangleMaps;
-use crate::geometry::{cross, norm, scale, sub};
-use crate::interpolate::RestDihedrals;
-use crate::matrix::{identity, inverse3, Mat3};
+use crate::linalg::matrix::{identity, inverse3, Mat3};
+use crate::linalg::vector::{cross, norm, scale, sub};
+use crate::linalg::Space;
+use crate::mesh::topology::TriangleAdjacency;
 use crate::mesh::Mesh3;
-use crate::topology::TriangleAdjacency;
-use crate::Space;
 
 impl TriangleMaps<3> for Space<3> {
     #[inline]
@@ -54,6 +54,6 @@ impl TriangleMaps<3> for Space<3> {
         folds: &RestDihedrals,
         positions: &[[f64; 3]],
     ) -> Vec<usize> {
-        crate::interpolate::turned_over_in_space(rest, adjacency, folds, positions)
+        turned_over_in_space(rest, adjacency, folds, positions)
     }
 }

@@ -3,7 +3,7 @@
 
 use super::Pins;
 use crate::error::Result;
-use crate::solve::{FactorKind, PinnedSystem, SymmetricMatrix, Workspace};
+use crate::gradient::solve::{FactorKind, PinnedSystem, SymmetricMatrix, Workspace};
 
 /// A factored system over `D` coordinate columns with pinned values.
 #[derive(Debug)]

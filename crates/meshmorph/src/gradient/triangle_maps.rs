@@ -3,12 +3,12 @@
 
 use std::fmt::Debug;
 
-use crate::matrix::Mat;
+use crate::linalg::matrix::Mat;
+use crate::mesh::topology::TriangleAdjacency;
 use crate::mesh::Mesh;
-use crate::topology::TriangleAdjacency;
 
 /// The per-triangle geometry of `D`-dimensional meshes that interpolation
-/// needs (implemented by [`Space<2>`](crate::Space) and [`Space<3>`](crate::Space)).
+/// needs (implemented by [`Space<2>`](crate::linalg::Space) and [`Space<3>`](crate::linalg::Space)).
 pub trait TriangleMaps<const D: usize> {
     /// The area of a triangle: in the plane signed, positive when
     /// counter-clockwise; in space at least 0.

@@ -31,11 +31,11 @@
 use rstar::primitives::GeomWithData;
 use rstar::RTree;
 
-use crate::geometry::{cross, norm, sub};
-use crate::matrix::Mat;
-use crate::nearest_vertices::{nearest_with_ties, VertexTree};
-use crate::similarity::rigid_fit;
-use crate::topology::Components;
+use crate::linalg::matrix::Mat;
+use crate::linalg::similarity::rigid_fit;
+use crate::linalg::vector::{cross, norm, sub};
+use crate::mesh::nearest_vertices::{nearest_with_ties, VertexTree};
+use crate::mesh::topology::Components;
 
 /// How many nearest vertices of larger parts each vertex of a part adds to
 /// its anchors (more where several are as near: `nearest_vertices.rs`).

@@ -30,11 +30,11 @@ use super::sequence::{Log, LOG_FLOOR};
 use super::{FrameWorkspace, InterpolatorOptions, RestSystem};
 use crate::error::{Error, Result};
 use crate::gradient::TriangleMaps;
-use crate::matrix::{mul, Mat};
+use crate::interpolate::rotation::{consistent_rotations, Rotations};
+use crate::linalg::matrix::{mul, Mat};
+use crate::linalg::Space;
+use crate::mesh::topology::TriangleAdjacency;
 use crate::mesh::Mesh;
-use crate::rotation::{consistent_rotations, Rotations};
-use crate::topology::TriangleAdjacency;
-use crate::Space;
 
 #[derive(Debug)]
 struct BlendShape<const D: usize>

@@ -23,20 +23,20 @@ mod blend;
 mod options;
 mod poses;
 mod rest;
+pub(crate) mod rotation;
 mod sequence;
 
 use std::sync::Arc;
 
 use crate::error::{Error, Result, LIST_LIMIT};
 use crate::gradient::TriangleMaps;
+use crate::interpolate::rotation::Rotations;
+use crate::linalg::Space;
+use crate::mesh::topology::TriangleAdjacency;
 use crate::mesh::Mesh;
-use crate::rotation::Rotations;
-use crate::topology::TriangleAdjacency;
-use crate::Space;
 
 pub use blend::{Blend, Blend3};
 pub use options::{InterpolatorOptions, StretchMode};
-pub(crate) use poses::{turned_over_in_space, RestDihedrals};
 pub use rest::{PreparedSurface, RestSystem};
 pub use sequence::{frames_per_solve, Sequence, Sequence3, SequenceWorkspace};
 

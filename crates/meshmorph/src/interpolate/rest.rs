@@ -14,13 +14,13 @@
 use super::attached::{Attached, PartAnchors};
 use super::{FrameWorkspace, FRAMES_PER_SOLVE, TRIANGLES_PER_STEP};
 use crate::error::Result;
+use crate::gradient::solve::{FactorKind, SymmetricBuilder};
 use crate::gradient::weights::vertex_weights;
 use crate::gradient::{FactoredSystem, GradientOperators, Pins, Placement, TriangleMaps};
-use crate::matrix::Mat;
+use crate::linalg::matrix::Mat;
+use crate::linalg::Space;
+use crate::mesh::topology::connected_components;
 use crate::mesh::{check_areas, Mesh};
-use crate::solve::{FactorKind, SymmetricBuilder};
-use crate::topology::connected_components;
-use crate::Space;
 
 /// The gradient operators and area weights of a source mesh, its normal
 /// matrix (the cotangent Laplacian) factored once, and the placement of its

@@ -48,12 +48,12 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::gradient::TriangleMaps;
-use crate::lanes::{array, Lanes, Real};
-use crate::matrix::{identity, lerp, mul, Mat};
+use crate::interpolate::rotation::{consistent_rotations, Rotations};
+use crate::linalg::lanes::{array, Lanes, Real};
+use crate::linalg::matrix::{identity, lerp, mul, Mat};
+use crate::linalg::Space;
+use crate::mesh::topology::TriangleAdjacency;
 use crate::mesh::Mesh;
-use crate::rotation::{consistent_rotations, Rotations};
-use crate::topology::TriangleAdjacency;
-use crate::Space;
 
 /// Eigenvalues of stretches below this are raised to it before logarithms
 /// and powers.
@@ -763,7 +763,7 @@ pub fn frames_per_solve(count: usize) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shapes::{bend, curl, strip, tube, twist};
+    use crate::mesh::shapes::{bend, curl, strip, tube, twist};
 
     /// The folded rows of every triangle, segment and a few times are the
     /// rows of its map `R_u S_u` (the rotation from key 0, the stretch

@@ -58,10 +58,10 @@ use json::validation::{Checked::Valid, USize64};
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::frame_source::{map_frame, FrameSource};
-use crate::geometry::{angle_weighted_normals, angle_weighted_vertex_normals};
 use crate::io::{write_atomic, xyz};
+use crate::linalg::vector::{angle_weighted_normals, angle_weighted_vertex_normals};
 use crate::mesh::check_finite;
+use crate::mesh::frame_source::{map_frame, FrameSource};
 
 /// How a GLB is written.
 #[derive(Clone, Debug, PartialEq)]

@@ -66,9 +66,9 @@
 
 mod appearance;
 mod atomic;
-mod correspondence;
+mod correspondence_file;
 pub mod gltf;
-mod markers;
+mod marker_file;
 mod material_paths;
 mod mesh_file;
 pub mod mtl;

@@ -20,9 +20,9 @@ use std::collections::HashMap;
 
 use super::mesh_file::NONE;
 use super::triangulate::Polygons;
-use crate::geometry::{add, corner_angle, cross, dot, least_turn, norm, scale, sub};
-use crate::matrix::Mat3;
-use crate::similarity::closest_rotation;
+use crate::linalg::matrix::Mat3;
+use crate::linalg::similarity::closest_rotation;
+use crate::linalg::vector::{add, corner_angle, cross, dot, least_turn, norm, scale, sub};
 
 /// Turned normals whose coordinates agree to this are one normal: far below
 /// what shading shows (exporters round normals to 4 to 6 digits), far above

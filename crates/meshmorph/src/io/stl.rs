@@ -24,7 +24,7 @@ use super::ply::Scalar;
 use super::triangulate::Polygons;
 use super::{parse_f64, show, tokens, xyz, Lines};
 use crate::error::{Error, Result};
-use crate::geometry::{cross, norm, sub};
+use crate::linalg::vector::{cross, norm, sub};
 
 /// Bytes before the first facet of a binary file: an 80-byte header and
 /// the facet count.

@@ -9,7 +9,7 @@
 //! Should ear clipping get stuck (a self-intersecting or degenerate
 //! polygon), what is left of the polygon is triangulated as a fan.
 
-use crate::geometry::{cross, dot, norm, scale, sub};
+use crate::linalg::vector::{cross, dot, norm, scale, sub};
 
 /// Faces of any size, stored flat, with the line each came from.
 #[derive(Clone, Debug, Default)]

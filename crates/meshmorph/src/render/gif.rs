@@ -14,7 +14,7 @@ use super::shade3d::{Camera3d, Style3d};
 use super::style::{mean_area, EdgeSets, Style2d};
 use super::view::View2d;
 use crate::error::{Error, Result};
-use crate::frame_source::{map_frame, FrameSource};
+use crate::mesh::frame_source::{map_frame, FrameSource};
 use rayon::prelude::*;
 
 /// Size and timing of an animation.
@@ -556,10 +556,14 @@ mod tests {
         let options = GifOptions::default();
         // In space: the camera fitted to each frame's extreme points is
         // the one fitted to all points.
-        let tube = crate::shapes::tube(4.0, 0.3, 17, 8);
+        let tube = crate::mesh::shapes::tube(4.0, 0.3, 17, 8);
         let frames: Vec<Vec<[f64; 3]>> = [0.0, 1.0, 2.5]
             .iter()
-            .map(|&a| crate::shapes::bend(&tube, 4.0, a).positions().to_vec())
+            .map(|&a| {
+                crate::mesh::shapes::bend(&tube, 4.0, a)
+                    .positions()
+                    .to_vec()
+            })
             .collect();
         let grid = GridOptions {
             cell_width: 120,

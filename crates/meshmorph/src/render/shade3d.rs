@@ -5,7 +5,7 @@ use super::canvas::Canvas;
 use super::palette::Ramp;
 use super::raster;
 use super::Rect;
-use crate::geometry::{cross, dot, norm, scale, sub};
+use crate::linalg::vector::{cross, dot, norm, scale, sub};
 
 /// An orthographic camera: the direction it looks in, which way is up on
 /// screen, and the region of space it shows.

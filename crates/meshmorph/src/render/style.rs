@@ -141,7 +141,7 @@ pub(crate) fn signed_area(p: &[[f64; 2]], t: &[u32; 3]) -> f64 {
     if !valid(t, p.len()) {
         return 0.0;
     }
-    crate::geometry::signed_area2(p[t[0] as usize], p[t[1] as usize], p[t[2] as usize])
+    crate::linalg::vector::signed_area2(p[t[0] as usize], p[t[1] as usize], p[t[2] as usize])
 }
 
 impl Style2d {

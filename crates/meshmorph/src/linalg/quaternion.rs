@@ -8,8 +8,8 @@
 //! `w ≥ 0`.
 #![allow(non_snake_case)]
 
-use crate::lanes::Real;
-use crate::matrix::Mat3;
+use crate::linalg::lanes::Real;
+use crate::linalg::matrix::Mat3;
 
 /// A unit quaternion `[w, x, y, z]`, scalar first.
 pub type Quat = [f64; 4];
@@ -129,7 +129,7 @@ pub fn quat_dot(a: Quat, b: Quat) -> f64 {
 /// The quaternion of the rotation by `angle` radians about the unit `axis`.
 #[inline]
 pub fn quat_axis_angle(axis: [f64; 3], angle: f64) -> Quat {
-    let (s, c) = crate::trig::sin_cos(0.5 * angle);
+    let (s, c) = crate::linalg::trig::sin_cos(0.5 * angle);
     [c, s * axis[0], s * axis[1], s * axis[2]]
 }
 
@@ -181,11 +181,11 @@ pub fn exp_rotation(w: [f64; 3]) -> Mat3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::polar3::tests::{max_diff, rng};
+    use crate::linalg::polar::tests::{max_diff, rng};
     use std::f64::consts::PI;
 
     fn norm(w: [f64; 3]) -> f64 {
-        crate::geometry::norm(w)
+        crate::linalg::vector::norm(w)
     }
 
     #[test]
@@ -203,7 +203,7 @@ mod tests {
             w = w.map(|x| x * target / len);
             let R = exp_rotation(w);
             let back = log_rotation(&R);
-            let err = norm(crate::geometry::sub(back, w));
+            let err = norm(crate::linalg::vector::sub(back, w));
             // Near a half turn the rotation itself only determines the axis
             // to about √ε relative to the distance from π.
             let tol = if PI - target < 1e-6 {
@@ -238,7 +238,7 @@ mod tests {
     fn quaternion_products_compose_rotations() {
         let (a, b) = ([0.3, -1.0, 2.0], [1.5, 0.2, -0.4]);
         let ab = quat_to_matrix(quat_mul(quat_exp(a), quat_exp(b)));
-        let m = crate::matrix::mul(exp_rotation(a), exp_rotation(b));
+        let m = crate::linalg::matrix::mul(exp_rotation(a), exp_rotation(b));
         assert!(max_diff(ab, m) < 1e-14);
         let q = quat_axis_angle([0.0, 0.0, 1.0], 0.5);
         assert!(max_diff(quat_to_matrix(q), exp_rotation([0.0, 0.0, 0.5])) < 1e-15);

@@ -8,11 +8,11 @@
 use std::f64::consts::TAU;
 
 use super::{make_consistent, Rotations, Space};
-use crate::lanes::{array, Lanes};
-use crate::matrix::Mat2;
-use crate::polar::{polar_decomposition, rotation, SymmetricEigen2};
-use crate::topology::TriangleAdjacency;
-use crate::trig::sin_cos_lanes;
+use crate::linalg::lanes::{array, Lanes};
+use crate::linalg::matrix::Mat2;
+use crate::linalg::polar::{polar_decomposition, rotation, SymmetricEigen2};
+use crate::linalg::trig::sin_cos_lanes;
+use crate::mesh::topology::TriangleAdjacency;
 
 /// `angle + 2πk` for the integer `k` that brings it nearest to `reference`.
 #[inline]

@@ -1,14 +1,14 @@
 //! Marker vertex pairs that tie a source mesh to a target mesh, given as
 //! vertex indices or as points snapped to the nearest vertex. The file
-//! format is read in [`crate::io`] (`io/markers.rs`).
+//! format is read in [`crate::io`] (`io/marker_file.rs`).
 
 use std::collections::HashMap;
 use std::path::PathBuf;
 
 use crate::error::{Error, Result};
-use crate::geometry::{norm, sub};
+use crate::linalg::vector::{norm, sub};
+use crate::mesh::seams::Seams;
 use crate::mesh::{used_vertices, Mesh3};
-use crate::seams::Seams;
 
 /// Pairs `(source vertex, target vertex)`, 0-based, with where they came from
 /// so that errors can name the file and line. A marker file may also give

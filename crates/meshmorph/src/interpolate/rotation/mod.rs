@@ -15,18 +15,14 @@ mod spatial;
 use std::fmt::Debug;
 
 use crate::gradient::TriangleMaps;
-use crate::lanes::Lanes;
-use crate::matrix::Mat;
-use crate::topology::TriangleAdjacency;
+use crate::linalg::lanes::Lanes;
+use crate::linalg::matrix::Mat;
+use crate::linalg::Space;
+use crate::mesh::topology::TriangleAdjacency;
 
 pub(crate) use consistency::consistent_rotations;
 pub use consistency::make_consistent;
 pub use spatial::RotationLog3;
-
-/// `D`-dimensional space, the type that carries the dimension-dependent
-/// algebra ([`Rotations`], [`TriangleMaps`](crate::TriangleMaps)).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Space<const D: usize>;
 
 /// The rotations of `D`-dimensional space, as interpolation, keyframe
 /// sequences and blends use them.

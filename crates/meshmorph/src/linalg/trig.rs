@@ -16,7 +16,7 @@
 //! for a value that small: a rotation does not notice). Beyond it (angles
 //! no frame of a mesh reaches) the standard library answers.
 
-use crate::lanes::{Lanes, Real};
+use crate::linalg::lanes::{Lanes, Real};
 
 /// Angles up to this magnitude are reduced here: the multiple `k` of `π/2`
 /// then has at most 16 bits, so `k` times each of the first three 33-bit

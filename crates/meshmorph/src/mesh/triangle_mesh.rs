@@ -179,7 +179,10 @@ impl Mesh3 {
         (0..self.triangles.len())
             .map(|t| {
                 let [a, b, c] = self.corners(t);
-                crate::geometry::cross(crate::geometry::sub(b, a), crate::geometry::sub(c, a))
+                crate::linalg::vector::cross(
+                    crate::linalg::vector::sub(b, a),
+                    crate::linalg::vector::sub(c, a),
+                )
             })
             .collect()
     }
@@ -190,7 +193,7 @@ impl Mesh3 {
     pub fn triangle_areas(&self) -> Vec<f64> {
         self.triangle_normals_unnormalized()
             .iter()
-            .map(|n| 0.5 * crate::geometry::norm(*n))
+            .map(|n| 0.5 * crate::linalg::vector::norm(*n))
             .collect()
     }
 
@@ -266,7 +269,7 @@ pub fn signed_areas(positions: &[[f64; 2]], triangles: &[[u32; 3]]) -> Vec<f64> 
     triangles
         .iter()
         .map(|&[a, b, c]| {
-            crate::geometry::signed_area2(
+            crate::linalg::vector::signed_area2(
                 positions[a as usize],
                 positions[b as usize],
                 positions[c as usize],

@@ -126,7 +126,7 @@ impl Neighbours {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solve::SymmetricBuilder;
+    use crate::gradient::solve::SymmetricBuilder;
     use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymmetricOrdering};
     use faer::Side;
 
@@ -135,7 +135,7 @@ mod tests {
     /// for every `stride`-th pair of consecutive triangles (none when
     /// `stride` is 0), a coupling between the pair's fourth vertices.
     fn grid_with_fourth_vertices(k: usize, stride: usize) -> SymmetricMatrix {
-        let grid = crate::shapes::strip(1.0, 1.0, k - 1, k - 1);
+        let grid = crate::mesh::shapes::strip(1.0, 1.0, k - 1, k - 1);
         let n_vertices = grid.num_vertices();
         assert_eq!(n_vertices, k * k);
         let triangles: Vec<[usize; 3]> = grid

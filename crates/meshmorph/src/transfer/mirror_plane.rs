@@ -19,12 +19,12 @@
 
 use rayon::prelude::*;
 
-use crate::bvh::{Aabb, Bvh};
+use crate::mesh::bvh::{Aabb, Bvh};
 
-use crate::geometry::{add, dot, scale, sub};
 use crate::gradient::weights::vertex_weights;
+use crate::linalg::polar::SymmetricEigen3;
+use crate::linalg::vector::{add, dot, scale, sub};
 use crate::mesh::Mesh3;
-use crate::polar3::SymmetricEigen3;
 
 /// The largest RMS distance, over the area, between a surface mirrored
 /// about its plane and the surface itself, as a fraction of its size (the
@@ -324,8 +324,8 @@ fn refine(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::norm;
-    use crate::shapes::{bend, octahedron, rigid_motion3, tube, twist};
+    use crate::linalg::vector::norm;
+    use crate::mesh::shapes::{bend, octahedron, rigid_motion3, tube, twist};
 
     /// A tube that widens along x and curves up in y: the mirror image of
     /// itself about z = 0 alone.
@@ -356,7 +356,7 @@ mod tests {
         );
         // Turned, scaled and moved: the plane is turned, scaled and moved.
         let (a, b) = (0.7f64, -1.2f64);
-        let turn = crate::matrix::mul(
+        let turn = crate::linalg::matrix::mul(
             [
                 [a.cos(), -a.sin(), 0.0],
                 [a.sin(), a.cos(), 0.0],
@@ -371,7 +371,7 @@ mod tests {
         let scaled = turn.map(|row| row.map(|r| 3.5 * r));
         let moved = rigid_motion3(&mesh, scaled, [10.0, -4.0, 2.5]);
         let there = mirror_plane(&moved).expect("one mirror plane");
-        let expected = crate::matrix::mul_vec(&turn, [0.0, 0.0, 1.0]);
+        let expected = crate::linalg::matrix::mul_vec(&turn, [0.0, 0.0, 1.0]);
         assert!(dot(there.normal, expected).abs() > 1.0 - 1e-12, "{there:?}");
         for &p in moved.positions().iter().step_by(7) {
             let image = there.mirror(p);

@@ -10,8 +10,8 @@
 #![allow(non_snake_case)]
 
 use crate::error::{Error, Result};
-use crate::geometry::{add, dot, norm, scale, sub};
-use crate::matrix::{det3, inverse3};
+use crate::linalg::matrix::{det3, inverse3};
+use crate::linalg::vector::{add, dot, norm, scale, sub};
 
 /// `x ↦ s R x + t`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -598,7 +598,7 @@ mod tests {
     /// that fits `A` at least as well as any other tried.
     #[test]
     fn the_closest_rotation_is_the_polar_factor_and_a_proper_rotation() {
-        let mut next = crate::polar3::tests::rng(12345);
+        let mut next = crate::linalg::polar::tests::rng(12345);
         let horn = |A: &[[f64; 3]; 3]| {
             let At: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| A[j][i]));
             best_rotation(&At)
@@ -643,7 +643,7 @@ mod tests {
             );
             if polar_rotation(&A).is_some() {
                 newton += 1;
-                let d = crate::polar3::tests::max_diff(R, H);
+                let d = crate::linalg::polar::tests::max_diff(R, H);
                 assert!(d < 1e-9, "{A:?}: Newton and Horn differ by {d}");
             } else {
                 flipped += 1;
@@ -741,7 +741,7 @@ mod tests {
             scale: 1.0,
             translation: [0.0; 3],
         };
-        let mut rng = crate::polar3::tests::rng(5);
+        let mut rng = crate::linalg::polar::tests::rng(5);
         let from: Vec<[f64; 3]> = (0..200)
             .map(|_| {
                 let v = [rng() - 0.5, rng() - 0.5, rng() - 0.5];

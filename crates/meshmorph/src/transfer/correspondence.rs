@@ -1,14 +1,14 @@
 //! The triangle map between a source and a target mesh (its file format is
-//! in [`crate::io`], `io/correspondence.rs`).
+//! in [`crate::io`], `io/correspondence_file.rs`).
 
 use crate::error::{Error, Result};
+use crate::linalg::similarity::Similarity;
 use crate::mesh::Mesh3;
-use crate::similarity::Similarity;
 
 /// Pairs `(source triangle, target triangle)`, sorted and unique, with the
 /// sizes and a connectivity fingerprint of the meshes they were made for,
 /// and the similarity that brought the source onto the target before the
-/// pairs were found (the identity unless [`correspond`](crate::correspond)
+/// pairs were found (the identity unless [`correspond`](crate::transfer::matching)
 /// aligned them).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Correspondence {

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::markers::Markers;
+use crate::transfer::markers::Markers;
 
 impl Markers {
     /// Reads a marker file: one pair `source target` per line, separated by

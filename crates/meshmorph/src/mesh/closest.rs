@@ -7,8 +7,8 @@
 //! (`bvh.rs`) that skips whatever lies beyond the cut-off or beyond the
 //! nearest compatible candidate found so far.
 
-use crate::bvh::{Aabb, Bvh};
-use crate::geometry::{add, cross, dot, norm, scale, sub};
+use crate::linalg::vector::{add, cross, dot, norm, scale, sub};
+use crate::mesh::bvh::{Aabb, Bvh};
 
 /// Cosines of the angle between two normals up to this count as a right
 /// angle: such faces are not compatible. Faces at exactly 90° (a tube's
@@ -184,7 +184,7 @@ impl CentroidIndex {
             .map(|(tri, &part)| {
                 let p = tri.map(|v| positions[v as usize]);
                 Centroid {
-                    point: crate::geometry::centroid(p),
+                    point: crate::linalg::vector::centroid(p),
                     normal: unit_normal(p),
                     part,
                 }

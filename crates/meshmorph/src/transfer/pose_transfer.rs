@@ -52,20 +52,20 @@
 
 use rayon::prelude::*;
 
-use crate::carried_parts::CarriedParts;
-use crate::correspondence::Correspondence;
 use crate::error::{Error, Result};
-use crate::geometry::{centroid, sub};
+use crate::gradient::solve::{FactorKind, SymmetricBuilder};
 use crate::gradient::spatial::{deformation_gradient, frame_inverses};
 use crate::gradient::weights::{normalised_by_mean, vertex_weights};
 use crate::gradient::{FactoredSystem, GradientOperators, Pins, Placement, SolveWorkspace};
-use crate::matrix::{identity, Mat3};
+use crate::linalg::matrix::{identity, Mat3};
+use crate::linalg::similarity::Similarity;
+use crate::linalg::similarity::{closest_rotation, geometric_median};
+use crate::linalg::vector::{centroid, sub};
+use crate::mesh::topology::{connected_components, edges, Components, Edge, TriangleAdjacency};
 use crate::mesh::Mesh3;
-use crate::rotation_field::{FieldWorkspace, RotationField};
-use crate::similarity::Similarity;
-use crate::similarity::{closest_rotation, geometric_median};
-use crate::solve::{FactorKind, SymmetricBuilder};
-use crate::topology::{connected_components, edges, Components, Edge, TriangleAdjacency};
+use crate::transfer::carried_parts::CarriedParts;
+use crate::transfer::correspondence::Correspondence;
+use crate::transfer::rotation_field::{FieldWorkspace, RotationField};
 
 /// Options of [`Transfer::new`].
 #[derive(Clone, Debug, PartialEq)]
@@ -292,7 +292,7 @@ impl Transfer {
             .map(|t| pairs.is_paired(t))
             .collect();
         let gap_distance = (options.gap_distance * target_ref.bounding_box_diagonal()).max(
-            crate::correspond::mean_length(&tri_edges, target_ref.positions()),
+            crate::transfer::matching::mean_length(&tri_edges, target_ref.positions()),
         );
         let (beyond, near) = rayon::join(
             || beyond_the_source(target_ref, source_ref, &pairs, &adjacency, &paired),
@@ -628,7 +628,7 @@ fn normal_equations(
     tri_edges: &[Edge],
     is_gap: &[bool],
     weights: &[f64],
-) -> crate::solve::SymmetricMatrix {
+) -> crate::gradient::solve::SymmetricMatrix {
     let n = operators.triangles().len();
     let mut builder = SymmetricBuilder::new(operators.num_unknowns(), 12 * n);
     for t in 0..n {
@@ -693,7 +693,7 @@ fn beyond_the_source(
     adjacency: &TriangleAdjacency,
     paired: &[bool],
 ) -> Vec<bool> {
-    use crate::geometry::{norm, sub};
+    use crate::linalg::vector::{norm, sub};
     use rstar::primitives::GeomWithData;
     let mut on_rim = vec![false; source.num_vertices()];
     for e in edges(source.triangles()) {
@@ -743,7 +743,7 @@ fn beyond_the_source(
             || {
                 let mut centre = [0.0; 3];
                 for &u in &border {
-                    centre = crate::geometry::add(centre, centroids[u]);
+                    centre = crate::linalg::vector::add(centre, centroids[u]);
                 }
                 let centre = centre.map(|x| x / border.len() as f64);
                 // Half the width of the paired surface around the region.

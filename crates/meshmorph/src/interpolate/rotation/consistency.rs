@@ -20,9 +20,9 @@
 use std::collections::VecDeque;
 
 use super::{Rotations, Space};
-use crate::geometry::{centroid, norm, sub};
+use crate::linalg::vector::{centroid, norm, sub};
+use crate::mesh::topology::TriangleAdjacency;
 use crate::mesh::Mesh;
-use crate::topology::TriangleAdjacency;
 
 /// The logarithms of `rotations` (the principal rotations of the maps from
 /// `rest` to one pose, one per triangle) with branches made consistent over
@@ -130,7 +130,7 @@ pub fn make_consistent<L>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rotation::planar::nearest_branch;
+    use crate::interpolate::rotation::planar::nearest_branch;
     use std::f64::consts::PI;
 
     #[test]

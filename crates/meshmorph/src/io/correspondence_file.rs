@@ -3,9 +3,9 @@
 
 use std::path::Path;
 
-use crate::correspondence::{Correspondence, MeshSignature};
 use crate::error::{Error, Result};
-use crate::similarity::Similarity;
+use crate::linalg::similarity::Similarity;
+use crate::transfer::correspondence::{Correspondence, MeshSignature};
 
 const MAGIC: &str = "meshmorph-correspondence 1";
 
@@ -46,7 +46,7 @@ fn check_alignment(a: &Similarity) -> std::result::Result<(), String> {
             "the alignment's rotation is not a rotation (its rows are {off:.2e} from orthonormal, more than {ORTHONORMAL_TOLERANCE:e}): this file was not written by `meshmorph correspond` (or was edited); make it again"
         ));
     }
-    if crate::matrix::det3(*r) < 0.0 {
+    if crate::linalg::matrix::det3(*r) < 0.0 {
         return Err(
             "the alignment's rotation mirrors (its determinant is -1): this file was not written by `meshmorph correspond` (or was edited); make it again".into(),
         );

@@ -29,8 +29,8 @@
 
 use std::collections::{HashMap, HashSet};
 
+use crate::mesh::topology::Components;
 use crate::mesh::Mesh3;
-use crate::topology::Components;
 
 /// Each connected part's partner: the part of the other mesh that covers the
 /// most of it (see the module documentation).
@@ -153,8 +153,8 @@ impl<'a> Partners<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shapes::tube;
-    use crate::topology::connected_components;
+    use crate::mesh::shapes::tube;
+    use crate::mesh::topology::connected_components;
 
     /// The `pairs` (source triangle, target triangle) whose parts are partners
     /// (see the module documentation), in their order; `source_components`

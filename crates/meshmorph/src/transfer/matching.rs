@@ -26,20 +26,22 @@
 
 use rayon::prelude::*;
 
-use crate::closest::{unit_normal, vertex_normals, CentroidIndex, SurfaceIndex};
-use crate::correspondence::Correspondence;
 use crate::error::{Error, Result};
-use crate::geometry::{add, centroid, dot, least_turn, scale, sub};
+use crate::gradient::solve::{FactorKind, SymmetricBuilder, SymmetricMatrix};
 use crate::gradient::weights::{normalise_by_mean, normalised_by_mean, vertex_weights};
 use crate::gradient::{FactoredSystem, GradientOperators, Pins};
-use crate::markers::Markers;
-use crate::matrix::{identity, mul_vec, Mat3};
+use crate::linalg::matrix::{identity, mul_vec, Mat3};
+use crate::linalg::similarity::{
+    closest_rotation, fit_robust, residuals, robust_rotation, Similarity,
+};
+use crate::linalg::vector::{add, centroid, dot, least_turn, scale, sub};
+use crate::mesh::closest::{unit_normal, vertex_normals, CentroidIndex, SurfaceIndex};
+use crate::mesh::topology::{connected_components, edges, Components, Edge};
 use crate::mesh::{used_vertices, Mesh3};
-use crate::mirror_plane::{mirror_plane, MirrorPlane};
-use crate::partner_parts::Partners;
-use crate::similarity::{closest_rotation, fit_robust, residuals, robust_rotation, Similarity};
-use crate::solve::{FactorKind, SymmetricBuilder, SymmetricMatrix};
-use crate::topology::{connected_components, edges, Components, Edge};
+use crate::transfer::correspondence::Correspondence;
+use crate::transfer::markers::Markers;
+use crate::transfer::mirror_plane::{mirror_plane, MirrorPlane};
+use crate::transfer::partner_parts::Partners;
 
 /// Options of [`correspond`]; the defaults follow the paper.
 #[derive(Clone, Debug, PartialEq)]
@@ -404,7 +406,7 @@ pub(crate) fn mean_length(edges: &[Edge], p: &[[f64; 3]]) -> f64 {
     let total: f64 = edges
         .iter()
         .map(|e| {
-            crate::geometry::norm(crate::geometry::sub(
+            crate::linalg::vector::norm(crate::linalg::vector::sub(
                 p[e.vertices[0] as usize],
                 p[e.vertices[1] as usize],
             ))
@@ -803,8 +805,8 @@ pub fn match_triangles(
 mod tests {
     use super::*;
     use crate::gradient::spatial::fourth_vertex;
-    use crate::matrix::mul;
-    use crate::shapes::{bend, tube};
+    use crate::linalg::matrix::mul;
+    use crate::mesh::shapes::{bend, tube};
 
     #[test]
     fn the_turn_keeps_mirror_planes_together_and_its_turn_about_them() {

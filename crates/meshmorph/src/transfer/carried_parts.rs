@@ -34,11 +34,11 @@
 use rstar::primitives::GeomWithData;
 use rstar::RTree;
 
-use crate::bvh::Aabb;
-use crate::geometry::{add, sub};
-use crate::nearest_vertices::{nearest_with_ties, VertexTree};
-use crate::similarity::rigid_fit;
-use crate::topology::Components;
+use crate::linalg::similarity::rigid_fit;
+use crate::linalg::vector::{add, sub};
+use crate::mesh::bvh::Aabb;
+use crate::mesh::nearest_vertices::{nearest_with_ties, VertexTree};
+use crate::mesh::topology::Components;
 
 /// How many nearest vertices of the parts that bear it each vertex of a
 /// carried or following part contributes to its anchors (more where several
@@ -223,8 +223,8 @@ fn anchors(tree: &VertexTree, positions: &[[f64; 3]], vertices: &[u32]) -> Vec<u
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shapes::tube;
-    use crate::topology::connected_components;
+    use crate::mesh::shapes::tube;
+    use crate::mesh::topology::connected_components;
 
     #[test]
     fn a_paired_part_in_the_body_follows_it_and_one_standing_apart_does_not() {

@@ -1,6 +1,6 @@
 //! Procedural meshes for demos, tests and benchmarks: no files needed.
 
-use crate::geometry::{add, scale};
+use crate::linalg::vector::{add, scale};
 use crate::mesh::{Mesh2, Mesh3};
 
 /// A `length × width` rectangle with its lower-left corner at the origin,
@@ -222,8 +222,8 @@ pub fn nearest_vertex_pairs(
         .filter_map(|&s| {
             let p = source[s as usize];
             let t = (0..target.len()).min_by(|&a, &b| {
-                let da = crate::geometry::norm(crate::geometry::sub(target[a], p));
-                let db = crate::geometry::norm(crate::geometry::sub(target[b], p));
+                let da = crate::linalg::vector::norm(crate::linalg::vector::sub(target[a], p));
+                let db = crate::linalg::vector::norm(crate::linalg::vector::sub(target[b], p));
                 da.total_cmp(&db)
             })?;
             Some([s, t as u32])
@@ -262,7 +262,7 @@ mod tests {
     #[test]
     fn tube_is_closed_and_bends() {
         let t = tube(4.0, 0.5, 9, 12);
-        let e = crate::topology::edges(t.triangles());
+        let e = crate::mesh::topology::edges(t.triangles());
         assert!(e.iter().all(|e| e.triangles.len() == 2));
         let b = bend(&t, 4.0, std::f64::consts::FRAC_PI_2);
         assert_eq!(b.num_vertices(), t.num_vertices());

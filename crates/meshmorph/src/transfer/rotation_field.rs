@@ -16,10 +16,10 @@
 #![allow(non_snake_case)]
 
 use crate::error::Result;
-use crate::matrix::{identity, Mat3};
-use crate::similarity::closest_rotation;
-use crate::solve::{FactorKind, PinnedSystem, SymmetricBuilder, Workspace};
-use crate::topology::TriangleAdjacency;
+use crate::gradient::solve::{FactorKind, PinnedSystem, SymmetricBuilder, Workspace};
+use crate::linalg::matrix::{identity, Mat3};
+use crate::linalg::similarity::closest_rotation;
+use crate::mesh::topology::TriangleAdjacency;
 
 /// The factored interpolation of rotations from known triangles.
 #[derive(Debug)]

@@ -30,16 +30,16 @@
 
 use super::patches::{nearest_whole_turns, whole_turns};
 use super::{Rotations, Space};
-use crate::geometry::{add, norm, sub};
-use crate::lanes::{array, Lanes};
-use crate::matrix::Mat3;
-use crate::polar3::{polar_decomposition3, SymmetricEigen3};
-use crate::rotation3::{
+use crate::linalg::lanes::{array, Lanes};
+use crate::linalg::matrix::Mat3;
+use crate::linalg::polar::{polar_decomposition3, SymmetricEigen3};
+use crate::linalg::quaternion::{
     matrix_of, product, quat_axis_angle, quat_conj, quat_dot, quat_exp, quat_from_matrix, quat_log,
     quat_mul, quat_principal, quat_to_matrix, Quat,
 };
-use crate::topology::TriangleAdjacency;
-use crate::trig::sin_cos_lanes;
+use crate::linalg::trig::sin_cos_lanes;
+use crate::linalg::vector::{add, norm, sub};
+use crate::mesh::topology::TriangleAdjacency;
 
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -429,7 +429,7 @@ impl Rotations<3> for Space<3> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rotation3::exp_rotation;
+    use crate::linalg::quaternion::exp_rotation;
     use std::f64::consts::PI;
 
     #[test]

@@ -12,7 +12,7 @@
 use rstar::primitives::GeomWithData;
 use rstar::RTree;
 
-use crate::geometry::{norm, sub};
+use crate::linalg::vector::{norm, sub};
 
 /// Vertices in space, by index.
 pub(crate) type VertexTree = RTree<GeomWithData<[f64; 3], u32>>;

@@ -1,5 +1,5 @@
 //! The branch choice in space ([`Rotations::choose_branches`] of
-//! [`Space<3>`](crate::Space)): which whole turns each triangle's rotation
+//! [`Space<3>`](crate::linalg::Space)): which whole turns each triangle's rotation
 //! takes, so that parts turning by more than half a turn do not tear.
 //!
 //! [`Rotations::choose_branches`]: super::Rotations::choose_branches
@@ -65,9 +65,9 @@
 
 use std::f64::consts::{PI, TAU};
 
-use crate::geometry::{add, norm, scale, sub};
-use crate::rotation3::{quat_dot, quat_exp, quat_log, quat_mul, Quat};
-use crate::topology::TriangleAdjacency;
+use crate::linalg::quaternion::{quat_dot, quat_exp, quat_log, quat_mul, Quat};
+use crate::linalg::vector::{add, norm, scale, sub};
+use crate::mesh::topology::TriangleAdjacency;
 
 /// The whole-turn vector `c_i = 2πk u` of every triangle (see the module
 /// documentation), zero for triangles of their part's seed patch.
@@ -254,7 +254,7 @@ pub fn nearest_whole_turns(v: [f64; 3]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rotation3::{quat_exp, quat_log, quat_mul};
+    use crate::linalg::quaternion::{quat_exp, quat_log, quat_mul};
 
     /// A strip of triangles `0-1-2-...` (each sharing an edge with the next).
     fn chain(n: u32) -> TriangleAdjacency {
@@ -263,7 +263,7 @@ mod tests {
     }
 
     fn principal(w: [f64; 3]) -> Quat {
-        crate::rotation3::quat_principal(quat_exp(w))
+        crate::linalg::quaternion::quat_principal(quat_exp(w))
     }
 
     /// The lifted rotation vector of triangle `i` at `t = 1`, i.e. the total
@@ -291,7 +291,7 @@ mod tests {
     fn rotations_under_half_a_turn_get_no_turns() {
         // A noisy non-rigid field whose rotations stay under 0.45π: nothing
         // changes, whatever the noise between neighbours.
-        let mut r = crate::polar3::tests::rng(9);
+        let mut r = crate::linalg::polar::tests::rng(9);
         let n = 200;
         let q: Vec<Quat> = (0..n)
             .map(|_| {

@@ -1,0 +1,14 @@
+//! Deformation transfer (Sumner and Popović, SIGGRAPH 2004): markers on
+//! two meshes, the similarity and mirror planes that bring the source onto
+//! the target, the triangle correspondence built from them ([`matching`]),
+//! separate parts carried along, and the transfer of each source pose to
+//! the target by one back-substitution ([`pose_transfer`]).
+
+pub mod carried_parts;
+pub(crate) mod correspondence;
+pub(crate) mod markers;
+pub(crate) mod matching;
+pub mod mirror_plane;
+pub(crate) mod partner_parts;
+pub(crate) mod pose_transfer;
+pub mod rotation_field;
