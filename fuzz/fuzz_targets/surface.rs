@@ -2,7 +2,7 @@
 //! the others moved from it by grid offsets, and one coordinate of one key
 //! possibly replaced by any number: NaN, huge and tiny included; repeated and
 //! collapsed points happen on the grid), options, times and blend weights:
-//! `Sequence3::new` and `Blend3::new` refuse, or every frame has one
+//! `Sequence::<3>::new` and `Blend::<3>::new` refuse, or every frame has one
 //! position per vertex, finite between the keys (times from 0 to the last
 //! key, weights from 0 to 1; farther out, extrapolated stretches may
 //! overflow, which the command line reports).
@@ -10,7 +10,7 @@
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
-use meshmorph::{Blend3, InterpolatorOptions, Mesh3, Sequence3, StretchMode};
+use meshmorph::{Blend, InterpolatorOptions, Mesh3, Sequence, StretchMode};
 
 #[derive(Debug, Arbitrary)]
 struct Input {
@@ -72,7 +72,7 @@ fuzz_target!(|input: Input| {
             StretchMode::Linear
         })
         .with_allow_flips(input.allow_flips);
-    if let Ok(sequence) = Sequence3::new(&keys, &options) {
+    if let Ok(sequence) = Sequence::<3>::new(&keys, &options) {
         let last = (keys.len() - 1) as f64;
         for &s in input.times.iter().take(8) {
             if !s.is_finite() || s < -1.0 || s > last + 1.0 {
@@ -89,7 +89,7 @@ fuzz_target!(|input: Input| {
             let _ = sequence.count_turned_over(&frame);
         }
     }
-    if let Ok(blend) = Blend3::new(&keys[0], &keys[1..], &options) {
+    if let Ok(blend) = Blend::<3>::new(&keys[0], &keys[1..], &options) {
         let weights: Vec<f64> = (0..keys.len() - 1)
             .map(|k| input.weights.get(k).copied().unwrap_or(0.0))
             .collect();

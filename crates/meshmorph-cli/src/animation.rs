@@ -105,7 +105,7 @@ pub struct Report {
     /// Building the interpolator: decompositions, factorization.
     pub setup_seconds: f64,
     /// Time per frame: the computing time of a frame on one thread (each
-    /// thread solves its frames up to [`meshmorph::FRAMES_PER_SOLVE`] at a
+    /// thread solves its frames up to [`meshmorph::limits::FRAMES_PER_SOLVE`] at a
     /// time, one substitution for them, and counts each its share),
     /// averaged over the frames. Frames run in parallel, so this is not the
     /// throughput.
@@ -320,7 +320,7 @@ where
     };
     // Each thread solves a few frames together (one substitution for all),
     // then writes them.
-    let together = meshmorph::frames_per_solve(times.len());
+    let together = meshmorph::limits::frames_per_solve(times.len());
     let results: Vec<Result<Frame>> = times
         .par_chunks(together)
         .enumerate()

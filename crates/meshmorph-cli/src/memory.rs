@@ -5,8 +5,7 @@
 use std::path::Path;
 
 use anyhow::{bail, Result};
-use meshmorph::io::gltf::FRAMES_IN_FLIGHT_PER_THREAD;
-use meshmorph::io::MEMORY_PER_FILE_BYTE;
+use meshmorph::limits::{FRAMES_IN_FLIGHT_PER_THREAD, MEMORY_PER_FILE_BYTE};
 
 /// Makes every thread allocate from one heap (glibc's `M_ARENA_MAX` of 1).
 /// By default each thread that allocates gets an arena of its own, and
@@ -27,9 +26,9 @@ pub fn share_one_heap() {
 /// Bytes a run may still allocate: the smaller of the memory the system
 /// reports available (`MemAvailable` on Linux) and what the address-space
 /// limit (`ulimit -v`) leaves; `None` where neither is known (the figure
-/// the library bounds its reads by: [`meshmorph::io::available_memory`]).
+/// the library bounds its reads by: [`meshmorph::limits::available_memory`]).
 pub fn available() -> Option<u64> {
-    meshmorph::io::available_memory()
+    meshmorph::limits::available_memory()
 }
 
 /// Refuses to go on when `bytes` (what `what` needs) exceeds [`available`].
@@ -100,7 +99,7 @@ pub fn check_sequence(triangles: usize, segments: usize) -> Result<()> {
 /// What an animation holds of its frames: with frames streamed to their
 /// files (and recomputed for the pictures and the GLB), each thread holds
 /// the positions of the frames it solves together
-/// ([`meshmorph::FRAMES_PER_SOLVE`]), its solver scratch (as large again)
+/// ([`meshmorph::limits::FRAMES_PER_SOLVE`]), its solver scratch (as large again)
 /// and, writing a GLB, the bytes of [`FRAMES_IN_FLIGHT_PER_THREAD`] frames
 /// (24 per vertex); the run also keeps about a kilobyte per frame file
 /// (names, timings, the report).
@@ -111,7 +110,7 @@ pub fn check_frames_in_flight(
     frames: usize,
 ) -> Result<()> {
     let per_thread = (vertices as u64).saturating_mul(
-        8 * dim as u64 * 2 * meshmorph::FRAMES_PER_SOLVE as u64
+        8 * dim as u64 * 2 * meshmorph::limits::FRAMES_PER_SOLVE as u64
             + 24 * FRAMES_IN_FLIGHT_PER_THREAD as u64,
     );
     let bookkeeping = (frames as u64).saturating_mul(FRAME_FILE_BYTES);

@@ -225,14 +225,40 @@ fn numbering(file: &MeshFile) -> (u64, &'static str) {
     }
 }
 
-/// What is odd about a file's surface, as warnings: faces that fold onto
-/// others ([`folds_warning`]), faces that list a vertex twice in a row.
+/// What is odd about a file's surface, as warnings: what its reading
+/// noticed, faces that fold onto others, faces that list a vertex twice in
+/// a row ([`MeshFile::surface_issues`]). Faces and vertices are numbered as
+/// the file's format counts ([`numbering`]).
 pub fn surface_warnings(file: &MeshFile) -> Vec<String> {
     let mut warnings: Vec<String> = file.read_warnings().to_vec();
-    warnings.extend(folds_warning(file));
-    let repeats = file.faces_repeating_a_vertex();
+    let issues = file.surface_issues();
+    let (base, words) = numbering(file);
+    let mut what = Vec::new();
+    if let Some(&[later, earlier]) = issues.repeated_faces.first() {
+        what.push(format!(
+            "{} the corners of another (face {} repeats face {})",
+            count_doing(issues.repeated_faces.len(), "face", "repeats", "repeat"),
+            u64::from(later) + base,
+            u64::from(earlier) + base
+        ));
+    }
+    if let Some(e) = issues.crowded_edges.first() {
+        what.push(format!(
+            "{} shared by more than two faces (the first between vertices {} and {})",
+            count_doing(issues.crowded_edges.len(), "edge", "is", "are"),
+            u64::from(e[0]) + base,
+            u64::from(e[1]) + base
+        ));
+    }
+    if !what.is_empty() {
+        warnings.push(format!(
+            "`{}`: {} ({words}): the surface folds onto itself there, and results may crease",
+            file.path().display(),
+            what.join(" and ")
+        ));
+    }
+    let repeats = &issues.faces_repeating_a_vertex;
     if let Some(&first) = repeats.first() {
-        let (base, words) = numbering(file);
         warnings.push(format!(
             "`{}`: {} a vertex twice in a row (the first is face {}, {words}), read without the repeat",
             file.path().display(),
@@ -241,70 +267,6 @@ pub fn surface_warnings(file: &MeshFile) -> Vec<String> {
         ));
     }
     warnings
-}
-
-/// The warning for a file whose faces repeat another's corners, or whose
-/// edges are shared by more than two faces (a fin, a face given twice, two
-/// surfaces glued along an edge): the solvers take them as they are, and
-/// the surface may crease there. Faces and vertices are numbered as the
-/// file's format counts ([`numbering`]).
-fn folds_warning(file: &MeshFile) -> Option<String> {
-    let (base, words) = numbering(file);
-    let mesh = file.mesh();
-    let faces = file.triangle_faces();
-    let mut corners: Vec<([u32; 3], usize)> = mesh
-        .triangles()
-        .iter()
-        .enumerate()
-        .map(|(t, tri)| {
-            let mut c = *tri;
-            c.sort_unstable();
-            (c, t)
-        })
-        .collect();
-    corners.sort_unstable();
-    // Pairs of faces (the later one first) with a triangle of the same
-    // corners: each repeating face counted once.
-    let mut repeated: Vec<(u32, u32)> = corners
-        .windows(2)
-        .filter(|w| w[0].0 == w[1].0 && faces[w[0].1] != faces[w[1].1])
-        .map(|w| {
-            let (a, b) = (faces[w[0].1], faces[w[1].1]);
-            (a.max(b), a.min(b))
-        })
-        .collect();
-    repeated.sort_unstable();
-    repeated.dedup_by_key(|p| p.0);
-    let crowded: Vec<[u32; 2]> = meshmorph::topology::edges(mesh.triangles())
-        .into_iter()
-        .filter(|e| e.triangles.len() > 2)
-        .map(|e| e.vertices)
-        .collect();
-    if repeated.is_empty() && crowded.is_empty() {
-        return None;
-    }
-    let mut what = Vec::new();
-    if let Some(&(later, earlier)) = repeated.first() {
-        what.push(format!(
-            "{} the corners of another (face {} repeats face {})",
-            count_doing(repeated.len(), "face", "repeats", "repeat"),
-            u64::from(later) + base,
-            u64::from(earlier) + base
-        ));
-    }
-    if let Some(e) = crowded.first() {
-        what.push(format!(
-            "{} shared by more than two faces (the first between vertices {} and {})",
-            count_doing(crowded.len(), "edge", "is", "are"),
-            u64::from(e[0]) + base,
-            u64::from(e[1]) + base
-        ));
-    }
-    Some(format!(
-        "`{}`: {} ({words}): the surface folds onto itself there, and results may crease",
-        file.path().display(),
-        what.join(" and ")
-    ))
 }
 
 /// "face 7" or "faces 7, 12, ...": the faces of `file` (numbered as its
@@ -340,7 +302,7 @@ pub fn degenerate_faces(e: meshmorph::Error, file: &MeshFile, label: &str) -> me
                 if count == 1 { "" } else { "s" },
                 file.path().display(),
                 faces_holding(file, &first, count),
-                meshmorph::DEGENERATE_FIX,
+                meshmorph::Error::DEGENERATE_FIX,
             ))
         }
         e => e,
@@ -624,9 +586,9 @@ pub fn finite_number(text: &str) -> Result<f64, String> {
     }
 }
 
-/// A frame rate in [`meshmorph::FRAME_RATES`] (a clap value parser).
+/// A frame rate in [`meshmorph::limits::FRAME_RATES`] (a clap value parser).
 pub fn frame_rate(text: &str) -> Result<f64, String> {
-    let rates = meshmorph::FRAME_RATES;
+    let rates = meshmorph::limits::FRAME_RATES;
     match text.parse::<f64>() {
         Ok(x) if rates.contains(&x) => Ok(x),
         _ => Err(format!(

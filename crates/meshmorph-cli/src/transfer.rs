@@ -9,7 +9,8 @@ use anyhow::{bail, Context, Result};
 use meshmorph::io::gltf::GltfOptions;
 use meshmorph::io::Appearance;
 use meshmorph::{
-    correspond, CorrespondOptions, Correspondence, Markers, Mesh3, Transfer, TransferOptions,
+    correspond_with_progress, CorrespondOptions, Correspondence, Markers, Mesh3, Transfer,
+    TransferOptions, VertexNumbering,
 };
 use rayon::prelude::*;
 use serde::Serialize;
@@ -99,7 +100,8 @@ impl CorrespondArgs {
                 "--markers is required to compute a correspondence (or pass --correspondence FILE)"
             );
         };
-        let markers = Markers::read(path, self.one_based).context("reading the markers")?;
+        let markers =
+            Markers::read(path, numbering(self.one_based)).context("reading the markers")?;
         let (markers, snap) = markers
             .snap(source_ref.file_mesh(), target_ref.file_mesh())
             .context("snapping the marker points to vertices")?;
@@ -109,8 +111,8 @@ impl CorrespondArgs {
         )?;
         let welded = markers.welded(&source_ref.file.seams, &target_ref.file.seams);
         let options = self.options();
-        let bar = progress::bar(meshmorph::correspond_steps(&options) as u64, "correspond");
-        let result = correspond(source, target, &welded, &options, &mut |done| {
+        let bar = progress::bar(options.steps() as u64, "correspond");
+        let result = correspond_with_progress(source, target, &welded, &options, &mut |done| {
             bar.set_position(done as u64)
         })
         .map_err(|e| name_degenerate_faces(e, source_ref, target_ref))
@@ -125,7 +127,8 @@ impl CorrespondArgs {
         let diagonal = target.bounding_box_diagonal();
         let r = &result.marker_residuals;
         let rms = (r.iter().map(|x| x * x).sum::<f64>() / r.len().max(1) as f64).sqrt();
-        let suspicious: Vec<String> = meshmorph::similarity::outliers(r)
+        let suspicious: Vec<String> = result
+            .far_markers()
             .into_iter()
             .map(|k| welded.describe(k))
             .collect();
@@ -174,9 +177,7 @@ fn misplaced_warning(
     markers: &Markers,
     rms: f64,
 ) -> Option<String> {
-    let (from, to) = markers.positions(source, target);
-    let fit = meshmorph::similarity::fit_robust(&from, &to).ok()?.0;
-    let r = meshmorph::similarity::residuals(&fit, &from, &to);
+    let r = markers.fit(source, target).ok()?.1;
     let fitted = (r.iter().map(|x| x * x).sum::<f64>() / r.len().max(1) as f64).sqrt()
         / target.bounding_box_diagonal();
     (rms > 2.0 * fitted).then(|| {
@@ -1207,4 +1208,13 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// How `--one-based` numbers the markers' vertices.
+fn numbering(one_based: bool) -> VertexNumbering {
+    if one_based {
+        VertexNumbering::FromOne
+    } else {
+        VertexNumbering::FromZero
+    }
 }

@@ -1,4 +1,5 @@
-//! The structures over edges (the edge list, the triangle adjacency) and an
+//! The structures over edges (the edge list and connected parts, and the
+//! triangle adjacency inside an interpolation's setup) and an
 //! interpolation setup in space on meshes whose edges are shared by many
 //! triangles, beside an ordinary mesh of the same size.
 //!
@@ -20,7 +21,6 @@ use std::f64::consts::{PI, TAU};
 
 use divan::counter::ItemsCount;
 use divan::{black_box, Bencher};
-use meshmorph::topology::{edges, TriangleAdjacency};
 use meshmorph::{shapes, Interpolator, InterpolatorOptions, Mesh3};
 
 const MESHES: [&str; 3] = ["book_100k", "repeated_100k", "strip_100k"];
@@ -74,32 +74,13 @@ fn turned(m: &Mesh3) -> Mesh3 {
     m.with_positions(p).unwrap()
 }
 
-/// The undirected edges with the triangles on each.
+/// The edge list and the connected parts ([`Mesh3::surface_counts`]).
 #[divan::bench(args = MESHES)]
-fn edge_list(bencher: Bencher, name: &str) {
+fn surface_counts(bencher: Bencher, name: &str) {
     let m = mesh(name);
     bencher
         .counter(ItemsCount::new(m.num_triangles()))
-        .bench_local(|| edges(black_box(m.triangles())));
-}
-
-/// The triangle adjacency, from the triangles (one sort).
-#[divan::bench(args = MESHES)]
-fn adjacency(bencher: Bencher, name: &str) {
-    let m = mesh(name);
-    bencher
-        .counter(ItemsCount::new(m.num_triangles()))
-        .bench_local(|| TriangleAdjacency::new(black_box(m.triangles())));
-}
-
-/// The triangle adjacency from an edge list made beforehand.
-#[divan::bench(args = MESHES)]
-fn adjacency_from_edges(bencher: Bencher, name: &str) {
-    let m = mesh(name);
-    let e = edges(m.triangles());
-    bencher
-        .counter(ItemsCount::new(m.num_triangles()))
-        .bench_local(|| TriangleAdjacency::from_edges(m.num_triangles(), black_box(&e)));
+        .bench_local(|| black_box(&m).surface_counts());
 }
 
 /// Everything an interpolation between two keys in space builds once:

@@ -92,7 +92,7 @@ fn pair(name: &str) -> Option<(Mesh2, Mesh2)> {
     Some((source, target))
 }
 
-fn interpolator(name: &str, kind: FactorKind) -> Option<Interpolator> {
+fn interpolator(name: &str, kind: FactorKind) -> Option<Interpolator<2>> {
     let (s, t) = pair(name)?;
     let options = InterpolatorOptions::default().with_factor(kind);
     Some(Interpolator::new(&s, &t, &options).expect("interpolator"))

@@ -11,7 +11,9 @@ use std::path::{Path, PathBuf};
 
 use divan::counter::ItemsCount;
 use divan::{black_box, Bencher};
-use meshmorph::{correspond, io, CorrespondOptions, Markers, Mesh3, Transfer, TransferOptions};
+use meshmorph::{
+    correspond, io, CorrespondOptions, Markers, Mesh3, Transfer, TransferOptions, VertexNumbering,
+};
 
 const DATA: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -48,21 +50,18 @@ fn references() -> Option<(Mesh3, Mesh3, Markers)> {
     }
     let horse = io::read_mesh(&dir.join("horse-poses/horse-reference.obj")).unwrap();
     let camel = io::read_mesh(&dir.join("camel-poses/camel-reference.obj")).unwrap();
-    let markers = Markers::read(&dir.join("markers/horse-camel-107.cons"), false).unwrap();
+    let markers = Markers::read(
+        &dir.join("markers/horse-camel-107.cons"),
+        VertexNumbering::FromZero,
+    )
+    .unwrap();
     Some((horse, camel, markers))
 }
 
 /// The references and a transfer set up with the default options.
 fn transfer() -> Option<(Mesh3, Mesh3, Transfer)> {
     let (horse, camel, markers) = references()?;
-    let c = correspond(
-        &horse,
-        &camel,
-        &markers,
-        &CorrespondOptions::default(),
-        &mut |_| {},
-    )
-    .unwrap();
+    let c = correspond(&horse, &camel, &markers, &CorrespondOptions::default()).unwrap();
     let t = Transfer::new(
         &horse,
         &camel,
@@ -81,7 +80,7 @@ fn correspondence(bencher: Bencher) {
         return;
     };
     let options = CorrespondOptions::default();
-    bencher.bench_local(|| correspond(&horse, &camel, &markers, &options, &mut |_| {}).unwrap());
+    bencher.bench_local(|| correspond(&horse, &camel, &markers, &options).unwrap());
 }
 
 /// `Transfer::new`: assembly and factorization of the camel's system.
@@ -90,14 +89,7 @@ fn setup(bencher: Bencher) {
     let Some((horse, camel, markers)) = references() else {
         return;
     };
-    let c = correspond(
-        &horse,
-        &camel,
-        &markers,
-        &CorrespondOptions::default(),
-        &mut |_| {},
-    )
-    .unwrap();
+    let c = correspond(&horse, &camel, &markers, &CorrespondOptions::default()).unwrap();
     let options = TransferOptions::default();
     bencher.bench_local(|| Transfer::new(&horse, &camel, &c.correspondence, &options).unwrap());
 }

@@ -9,7 +9,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use meshmorph::io::gltf::{write_glb, GltfBase, GltfOptions};
-use meshmorph::{correspond, io, shapes, CorrespondOptions, Markers, Transfer, TransferOptions};
+use meshmorph::{
+    correspond, io, shapes, CorrespondOptions, Markers, Transfer, TransferOptions, VertexNumbering,
+};
 
 /// Median seconds of 5 writes, and the file's size.
 fn time_write<const D: usize>(
@@ -52,14 +54,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if dir.is_dir() {
         let horse = io::read_mesh(&dir.join("horse-poses/horse-reference.obj"))?;
         let camel = io::read_mesh(&dir.join("camel-poses/camel-reference.obj"))?;
-        let markers = Markers::read(&dir.join("markers/horse-camel-107.cons"), false)?;
-        let found = correspond(
-            &horse,
-            &camel,
-            &markers,
-            &CorrespondOptions::default(),
-            &mut |_| {},
+        let markers = Markers::read(
+            &dir.join("markers/horse-camel-107.cons"),
+            VertexNumbering::FromZero,
         )?;
+        let found = correspond(&horse, &camel, &markers, &CorrespondOptions::default())?;
         let transfer = Transfer::new(
             &horse,
             &camel,

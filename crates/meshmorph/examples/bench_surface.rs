@@ -18,7 +18,7 @@ use timing::{fmt, time};
 use std::f64::consts::PI;
 use std::path::Path;
 
-use meshmorph::{io, shapes, Interpolator, InterpolatorOptions, Mesh3, Sequence3};
+use meshmorph::{io, shapes, Interpolator, InterpolatorOptions, Mesh3, Sequence};
 
 const HORSE: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -122,12 +122,12 @@ fn main() {
             };
             let o = InterpolatorOptions::default();
             let keys = [s.clone(), t.clone()];
-            let setup = time(runs, || Sequence3::new(&keys, &o).unwrap());
+            let setup = time(runs, || Sequence::<3>::new(&keys, &o).unwrap());
             let prepare = time(runs, || {
-                meshmorph::PreparedSurface::new(&s, o.factor).unwrap()
+                meshmorph::RestSystem::<3>::new(&s, o.factor).unwrap()
             });
             println!("{name}: setup {}, of which the prepared surface (gradients, Laplacian, factorization) {}", fmt(setup), fmt(prepare));
-            let m = Sequence3::new(&keys, &o).unwrap();
+            let m = Sequence::<3>::new(&keys, &o).unwrap();
             let mut ws = m.workspace();
             let mut out = vec![[0.0; 3]; m.num_vertices()];
             let frame = time(if big { 11 } else { 101 }, || {

@@ -14,7 +14,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use meshmorph::io::MeshFile;
-use meshmorph::{correspond, CorrespondOptions, Markers, Transfer, TransferOptions};
+use meshmorph::{
+    correspond, CorrespondOptions, Markers, Transfer, TransferOptions, VertexNumbering,
+};
 
 /// One evaluation: a pair, a marker file, and (source pose, reference
 /// result) files.
@@ -77,14 +79,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 fn run(dir: &Path, case: &Case, out_dir: Option<&Path>) -> Result<(), Box<dyn std::error::Error>> {
     let source = MeshFile::read(&dir.join(case.source_ref))?;
     let target = MeshFile::read(&dir.join(case.target_ref))?;
-    let markers = Markers::read(&dir.join(case.markers), false)?;
+    let markers = Markers::read(&dir.join(case.markers), VertexNumbering::FromZero)?;
     let t = Instant::now();
     let found = correspond(
         source.mesh(),
         target.mesh(),
         &markers,
         &CorrespondOptions::default().with_align(std::env::var_os("NOALIGN").is_none()),
-        &mut |_| {},
     )?;
     let t_corr = t.elapsed().as_secs_f64();
     let c = &found.correspondence;

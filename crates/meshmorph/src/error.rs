@@ -185,8 +185,15 @@ fn plural(n: usize) -> &'static str {
     }
 }
 
+impl Error {
+    /// The advice that ends the message of [`Error::DegenerateTriangles`],
+    /// for a front end that names the triangles its own way (as the faces
+    /// of the user's file).
+    pub const DEGENERATE_FIX: &'static str = DEGENERATE_FIX;
+}
+
 /// How degenerate triangles are removed, for the messages that name them.
-pub const DEGENERATE_FIX: &str =
+const DEGENERATE_FIX: &str =
     "a modeller's clean-up removes them, e.g. Blender's Mesh > Clean Up > Degenerate Dissolve";
 
 /// "triangles 3, 9, 12, ..." for the first few of `count` triangle indices.

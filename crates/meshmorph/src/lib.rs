@@ -1,48 +1,78 @@
 //! # meshmorph
 //!
-//! Gradient-domain shape animation on triangle meshes:
+//! Gradient-domain shape animation on triangle meshes: as-rigid-as-possible
+//! shape interpolation and deformation transfer.
+//!
+//! ```no_run
+//! use std::path::Path;
+//! use meshmorph::io::{read_mesh, MeshFile};
+//! use meshmorph::{correspond, CorrespondOptions, Interpolator, InterpolatorOptions};
+//! use meshmorph::{Markers, Transfer, TransferOptions, VertexNumbering};
+//!
+//! // Interpolate between two keys with the same triangles; write the frame
+//! // at t = 0.5 keeping the first key's quads, UVs and materials.
+//! let first = MeshFile::read(Path::new("horse-01.obj"))?;
+//! let last = read_mesh(Path::new("horse-07.obj"))?;
+//! let morph = Interpolator::new(first.mesh(), &last, &InterpolatorOptions::default())?;
+//! first.save(Path::new("halfway.obj"), &morph.at(0.5))?;
+//!
+//! // Carry a pose of the horse over to the camel through marker pairs.
+//! let (horse, camel) = (read_mesh(Path::new("horse.obj"))?, MeshFile::read(Path::new("camel.obj"))?);
+//! let markers = Markers::read(Path::new("horse-camel.cons"), VertexNumbering::FromZero)?;
+//! let found = correspond(&horse, camel.mesh(), &markers, &CorrespondOptions::default())?;
+//! let transfer = Transfer::new(&horse, camel.mesh(), &found.correspondence, &TransferOptions::default())?;
+//! camel.save(Path::new("camel-gallop.obj"), &transfer.apply(&read_mesh(Path::new("horse-gallop.obj"))?)?)?;
+//! # Ok::<(), meshmorph::Error>(())
+//! ```
 //!
 //! - [`Interpolator`], [`Sequence`] and [`Blend`]: as-rigid-as-possible
-//!   shape interpolation of planar meshes and of surfaces in space (Alexa,
-//!   Cohen-Or and Levin, SIGGRAPH 2000), between two keys, through any
-//!   number of keys, and blends of shapes with weights, with rotation
-//!   consistency and a system factored once (Baxter, Barla and Anjyo, NPAR
-//!   2008); one machinery for both dimensions.
+//!   shape interpolation (Alexa, Cohen-Or and Levin, SIGGRAPH 2000) between
+//!   two keys, through any number of keys, and blends of shapes with
+//!   weights, with rotation consistency and a system factored once
+//!   (Baxter, Barla and Anjyo, NPAR 2008). The dimension `D` (2 for planar
+//!   meshes, 3 for surfaces in space) comes from the meshes given:
+//!   [`io::read_planar_mesh`] reads a planar file as a [`Mesh2`],
+//!   [`io::read_mesh`] any file as a [`Mesh3`].
 //! - [`correspond()`] and [`Transfer`]: deformation transfer (Sumner and
 //!   Popović, SIGGRAPH 2004): a triangle correspondence from a few marker
-//!   vertex pairs, then any number of source poses carried over to a target.
-//! - mesh reading and writing ([`io`]), pictures ([`render`]); [`Seams`]
-//!   welds the copies of vertices that files split at texture seams, so
-//!   that the solvers see one surface.
+//!   vertex pairs ([`Markers`]), then any number of source poses carried
+//!   over to a target, one back-substitution each.
+//! - [`io`]: OBJ, OFF, PLY and STL read and written back whole
+//!   ([`io::MeshFile`]), animations and shape keys as binary glTF
+//!   ([`io::gltf`]), marker and correspondence files.
+//! - `render` (with the `render` feature): pictures, SVG, GIF and PNG,
+//!   drawn by the crate itself.
+//! - [`shapes`]: procedural meshes for tests, examples and benchmarks;
+//!   [`limits`]: what the work costs, for front ends that check first.
 //!
-//! ## glTF
-//!
-//! [`io::gltf::write_glb`] writes frames or poses as one binary glTF 2.0
-//! file that Blender, three.js and other viewers open: the base mesh (with
-//! texture coordinates per triangle corner, when given), one morph target
-//! per frame (position and normal deltas, named in `mesh.extras.targetNames`)
-//! and an animation of the morph weights at a frame rate, or shape keys at
-//! weight 0 without it. [`io::gltf::estimate_glb_bytes`] says what a file
-//! will weigh before any work.
+//! What the command line warns about is data here:
+//! [`io::MeshFile::surface_issues`] (faces repeated, edges shared by more
+//! than two faces), [`Mesh::surface_counts`], [`CorrespondResult::far_markers`],
+//! [`Markers::fit`], [`Interpolator::count_flipped`] and
+//! [`Blend::count_turned_over`].
 //!
 //! Positions are plain `[f64; D]` arrays and triangles `[u32; 3]` index
 //! triples; small matrices are row-major `[[f64; D]; D]` ([`Mat`]). The
-//! sparse linear algebra stays inside the crate.
+//! sparse linear algebra stays inside the crate. Everything that does not
+//! depend on the frame or pose is computed in `new`; `at_into` and
+//! `apply_into` cannot fail.
 //!
 //! ## Inside
 //!
-//! Interpolation, transfer and the correspondence share one gradient-domain
-//! least-squares core: per-triangle gradient operators of a rest mesh, area
-//! weights, the normal matrix factored once with pinned unknowns
-//! eliminated, and the placement of each connected part. What depends on
-//! the rest mesh alone is a value of its own ([`RestSystem`] for
-//! interpolation), shared between targets, sequences and blends. The
-//! dimension-dependent algebra of interpolation is behind two traits
-//! implemented by [`Space`]: [`Rotations`] (polar decomposition, rotation
-//! logarithm and exponential, a rotation's path between two keys, the choice
-//! of rotation branches over the triangle adjacency) and [`TriangleMaps`]
-//! (areas, hat-function gradients, per-triangle maps, turned-over
-//! triangles).
+//! The source reads from the bottom up, each folder using only those
+//! before it: `linalg/` (small dense algebra: vectors, 2×2 and 3×3
+//! matrices, polar decompositions, quaternions, similarity fits), `mesh/`
+//! (the mesh and its queries: topology, seams, bounding volumes, closest
+//! points, procedural shapes), `gradient/` (the least-squares core shared
+//! by interpolation, transfer and the correspondence: per-triangle gradient
+//! operators, area weights, pins, placement, and `solve/`, the sparse
+//! Cholesky factorization with pinned unknowns eliminated),
+//! `interpolate/` (keys, sequences, blends; `rotation/`, the rotations'
+//! logarithms and their consistent branches), `transfer/` (markers,
+//! mirror planes, the correspondence, carried parts, the transfer), `io/`
+//! (files) and `render/` (pictures). The dimension-dependent algebra is
+//! behind two traits implemented by [`Space`]: [`Rotations`] and
+//! [`TriangleMaps`].
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 // Numeric kernels index small fixed-size arrays by position, as the papers do.
@@ -52,35 +82,35 @@ mod error;
 mod gradient;
 mod interpolate;
 pub mod io;
+pub mod limits;
 mod linalg;
 mod mesh;
+#[cfg(feature = "render")]
 pub mod render;
 mod transfer;
 
-pub use error::{Error, Result, DEGENERATE_FIX};
+pub use error::{Error, Result};
 pub use gradient::solve::FactorKind;
 pub use gradient::TriangleMaps;
 pub use interpolate::rotation::{RotationLog3, Rotations};
 pub use interpolate::{
-    frames_per_solve, Blend, Blend3, FrameWorkspace, Interpolator, InterpolatorOptions,
-    PreparedSurface, RestSystem, Sequence, Sequence3, SequenceWorkspace, StretchMode,
-    FRAMES_PER_SOLVE,
+    Blend, FrameWorkspace, Interpolator, InterpolatorOptions, RestSystem, Sequence, StretchMode,
 };
 pub use linalg::matrix::Mat;
+pub use linalg::similarity::Similarity;
 pub use linalg::Space;
-pub use linalg::{polar as polar3, quaternion as rotation3, similarity};
-pub use mesh::frame_source::{FrameSource, FRAME_RATES};
+pub use mesh::frame_source::FrameSource;
 pub use mesh::seams::Seams;
-pub use mesh::{shapes, topology};
+pub use mesh::shapes;
+pub use mesh::topology::SurfaceCounts;
 pub use mesh::{Mesh, Mesh2, Mesh3};
-pub use similarity::Similarity;
 pub use transfer::correspondence::Correspondence;
-pub use transfer::markers::{Markers, Snap, SNAP_LIMIT};
+pub use transfer::markers::{Markers, Snap, VertexNumbering, SNAP_LIMIT};
 pub use transfer::matching::{
-    correspond, correspond_steps, CorrespondOptions, CorrespondResult, MIN_MARKERS,
+    correspond, correspond_with_progress, CorrespondOptions, CorrespondResult, MIN_MARKERS,
 };
+pub use transfer::mirror_plane::MirrorPlane;
 pub use transfer::pose_transfer::{PoseWorkspace, Transfer, TransferOptions};
-pub use transfer::{carried_parts, mirror_plane, rotation_field};
 
 /// The README's examples, compiled and run as doctests.
 #[cfg(doctest)]

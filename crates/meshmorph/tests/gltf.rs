@@ -346,7 +346,7 @@ fn bad_input_is_refused_and_leaves_no_file() {
 /// An interpolation's frames, computed each time they are asked for,
 /// counting the requests.
 struct OnDemand<'a> {
-    morph: &'a Interpolator,
+    morph: &'a Interpolator<2>,
     times: &'a [f64],
     asked: std::sync::atomic::AtomicUsize,
 }

@@ -100,7 +100,7 @@ fn rigid_motions_stay_rigid() {
     }
 }
 
-fn max_flipped(m: &Interpolator, frames: usize) -> usize {
+fn max_flipped(m: &Interpolator<2>, frames: usize) -> usize {
     (0..frames)
         .map(|k| m.count_flipped(&m.at(k as f64 / (frames - 1) as f64)))
         .max()

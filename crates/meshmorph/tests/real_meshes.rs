@@ -8,7 +8,7 @@ use meshmorph::io::{Format, MeshFile};
 use meshmorph::shapes::{bend, nearest_vertex_pairs, tube};
 use meshmorph::{
     correspond, CorrespondOptions, CorrespondResult, Correspondence, Error, Markers, Mesh3,
-    Transfer,
+    Transfer, VertexNumbering,
 };
 
 type P3 = [f64; 3];
@@ -348,14 +348,7 @@ fn mapped(m: &Mesh3, f: impl Fn(P3) -> P3) -> Mesh3 {
 /// The correspondence of `source` and `target` (default options), and the
 /// transfer through it.
 fn set_up(source: &Mesh3, target: &Mesh3, markers: &Markers) -> (CorrespondResult, Transfer) {
-    let found = correspond(
-        source,
-        target,
-        markers,
-        &CorrespondOptions::default(),
-        &mut |_| {},
-    )
-    .unwrap();
+    let found = correspond(source, target, markers, &CorrespondOptions::default()).unwrap();
     let transfer =
         Transfer::new(source, target, &found.correspondence, &Default::default()).unwrap();
     (found, transfer)
@@ -508,15 +501,9 @@ fn markers_that_cannot_fix_a_similarity_are_refused() {
     let thick = tube(4.0, 0.5, 11, 16);
     // Three markers on one line along the tube.
     let markers = Markers::new(vec![[0, 0], [48, 30], [96, 64]]);
-    let e = correspond(
-        &thin,
-        &thick,
-        &markers,
-        &CorrespondOptions::default(),
-        &mut |_| {},
-    )
-    .unwrap_err()
-    .to_string();
+    let e = correspond(&thin, &thick, &markers, &CorrespondOptions::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("on one line"), "{e}");
 }
 
@@ -533,7 +520,7 @@ fn marker_points_snap_to_the_nearest_vertex_and_far_points_are_refused() {
     assert_eq!(snapped.pairs(), &[[5, 7], [100, 90]]);
     assert!((snap.largest_source - 1e-3 / thin.bounding_box_diagonal()).abs() < 1e-9);
     let text = "0 0 0 0 0 0\n5 5 5 0 0 0\n";
-    let m = Markers::parse(text, Path::new("picks.txt"), false).unwrap();
+    let m = Markers::parse(text, Path::new("picks.txt"), VertexNumbering::FromZero).unwrap();
     let e = m.snap(&thin, &thick).unwrap_err().to_string();
     assert!(
         e.contains("picks.txt") && e.contains("line 2") && e.contains("source point"),
@@ -544,7 +531,7 @@ fn marker_points_snap_to_the_nearest_vertex_and_far_points_are_refused() {
         e.contains("source vertex") && e.contains("numbered from 0"),
         "{e}"
     );
-    let m = Markers::parse(text, Path::new("picks.txt"), true).unwrap();
+    let m = Markers::parse(text, Path::new("picks.txt"), VertexNumbering::FromOne).unwrap();
     let e = m.snap(&thin, &thick).unwrap_err().to_string();
     assert!(e.contains("numbered from 1"), "{e}");
 }
@@ -745,14 +732,7 @@ fn a_source_covering_half_the_target_leaves_the_other_half_at_rest() {
     let whole = tube(4.0, 0.5, 21, 16);
     let ends: Vec<u32> = [0u32, 3, 6, 9, 96, 99, 102, 105].to_vec();
     let markers = tube_pair(&half, &whole, &ends);
-    let found = correspond(
-        &half,
-        &whole,
-        &markers,
-        &CorrespondOptions::default(),
-        &mut |_| {},
-    )
-    .unwrap();
+    let found = correspond(&half, &whole, &markers, &CorrespondOptions::default()).unwrap();
     let transfer =
         Transfer::new(&half, &whole, &found.correspondence, &Default::default()).unwrap();
     assert!(transfer.unpaired_triangles() > 0);

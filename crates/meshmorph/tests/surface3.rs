@@ -5,10 +5,8 @@
 use std::f64::consts::PI;
 use std::path::PathBuf;
 
-use meshmorph::polar3::polar_decomposition3;
-use meshmorph::rotation3::exp_rotation;
-use meshmorph::shapes::{bend, rigid_motion3, tube, twist};
-use meshmorph::{Blend3, Error, InterpolatorOptions, Mesh3, Sequence3, StretchMode};
+use meshmorph::shapes::{bend, rigid_motion3, rotation_matrix, tube, twist};
+use meshmorph::{Blend, Error, InterpolatorOptions, Mesh3, Sequence, StretchMode};
 
 type P = [f64; 3];
 
@@ -24,20 +22,13 @@ fn max_distance(a: &[P], b: &[P]) -> f64 {
 }
 
 /// The largest distance between `a` and `b` after the rigid motion that best
-/// aligns `a` onto `b` (Kabsch, through the polar decomposition).
+/// aligns `a` onto `b` (the rotation of the best similarity: Horn's, the
+/// same as Kabsch's).
 fn rigid_distance(a: &[P], b: &[P]) -> f64 {
     let n = a.len() as f64;
     let ca: P = std::array::from_fn(|k| a.iter().map(|p| p[k]).sum::<f64>() / n);
     let cb: P = std::array::from_fn(|k| b.iter().map(|p| p[k]).sum::<f64>() / n);
-    let mut h = [[0.0; 3]; 3];
-    for (p, q) in a.iter().zip(b) {
-        for i in 0..3 {
-            for j in 0..3 {
-                h[i][j] += (q[i] - cb[i]) * (p[j] - ca[j]);
-            }
-        }
-    }
-    let r = polar_decomposition3(h).rotation;
+    let r = meshmorph::Similarity::fit(a, b).unwrap().rotation;
     a.iter()
         .zip(b)
         .map(|(p, q)| {
@@ -107,7 +98,7 @@ fn family() -> Vec<(&'static str, Mesh3, Mesh3)> {
             t.clone(),
             rigid_motion3(
                 &t,
-                exp_rotation([0.0, 200f64.to_radians(), 0.0]),
+                rotation_matrix([0.0, 200f64.to_radians(), 0.0]),
                 [1.0, -2.0, 3.0],
             ),
         ),
@@ -121,7 +112,7 @@ fn keys_are_reproduced() {
         for stretch in [StretchMode::Linear, StretchMode::Log] {
             let o = opts().with_stretch(stretch);
             let c = twist(&b, 4.0, 0.7);
-            let seq = Sequence3::new(&[a.clone(), b.clone(), c.clone()], &o).unwrap();
+            let seq = Sequence::<3>::new(&[a.clone(), b.clone(), c.clone()], &o).unwrap();
             let tol = 1e-9 * a.bounding_box_diagonal().max(b.bounding_box_diagonal());
             for (s, key) in [(0.0, &a), (1.0, &b), (2.0, &c)] {
                 let d = max_distance(&seq.at(s), key.positions());
@@ -142,8 +133,8 @@ fn rigid_motions_give_rigid_frames() {
         ([0.0, 1.0, 0.0], 90.0),
     ] {
         let w: P = axis.map(|x| x * angle.to_radians());
-        let moved = rigid_motion3(&t, exp_rotation(w), [2.0, 1.0, -1.0]);
-        let seq = Sequence3::new(&[t.clone(), moved], &opts()).unwrap();
+        let moved = rigid_motion3(&t, rotation_matrix(w), [2.0, 1.0, -1.0]);
+        let seq = Sequence::<3>::new(&[t.clone(), moved], &opts()).unwrap();
         for s in [0.25, 0.5, 0.75, 1.5] {
             let f = seq.at(s);
             let worst = edge_lengths(&t, &f)
@@ -162,9 +153,10 @@ fn a_tube_bent_through_540_degrees_is_bent_through_270_halfway() {
     let target = bend(&t, 10.0, 3.0 * PI);
     let expected = bend(&t, 10.0, 1.5 * PI);
     let diag = t.bounding_box_diagonal();
-    let with = Sequence3::new(&[t.clone(), target.clone()], &opts()).unwrap();
+    let with = Sequence::<3>::new(&[t.clone(), target.clone()], &opts()).unwrap();
     let d_with = rigid_distance(&with.at(0.5), expected.positions()) / diag;
-    let without = Sequence3::new(&[t.clone(), target], &opts().with_consistency(false)).unwrap();
+    let without =
+        Sequence::<3>::new(&[t.clone(), target], &opts().with_consistency(false)).unwrap();
     let d_without = rigid_distance(&without.at(0.5), expected.positions()) / diag;
     println!("bend 540, halfway against bend 270: {d_with:.2e} with consistency, {d_without:.2e} without");
     assert!(d_with < 0.005, "{d_with}");
@@ -177,9 +169,10 @@ fn a_tube_twisted_by_540_degrees_is_twisted_by_270_halfway() {
     let target = twist(&t, 10.0, 3.0 * PI);
     let expected = twist(&t, 10.0, 1.5 * PI);
     let diag = t.bounding_box_diagonal();
-    let with = Sequence3::new(&[t.clone(), target.clone()], &opts()).unwrap();
+    let with = Sequence::<3>::new(&[t.clone(), target.clone()], &opts()).unwrap();
     let d_with = rigid_distance(&with.at(0.5), expected.positions()) / diag;
-    let without = Sequence3::new(&[t.clone(), target], &opts().with_consistency(false)).unwrap();
+    let without =
+        Sequence::<3>::new(&[t.clone(), target], &opts().with_consistency(false)).unwrap();
     let d_without = rigid_distance(&without.at(0.5), expected.positions()) / diag;
     println!("twist 540, halfway against twist 270: {d_with:.2e} with consistency, {d_without:.2e} without; whole turns {:?} of {}", with.triangles_with_whole_turns(), t.num_triangles());
     assert!(d_with < 0.02, "{d_with}");
@@ -223,8 +216,8 @@ fn results_do_not_depend_on_numbering() {
             .collect();
         Mesh3::new(pos, tris).unwrap()
     };
-    let a = Sequence3::new(&[t.clone(), b.clone()], &opts()).unwrap();
-    let r = Sequence3::new(&[renumber(&t), renumber(&b)], &opts()).unwrap();
+    let a = Sequence::<3>::new(&[t.clone(), b.clone()], &opts()).unwrap();
+    let r = Sequence::<3>::new(&[renumber(&t), renumber(&b)], &opts()).unwrap();
     let tol = 1e-9 * t.bounding_box_diagonal();
     for s in [0.3, 0.5, 0.8] {
         let (fa, fr) = (a.at(s), r.at(s));
@@ -242,9 +235,9 @@ fn a_middle_key_on_the_way_reproduces_the_two_key_interpolation() {
         ("twist 400", twist(&t, 6.0, 400f64.to_radians())),
         ("bend and twist", twist(&bend(&t, 6.0, 2.5), 6.0, 2.0)),
     ] {
-        let two = Sequence3::new(&[t.clone(), end.clone()], &opts()).unwrap();
+        let two = Sequence::<3>::new(&[t.clone(), end.clone()], &opts()).unwrap();
         let middle = t.with_positions(two.at(0.5)).unwrap();
-        let three = Sequence3::new(&[t.clone(), middle, end.clone()], &opts()).unwrap();
+        let three = Sequence::<3>::new(&[t.clone(), middle, end.clone()], &opts()).unwrap();
         let diag = t.bounding_box_diagonal();
         for (s, u) in [(0.5, 0.25), (1.0, 0.5), (1.5, 0.75), (2.0, 1.0)] {
             let d = rigid_distance(&three.at(s), &two.at(u)) / diag;
@@ -264,7 +257,7 @@ fn a_sequence_keeps_turning_across_keys() {
         .iter()
         .map(|a| bend(&t, 10.0, a.to_radians()))
         .collect();
-    let seq = Sequence3::new(&keys, &opts()).unwrap();
+    let seq = Sequence::<3>::new(&keys, &opts()).unwrap();
     let expected = bend(&t, 10.0, 375f64.to_radians());
     let d = rigid_distance(&seq.at(2.5), expected.positions()) / t.bounding_box_diagonal();
     assert!(d < 0.005, "{d}");
@@ -275,13 +268,13 @@ fn blends_reproduce_their_shapes_and_extrapolate() {
     let t = tube(4.0, 0.3, 21, 10);
     let a = bend(&t, 4.0, 3.0 * PI);
     let b = twist(&t, 4.0, 2.0);
-    let blend = Blend3::new(&t, &[a.clone(), b.clone()], &opts()).unwrap();
+    let blend = Blend::<3>::new(&t, &[a.clone(), b.clone()], &opts()).unwrap();
     let tol = 1e-9 * a.bounding_box_diagonal();
     assert!(max_distance(&blend.at(&[0.0, 0.0]), t.positions()) < tol);
     assert!(max_distance(&blend.at(&[1.0, 0.0]), a.positions()) < tol);
     assert!(max_distance(&blend.at(&[0.0, 1.0]), b.positions()) < tol);
     // One shape with weight t is the interpolation with S^t.
-    let seq = Sequence3::new(
+    let seq = Sequence::<3>::new(
         &[t.clone(), a.clone()],
         &opts().with_stretch(StretchMode::Log),
     )
@@ -308,7 +301,7 @@ fn bad_input_is_named() {
     let mut tris = t.triangles().to_vec();
     tris.swap(5, 6);
     let other = Mesh3::new(b.positions().to_vec(), tris).unwrap();
-    let e = Sequence3::new(&[t.clone(), b.clone(), other], &opts()).unwrap_err();
+    let e = Sequence::<3>::new(&[t.clone(), b.clone(), other], &opts()).unwrap_err();
     assert!(
         matches!(e, Error::TriangleMismatch { triangle: 5, .. }),
         "{e}"
@@ -323,28 +316,28 @@ fn bad_input_is_named() {
     let mut p = sheet.positions().to_vec();
     p[2 * 9 + 4][0] += 0.8;
     let folded = sheet.with_positions(p).unwrap();
-    let e = Sequence3::new(&[sheet.clone(), folded.clone()], &opts()).unwrap_err();
+    let e = Sequence::<3>::new(&[sheet.clone(), folded.clone()], &opts()).unwrap_err();
     assert!(matches!(e, Error::ReflectedTriangles { .. }), "{e}");
     assert!(e.to_string().contains("key 1"), "{e}");
-    assert!(Sequence3::new(&[sheet.clone(), folded], &opts().with_allow_flips(true)).is_ok());
+    assert!(Sequence::<3>::new(&[sheet.clone(), folded], &opts().with_allow_flips(true)).is_ok());
     // Degenerate first key.
     let mut p = t.positions().to_vec();
     p[1] = p[0];
     p[2] = p[0];
     let flat = t.with_positions(p).unwrap();
-    let e = Sequence3::new(&[flat, b.clone()], &opts()).unwrap_err();
+    let e = Sequence::<3>::new(&[flat, b.clone()], &opts()).unwrap_err();
     assert!(matches!(e, Error::DegenerateTriangles { .. }), "{e}");
     // Whole extra turns have no axis in space; one key is not a sequence.
     assert!(matches!(
-        Sequence3::new(&[t.clone(), b.clone()], &opts().with_turns(1)),
+        Sequence::<3>::new(&[t.clone(), b.clone()], &opts().with_turns(1)),
         Err(Error::InvalidArgument(_))
     ));
     assert!(matches!(
-        Sequence3::new(std::slice::from_ref(&t), &opts()),
+        Sequence::<3>::new(std::slice::from_ref(&t), &opts()),
         Err(Error::InvalidArgument(_))
     ));
     assert!(matches!(
-        Blend3::new(&t, &[], &opts()),
+        Blend::<3>::new(&t, &[], &opts()),
         Err(Error::InvalidArgument(_))
     ));
     // A later key or a blend shape with coordinates whose products overflow
@@ -354,11 +347,12 @@ fn bad_input_is_named() {
     let huge = b.with_positions(p).unwrap();
     for (e, name) in [
         (
-            Sequence3::new(&[t.clone(), huge.clone()], &opts().with_allow_flips(true)).unwrap_err(),
+            Sequence::<3>::new(&[t.clone(), huge.clone()], &opts().with_allow_flips(true))
+                .unwrap_err(),
             "key 1",
         ),
         (
-            Blend3::new(&t, &[b.clone(), huge], &opts().with_allow_flips(true)).unwrap_err(),
+            Blend::<3>::new(&t, &[b.clone(), huge], &opts().with_allow_flips(true)).unwrap_err(),
             "blend shape 2",
         ),
     ] {
@@ -378,11 +372,12 @@ fn bad_input_is_named() {
     let far = b.with_positions(p).unwrap();
     for (e, name) in [
         (
-            Sequence3::new(&[t.clone(), far.clone()], &opts().with_allow_flips(true)).unwrap_err(),
+            Sequence::<3>::new(&[t.clone(), far.clone()], &opts().with_allow_flips(true))
+                .unwrap_err(),
             "key 1",
         ),
         (
-            Blend3::new(&t, &[far], &opts().with_allow_flips(true)).unwrap_err(),
+            Blend::<3>::new(&t, &[far], &opts().with_allow_flips(true)).unwrap_err(),
             "blend shape 1",
         ),
     ] {
@@ -419,13 +414,13 @@ fn horse_poses_interpolate_without_inversions() {
         let e_pose = mean_edge_change(&rest, rest.positions(), pose.positions());
         let d_linear =
             mean_edge_distortion(&rest, rest.positions(), pose.positions(), &linear, 0.5);
-        let with = Sequence3::new(&[rest.clone(), pose.clone()], &opts())
+        let with = Sequence::<3>::new(&[rest.clone(), pose.clone()], &opts())
             .unwrap_or_else(|e| panic!("horse-{k:02}: {e}"));
         let f = with.at(0.5);
         let e_with = mean_edge_change(&rest, rest.positions(), &f);
         let d_with = mean_edge_distortion(&rest, rest.positions(), pose.positions(), &f, 0.5);
         let without =
-            Sequence3::new(&[rest.clone(), pose], &opts().with_consistency(false)).unwrap();
+            Sequence::<3>::new(&[rest.clone(), pose], &opts().with_consistency(false)).unwrap();
         let e_without = mean_edge_change(&rest, rest.positions(), &without.at(0.5));
         println!(
             "horse-{k:02}: mean relative edge-length change halfway {e_with:.5} (without consistency {e_without:.5}, linear vertex interpolation {e_linear:.5}; the pose itself {e_pose:.5}); turned over {}, linear {}; triangles with whole turns {:?}",
@@ -468,7 +463,7 @@ fn the_interpolator_in_space_is_the_two_key_sequence() {
     let t = tube(4.0, 0.3, 21, 10);
     let b = bend(&t, 4.0, 3.0 * PI);
     let two = Interpolator::<3>::new(&t, &b, &opts()).unwrap();
-    let seq = Sequence3::new(&[t.clone(), b.clone()], &opts()).unwrap();
+    let seq = Sequence::<3>::new(&[t.clone(), b.clone()], &opts()).unwrap();
     for s in [0.0, 0.3, 0.5, 1.0, 1.2] {
         assert_eq!(two.at(s), seq.at(s), "s = {s}");
     }
@@ -507,7 +502,7 @@ fn a_tail_bent_then_twisted_keeps_its_shape_between_later_keys() {
                 bent.to_radians(),
             ),
         ];
-        let seq = Sequence3::new(&keys, &opts()).unwrap();
+        let seq = Sequence::<3>::new(&keys, &opts()).unwrap();
         for (j, key) in keys.iter().enumerate() {
             let d = max_distance(&seq.at(j as f64), key.positions());
             assert!(d < 1e-9 * diag, "{name}, key {j}: {d}");
@@ -532,7 +527,7 @@ fn a_tail_bent_then_twisted_keeps_its_shape_between_later_keys() {
         // nearly the same frames (not exactly: the sequence measures
         // stretches from key 0 and fits on key 0's triangles), the same
         // whole turns.
-        let alone = Sequence3::new(&[keys[2].clone(), keys[3].clone()], &opts()).unwrap();
+        let alone = Sequence::<3>::new(&[keys[2].clone(), keys[3].clone()], &opts()).unwrap();
         let mut apart = 0.0f64;
         for u in [0.25, 0.5, 0.75] {
             apart = apart.max(rigid_distance(&seq.at(2.0 + u), &alone.at(u)) / diag);
@@ -559,10 +554,10 @@ fn a_rigid_turn_through_keys_keeps_turning_and_stays_rigid() {
     let axis = [0.48, 0.6, 0.64];
     let turned = |degrees: f64| {
         let a = degrees.to_radians();
-        rigid_motion3(&t, exp_rotation(axis.map(|x| x * a)), [0.5, -1.0, 2.0])
+        rigid_motion3(&t, rotation_matrix(axis.map(|x| x * a)), [0.5, -1.0, 2.0])
     };
     let keys: Vec<Mesh3> = [0.0, 100.0, 200.0, 300.0].map(turned).to_vec();
-    let seq = Sequence3::new(&keys, &opts()).unwrap();
+    let seq = Sequence::<3>::new(&keys, &opts()).unwrap();
     let diag = t.bounding_box_diagonal();
     for i in 0..=30 {
         let s = 3.0 * i as f64 / 30.0;
@@ -590,7 +585,7 @@ fn a_rigid_turn_through_keys_keeps_turning_and_stays_rigid() {
     // Keys 0, 100 and 300 degrees are the same meshes as 0, 100 and -60:
     // nothing tells a turn of 200 degrees from one of -160 between the
     // last two, and the segment takes the shortest way, as two keys do.
-    let short = Sequence3::new(
+    let short = Sequence::<3>::new(
         &[keys[0].clone(), keys[1].clone(), keys[3].clone()],
         &opts(),
     )
@@ -602,7 +597,7 @@ fn a_rigid_turn_through_keys_keeps_turning_and_stays_rigid() {
     // (they do not subtract), but between the two later keys every
     // triangle turns by 170 degrees, and the segment takes that way.
     let composed = |a: f64, b: f64| {
-        let m = |w: [f64; 3]| exp_rotation(w.map(|x| x * PI / 180.0));
+        let m = |w: [f64; 3]| rotation_matrix(w.map(|x| x * PI / 180.0));
         let (x, y) = (m([a, 0.0, 0.0]), m([0.0, b, 0.0]));
         let r: [[f64; 3]; 3] = std::array::from_fn(|i| {
             std::array::from_fn(|j| (0..3).map(|k| y[i][k] * x[k][j]).sum())
@@ -610,7 +605,7 @@ fn a_rigid_turn_through_keys_keeps_turning_and_stays_rigid() {
         rigid_motion3(&t, r, [0.0; 3])
     };
     let keys = [t.clone(), composed(170.0, 0.0), composed(170.0, 170.0)];
-    let seq = Sequence3::new(&keys, &opts()).unwrap();
+    let seq = Sequence::<3>::new(&keys, &opts()).unwrap();
     assert_eq!(seq.triangles_with_whole_turns(), [0, 0]);
     for u in [0.25, 0.5, 0.75] {
         let d = rigid_distance(&seq.at(1.0 + u), composed(170.0, 170.0 * u).positions()) / diag;
@@ -628,7 +623,7 @@ fn a_tube_bent_further_at_every_key_bends_monotonically() {
         .iter()
         .map(|a| bend(&t, length, a.to_radians()))
         .collect();
-    let seq = Sequence3::new(&keys, &opts()).unwrap();
+    let seq = Sequence::<3>::new(&keys, &opts()).unwrap();
     // The end's direction: from the centre of the last ring but one to the
     // centre of the end cap (the last vertex).
     let n = t.num_vertices();
@@ -672,7 +667,7 @@ fn a_whole_turn_between_two_later_keys_is_made() {
             .iter()
             .map(|a| deform(&t, length, a.to_radians()))
             .collect();
-        let seq = Sequence3::new(&keys, &opts()).unwrap();
+        let seq = Sequence::<3>::new(&keys, &opts()).unwrap();
         let diag = t.bounding_box_diagonal();
         let whole = deform(&t, length, 2.0 * PI);
         let f = seq.at(1.5);
@@ -704,8 +699,8 @@ fn exactly_half_a_turn_between_later_keys_does_not_tear() {
                 .iter()
                 .map(|a| deform(&t, length, a.to_radians()))
                 .collect();
-            let seq = Sequence3::new(&keys, &opts()).unwrap();
-            let alone = Sequence3::new(&[keys[1].clone(), keys[2].clone()], &opts()).unwrap();
+            let seq = Sequence::<3>::new(&keys, &opts()).unwrap();
+            let alone = Sequence::<3>::new(&[keys[1].clone(), keys[2].clone()], &opts()).unwrap();
             let (mut apart, mut shortest, mut shortest_alone) =
                 (0.0f64, f64::INFINITY, f64::INFINITY);
             for i in 0..=20 {
@@ -742,7 +737,7 @@ fn frames_solved_together_are_the_frames_solved_one_by_one() {
     ];
     let diag = t.bounding_box_diagonal();
     for stretch in [StretchMode::Linear, StretchMode::Log] {
-        let morph = Sequence3::new(&keys, &opts().with_stretch(stretch)).unwrap();
+        let morph = Sequence::<3>::new(&keys, &opts().with_stretch(stretch)).unwrap();
         let mut frames = vec![vec![[0.0; 3]; t.num_vertices()]; times.len()];
         let mut outs: Vec<&mut [P]> = frames.iter_mut().map(Vec::as_mut_slice).collect();
         morph.frames_into(&times, &mut outs, &mut morph.workspace());

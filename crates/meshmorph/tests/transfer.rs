@@ -6,11 +6,11 @@ use std::f64::consts::{PI, TAU};
 use std::path::{Path, PathBuf};
 
 use meshmorph::shapes::{bend, octahedron, tube};
+use meshmorph::MIN_MARKERS;
 use meshmorph::{
-    correspond, io, topology, CorrespondOptions, CorrespondResult, Correspondence, Error, Markers,
-    Mesh3, Transfer, TransferOptions,
+    correspond, io, CorrespondOptions, CorrespondResult, Correspondence, Error, Markers, Mesh3,
+    Transfer, TransferOptions, VertexNumbering,
 };
-use meshmorph::{correspond_steps, MIN_MARKERS};
 
 // ---------------------------------------------------------------------------
 // Shared helpers
@@ -286,7 +286,6 @@ fn tube_correspondence(source: TubeSpec, target: TubeSpec) -> CorrespondResult {
         &target.mesh(),
         &markers,
         &CorrespondOptions::default(),
-        &mut |_| {},
     )
     .unwrap()
 }
@@ -393,12 +392,8 @@ fn identity_correspondence_reproduces_every_pose() {
 
 /// (boundary edges, non-manifold edges, connected parts) of a mesh.
 fn topology_of(m: &Mesh3) -> (usize, usize, usize) {
-    let edges = topology::edges(m.triangles());
-    (
-        edges.iter().filter(|e| e.triangles.len() == 1).count(),
-        edges.iter().filter(|e| e.triangles.len() > 2).count(),
-        topology::connected_components(m.num_vertices(), m.triangles()).count,
-    )
+    let counts = m.surface_counts();
+    (counts.boundary_edges, counts.crowded_edges, counts.parts)
 }
 
 #[test]
@@ -509,15 +504,9 @@ fn rigid_motions_of_the_source_move_the_target_rigidly() {
         let s0 = case.source.mesh();
         let t0 = (case.edit)(case.target.mesh(), case.target);
         let markers = tube_markers(case.source, case.target, &tube_picks(case.source, 4));
-        let c = correspond(
-            &s0,
-            &t0,
-            &markers,
-            &CorrespondOptions::default(),
-            &mut |_| {},
-        )
-        .unwrap()
-        .correspondence;
+        let c = correspond(&s0, &t0, &markers, &CorrespondOptions::default())
+            .unwrap()
+            .correspondence;
         let what = format!(
             "{} ({} pairs, unpaired: {} source, {} target triangles)",
             case.name,
@@ -579,15 +568,9 @@ fn target_parts_without_pairs_keep_their_shape() {
     let far_vertices = thick.num_vertices()..thick.num_vertices() + far.num_vertices();
 
     let markers = tube_markers(THIN, THICK, &tube_picks(THIN, 4));
-    let c = correspond(
-        &s0,
-        &t0,
-        &markers,
-        &CorrespondOptions::default(),
-        &mut |_| {},
-    )
-    .unwrap()
-    .correspondence;
+    let c = correspond(&s0, &t0, &markers, &CorrespondOptions::default())
+        .unwrap()
+        .correspondence;
     assert!(c
         .pairs()
         .iter()
@@ -644,7 +627,7 @@ fn marker_order_does_not_matter() {
             );
             let markers = tube_markers(source, target, &tube_picks(source, every));
             let opts = CorrespondOptions::default();
-            let base = correspond(&s0, &t0, &markers, &opts, &mut |_| {}).unwrap();
+            let base = correspond(&s0, &t0, &markers, &opts).unwrap();
             let transfer =
                 Transfer::new(&s0, &t0, &base.correspondence, &Default::default()).unwrap();
             let want = transfer.apply(&pose).unwrap();
@@ -652,8 +635,7 @@ fn marker_order_does_not_matter() {
             for k in 0..4 {
                 let mut pairs = markers.pairs().to_vec();
                 rng.shuffle(&mut pairs);
-                let shuffled =
-                    correspond(&s0, &t0, &Markers::new(pairs), &opts, &mut |_| {}).unwrap();
+                let shuffled = correspond(&s0, &t0, &Markers::new(pairs), &opts).unwrap();
                 assert_eq!(
                     shuffled.correspondence, base.correspondence,
                     "{what}, shuffle {k}: other pairs"
@@ -787,7 +769,6 @@ fn bad_markers_are_refused() {
             &t0,
             &Markers::new(pairs),
             &CorrespondOptions::default(),
-            &mut |_| {},
         )
         .map(|_| ())
         .unwrap_err()
@@ -843,14 +824,7 @@ fn bad_markers_are_refused() {
 
 /// The correspondence with the default options.
 fn found_by(source: &Mesh3, target: &Mesh3, markers: &Markers) -> CorrespondResult {
-    correspond(
-        source,
-        target,
-        markers,
-        &CorrespondOptions::default(),
-        &mut |_| {},
-    )
-    .unwrap()
+    correspond(source, target, markers, &CorrespondOptions::default()).unwrap()
 }
 
 #[test]
@@ -908,7 +882,7 @@ fn marker_files_that_do_not_parse_name_the_line() {
         ("0 1\n4 -2\n", 2, "out of range"),
     ] {
         std::fs::write(&path, text).unwrap();
-        let e = Markers::read(&path, false).unwrap_err();
+        let e = Markers::read(&path, VertexNumbering::FromZero).unwrap_err();
         match &e {
             Error::Parse {
                 line: l, path: p, ..
@@ -923,13 +897,13 @@ fn marker_files_that_do_not_parse_name_the_line() {
     // 1-based files refuse a 0.
     std::fs::write(&path, "1 1\n0 2\n").unwrap();
     assert_error(
-        Markers::read(&path, true).unwrap_err(),
+        Markers::read(&path, VertexNumbering::FromOne).unwrap_err(),
         is_parse,
         &["line 2", "1-based"],
     );
     // A file that parses but names a vertex the mesh lacks: the line is named.
     std::fs::write(&path, "0 0\n1 1\n999 2\n").unwrap();
-    let m = Markers::read(&path, false).unwrap();
+    let m = Markers::read(&path, VertexNumbering::FromZero).unwrap();
     assert_error(
         m.validate(100, 100).unwrap_err(),
         is_invalid_argument,
@@ -937,7 +911,7 @@ fn marker_files_that_do_not_parse_name_the_line() {
     );
     // A missing file.
     assert!(matches!(
-        Markers::read(&dir.path().join("none.cons"), false).unwrap_err(),
+        Markers::read(&dir.path().join("none.cons"), VertexNumbering::FromZero).unwrap_err(),
         Error::Io { .. }
     ));
 }
@@ -1106,9 +1080,9 @@ fn degenerate_triangles_are_named_and_never_give_nan() {
         format!("1 degenerate (zero-area) triangle in the source reference: triangle {ts}");
     let target_msg =
         format!("1 degenerate (zero-area) triangle in the target reference: triangle {tt}");
-    let e = correspond(&bad_s, &t0, &markers, &opts, &mut |_| {}).unwrap_err();
+    let e = correspond(&bad_s, &t0, &markers, &opts).unwrap_err();
     assert_error(e, is_degenerate, &[&source_msg]);
-    let e = correspond(&s0, &bad_t, &markers, &opts, &mut |_| {}).unwrap_err();
+    let e = correspond(&s0, &bad_t, &markers, &opts).unwrap_err();
     assert_error(e, is_degenerate, &[&target_msg]);
 
     let pairs: Vec<[u32; 2]> = (0..s0.num_triangles().min(t0.num_triangles()) as u32)
@@ -1310,8 +1284,10 @@ fn correspondence_reports_progress_and_pairs_the_tubes() {
     let markers = tube_markers(THIN, THICK, &tube_picks(THIN, 4));
     let opts = CorrespondOptions::default();
     let mut steps = Vec::new();
-    let result = correspond(&s0, &t0, &markers, &opts, &mut |k| steps.push(k)).unwrap();
-    assert_eq!(steps, (1..=correspond_steps(&opts)).collect::<Vec<_>>());
+    let result =
+        meshmorph::correspond_with_progress(&s0, &t0, &markers, &opts, &mut |k| steps.push(k))
+            .unwrap();
+    assert_eq!(steps, (1..=opts.steps()).collect::<Vec<_>>());
     // The deformed source lies on the target: every vertex near the thick radius.
     for p in result.deformed_source.positions() {
         let r = p[1].hypot(p[2]);
@@ -1374,9 +1350,13 @@ fn horse_to_camel_scores(dir: &Path, options: &CorrespondOptions) -> (f64, f64) 
     let start = std::time::Instant::now();
     let horse = read(dir, "horse-poses/horse-reference.obj");
     let camel = read(dir, "camel-poses/camel-reference.obj");
-    let markers = Markers::read(&dir.join("markers/horse-camel-107.cons"), false).unwrap();
+    let markers = Markers::read(
+        &dir.join("markers/horse-camel-107.cons"),
+        VertexNumbering::FromZero,
+    )
+    .unwrap();
     assert_eq!(markers.pairs().len(), 107);
-    let result = correspond(&horse, &camel, &markers, options, &mut |_| {}).unwrap();
+    let result = correspond(&horse, &camel, &markers, options).unwrap();
     let c = &result.correspondence;
     println!(
         "{} pairs, unmatched source {}, target {}",
@@ -1437,7 +1417,8 @@ fn horse_and_camel_are_their_own_mirror_images_about_their_files_middle_plane() 
         "camel-poses/camel-reference.obj",
     ] {
         let mesh = read(&dir, name);
-        let plane = meshmorph::mirror_plane::mirror_plane(&mesh)
+        let plane = mesh
+            .mirror_plane()
             .unwrap_or_else(|| panic!("{name}: no mirror plane"));
         // x = 0 across the body (the files stand along z, up along y).
         assert!(plane.normal[0].abs() > 0.9999, "{name}: {plane:?}");
@@ -1458,15 +1439,12 @@ fn the_face_masks_cry_transfers_to_the_head_close_to_sumners() {
     };
     let face = read(&dir, "face-poses/face-reference.obj");
     let head = read(&dir, "head-poses/head-reference.obj");
-    let markers = Markers::read(&dir.join("markers/face-head.txt"), false).unwrap();
-    let result = correspond(
-        &face,
-        &head,
-        &markers,
-        &CorrespondOptions::default(),
-        &mut |_| {},
+    let markers = Markers::read(
+        &dir.join("markers/face-head.txt"),
+        VertexNumbering::FromZero,
     )
     .unwrap();
+    let result = correspond(&face, &head, &markers, &CorrespondOptions::default()).unwrap();
     let transfer = Transfer::new(
         &face,
         &head,
@@ -1488,10 +1466,8 @@ fn the_face_masks_cry_transfers_to_the_head_close_to_sumners() {
 fn the_camels_nonmanifold_edges_and_boundaries_are_handled() {
     let Some(dir) = horse_camel_dir() else { return };
     let camel = read(&dir, "camel-poses/camel-reference.obj");
-    let edges = topology::edges(camel.triangles());
-    let nonmanifold = edges.iter().filter(|e| e.triangles.len() > 2).count();
-    let boundary = edges.iter().filter(|e| e.triangles.len() == 1).count();
-    assert_eq!((nonmanifold, boundary), (26, 5));
+    let counts = camel.surface_counts();
+    assert_eq!((counts.crowded_edges, counts.boundary_edges), (26, 5));
     // The camel onto itself: every one of Sumner's camel poses comes back.
     let transfer = self_transfer(&camel);
     let poses: Vec<Mesh3> = (1..=10)
@@ -1523,7 +1499,6 @@ fn unused_source_vertices_do_not_stop_the_correspondence() {
         &THICK.mesh(),
         &markers,
         &CorrespondOptions::default(),
-        &mut |_| {},
     )
     .unwrap();
     assert_eq!(r.correspondence.pairs(), plain.correspondence.pairs());
@@ -1549,8 +1524,7 @@ fn options_that_cannot_be_solved_are_refused() {
             "match threshold",
         ),
     ] {
-        let e =
-            correspond(&THIN.mesh(), &THICK.mesh(), &markers, &options, &mut |_| {}).unwrap_err();
+        let e = correspond(&THIN.mesh(), &THICK.mesh(), &markers, &options).unwrap_err();
         assert_error(e, is_invalid_argument, &[needle]);
     }
 }
@@ -1581,7 +1555,7 @@ fn markers_on_vertices_in_no_triangle_are_refused() {
     let path = Path::new("loose.txt");
     let options = CorrespondOptions::default();
     let refused = |source: &Mesh3, target: &Mesh3, markers: &Markers| {
-        let found = correspond(source, target, markers, &options, &mut |_| {});
+        let found = correspond(source, target, markers, &options);
         found.map(|_| ()).unwrap_err()
     };
     for (source, target, extra, needle) in [
@@ -1598,7 +1572,7 @@ fn markers_on_vertices_in_no_triangle_are_refused() {
             format!("source vertex {ls} is in no triangle"),
         ),
     ] {
-        let markers = Markers::parse(&text(extra), path, false).unwrap();
+        let markers = Markers::parse(&text(extra), path, VertexNumbering::FromZero).unwrap();
         let e = refused(source, target, &markers);
         assert!(
             matches!(e, Error::InvalidMarker { marker, line: Some(l), .. }
@@ -1746,14 +1720,7 @@ fn a_ball_carried_in_a_pipe_goes_to_one_place_whatever_the_rounding() {
     let markers = tube_markers(THIN, THICK, &tube_picks(THIN, 4));
     let pose = bend(&s0, 4.0, 1.2);
     let carried_ball = |target: &Mesh3| {
-        let result = correspond(
-            &s0,
-            target,
-            &markers,
-            &CorrespondOptions::default(),
-            &mut |_| {},
-        )
-        .unwrap();
+        let result = correspond(&s0, target, &markers, &CorrespondOptions::default()).unwrap();
         let transfer =
             Transfer::new(&s0, target, &result.correspondence, &Default::default()).unwrap();
         assert_eq!(transfer.carried_parts(), 1);

@@ -66,8 +66,8 @@ fn an_unused_target_vertex_changes_no_correspondence_or_transfer() {
         thick.bounding_box_diagonal()
     );
     let options = CorrespondOptions::default();
-    let plain = correspond(&thin, &thick, &markers, &options, &mut |_| {}).unwrap();
-    let extra = correspond(&thin, &thick2, &markers, &options, &mut |_| {}).unwrap();
+    let plain = correspond(&thin, &thick, &markers, &options).unwrap();
+    let extra = correspond(&thin, &thick2, &markers, &options).unwrap();
     assert_eq!(
         plain.correspondence.pairs(),
         extra.correspondence.pairs(),

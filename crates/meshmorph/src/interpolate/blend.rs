@@ -83,9 +83,6 @@ where
     base_offsets: Vec<[f64; D]>,
 }
 
-/// Blends of surfaces in space.
-pub type Blend3 = Blend<3>;
-
 impl<const D: usize> Blend<D>
 where
     Space<D>: Rotations<D> + TriangleMaps<D>,

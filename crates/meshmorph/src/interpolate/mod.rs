@@ -35,10 +35,10 @@ use crate::linalg::Space;
 use crate::mesh::topology::TriangleAdjacency;
 use crate::mesh::Mesh;
 
-pub use blend::{Blend, Blend3};
+pub use blend::Blend;
 pub use options::{InterpolatorOptions, StretchMode};
-pub use rest::{PreparedSurface, RestSystem};
-pub use sequence::{frames_per_solve, Sequence, Sequence3, SequenceWorkspace};
+pub use rest::RestSystem;
+pub use sequence::{frames_per_solve, Sequence};
 
 use sequence::Log;
 
@@ -66,7 +66,7 @@ use sequence::Log;
 /// # Ok::<(), meshmorph::Error>(())
 /// ```
 #[derive(Debug)]
-pub struct Interpolator<const D: usize = 2>
+pub struct Interpolator<const D: usize>
 where
     Space<D>: Rotations<D>,
 {

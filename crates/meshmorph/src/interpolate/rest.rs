@@ -31,7 +31,7 @@ use crate::mesh::{check_areas, Mesh};
 /// [`Sequence::with_surface`](crate::Sequence::with_surface),
 /// [`Blend::with_surface`](crate::Blend::with_surface)).
 #[derive(Debug)]
-pub struct RestSystem<const D: usize = 2> {
+pub struct RestSystem<const D: usize> {
     pub(super) source: Mesh<D>,
     /// `|area|` of each source triangle: the weight of its fit.
     pub(super) weights: Vec<f64>,
@@ -390,6 +390,3 @@ impl<R: TriangleRows<D>, const D: usize, const K: usize> pulp::WithSimd
         }
     }
 }
-
-/// The rest system of a surface in space.
-pub type PreparedSurface = RestSystem<3>;

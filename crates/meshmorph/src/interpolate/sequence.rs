@@ -282,12 +282,6 @@ where
     later: Vec<Vec<[f64; D]>>,
 }
 
-/// A keyframe sequence of surfaces in space.
-pub type Sequence3 = Sequence<3>;
-
-/// Per-thread scratch of sequences and blends of surfaces in space.
-pub type SequenceWorkspace = FrameWorkspace<3>;
-
 impl<const D: usize> Sequence<D>
 where
     Space<D>: Rotations<D> + TriangleMaps<D>,

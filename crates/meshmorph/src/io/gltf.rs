@@ -273,7 +273,7 @@ pub fn estimate_glb_bytes<const D: usize>(
 /// # Errors
 /// [`Error::InvalidArgument`] when `names` and `frames` differ in length,
 /// there are no frames, `D` is not 2 or 3, the fps is not in
-/// [`FRAME_RATES`](crate::FRAME_RATES), the corner texture coordinates do not match the triangles or are
+/// [`FRAME_RATES`](crate::limits::FRAME_RATES), the corner texture coordinates do not match the triangles or are
 /// not finite ([`Error::InvalidTriangle`]), or the file would pass 4 GiB;
 /// [`Error::InvalidMesh`] naming the frame when it has the wrong number of
 /// vertices, [`Error::InvalidVertex`] the frame and the vertex with a
@@ -401,11 +401,11 @@ impl<'a, const D: usize> Layout<'a, D> {
                 names.len()
             )));
         }
-        if !crate::FRAME_RATES.contains(&options.fps) {
+        if !crate::limits::FRAME_RATES.contains(&options.fps) {
             return Err(Error::InvalidArgument(format!(
                 "the frame rate must be from {} to {} frames per second, not {}",
-                crate::FRAME_RATES.start(),
-                crate::FRAME_RATES.end(),
+                crate::limits::FRAME_RATES.start(),
+                crate::limits::FRAME_RATES.end(),
                 options.fps
             )));
         }
@@ -817,7 +817,7 @@ impl<'a, const D: usize> Layout<'a, D> {
             write_f32s(w, std::iter::repeat_n(0.0, 3 * self.vertex_count()))?;
         }
         // A batch of frames is prepared in parallel, then written in order.
-        let batch = FRAMES_IN_FLIGHT_PER_THREAD * rayon::current_num_threads();
+        let batch = crate::limits::FRAMES_IN_FLIGHT_PER_THREAD * rayon::current_num_threads();
         for first in (0..count).step_by(batch) {
             let blocks: Vec<Vec<u8>> = (first..(first + batch).min(count))
                 .into_par_iter()
@@ -866,10 +866,6 @@ impl<'a, const D: usize> Layout<'a, D> {
         out
     }
 }
-
-/// Frames a GLB writer prepares at once, per thread: their bytes (24 per
-/// vertex in space, 12 in the plane) are all it holds of the frames.
-pub const FRAMES_IN_FLIGHT_PER_THREAD: usize = 2;
 
 /// A double-sided material (OBJ files do not say which side shows), blended
 /// when its alpha, or a vertex colour's, is below 1.

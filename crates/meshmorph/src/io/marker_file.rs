@@ -4,30 +4,31 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::transfer::markers::Markers;
+use crate::transfer::markers::{Markers, VertexNumbering};
 
 impl Markers {
     /// Reads a marker file: one pair `source target` per line, separated by
     /// white space or a comma; `#` starts a comment; a first line holding
     /// only the number of pairs (as in `.cons` files) is accepted and
-    /// checked. Indices are 0-based unless `one_based`.
+    /// checked. Indices count from 0 or from 1 as `numbering` says.
     ///
     /// # Errors
     /// [`Error::Io`] if the file cannot be read, [`Error::FileRefused`] when
     /// it is not a regular file or is larger than a third of the memory
     /// available, [`Error::Parse`] naming the line of the first entry that
     /// does not parse (or of a byte that is not UTF-8).
-    pub fn read(path: &Path, one_based: bool) -> Result<Self> {
+    pub fn read(path: &Path, numbering: VertexNumbering) -> Result<Self> {
         let bytes = crate::io::read::read_file(path, &crate::io::read::Limit::memory())?;
         let text = crate::io::read::utf8(bytes, path)?;
-        Self::parse(&text, path, one_based)
+        Self::parse(&text, path, numbering)
     }
 
     /// [`Markers::read`] on text already in memory; `path` names it in errors.
     ///
     /// # Errors
     /// [`Error::Parse`] naming the line of the first entry that does not parse.
-    pub fn parse(text: &str, path: &Path, one_based: bool) -> Result<Self> {
+    pub fn parse(text: &str, path: &Path, numbering: VertexNumbering) -> Result<Self> {
+        let one_based = numbering == VertexNumbering::FromOne;
         // A byte-order mark, as some editors write, is not part of the text.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut pairs = Vec::new();
@@ -124,32 +125,49 @@ mod tests {
     #[test]
     fn parses_the_usual_layouts() {
         let p = Path::new("m.cons");
-        let m = Markers::parse("3\n0, 5\n1 6 # tail\n\n# c\n2\t7\r\n", p, false).unwrap();
+        let m = Markers::parse(
+            "3\n0, 5\n1 6 # tail\n\n# c\n2\t7\r\n",
+            p,
+            VertexNumbering::FromZero,
+        )
+        .unwrap();
         assert_eq!(m.pairs(), &[[0, 5], [1, 6], [2, 7]]);
-        let m = Markers::parse("1 1\n2 3\n", p, true).unwrap();
+        let m = Markers::parse("1 1\n2 3\n", p, VertexNumbering::FromOne).unwrap();
         assert_eq!(m.pairs(), &[[0, 0], [1, 2]]);
-        assert_eq!(Markers::parse("", p, false).unwrap().pairs().len(), 0);
+        assert_eq!(
+            Markers::parse("", p, VertexNumbering::FromZero)
+                .unwrap()
+                .pairs()
+                .len(),
+            0
+        );
     }
 
     #[test]
     fn reports_lines() {
         let p = Path::new("m.txt");
-        let e = Markers::parse("0 1\n2 x\n", p, false)
+        let e = Markers::parse("0 1\n2 x\n", p, VertexNumbering::FromZero)
             .unwrap_err()
             .to_string();
         assert!(
             e.contains("m.txt") && e.contains("line 2") && e.contains("`x`"),
             "{e}"
         );
-        let e = Markers::parse("0 1 2\n", p, false).unwrap_err().to_string();
+        let e = Markers::parse("0 1 2\n", p, VertexNumbering::FromZero)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("line 1"), "{e}");
-        let e = Markers::parse("4\n0 1\n", p, false)
+        let e = Markers::parse("4\n0 1\n", p, VertexNumbering::FromZero)
             .unwrap_err()
             .to_string();
         assert!(e.contains("says 4 pairs but 1"), "{e}");
-        let e = Markers::parse("0 1\n", p, true).unwrap_err().to_string();
+        let e = Markers::parse("0 1\n", p, VertexNumbering::FromOne)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("1-based"), "{e}");
-        let e = Markers::parse("0 -1\n", p, false).unwrap_err().to_string();
+        let e = Markers::parse("0 -1\n", p, VertexNumbering::FromZero)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("out of range"), "{e}");
     }
 
@@ -157,7 +175,12 @@ mod tests {
     fn messages_number_vertices_as_the_file_does() {
         let p = Path::new("m.txt");
         for (one_based, text, shown) in [(false, "0 4\n1 9\n", "9"), (true, "1 5\n2 10\n", "10")] {
-            let m = Markers::parse(text, p, one_based).unwrap();
+            let numbering = if one_based {
+                VertexNumbering::FromOne
+            } else {
+                VertexNumbering::FromZero
+            };
+            let m = Markers::parse(text, p, numbering).unwrap();
             let e = m.check_ranges(5, 6).unwrap_err().to_string();
             assert!(
                 e.contains(&format!("target vertex {shown} is out of range")),
@@ -169,7 +192,7 @@ mod tests {
                 "target vertex 4"
             }));
         }
-        let m = Markers::parse("1 5\n1 6\n", p, true).unwrap();
+        let m = Markers::parse("1 5\n1 6\n", p, VertexNumbering::FromOne).unwrap();
         let e = m.validate(10, 10).unwrap_err().to_string();
         assert!(
             e.contains("source vertex 1 is paired with target vertex 6 here and with 5"),

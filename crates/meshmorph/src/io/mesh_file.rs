@@ -501,7 +501,7 @@ impl MeshFile {
     /// Every file beside this one that reading it for an output may read
     /// or that an output keeping its materials refers to: the material
     /// libraries ([`MeshFile::material_libraries`]) and the textures each
-    /// existing one names ([`mtl::named_files`]). A library that cannot
+    /// existing one names ([`crate::io::mtl::named_files`]). A library that cannot
     /// be read is listed without its textures.
     pub fn side_files(&self) -> Vec<PathBuf> {
         let mut files = Vec::new();
@@ -532,6 +532,19 @@ impl MeshFile {
     /// coordinates (`vt`)", "vertex colours", "vertex property `quality`", ...).
     pub fn extras(&self) -> &[String] {
         &self.extras
+    }
+
+    /// Writes the file with new `positions` to `path`, in the format its
+    /// extension names: [`MeshFile::write`] in that format. Writing in the
+    /// file's own format keeps its polygons, texture coordinates, normals,
+    /// groups and materials; the returned warnings say what another format
+    /// could not hold.
+    ///
+    /// # Errors
+    /// [`Error::UnknownFormat`] for an unknown extension; as
+    /// [`MeshFile::write`].
+    pub fn save(&self, path: &Path, positions: &[[f64; 3]]) -> Result<Vec<String>> {
+        self.write(path, positions, Format::from_path(path)?)
     }
 
     /// Writes the file with new `positions` in `format`, atomically. In the

@@ -2,16 +2,17 @@
 //! ([`gltf`]).
 //!
 //! - [`read_mesh`] / [`read_mesh_as`] / [`parse_mesh`] read a triangle mesh
+//!   ([`read_planar_mesh`] a planar one)
 //!   (polygons are triangulated, see below); every error names the file and,
 //!   for text formats, the 1-based line.
-//! - [`write_mesh`] / [`write_positions`] write a mesh in any of the three
+//! - [`write_mesh`] / [`write_positions`] write a mesh in any of the four
 //!   formats (planar meshes get z = 0), atomically through [`write_atomic`],
 //!   which other modules also use for their own outputs.
 //! - [`MeshFile`] keeps a file whole (polygons, texture coordinates, normals,
 //!   groups, materials, other PLY properties and elements, colours) beside
 //!   the triangle mesh derived from it, and writes it back with new
 //!   positions: what deformation transfer writes for the target.
-//! - The files of deformation transfer (`markers.rs`, `correspondence.rs`):
+//! - The files of deformation transfer (`marker_file.rs`, `correspondence_file.rs`):
 //!   marker pairs ([`Markers::read`](crate::Markers::read),
 //!   [`Markers::parse`](crate::Markers::parse)) and triangle correspondences
 //!   ([`Correspondence::save`](crate::Correspondence::save) and
@@ -21,9 +22,9 @@
 //! folder, a FIFO or a device (`/dev/zero`) is refused naming it and what
 //! it is, without waiting on it ([`Error::FileRefused`]). Sizes are checked
 //! before and while reading: a mesh, marker or correspondence file may take
-//! a third of the memory available ([`available_memory`],
-//! [`MEMORY_PER_FILE_BYTE`]), a material library
-//! [`MAX_MATERIAL_LIBRARY_BYTES`], textures what the GLB may still take
+//! a third of the memory available ([`crate::limits::available_memory`],
+//! [`crate::limits::MEMORY_PER_FILE_BYTE`]), a material library
+//! [`crate::limits::MAX_MATERIAL_LIBRARY_BYTES`], textures what the GLB may still take
 //! ([`Appearance::of_file`]); a mesh file larger than 64 KiB that its first
 //! 64 KiB show is not of its format (an STL of neither the binary size nor
 //! ASCII text, say) is refused before the rest is read.
@@ -78,13 +79,14 @@ mod off;
 mod ply;
 pub(crate) mod read;
 mod stl;
+mod surface_issues;
 mod triangulate;
 mod vertex_attributes;
 
 pub use appearance::Appearance;
 pub use atomic::{random_name, write_atomic};
 pub use mesh_file::MeshFile;
-pub use read::{available_memory, MAX_MATERIAL_LIBRARY_BYTES, MEMORY_PER_FILE_BYTE};
+pub use surface_issues::SurfaceIssues;
 use vertex_attributes::VertexAttributes;
 
 use std::fmt;
@@ -93,7 +95,7 @@ use std::path::Path;
 use std::str::FromStr;
 
 use crate::error::{Error, Result};
-use crate::mesh::{Mesh, Mesh3};
+use crate::mesh::{Mesh, Mesh2, Mesh3};
 
 /// A mesh file format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -177,10 +179,21 @@ impl FromStr for Format {
 /// [`Error::UnknownFormat`] for an unknown extension, [`Error::Io`] when the
 /// file cannot be read, [`Error::FileRefused`] when it is not a regular
 /// file or is larger than a third of the memory available (see
-/// [`available_memory`]), [`Error::Parse`] naming the file (and the line, for
+/// [`crate::limits::available_memory`]), [`Error::Parse`] naming the file (and the line, for
 /// text formats) when its contents are not a valid mesh.
 pub fn read_mesh(path: &Path) -> Result<Mesh3> {
     read_mesh_as(path, Format::from_path(path)?)
+}
+
+/// Reads a planar mesh: a mesh file whose vertices all have z = 0 (as
+/// OBJ, OFF, PLY and STL files of 2D shapes store them), choosing the
+/// format by the file's extension.
+///
+/// # Errors
+/// As [`read_mesh`], and [`Error::InvalidVertex`] naming the first vertex
+/// off the plane (read a surface in space with [`read_mesh`]).
+pub fn read_planar_mesh(path: &Path) -> Result<Mesh2> {
+    read_mesh(path)?.to_2d()
 }
 
 /// Reads a triangle mesh in the given format, whatever the file's extension.

@@ -51,7 +51,7 @@ impl MtlMaterial {
 /// # Errors
 /// [`Error::Io`] when it cannot be read; [`Error::FileRefused`] when it is
 /// not a regular file or holds more than
-/// [`MAX_MATERIAL_LIBRARY_BYTES`](super::MAX_MATERIAL_LIBRARY_BYTES);
+/// [`MAX_MATERIAL_LIBRARY_BYTES`](super::read::MAX_MATERIAL_LIBRARY_BYTES);
 /// [`Error::Parse`] naming the line when a number of a statement read here
 /// is not a number.
 pub fn read_mtl(path: &Path) -> Result<Vec<MtlMaterial>> {
@@ -63,7 +63,7 @@ pub fn read_mtl(path: &Path) -> Result<Vec<MtlMaterial>> {
 /// 64 MiB.
 pub(crate) fn read_text(path: &Path) -> Result<String> {
     let limit = super::read::Limit {
-        bytes: super::MAX_MATERIAL_LIBRARY_BYTES,
+        bytes: super::read::MAX_MATERIAL_LIBRARY_BYTES,
         why: "the 64 MiB a material library may hold".to_string(),
     };
     let bytes = super::read::read_file(path, &limit)?;

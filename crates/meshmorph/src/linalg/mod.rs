@@ -5,9 +5,9 @@
 
 pub(crate) mod lanes;
 pub(crate) mod matrix;
-pub mod polar;
-pub mod quaternion;
-pub mod similarity;
+pub(crate) mod polar;
+pub(crate) mod quaternion;
+pub(crate) mod similarity;
 pub(crate) mod trig;
 pub(crate) mod vector;
 

@@ -169,6 +169,7 @@ pub fn quat_exp(w: [f64; 3]) -> Quat {
 /// The principal logarithm of a rotation matrix: the rotation vector `w`
 /// with `|w| ∈ [0, π]` and `exp(w) = R`. At exactly a half turn both `±w`
 /// qualify; one of them is returned.
+#[cfg(test)]
 pub fn log_rotation(R: &Mat3) -> [f64; 3] {
     quat_log(quat_from_matrix(R))
 }

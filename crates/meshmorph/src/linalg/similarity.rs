@@ -93,7 +93,7 @@ impl Similarity {
     }
 
     /// The similarity that best maps `from[i]` onto `to[i]` in the least
-    /// squares sense (see the [module documentation](self)).
+    /// squares sense (Horn 1987 for the rotation, Umeyama 1991 for the scale).
     ///
     /// # Errors
     /// [`Error::InvalidArgument`] when the counts differ, there are fewer

@@ -8,7 +8,7 @@ pub(crate) mod frame_source;
 pub(crate) mod nearest_vertices;
 pub(crate) mod seams;
 pub mod shapes;
-pub mod topology;
+pub(crate) mod topology;
 mod triangle_mesh;
 
 #[cfg(test)]

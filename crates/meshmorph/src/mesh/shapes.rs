@@ -193,6 +193,13 @@ pub fn twist(mesh: &Mesh3, length: f64, angle: f64) -> Mesh3 {
         .expect("twisting keeps coordinates finite")
 }
 
+/// The rotation matrix (row-major) of the rotation vector `w`: a turn
+/// about the axis `w / |w|` by `|w|` radians, counter-clockwise seen from
+/// the axis' tip. For [`rigid_motion3`].
+pub fn rotation_matrix(w: [f64; 3]) -> [[f64; 3]; 3] {
+    crate::linalg::quaternion::exp_rotation(w)
+}
+
 /// Applies the rotation matrix `rotation` (row-major) about the origin and
 /// then `translation` to every vertex.
 pub fn rigid_motion3(mesh: &Mesh3, rotation: [[f64; 3]; 3], translation: [f64; 3]) -> Mesh3 {

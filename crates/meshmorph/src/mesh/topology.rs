@@ -11,6 +11,8 @@
 
 use rayon::slice::ParallelSliceMut;
 
+use crate::mesh::Mesh;
+
 /// An undirected edge `v[0] < v[1]` and the triangles that contain it.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Edge {
@@ -237,6 +239,31 @@ pub struct Components {
     pub of_triangle: Vec<u32>,
     /// Number of components.
     pub count: usize,
+}
+
+/// Counts that describe a surface ([`Mesh::surface_counts`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct SurfaceCounts {
+    /// Edges of one triangle only: the surface's boundary (0 when closed).
+    pub boundary_edges: usize,
+    /// Edges of more than two triangles: where the surface is not a
+    /// manifold (fins, faces given twice, surfaces glued along an edge).
+    pub crowded_edges: usize,
+    /// Connected parts (sets of triangles joined through shared vertices).
+    pub parts: usize,
+}
+
+impl<const D: usize> Mesh<D> {
+    /// Its boundary edges, non-manifold edges and connected parts.
+    pub fn surface_counts(&self) -> SurfaceCounts {
+        let edges = edges(self.triangles());
+        SurfaceCounts {
+            boundary_edges: edges.iter().filter(|e| e.triangles.len() == 1).count(),
+            crowded_edges: edges.iter().filter(|e| e.triangles.len() > 2).count(),
+            parts: connected_components(self.num_vertices(), self.triangles()).count,
+        }
+    }
 }
 
 /// Connected components of `triangles` over `num_vertices` vertices,

@@ -30,7 +30,7 @@ pub struct GifOptions {
     /// Frames per second (25). GIF delays are whole hundredths of a second
     /// and browsers slow down anything faster than 50, so rates above 50
     /// play at 50; other rates are kept on average. A rate outside
-    /// [`FRAME_RATES`](crate::FRAME_RATES) plays at the nearest end of it.
+    /// [`FRAME_RATES`](crate::limits::FRAME_RATES) plays at the nearest end of it.
     pub fps: f64,
     /// How long to pause on the first and on the last frame (0.5 s).
     pub hold_ends: Duration,
@@ -65,7 +65,10 @@ impl GifOptions {
     /// `0, 1, ..., n - 1` (then `n - 2, ..., 1` when `boomerang`), each
     /// for one frame time, the first and last also for `hold_ends`.
     pub fn schedule(&self, num_frames: usize) -> Vec<(usize, Duration)> {
-        let (slowest, fastest) = (*crate::FRAME_RATES.start(), *crate::FRAME_RATES.end());
+        let (slowest, fastest) = (
+            *crate::limits::FRAME_RATES.start(),
+            *crate::limits::FRAME_RATES.end(),
+        );
         let fps = if self.fps.is_nan() {
             25.0
         } else {

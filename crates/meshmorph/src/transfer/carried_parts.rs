@@ -181,6 +181,7 @@ impl CarriedParts {
     }
 
     /// Whether no part is carried.
+    #[cfg(test)]
     pub fn is_empty(&self) -> bool {
         self.parts.is_empty()
     }

@@ -8,7 +8,7 @@ use crate::mesh::Mesh3;
 /// Pairs `(source triangle, target triangle)`, sorted and unique, with the
 /// sizes and a connectivity fingerprint of the meshes they were made for,
 /// and the similarity that brought the source onto the target before the
-/// pairs were found (the identity unless [`correspond`](crate::transfer::matching)
+/// pairs were found (the identity unless [`correspond`](crate::correspond)
 /// aligned them).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Correspondence {

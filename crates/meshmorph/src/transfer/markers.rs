@@ -6,9 +6,21 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 
 use crate::error::{Error, Result};
+use crate::linalg::similarity::Similarity;
 use crate::linalg::vector::{norm, sub};
 use crate::mesh::seams::Seams;
 use crate::mesh::{used_vertices, Mesh3};
+
+/// Where a file's vertex indices start: marker files and picking tools
+/// count from 0 or from 1.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum VertexNumbering {
+    /// The first vertex is 0 (as meshmorph, Python and C count).
+    #[default]
+    FromZero,
+    /// The first vertex is 1 (as OBJ files and MATLAB count).
+    FromOne,
+}
 
 /// Pairs `(source vertex, target vertex)`, 0-based, with where they came from
 /// so that errors can name the file and line. A marker file may also give
@@ -244,6 +256,26 @@ impl Markers {
         (at(source, 0), at(target, 1))
     }
 
+    /// The similarity (rotation, uniform scale, translation) that best fits
+    /// the markers' source vertices onto their target vertices, markers far
+    /// off the others' fit left out ([`Similarity::fit`] made robust), and
+    /// each marker's distance from its partner after it, in the target's
+    /// units: what tells whether a pair of meshes stands apart or a marker
+    /// is on the wrong feature.
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] for fewer than three markers or markers
+    /// that fix no orientation (all on one line).
+    ///
+    /// # Panics
+    /// If a vertex is out of range (see [`Markers::validate`]).
+    pub fn fit(&self, source: &Mesh3, target: &Mesh3) -> Result<(Similarity, Vec<f64>)> {
+        let (from, to) = self.positions(source, target);
+        let fit = crate::linalg::similarity::fit_robust(&from, &to)?.0;
+        let residuals = crate::linalg::similarity::residuals(&fit, &from, &to);
+        Ok((fit, residuals))
+    }
+
     /// Checks that every marker's vertices are in range of meshes of these
     /// vertex counts (part of [`Markers::validate`]).
     ///
@@ -363,7 +395,7 @@ mod tests {
     #[test]
     fn validation() {
         let p = Path::new("m.txt");
-        let m = Markers::parse("0 1\n5 2\n", p, false).unwrap();
+        let m = Markers::parse("0 1\n5 2\n", p, VertexNumbering::FromZero).unwrap();
         assert!(m.validate(6, 3).is_ok());
         let e = m.validate(5, 3).unwrap_err();
         assert!(

@@ -114,6 +114,12 @@ impl Default for CorrespondOptions {
 }
 
 impl CorrespondOptions {
+    /// The number of steps [`correspond_with_progress`] reports: each
+    /// deformation round, then the matching.
+    pub fn steps(&self) -> usize {
+        self.closest_weights.len() + 2
+    }
+
     /// Checks that every weight and fraction can make a solvable problem.
     ///
     /// # Errors
@@ -200,16 +206,25 @@ pub struct CorrespondResult {
     pub marker_residuals: Vec<f64>,
     /// The planes of symmetry of the source (brought onto the target by
     /// [`CorrespondResult::marker_fit`]) and of the target, when both have
-    /// one and the transfer's turn keeps them together ([`mirror_plane`]).
+    /// one and the transfer's turn keeps them together ([`Mesh3::mirror_plane`]).
     pub mirror_planes: Option<[MirrorPlane; 2]>,
+}
+
+impl CorrespondResult {
+    /// The markers whose distance from their partners after the alignment
+    /// stands out from the others' (a modified z-score above 3.5, Iglewicz
+    /// and Hoaglin 1993): each is most likely on the wrong feature. Indices
+    /// into the markers, in increasing order.
+    pub fn far_markers(&self) -> Vec<usize> {
+        crate::linalg::similarity::outliers(&self.marker_residuals)
+    }
 }
 
 /// The fewest markers [`correspond`] accepts: fewer cannot fix an orientation.
 pub const MIN_MARKERS: usize = 3;
 
 /// Computes the triangle correspondence between `source` and `target` from
-/// `markers`. `progress` is called with the number of steps done out of
-/// [`correspond_steps`].
+/// `markers` ([`correspond_with_progress`] to follow its steps).
 ///
 /// # Errors
 /// - [`Error::InvalidArgument`] for bad markers (out of range, repeated, a
@@ -220,6 +235,20 @@ pub const MIN_MARKERS: usize = 3;
 /// - [`Error::DegenerateTriangles`] for zero-area triangles in either mesh;
 /// - [`Error::Solver`] if a system cannot be factored.
 pub fn correspond(
+    source: &Mesh3,
+    target: &Mesh3,
+    markers: &Markers,
+    options: &CorrespondOptions,
+) -> Result<CorrespondResult> {
+    correspond_with_progress(source, target, markers, options, &mut |_| {})
+}
+
+/// [`correspond`], calling `progress` with the number of steps done out of
+/// [`CorrespondOptions::steps`] (for a progress bar).
+///
+/// # Errors
+/// As [`correspond`].
+pub fn correspond_with_progress(
     source: &Mesh3,
     target: &Mesh3,
     markers: &Markers,
@@ -291,7 +320,7 @@ pub fn correspond(
         (Similarity::IDENTITY, None)
     };
     let correspondence = matched.with_alignment(transfer_alignment);
-    progress(correspond_steps(options));
+    progress(options.steps());
     Ok(CorrespondResult {
         correspondence,
         marker_fit: alignment,
@@ -413,11 +442,6 @@ pub(crate) fn mean_length(edges: &[Edge], p: &[[f64; 3]]) -> f64 {
         })
         .sum();
     total / edges.len().max(1) as f64
-}
-
-/// Number of steps [`correspond`] reports: each deformation round, then matching.
-pub fn correspond_steps(options: &CorrespondOptions) -> usize {
-    options.closest_weights.len() + 2
 }
 
 /// Deforms the source onto the target; returns the deformed vertex positions.

@@ -78,7 +78,7 @@ pub struct MirrorPlane {
     /// `n · x` on the plane.
     pub offset: f64,
     /// RMS distance over the area between the mirrored surface and the
-    /// surface, over the surface's size (see [`MIRROR_MISFIT`]).
+    /// surface, over the surface's size (a plane is kept below 0.04).
     pub misfit: f64,
 }
 
@@ -90,6 +90,16 @@ impl MirrorPlane {
             p,
             scale(self.normal, 2.0 * (dot(self.normal, p) - self.offset)),
         )
+    }
+}
+
+impl Mesh3 {
+    /// The plane about which this surface is its own mirror image, if one
+    /// plane fits clearly best: where a character's left meets its right.
+    /// Deformation transfer keeps the source's and the target's planes
+    /// together ([`CorrespondResult::mirror_planes`](crate::CorrespondResult::mirror_planes)).
+    pub fn mirror_plane(&self) -> Option<MirrorPlane> {
+        mirror_plane(self)
     }
 }
 

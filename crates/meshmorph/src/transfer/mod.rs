@@ -4,11 +4,11 @@
 //! separate parts carried along, and the transfer of each source pose to
 //! the target by one back-substitution ([`pose_transfer`]).
 
-pub mod carried_parts;
+pub(crate) mod carried_parts;
 pub(crate) mod correspondence;
 pub(crate) mod markers;
 pub(crate) mod matching;
-pub mod mirror_plane;
+pub(crate) mod mirror_plane;
 pub(crate) mod partner_parts;
 pub(crate) mod pose_transfer;
-pub mod rotation_field;
+pub(crate) mod rotation_field;

@@ -498,13 +498,13 @@ impl Transfer {
     }
 
     /// Number of separate parts of the target carried rigidly by the
-    /// surface around them (see [`CarriedParts`]).
+    /// surface around them (anchored to it by their nearest vertices).
     pub fn carried_parts(&self) -> usize {
         self.carried.len()
     }
 
     /// Number of separate parts of the target with partners of their own
-    /// that are placed by the main part around them (see [`CarriedParts`]).
+    /// that are placed by the main part around them.
     pub fn following_parts(&self) -> usize {
         self.following.len()
     }

@@ -133,11 +133,6 @@ impl RotationField {
         })
     }
 
-    /// Whether any triangle is filled.
-    pub fn is_empty(&self) -> bool {
-        self.unknown.is_empty()
-    }
-
     /// Scratch for [`RotationField::fill`]; one per thread.
     pub fn workspace(&self) -> FieldWorkspace {
         let n = self.num_triangles;
@@ -147,12 +142,6 @@ impl RotationField {
             rhs: vec![0.0; 9 * n],
             x: vec![0.0; 9 * n],
         }
-    }
-
-    /// The triangles [`RotationField::fill`] writes: every unknown one that
-    /// reaches a known one.
-    pub fn filled(&self) -> &[u32] {
-        &self.unknown
     }
 
     /// Writes a rotation into `rotations[t]` for every triangle of
