@@ -3,8 +3,10 @@
 //! Chromium (the mesh is drawn and moves).
 //!
 //! Both need `npm ci` in tools/gltf-check (and Debian's `chromium` for the
-//! second). Without them the tests say they were skipped; in CI
-//! (`CI=true`) a missing tool fails them instead.
+//! second). Without them a check is reported as ignored, with what is
+//! missing (`--include-ignored` runs it anyway, and it fails); in CI
+//! (`CI=true`), which installs them, a missing tool fails it instead. The
+//! harness is libtest-mimic's, which can tell at run time.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -30,23 +32,60 @@ fn runs(program: &str) -> bool {
         .is_ok_and(|o| o.status.success())
 }
 
-/// Whether the check can run; prints why not, and panics in CI.
-fn available(what: &str, needs: &[(&str, bool)]) -> bool {
-    let missing: Vec<&str> = needs
+/// What the check needs and does not find (empty when it can run).
+fn missing(needs: &[(&str, bool)]) -> Vec<String> {
+    needs
         .iter()
         .filter(|(_, ok)| !ok)
-        .map(|(name, _)| *name)
+        .map(|(name, _)| name.to_string())
+        .collect()
+}
+
+fn chromium() -> String {
+    std::env::var("CHROMIUM").unwrap_or_else(|_| "chromium".into())
+}
+
+fn main() {
+    let args = libtest_mimic::Arguments::from_args();
+    let node = runs("node");
+    let packages = node_packages();
+    let checks: [(&str, fn(), Vec<String>); 2] = [
+        (
+            "every_glb_passes_the_khronos_validator",
+            every_glb_passes_the_khronos_validator,
+            missing(&[("node", node), ("npm packages", packages)]),
+        ),
+        (
+            "three_js_in_chromium_draws_the_animation_moving",
+            three_js_in_chromium_draws_the_animation_moving,
+            missing(&[
+                ("node", node),
+                ("npm packages", packages),
+                ("chromium", runs(&chromium())),
+            ]),
+        ),
+    ];
+    let trials = checks
+        .into_iter()
+        .map(|(name, check, missing)| {
+            let ignored = !missing.is_empty() && !in_ci();
+            if ignored {
+                eprintln!(
+                    "{name}: ignored, missing {} (install: apt-get install nodejs chromium; npm ci in tools/gltf-check)",
+                    missing.join(", ")
+                );
+            }
+            libtest_mimic::Trial::test(name, move || {
+                if !missing.is_empty() {
+                    return Err(format!("missing {}: CI must run this check", missing.join(", ")).into());
+                }
+                check();
+                Ok(())
+            })
+            .with_ignored_flag(ignored)
+        })
         .collect();
-    if missing.is_empty() {
-        return true;
-    }
-    let message = format!(
-        "{what}: skipped, missing {} (install: apt-get install nodejs chromium; npm ci in tools/gltf-check)",
-        missing.join(", ")
-    );
-    assert!(!in_ci(), "{message}: CI must run this check");
-    eprintln!("{message}");
-    false
+    libtest_mimic::run(&args, trials).exit();
 }
 
 fn node_packages() -> bool {
@@ -167,14 +206,7 @@ fn out_dir(name: &str) -> PathBuf {
     dir
 }
 
-#[test]
 fn every_glb_passes_the_khronos_validator() {
-    if !available(
-        "glTF validator",
-        &[("node", runs("node")), ("npm packages", node_packages())],
-    ) {
-        return;
-    }
     let dir = out_dir("gltf-validator");
     let glbs = write_glbs(&dir);
     let out = Command::new("node")
@@ -193,19 +225,8 @@ fn every_glb_passes_the_khronos_validator() {
     }
 }
 
-#[test]
 fn three_js_in_chromium_draws_the_animation_moving() {
-    let chromium = std::env::var("CHROMIUM").unwrap_or_else(|_| "chromium".into());
-    if !available(
-        "three.js in Chromium",
-        &[
-            ("node", runs("node")),
-            ("npm packages", node_packages()),
-            ("chromium", runs(&chromium)),
-        ],
-    ) {
-        return;
-    }
+    let chromium = chromium();
     let dir = out_dir("gltf-chromium");
     let glbs = write_glbs(&dir);
     let shots = dir.join("screenshots");
