@@ -67,7 +67,7 @@ pub struct CorrespondOptions {
     /// the matrix stays the same (only the right-hand side moves). Stronger,
     /// it also keeps the markers from reshaping a source whose proportions
     /// differ from the target's: 0.3 still lets them make a tube twice too
-    /// thin as thick as its target (`tests/real_meshes.rs`; from 0.7 on
+    /// thin as thick as its target (`tests/library/real_meshes.rs`; from 0.7 on
     /// they no longer do).
     pub identity_weight: f64,
     /// `w_C` of each closest-point round, in order (a first round without

@@ -2407,7 +2407,7 @@ fn transfer_gltf_shapes_needs_gltf_and_the_gltf_never_overwrites_an_input() {
     let err = usage_error(&rig.transfer_with_markers(&out, &["--gltf-shapes".as_ref()]));
     assert_mentions(&err, &["--gltf"]);
     // A picture named as the target's file is refused by its name (outputs
-    // onto inputs by other names: tests/hostile.rs).
+    // onto inputs by other names: tests/command_line/hostile.rs).
     let err = usage_error(
         &rig.transfer_with_markers(&out, &["--png".as_ref(), rig.target_ref.as_os_str()]),
     );
