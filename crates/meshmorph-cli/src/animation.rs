@@ -290,7 +290,7 @@ where
         let flipped = morph.count_turned_over(positions);
         let begin = Instant::now();
         let mut dropped = Vec::new();
-        staging.write(outputs.meshes[k], |path| {
+        staging.write_to(outputs.meshes[k], |path, w| {
             check_finite(positions, k, t, morph.num_keys() - 1)?;
             match file {
                 Some(file) => {
@@ -298,9 +298,10 @@ where
                         .iter()
                         .map(|p| std::array::from_fn(|i| if i < D { p[i] } else { 0.0 }))
                         .collect();
-                    dropped = file.write(path, &lifted, outputs.format)?;
+                    dropped = file.write_to(w, path, &lifted, outputs.format)?;
                 }
-                None => meshmorph::io::write_positions(
+                None => meshmorph::io::write_positions_to(
+                    w,
                     path,
                     positions,
                     morph.triangles(),

@@ -1,6 +1,7 @@
 //! Staged outputs: written under temporary names beside their final place,
 //! moved there together by [`Staging::commit`], removed if the run fails.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
@@ -205,6 +206,29 @@ impl Staging {
                 named.role,
                 named.path.display()
             )
+        })
+    }
+
+    /// Writes one output through a writer: [`Staging::write`] with the
+    /// staged file made by the staging itself, new (`O_CREAT|O_EXCL`: what
+    /// is at the name is never written through), at the staged path, where
+    /// `write` writes its bytes into `w` (`path`, the staged path, only
+    /// for what the bytes depend on, such as relative paths). No temporary
+    /// name then a rename: inside a folder the run created the file is
+    /// made at its final name in the hidden staged folder, which nothing
+    /// reads before the commit moves it into place; elsewhere at its
+    /// `.part` name, which only this run knows. A file whose write fails
+    /// is removed.
+    ///
+    /// # Errors
+    /// As [`Staging::write`].
+    pub fn write_to(
+        &self,
+        output: Output,
+        write: impl FnOnce(&Path, &mut dyn Write) -> Result<()>,
+    ) -> Result<()> {
+        self.write(output, |staged| {
+            meshmorph::io::write_new(staged, |w| write(staged, w))
         })
     }
 
