@@ -1,6 +1,7 @@
 //! Staged outputs: written under temporary names beside their final place,
 //! moved there together by [`Staging::commit`], removed if the run fails.
 
+use std::collections::HashSet;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -256,11 +257,14 @@ impl Staging {
             return Err(e);
         }
         let mut moved_folders = 0;
+        // The staged folders whose outputs moved in one by one.
+        let mut merged = Vec::new();
         for (j, (folder, staged)) in self.folders.iter().enumerate() {
             if std::fs::rename(staged, folder).is_ok() {
                 moved_folders = j + 1;
                 continue;
             }
+            merged.push(j);
             // The folder was made meanwhile (another run into it, which
             // committed before this one took its locks, so that this one
             // holds that folder's lock too): its outputs move in one by one,
@@ -289,7 +293,7 @@ impl Staging {
         }
         self.committed = true;
         interrupt::committed();
-        Ok(self.remove_surplus())
+        Ok(self.remove_surplus(&merged))
     }
 
     /// Moves the staged files of `outputs` into place, each file it
@@ -353,8 +357,26 @@ impl Staging {
     }
 
     /// Frame files in the frame folders that this run did not write and
-    /// that are not inputs.
-    fn remove_surplus(&self) -> usize {
+    /// that are not inputs. A frame folder the run made and moved into
+    /// place whole (in a staged folder not `merged`) holds only what the
+    /// run wrote: it is not read. Elsewhere the run's own frames are known
+    /// by their names; only the other frame files are looked at.
+    fn remove_surplus(&self, merged: &[usize]) -> usize {
+        let made_whole = |dir: &Path| {
+            self.folders
+                .iter()
+                .position(|(root, _)| dir.starts_with(root))
+                .is_some_and(|j| !merged.contains(&j))
+        };
+        let mut swept = self
+            .frame_folders
+            .iter()
+            .filter(|d| !made_whole(d))
+            .peekable();
+        if swept.peek().is_none() {
+            return 0;
+        }
+        let written: HashSet<&Path> = self.outputs.iter().map(|o| o.path.as_path()).collect();
         let mut keep = Inputs::new(&self.resolved);
         {
             let inputs = self.inputs.lock().unwrap_or_else(|e| e.into_inner());
@@ -364,8 +386,8 @@ impl Staging {
         }
         let mut resolver = Resolver::default();
         let mut removed = 0;
-        for dir in &self.frame_folders {
-            let keep = |p: &Path| keep.find(&resolver.resolve(p)).is_some();
+        for dir in swept {
+            let keep = |p: &Path| written.contains(p) || keep.find(&resolver.resolve(p)).is_some();
             for p in surplus::surplus_frames(dir, keep) {
                 if std::fs::remove_file(&p).is_ok() {
                     removed += 1;
