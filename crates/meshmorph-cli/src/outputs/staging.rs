@@ -585,6 +585,56 @@ mod tests {
     }
 
     #[test]
+    fn writers_make_their_files_new_at_the_staged_paths() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("old")).unwrap();
+        let mut plan = Plan::new();
+        let fresh = plan.file(&dir.path().join("new/a.txt"), "test output");
+        let existing = plan.file(&dir.path().join("old/b.txt"), "test output");
+        let staging = plan.prepare().unwrap();
+        staging
+            .write_to(fresh, |path, w| {
+                // In a folder the run makes: its final name, in the hidden
+                // staged folder.
+                assert_eq!(path.file_name().unwrap(), "a.txt");
+                assert!(path
+                    .parent()
+                    .unwrap()
+                    .to_string_lossy()
+                    .ends_with(".folder"));
+                Ok(w.write_all(b"a")?)
+            })
+            .unwrap();
+        staging
+            .write_to(existing, |path, w| {
+                assert!(path.to_string_lossy().ends_with(".part"));
+                Ok(w.write_all(b"b")?)
+            })
+            .unwrap();
+        // Made new: a file already at the name is refused, not written
+        // through, and the message names the user's path.
+        let again = staging
+            .write_to(fresh, |_, w| Ok(w.write_all(b"x")?))
+            .unwrap_err()
+            .to_string();
+        assert!(again.contains("new/a.txt"), "{again}");
+        assert!(!again.contains(".meshmorph-"), "{again}");
+        staging.commit().unwrap();
+        let read = |p: &str| std::fs::read_to_string(dir.path().join(p)).unwrap();
+        assert_eq!(
+            (read("new/a.txt"), read("old/b.txt")),
+            ("a".into(), "b".into())
+        );
+        let mut names: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .chain(std::fs::read_dir(dir.path().join("old")).unwrap())
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        names.sort();
+        assert_eq!(names, ["b.txt", "new", "old"]);
+    }
+
+    #[test]
     fn a_replaced_file_keeps_its_path_during_the_moves() {
         // Kept aside as a second name: the user's path is never empty, and
         // a failed move puts every earlier output back.
