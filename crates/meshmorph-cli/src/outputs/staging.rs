@@ -28,9 +28,8 @@ pub struct Staging {
     /// This run's own part of every staged name: unpredictable, so that
     /// nothing can be planted at a staged path before the run makes it.
     token: String,
-    /// Where each output is written: `.meshmorph-<pid>-<token>-<n>.part`
-    /// beside its final place, or its final name inside a staged folder.
-    staged: Vec<PathBuf>,
+    /// This process's id, the first part of every staged name.
+    pid: u32,
     /// Folders the run creates, each staged whole under a hidden name
     /// beside its final place and moved there by one rename: (final,
     /// staged). Only the outermost of the missing folders.
@@ -63,19 +62,10 @@ impl Staging {
                 )
             })
             .collect();
-        let mut in_folder = Vec::with_capacity(plan.outputs.len());
-        let staged = plan
+        let in_folder = plan
             .outputs
             .iter()
-            .enumerate()
-            .map(|(k, o)| {
-                let root = folders.iter().position(|(r, _)| o.path.starts_with(r));
-                in_folder.push(root);
-                match root {
-                    Some(j) => rebase(&o.path, &folders[j]),
-                    None => sibling(&o.path, &format!(".meshmorph-{pid}-{token}-{k}.part")),
-                }
-            })
+            .map(|o| folders.iter().position(|(r, _)| o.path.starts_with(r)))
             .collect();
         create_staged_folders(&missing, &folders, &plan.outputs)?;
         let mut staging = Self {
@@ -84,7 +74,7 @@ impl Staging {
             resolved,
             frame_folders: plan.frame_folders,
             token,
-            staged,
+            pid,
             folders,
             in_folder,
             committed: false,
@@ -92,9 +82,15 @@ impl Staging {
         };
         interrupt::arm(staging.cleanup());
         staging.probe_folders()?;
-        let mut scanned: Vec<&Path> = staging.folders().into_iter().map(|(f, _)| f).collect();
-        scanned.extend(staging.folders.iter().map(|(r, _)| parent_of(r)));
+        let mut scanned: Vec<PathBuf> = staging.folders().into_iter().map(|(f, _)| f).collect();
+        scanned.extend(
+            staging
+                .folders
+                .iter()
+                .map(|(r, _)| parent_of(r).to_path_buf()),
+        );
         scanned.dedup();
+        let scanned: Vec<&Path> = scanned.iter().map(PathBuf::as_path).collect();
         staging.warnings = stale::remove_stale(&scanned);
         Ok(staging)
     }
@@ -130,14 +126,36 @@ impl Staging {
         Ok(())
     }
 
-    /// The folders of the outputs, each once (`.` for the current one),
-    /// with the first output in each.
-    fn folders(&self) -> Vec<(&Path, usize)> {
-        let mut folders: Vec<(&Path, usize)> = Vec::new();
-        for (k, staged) in self.staged.iter().enumerate() {
-            let folder = parent_of(staged);
-            if !folders.iter().any(|(f, _)| *f == folder) {
-                folders.push((folder, k));
+    /// Where output `k` is written: `.meshmorph-<pid>-<token>-<k>.part`
+    /// beside its final place, or its final name inside a staged folder.
+    /// (Made when asked: a million frames keep no second list of paths.)
+    fn staged(&self, k: usize) -> PathBuf {
+        let path = &self.outputs[k].path;
+        match self.in_folder[k] {
+            Some(j) => rebase(path, &self.folders[j]),
+            None => sibling(
+                path,
+                &format!(".meshmorph-{}-{}-{k}.part", self.pid, self.token),
+            ),
+        }
+    }
+
+    /// The folders the outputs are staged in, each once (`.` for the
+    /// current one), with the first output in each.
+    fn folders(&self) -> Vec<(PathBuf, usize)> {
+        let mut folders: Vec<(PathBuf, usize)> = Vec::new();
+        let mut last: Option<&Path> = None;
+        for (k, output) in self.outputs.iter().enumerate() {
+            // An output's staged folder follows from its folder, which the
+            // frames share.
+            let folder = parent_of(&output.path);
+            if last == Some(folder) {
+                continue;
+            }
+            last = Some(folder);
+            let staged = parent_of(&self.staged(k)).to_path_buf();
+            if !folders.iter().any(|(f, _)| *f == staged) {
+                folders.push((staged, k));
             }
         }
         folders
@@ -161,17 +179,17 @@ impl Staging {
                 // Made by this run: it took its first entry already.
                 continue;
             }
-            let (named, staged) = (&self.outputs[k], &self.staged[k]);
+            let (named, staged) = (&self.outputs[k], self.staged(k));
             let _writing = interrupt::writing()?;
             // Created afresh (never through a file or link already there).
             let made = std::fs::OpenOptions::new()
                 .write(true)
                 .create_new(true)
-                .open(staged);
+                .open(&staged);
             match made {
                 Ok(file) => {
                     drop(file);
-                    let _ = std::fs::remove_file(staged);
+                    let _ = std::fs::remove_file(&staged);
                 }
                 Err(e) => {
                     return Err(anyhow!(
@@ -196,8 +214,8 @@ impl Staging {
     pub fn write(&self, output: Output, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
         let _writing = interrupt::writing()?;
         let named = &self.outputs[output.0];
-        let staged = &self.staged[output.0];
-        write(staged).map_err(|e| {
+        let staged = self.staged(output.0);
+        write(&staged).map_err(|e| {
             let message = format!("{e:#}").replace(
                 &staged.display().to_string(),
                 &named.path.display().to_string(),
@@ -249,7 +267,7 @@ impl Staging {
         // (output, where the file it replaced is kept until every move is
         // done); the outputs in staged folders move with their folder.
         let mut placed: Vec<(usize, Option<Aside>)> = Vec::new();
-        let loose: Vec<usize> = (0..self.staged.len())
+        let loose: Vec<usize> = (0..self.outputs.len())
             .filter(|&k| self.in_folder[k].is_none())
             .collect();
         if let Err(e) = self.move_files(&loose, &mut placed) {
@@ -269,7 +287,7 @@ impl Staging {
             // committed before this one took its locks, so that this one
             // holds that folder's lock too): its outputs move in one by one,
             // as into any existing folder.
-            let inside: Vec<usize> = (0..self.staged.len())
+            let inside: Vec<usize> = (0..self.outputs.len())
                 .filter(|&k| self.in_folder[k] == Some(j))
                 .collect();
             let made = inside.iter().try_for_each(|&k| {
@@ -307,19 +325,18 @@ impl Staging {
         outputs: &[usize],
         placed: &mut Vec<(usize, Option<Aside>)>,
     ) -> Result<()> {
-        let pid = std::process::id();
         for &k in outputs {
             let target = &self.outputs[k].path;
             let moved = (|| {
                 let aside = if std::fs::symlink_metadata(target).is_ok() {
                     Some(set_aside(
                         target,
-                        &format!(".meshmorph-{pid}-{}-{k}", self.token),
+                        &format!(".meshmorph-{}-{}-{k}", self.pid, self.token),
                     )?)
                 } else {
                     None
                 };
-                match std::fs::rename(&self.staged[k], target) {
+                match std::fs::rename(self.staged(k), target) {
                     Ok(()) => Ok(aside),
                     Err(e) => {
                         if let Some(a) = &aside {
@@ -333,7 +350,7 @@ impl Staging {
                 Ok(aside) => placed.push((k, aside)),
                 Err(e) => {
                     let (role, path) = (&self.outputs[k].role, target.display());
-                    if e.kind() == std::io::ErrorKind::NotFound && !self.staged[k].exists() {
+                    if e.kind() == std::io::ErrorKind::NotFound && !self.staged(k).exists() {
                         bail!("the {role} `{path}` was not written; no output was changed");
                     }
                     bail!("moving the {role} into place at `{path}`: {e}; no output was changed");
@@ -399,9 +416,9 @@ impl Staging {
 
     fn cleanup(&self) -> Cleanup {
         Cleanup {
-            staged: (0..self.staged.len())
+            staged: (0..self.outputs.len())
                 .filter(|&k| self.in_folder[k].is_none())
-                .map(|k| self.staged[k].clone())
+                .map(|k| self.staged(k))
                 .collect(),
             folders: self
                 .folders
