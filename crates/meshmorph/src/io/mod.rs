@@ -6,7 +6,10 @@
 //!   for text formats, the 1-based line.
 //! - [`write_mesh`] / [`write_positions`] write a mesh in any of the three
 //!   formats (planar meshes get z = 0), atomically through [`write_atomic`],
-//!   which other modules also use for their own outputs.
+//!   which other modules also use for their own outputs;
+//!   [`write_positions_to`] and [`MeshFile::write_to`] write into any
+//!   writer, such as that of [`write_new`] (a new file made at its own name,
+//!   for a folder no one reads before it is complete).
 //! - [`MeshFile`] keeps a file whole (polygons, texture coordinates, normals,
 //!   groups, materials, other PLY properties and elements, colours) beside
 //!   the triangle mesh derived from it, and writes it back with new
