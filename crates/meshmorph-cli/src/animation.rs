@@ -290,7 +290,7 @@ where
         let flipped = morph.count_turned_over(positions);
         let begin = Instant::now();
         let mut dropped = Vec::new();
-        staging.write(outputs.meshes[k], |path| {
+        staging.write_to(outputs.meshes[k], |path, w| {
             check_finite(positions, k, t, morph.num_keys() - 1)?;
             match file {
                 Some(file) => {
@@ -298,9 +298,10 @@ where
                         .iter()
                         .map(|p| std::array::from_fn(|i| if i < D { p[i] } else { 0.0 }))
                         .collect();
-                    dropped = file.write(path, &lifted, outputs.format)?;
+                    dropped = file.write_to(w, path, &lifted, outputs.format)?;
                 }
-                None => meshmorph::io::write_positions(
+                None => meshmorph::io::write_positions_to(
+                    w,
                     path,
                     positions,
                     morph.triangles(),
@@ -319,9 +320,10 @@ where
         })
     };
     // Each thread solves a few frames together (one substitution for all),
-    // then writes them.
+    // then writes them; what they come to is summed as they go (a million
+    // frames keep no list of their own).
     let together = meshmorph::limits::frames_per_solve(times.len());
-    let results: Vec<Result<Frame>> = times
+    let frames = times
         .par_chunks(together)
         .enumerate()
         .map_init(
@@ -330,27 +332,22 @@ where
                 let begin = Instant::now();
                 let solved = morph.frames_with(chunk_times, ws);
                 let compute = begin.elapsed().as_secs_f64() / chunk_times.len() as f64;
-                solved
-                    .iter()
-                    .zip(chunk_times)
-                    .enumerate()
-                    .map(|(i, (positions, &t))| {
-                        write_frame(chunk * together + i, t, positions, compute)
-                    })
-                    .collect::<Vec<_>>()
+                solved.iter().zip(chunk_times).enumerate().fold(
+                    Frames::default(),
+                    |frames, (i, (positions, &t))| {
+                        let k = chunk * together + i;
+                        frames.merge(Frames::one(k, write_frame(k, t, positions, compute)))
+                    },
+                )
             },
         )
-        .flatten_iter()
-        .collect();
+        .reduce(Frames::default, Frames::merge);
     let wall_seconds = wall.elapsed().as_secs_f64();
     bar.finish_and_clear();
-    let frames = results.into_iter().collect::<Result<Vec<_>>>()?;
-    let (max_flipped_frame, max_flipped) = frames
-        .iter()
-        .enumerate()
-        .map(|(k, f)| (k, f.flipped))
-        .max_by_key(|&(k, f)| (f, std::cmp::Reverse(k)))
-        .unwrap_or((0, 0));
+    if let Some((_, e)) = frames.error {
+        return Err(e);
+    }
+    let (max_flipped, max_flipped_frame) = frames.most_flipped;
     let mut files_written: Vec<PathBuf> = (0..times.len()).map(|k| outputs.mesh_path(k)).collect();
     // Pictures and the GLB recompute the frames they draw or write.
     let recomputed = Recomputed { morph, times };
@@ -391,9 +388,7 @@ where
     }
     // What the output format cannot hold of the first key's file is the
     // same for every frame: said once, for the first.
-    if let Some(first) = frames.first() {
-        warnings.extend(output::dropped_for(&outputs.dir, &first.dropped));
-    }
+    warnings.extend(output::dropped_for(&outputs.dir, &frames.dropped));
     if max_flipped > 0 {
         let what = if D == 3 { "turned over" } else { "reversed" };
         warnings.push(format!(
@@ -402,20 +397,20 @@ where
         ));
     }
     output::print_warnings(&warnings);
-    let n = frames.len() as f64;
+    let n = times.len() as f64;
     Ok(Report {
         output: outputs.dir.clone(),
-        frames_written: frames.len(),
+        frames_written: times.len(),
         vertices: morph.num_vertices() + setup.welded_vertices,
         triangles: morph.triangles().len(),
         dimension: D,
         keys: setup.keys,
         triangles_with_whole_turns: setup.whole_turns,
         setup_seconds: setup.seconds,
-        seconds_per_frame: frames.iter().map(|f| f.compute).sum::<f64>() / n,
+        seconds_per_frame: frames.compute / n,
         throughput_seconds_per_frame: wall_seconds / n,
         threads: rayon::current_num_threads(),
-        write_seconds_per_frame: frames.iter().map(|f| f.write).sum::<f64>() / n,
+        write_seconds_per_frame: frames.write / n,
         total_seconds: start.elapsed().as_secs_f64(),
         max_flipped_triangles: max_flipped,
         max_flipped_frame: (max_flipped > 0).then_some(max_flipped_frame),
@@ -540,4 +535,65 @@ struct Frame {
     flipped: usize,
     /// What the output format could not hold of the first key's file.
     dropped: Vec<String>,
+}
+
+/// What frames came to, summed as they are written, in any order.
+#[derive(Default)]
+struct Frames {
+    /// Seconds computing and writing them.
+    compute: f64,
+    write: f64,
+    /// The most triangles turned over in one frame, and the first frame
+    /// with that many.
+    most_flipped: (usize, usize),
+    /// What the output format could not hold of the first key's file, as
+    /// frame 0 said it (the same for every frame).
+    dropped: Vec<String>,
+    /// The first frame that failed, and its error.
+    error: Option<(usize, anyhow::Error)>,
+}
+
+impl Frames {
+    /// Frame `k`, written or not.
+    fn one(k: usize, frame: Result<Frame>) -> Self {
+        match frame {
+            Ok(f) => Self {
+                compute: f.compute,
+                write: f.write,
+                most_flipped: (f.flipped, k),
+                dropped: if k == 0 { f.dropped } else { Vec::new() },
+                error: None,
+            },
+            Err(e) => Self {
+                error: Some((k, e)),
+                ..Self::default()
+            },
+        }
+    }
+
+    /// Both: the first frame of the most turned over, the first error.
+    fn merge(self, other: Self) -> Self {
+        let rank = |(flipped, k): (usize, usize)| (flipped, std::cmp::Reverse(k));
+        let most_flipped = if rank(other.most_flipped) > rank(self.most_flipped) {
+            other.most_flipped
+        } else {
+            self.most_flipped
+        };
+        let error = match (self.error, other.error) {
+            (Some(a), Some(b)) => Some(if b.0 < a.0 { b } else { a }),
+            (a, b) => a.or(b),
+        };
+        let dropped = if self.dropped.is_empty() {
+            other.dropped
+        } else {
+            self.dropped
+        };
+        Self {
+            compute: self.compute + other.compute,
+            write: self.write + other.write,
+            most_flipped,
+            dropped,
+            error,
+        }
+    }
 }

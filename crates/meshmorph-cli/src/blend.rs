@@ -353,8 +353,8 @@ where
     let turned_over = blend.count_turned_over(&result);
     let triangles = blend.triangles();
     // The base's file with the blend's positions (z = 0 in the plane).
-    staging.write(outputs.mesh, |path| {
-        let dropped = file.write(path, &pictures::in_dim::<D, 3>(&result), format)?;
+    staging.write_to(outputs.mesh, |path, w| {
+        let dropped = file.write_to(w, path, &pictures::in_dim::<D, 3>(&result), format)?;
         warnings.extend(output::dropped_for(&args.output, &dropped));
         Ok(())
     })?;

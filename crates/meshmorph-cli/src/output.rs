@@ -121,15 +121,18 @@ impl WeldedFile {
         (Self { file, seams }, mesh)
     }
 
-    /// Writes `welded` (positions of the welded vertices) as the file with
-    /// new positions ([`MeshFile::write`]).
-    pub fn write(
+    /// Writes `welded` (positions of the welded vertices) into `w` as the
+    /// file with new positions ([`MeshFile::write_to`]): `path` is where
+    /// the bytes go.
+    pub fn write_to(
         &self,
+        w: &mut dyn std::io::Write,
         path: &Path,
         welded: &[[f64; 3]],
         format: Format,
     ) -> meshmorph::Result<Vec<String>> {
-        self.file.write(path, &self.seams.unweld(welded), format)
+        self.file
+            .write_to(w, path, &self.seams.unweld(welded), format)
     }
 }
 

@@ -46,11 +46,7 @@ pub fn write_svgs(
         frames.with_frame(k, &mut |f| {
             svg = render::svg_frame(f, triangles, &view, &style)
         });
-        staging.write(output, |path| {
-            Ok(meshmorph::io::write_atomic(path, |w| {
-                w.write_all(svg.as_bytes())
-            })?)
-        })
+        staging.write_to(output, |_, w| Ok(w.write_all(svg.as_bytes())?))
     })
 }
 

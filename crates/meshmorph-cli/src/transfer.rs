@@ -656,11 +656,11 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
                 transfer.apply_into(pose.positions(), &mut out, ws);
                 let solve = begin.elapsed().as_secs_f64();
                 let mut dropped = Vec::new();
-                staging.write(output, |path| {
+                staging.write_to(output, |path, w| {
                     if let Some(v) = out.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
                         bail!("vertex {v} overflows (its coordinates exceed the range of floating-point numbers); scale the meshes down");
                     }
-                    dropped = target_ref.file.write(path, &out, format)?;
+                    dropped = target_ref.file.write_to(w, path, &out, format)?;
                     Ok(())
                 })?;
                 bar.inc(1);
@@ -1141,11 +1141,11 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
     if let (Some(output), Some(path), Some(format)) =
         (deformed, &args.deformed_source, deformed_format)
     {
-        staging.write(output, |staged| {
+        staging.write_to(output, |staged, w| {
             let dropped =
                 source_ref
                     .file
-                    .write(staged, result.deformed_source.positions(), format)?;
+                    .write_to(w, staged, result.deformed_source.positions(), format)?;
             warnings.extend(output::dropped_for(path, &dropped));
             Ok(())
         })?;

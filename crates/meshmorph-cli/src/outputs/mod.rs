@@ -24,7 +24,11 @@
 //!   removing an output's staged file there).
 //! - **All or nothing.** [`Staging::write`] hands the writer a temporary
 //!   name (`.meshmorph-<pid>-<token>-<n>.part`, the token random for each
-//!   run) in the output's own folder; nothing at the user's path changes
+//!   run) in the output's own folder, or, in a folder the run creates, the
+//!   final name inside that folder staged whole under a hidden name
+//!   (`.meshmorph-<pid>-<token>-<j>.folder`); [`Staging::write_to`] makes
+//!   the file itself at that path, new, and hands over a writer: no
+//!   temporary name and rename per file. Nothing at the user's path changes
 //!   until [`Staging::commit`], which moves every staged file into place
 //!   (keeping a second name of each file it replaces until all moves
 //!   succeeded, and putting them back if one fails). Nothing opens an

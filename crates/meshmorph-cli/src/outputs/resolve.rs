@@ -62,10 +62,11 @@ pub fn canonical(path: &Path) -> PathBuf {
 
 /// Resolves many paths, most of them in a few folders (a run's frames):
 /// each folder is made canonical once, and a path that is not a symbolic
-/// link costs one `lstat`.
+/// link costs one `lstat`, none in a folder that does not exist.
 #[derive(Debug, Default)]
 pub struct Resolver {
-    folders: HashMap<PathBuf, PathBuf>,
+    /// Each folder's canonical path, and whether it exists.
+    folders: HashMap<PathBuf, (PathBuf, bool)>,
 }
 
 impl Resolver {
@@ -74,21 +75,23 @@ impl Resolver {
         let (Some(name), Some(parent)) = (path.file_name(), path.parent()) else {
             return Resolved::new(path);
         };
-        let meta = match std::fs::symlink_metadata(path) {
-            Ok(m) if m.file_type().is_symlink() => return Resolved::new(path),
-            Ok(m) => Some(m),
-            Err(_) => None,
-        };
         if name == ".." {
             return Resolved::new(path);
         }
-        let folder = self.folders.entry(parent.to_path_buf()).or_insert_with(|| {
-            canonical(if parent.as_os_str().is_empty() {
+        let (folder, exists) = self.folders.entry(parent.to_path_buf()).or_insert_with(|| {
+            let parent = if parent.as_os_str().is_empty() {
                 Path::new(".")
             } else {
                 parent
-            })
+            };
+            (canonical(parent), parent.is_dir())
         });
+        // Nothing is in a folder that does not exist (until the run makes it).
+        let meta = match exists.then(|| std::fs::symlink_metadata(path)) {
+            Some(Ok(m)) if m.file_type().is_symlink() => return Resolved::new(path),
+            Some(Ok(m)) => Some(m),
+            _ => None,
+        };
         Resolved {
             path: folder.join(name),
             id: meta.as_ref().and_then(metadata_id),

@@ -1,6 +1,8 @@
 //! Staged outputs: written under temporary names beside their final place,
 //! moved there together by [`Staging::commit`], removed if the run fails.
 
+use std::collections::HashSet;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
@@ -26,9 +28,8 @@ pub struct Staging {
     /// This run's own part of every staged name: unpredictable, so that
     /// nothing can be planted at a staged path before the run makes it.
     token: String,
-    /// Where each output is written: `.meshmorph-<pid>-<token>-<n>.part`
-    /// beside its final place, or its final name inside a staged folder.
-    staged: Vec<PathBuf>,
+    /// This process's id, the first part of every staged name.
+    pid: u32,
     /// Folders the run creates, each staged whole under a hidden name
     /// beside its final place and moved there by one rename: (final,
     /// staged). Only the outermost of the missing folders.
@@ -61,19 +62,10 @@ impl Staging {
                 )
             })
             .collect();
-        let mut in_folder = Vec::with_capacity(plan.outputs.len());
-        let staged = plan
+        let in_folder = plan
             .outputs
             .iter()
-            .enumerate()
-            .map(|(k, o)| {
-                let root = folders.iter().position(|(r, _)| o.path.starts_with(r));
-                in_folder.push(root);
-                match root {
-                    Some(j) => rebase(&o.path, &folders[j]),
-                    None => sibling(&o.path, &format!(".meshmorph-{pid}-{token}-{k}.part")),
-                }
-            })
+            .map(|o| folders.iter().position(|(r, _)| o.path.starts_with(r)))
             .collect();
         create_staged_folders(&missing, &folders, &plan.outputs)?;
         let mut staging = Self {
@@ -82,7 +74,7 @@ impl Staging {
             resolved,
             frame_folders: plan.frame_folders,
             token,
-            staged,
+            pid,
             folders,
             in_folder,
             committed: false,
@@ -90,9 +82,15 @@ impl Staging {
         };
         interrupt::arm(staging.cleanup());
         staging.probe_folders()?;
-        let mut scanned: Vec<&Path> = staging.folders().into_iter().map(|(f, _)| f).collect();
-        scanned.extend(staging.folders.iter().map(|(r, _)| parent_of(r)));
+        let mut scanned: Vec<PathBuf> = staging.folders().into_iter().map(|(f, _)| f).collect();
+        scanned.extend(
+            staging
+                .folders
+                .iter()
+                .map(|(r, _)| parent_of(r).to_path_buf()),
+        );
         scanned.dedup();
+        let scanned: Vec<&Path> = scanned.iter().map(PathBuf::as_path).collect();
         staging.warnings = stale::remove_stale(&scanned);
         Ok(staging)
     }
@@ -128,14 +126,36 @@ impl Staging {
         Ok(())
     }
 
-    /// The folders of the outputs, each once (`.` for the current one),
-    /// with the first output in each.
-    fn folders(&self) -> Vec<(&Path, usize)> {
-        let mut folders: Vec<(&Path, usize)> = Vec::new();
-        for (k, staged) in self.staged.iter().enumerate() {
-            let folder = parent_of(staged);
-            if !folders.iter().any(|(f, _)| *f == folder) {
-                folders.push((folder, k));
+    /// Where output `k` is written: `.meshmorph-<pid>-<token>-<k>.part`
+    /// beside its final place, or its final name inside a staged folder.
+    /// (Made when asked: a million frames keep no second list of paths.)
+    fn staged(&self, k: usize) -> PathBuf {
+        let path = &self.outputs[k].path;
+        match self.in_folder[k] {
+            Some(j) => rebase(path, &self.folders[j]),
+            None => sibling(
+                path,
+                &format!(".meshmorph-{}-{}-{k}.part", self.pid, self.token),
+            ),
+        }
+    }
+
+    /// The folders the outputs are staged in, each once (`.` for the
+    /// current one), with the first output in each.
+    fn folders(&self) -> Vec<(PathBuf, usize)> {
+        let mut folders: Vec<(PathBuf, usize)> = Vec::new();
+        let mut last: Option<&Path> = None;
+        for (k, output) in self.outputs.iter().enumerate() {
+            // An output's staged folder follows from its folder, which the
+            // frames share.
+            let folder = parent_of(&output.path);
+            if last == Some(folder) {
+                continue;
+            }
+            last = Some(folder);
+            let staged = parent_of(&self.staged(k)).to_path_buf();
+            if !folders.iter().any(|(f, _)| *f == staged) {
+                folders.push((staged, k));
             }
         }
         folders
@@ -159,17 +179,17 @@ impl Staging {
                 // Made by this run: it took its first entry already.
                 continue;
             }
-            let (named, staged) = (&self.outputs[k], &self.staged[k]);
+            let (named, staged) = (&self.outputs[k], self.staged(k));
             let _writing = interrupt::writing()?;
             // Created afresh (never through a file or link already there).
             let made = std::fs::OpenOptions::new()
                 .write(true)
                 .create_new(true)
-                .open(staged);
+                .open(&staged);
             match made {
                 Ok(file) => {
                     drop(file);
-                    let _ = std::fs::remove_file(staged);
+                    let _ = std::fs::remove_file(&staged);
                 }
                 Err(e) => {
                     return Err(anyhow!(
@@ -194,8 +214,8 @@ impl Staging {
     pub fn write(&self, output: Output, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
         let _writing = interrupt::writing()?;
         let named = &self.outputs[output.0];
-        let staged = &self.staged[output.0];
-        write(staged).map_err(|e| {
+        let staged = self.staged(output.0);
+        write(&staged).map_err(|e| {
             let message = format!("{e:#}").replace(
                 &staged.display().to_string(),
                 &named.path.display().to_string(),
@@ -205,6 +225,29 @@ impl Staging {
                 named.role,
                 named.path.display()
             )
+        })
+    }
+
+    /// Writes one output through a writer: [`Staging::write`] with the
+    /// staged file made by the staging itself, new (`O_CREAT|O_EXCL`: what
+    /// is at the name is never written through), at the staged path, where
+    /// `write` writes its bytes into `w` (`path`, the staged path, only
+    /// for what the bytes depend on, such as relative paths). No temporary
+    /// name then a rename: inside a folder the run created the file is
+    /// made at its final name in the hidden staged folder, which nothing
+    /// reads before the commit moves it into place; elsewhere at its
+    /// `.part` name, which only this run knows. A file whose write fails
+    /// is removed.
+    ///
+    /// # Errors
+    /// As [`Staging::write`].
+    pub fn write_to(
+        &self,
+        output: Output,
+        write: impl FnOnce(&Path, &mut dyn Write) -> Result<()>,
+    ) -> Result<()> {
+        self.write(output, |staged| {
+            meshmorph::io::write_new(staged, |w| write(staged, w))
         })
     }
 
@@ -224,7 +267,7 @@ impl Staging {
         // (output, where the file it replaced is kept until every move is
         // done); the outputs in staged folders move with their folder.
         let mut placed: Vec<(usize, Option<Aside>)> = Vec::new();
-        let loose: Vec<usize> = (0..self.staged.len())
+        let loose: Vec<usize> = (0..self.outputs.len())
             .filter(|&k| self.in_folder[k].is_none())
             .collect();
         if let Err(e) = self.move_files(&loose, &mut placed) {
@@ -232,16 +275,19 @@ impl Staging {
             return Err(e);
         }
         let mut moved_folders = 0;
+        // The staged folders whose outputs moved in one by one.
+        let mut merged = Vec::new();
         for (j, (folder, staged)) in self.folders.iter().enumerate() {
             if std::fs::rename(staged, folder).is_ok() {
                 moved_folders = j + 1;
                 continue;
             }
+            merged.push(j);
             // The folder was made meanwhile (another run into it, which
             // committed before this one took its locks, so that this one
             // holds that folder's lock too): its outputs move in one by one,
             // as into any existing folder.
-            let inside: Vec<usize> = (0..self.staged.len())
+            let inside: Vec<usize> = (0..self.outputs.len())
                 .filter(|&k| self.in_folder[k] == Some(j))
                 .collect();
             let made = inside.iter().try_for_each(|&k| {
@@ -265,7 +311,7 @@ impl Staging {
         }
         self.committed = true;
         interrupt::committed();
-        Ok(self.remove_surplus())
+        Ok(self.remove_surplus(&merged))
     }
 
     /// Moves the staged files of `outputs` into place, each file it
@@ -279,19 +325,18 @@ impl Staging {
         outputs: &[usize],
         placed: &mut Vec<(usize, Option<Aside>)>,
     ) -> Result<()> {
-        let pid = std::process::id();
         for &k in outputs {
             let target = &self.outputs[k].path;
             let moved = (|| {
                 let aside = if std::fs::symlink_metadata(target).is_ok() {
                     Some(set_aside(
                         target,
-                        &format!(".meshmorph-{pid}-{}-{k}", self.token),
+                        &format!(".meshmorph-{}-{}-{k}", self.pid, self.token),
                     )?)
                 } else {
                     None
                 };
-                match std::fs::rename(&self.staged[k], target) {
+                match std::fs::rename(self.staged(k), target) {
                     Ok(()) => Ok(aside),
                     Err(e) => {
                         if let Some(a) = &aside {
@@ -305,7 +350,7 @@ impl Staging {
                 Ok(aside) => placed.push((k, aside)),
                 Err(e) => {
                     let (role, path) = (&self.outputs[k].role, target.display());
-                    if e.kind() == std::io::ErrorKind::NotFound && !self.staged[k].exists() {
+                    if e.kind() == std::io::ErrorKind::NotFound && !self.staged(k).exists() {
                         bail!("the {role} `{path}` was not written; no output was changed");
                     }
                     bail!("moving the {role} into place at `{path}`: {e}; no output was changed");
@@ -329,8 +374,26 @@ impl Staging {
     }
 
     /// Frame files in the frame folders that this run did not write and
-    /// that are not inputs.
-    fn remove_surplus(&self) -> usize {
+    /// that are not inputs. A frame folder the run made and moved into
+    /// place whole (in a staged folder not `merged`) holds only what the
+    /// run wrote: it is not read. Elsewhere the run's own frames are known
+    /// by their names; only the other frame files are looked at.
+    fn remove_surplus(&self, merged: &[usize]) -> usize {
+        let made_whole = |dir: &Path| {
+            self.folders
+                .iter()
+                .position(|(root, _)| dir.starts_with(root))
+                .is_some_and(|j| !merged.contains(&j))
+        };
+        let mut swept = self
+            .frame_folders
+            .iter()
+            .filter(|d| !made_whole(d))
+            .peekable();
+        if swept.peek().is_none() {
+            return 0;
+        }
+        let written: HashSet<&Path> = self.outputs.iter().map(|o| o.path.as_path()).collect();
         let mut keep = Inputs::new(&self.resolved);
         {
             let inputs = self.inputs.lock().unwrap_or_else(|e| e.into_inner());
@@ -340,8 +403,8 @@ impl Staging {
         }
         let mut resolver = Resolver::default();
         let mut removed = 0;
-        for dir in &self.frame_folders {
-            let keep = |p: &Path| keep.find(&resolver.resolve(p)).is_some();
+        for dir in swept {
+            let keep = |p: &Path| written.contains(p) || keep.find(&resolver.resolve(p)).is_some();
             for p in surplus::surplus_frames(dir, keep) {
                 if std::fs::remove_file(&p).is_ok() {
                     removed += 1;
@@ -353,9 +416,9 @@ impl Staging {
 
     fn cleanup(&self) -> Cleanup {
         Cleanup {
-            staged: (0..self.staged.len())
+            staged: (0..self.outputs.len())
                 .filter(|&k| self.in_folder[k].is_none())
-                .map(|k| self.staged[k].clone())
+                .map(|k| self.staged(k))
                 .collect(),
             folders: self
                 .folders
@@ -536,6 +599,56 @@ mod tests {
             std::fs::read_to_string(dir.path().join("out/a.txt")).unwrap(),
             "new"
         );
+    }
+
+    #[test]
+    fn writers_make_their_files_new_at_the_staged_paths() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("old")).unwrap();
+        let mut plan = Plan::new();
+        let fresh = plan.file(&dir.path().join("new/a.txt"), "test output");
+        let existing = plan.file(&dir.path().join("old/b.txt"), "test output");
+        let staging = plan.prepare().unwrap();
+        staging
+            .write_to(fresh, |path, w| {
+                // In a folder the run makes: its final name, in the hidden
+                // staged folder.
+                assert_eq!(path.file_name().unwrap(), "a.txt");
+                assert!(path
+                    .parent()
+                    .unwrap()
+                    .to_string_lossy()
+                    .ends_with(".folder"));
+                Ok(w.write_all(b"a")?)
+            })
+            .unwrap();
+        staging
+            .write_to(existing, |path, w| {
+                assert!(path.to_string_lossy().ends_with(".part"));
+                Ok(w.write_all(b"b")?)
+            })
+            .unwrap();
+        // Made new: a file already at the name is refused, not written
+        // through, and the message names the user's path.
+        let again = staging
+            .write_to(fresh, |_, w| Ok(w.write_all(b"x")?))
+            .unwrap_err()
+            .to_string();
+        assert!(again.contains("new/a.txt"), "{again}");
+        assert!(!again.contains(".meshmorph-"), "{again}");
+        staging.commit().unwrap();
+        let read = |p: &str| std::fs::read_to_string(dir.path().join(p)).unwrap();
+        assert_eq!(
+            (read("new/a.txt"), read("old/b.txt")),
+            ("a".into(), "b".into())
+        );
+        let mut names: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .chain(std::fs::read_dir(dir.path().join("old")).unwrap())
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        names.sort();
+        assert_eq!(names, ["b.txt", "new", "old"]);
     }
 
     #[test]

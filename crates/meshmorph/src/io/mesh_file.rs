@@ -20,12 +20,13 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+use super::atomic::write_atomic_with;
 use super::material_paths::{folder_of, library_names, MaterialPaths};
 use super::normal_groups::{NormalGroups, ShapeNormals};
 use super::ply::Scalar;
 use super::triangulate::{quad_split_the_other_way, Polygons, Split};
 use super::vertex_attributes::{per_vertex, VertexAttributes};
-use super::{push_f64, write_atomic, Format};
+use super::{push_f64, Format};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh3;
 
@@ -565,6 +566,25 @@ impl MeshFile {
         positions: &[[f64; 3]],
         format: Format,
     ) -> Result<Vec<String>> {
+        write_atomic_with(path, |w| self.write_to(w, path, positions, format))
+    }
+
+    /// [`MeshFile::write`] into `w`, for a file made otherwise (see
+    /// [`write_new`](super::write_new)): `path` is where the bytes go,
+    /// named in messages and the folder that relative material library
+    /// paths are written from. The same checks come before any byte is
+    /// written.
+    ///
+    /// # Errors
+    /// Those of [`MeshFile::write`]; `w`'s errors as [`Error::Io`] naming
+    /// `path`.
+    pub fn write_to(
+        &self,
+        w: &mut dyn Write,
+        path: &Path,
+        positions: &[[f64; 3]],
+        format: Format,
+    ) -> Result<Vec<String>> {
         if positions.len() != self.mesh.num_vertices() {
             return Err(Error::InvalidMesh(format!(
                 "cannot write `{}`: {} positions given for the {} vertices of `{}`",
@@ -584,9 +604,11 @@ impl MeshFile {
         if format == Format::Stl && (format != self.format || binary()) {
             super::stl::check_float_corners(path, positions, self.mesh.triangles())?;
         }
+        let io = |e| Error::io(path, e);
         if format == self.format {
             let normals = self.normals_for_shape(positions);
-            write_atomic(path, |w| self.write_patched(w, path, positions, &normals))?;
+            self.write_patched(w, path, positions, &normals)
+                .map_err(io)?;
             return Ok(Vec::new());
         }
         let faces = || (0..self.faces.len()).map(|f| self.face(f));
@@ -609,12 +631,13 @@ impl MeshFile {
                 || (e.starts_with("normals") && normals_kept)
                 || (e.as_str() == "vertex colours" && extra.colors.is_some())
         };
-        write_atomic(path, |w| match format {
+        match format {
             Format::Obj => self.write_obj(w, positions, &extra),
             Format::Off => super::off::write(w, positions, faces(), self.faces.len(), &extra),
             Format::Ply => super::ply::write(w, positions, faces(), self.faces.len(), &extra),
             Format::Stl => super::stl::write(w, positions, self.mesh.triangles()),
-        })?;
+        }
+        .map_err(io)?;
         Ok(self
             .extras
             .iter()

@@ -7,7 +7,10 @@
 //!   for text formats, the 1-based line.
 //! - [`write_mesh`] / [`write_positions`] write a mesh in any of the four
 //!   formats (planar meshes get z = 0), atomically through [`write_atomic`],
-//!   which other modules also use for their own outputs.
+//!   which other modules also use for their own outputs;
+//!   [`write_positions_to`] and [`MeshFile::write_to`] write into any
+//!   writer, such as that of [`write_new`] (a new file made at its own name,
+//!   for a folder no one reads before it is complete).
 //! - [`MeshFile`] keeps a file whole (polygons, texture coordinates, normals,
 //!   groups, materials, other PLY properties and elements, colours) beside
 //!   the triangle mesh derived from it, and writes it back with new
@@ -84,7 +87,7 @@ mod triangulate;
 mod vertex_attributes;
 
 pub use appearance::Appearance;
-pub use atomic::{random_name, write_atomic};
+pub use atomic::{random_name, write_atomic, write_new};
 pub use mesh_file::MeshFile;
 pub use surface_issues::SurfaceIssues;
 use vertex_attributes::VertexAttributes;
@@ -294,12 +297,31 @@ pub fn write_positions<const D: usize>(
     triangles: &[[u32; 3]],
     format: Format,
 ) -> Result<()> {
+    atomic::write_atomic_with(path, |w| {
+        write_positions_to(w, path, positions, triangles, format)
+    })
+}
+
+/// [`write_positions`] into `w`, for a file made otherwise (see
+/// [`write_new`]): `path` is the file's name in messages. The same checks
+/// come before any byte is written.
+///
+/// # Errors
+/// Those of [`write_positions`]; `w`'s errors as [`Error::Io`] naming
+/// `path`.
+pub fn write_positions_to<const D: usize>(
+    w: &mut dyn Write,
+    path: &Path,
+    positions: &[[f64; D]],
+    triangles: &[[u32; 3]],
+    format: Format,
+) -> Result<()> {
     check_writable(path, positions, triangles)?;
     if format == Format::Stl {
         stl::check_float_corners(path, positions, triangles)?;
     }
     let faces = || triangles.iter().map(|t| &t[..]);
-    write_atomic(path, |w| match format {
+    match format {
         Format::Obj => obj::write(w, positions, faces()),
         Format::Off => off::write(
             w,
@@ -316,7 +338,8 @@ pub fn write_positions<const D: usize>(
             &VertexAttributes::default(),
         ),
         Format::Stl => stl::write(w, positions, triangles),
-    })
+    }
+    .map_err(|e| Error::io(path, e))
 }
 
 /// Refuses what could not be read back: `D > 3`, non-finite coordinates,
