@@ -14,7 +14,7 @@
 mod shared_data;
 #[path = "support/timing.rs"]
 mod timing;
-use timing::{fmt, time};
+use timing::{fmt, median, time};
 
 use std::path::Path;
 
@@ -46,7 +46,7 @@ where
         let mut positions = vec![[0.0; D]; self.morph.num_vertices()];
         let mut ws = self.morph.workspace();
         self.morph.at_into(self.times[k], &mut positions, &mut ws);
-        let given: Vec<[f64; E]> = positions.iter().map(|p| lift(p)).collect();
+        let given: Vec<[f64; E]> = positions.iter().map(lift).collect();
         use_frame(&given)
     }
 }
@@ -78,12 +78,18 @@ where
     );
 }
 
+/// The longer side of `meshmorph`'s pictures by default (`--size`).
+const SIZE: u32 = 640;
+
 /// The GIF of the frames as `meshmorph interpolate --gif` draws it.
 fn write_gif<const D: usize>(morph: &Sequence<D>, times: &[f64], path: &Path)
 where
     Space<D>: Rotations<D> + TriangleMaps<D>,
 {
-    let options = GifOptions::default();
+    let options = GifOptions {
+        longest_side: Some(SIZE),
+        ..GifOptions::default()
+    };
     if D == 2 {
         let planar: Recomputed<'_, D, 2> = Recomputed { morph, times };
         let style = Style2d {
@@ -94,7 +100,8 @@ where
     } else {
         let space: Recomputed<'_, D, 3> = Recomputed { morph, times };
         let grid = GridOptions {
-            cell_width: options.width,
+            longest_side: Some(SIZE),
+            supersample: 2,
             direction: [-0.25, -0.35, -1.0],
             up: [0.0, 1.0, 0.0],
             ..GridOptions::default()
@@ -115,8 +122,13 @@ where
         .collect();
     let dir = tempfile::tempdir().unwrap();
     let gif = dir.path().join("frames.gif");
-    let obj = time(runs, || write_objs(&morph, &times, file, dir.path()));
-    let all = time(runs, || write_gif(&morph, &times, &gif));
+    // Taken in turns, so that a change in the machine's load weighs on both.
+    let (mut objs, mut gifs) = (Vec::new(), Vec::new());
+    for _ in 0..runs {
+        objs.push(time(1, || write_objs(&morph, &times, file, dir.path())));
+        gifs.push(time(1, || write_gif(&morph, &times, &gif)));
+    }
+    let (obj, all) = (median(objs), median(gifs));
     let one_thread = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()

@@ -29,6 +29,12 @@ pub struct GridOptions {
     /// the shape of the tallest row, between a quarter and twice the
     /// width, even.
     pub cell_height: Option<u32>,
+    /// The longer side of a cell in pixels, the other following the shape
+    /// of the tallest row (between a quarter and twice the width, even):
+    /// a tall mesh gets a narrower cell rather than a taller one. When
+    /// set, `cell_width` and `cell_height` are not used; `None` (the
+    /// default) keeps them.
+    pub longest_side: Option<u32>,
     /// Background pixels kept around the mesh inside each cell (12).
     pub margin_px: u32,
     /// The direction every camera looks in ([`Camera3d::orbit`]`(30, 20)`
@@ -49,6 +55,7 @@ impl Default for GridOptions {
         GridOptions {
             cell_width: 320,
             cell_height: None,
+            longest_side: None,
             margin_px: 12,
             direction: cam.forward,
             up: cam.up,
@@ -78,6 +85,11 @@ pub struct GridLayout {
     pub palette: Palette,
     /// Samples per pixel in each direction (anti-aliasing).
     pub supersample: u32,
+    /// Rows of poses laid out as columns, side by side (pose `k` of row
+    /// `r` in grid row `k`, column `r`): false after
+    /// [`fit`](GridLayout::fit). Two rows of one pose each read better
+    /// side by side than as a tall strip.
+    pub transposed: bool,
 }
 
 impl GridLayout {
@@ -91,29 +103,51 @@ impl GridLayout {
             .iter()
             .map(|r| base.fitted(r.poses.iter().copied()))
             .collect();
-        let cell_width = options.cell_width.max(1);
-        let margin = options.margin_px.min(cell_width.saturating_sub(1) / 2);
-        let cell_height = options.cell_height.map_or_else(
-            || {
-                let inner = f64::from(cell_width - 2 * margin);
-                let tallest = cameras
-                    .iter()
-                    .map(|c| 1.0 / c.aspect())
-                    .fold(0.0f64, f64::max);
-                let tallest = if tallest > 0.0 && tallest.is_finite() {
-                    tallest
+        let tallest = cameras
+            .iter()
+            .map(|c| 1.0 / c.aspect())
+            .fold(0.0f64, f64::max);
+        let tallest = if tallest > 0.0 && tallest.is_finite() {
+            tallest
+        } else {
+            1.0
+        };
+        // The height of a cell `width` wide that holds the tallest row.
+        let fitted_height = |width: u32| {
+            let margin = options.margin_px.min(width.saturating_sub(1) / 2);
+            let inner = f64::from(width - 2 * margin);
+            let lo = (width / 4).max(2 * margin + 2);
+            let hi = width.saturating_mul(2).max(lo);
+            let h = (inner * tallest + f64::from(2 * margin))
+                .ceil()
+                .clamp(f64::from(lo), f64::from(hi)) as u32;
+            h + h % 2
+        };
+        let (cell_width, cell_height) = match options.longest_side {
+            Some(side) => {
+                let side = side.max(1);
+                let height = fitted_height(side);
+                if height <= side {
+                    (side, height)
                 } else {
-                    1.0
-                };
-                let lo = (cell_width / 4).max(2 * margin + 2);
-                let hi = cell_width.saturating_mul(2).max(lo);
-                let h = (inner * tallest + f64::from(2 * margin))
-                    .ceil()
-                    .clamp(f64::from(lo), f64::from(hi)) as u32;
-                h + h % 2
-            },
-            |h| h.max(1),
-        );
+                    // Tall: the height is the side, the width what holds
+                    // the row at that height (at least half of it).
+                    let margin = options.margin_px.min(side.saturating_sub(1) / 2);
+                    let inner = f64::from(side - 2 * margin) / tallest;
+                    let w = ((inner + f64::from(2 * margin)).ceil() as u32).clamp(side / 2, side);
+                    (w.max(1), side)
+                }
+            }
+            None => {
+                let width = options.cell_width.max(1);
+                (
+                    width,
+                    options
+                        .cell_height
+                        .map_or_else(|| fitted_height(width), |h| h.max(1)),
+                )
+            }
+        };
         GridLayout {
             cell_width,
             cell_height,
@@ -127,23 +161,33 @@ impl GridLayout {
             cameras,
             palette: options.palette.clone(),
             supersample: options.supersample.clamp(1, 8),
+            transposed: false,
         }
     }
 
     /// Picture width and height in pixels.
     pub fn size(&self) -> (u32, u32) {
+        let (mut across, mut down) = (self.columns, self.cameras.len().max(1) as u32);
+        if self.transposed {
+            std::mem::swap(&mut across, &mut down);
+        }
         (
-            self.cell_width.saturating_mul(self.columns),
-            self.cell_height
-                .saturating_mul(self.cameras.len().max(1) as u32),
+            self.cell_width.saturating_mul(across),
+            self.cell_height.saturating_mul(down),
         )
     }
 
-    /// The pixels of cell (`row`, `column`), margins included.
+    /// The pixels of the cell of pose `column` of row `row`, margins
+    /// included.
     pub fn cell(&self, row: u32, column: u32) -> Rect {
+        let (across, down) = if self.transposed {
+            (row, column)
+        } else {
+            (column, row)
+        };
         Rect {
-            x: column.saturating_mul(self.cell_width),
-            y: row.saturating_mul(self.cell_height),
+            x: across.saturating_mul(self.cell_width),
+            y: down.saturating_mul(self.cell_height),
             width: self.cell_width,
             height: self.cell_height,
         }
@@ -167,7 +211,11 @@ impl GridLayout {
                     width: (cell.width - 2 * m) * s,
                     height: (cell.height - 2 * m) * s,
                 };
-                draw_mesh_3d(&mut canvas, pose, row.triangles, camera, inner, &row.style);
+                let style = Style3d {
+                    dither_px: s,
+                    ..row.style
+                };
+                draw_mesh_3d(&mut canvas, pose, row.triangles, camera, inner, &style);
             }
         }
         if s == 1 {
@@ -246,5 +294,37 @@ mod tests {
         }
         let none = render_grid_3d(&[], &GridOptions::default());
         assert!(none.width > 0 && none.height > 0);
+    }
+
+    #[test]
+    fn the_longest_side_holds_tall_and_wide_meshes() {
+        let (p, t) = super::super::shade3d::tests::cube();
+        let stretch = |s: [f64; 3]| -> Vec<[f64; 3]> {
+            p.iter()
+                .map(|q| std::array::from_fn(|k| q[k] * s[k]))
+                .collect()
+        };
+        let options = GridOptions {
+            longest_side: Some(200),
+            direction: [0.0, 0.0, -1.0],
+            up: [0.0, 1.0, 0.0],
+            margin_px: 10,
+            ..GridOptions::default()
+        };
+        let size = |pose: &[[f64; 3]]| {
+            let rows = [GridRow {
+                triangles: &t,
+                poses: vec![pose],
+                style: Style3d::default(),
+            }];
+            let layout = GridLayout::fit(&rows, &options);
+            (layout.cell_width, layout.cell_height)
+        };
+        // Four times as tall as wide: 200 high, 45 + 20 wide, raised to half.
+        assert_eq!(size(&stretch([1.0, 4.0, 1.0])), (100, 200));
+        let (w, h) = size(&stretch([1.0, 1.5, 1.0])); // 120 + 20 wide
+        assert_eq!((w, h), (140, 200));
+        // Twice as wide as tall: 200 wide, 90 + 20 high.
+        assert_eq!(size(&stretch([2.0, 1.0, 1.0])), (200, 110));
     }
 }
