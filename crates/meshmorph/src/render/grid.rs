@@ -3,7 +3,8 @@
 //! poses of a deformation transfer).
 
 use super::canvas::Canvas;
-use super::palette::Palette;
+use super::font::{ADVANCE, GLYPH_HEIGHT};
+use super::palette::{slot, Palette};
 use super::shade3d::{draw_mesh_3d, Camera3d, Style3d};
 use super::Rect;
 
@@ -47,6 +48,13 @@ pub struct GridOptions {
     /// Anti-aliasing: each pixel is the mean of `supersample²` samples (3;
     /// 1 for none).
     pub supersample: u32,
+    /// A band above each cell's view for its caption ([`GridLayout::caption`]),
+    /// its height following the cell's size (false).
+    pub captions: bool,
+    /// A grid of one column whose cells are taller than wide lays its rows
+    /// side by side instead (false): two tall meshes read better next to
+    /// each other than as a tall strip.
+    pub tall_rows_side_by_side: bool,
 }
 
 impl Default for GridOptions {
@@ -61,6 +69,8 @@ impl Default for GridOptions {
             up: cam.up,
             palette: Palette::standard(),
             supersample: 3,
+            captions: false,
+            tall_rows_side_by_side: false,
         }
     }
 }
@@ -85,11 +95,11 @@ pub struct GridLayout {
     pub palette: Palette,
     /// Samples per pixel in each direction (anti-aliasing).
     pub supersample: u32,
-    /// Rows of poses laid out as columns, side by side (pose `k` of row
-    /// `r` in grid row `k`, column `r`): false after
-    /// [`fit`](GridLayout::fit). Two rows of one pose each read better
-    /// side by side than as a tall strip.
-    pub transposed: bool,
+    /// The band above each cell's view for its caption, in pixels (0 for
+    /// none).
+    pub caption_px: u32,
+    /// See [`GridOptions::tall_rows_side_by_side`].
+    pub tall_rows_side_by_side: bool,
 }
 
 impl GridLayout {
@@ -148,9 +158,14 @@ impl GridLayout {
                 )
             }
         };
+        let caption_px = if options.captions {
+            caption_scale(cell_width.max(cell_height)) * (GLYPH_HEIGHT + 6)
+        } else {
+            0
+        };
         GridLayout {
             cell_width,
-            cell_height,
+            cell_height: cell_height.saturating_add(caption_px),
             columns: rows
                 .iter()
                 .map(|r| r.poses.len() as u32)
@@ -161,14 +176,44 @@ impl GridLayout {
             cameras,
             palette: options.palette.clone(),
             supersample: options.supersample.clamp(1, 8),
-            transposed: false,
+            caption_px,
+            tall_rows_side_by_side: options.tall_rows_side_by_side,
         }
+    }
+
+    /// Whether the rows are laid side by side (see
+    /// [`GridOptions::tall_rows_side_by_side`]).
+    pub fn transposed(&self) -> bool {
+        self.tall_rows_side_by_side
+            && self.columns == 1
+            && self.cameras.len() > 1
+            && self.cell_height > self.cell_width
+    }
+
+    /// Writes `text` in the caption band of the cell of pose `column` of
+    /// row `row` (dark grey on the background, shortened with `...` to the
+    /// cell's width); nothing without captions.
+    pub fn caption(&self, canvas: &mut Canvas, row: u32, column: u32, text: &str) {
+        if self.caption_px == 0 {
+            return;
+        }
+        let cell = self.cell(row, column);
+        let scale = caption_scale(self.cell_width.max(self.cell_height - self.caption_px));
+        let pad = 3 * scale;
+        let room = (cell.width.saturating_sub(2 * pad) / (ADVANCE * scale)) as usize;
+        let shown: String = if text.chars().count() <= room {
+            text.to_string()
+        } else {
+            let kept: String = text.chars().take(room.saturating_sub(3)).collect();
+            kept + "..."
+        };
+        canvas.draw_text(cell.x + pad, cell.y + pad, &shown, scale, slot::EDGE_3D);
     }
 
     /// Picture width and height in pixels.
     pub fn size(&self) -> (u32, u32) {
         let (mut across, mut down) = (self.columns, self.cameras.len().max(1) as u32);
-        if self.transposed {
+        if self.transposed() {
             std::mem::swap(&mut across, &mut down);
         }
         (
@@ -180,7 +225,7 @@ impl GridLayout {
     /// The pixels of the cell of pose `column` of row `row`, margins
     /// included.
     pub fn cell(&self, row: u32, column: u32) -> Rect {
-        let (across, down) = if self.transposed {
+        let (across, down) = if self.transposed() {
             (row, column)
         } else {
             (column, row)
@@ -205,11 +250,12 @@ impl GridLayout {
                 let m = self
                     .margin_px
                     .min(cell.width.min(cell.height).saturating_sub(1) / 2);
+                let band = self.caption_px.min(cell.height - 2 * m);
                 let inner = Rect {
                     x: (cell.x + m) * s,
-                    y: (cell.y + m) * s,
+                    y: (cell.y + band + m) * s,
                     width: (cell.width - 2 * m) * s,
-                    height: (cell.height - 2 * m) * s,
+                    height: (cell.height - band - 2 * m) * s,
                 };
                 let style = Style3d {
                     dither_px: s,
@@ -223,6 +269,16 @@ impl GridLayout {
         } else {
             super::resample::downsample(&canvas, s, w, h)
         }
+    }
+}
+
+/// The scale of the caption font over a view whose longer side is `side`
+/// pixels: 2 from 360 pixels on, else 1.
+fn caption_scale(side: u32) -> u32 {
+    if side >= 360 {
+        2
+    } else {
+        1
     }
 }
 
@@ -294,6 +350,59 @@ mod tests {
         }
         let none = render_grid_3d(&[], &GridOptions::default());
         assert!(none.width > 0 && none.height > 0);
+    }
+
+    #[test]
+    fn captions_sit_in_their_band_and_tall_rows_stand_side_by_side() {
+        let (p, t) = super::super::shade3d::tests::cube();
+        let tall: Vec<[f64; 3]> = p.iter().map(|q| [q[0], 3.0 * q[1], q[2]]).collect();
+        let rows = [
+            GridRow {
+                triangles: &t,
+                poses: vec![tall.as_slice()],
+                style: Style3d::default(),
+            },
+            GridRow {
+                triangles: &t,
+                poses: vec![tall.as_slice()],
+                style: Style3d::with_ramp(Ramp::SAND),
+            },
+        ];
+        let options = GridOptions {
+            longest_side: Some(400),
+            captions: true,
+            tall_rows_side_by_side: true,
+            ..GridOptions::default()
+        };
+        let layout = GridLayout::fit(&rows, &options);
+        assert!(layout.transposed());
+        let (w, h) = layout.size();
+        assert_eq!((w, h), (2 * layout.cell_width, layout.cell_height));
+        assert_eq!(layout.cell(1, 0).x, layout.cell_width);
+        assert_eq!(layout.caption_px, 2 * 13);
+        let mut c = layout.render(&rows);
+        let band = |c: &Canvas, column: u32| {
+            let cell = layout.cell(column, 0);
+            (cell.x..cell.x + cell.width)
+                .flat_map(|x| (cell.y..cell.y + layout.caption_px).map(move |y| (x, y)))
+                .filter(|&(x, y)| c.get(x, y) != Some(slot::BACKGROUND))
+                .count()
+        };
+        // The meshes stay below the band; the caption is drawn in it.
+        assert_eq!((band(&c, 0), band(&c, 1)), (0, 0));
+        layout.caption(&mut c, 1, 0, "target: a tall cube");
+        assert_eq!(band(&c, 0), 0);
+        assert!(band(&c, 1) > 100);
+        // Without the option, the same rows stand one above the other.
+        let stacked = GridLayout::fit(
+            &rows,
+            &GridOptions {
+                tall_rows_side_by_side: false,
+                ..options
+            },
+        );
+        assert!(!stacked.transposed());
+        assert_eq!(stacked.size(), (w / 2, 2 * h));
     }
 
     #[test]
