@@ -78,10 +78,14 @@ pub(crate) fn downsample(big: &Canvas, factor: u32, width: u32, height: u32) -> 
         for (x, pixel) in out.pixels[y * w..(y + 1) * w].iter_mut().enumerate() {
             let first = block[x * s];
             // A uniform block keeps its index (the common case, and exact).
-            if block
-                .chunks_exact(bw)
-                .all(|row| row[x * s..(x + 1) * s].iter().all(|&i| i == first))
-            {
+            let mut uniform = true;
+            for dy in 0..s {
+                let at = dy * bw + x * s;
+                for &i in &block[at..at + s] {
+                    uniform &= i == first;
+                }
+            }
+            if uniform {
                 *pixel = first;
                 continue;
             }

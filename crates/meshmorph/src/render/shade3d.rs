@@ -307,7 +307,17 @@ pub fn draw_mesh_3d(
     viewport: Rect,
     style: &Style3d,
 ) {
+    // The dither's thresholds along each of its four kinds of row, for
+    // every column (no division per pixel).
     let cell = style.dither_px.max(1) as usize;
+    let dither: Vec<Vec<f64>> = BAYER
+        .iter()
+        .map(|row| {
+            (0..canvas.width as usize)
+                .map(|x| row[(x / cell) % 4])
+                .collect()
+        })
+        .collect();
     let clip = canvas.clip(viewport);
     let vx0 = viewport.x.min(canvas.width) as usize;
     let vy0 = viewport.y.min(canvas.height) as usize;
@@ -412,7 +422,7 @@ pub fn draw_mesh_3d(
                 let row_z = (pa[2] + gx * dx + gy * dy) as f32;
                 let row_s = sa + hx * dx + hy * dy;
                 let zrow = &mut depth[(y - vy0) * vw..(y - vy0 + 1) * vw];
-                let thresholds = BAYER[(y / cell) % 4];
+                let thresholds = &dither[(y / cell) % 4];
                 let prow = &mut pixels[y * w..(y + 1) * w];
                 for (i, x) in (x0..x1).enumerate() {
                     let z = (row_z + gx32 * i as f32).clamp(zmin, zmax);
@@ -421,7 +431,7 @@ pub fn draw_mesh_3d(
                         let s = (row_s + hx * i as f64).clamp(smin, smax).clamp(0.0, 1.0);
                         // Not negative: truncating is `floor`, in one
                         // instruction where `floor` may be a library call.
-                        let level = ((s * levels + thresholds[(x / cell) % 4]) as u32).min(top);
+                        let level = ((s * levels + thresholds[x]) as u32).min(top);
                         prow[x] = first.saturating_add(level as u8);
                     }
                 }
