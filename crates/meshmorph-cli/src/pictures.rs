@@ -22,14 +22,14 @@ pub fn style_2d() -> Style2d {
 }
 
 /// Writes each frame as an SVG, all through one view that holds every
-/// frame. Frames are asked for twice (for the view, then to draw), in
+/// frame, `size` pixels on its longer side. Frames are asked for twice (for the view, then to draw), in
 /// parallel; each is held only while it is drawn.
 pub fn write_svgs(
     staging: &Staging,
     outputs: &[Output],
     frames: &dyn FrameSource<2>,
     triangles: &[[u32; 3]],
-    width: u32,
+    size: u32,
 ) -> Result<()> {
     let corners: Vec<[[f64; 2]; 2]> = (0..frames.num_frames())
         .into_par_iter()
@@ -39,7 +39,7 @@ pub fn write_svgs(
             bounds
         })
         .collect();
-    let view = View2d::fitting(corners.iter().map(|c| c.as_slice()), width, None, 16);
+    let view = View2d::fitting_longest(corners.iter().map(|c| c.as_slice()), size, 16);
     let style = style_2d();
     outputs.par_iter().enumerate().try_for_each(|(k, &output)| {
         let mut svg = String::new();

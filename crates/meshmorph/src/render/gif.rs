@@ -570,25 +570,11 @@ pub fn write_gif_2d_frames<S: FrameSource<2> + ?Sized>(
     // Drawn `s` times larger, then reduced: anti-aliased.
     let s = options.supersample.clamp(1, 8);
     let size = match options.longest_side {
-        Some(side) => {
-            let wide = fit(side, None, options.margin_px);
-            if wide.height <= side {
-                wide
-            } else {
-                // Tall: the height is the side, the width what holds the
-                // bounds at that height.
-                let [lo, hi] = View2d::bounds(corners.iter().map(|c| c.as_slice()));
-                let m = f64::from(options.margin_px.min(side.saturating_sub(1) / 2));
-                let ratio = (hi[0] - lo[0]) / (hi[1] - lo[1]);
-                let inner = (f64::from(side) - 2.0 * m) * ratio;
-                let w = if inner.is_finite() {
-                    ((inner + 2.0 * m).ceil() as u32).clamp(side / 4, side)
-                } else {
-                    side
-                };
-                fit(w.max(1), Some(side), options.margin_px)
-            }
-        }
+        Some(side) => View2d::fitting_longest(
+            corners.iter().map(|c| c.as_slice()),
+            side,
+            options.margin_px,
+        ),
         None => fit(options.width, options.height, options.margin_px),
     };
     let (width, height) = (size.width, size.height);
