@@ -53,8 +53,16 @@ impl FrameOutputs {
             } else {
                 Vec::new()
             },
-            gif: args.gif.as_deref().map(|g| plan.file(g, "animation")),
-            png: args.png.as_deref().map(|g| plan.file(g, "picture")),
+            gif: args
+                .pictures
+                .gif
+                .as_deref()
+                .map(|g| plan.file(g, "animation")),
+            png: args
+                .pictures
+                .png
+                .as_deref()
+                .map(|g| plan.file(g, "picture")),
             gltf: args.gltf.gltf.as_deref().map(|g| plan.file(g, "glTF file")),
         }
     }
@@ -253,6 +261,8 @@ pub struct Run<'a> {
     /// The bytes the GLB's textures may take (see
     /// [`GltfArgs::check`](crate::gltf::GltfArgs::check)).
     pub image_budget: u64,
+    /// The keys' names (their files' stems), for the captions of the PNG.
+    pub key_names: &'a [String],
 }
 
 /// Writes every frame of `morph` at the run's times (and the pictures
@@ -276,6 +286,7 @@ where
         file,
         read_warnings,
         image_budget,
+        key_names: _,
     } = *run;
     crate::memory::check_frames_in_flight(
         morph.num_vertices(),
@@ -356,7 +367,7 @@ where
         outputs,
         staging,
         &recomputed,
-        morph.triangles(),
+        (morph.triangles(), run.key_names),
     )?);
     // The first key's looks for the GLB, when it comes from a file.
     let look = match (outputs.gltf, file) {
@@ -373,7 +384,9 @@ where
             || "interpolation".to_string(),
             |f| crate::gltf::mesh_name(f.file.path()),
         );
-        let options = GltfOptions::default().with_fps(args.fps).with_name(name);
+        let options = GltfOptions::default()
+            .with_fps(args.pictures.draw.fps)
+            .with_name(name);
         let base = look.base(base, morph.triangles());
         staging.write(output, |path| {
             let counted = crate::progress::Counted::new(&recomputed, "glTF");
@@ -382,7 +395,10 @@ where
         files_written.extend(args.gltf.gltf.clone());
     }
     let mut warnings = read_warnings.to_vec();
-    warnings.extend(output::gif_rate_warning(args.gif.is_some(), args.fps));
+    warnings.extend(output::gif_rate_warning(
+        args.pictures.gif.is_some(),
+        args.pictures.draw.fps,
+    ));
     if args.gltf.gltf.is_some() {
         warnings.extend(look.warnings.iter().cloned());
     }
@@ -414,8 +430,8 @@ where
         total_seconds: start.elapsed().as_secs_f64(),
         max_flipped_triangles: max_flipped,
         max_flipped_frame: (max_flipped > 0).then_some(max_flipped_frame),
-        gif: args.gif.clone(),
-        png: args.png.clone(),
+        gif: args.pictures.gif.clone(),
+        png: args.pictures.png.clone(),
         gltf: args.gltf.gltf.clone(),
         files_written,
         warnings,
@@ -488,45 +504,63 @@ where
     }
 }
 
-/// The SVGs, GIF and PNG asked for, of the frames; returns the files (as
-/// the user will find them).
+/// The SVGs, GIF and PNG asked for, of the frames (at the times of
+/// `frames`, through keys named `key_names`); returns the files (as the
+/// user will find them).
 fn write_pictures<const D: usize>(
     args: &FrameArgs,
     outputs: &FrameOutputs,
     staging: &Staging,
-    frames: &dyn FrameSource<D>,
-    triangles: &[[u32; 3]],
-) -> Result<Vec<PathBuf>> {
+    frames: &Recomputed<'_, D>,
+    (triangles, key_names): (&[[u32; 3]], &[String]),
+) -> Result<Vec<PathBuf>>
+where
+    Space<D>: Rotations<D> + TriangleMaps<D>,
+{
     let mut written = Vec::new();
-    let gif_args = pictures::GifArgs {
-        width: args.gif_width,
-        height: args.gif_height,
-        fps: args.fps,
-        boomerang: !args.no_boomerang,
-    };
+    let draw = &args.pictures.draw;
     let count = frames.num_frames();
     if !outputs.svgs.is_empty() {
         if D != 2 {
             bail!("--svg draws planar frames only: use --gif, --png or --gltf for meshes in space");
         }
         let planar = pictures::InDim(frames);
-        pictures::write_svgs(staging, &outputs.svgs, &planar, triangles, args.gif_width)?;
+        pictures::write_svgs(staging, &outputs.svgs, &planar, triangles, draw.size)?;
         written
             .extend((0..count).map(|k| crate::outputs::frame_path(&outputs.dir, k, count, "svg")));
     }
-    if let (Some(output), Some(gif)) = (outputs.gif, &args.gif) {
+    if let (Some(output), Some(gif)) = (outputs.gif, &args.pictures.gif) {
         staging.write(output, |path| {
-            pictures::write_gif(path, frames, triangles, &gif_args)
+            pictures::write_gif(path, frames, triangles, draw)
         })?;
         written.push(gif.clone());
     }
-    if let (Some(output), Some(png)) = (outputs.png, &args.png) {
+    if let (Some(output), Some(png)) = (outputs.png, &args.pictures.png) {
+        let caption = |k: usize| {
+            let t = frames.times[k];
+            let key = (t.fract() == 0.0 && t >= 0.0)
+                .then(|| key_names.get(t as usize))
+                .flatten();
+            match key {
+                Some(name) => format!("{name}, t = {}", compact(t)),
+                None => format!("t = {}", short_time(t)),
+            }
+        };
         staging.write(output, |path| {
-            pictures::write_png(path, frames, triangles, args.gif_width / 2)
+            pictures::write_png(path, frames, triangles, draw, caption)
         })?;
         written.push(png.clone());
     }
     Ok(written)
+}
+
+/// `t` for a caption: at most three decimals, no trailing zeros.
+fn short_time(t: f64) -> String {
+    if !(1e-3..1e6).contains(&t.abs()) {
+        return compact(t);
+    }
+    let text = format!("{t:.3}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 struct Frame {

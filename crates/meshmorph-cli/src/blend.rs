@@ -16,10 +16,10 @@ use serde::Serialize;
 
 use crate::gltf::GltfArgs;
 use crate::memory;
-use crate::output::{self, frame_rate, FormatArg};
+use crate::output::{self, FormatArg};
 use crate::outputs::Staging;
 use crate::outputs::{Output, Plan};
-use crate::pictures::{self, GifArgs, PictureArgs};
+use crate::pictures::{self, PictureArgs};
 
 /// Blend shapes of a base mesh with weights, as rigidly as possible, in the
 /// plane or in space.
@@ -39,6 +39,7 @@ use crate::pictures::{self, GifArgs, PictureArgs};
 #[command(
     mut_arg("png", |a| a.help("Also write a still picture (PNG) of the base, the blend about halfway and the blend, side by side")),
     mut_arg("gif", |a| a.help("Also write an animated GIF of the base turning into the blend, the weights growing from 0 to theirs")),
+    mut_arg("gltf", |a| a.help("Also write one binary glTF (FILE.glb) for Blender, three.js or any glTF viewer: the base with the way to the blend (24 steps) as morph targets and an animation playing them at --fps")),
 )]
 pub struct Args {
     /// The base mesh (OBJ, OFF, PLY or STL).
@@ -75,10 +76,6 @@ pub struct Args {
     pub pictures: PictureArgs,
     #[command(flatten)]
     pub gltf: GltfArgs,
-    /// Frame rate of the GIF and of the glTF animation (the base turning
-    /// into the blend in 24 steps).
-    #[arg(long, default_value_t = 12.0, value_name = "FPS", value_parser = frame_rate)]
-    pub fps: f64,
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
@@ -129,6 +126,15 @@ pub struct Report {
     pub turned_over_triangles: usize,
     /// Separate parts (eyes, teeth) placed by the surface they sit in.
     pub parts_following_host: usize,
+    /// The PNG written, if any.
+    #[serde(serialize_with = "output::lossy")]
+    pub png: Option<PathBuf>,
+    /// The GIF written, if any.
+    #[serde(serialize_with = "output::lossy")]
+    pub gif: Option<PathBuf>,
+    /// The GLB written, if any.
+    #[serde(serialize_with = "output::lossy")]
+    pub gltf: Option<PathBuf>,
     /// Every file written.
     #[serde(serialize_with = "output::lossy")]
     pub files_written: Vec<PathBuf>,
@@ -167,9 +173,14 @@ impl Report {
         if let Some(line) = output::welded_line(self.welded_vertices) {
             say!("welded: {line}");
         }
-        for f in self.files_written.iter().skip(1) {
-            say!("also:  {}", f.display());
-        }
+        output::print_files(
+            &[
+                ("picture:", self.png.as_deref()),
+                ("animation:", self.gif.as_deref()),
+                ("glTF:", self.gltf.as_deref()),
+            ],
+            11,
+        );
     }
 }
 
@@ -220,7 +231,7 @@ pub fn run(args: &Args) -> Result<()> {
     let mut warnings = staging.warnings();
     warnings.extend(output::gif_rate_warning(
         args.pictures.gif.is_some(),
-        args.fps,
+        args.pictures.draw.fps,
     ));
     let (base_file, mut shapes) = output::read_poses(&paths, &roles, !args.no_weld, &mut warnings)?;
     output::protect_side_files(&staging, &base_file.file, "base mesh")?;
@@ -285,6 +296,9 @@ pub fn run(args: &Args) -> Result<()> {
         total_seconds: start.elapsed().as_secs_f64(),
         turned_over_triangles: turned_over,
         parts_following_host,
+        png: args.pictures.png.clone(),
+        gif: args.pictures.gif.clone(),
+        gltf: args.gltf.gltf.clone(),
         files_written,
         warnings,
         welded_vertices: base_file.seams.num_welded(),
@@ -363,28 +377,28 @@ where
         blend: &blend,
         weights: &weights,
     };
+    let draw = &args.pictures.draw;
     if let (Some(output), Some(path)) = (outputs.png, &args.pictures.png) {
+        let caption = |k: usize| match k {
+            0 => "base".to_string(),
+            k if k + 1 == STEPS => "blend".to_string(),
+            k => format!("weights x {:.2}", k as f64 / (STEPS - 1) as f64),
+        };
         staging.write(output, |p| {
-            pictures::write_png::<D>(p, &steps, triangles, 320)
+            pictures::write_png::<D>(p, &steps, triangles, draw, caption)
         })?;
         written.push(path.clone());
     }
     if let (Some(output), Some(path)) = (outputs.gif, &args.pictures.gif) {
-        let gif = GifArgs {
-            width: 480,
-            height: None,
-            fps: args.fps,
-            boomerang: true,
-        };
         staging.write(output, |p| {
-            pictures::write_gif::<D>(p, &steps, triangles, &gif)
+            pictures::write_gif::<D>(p, &steps, triangles, draw)
         })?;
         written.push(path.clone());
     }
     if let (Some(output), Some(path)) = (outputs.gltf, &args.gltf.gltf) {
         let names: Vec<String> = (0..STEPS).map(|k| format!("blend_{k:02}")).collect();
         let options = GltfOptions::default()
-            .with_fps(args.fps)
+            .with_fps(draw.fps)
             .with_name(crate::gltf::mesh_name(&args.base));
         let look = Appearance::of_file(&file.file, image_budget)?;
         warnings.extend(look.warnings.iter().cloned());

@@ -13,7 +13,7 @@ use crate::gltf::GltfArgs;
 use crate::interpolate::{animate, FrameArgs, Keys, Stretch};
 use crate::output;
 use crate::outputs::Plan;
-use crate::pictures::PictureArgs;
+use crate::pictures::{DrawArgs, PictureArgs};
 use crate::transfer::{run_transfer, CorrespondArgs, References, TransferArgs};
 
 /// Run the main jobs on built-in procedural shapes (no files needed).
@@ -39,6 +39,9 @@ pub struct Args {
     /// Print the reports as JSON lines on stdout.
     #[arg(long)]
     pub json: bool,
+    /// How the pictures are drawn.
+    #[command(flatten)]
+    pub draw: DrawArgs,
 }
 
 pub fn run(args: &Args) -> Result<()> {
@@ -59,13 +62,12 @@ fn spiral(args: &Args) -> Result<()> {
         turns: 0,
         stretch: Stretch::Linear,
         allow_flips: false,
-        gif: Some(args.output.join("spiral.gif")),
-        gif_width: 480,
-        gif_height: None,
-        fps: 25.0,
-        no_boomerang: false,
         svg: false,
-        png: None,
+        pictures: PictureArgs {
+            gif: Some(args.output.join("spiral.gif")),
+            png: None,
+            draw: args.draw.clone(),
+        },
         gltf: GltfArgs {
             gltf: Some(args.output.join("spiral.glb")),
             max_gltf_mb: 256.0,
@@ -97,13 +99,12 @@ fn coil(args: &Args) -> Result<()> {
         turns: 0,
         stretch: Stretch::Linear,
         allow_flips: false,
-        gif: Some(args.output.join("coil.gif")),
-        gif_width: 360,
-        gif_height: None,
-        fps: 20.0,
-        no_boomerang: false,
         svg: false,
-        png: Some(args.output.join("coil.png")),
+        pictures: PictureArgs {
+            gif: Some(args.output.join("coil.gif")),
+            png: Some(args.output.join("coil.png")),
+            draw: args.draw.clone(),
+        },
         gltf: GltfArgs {
             gltf: Some(args.output.join("coil.glb")),
             max_gltf_mb: 256.0,
@@ -148,8 +149,12 @@ fn animate_demo(
             Ok(meshmorph::io::write_mesh(path, mesh, Format::Obj)?)
         })?;
     }
+    let names: Vec<String> = files
+        .iter()
+        .map(|f| crate::gltf::mesh_name(f.as_ref()))
+        .collect();
     let mut report = animate(
-        Keys::made(keys),
+        Keys::made(keys, &names),
         planar,
         frames,
         &times,
@@ -256,10 +261,10 @@ fn transfer(args: &Args) -> Result<()> {
             max_gltf_mb: 256.0,
         },
         gltf_shapes: false,
-        fps: 12.0,
         pictures: PictureArgs {
             png: Some(dir.join("transfer.png")),
             gif: Some(dir.join("transfer.gif")),
+            draw: args.draw.clone(),
         },
         poses: pose_paths,
     })?;

@@ -14,9 +14,9 @@ use crate::animation::{write_frames, FrameOutputs, Report, Run, Setup};
 use crate::gltf::GltfArgs;
 use crate::memory;
 use crate::output::WeldedFile;
-use crate::output::{self, finite_number, frame_rate, FormatArg};
+use crate::output::{self, finite_number, FormatArg};
 use crate::outputs::{Plan, Staging};
-use crate::pictures::{gif_file, png_file};
+use crate::pictures::PictureArgs;
 
 /// Interpolate through two or more meshes with the same triangles (keys),
 /// planar or surfaces in space.
@@ -34,6 +34,10 @@ use crate::pictures::{gif_file, png_file};
 /// exactly like frames (frame_ + digits + .obj/.off/.ply/.stl/.svg) that this
 /// run did not write are removed; no other file is touched.
 #[derive(Debug, clap::Args)]
+#[command(
+    mut_arg("png", |a| a.help("Also write a still picture (PNG) of the first, middle and last frames side by side, each captioned with its time (and its key's name at a key)")),
+    mut_arg("gif", |a| a.help("Also write an animated GIF of the frames")),
+)]
 pub struct Args {
     /// The keys, in order (OBJ, OFF, PLY or STL): the first at t = 0, the
     /// others at t = 1, 2, ...; every key has the first's vertices and
@@ -104,29 +108,14 @@ pub struct FrameArgs {
     /// over relative to their neighbours in the first key).
     #[arg(long)]
     pub allow_flips: bool,
-    /// Also write an animated GIF of the frames to FILE.gif.
-    #[arg(long, value_name = "FILE.gif", value_parser = gif_file)]
-    pub gif: Option<PathBuf>,
-    /// GIF width in pixels.
-    #[arg(long, default_value_t = 640, value_name = "PX", value_parser = clap::value_parser!(u32).range(16..=8192))]
-    pub gif_width: u32,
-    /// GIF height in pixels [default: from the shape's aspect ratio].
-    #[arg(long, value_name = "PX", value_parser = clap::value_parser!(u32).range(16..=8192))]
-    pub gif_height: Option<u32>,
-    /// Frame rate of the GIF and of the glTF animation.
-    #[arg(long, default_value_t = 25.0, value_name = "FPS", value_parser = frame_rate)]
-    pub fps: f64,
-    /// Play the GIF forward only, instead of forward then back.
-    #[arg(long)]
-    pub no_boomerang: bool,
     /// Also write each frame as an SVG beside the mesh files (one view that
-    /// holds every frame, --gif-width pixels wide; planar frames only).
+    /// holds every frame, --size pixels on its longer side; planar frames
+    /// only).
     #[arg(long)]
     pub svg: bool,
-    /// Also write a still picture of the first, middle and last frames side
-    /// by side (each half --gif-width pixels wide).
-    #[arg(long, value_name = "FILE.png", value_parser = png_file)]
-    pub png: Option<PathBuf>,
+    /// `--png`, `--gif` and how pictures are drawn.
+    #[command(flatten)]
+    pub pictures: PictureArgs,
     #[command(flatten)]
     pub gltf: GltfArgs,
 }
@@ -205,10 +194,13 @@ pub fn run(args: &Args) -> Result<()> {
     let staging = plan.prepare()?;
     let paths: Vec<&Path> = args.keys.iter().map(PathBuf::as_path).collect();
     memory::check_reading(&paths)?;
-    let role_names: Vec<&str> = roles.iter().map(String::as_str).collect();
+    // Read as "key 0", "key 1", ... however many keys: a file that cannot
+    // be read is named the same way in every run.
+    let key_words: Vec<String> = (0..args.keys.len()).map(|i| format!("key {i}")).collect();
+    let reading: Vec<&str> = key_words.iter().map(String::as_str).collect();
     let mut warnings = staging.warnings();
-    let (first_file, keys) = output::read_poses(&paths, &role_names, !args.no_weld, &mut warnings)?;
-    output::protect_side_files(&staging, &first_file.file, role_names[0])?;
+    let (first_file, keys) = output::read_poses(&paths, &reading, !args.no_weld, &mut warnings)?;
+    output::protect_side_files(&staging, &first_file.file, &roles[0])?;
     let key_refs: Vec<&Mesh3> = keys.iter().collect();
     let planar = output::is_planar(args.dim, &key_refs, |k| {
         format!("the {} `{}`", roles[k], args.keys[k].display())
@@ -221,8 +213,14 @@ pub fn run(args: &Args) -> Result<()> {
             .collect();
         format!("interpolating {}", names.join(" to "))
     };
+    let names: Vec<String> = args
+        .keys
+        .iter()
+        .map(|p| crate::gltf::mesh_name(p))
+        .collect();
     let keys = Keys {
         meshes: &keys,
+        names: &names,
         file: Some(&first_file),
         warnings: &warnings,
     };
@@ -291,6 +289,8 @@ fn name_key_files(e: anyhow::Error, paths: &[PathBuf], first: &MeshFile) -> anyh
 /// The keys of an interpolation, and where they came from.
 pub struct Keys<'a> {
     pub meshes: &'a [Mesh3],
+    /// Their names (the stems of their files), for captions.
+    pub names: &'a [String],
     /// The first key's file, when the keys were read: each frame is that
     /// file with new positions.
     pub file: Option<&'a WeldedFile>,
@@ -299,10 +299,11 @@ pub struct Keys<'a> {
 }
 
 impl<'a> Keys<'a> {
-    /// Keys made in memory (the demo's).
-    pub fn made(meshes: &'a [Mesh3]) -> Self {
+    /// Keys made in memory (the demo's), called `names`.
+    pub fn made(meshes: &'a [Mesh3], names: &'a [String]) -> Self {
         Self {
             meshes,
+            names,
             file: None,
             warnings: &[],
         }
@@ -321,7 +322,8 @@ pub fn animate(
     staging: &Staging,
     start: Instant,
 ) -> Result<Report> {
-    let (file, read_warnings, keys) = (keys.file, keys.warnings, keys.meshes);
+    let (file, read_warnings, key_names, keys) =
+        (keys.file, keys.warnings, keys.names, keys.meshes);
     let first = &keys[0];
     let look_of = file.map(|f| &f.file);
     let image_budget = if planar {
@@ -347,6 +349,7 @@ pub fn animate(
         file,
         read_warnings,
         image_budget,
+        key_names,
     };
     let begin = Instant::now();
     let unused_vertices = first.num_unused_vertices();

@@ -71,6 +71,19 @@ enum Command {
 }
 
 impl Command {
+    /// How the command draws its pictures, if it draws.
+    #[cfg(test)]
+    fn draw(&self) -> Option<&pictures::DrawArgs> {
+        match self {
+            Command::Interpolate(a) => Some(&a.frames.pictures.draw),
+            Command::Blend(a) => Some(&a.pictures.draw),
+            Command::Transfer(a) => Some(&a.pictures.draw),
+            Command::Correspond(a) => Some(&a.pictures.draw),
+            Command::Demo(a) => Some(&a.draw),
+            Command::Completions { .. } | Command::Man(_) => None,
+        }
+    }
+
     /// Whether the report was asked for as JSON (`--json`).
     fn json(&self) -> bool {
         match self {
@@ -120,4 +133,66 @@ fn main() -> ExitCode {
         return ExitCode::FAILURE;
     }
     status
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_command_that_draws_takes_the_same_picture_options() {
+        let commands: [&[&str]; 5] = [
+            &["interpolate", "a.obj", "b.obj", "-o", "out"],
+            &[
+                "transfer",
+                "--source-ref",
+                "s.obj",
+                "--target-ref",
+                "t.obj",
+                "-o",
+                "out",
+                "p.obj",
+            ],
+            &["blend", "base.obj", "--shape", "s.obj=1", "-o", "out.obj"],
+            &[
+                "correspond",
+                "--source-ref",
+                "s.obj",
+                "--target-ref",
+                "t.obj",
+                "-o",
+                "c.corr",
+            ],
+            &["demo"],
+        ];
+        for command in commands {
+            let draw = |extra: &[&str]| {
+                let words = ["meshmorph"].iter().chain(command).chain(extra);
+                let cli = Cli::try_parse_from(words).unwrap_or_else(|e| panic!("{command:?}: {e}"));
+                let d = cli.command.draw().expect("draws").clone();
+                (d.size, d.gif_width, d.gif_height, d.fps, d.no_boomerang)
+            };
+            assert_eq!(draw(&[]), (640, None, None, 25.0, false), "{command:?}");
+            let given = [
+                "--size",
+                "800",
+                "--gif-width",
+                "300",
+                "--gif-height",
+                "200",
+                "--fps",
+                "12",
+                "--no-boomerang",
+            ];
+            assert_eq!(
+                draw(&given),
+                (800, Some(300), Some(200), 12.0, true),
+                "{command:?}"
+            );
+        }
+        for command in ["completions", "man"] {
+            let cli = Cli::try_parse_from(["meshmorph", command, "bash"]);
+            assert!(cli.map_or(true, |c| c.command.draw().is_none()));
+        }
+    }
 }

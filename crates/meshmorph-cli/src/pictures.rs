@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use anyhow::{Context, Result};
 use meshmorph::render::{
-    self, Flipped, GifOptions, GridOptions, GridRow, Ramp, Style2d, Style3d, View2d,
+    self, Flipped, GifOptions, GridLayout, GridOptions, GridRow, Ramp, Style2d, Style3d, View2d,
 };
 use meshmorph::FrameSource;
 use rayon::prelude::*;
@@ -22,14 +22,14 @@ pub fn style_2d() -> Style2d {
 }
 
 /// Writes each frame as an SVG, all through one view that holds every
-/// frame. Frames are asked for twice (for the view, then to draw), in
+/// frame, `size` pixels on its longer side. Frames are asked for twice (for the view, then to draw), in
 /// parallel; each is held only while it is drawn.
 pub fn write_svgs(
     staging: &Staging,
     outputs: &[Output],
     frames: &dyn FrameSource<2>,
     triangles: &[[u32; 3]],
-    width: u32,
+    size: u32,
 ) -> Result<()> {
     let corners: Vec<[[f64; 2]; 2]> = (0..frames.num_frames())
         .into_par_iter()
@@ -39,7 +39,7 @@ pub fn write_svgs(
             bounds
         })
         .collect();
-    let view = View2d::fitting(corners.iter().map(|c| c.as_slice()), width, None, 16);
+    let view = View2d::fitting_longest(corners.iter().map(|c| c.as_slice()), size, 16);
     let style = style_2d();
     outputs.par_iter().enumerate().try_for_each(|(k, &output)| {
         let mut svg = String::new();
@@ -50,12 +50,86 @@ pub fn write_svgs(
     })
 }
 
-/// Options of an animation of frames.
-pub struct GifArgs {
-    pub width: u32,
-    pub height: Option<u32>,
+/// The longer side of a picture's views in pixels without `--size`.
+pub const DEFAULT_SIZE: u32 = 640;
+
+/// The frame rate of the animations without `--fps`.
+pub const DEFAULT_FPS: f64 = 25.0;
+
+/// How pictures are drawn: the options every command that draws takes,
+/// meaning the same on each, with one default each.
+#[derive(Debug, Clone, clap::Args)]
+pub struct DrawArgs {
+    /// The size of the pictures in pixels: each view (a GIF's frame, each
+    /// pose of a PNG, each SVG frame) fits in PX x PX, its other side
+    /// following the mesh's shape.
+    #[arg(long, default_value_t = DEFAULT_SIZE, value_name = "PX", value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub size: u32,
+    /// The GIF's width in pixels instead of --size [default: from --size].
+    #[arg(long, value_name = "PX", value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub gif_width: Option<u32>,
+    /// The GIF's height in pixels instead of --size [default: from --size,
+    /// or from --gif-width and the shape].
+    #[arg(long, value_name = "PX", value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub gif_height: Option<u32>,
+    /// Frame rate of the GIF and of the glTF animation.
+    #[arg(long, default_value_t = DEFAULT_FPS, value_name = "FPS", value_parser = crate::output::frame_rate)]
     pub fps: f64,
-    pub boomerang: bool,
+    /// Play the GIF forward only, instead of forward then back.
+    #[arg(long)]
+    pub no_boomerang: bool,
+}
+
+impl Default for DrawArgs {
+    fn default() -> Self {
+        DrawArgs {
+            size: DEFAULT_SIZE,
+            gif_width: None,
+            gif_height: None,
+            fps: DEFAULT_FPS,
+            no_boomerang: false,
+        }
+    }
+}
+
+impl DrawArgs {
+    /// Size and timing of a GIF.
+    fn gif_options(&self) -> GifOptions {
+        let exact = self.gif_width.is_some() || self.gif_height.is_some();
+        GifOptions {
+            width: self.gif_width.unwrap_or(self.size),
+            height: self.gif_height,
+            longest_side: (!exact).then_some(self.size),
+            fps: self.fps,
+            boomerang: !self.no_boomerang,
+            ..GifOptions::default()
+        }
+    }
+
+    /// The cells of a GIF of meshes in space, looking along `direction`:
+    /// supersampled twice (each frame is a small part of the animation).
+    fn gif_grid(&self, direction: [f64; 3]) -> GridOptions {
+        let exact = self.gif_width.is_some() || self.gif_height.is_some();
+        GridOptions {
+            cell_width: self.gif_width.unwrap_or(self.size),
+            cell_height: self.gif_height,
+            longest_side: (!exact).then_some(self.size),
+            supersample: 2,
+            tall_rows_side_by_side: true,
+            ..grid_options(direction)
+        }
+    }
+
+    /// The cells of a still picture, looking along `direction`: each view
+    /// --size on its longer side, with a caption above it.
+    fn still_grid(&self, direction: [f64; 3]) -> GridOptions {
+        GridOptions {
+            longest_side: Some(self.size),
+            captions: true,
+            tall_rows_side_by_side: true,
+            ..grid_options(direction)
+        }
+    }
 }
 
 /// The frames of a source of `D`-dimensional frames with `E` coordinates:
@@ -81,56 +155,68 @@ pub fn in_dim<const D: usize, const E: usize>(positions: &[[f64; D]]) -> Vec<[f6
 }
 
 /// Writes the frames as an animated GIF: planar frames through one view
-/// that holds them all, frames in space flat-shaded through one camera.
+/// that holds them all, frames in space smooth-shaded through one camera.
 /// Each frame is held only while it is drawn.
 pub fn write_gif<const D: usize>(
     path: &Path,
     frames: &dyn FrameSource<D>,
     triangles: &[[u32; 3]],
-    args: &GifArgs,
+    args: &DrawArgs,
 ) -> Result<()> {
-    let options = GifOptions {
-        width: args.width,
-        height: args.height,
-        fps: args.fps,
-        boomerang: args.boomerang,
-        ..GifOptions::default()
-    };
+    let options = args.gif_options();
     let counted = crate::progress::Counted::new(frames, "GIF");
     let frames = InDim(&counted);
     if D == 2 {
         render::write_gif_2d_frames(path, &frames, triangles, &options, &style_2d())?;
     } else {
         let style = Style3d::with_ramp(Ramp::BLUE);
-        let grid = grid_options(args.width);
+        let grid = args.gif_grid(FROM_FRONT);
         render::write_gif_3d_frames(path, &frames, triangles, style, &grid, &options)?;
     }
     Ok(())
 }
 
 /// A still picture (PNG) of the first, middle and last frames side by
-/// side, each `cell_width` pixels wide (planar frames seen from above).
+/// side (planar frames seen from above), each captioned by `caption` of
+/// its frame's index.
 pub fn write_png<const D: usize>(
     path: &Path,
     frames: &dyn FrameSource<D>,
     triangles: &[[u32; 3]],
-    cell_width: u32,
+    args: &DrawArgs,
+    caption: impl Fn(usize) -> String,
 ) -> Result<()> {
     let lifted = InDim(frames);
-    let poses: Vec<Vec<[f64; 3]>> = picks(frames.num_frames())
-        .into_iter()
-        .map(|k| {
+    let picked = picks(frames.num_frames());
+    let poses: Vec<Vec<[f64; 3]>> = picked
+        .iter()
+        .map(|&k| {
             let mut pose = Vec::new();
             lifted.with_frame(k, &mut |f: &[[f64; 3]]| pose = f.to_vec());
             pose
         })
         .collect();
-    let mut options = grid_options(cell_width);
-    if D == 2 {
-        options.direction = [0.0, 0.0, -1.0];
-    }
+    let direction = if D == 2 { FROM_ABOVE } else { FROM_FRONT };
     let row = space_row(triangles, poses.iter().map(Vec::as_slice).collect());
-    let canvas = render::render_grid_3d(&[row], &options);
+    let captions: Vec<Vec<String>> = vec![picked.iter().map(|&k| caption(k)).collect()];
+    write_still(path, &[row], &captions, &args.still_grid(direction))
+}
+
+/// Draws `rows` (each pose captioned by its entry of `captions`) and
+/// writes the picture as a PNG.
+fn write_still(
+    path: &Path,
+    rows: &[GridRow<'_>],
+    captions: &[Vec<String>],
+    options: &GridOptions,
+) -> Result<()> {
+    let layout = GridLayout::fit(rows, options);
+    let mut canvas = layout.render(rows);
+    for (r, row) in captions.iter().enumerate() {
+        for (k, text) in row.iter().enumerate() {
+            layout.caption(&mut canvas, r as u32, k as u32, text);
+        }
+    }
     Ok(render::write_png(path, &canvas)?)
 }
 
@@ -177,7 +263,9 @@ pub fn gif_file(text: &str) -> Result<PathBuf, String> {
     file_named(text, "gif", "GIF")
 }
 
-/// `--png` and `--gif` of the commands on meshes in space.
+/// `--png` and `--gif`, and how pictures are drawn: the same on every
+/// command that draws (their help for `--png` and `--gif` says what each
+/// shows).
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct PictureArgs {
     /// Also write a still picture (PNG) of the result.
@@ -186,6 +274,8 @@ pub struct PictureArgs {
     /// Also write an animated GIF of the result.
     #[arg(long, value_name = "FILE.gif", value_parser = gif_file)]
     pub gif: Option<PathBuf>,
+    #[command(flatten)]
+    pub draw: DrawArgs,
 }
 
 impl PictureArgs {
@@ -198,25 +288,31 @@ impl PictureArgs {
 /// Meshes in space with one set of triangles: the triangles and the poses.
 pub type Poses<'a> = (&'a [[u32; 3]], &'a [&'a [[f64; 3]]]);
 
-/// The look of grid pictures: a view from the front, a little from the
-/// left and from above, y up.
-fn grid_options(cell_width: u32) -> GridOptions {
+/// A view from the front, a little from the left and from above, y up.
+const FROM_FRONT: [f64; 3] = [-0.25, -0.35, -1.0];
+
+/// Planar meshes seen from above.
+const FROM_ABOVE: [f64; 3] = [0.0, 0.0, -1.0];
+
+/// The look of grid pictures: looking along `direction`, y up.
+fn grid_options(direction: [f64; 3]) -> GridOptions {
     GridOptions {
-        cell_width,
-        direction: [-0.25, -0.35, -1.0],
+        direction,
         up: [0.0, 1.0, 0.0],
         ..GridOptions::default()
     }
 }
 
 /// Pictures of a transfer, as `meshmorph demo` draws them: source poses
-/// above, target poses below. The PNG shows the first, the middle and the
-/// last pose; the GIF every pose at `fps`. Returns the files written.
+/// above, target poses below (side by side when there is one pose of tall
+/// meshes). The PNG shows the first, the middle and the last pose, each
+/// captioned by its name in `names` (the target's with `target` too); the
+/// GIF every pose. Returns the files written.
 pub fn write_transfer_pictures(
     args: &PictureArgs,
-    fps: f64,
     source: Poses<'_>,
     target: Poses<'_>,
+    (names, target_name): (&[String], &str),
 ) -> Result<Vec<PathBuf>> {
     let rows = |picks: &[usize]| {
         vec![
@@ -237,33 +333,45 @@ pub fn write_transfer_pictures(
     if let Some(path) = &args.gif {
         let frames: Vec<Vec<GridRow<'_>>> = (0..n).map(|k| rows(&[k])).collect();
         let options = GifOptions {
-            fps,
             hold_ends: Duration::from_millis(600),
-            ..GifOptions::default()
+            ..args.draw.gif_options()
         };
-        render::write_gif_grid(path, &frames, &grid_options(360), &options)
+        render::write_gif_grid(path, &frames, &args.draw.gif_grid(FROM_FRONT), &options)
             .with_context(|| format!("writing the animation `{}`", path.display()))?;
         written.push(path.clone());
     }
     if let Some(path) = &args.png {
-        let mut picks = vec![0, n / 2, n - 1];
-        picks.dedup();
-        let canvas = render::render_grid_3d(&rows(&picks), &grid_options(240));
-        render::write_png(path, &canvas)
-            .with_context(|| format!("writing the picture `{}`", path.display()))?;
+        let picked = picks(n);
+        let name = |k: usize| names.get(k).map_or("", String::as_str);
+        let captions = vec![
+            picked.iter().map(|&k| name(k).to_string()).collect(),
+            picked
+                .iter()
+                .map(|&k| format!("{} on {target_name}", name(k)))
+                .collect(),
+        ];
+        write_still(
+            path,
+            &rows(&picked),
+            &captions,
+            &args.draw.still_grid(FROM_FRONT),
+        )
+        .with_context(|| format!("writing the picture `{}`", path.display()))?;
         written.push(path.clone());
     }
     Ok(written)
 }
 
-/// Pictures of a correspondence: the source deformed onto the target above,
-/// the target below. The GIF shows the source reference turning into the
-/// deformed source. Returns the files written.
+/// Pictures of a correspondence: the source deformed onto the target above
+/// the target (side by side when they are tall), captioned with `names`
+/// (the source's and the target's). The GIF shows the source reference
+/// turning into the deformed source. Returns the files written.
 pub fn write_correspondence_pictures(
     args: &PictureArgs,
     source: Poses<'_>,
     deformed: &[[f64; 3]],
     target: Poses<'_>,
+    (source_name, target_name): (&str, &str),
 ) -> Result<Vec<PathBuf>> {
     /// Steps of the GIF from the reference to the deformed source.
     const STEPS: usize = 24;
@@ -284,12 +392,13 @@ pub fn write_correspondence_pictures(
         let only_gif = PictureArgs {
             png: None,
             gif: Some(path.clone()),
+            draw: args.draw.clone(),
         };
         written.extend(write_transfer_pictures(
             &only_gif,
-            12.0,
             (source.0, &sources),
             (target.0, &targets),
+            (&[], target_name),
         )?);
     }
     if let Some(path) = &args.png {
@@ -305,8 +414,11 @@ pub fn write_correspondence_pictures(
                 style: Style3d::with_ramp(Ramp::SAND),
             },
         ];
-        let canvas = render::render_grid_3d(&rows, &grid_options(360));
-        render::write_png(path, &canvas)
+        let captions = vec![
+            vec![format!("{source_name} deformed onto {target_name}")],
+            vec![target_name.to_string()],
+        ];
+        write_still(path, &rows, &captions, &args.draw.still_grid(FROM_FRONT))
             .with_context(|| format!("writing the picture `{}`", path.display()))?;
         written.push(path.clone());
     }

@@ -17,7 +17,7 @@ use serde::Serialize;
 
 use crate::gltf::GltfArgs;
 use crate::memory;
-use crate::output::{self, finite_number, frame_rate, FormatArg};
+use crate::output::{self, finite_number, FormatArg};
 use crate::outputs::{Output, Plan, Staging};
 use crate::pictures::PictureArgs;
 use crate::progress;
@@ -344,6 +344,7 @@ impl Reference {
     mut_arg("one_based", |a| a.help("Vertex indices (markers and --pin) start at 1 instead of 0")),
     mut_arg("png", |a| a.help("Also write a still picture (PNG): source poses above, transferred poses below (the first, middle and last)")),
     mut_arg("gif", |a| a.help("Also write an animated GIF: every source pose above its transferred pose")),
+    mut_arg("gltf", |a| a.help("Also write one binary glTF (FILE.glb) for Blender, three.js or any glTF viewer: the target reference with every transferred pose as a morph target, and an animation playing the poses in order at --fps (see --gltf-shapes). It weighs about 24 bytes x target vertices x poses: a 10,000-vertex target with 100 poses makes 24 MB")),
 )]
 pub struct TransferArgs {
     #[command(flatten)]
@@ -384,9 +385,6 @@ pub struct TransferArgs {
     /// 0), without the animation.
     #[arg(long, requires = "gltf")]
     pub gltf_shapes: bool,
-    /// Frame rate of the glTF animation and of the GIF.
-    #[arg(long, default_value_t = 25.0, value_name = "FPS", value_parser = frame_rate)]
-    pub fps: f64,
     #[command(flatten)]
     pub pictures: PictureArgs,
     /// Source poses: new positions for the source reference's vertices, with
@@ -622,7 +620,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     warnings.extend(read_warnings);
     warnings.extend(output::gif_rate_warning(
         args.pictures.gif.is_some(),
-        args.fps,
+        args.pictures.draw.fps,
     ));
     let reordered_pose_faces = poses.iter().map(|(_, reordered, _)| reordered).sum();
     let Prepared {
@@ -688,7 +686,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     files_written.extend(outputs.iter().cloned());
     let names: Vec<String> = outputs.iter().map(|p| crate::gltf::mesh_name(p)).collect();
     let options = GltfOptions::default()
-        .with_fps(args.fps)
+        .with_fps(args.pictures.draw.fps)
         .with_animation(!args.gltf_shapes)
         .with_name(crate::gltf::mesh_name(&args.refs.target_ref));
     let mut gltf = None;
@@ -708,12 +706,18 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     if args.pictures.any() {
         let source_poses: Vec<&[[f64; 3]]> = poses.iter().map(|(p, _, _)| p.positions()).collect();
         let target_poses: Vec<&[[f64; 3]]> = results.iter().map(Vec::as_slice).collect();
+        let pose_names: Vec<String> = args
+            .poses
+            .iter()
+            .map(|p| crate::gltf::mesh_name(p))
+            .collect();
+        let target_name = crate::gltf::mesh_name(&args.refs.target_ref);
         files_written.extend(pictures.write(&staging, &args.pictures, |staged| {
             crate::pictures::write_transfer_pictures(
                 staged,
-                args.fps,
                 (source.triangles(), &source_poses),
                 (target.triangles(), &target_poses),
+                (&pose_names, &target_name),
             )
             .map(|_| ())
         })?);
@@ -947,6 +951,7 @@ impl PictureOutputs {
                 draw(&crate::pictures::PictureArgs {
                     png: Some(path.to_path_buf()),
                     gif: None,
+                    draw: args.draw.clone(),
                 })
             })?;
             written.push(png.clone());
@@ -956,6 +961,7 @@ impl PictureOutputs {
                 draw(&crate::pictures::PictureArgs {
                     png: None,
                     gif: Some(path.to_path_buf()),
+                    draw: args.draw.clone(),
                 })
             })?;
             written.push(gif.clone());
@@ -1151,12 +1157,17 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         })?;
         files_written.push(path.clone());
     }
+    let names = (
+        crate::gltf::mesh_name(&args.refs.source_ref),
+        crate::gltf::mesh_name(&args.refs.target_ref),
+    );
     files_written.extend(pictures.write(&staging, &args.pictures, |staged| {
         crate::pictures::write_correspondence_pictures(
             staged,
             (source.triangles(), &[source.positions()]),
             result.deformed_source.positions(),
             (target.triangles(), &[target.positions()]),
+            (&names.0, &names.1),
         )
         .map(|_| ())
     })?);

@@ -588,7 +588,7 @@ fn a_file_that_cannot_be_read_is_named_once_with_its_role() {
     edit_lines(&p.tgt, |l| l[4] = "v 1.0 NaN 0".into());
     let err = p.interpolate_fails(&[]);
     let named = format!("`{}`", shown(&p.tgt));
-    assert_mentions(&err, &[&format!("reading target mesh {named}, line 5: ")]);
+    assert_mentions(&err, &[&format!("reading key 1 {named}, line 5: ")]);
     assert_eq!(err.matches(&named).count(), 1, "{err}");
 
     let rig = Rig::new();
@@ -767,7 +767,7 @@ fn interpolate_missing_file() {
     let p = Pair::bar();
     fs::remove_file(&p.tgt).unwrap();
     let err = p.interpolate_fails(&[]);
-    assert_mentions(&err, &[&shown(&p.tgt), "target mesh"]);
+    assert_mentions(&err, &[&shown(&p.tgt), "key 1"]);
     // The operating system's message once, not repeated by the error chain.
     assert_eq!(err.matches("os error").count(), 1, "{err}");
 }
@@ -1199,13 +1199,14 @@ fn animation_times(glb: &Path) -> Vec<f32> {
 }
 
 /// `blend --fps` sets the frame rate of the GLB's animation (and of the
-/// GIF), as `interpolate --fps` does; 12 frames a second without it.
+/// GIF), as `interpolate --fps` does; 25 frames a second without it, as
+/// for every command.
 #[test]
 fn blend_plays_its_animation_at_fps() {
     let dir = tempfile::tempdir().unwrap();
     let (paths, _) = tube_keys(dir.path());
     let out = dir.path().join("blend.obj");
-    for (fps, extra) in [(12.0, None), (6.0, Some("6")), (30.0, Some("30"))] {
+    for (fps, extra) in [(25.0, None), (6.0, Some("6")), (30.0, Some("30"))] {
         let glb = dir.path().join(format!("blend{fps}.glb"));
         let gif = dir.path().join(format!("blend{fps}.gif"));
         let mut args = vec![

@@ -1,5 +1,6 @@
 //! [`Canvas`]: an indexed-colour picture with drawing primitives.
 
+use super::font::{glyph, ADVANCE, GLYPH_HEIGHT, GLYPH_WIDTH};
 use super::palette::{slot, Palette};
 use super::raster::{self, Clip};
 use super::style::Style2d;
@@ -100,6 +101,42 @@ impl Canvas {
         raster::draw_line(a, b, &clip, |x, y, _| pixels[y * w + x] = index);
     }
 
+    /// Writes `text` in the built-in 5 × 7 font with its top-left corner at
+    /// `(x, y)`, each font pixel `scale` × `scale` pixels (at least 1), in
+    /// palette entry `index`; a character outside printable ASCII is drawn
+    /// as `?`. Pixels outside the canvas are skipped.
+    pub fn draw_text(&mut self, x: u32, y: u32, text: &str, scale: u32, index: u8) {
+        let scale = scale.max(1);
+        let mut left = x;
+        for c in text.chars() {
+            for (r, bits) in glyph(c).iter().enumerate() {
+                for col in 0..GLYPH_WIDTH {
+                    if bits >> (GLYPH_WIDTH - 1 - col) & 1 == 1 {
+                        let square = Rect {
+                            x: left.saturating_add(col * scale),
+                            y: y.saturating_add(r as u32 * scale),
+                            width: scale,
+                            height: scale,
+                        };
+                        self.fill_rect(square, index);
+                    }
+                }
+            }
+            left = left.saturating_add(ADVANCE * scale);
+        }
+    }
+
+    /// The width and height in pixels of `text` written by
+    /// [`Canvas::draw_text`] at `scale`.
+    pub fn text_size(text: &str, scale: u32) -> (u32, u32) {
+        let scale = scale.max(1);
+        let n = text.chars().count() as u32;
+        (
+            (n * ADVANCE).saturating_sub(1) * scale,
+            GLYPH_HEIGHT * scale,
+        )
+    }
+
     /// The canvas as `r, g, b` bytes, rows top to bottom.
     pub fn to_rgb(&self) -> Vec<u8> {
         self.pixels
@@ -152,5 +189,24 @@ mod tests {
         assert_eq!(c.get(10, 0), None);
         assert_eq!(c.get(0, 0), Some(3));
         assert_eq!(c.to_rgb().len(), 180);
+    }
+
+    #[test]
+    fn text_is_drawn_in_its_box_at_its_scale() {
+        let mut c = Canvas::new(40, 20, Palette::standard());
+        c.draw_text(2, 3, "Hi", 2, slot::BLACK);
+        assert_eq!(Canvas::text_size("Hi", 2), (22, 14));
+        // Inside the box only; 'H' is 17 font pixels, 'i' 9.
+        for y in 0..20 {
+            for x in 0..40 {
+                let inside = (2..24).contains(&x) && (3..17).contains(&y);
+                assert!(inside || c.get(x, y) == Some(slot::BACKGROUND), "{x} {y}");
+            }
+        }
+        assert_eq!(c.count(slot::BLACK), (17 + 9) * 4);
+        // Clipped at the edges, not wrapped.
+        c.draw_text(36, 15, "W", 3, slot::GREY);
+        assert!(c.count(slot::GREY) > 0);
+        assert_eq!(Canvas::text_size("", 1), (0, 7));
     }
 }

@@ -2,7 +2,8 @@
 //! animation of a planar mesh ([`write_gif_2d`]).
 
 use std::borrow::Cow;
-use std::io;
+use std::collections::{BTreeMap, HashMap};
+use std::io::{self, Read, Seek, SeekFrom, Write};
 use std::path::Path;
 use std::time::Duration;
 
@@ -25,6 +26,11 @@ pub struct GifOptions {
     /// Picture height in pixels; `None` (the default) follows the aspect
     /// ratio of the animation's bounds (see [`View2d::fitting`]).
     pub height: Option<u32>,
+    /// The longer side of the picture in pixels, the other following the
+    /// aspect ratio of the animation's bounds: a tall animation gets a
+    /// narrower picture rather than a taller one. When set, `width` and
+    /// `height` are not used; `None` (the default) keeps them.
+    pub longest_side: Option<u32>,
     /// Background pixels kept around the mesh (16).
     pub margin_px: u32,
     /// Frames per second (25). GIF delays are whole hundredths of a second
@@ -50,6 +56,7 @@ impl Default for GifOptions {
         GifOptions {
             width: 640,
             height: None,
+            longest_side: None,
             margin_px: 16,
             fps: 25.0,
             hold_ends: Duration::from_millis(500),
@@ -97,14 +104,14 @@ impl GifOptions {
 /// (at least 2/100 s each: browsers slow down shorter ones). Only the
 /// rectangle that changed from the previous picture is stored, and a
 /// picture equal to the previous one just lengthens its display time. The
-/// pictures are consumed one at a time, so an animation can be rendered as
-/// it is written.
+/// pictures are consumed a few at a time and compressed in parallel, so an
+/// animation can be rendered as it is written.
 ///
 /// # Errors
 /// [`Error::InvalidArgument`] for a size of 0 or above 65535 or no
 /// pictures; [`Error::Io`] when writing fails or a picture does not have
 /// `width * height` pixels.
-pub fn write_gif<P: AsRef<[u8]>>(
+pub fn write_gif<P: AsRef<[u8]> + Sync>(
     path: &Path,
     width: u32,
     height: u32,
@@ -112,6 +119,42 @@ pub fn write_gif<P: AsRef<[u8]>>(
     loop_forever: bool,
     frames: impl IntoIterator<Item = (P, Duration)>,
 ) -> Result<()> {
+    let (w, h) = gif_size(width, height)?;
+    let mut frames = frames.into_iter().peekable();
+    if frames.peek().is_none() {
+        return Err(Error::InvalidArgument(
+            "an animation needs at least one picture".into(),
+        ));
+    }
+    crate::io::write_atomic(path, |out| {
+        let mut sequence = Sequence::new(out, w, h, palette, loop_forever)?;
+        let mut last: Option<P> = None;
+        loop {
+            let batch: Vec<(P, Duration)> = frames.by_ref().take(batch_len()).collect();
+            if batch.is_empty() {
+                break;
+            }
+            let encoded: Vec<Encoded> = (0..batch.len())
+                .into_par_iter()
+                .map(|i| {
+                    let prev = match i {
+                        0 => last.as_ref().map(AsRef::as_ref),
+                        _ => Some(batch[i - 1].0.as_ref()),
+                    };
+                    Encoded::new(prev, batch[i].0.as_ref(), w, h)
+                })
+                .collect::<io::Result<_>>()?;
+            for (e, (_, duration)) in encoded.into_iter().zip(&batch) {
+                sequence.push(e, *duration)?;
+            }
+            last = batch.into_iter().last().map(|(p, _)| p);
+        }
+        sequence.finish()
+    })
+}
+
+/// The size of a GIF as its header holds it.
+fn gif_size(width: u32, height: u32) -> Result<(u16, u16)> {
     let (Ok(w), Ok(h)) = (u16::try_from(width), u16::try_from(height)) else {
         return Err(Error::InvalidArgument(format!(
             "a GIF of {width} × {height} pixels is too large (65535 at most)"
@@ -122,69 +165,290 @@ pub fn write_gif<P: AsRef<[u8]>>(
             "a GIF of {width} × {height} pixels is empty"
         )));
     }
-    let mut frames = frames.into_iter().peekable();
-    if frames.peek().is_none() {
+    Ok((w, h))
+}
+
+/// How many pictures are drawn or compressed at once: enough to keep every
+/// thread busy, few enough to hold.
+fn batch_len() -> usize {
+    (2 * rayon::current_num_threads()).max(4)
+}
+
+/// Writes an animated GIF of `count` frames, each drawn once by `draw` (a
+/// `width * height` picture of indices into `palette`), shown per
+/// `options`' [`schedule`](GifOptions::schedule).
+///
+/// Frames are drawn and compressed in parallel, a few at a time in order.
+/// Each frame is compressed once: the rectangle holding its changes from
+/// every frame the schedule shows just before it (on the way there and, in
+/// a boomerang, on the way back), so that every showing stores the same
+/// data. A frame shown again later is kept compressed (on disk beyond a few
+/// megabytes) until its turn. The file is the same whatever the number of
+/// threads.
+fn write_drawn(
+    path: &Path,
+    (width, height): (u32, u32),
+    palette: &Palette,
+    options: &GifOptions,
+    count: usize,
+    draw: impl Fn(usize) -> Vec<u8> + Sync,
+) -> Result<()> {
+    let (w, h) = gif_size(width, height)?;
+    let schedule = options.schedule(count);
+    if schedule.is_empty() {
         return Err(Error::InvalidArgument(
             "an animation needs at least one picture".into(),
         ));
     }
-    let colors = palette.to_bytes();
+    let order: Vec<usize> = schedule.iter().map(|s| s.0).collect();
+    let mut showings: Vec<Vec<usize>> = vec![Vec::new(); count];
+    for (j, &k) in order.iter().enumerate() {
+        showings[k].push(j);
+    }
+    // The last frame to draw before frame `k` can be compressed: the
+    // schedule steps one frame at a time, so it is `k` or `k + 1`.
+    let needs = |k: usize| {
+        showings[k]
+            .iter()
+            .filter(|&&j| j > 0)
+            .map(|&j| order[j - 1])
+            .fold(k, usize::max)
+    };
+    debug_assert!((1..order.len()).all(|j| order[j].abs_diff(order[j - 1]) <= 1));
     crate::io::write_atomic(path, |out| {
-        let mut enc = ::gif::Encoder::new(out, w, h, &colors).map_err(gif_error)?;
-        if loop_forever {
-            enc.set_repeat(::gif::Repeat::Infinite).map_err(gif_error)?;
-        }
-        let n = usize::from(w) * usize::from(h);
-        let mut prev: Vec<u8> = Vec::new();
-        let mut pending: Option<::gif::Frame<'static>> = None;
-        let (mut elapsed, mut shown_cs) = (Duration::ZERO, 0u64);
-        for (pixels, duration) in frames {
-            let pixels = pixels.as_ref();
-            if pixels.len() != n {
-                return Err(io::Error::new(
-                    io::ErrorKind::InvalidInput,
-                    format!(
-                        "a picture of {} pixels in a {width} × {height} GIF",
-                        pixels.len()
-                    ),
-                ));
+        let mut sequence = Sequence::new(out, w, h, palette, options.loop_forever)?;
+        let mut store = Store::new(order.len());
+        let mut drawn: BTreeMap<usize, Vec<u8>> = BTreeMap::new();
+        let (mut compressed, mut next) = (0, 0);
+        let batch = batch_len();
+        for first in (0..count).step_by(batch) {
+            let end = (first + batch).min(count);
+            let new: Vec<Vec<u8>> = (first..end).into_par_iter().map(&draw).collect();
+            drawn.extend((first..end).zip(new));
+            let ready = (compressed..count)
+                .find(|&k| needs(k) >= end)
+                .unwrap_or(count);
+            let frames: Vec<Compressed> = (compressed..ready)
+                .into_par_iter()
+                .map(|k| Compressed::new(k, &drawn, &order, &showings[k], (w, h)))
+                .collect::<io::Result<_>>()?;
+            for (k, frame) in (compressed..ready).zip(frames) {
+                store.put(k, frame)?;
             }
-            elapsed += duration;
-            let end_cs = (elapsed.as_secs_f64() * 100.0).round() as u64;
-            let delay = end_cs.saturating_sub(shown_cs).max(2);
-            shown_cs += delay;
-            match changed_rect(&prev, pixels, width as usize) {
-                None => {
-                    if let Some(f) = &mut pending {
-                        // The same picture again: show the last one longer,
-                        // starting a new frame if its delay would overflow.
-                        let total = u64::from(f.delay) + delay;
-                        if total <= u64::from(u16::MAX) {
-                            f.delay = total as u16;
-                            continue;
-                        }
-                    }
-                    let f = pending.replace(sub_frame(pixels, width as usize, [0, 0, 1, 1], delay));
-                    if let Some(f) = f {
-                        enc.write_frame(&f).map_err(gif_error)?;
-                    }
-                }
-                Some(rect) => {
-                    if let Some(f) = pending.replace(sub_frame(pixels, width as usize, rect, delay))
-                    {
-                        enc.write_frame(&f).map_err(gif_error)?;
-                    }
-                    prev.clear();
-                    prev.extend_from_slice(pixels);
-                }
+            compressed = ready;
+            drawn.retain(|&k, _| k + 1 >= compressed);
+            while next < order.len() {
+                let Some(picture) = store.take(order[next], next)? else {
+                    break;
+                };
+                sequence.push(picture, schedule[next].1)?;
+                next += 1;
             }
         }
-        if let Some(f) = pending {
-            enc.write_frame(&f).map_err(gif_error)?;
-        }
-        enc.into_inner().map_err(gif_error)?;
-        Ok(())
+        debug_assert_eq!(next, order.len());
+        sequence.finish()
     })
+}
+
+/// A frame compressed for every showing of it: the rectangle holding its
+/// changes from each picture shown just before it, LZW-encoded, and which
+/// showings change nothing.
+struct Compressed {
+    frame: ::gif::Frame<'static>,
+    /// The showings (indices into the schedule) and whether each shows the
+    /// same picture as the one before it.
+    unchanged: Vec<(usize, bool)>,
+}
+
+impl Compressed {
+    fn new(
+        k: usize,
+        drawn: &BTreeMap<usize, Vec<u8>>,
+        order: &[usize],
+        showings: &[usize],
+        (w, h): (u16, u16),
+    ) -> io::Result<Self> {
+        let width = usize::from(w);
+        let pixels = &drawn[&k];
+        check_len(pixels, w, h)?;
+        let mut union: Option<[usize; 4]> = None;
+        let mut unchanged = Vec::with_capacity(showings.len());
+        for &j in showings {
+            let before: &[u8] = if j == 0 { &[] } else { &drawn[&order[j - 1]] };
+            let rect = changed_rect(before, pixels, width);
+            unchanged.push((j, rect.is_none()));
+            union = match (union, rect) {
+                (Some(a), Some(b)) => Some([
+                    a[0].min(b[0]),
+                    a[1].min(b[1]),
+                    a[2].max(b[2]),
+                    a[3].max(b[3]),
+                ]),
+                (a, b) => a.or(b),
+            };
+        }
+        let mut frame = sub_frame(pixels, width, union.unwrap_or([0, 0, 1, 1]), 0);
+        frame.make_lzw_pre_encoded();
+        Ok(Compressed { frame, unchanged })
+    }
+}
+
+/// Refuses a picture that does not have `w * h` pixels.
+fn check_len(pixels: &[u8], w: u16, h: u16) -> io::Result<()> {
+    if pixels.len() == usize::from(w) * usize::from(h) {
+        Ok(())
+    } else {
+        Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("a picture of {} pixels in a {w} × {h} GIF", pixels.len()),
+        ))
+    }
+}
+
+/// A picture compressed for the GIF: the rectangle that changed from the
+/// picture before it (the whole picture for the first), LZW-encoded; or,
+/// when nothing changed, its top-left pixel (written only when the
+/// previous frame's delay cannot grow any longer).
+struct Encoded {
+    unchanged: bool,
+    frame: ::gif::Frame<'static>,
+}
+
+impl Encoded {
+    fn new(prev: Option<&[u8]>, pixels: &[u8], w: u16, h: u16) -> io::Result<Self> {
+        check_len(pixels, w, h)?;
+        let width = usize::from(w);
+        let rect = changed_rect(prev.unwrap_or_default(), pixels, width);
+        let mut frame = sub_frame(pixels, width, rect.unwrap_or([0, 0, 1, 1]), 0);
+        frame.make_lzw_pre_encoded();
+        Ok(Encoded {
+            unchanged: rect.is_none(),
+            frame,
+        })
+    }
+}
+
+/// The frames of a GIF as they are written: delays rounded keeping the
+/// total right, a picture equal to the one before lengthening its delay.
+struct Sequence<W: io::Write> {
+    encoder: ::gif::Encoder<W>,
+    pending: Option<::gif::Frame<'static>>,
+    elapsed: Duration,
+    shown_cs: u64,
+}
+
+impl<W: io::Write> Sequence<W> {
+    fn new(out: W, w: u16, h: u16, palette: &Palette, loop_forever: bool) -> io::Result<Self> {
+        let mut encoder = ::gif::Encoder::new(out, w, h, &palette.to_bytes()).map_err(gif_error)?;
+        if loop_forever {
+            encoder
+                .set_repeat(::gif::Repeat::Infinite)
+                .map_err(gif_error)?;
+        }
+        Ok(Sequence {
+            encoder,
+            pending: None,
+            elapsed: Duration::ZERO,
+            shown_cs: 0,
+        })
+    }
+
+    /// Shows `picture` for `duration` after the pictures before it.
+    fn push(&mut self, picture: Encoded, duration: Duration) -> io::Result<()> {
+        self.elapsed += duration;
+        let end_cs = (self.elapsed.as_secs_f64() * 100.0).round() as u64;
+        let delay = end_cs.saturating_sub(self.shown_cs).max(2);
+        self.shown_cs += delay;
+        if picture.unchanged {
+            if let Some(f) = &mut self.pending {
+                // The same picture again: show the last one longer,
+                // starting a new frame if its delay would overflow.
+                let total = u64::from(f.delay) + delay;
+                if total <= u64::from(u16::MAX) {
+                    f.delay = total as u16;
+                    return Ok(());
+                }
+            }
+        }
+        let mut frame = picture.frame;
+        frame.delay = delay.min(u64::from(u16::MAX)) as u16;
+        if let Some(f) = self.pending.replace(frame) {
+            self.encoder
+                .write_lzw_pre_encoded_frame(&f)
+                .map_err(gif_error)?;
+        }
+        Ok(())
+    }
+
+    fn finish(mut self) -> io::Result<()> {
+        if let Some(f) = self.pending.take() {
+            self.encoder
+                .write_lzw_pre_encoded_frame(&f)
+                .map_err(gif_error)?;
+        }
+        self.encoder.into_inner().map_err(gif_error)?;
+        Ok(())
+    }
+}
+
+/// Compressed frames waiting for their showings, in memory up to
+/// [`Store::IN_MEMORY`] bytes, then in a temporary file.
+struct Store {
+    file: tempfile::SpooledTempFile,
+    /// Each frame's header (without its data), where its data is, and how
+    /// many showings it has left.
+    frames: HashMap<usize, (::gif::Frame<'static>, u64, usize, usize)>,
+    /// Whether each showing shows the same picture as the one before.
+    unchanged: Vec<bool>,
+    end: u64,
+}
+
+impl Store {
+    const IN_MEMORY: usize = 16 << 20;
+
+    fn new(showings: usize) -> Self {
+        Store {
+            file: tempfile::spooled_tempfile(Self::IN_MEMORY),
+            frames: HashMap::new(),
+            unchanged: vec![false; showings],
+            end: 0,
+        }
+    }
+
+    fn put(&mut self, k: usize, compressed: Compressed) -> io::Result<()> {
+        let mut frame = compressed.frame;
+        let data = std::mem::take(frame.buffer.to_mut());
+        self.file.seek(SeekFrom::Start(self.end))?;
+        self.file.write_all(&data)?;
+        for &(j, same) in &compressed.unchanged {
+            self.unchanged[j] = same;
+        }
+        let showings = compressed.unchanged.len();
+        self.frames
+            .insert(k, (frame, self.end, data.len(), showings));
+        self.end += data.len() as u64;
+        Ok(())
+    }
+
+    /// Frame `k` for its showing `j`, if it has been compressed.
+    fn take(&mut self, k: usize, j: usize) -> io::Result<Option<Encoded>> {
+        let Some((frame, at, len, left)) = self.frames.get_mut(&k) else {
+            return Ok(None);
+        };
+        let mut data = vec![0; *len];
+        self.file.seek(SeekFrom::Start(*at))?;
+        self.file.read_exact(&mut data)?;
+        let mut frame = frame.clone();
+        frame.buffer = Cow::Owned(data);
+        *left -= 1;
+        if *left == 0 {
+            self.frames.remove(&k);
+        }
+        Ok(Some(Encoded {
+            unchanged: self.unchanged[j],
+            frame,
+        }))
+    }
 }
 
 fn gif_error(e: ::gif::EncodingError) -> io::Error {
@@ -248,7 +512,8 @@ fn sub_frame(
 /// frame is drawn with [`draw_mesh_2d`](super::draw_mesh_2d) (flipped
 /// triangles in the warning colour, edges per [`Style2d::edges`], decided
 /// once for all frames) and the frames are shown per
-/// [`GifOptions::schedule`]. Frames are drawn as they are written.
+/// [`GifOptions::schedule`]. Frames are drawn as they are written, a few
+/// at a time on every thread, each once however often it is shown.
 ///
 /// # Errors
 /// [`Error::InvalidArgument`] for no frames or a bad size,
@@ -265,8 +530,8 @@ pub fn write_gif_2d<F: AsRef<[[f64; 2]]> + Sync>(
 }
 
 /// [`write_gif_2d`] with frames produced on demand: each frame is asked for
-/// once to fit the view (in parallel) and once for each time the schedule
-/// shows it; only the frame being drawn is held.
+/// once to fit the view and once to draw it (in parallel); only the frames
+/// being drawn are held.
 ///
 /// # Errors
 /// As [`write_gif_2d`].
@@ -307,7 +572,14 @@ pub fn write_gif_2d_frames<S: FrameSource<2> + ?Sized>(
     };
     // Drawn `s` times larger, then reduced: anti-aliased.
     let s = options.supersample.clamp(1, 8);
-    let size = fit(options.width, options.height, options.margin_px);
+    let size = match options.longest_side {
+        Some(side) => View2d::fitting_longest(
+            corners.iter().map(|c| c.as_slice()),
+            side,
+            options.margin_px,
+        ),
+        None => fit(options.width, options.height, options.margin_px),
+    };
     let (width, height) = (size.width, size.height);
     let view = fit(
         width.saturating_mul(s),
@@ -317,11 +589,10 @@ pub fn write_gif_2d_frames<S: FrameSource<2> + ?Sized>(
     let edges = EdgeSets::new(triangles, vertices);
     let smallest = summaries.iter().map(|s| s.2).fold(f64::INFINITY, f64::min);
     let mode = style.resolve_edges(smallest, view.scale / f64::from(s));
-    let mut canvas = Canvas::with_style(view.width, view.height, style);
-    let palette = canvas.palette.clone();
-    let mut scratch = Default::default();
-    let pictures = options.schedule(count).into_iter().map(|(i, duration)| {
-        canvas.clear(super::palette::slot::BACKGROUND);
+    let palette = Palette::standard().with_style(style);
+    write_drawn(path, (width, height), &palette, options, count, |i| {
+        let mut canvas = Canvas::new(view.width, view.height, palette.clone());
+        let mut scratch = Default::default();
         frames.with_frame(i, &mut |f| {
             draw_prepared(
                 &mut canvas,
@@ -335,21 +606,12 @@ pub fn write_gif_2d_frames<S: FrameSource<2> + ?Sized>(
                 s,
             )
         });
-        let pixels = if s == 1 {
-            canvas.pixels.clone()
+        if s == 1 {
+            canvas.pixels
         } else {
             super::resample::downsample(&canvas, s, width, height).pixels
-        };
-        (pixels, duration)
-    });
-    write_gif(
-        path,
-        width,
-        height,
-        &palette,
-        options.loop_forever,
-        pictures,
-    )
+        }
+    })
 }
 
 /// Writes an animation of meshes in space laid out in grids: picture `k`
@@ -396,12 +658,14 @@ pub fn write_gif_grid(
         .max()
         .unwrap_or(0)
         .max(1);
-    let (w, h) = layout.size();
-    let pictures = options
-        .schedule(frames.len())
-        .into_iter()
-        .map(|(i, duration)| (layout.render(&frames[i]).pixels, duration));
-    write_gif(path, w, h, &layout.palette, options.loop_forever, pictures)
+    write_drawn(
+        path,
+        layout.size(),
+        &layout.palette,
+        options,
+        frames.len(),
+        |i| layout.render(&frames[i]).pixels,
+    )
 }
 
 /// Writes an animated GIF of a mesh in space moving through `frames`, one
@@ -409,8 +673,8 @@ pub fn write_gif_grid(
 /// `grid.direction` (one cell of `grid`'s size), fitted once over every
 /// frame so that it stays still; the frames are shown per
 /// [`GifOptions::schedule`]. Frames are produced on demand: each is asked
-/// for once to fit the camera (in parallel) and once for each time the
-/// schedule shows it; only the frame being drawn is held.
+/// for once to fit the camera and once to draw it (in parallel); only the
+/// frames being drawn are held.
 ///
 /// # Errors
 /// [`Error::InvalidArgument`] for no frames or a picture too large for a
@@ -443,20 +707,16 @@ pub fn write_gif_3d_frames<S: FrameSource<3> + ?Sized>(
     }];
     let mut layout = GridLayout::fit(&fitted, grid);
     layout.columns = 1;
-    let (w, h) = layout.size();
-    let pictures = options.schedule(count).into_iter().map(|(i, duration)| {
-        let mut pixels = Vec::new();
-        frames.with_frame(i, &mut |f| {
+    write_drawn(path, layout.size(), &layout.palette, options, count, |i| {
+        map_frame(frames, i, |f| {
             let row = GridRow {
                 triangles,
                 poses: vec![f],
                 style,
             };
-            pixels = layout.render(&[row]).pixels;
-        });
-        (pixels, duration)
-    });
-    write_gif(path, w, h, &layout.palette, options.loop_forever, pictures)
+            layout.render(&[row]).pixels
+        })
+    })
 }
 
 /// The finite points of `points` lowest and highest along each of the
@@ -591,9 +851,10 @@ mod tests {
             std::fs::read(&held).unwrap(),
             std::fs::read(&streamed).unwrap()
         );
-        // Once to fit, then once per picture of the schedule.
+        // Once to fit, then once to draw (a frame shown twice is drawn
+        // once).
         let asked = source.1.into_inner();
-        assert_eq!(asked, 3 + options.schedule(3).len());
+        assert_eq!(asked, 3 + 3);
         // In the plane: the same pictures as frames in memory give.
         let (_, t) = bar(8, 0.0);
         let planar: Vec<Vec<[f64; 2]>> = (0..4).map(|k| bar(8, 0.6 * f64::from(k)).0).collect();
@@ -604,7 +865,67 @@ mod tests {
             std::fs::read(&held).unwrap(),
             std::fs::read(&streamed).unwrap()
         );
-        assert_eq!(source.1.into_inner(), 4 + options.schedule(4).len());
+        assert_eq!(source.1.into_inner(), 4 + 4);
+    }
+
+    /// `f` run on a pool of `threads` threads.
+    fn on_threads<R: Send>(threads: usize, f: impl FnOnce() -> R + Send) -> R {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(f)
+    }
+
+    #[test]
+    fn frames_drawn_in_parallel_make_the_file_one_thread_makes() {
+        let dir = tempfile::tempdir().unwrap();
+        let tube = crate::shapes::tube(4.0, 0.3, 17, 8);
+        // More frames than a batch, so that frames shown on the way back
+        // wait for their turn across batches.
+        let frames: Vec<Vec<[f64; 3]>> = (0..23)
+            .map(|k| {
+                let a = 0.15 * f64::from(k);
+                crate::shapes::bend(&tube, 4.0, a).positions().to_vec()
+            })
+            .collect();
+        let grid = GridOptions {
+            longest_side: Some(96),
+            supersample: 2,
+            ..GridOptions::default()
+        };
+        let (_, t) = bar(8, 0.0);
+        let planar: Vec<Vec<[f64; 2]>> = (0..23).map(|k| bar(8, 0.1 * f64::from(k)).0).collect();
+        let write = |threads: usize, name: &str, options: &GifOptions| {
+            let space = dir.path().join(format!("{name}-space.gif"));
+            let plane = dir.path().join(format!("{name}-plane.gif"));
+            on_threads(threads, || {
+                let style = Style3d::default();
+                write_gif_3d_frames(&space, &frames, tube.triangles(), style, &grid, options)
+                    .unwrap();
+                write_gif_2d(&plane, &planar, &t, options, &Style2d::default()).unwrap();
+            });
+            (std::fs::read(space).unwrap(), std::fs::read(plane).unwrap())
+        };
+        for boomerang in [true, false] {
+            let options = GifOptions {
+                width: 120,
+                boomerang,
+                ..GifOptions::default()
+            };
+            let one = write(1, "one", &options);
+            for threads in [2, 3, 8] {
+                assert!(one == write(threads, "many", &options), "{threads} threads");
+            }
+            // Every showing decodes to the picture of its frame.
+            let (_, _, decoded) = decode(&dir.path().join("many-plane.gif"));
+            let shown: Vec<usize> = options.schedule(23).iter().map(|s| s.0).collect();
+            assert_eq!(decoded.len(), shown.len());
+            for (j, &k) in shown.iter().enumerate() {
+                let first = shown.iter().position(|&f| f == k).unwrap();
+                assert!(decoded[j].1 == decoded[first].1, "showing {j} of frame {k}");
+            }
+        }
     }
 
     #[test]

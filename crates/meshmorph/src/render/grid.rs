@@ -3,7 +3,8 @@
 //! poses of a deformation transfer).
 
 use super::canvas::Canvas;
-use super::palette::Palette;
+use super::font::{ADVANCE, GLYPH_HEIGHT};
+use super::palette::{slot, Palette};
 use super::shade3d::{draw_mesh_3d, Camera3d, Style3d};
 use super::Rect;
 
@@ -29,6 +30,12 @@ pub struct GridOptions {
     /// the shape of the tallest row, between a quarter and twice the
     /// width, even.
     pub cell_height: Option<u32>,
+    /// The longer side of a cell in pixels, the other following the shape
+    /// of the tallest row (between a quarter and twice the width, even):
+    /// a tall mesh gets a narrower cell rather than a taller one. When
+    /// set, `cell_width` and `cell_height` are not used; `None` (the
+    /// default) keeps them.
+    pub longest_side: Option<u32>,
     /// Background pixels kept around the mesh inside each cell (12).
     pub margin_px: u32,
     /// The direction every camera looks in ([`Camera3d::orbit`]`(30, 20)`
@@ -41,6 +48,13 @@ pub struct GridOptions {
     /// Anti-aliasing: each pixel is the mean of `supersample²` samples (3;
     /// 1 for none).
     pub supersample: u32,
+    /// A band above each cell's view for its caption ([`GridLayout::caption`]),
+    /// its height following the cell's size (false).
+    pub captions: bool,
+    /// A grid of one column whose cells are taller than wide lays its rows
+    /// side by side instead (false): two tall meshes read better next to
+    /// each other than as a tall strip.
+    pub tall_rows_side_by_side: bool,
 }
 
 impl Default for GridOptions {
@@ -49,11 +63,14 @@ impl Default for GridOptions {
         GridOptions {
             cell_width: 320,
             cell_height: None,
+            longest_side: None,
             margin_px: 12,
             direction: cam.forward,
             up: cam.up,
             palette: Palette::standard(),
             supersample: 3,
+            captions: false,
+            tall_rows_side_by_side: false,
         }
     }
 }
@@ -78,6 +95,11 @@ pub struct GridLayout {
     pub palette: Palette,
     /// Samples per pixel in each direction (anti-aliasing).
     pub supersample: u32,
+    /// The band above each cell's view for its caption, in pixels (0 for
+    /// none).
+    pub caption_px: u32,
+    /// See [`GridOptions::tall_rows_side_by_side`].
+    pub tall_rows_side_by_side: bool,
 }
 
 impl GridLayout {
@@ -91,32 +113,59 @@ impl GridLayout {
             .iter()
             .map(|r| base.fitted(r.poses.iter().copied()))
             .collect();
-        let cell_width = options.cell_width.max(1);
-        let margin = options.margin_px.min(cell_width.saturating_sub(1) / 2);
-        let cell_height = options.cell_height.map_or_else(
-            || {
-                let inner = f64::from(cell_width - 2 * margin);
-                let tallest = cameras
-                    .iter()
-                    .map(|c| 1.0 / c.aspect())
-                    .fold(0.0f64, f64::max);
-                let tallest = if tallest > 0.0 && tallest.is_finite() {
-                    tallest
+        let tallest = cameras
+            .iter()
+            .map(|c| 1.0 / c.aspect())
+            .fold(0.0f64, f64::max);
+        let tallest = if tallest > 0.0 && tallest.is_finite() {
+            tallest
+        } else {
+            1.0
+        };
+        // The height of a cell `width` wide that holds the tallest row.
+        let fitted_height = |width: u32| {
+            let margin = options.margin_px.min(width.saturating_sub(1) / 2);
+            let inner = f64::from(width - 2 * margin);
+            let lo = (width / 4).max(2 * margin + 2);
+            let hi = width.saturating_mul(2).max(lo);
+            let h = (inner * tallest + f64::from(2 * margin))
+                .ceil()
+                .clamp(f64::from(lo), f64::from(hi)) as u32;
+            h + h % 2
+        };
+        let (cell_width, cell_height) = match options.longest_side {
+            Some(side) => {
+                let side = side.max(1);
+                let height = fitted_height(side);
+                if height <= side {
+                    (side, height)
                 } else {
-                    1.0
-                };
-                let lo = (cell_width / 4).max(2 * margin + 2);
-                let hi = cell_width.saturating_mul(2).max(lo);
-                let h = (inner * tallest + f64::from(2 * margin))
-                    .ceil()
-                    .clamp(f64::from(lo), f64::from(hi)) as u32;
-                h + h % 2
-            },
-            |h| h.max(1),
-        );
+                    // Tall: the height is the side, the width what holds
+                    // the row at that height (at least half of it).
+                    let margin = options.margin_px.min(side.saturating_sub(1) / 2);
+                    let inner = f64::from(side - 2 * margin) / tallest;
+                    let w = ((inner + f64::from(2 * margin)).ceil() as u32).clamp(side / 2, side);
+                    (w.max(1), side)
+                }
+            }
+            None => {
+                let width = options.cell_width.max(1);
+                (
+                    width,
+                    options
+                        .cell_height
+                        .map_or_else(|| fitted_height(width), |h| h.max(1)),
+                )
+            }
+        };
+        let caption_px = if options.captions {
+            caption_scale(cell_width.max(cell_height)) * (GLYPH_HEIGHT + 6)
+        } else {
+            0
+        };
         GridLayout {
             cell_width,
-            cell_height,
+            cell_height: cell_height.saturating_add(caption_px),
             columns: rows
                 .iter()
                 .map(|r| r.poses.len() as u32)
@@ -127,23 +176,63 @@ impl GridLayout {
             cameras,
             palette: options.palette.clone(),
             supersample: options.supersample.clamp(1, 8),
+            caption_px,
+            tall_rows_side_by_side: options.tall_rows_side_by_side,
         }
+    }
+
+    /// Whether the rows are laid side by side (see
+    /// [`GridOptions::tall_rows_side_by_side`]).
+    pub fn transposed(&self) -> bool {
+        self.tall_rows_side_by_side
+            && self.columns == 1
+            && self.cameras.len() > 1
+            && self.cell_height > self.cell_width
+    }
+
+    /// Writes `text` in the caption band of the cell of pose `column` of
+    /// row `row` (dark grey on the background, shortened with `...` to the
+    /// cell's width); nothing without captions.
+    pub fn caption(&self, canvas: &mut Canvas, row: u32, column: u32, text: &str) {
+        if self.caption_px == 0 {
+            return;
+        }
+        let cell = self.cell(row, column);
+        let scale = caption_scale(self.cell_width.max(self.cell_height - self.caption_px));
+        let pad = 3 * scale;
+        let room = (cell.width.saturating_sub(2 * pad) / (ADVANCE * scale)) as usize;
+        let shown: String = if text.chars().count() <= room {
+            text.to_string()
+        } else {
+            let kept: String = text.chars().take(room.saturating_sub(3)).collect();
+            kept + "..."
+        };
+        canvas.draw_text(cell.x + pad, cell.y + pad, &shown, scale, slot::EDGE_3D);
     }
 
     /// Picture width and height in pixels.
     pub fn size(&self) -> (u32, u32) {
+        let (mut across, mut down) = (self.columns, self.cameras.len().max(1) as u32);
+        if self.transposed() {
+            std::mem::swap(&mut across, &mut down);
+        }
         (
-            self.cell_width.saturating_mul(self.columns),
-            self.cell_height
-                .saturating_mul(self.cameras.len().max(1) as u32),
+            self.cell_width.saturating_mul(across),
+            self.cell_height.saturating_mul(down),
         )
     }
 
-    /// The pixels of cell (`row`, `column`), margins included.
+    /// The pixels of the cell of pose `column` of row `row`, margins
+    /// included.
     pub fn cell(&self, row: u32, column: u32) -> Rect {
+        let (across, down) = if self.transposed() {
+            (row, column)
+        } else {
+            (column, row)
+        };
         Rect {
-            x: column.saturating_mul(self.cell_width),
-            y: row.saturating_mul(self.cell_height),
+            x: across.saturating_mul(self.cell_width),
+            y: down.saturating_mul(self.cell_height),
             width: self.cell_width,
             height: self.cell_height,
         }
@@ -161,13 +250,18 @@ impl GridLayout {
                 let m = self
                     .margin_px
                     .min(cell.width.min(cell.height).saturating_sub(1) / 2);
+                let band = self.caption_px.min(cell.height - 2 * m);
                 let inner = Rect {
                     x: (cell.x + m) * s,
-                    y: (cell.y + m) * s,
+                    y: (cell.y + band + m) * s,
                     width: (cell.width - 2 * m) * s,
-                    height: (cell.height - 2 * m) * s,
+                    height: (cell.height - band - 2 * m) * s,
                 };
-                draw_mesh_3d(&mut canvas, pose, row.triangles, camera, inner, &row.style);
+                let style = Style3d {
+                    dither_px: s,
+                    ..row.style
+                };
+                draw_mesh_3d(&mut canvas, pose, row.triangles, camera, inner, &style);
             }
         }
         if s == 1 {
@@ -175,6 +269,16 @@ impl GridLayout {
         } else {
             super::resample::downsample(&canvas, s, w, h)
         }
+    }
+}
+
+/// The scale of the caption font over a view whose longer side is `side`
+/// pixels: 2 from 360 pixels on, else 1.
+fn caption_scale(side: u32) -> u32 {
+    if side >= 360 {
+        2
+    } else {
+        1
     }
 }
 
@@ -246,5 +350,90 @@ mod tests {
         }
         let none = render_grid_3d(&[], &GridOptions::default());
         assert!(none.width > 0 && none.height > 0);
+    }
+
+    #[test]
+    fn captions_sit_in_their_band_and_tall_rows_stand_side_by_side() {
+        let (p, t) = super::super::shade3d::tests::cube();
+        let tall: Vec<[f64; 3]> = p.iter().map(|q| [q[0], 3.0 * q[1], q[2]]).collect();
+        let rows = [
+            GridRow {
+                triangles: &t,
+                poses: vec![tall.as_slice()],
+                style: Style3d::default(),
+            },
+            GridRow {
+                triangles: &t,
+                poses: vec![tall.as_slice()],
+                style: Style3d::with_ramp(Ramp::SAND),
+            },
+        ];
+        let options = GridOptions {
+            longest_side: Some(400),
+            captions: true,
+            tall_rows_side_by_side: true,
+            ..GridOptions::default()
+        };
+        let layout = GridLayout::fit(&rows, &options);
+        assert!(layout.transposed());
+        let (w, h) = layout.size();
+        assert_eq!((w, h), (2 * layout.cell_width, layout.cell_height));
+        assert_eq!(layout.cell(1, 0).x, layout.cell_width);
+        assert_eq!(layout.caption_px, 2 * 13);
+        let mut c = layout.render(&rows);
+        let band = |c: &Canvas, column: u32| {
+            let cell = layout.cell(column, 0);
+            (cell.x..cell.x + cell.width)
+                .flat_map(|x| (cell.y..cell.y + layout.caption_px).map(move |y| (x, y)))
+                .filter(|&(x, y)| c.get(x, y) != Some(slot::BACKGROUND))
+                .count()
+        };
+        // The meshes stay below the band; the caption is drawn in it.
+        assert_eq!((band(&c, 0), band(&c, 1)), (0, 0));
+        layout.caption(&mut c, 1, 0, "target: a tall cube");
+        assert_eq!(band(&c, 0), 0);
+        assert!(band(&c, 1) > 100);
+        // Without the option, the same rows stand one above the other.
+        let stacked = GridLayout::fit(
+            &rows,
+            &GridOptions {
+                tall_rows_side_by_side: false,
+                ..options
+            },
+        );
+        assert!(!stacked.transposed());
+        assert_eq!(stacked.size(), (w / 2, 2 * h));
+    }
+
+    #[test]
+    fn the_longest_side_holds_tall_and_wide_meshes() {
+        let (p, t) = super::super::shade3d::tests::cube();
+        let stretch = |s: [f64; 3]| -> Vec<[f64; 3]> {
+            p.iter()
+                .map(|q| std::array::from_fn(|k| q[k] * s[k]))
+                .collect()
+        };
+        let options = GridOptions {
+            longest_side: Some(200),
+            direction: [0.0, 0.0, -1.0],
+            up: [0.0, 1.0, 0.0],
+            margin_px: 10,
+            ..GridOptions::default()
+        };
+        let size = |pose: &[[f64; 3]]| {
+            let rows = [GridRow {
+                triangles: &t,
+                poses: vec![pose],
+                style: Style3d::default(),
+            }];
+            let layout = GridLayout::fit(&rows, &options);
+            (layout.cell_width, layout.cell_height)
+        };
+        // Four times as tall as wide: 200 high, 45 + 20 wide, raised to half.
+        assert_eq!(size(&stretch([1.0, 4.0, 1.0])), (100, 200));
+        let (w, h) = size(&stretch([1.0, 1.5, 1.0])); // 120 + 20 wide
+        assert_eq!((w, h), (140, 200));
+        // Twice as wide as tall: 200 wide, 90 + 20 high.
+        assert_eq!(size(&stretch([2.0, 1.0, 1.0])), (200, 110));
     }
 }

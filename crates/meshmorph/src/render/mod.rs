@@ -41,6 +41,7 @@
 //! ```
 
 mod canvas;
+mod font;
 mod gif;
 mod grid;
 mod mesh2d;

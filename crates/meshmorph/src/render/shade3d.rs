@@ -217,13 +217,22 @@ fn corner_normals(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[[f64; 
         .collect()
 }
 
-/// The threshold of pixel `(x, y)` in a 4 × 4 ordered (Bayer) dither, in
-/// `(0, 1)`.
-#[inline]
-fn bayer(x: usize, y: usize) -> f64 {
+/// The thresholds of a 4 × 4 ordered (Bayer) dither, in `(0, 1)`: pixel
+/// `(x, y)` takes `BAYER[y % 4][x % 4]`.
+const BAYER: [[f64; 4]; 4] = {
     const M: [[u8; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
-    (f64::from(M[y % 4][x % 4]) + 0.5) / 16.0
-}
+    let mut t = [[0.0; 4]; 4];
+    let mut y = 0;
+    while y < 4 {
+        let mut x = 0;
+        while x < 4 {
+            t[y][x] = (M[y][x] as f64 + 0.5) / 16.0;
+            x += 1;
+        }
+        y += 1;
+    }
+    t
+};
 
 fn normalized(v: [f64; 3]) -> Option<[f64; 3]> {
     let n = norm(v);
@@ -243,6 +252,11 @@ pub struct Style3d {
     pub light: [f64; 3],
     /// Brightness of surfaces facing away from the light, in `[0, 1]`.
     pub ambient: f64,
+    /// The side of the dither's cells in pixels (1). A picture drawn `n`
+    /// times larger and then reduced dithers in cells of `n`, so that the
+    /// samples of one pixel of the result agree inside a triangle (the
+    /// reduction keeps them exactly, and the result compresses well).
+    pub dither_px: u32,
 }
 
 impl Default for Style3d {
@@ -252,6 +266,7 @@ impl Default for Style3d {
             edges: None,
             light: [-0.45, 0.6, 0.65],
             ambient: 0.12,
+            dither_px: 1,
         }
     }
 }
@@ -292,6 +307,17 @@ pub fn draw_mesh_3d(
     viewport: Rect,
     style: &Style3d,
 ) {
+    // The dither's thresholds along each of its four kinds of row, for
+    // every column (no division per pixel).
+    let cell = style.dither_px.max(1) as usize;
+    let dither: Vec<Vec<f64>> = BAYER
+        .iter()
+        .map(|row| {
+            (0..canvas.width as usize)
+                .map(|x| row[(x / cell) % 4])
+                .collect()
+        })
+        .collect();
     let clip = canvas.clip(viewport);
     let vx0 = viewport.x.min(canvas.width) as usize;
     let vy0 = viewport.y.min(canvas.height) as usize;
@@ -340,8 +366,27 @@ pub fn draw_mesh_3d(
         .map(|c| c.map(|nn| ambient + (1.0 - ambient) * dot(nn, light).abs()))
         .collect();
     let levels = f64::from(style.ramp.len.max(1) - 1);
+    let top = u32::from(style.ramp.len.max(1) - 1);
     let first = style.ramp.first;
-    for (t, corner_shade) in valid.iter().zip(&shade) {
+    // Nearest first: the depth test then turns away most hidden pixels
+    // before they are shaded, with a branch that mostly goes one way. (Only
+    // exact ties of depth depend on the order: the first drawn keeps them.)
+    let mut nearest_first: Vec<(f32, u32)> = valid
+        .iter()
+        .enumerate()
+        .map(|(k, t)| {
+            let z = t
+                .iter()
+                .map(|&i| q[i as usize][2])
+                .fold(f64::INFINITY, f64::min);
+            (z as f32, k as u32)
+        })
+        .collect();
+    nearest_first.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    for (t, corner_shade) in nearest_first
+        .iter()
+        .map(|&(_, k)| (&valid[k as usize], &shade[k as usize]))
+    {
         let [a, b, c] = t.map(|i| i as usize);
         let normal = cross(
             sub(positions[b], positions[a]),
@@ -377,13 +422,16 @@ pub fn draw_mesh_3d(
                 let row_z = (pa[2] + gx * dx + gy * dy) as f32;
                 let row_s = sa + hx * dx + hy * dy;
                 let zrow = &mut depth[(y - vy0) * vw..(y - vy0 + 1) * vw];
+                let thresholds = &dither[(y / cell) % 4];
                 let prow = &mut pixels[y * w..(y + 1) * w];
                 for (i, x) in (x0..x1).enumerate() {
                     let z = (row_z + gx32 * i as f32).clamp(zmin, zmax);
                     if z < zrow[x - vx0] {
                         zrow[x - vx0] = z;
                         let s = (row_s + hx * i as f64).clamp(smin, smax).clamp(0.0, 1.0);
-                        let level = (s * levels + bayer(x, y)).floor().clamp(0.0, levels);
+                        // Not negative: truncating is `floor`, in one
+                        // instruction where `floor` may be a library call.
+                        let level = ((s * levels + thresholds[x]) as u32).min(top);
                         prow[x] = first.saturating_add(level as u8);
                     }
                 }

@@ -44,6 +44,30 @@ impl View2d {
         Self::fitting_bounds(lo, hi, width, height, margin_px)
     }
 
+    /// [`View2d::fitting`] with the longer side `side` pixels: wide bounds
+    /// get a picture `side` pixels wide, tall ones `side` pixels high and
+    /// as wide as holds them (at least a quarter of that).
+    pub fn fitting_longest<'a>(
+        frames: impl IntoIterator<Item = &'a [[f64; 2]]>,
+        side: u32,
+        margin_px: u32,
+    ) -> Self {
+        let [lo, hi] = Self::bounds(frames);
+        let wide = Self::fitting_bounds(lo, hi, side, None, margin_px);
+        if wide.height <= side {
+            return wide;
+        }
+        let m = f64::from(margin_px.min(side.saturating_sub(1) / 2));
+        let inner =
+            (f64::from(side) - 2.0 * m) * (hi[0] / 2.0 - lo[0] / 2.0) / (hi[1] / 2.0 - lo[1] / 2.0);
+        let width = if inner.is_finite() {
+            ((inner + 2.0 * m).ceil() as u32).clamp(side / 4, side)
+        } else {
+            side
+        };
+        Self::fitting_bounds(lo, hi, width.max(1), Some(side), margin_px)
+    }
+
     /// The lowest and highest coordinates of the finite points of
     /// `frames`; the unit square when there is none.
     pub fn bounds<'a>(frames: impl IntoIterator<Item = &'a [[f64; 2]]>) -> [[f64; 2]; 2] {
@@ -187,6 +211,18 @@ mod tests {
         for p in a.iter().chain(&b) {
             assert!(inside(&v, *p, 10.0));
         }
+    }
+
+    #[test]
+    fn the_longest_side_holds_tall_and_wide_bounds() {
+        let tall = [[0.0, 0.0], [1.0, 3.0]];
+        let v = View2d::fitting_longest([tall.as_slice()], 200, 10);
+        // 180 pixels for 3 units high: 60 + 20 wide.
+        assert_eq!((v.width, v.height), (80, 200));
+        assert!(inside(&v, tall[1], 10.0));
+        let wide = [[0.0, 0.0], [3.0, 1.0]];
+        let v = View2d::fitting_longest([wide.as_slice()], 200, 10);
+        assert_eq!((v.width, v.height), (200, 80));
     }
 
     #[test]
