@@ -17,6 +17,7 @@ macro_rules! say {
 mod allocator;
 mod animation;
 mod blend;
+mod correspond;
 mod demo;
 mod gltf;
 mod interpolate;
@@ -56,7 +57,7 @@ enum Command {
     /// Carry the poses of a source mesh over to a different target mesh.
     Transfer(transfer::TransferArgs),
     /// Compute the triangle correspondence between two meshes and save it.
-    Correspond(transfer::CorrespondCommand),
+    Correspond(correspond::CorrespondCommand),
     /// Run on built-in procedural shapes and write frames and pictures.
     Demo(demo::Args),
     /// Print a shell completion script, e.g.
@@ -108,7 +109,7 @@ fn main() -> ExitCode {
         Command::Interpolate(args) => interpolate::run(&args),
         Command::Blend(args) => blend::run(&args),
         Command::Transfer(args) => transfer::run_transfer(&args),
-        Command::Correspond(args) => transfer::run_correspond(&args),
+        Command::Correspond(args) => correspond::run_correspond(&args),
         Command::Demo(args) => demo::run(&args),
         Command::Completions { shell } => {
             manual::completions(Cli::command(), shell);

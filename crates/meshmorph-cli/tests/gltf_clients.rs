@@ -45,11 +45,14 @@ fn chromium() -> String {
     std::env::var("CHROMIUM").unwrap_or_else(|_| "chromium".into())
 }
 
+/// A check: its name, its body and what it needs that is missing.
+type Check = (&'static str, fn(), Vec<String>);
+
 fn main() {
     let args = libtest_mimic::Arguments::from_args();
     let node = runs("node");
     let packages = node_packages();
-    let checks: [(&str, fn(), Vec<String>); 2] = [
+    let checks: [Check; 2] = [
         (
             "every_glb_passes_the_khronos_validator",
             every_glb_passes_the_khronos_validator,
