@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
-use meshmorph::io::{write_mesh, Format};
+use meshmorph::io::{read_mesh, write_mesh, Format};
 use meshmorph::shapes::{bend, curl, nearest_vertex_pairs, strip, tube};
 
 /// One row of the catalogue.
@@ -80,54 +80,89 @@ fn template() -> &'static Path {
     DIR.get_or_init(|| {
         let dir = tempfile::tempdir().unwrap();
         let d = dir.path();
-        let bar = strip(4.0, 0.5, 8, 2);
-        let curled = curl(&bar, PI);
-        write_mesh(&d.join("src.obj"), &bar, Format::Obj).unwrap();
-        write_mesh(&d.join("dst.obj"), &curled, Format::Obj).unwrap();
-        write_mesh(&d.join("src.ply"), &bar, Format::Ply).unwrap();
-        write_mesh(&d.join("dst.off"), &curled, Format::Off).unwrap();
-        let thin = tube(2.0, 0.25, 7, 8);
-        let thick = tube(2.0, 0.5, 5, 10);
-        write_mesh(&d.join("thin.obj"), &thin, Format::Obj).unwrap();
-        write_mesh(&d.join("thick.obj"), &thick, Format::Obj).unwrap();
-        let widened: Vec<[f64; 3]> = thin
-            .positions()
-            .iter()
-            .map(|p| [p[0], 2.0 * p[1], 2.0 * p[2]])
-            .collect();
-        let chosen: Vec<u32> = [0u32, 3, 6]
-            .iter()
-            .flat_map(|&r| [0, 2, 4, 6].map(|s| r * 8 + s))
-            .collect();
-        let pairs = nearest_vertex_pairs(&widened, thick.positions(), &chosen);
-        let text: String = pairs.iter().map(|[s, t]| format!("{s} {t}\n")).collect();
-        fs::write(d.join("markers.txt"), text).unwrap();
+        base_files(d);
+        let thin = read_mesh(&d.join("thin.obj")).unwrap();
         for (k, turn) in [0.2, 0.5].iter().enumerate() {
             let pose = bend(&thin, 2.0, turn * PI);
             write_mesh(&d.join(format!("pose{}.obj", k + 1)), &pose, Format::Obj).unwrap();
         }
-        let out = meshmorph(
-            d,
-            &[
-                "correspond",
-                "--source-ref",
-                "thin.obj",
-                "--target-ref",
-                "thick.obj",
-                "--markers",
-                "markers.txt",
-                "-o",
-                "c.corr",
-            ],
-        );
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         dir
     })
     .path()
+}
+
+/// The files every hostile catalogue starts from: a bar and its curl
+/// (`src`/`dst` in OBJ, PLY and OFF), a thin and a thick tube with markers
+/// between them, and their correspondence `c.corr`.
+pub(super) fn base_files(d: &Path) {
+    let bar = strip(4.0, 0.5, 8, 2);
+    let curled = curl(&bar, PI);
+    write_mesh(&d.join("src.obj"), &bar, Format::Obj).unwrap();
+    write_mesh(&d.join("dst.obj"), &curled, Format::Obj).unwrap();
+    write_mesh(&d.join("src.ply"), &bar, Format::Ply).unwrap();
+    write_mesh(&d.join("dst.off"), &curled, Format::Off).unwrap();
+    let thin = tube(2.0, 0.25, 7, 8);
+    let thick = tube(2.0, 0.5, 5, 10);
+    write_mesh(&d.join("thin.obj"), &thin, Format::Obj).unwrap();
+    write_mesh(&d.join("thick.obj"), &thick, Format::Obj).unwrap();
+    let widened: Vec<[f64; 3]> = thin
+        .positions()
+        .iter()
+        .map(|p| [p[0], 2.0 * p[1], 2.0 * p[2]])
+        .collect();
+    let chosen: Vec<u32> = [0u32, 3, 6]
+        .iter()
+        .flat_map(|&r| [0, 2, 4, 6].map(|s| r * 8 + s))
+        .collect();
+    let pairs = nearest_vertex_pairs(&widened, thick.positions(), &chosen);
+    let text: String = pairs.iter().map(|[s, t]| format!("{s} {t}\n")).collect();
+    fs::write(d.join("markers.txt"), text).unwrap();
+    let out = meshmorph(
+        d,
+        &[
+            "correspond",
+            "--source-ref",
+            "thin.obj",
+            "--target-ref",
+            "thick.obj",
+            "--markers",
+            "markers.txt",
+            "-o",
+            "c.corr",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// Runs every case of a catalogue on two threads (`run` gives each
+/// failure's description) and fails with all the failures at once.
+pub(super) fn run_catalogue<C: Sync>(cases: &[C], run: fn(&C) -> Result<(), String>, what: &str) {
+    let failures: Vec<String> = std::thread::scope(|s| {
+        let chunks: Vec<_> = cases
+            .chunks(cases.len().div_ceil(2))
+            .map(|chunk| {
+                s.spawn(move || {
+                    chunk
+                        .iter()
+                        .filter_map(|c| run(c).err())
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        chunks.into_iter().flat_map(|h| h.join().unwrap()).collect()
+    });
+    assert!(
+        failures.is_empty(),
+        "{} of {} cases failed:\n\n{}",
+        failures.len(),
+        cases.len(),
+        failures.join("\n\n")
+    );
+    println!("{} {what} cases passed", cases.len());
 }
 
 fn meshmorph(dir: &Path, args: &[&str]) -> std::process::Output {
@@ -520,26 +555,5 @@ fn hostile_catalogue() {
         "the catalogue holds {} cases",
         cases.len()
     );
-    let failures: Vec<String> = std::thread::scope(|s| {
-        let chunks: Vec<_> = cases
-            .chunks(cases.len().div_ceil(2))
-            .map(|chunk| {
-                s.spawn(move || {
-                    chunk
-                        .iter()
-                        .filter_map(|c| run_case(c).err())
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        chunks.into_iter().flat_map(|h| h.join().unwrap()).collect()
-    });
-    assert!(
-        failures.is_empty(),
-        "{} of {} cases failed:\n\n{}",
-        failures.len(),
-        cases.len(),
-        failures.join("\n\n")
-    );
-    println!("{} hostile cases passed", cases.len());
+    run_catalogue(&cases, run_case, "hostile");
 }

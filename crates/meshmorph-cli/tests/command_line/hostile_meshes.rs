@@ -11,6 +11,7 @@
 //! no panic; every input byte for byte unchanged; a successful run adds
 //! files under its outputs only, a failed one adds nothing.
 
+use super::hostile::run_catalogue;
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
@@ -321,26 +322,5 @@ fn catalogue() -> Vec<Case> {
 #[test]
 fn hostile_mesh_catalogue() {
     let cases = catalogue();
-    let failures: Vec<String> = std::thread::scope(|s| {
-        let chunks: Vec<_> = cases
-            .chunks(cases.len().div_ceil(2))
-            .map(|chunk| {
-                s.spawn(move || {
-                    chunk
-                        .iter()
-                        .filter_map(|c| run_case(c).err())
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        chunks.into_iter().flat_map(|h| h.join().unwrap()).collect()
-    });
-    assert!(
-        failures.is_empty(),
-        "{} of {} cases failed:\n\n{}",
-        failures.len(),
-        cases.len(),
-        failures.join("\n\n")
-    );
-    println!("{} hostile mesh cases passed", cases.len());
+    run_catalogue(&cases, run_case, "hostile mesh");
 }

@@ -14,16 +14,13 @@
 
 #![cfg(unix)]
 
+use super::hostile::run_catalogue;
 use std::collections::BTreeMap;
-use std::f64::consts::PI;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
-
-use meshmorph::io::{write_mesh, Format};
-use meshmorph::shapes::{curl, nearest_vertex_pairs, strip, tube};
 
 /// One row of the catalogue.
 struct Case {
@@ -68,28 +65,7 @@ fn template() -> &'static Path {
     DIR.get_or_init(|| {
         let dir = tempfile::tempdir().unwrap();
         let d = dir.path();
-        let bar = strip(4.0, 0.5, 8, 2);
-        let curled = curl(&bar, PI);
-        write_mesh(&d.join("src.obj"), &bar, Format::Obj).unwrap();
-        write_mesh(&d.join("dst.obj"), &curled, Format::Obj).unwrap();
-        write_mesh(&d.join("src.ply"), &bar, Format::Ply).unwrap();
-        write_mesh(&d.join("dst.off"), &curled, Format::Off).unwrap();
-        let thin = tube(2.0, 0.25, 7, 8);
-        let thick = tube(2.0, 0.5, 5, 10);
-        write_mesh(&d.join("thin.obj"), &thin, Format::Obj).unwrap();
-        write_mesh(&d.join("thick.obj"), &thick, Format::Obj).unwrap();
-        let widened: Vec<[f64; 3]> = thin
-            .positions()
-            .iter()
-            .map(|p| [p[0], 2.0 * p[1], 2.0 * p[2]])
-            .collect();
-        let chosen: Vec<u32> = [0u32, 3, 6]
-            .iter()
-            .flat_map(|&r| [0, 2, 4, 6].map(|s| r * 8 + s))
-            .collect();
-        let pairs = nearest_vertex_pairs(&widened, thick.positions(), &chosen);
-        let text: String = pairs.iter().map(|[s, t]| format!("{s} {t}\n")).collect();
-        fs::write(d.join("markers.txt"), text).unwrap();
+        super::hostile::base_files(d);
         fs::copy(d.join("thin.obj"), d.join("pose.obj")).unwrap();
         // A textured quad and a bent copy, with a material library and
         // its texture (a PNG signature is all a GLB checks).
@@ -107,26 +83,6 @@ fn template() -> &'static Path {
         )
         .unwrap();
         fs::write(d.join("skin.png"), b"\x89PNG\r\n\x1a\nnot really").unwrap();
-        let out = Command::new(env!("CARGO_BIN_EXE_meshmorph"))
-            .args([
-                "correspond",
-                "--source-ref",
-                "thin.obj",
-                "--target-ref",
-                "thick.obj",
-                "--markers",
-                "markers.txt",
-                "-o",
-                "c.corr",
-            ])
-            .current_dir(d)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         dir
     })
     .path()
@@ -354,26 +310,5 @@ fn catalogue() -> Vec<Case> {
 #[test]
 fn hostile_reads_catalogue() {
     let cases = catalogue();
-    let failures: Vec<String> = std::thread::scope(|s| {
-        let chunks: Vec<_> = cases
-            .chunks(cases.len().div_ceil(2))
-            .map(|chunk| {
-                s.spawn(move || {
-                    chunk
-                        .iter()
-                        .filter_map(|c| run_case(c).err())
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        chunks.into_iter().flat_map(|h| h.join().unwrap()).collect()
-    });
-    assert!(
-        failures.is_empty(),
-        "{} of {} cases failed:\n\n{}",
-        failures.len(),
-        cases.len(),
-        failures.join("\n\n")
-    );
-    println!("{} hostile read cases passed", cases.len());
+    run_catalogue(&cases, run_case, "hostile read");
 }
