@@ -11,7 +11,7 @@ use meshmorph::io::Appearance;
 use meshmorph::io::Format;
 
 use crate::output::WeldedFile;
-use meshmorph::{FrameSource, Rotations, Sequence, Space, TriangleMaps};
+use meshmorph::{Dimension, FrameSource, Sequence, Space};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -275,7 +275,7 @@ pub fn write_frames<const D: usize>(
     setup: &Setup,
 ) -> Result<Report>
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     let Run {
         args,
@@ -482,7 +482,7 @@ fn compact(t: f64) -> String {
 /// asks: memory for frames stays that of the few being drawn or written.
 struct Recomputed<'a, const D: usize>
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     morph: &'a Sequence<D>,
     times: &'a [f64],
@@ -490,7 +490,7 @@ where
 
 impl<const D: usize> FrameSource<D> for Recomputed<'_, D>
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     fn num_frames(&self) -> usize {
         self.times.len()
@@ -515,7 +515,7 @@ fn write_pictures<const D: usize>(
     (triangles, key_names): (&[[u32; 3]], &[String]),
 ) -> Result<Vec<PathBuf>>
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     let mut written = Vec::new();
     let draw = &args.pictures.draw;

@@ -9,9 +9,7 @@ use meshmorph::io::Appearance;
 use meshmorph::io::{Format, MeshFile};
 
 use crate::output::WeldedFile;
-use meshmorph::{
-    Blend, FrameSource, InterpolatorOptions, Mesh, Mesh2, Mesh3, Rotations, Space, TriangleMaps,
-};
+use meshmorph::{Blend, Dimension, FrameSource, InterpolatorOptions, Mesh, Mesh2, Mesh3, Space};
 use serde::Serialize;
 
 use crate::gltf::GltfArgs;
@@ -340,7 +338,7 @@ fn blend_and_write<const D: usize>(
     warnings: &mut Vec<String>,
 ) -> Result<Blended>
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     let BlendRun {
         args,
@@ -422,7 +420,7 @@ where
 /// asks for it.
 struct Steps<'a, const D: usize>
 where
-    Space<D>: Rotations<D>,
+    Space<D>: Dimension<D>,
 {
     blend: &'a Blend<D>,
     weights: &'a [f64],
@@ -430,7 +428,7 @@ where
 
 impl<const D: usize> FrameSource<D> for Steps<'_, D>
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     fn num_frames(&self) -> usize {
         STEPS

@@ -6,8 +6,7 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use meshmorph::io::MeshFile;
 use meshmorph::{
-    Interpolator, InterpolatorOptions, Mesh, Mesh2, Mesh3, Rotations, Sequence, Space, StretchMode,
-    TriangleMaps,
+    Dimension, Interpolator, InterpolatorOptions, Mesh, Mesh2, Mesh3, Sequence, Space, StretchMode,
 };
 
 use crate::animation::{write_frames, FrameOutputs, Report, Run, Setup};
@@ -398,7 +397,7 @@ fn animate_sequence<const D: usize>(
     (unused_vertices, welded_vertices): (usize, usize),
 ) -> Result<Report>
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     memory::check_sequence(keys[0].num_triangles(), keys.len() - 1)?;
     let morph = Sequence::new(keys, &args.options()).map_err(|e| first_key_faces(e, run.file))?;

@@ -2,11 +2,15 @@
 //! ../shared/data/dt (Sumner and Popović's horse to camel with both marker
 //! sets, and the face mask onto the whole head) and scores each pose
 //! against Sumner's own result: the RMS vertex distance after centring,
-//! over the target reference's bounding-box diagonal. Prints one markdown
-//! table per pair and marker set, with timings.
+//! over the target reference's bounding-box diagonal. Each pair runs with
+//! all its markers and with every 2nd, 4th, 7th and 12th line of its marker
+//! file (the face's every 2nd and 4th: a marker set a user places in a few
+//! minutes). Prints a summary table (mean and worst error, correspondence
+//! time) and, with `POSES=1`, one table per pair and marker set.
 //!
 //! Run with `cargo run --release -p meshmorph --example horse_camel`;
-//! `OUT=dir` also writes every result as OBJ.
+//! `OUT=dir` also writes every result as OBJ; `ONLY=text` runs the cases
+//! whose name contains `text`.
 
 #[path = "support/shared_data.rs"]
 mod shared_data;
@@ -20,15 +24,36 @@ use meshmorph::{
 
 /// One evaluation: a pair, a marker file, and (source pose, reference
 /// result) files.
+#[derive(Clone)]
 struct Case {
     name: &'static str,
     source_ref: &'static str,
     target_ref: &'static str,
     markers: &'static str,
+    /// Every `every`-th marker line, from the first.
+    every: usize,
     poses: Vec<(String, String)>,
 }
 
 fn cases() -> Vec<Case> {
+    let mut cases = Vec::new();
+    for case in full_cases() {
+        let subsets: &[usize] = match case.name {
+            n if n.starts_with("horse") && n.contains("107") => &[1, 2, 4, 7, 12],
+            n if n.starts_with("face") => &[1, 2, 4],
+            _ => &[1],
+        };
+        for &every in subsets {
+            cases.push(Case {
+                every,
+                ..case.clone()
+            });
+        }
+    }
+    cases
+}
+
+fn full_cases() -> Vec<Case> {
     let horse_poses: Vec<(String, String)> = (1..=10)
         .map(|k| {
             (
@@ -39,24 +64,27 @@ fn cases() -> Vec<Case> {
         .collect();
     vec![
         Case {
-            name: "horse -> camel, 107 markers",
+            name: "horse -> camel, horse-camel-107.cons",
             source_ref: "horse-camel/horse-poses/horse-reference.obj",
             target_ref: "horse-camel/camel-poses/camel-reference.obj",
             markers: "horse-camel/markers/horse-camel-107.cons",
+            every: 1,
             poses: horse_poses.clone(),
         },
         Case {
-            name: "horse -> camel, 124 markers",
+            name: "horse -> camel, horse-camel-124.txt",
             source_ref: "horse-camel/horse-poses/horse-reference.obj",
             target_ref: "horse-camel/camel-poses/camel-reference.obj",
             markers: "horse-camel/markers/horse-camel-124.txt",
+            every: 1,
             poses: horse_poses,
         },
         Case {
-            name: "face -> head, 51 markers",
+            name: "face -> head, face-head.txt",
             source_ref: "face-head/face-poses/face-reference.obj",
             target_ref: "face-head/head-poses/head-reference.obj",
             markers: "face-head/markers/face-head.txt",
+            every: 1,
             poses: vec![(
                 "face-head/face-poses/face-02-cry.obj".into(),
                 "face-head/head-poses/head-02-cry.obj".into(),
@@ -65,21 +93,62 @@ fn cases() -> Vec<Case> {
     ]
 }
 
+/// What one case measured.
+struct Outcome {
+    markers: usize,
+    mean: f64,
+    worst: f64,
+    correspond: f64,
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let Some(dir) = shared_data::dir("dt") else {
         return Ok(());
     };
     let out_dir = std::env::var_os("OUT").map(PathBuf::from);
-    for case in cases() {
-        run(&dir, &case, out_dir.as_deref())?;
+    let only = std::env::var("ONLY").unwrap_or_default();
+    let mut rows = Vec::new();
+    for case in cases().into_iter().filter(|c| label(c).contains(&only)) {
+        let outcome = run(&dir, &case, out_dir.as_deref())?;
+        rows.push((label(&case), outcome));
+    }
+    println!("\n| pair and markers | markers | mean error | worst error | correspondence |");
+    println!("|---|---:|---:|---:|---:|");
+    for (name, o) in rows {
+        println!(
+            "| {name} | {} | {:.5} | {:.5} | {:.3} s |",
+            o.markers, o.mean, o.worst, o.correspond
+        );
     }
     Ok(())
 }
 
-fn run(dir: &Path, case: &Case, out_dir: Option<&Path>) -> Result<(), Box<dyn std::error::Error>> {
+/// "horse -> camel, horse-camel-107.cons, every 4th line".
+fn label(case: &Case) -> String {
+    match case.every {
+        1 => format!("{}, every line", case.name),
+        2 => format!("{}, every 2nd line", case.name),
+        k => format!("{}, every {k}th line", case.name),
+    }
+}
+
+/// Every `every`-th marker of `markers` (in the file's order).
+fn every_nth(markers: &Markers, every: usize) -> Markers {
+    Markers::new(markers.pairs().iter().step_by(every).copied().collect())
+}
+
+fn run(
+    dir: &Path,
+    case: &Case,
+    out_dir: Option<&Path>,
+) -> Result<Outcome, Box<dyn std::error::Error>> {
+    let detail = std::env::var_os("POSES").is_some();
     let source = MeshFile::read(&dir.join(case.source_ref))?;
     let target = MeshFile::read(&dir.join(case.target_ref))?;
-    let markers = Markers::read(&dir.join(case.markers), VertexNumbering::FromZero)?;
+    let markers = every_nth(
+        &Markers::read(&dir.join(case.markers), VertexNumbering::FromZero)?,
+        case.every,
+    );
     let t = Instant::now();
     let found = correspond(
         source.mesh(),
@@ -93,30 +162,32 @@ fn run(dir: &Path, case: &Case, out_dir: Option<&Path>) -> Result<(), Box<dyn st
     let transfer = Transfer::new(source.mesh(), target.mesh(), c, &TransferOptions::default())?;
     let t_setup = t.elapsed().as_secs_f64();
     let diagonal = target.mesh().bounding_box_diagonal();
-    println!("\n### {}\n", case.name);
-    let r = c.alignment().rotation;
-    println!(
-        "alignment rotation {:.2} degrees",
-        ((r[0][0] + r[1][1] + r[2][2] - 1.0) / 2.0)
-            .clamp(-1.0, 1.0)
-            .acos()
-            .to_degrees()
-    );
-    println!(
-        "correspondence {:.3} s ({} pairs; unmatched: {} source, {} target triangles), \
-         transfer setup {:.3} s, alignment scale {:.4}, carried parts {}, \
-         target triangles held at rest shape {}\n",
-        t_corr,
-        c.pairs().len(),
-        c.unmatched_source(),
-        c.unmatched_target(),
-        t_setup,
-        c.alignment().scale,
-        transfer.carried_parts(),
-        transfer.unpaired_triangles()
-    );
-    println!("| pose | error | doing nothing | solve |");
-    println!("|---|---:|---:|---:|");
+    if detail {
+        println!("\n### {}\n", label(case));
+        let r = c.alignment().rotation;
+        println!(
+            "alignment rotation {:.2} degrees",
+            ((r[0][0] + r[1][1] + r[2][2] - 1.0) / 2.0)
+                .clamp(-1.0, 1.0)
+                .acos()
+                .to_degrees()
+        );
+        println!(
+            "correspondence {:.3} s ({} pairs; unmatched: {} source, {} target triangles), \
+             transfer setup {:.3} s, alignment scale {:.4}, carried parts {}, \
+             target triangles held at rest shape {}\n",
+            t_corr,
+            c.pairs().len(),
+            c.unmatched_source(),
+            c.unmatched_target(),
+            t_setup,
+            c.alignment().scale,
+            transfer.carried_parts(),
+            transfer.unpaired_triangles()
+        );
+        println!("| pose | error | doing nothing | solve |");
+        println!("|---|---:|---:|---:|");
+    }
     let mut ws = transfer.workspace();
     let mut scores = Vec::new();
     for (pose_path, reference_path) in &case.poses {
@@ -132,10 +203,12 @@ fn run(dir: &Path, case: &Case, out_dir: Option<&Path>) -> Result<(), Box<dyn st
             .file_stem()
             .unwrap_or_default()
             .to_string_lossy();
-        println!(
-            "| {name} | {score:.5} | {nothing:.4} | {:.1} ms |",
-            solve * 1e3
-        );
+        if detail {
+            println!(
+                "| {name} | {score:.5} | {nothing:.4} | {:.1} ms |",
+                solve * 1e3
+            );
+        }
         if let Some(d) = out_dir {
             target.write(
                 &d.join(format!("{name}.obj")),
@@ -147,8 +220,15 @@ fn run(dir: &Path, case: &Case, out_dir: Option<&Path>) -> Result<(), Box<dyn st
     }
     let mean = scores.iter().sum::<f64>() / scores.len() as f64;
     let worst = scores.iter().copied().fold(0.0, f64::max);
-    println!("| **mean / worst** | **{mean:.5} / {worst:.5}** | | |");
-    Ok(())
+    if detail {
+        println!("| **mean / worst** | **{mean:.5} / {worst:.5}** | | |");
+    }
+    Ok(Outcome {
+        markers: markers.pairs().len(),
+        mean,
+        worst,
+        correspond: t_corr,
+    })
 }
 
 fn rms_centred(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {

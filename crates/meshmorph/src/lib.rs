@@ -94,7 +94,8 @@ pub use gradient::solve::FactorKind;
 pub use gradient::TriangleMaps;
 pub use interpolate::rotation::{RotationLog3, Rotations};
 pub use interpolate::{
-    Blend, FrameWorkspace, Interpolator, InterpolatorOptions, RestSystem, Sequence, StretchMode,
+    Blend, Dimension, FrameWorkspace, Interpolator, InterpolatorOptions, RestSystem, Sequence,
+    StretchMode,
 };
 pub use linalg::matrix::Mat;
 pub use linalg::similarity::Similarity;

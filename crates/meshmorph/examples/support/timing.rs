@@ -1,8 +1,16 @@
-//! Timing helpers shared by the benchmark examples: medians of repeated
+//! Timing helpers shared by the benchmarks that print tables: medians of repeated
 //! runs, and durations as short strings.
 
 use std::hint::black_box;
 use std::time::Instant;
+
+/// The program's arguments, without the `--bench` flag `cargo bench` adds.
+pub fn args() -> Vec<String> {
+    std::env::args()
+        .skip(1)
+        .filter(|a| a != "--bench")
+        .collect()
+}
 
 /// The median of `v`.
 pub fn median(mut v: Vec<f64>) -> f64 {

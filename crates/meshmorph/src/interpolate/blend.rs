@@ -31,6 +31,7 @@ use super::{FrameWorkspace, InterpolatorOptions, RestSystem};
 use crate::error::{Error, Result};
 use crate::gradient::TriangleMaps;
 use crate::interpolate::rotation::{consistent_rotations, Rotations};
+use crate::interpolate::Dimension;
 use crate::linalg::matrix::{mul, Mat};
 use crate::linalg::Space;
 use crate::mesh::topology::TriangleAdjacency;
@@ -85,7 +86,7 @@ where
 
 impl<const D: usize> Blend<D>
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     /// Prepares blends of `shapes` relative to `base`, factoring the base's
     /// system. Of the options, `consistency`, `allow_flips` and `factor`
@@ -101,6 +102,16 @@ where
     ///   relative to the base (unless [`InterpolatorOptions::allow_flips`]);
     /// - [`Error::Solver`] if the system cannot be factored.
     pub fn new(base: &Mesh<D>, shapes: &[Mesh<D>], options: &InterpolatorOptions) -> Result<Self> {
+        <Space<D> as Dimension<D>>::new_blend(base, shapes, options)
+    }
+
+    /// The work of [`Self::new`], instantiated for each dimension in
+    /// `dimension.rs`.
+    pub(super) fn new_generic(
+        base: &Mesh<D>,
+        shapes: &[Mesh<D>],
+        options: &InterpolatorOptions,
+    ) -> Result<Self> {
         check_shape_count(shapes)?;
         RestSystem::check_rest(base, "base")?;
         let adjacency = TriangleAdjacency::new(base.triangles());
@@ -115,6 +126,16 @@ where
     /// # Errors
     /// As [`Blend::new`].
     pub fn with_surface(
+        rest: Arc<RestSystem<D>>,
+        shapes: &[Mesh<D>],
+        options: &InterpolatorOptions,
+    ) -> Result<Self> {
+        <Space<D> as Dimension<D>>::blend_with_surface(rest, shapes, options)
+    }
+
+    /// The work of [`Self::with_surface`], instantiated for each dimension in
+    /// `dimension.rs`.
+    pub(super) fn with_surface_generic(
         rest: Arc<RestSystem<D>>,
         shapes: &[Mesh<D>],
         options: &InterpolatorOptions,
@@ -236,6 +257,18 @@ where
     /// If `weights` or `out` has the wrong length.
     #[track_caller]
     pub fn at_into(&self, weights: &[f64], out: &mut [[f64; D]], ws: &mut FrameWorkspace<D>) {
+        <Space<D> as Dimension<D>>::blend_at_into(self, weights, out, ws)
+    }
+
+    /// The work of [`Self::at_into`], instantiated for each dimension in
+    /// `dimension.rs`.
+    #[track_caller]
+    pub(super) fn at_into_generic(
+        &self,
+        weights: &[f64],
+        out: &mut [[f64; D]],
+        ws: &mut FrameWorkspace<D>,
+    ) {
         assert_eq!(weights.len(), self.shapes.len(), "one weight per shape");
         // No weight, or a weight of 1 on one shape alone: the base or that
         // shape, to the bit.
@@ -302,6 +335,12 @@ where
     /// (in the plane reversed; in space folded back onto their neighbours;
     /// or collapsed).
     pub fn count_turned_over(&self, positions: &[[f64; D]]) -> usize {
+        <Space<D> as Dimension<D>>::blend_turned_over(self, positions)
+    }
+
+    /// The work of [`Self::count_turned_over`], instantiated for each dimension in
+    /// `dimension.rs`.
+    pub(super) fn count_turned_over_generic(&self, positions: &[[f64; D]]) -> usize {
         let source = self.rest.source();
         let folds = self
             .rest_folds

@@ -20,6 +20,7 @@
 
 mod attached;
 mod blend;
+mod dimension;
 mod options;
 mod poses;
 mod rest;
@@ -36,6 +37,7 @@ use crate::mesh::topology::TriangleAdjacency;
 use crate::mesh::Mesh;
 
 pub use blend::Blend;
+pub use dimension::Dimension;
 pub use options::{InterpolatorOptions, StretchMode};
 pub use rest::RestSystem;
 pub use sequence::{frames_per_solve, Sequence};
@@ -107,7 +109,7 @@ const TRIANGLES_PER_STEP: usize = 4;
 
 impl<const D: usize> Interpolator<D>
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     /// Prepares the interpolation from `source` (t = 0) to `target` (t = 1).
     ///
@@ -125,6 +127,16 @@ where
     /// Linear in the number of triangles apart from one sparse Cholesky
     /// factorization of a `#V × #V` matrix ([`RestSystem::new`]).
     pub fn new(source: &Mesh<D>, target: &Mesh<D>, options: &InterpolatorOptions) -> Result<Self> {
+        <Space<D> as Dimension<D>>::new_interpolator(source, target, options)
+    }
+
+    /// The work of [`Self::new`], instantiated for each dimension in
+    /// `dimension.rs`.
+    pub(super) fn new_generic(
+        source: &Mesh<D>,
+        target: &Mesh<D>,
+        options: &InterpolatorOptions,
+    ) -> Result<Self> {
         source.check_same_connectivity(target, ["the source", "the target"])?;
         RestSystem::check_rest(source, "source")?;
         let adjacency = TriangleAdjacency::new(source.triangles());
@@ -149,6 +161,16 @@ where
     /// # Errors
     /// As [`Interpolator::new`], apart from those of [`RestSystem::new`].
     pub fn with_rest(
+        rest: Arc<RestSystem<D>>,
+        target: &Mesh<D>,
+        options: &InterpolatorOptions,
+    ) -> Result<Self> {
+        <Space<D> as Dimension<D>>::interpolator_with_rest(rest, target, options)
+    }
+
+    /// The work of [`Self::with_rest`], instantiated for each dimension in
+    /// `dimension.rs`.
+    pub(super) fn with_rest_generic(
         rest: Arc<RestSystem<D>>,
         target: &Mesh<D>,
         options: &InterpolatorOptions,

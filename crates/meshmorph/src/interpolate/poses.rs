@@ -9,6 +9,7 @@ use super::InterpolatorOptions;
 use crate::error::{Error, Result, LIST_LIMIT};
 use crate::gradient::TriangleMaps;
 use crate::interpolate::rotation::Rotations;
+use crate::interpolate::Dimension;
 use crate::linalg::matrix::Mat;
 use crate::linalg::Space;
 use crate::mesh::topology::TriangleAdjacency;
@@ -40,7 +41,7 @@ pub(crate) fn decompose<const D: usize>(
     name: &str,
 ) -> Result<PoseMaps<D>>
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     type S<const D: usize> = Space<D>;
     let (mut rotations, stretches): (Vec<_>, Vec<Mat<D>>) = (0..pose.num_triangles())

@@ -17,6 +17,7 @@ use crate::error::Result;
 use crate::gradient::solve::{FactorKind, SymmetricBuilder};
 use crate::gradient::weights::vertex_weights;
 use crate::gradient::{FactoredSystem, GradientOperators, Pins, Placement, TriangleMaps};
+use crate::interpolate::Dimension;
 use crate::linalg::matrix::Mat;
 use crate::linalg::Space;
 use crate::mesh::topology::connected_components;
@@ -50,7 +51,7 @@ pub struct RestSystem<const D: usize> {
 
 impl<const D: usize> RestSystem<D>
 where
-    Space<D>: TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     /// Prepares and factors the system of `source`; `factor` chooses the
     /// Cholesky variant.
@@ -74,6 +75,12 @@ where
     /// # Errors
     /// As [`RestSystem::new`].
     pub fn named(source: &Mesh<D>, name: &str, factor: FactorKind) -> Result<Self> {
+        <Space<D> as Dimension<D>>::new_rest_system(source, name, factor)
+    }
+
+    /// The work of [`Self::named`], instantiated for each dimension in
+    /// `dimension.rs`.
+    pub(super) fn named_generic(source: &Mesh<D>, name: &str, factor: FactorKind) -> Result<Self> {
         let (n, tris) = (source.num_vertices(), source.triangles());
         let areas = Self::check_rest(source, name)?;
         let operators = GradientOperators::from_parts(

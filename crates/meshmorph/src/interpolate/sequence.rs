@@ -49,6 +49,7 @@ use super::{
 use crate::error::{Error, Result};
 use crate::gradient::TriangleMaps;
 use crate::interpolate::rotation::{consistent_rotations, Rotations};
+use crate::interpolate::Dimension;
 use crate::linalg::lanes::{array, Lanes, Real};
 use crate::linalg::matrix::{identity, lerp, mul, Mat};
 use crate::linalg::Space;
@@ -106,7 +107,7 @@ where
 
 impl<const D: usize> Segment<D>
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     /// The segment with its linear stretches folded into the right-hand
     /// side of `rest` ([`SegmentStretches::Fitted`]).
@@ -284,7 +285,7 @@ where
 
 impl<const D: usize> Sequence<D>
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     /// Prepares the sequence through `keys` (at least two), factoring the
     /// system of the first.
@@ -301,6 +302,12 @@ where
     ///   relative to the first (unless [`InterpolatorOptions::allow_flips`]);
     /// - [`Error::Solver`] if the system cannot be factored.
     pub fn new(keys: &[Mesh<D>], options: &InterpolatorOptions) -> Result<Self> {
+        <Space<D> as Dimension<D>>::new_sequence(keys, options)
+    }
+
+    /// The work of [`Self::new`], instantiated for each dimension in
+    /// `dimension.rs`.
+    pub(super) fn new_generic(keys: &[Mesh<D>], options: &InterpolatorOptions) -> Result<Self> {
         let Some(first) = keys.first() else {
             return Err(Error::InvalidArgument(
                 "a sequence needs at least two keys".into(),
@@ -341,6 +348,16 @@ where
     /// # Errors
     /// As [`Sequence::new`].
     pub fn with_surface(
+        rest: Arc<RestSystem<D>>,
+        later_keys: &[Mesh<D>],
+        options: &InterpolatorOptions,
+    ) -> Result<Self> {
+        <Space<D> as Dimension<D>>::sequence_with_surface(rest, later_keys, options)
+    }
+
+    /// The work of [`Self::with_surface`], instantiated for each dimension in
+    /// `dimension.rs`.
+    pub(super) fn with_surface_generic(
         rest: Arc<RestSystem<D>>,
         later_keys: &[Mesh<D>],
         options: &InterpolatorOptions,
@@ -409,6 +426,12 @@ where
     /// turns beyond the shortest way: 0 wherever no part turns by more than
     /// half a turn.
     pub fn triangles_with_whole_turns(&self) -> Vec<usize> {
+        <Space<D> as Dimension<D>>::sequence_whole_turns(self)
+    }
+
+    /// The work of [`Self::triangles_with_whole_turns`], instantiated for each dimension in
+    /// `dimension.rs`.
+    pub(super) fn triangles_with_whole_turns_generic(&self) -> Vec<usize> {
         self.segments
             .iter()
             .map(|s| {
@@ -465,6 +488,12 @@ where
     /// an equal share of the times, with one scratch for all of them
     /// ([`Sequence::frames_with`]).
     pub fn frames(&self, times: &[f64]) -> Vec<Vec<[f64; D]>> {
+        <Space<D> as Dimension<D>>::sequence_frames(self, times)
+    }
+
+    /// The work of [`Self::frames`], instantiated for each dimension in
+    /// `dimension.rs`.
+    pub(super) fn frames_generic(&self, times: &[f64]) -> Vec<Vec<[f64; D]>> {
         let share = times.len().div_ceil(rayon::current_num_threads()).max(1);
         times
             .par_chunks(share)
@@ -501,6 +530,18 @@ where
     /// not the number of vertices.
     #[track_caller]
     pub fn frames_into(
+        &self,
+        times: &[f64],
+        outs: &mut [&mut [[f64; D]]],
+        ws: &mut FrameWorkspace<D>,
+    ) {
+        <Space<D> as Dimension<D>>::sequence_frames_into(self, times, outs, ws)
+    }
+
+    /// The work of [`Self::frames_into`], instantiated for each dimension in
+    /// `dimension.rs`.
+    #[track_caller]
+    pub(super) fn frames_into_generic(
         &self,
         times: &[f64],
         outs: &mut [&mut [[f64; D]]],
@@ -639,6 +680,12 @@ where
     /// key (in the plane reversed; in space folded back onto their
     /// neighbours; or collapsed).
     pub fn count_turned_over(&self, positions: &[[f64; D]]) -> usize {
+        <Space<D> as Dimension<D>>::sequence_turned_over(self, positions)
+    }
+
+    /// The work of [`Self::count_turned_over`], instantiated for each dimension in
+    /// `dimension.rs`.
+    pub(super) fn count_turned_over_generic(&self, positions: &[[f64; D]]) -> usize {
         let source = self.rest.source();
         let folds = self
             .rest_folds
@@ -673,7 +720,7 @@ fn segments<const D: usize>(
     options: &InterpolatorOptions,
 ) -> Result<(Vec<Segment<D>>, Vec<Log<D>>)>
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     check_arguments::<D>(later.len(), options)?;
     let num_triangles = rest.num_triangles();
@@ -764,7 +811,7 @@ mod tests {
     /// interpolated linearly) computed the long way.
     fn folded_rows_are_the_maps_rows<const D: usize>(keys: &[Mesh<D>])
     where
-        Space<D>: Rotations<D> + TriangleMaps<D>,
+        Space<D>: Dimension<D>,
     {
         let options = InterpolatorOptions::default();
         let sequence = Sequence::new(keys, &options).unwrap();

@@ -3,12 +3,12 @@
 //! per frame of 100 frames computed sequentially and with
 //! `Interpolator::frames` (rayon). Medians of several runs.
 //!
-//! `cargo run --release -p meshmorph --example bench_interpolate [-- MESH...]`
+//! `cargo bench -p meshmorph --bench planar_table [-- MESH...]`
 //! with MESH among elephant, strip_10k, strip_100k, strip_1000k (default:
 //! these four), square_100k, square_1000k (square sheets, a rigid turn). The divan benchmarks (`cargo bench -p meshmorph --bench
 //! interpolate`) measure the same things; this table puts them side by side.
 
-#[path = "support/timing.rs"]
+#[path = "../examples/support/timing.rs"]
 mod timing;
 use timing::{fmt, time};
 
@@ -59,7 +59,7 @@ fn pair(name: &str) -> Option<(Mesh2, Mesh2)> {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let args: Vec<String> = timing::args().into_iter().collect();
     let meshes: Vec<&str> = if args.is_empty() {
         vec!["elephant", "strip_10k", "strip_100k", "strip_1000k"]
     } else {

@@ -1,7 +1,7 @@
 //! Time to write a GLB, and its size: horse→camel (10 transferred poses) and
 //! a 1M-triangle strip curling over 30 frames.
 //!
-//! Run with `cargo run --release --example bench_gltf`; the horse→camel row
+//! Run with `cargo bench -p meshmorph --bench gltf_files`; the horse→camel row
 //! needs ../shared/data/dt/horse-camel beside the workspace (it is skipped
 //! otherwise). Each figure is the median of 5 writes.
 

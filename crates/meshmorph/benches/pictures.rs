@@ -7,12 +7,12 @@
 //! thread and on one. Medians of several runs; the GIF's size and file size
 //! too.
 //!
-//! `cargo run --release -p meshmorph --example bench_pictures [-- RUNS]`
+//! `cargo bench -p meshmorph --bench pictures [-- RUNS]`
 //! (RUNS 5 by default). The meshes are read from `../shared/data`.
 
-#[path = "support/shared_data.rs"]
+#[path = "../examples/support/shared_data.rs"]
 mod shared_data;
-#[path = "support/timing.rs"]
+#[path = "../examples/support/timing.rs"]
 mod timing;
 use timing::{fmt, median, time};
 
@@ -20,7 +20,7 @@ use std::path::Path;
 
 use meshmorph::io::{self, Format, MeshFile};
 use meshmorph::render::{self, GifOptions, GridOptions, Ramp, Style2d, Style3d};
-use meshmorph::{FrameSource, Mesh, Rotations, Sequence, Space, TriangleMaps};
+use meshmorph::{Dimension, FrameSource, Mesh, Sequence, Space};
 use rayon::prelude::*;
 
 /// Frames computed when a writer asks for them, one back-substitution
@@ -28,7 +28,7 @@ use rayon::prelude::*;
 /// planar frames or frames in space).
 struct Recomputed<'a, const D: usize, const E: usize>
 where
-    Space<D>: Rotations<D>,
+    Space<D>: Dimension<D>,
 {
     morph: &'a Sequence<D>,
     times: &'a [f64],
@@ -36,7 +36,7 @@ where
 
 impl<const D: usize, const E: usize> FrameSource<E> for Recomputed<'_, D, E>
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     fn num_frames(&self) -> usize {
         self.times.len()
@@ -60,7 +60,7 @@ fn lift<const D: usize, const E: usize>(p: &[f64; D]) -> [f64; E] {
 /// `file` with new positions in `dir`.
 fn write_objs<const D: usize>(morph: &Sequence<D>, times: &[f64], file: &MeshFile, dir: &Path)
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     let together = meshmorph::limits::frames_per_solve(times.len());
     times.par_chunks(together).enumerate().for_each_init(
@@ -84,7 +84,7 @@ const SIZE: u32 = 640;
 /// The GIF of the frames as `meshmorph interpolate --gif` draws it.
 fn write_gif<const D: usize>(morph: &Sequence<D>, times: &[f64], path: &Path)
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     let options = GifOptions {
         longest_side: Some(SIZE),
@@ -114,7 +114,7 @@ where
 
 fn row<const D: usize>(name: &str, file: &MeshFile, keys: &[Mesh<D>], count: usize, runs: usize)
 where
-    Space<D>: Rotations<D> + TriangleMaps<D>,
+    Space<D>: Dimension<D>,
 {
     let morph = Sequence::new(keys, &Default::default()).unwrap();
     let times: Vec<f64> = (0..count)
@@ -154,8 +154,9 @@ where
 }
 
 fn main() {
-    let runs: usize = std::env::args()
-        .nth(1)
+    let runs: usize = timing::args()
+        .into_iter()
+        .next()
         .map_or(5, |r| r.parse().expect("RUNS is a number"));
     println!(
         "| mesh | frames | OBJ frames | GIF ({} threads) | GIF (1 thread) | GIF / OBJ | GIF size | pictures | file |",

@@ -4,7 +4,7 @@
 //! file (normals turned with the surface), for horse -> camel and
 //! face -> head; and the head as binary and ASCII STL.
 //!
-//! Run with `cargo run --release -p meshmorph --example bench_mesh_io [RUNS]
+//! Run with `cargo bench -p meshmorph --bench mesh_files [RUNS]
 //! [TEXT]`: RUNS calls of each row (default 21), only the rows whose name
 //! holds TEXT (default all). Needs ../shared/data/dt beside the workspace
 //! (skipped otherwise). One thread; the median and the fastest of the runs
@@ -12,10 +12,10 @@
 
 // Its `time` gives the median only: the rows here give the fastest too.
 #[allow(dead_code)]
-#[path = "support/timing.rs"]
+#[path = "../examples/support/timing.rs"]
 mod timing;
 
-#[path = "support/shared_data.rs"]
+#[path = "../examples/support/shared_data.rs"]
 mod shared_data;
 use std::path::Path;
 
@@ -159,7 +159,7 @@ fn stl(dir: &Path, mesh: &str, runs: &Runs) -> Result<(), Box<dyn std::error::Er
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut args = std::env::args().skip(1);
+    let mut args = timing::args().into_iter();
     let runs = Runs {
         runs: args
             .next()

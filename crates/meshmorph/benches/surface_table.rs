@@ -6,12 +6,12 @@
 //! divided by this machine's single-thread read bandwidth, measured by a
 //! streaming loop in the same run. Medians of several runs.
 //!
-//! `cargo run --release -p meshmorph --example bench_surface [-- MESH...]`
+//! `cargo bench -p meshmorph --bench surface_table [-- MESH...]`
 //! with MESH among horse (../shared/data), tube_100k, tube_1000k,
-//! fat_tube_100k and strip_1000k (the 2D strip of `bench_interpolate`, setup split into its
+//! fat_tube_100k and strip_1000k (the 2D strip of `planar_table`, setup split into its
 //! steps); default: all.
 
-#[path = "support/timing.rs"]
+#[path = "../examples/support/timing.rs"]
 mod timing;
 use timing::{fmt, time};
 
@@ -73,7 +73,7 @@ fn pair(name: &str) -> Option<(Mesh3, Mesh3)> {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let args: Vec<String> = timing::args().into_iter().collect();
     let meshes: Vec<&str> = if args.is_empty() {
         vec!["horse", "tube_100k", "tube_1000k", "strip_1000k"]
     } else {
