@@ -97,6 +97,35 @@ struct Triangle {
     normal: [f64; 3],
 }
 
+/// The largest angle between two unit normals that still face the same
+/// way, kept as its cosine.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Angle {
+    cos: f64,
+}
+
+impl Angle {
+    /// Less than 90°: any two normals on the same side.
+    pub const RIGHT: Angle = Angle { cos: PERPENDICULAR };
+
+    /// An angle of `degrees` (in (0, 90]; 90 is [`Angle::RIGHT`]).
+    pub fn degrees(degrees: f64) -> Angle {
+        if degrees >= 90.0 {
+            Angle::RIGHT
+        } else {
+            Angle {
+                cos: degrees.to_radians().cos(),
+            }
+        }
+    }
+
+    /// Whether two unit normals whose dot product is `dot` are less than
+    /// this angle apart.
+    fn admits(self, dot: f64) -> bool {
+        dot > self.cos
+    }
+}
+
 /// The triangles of a surface, for closest-point queries.
 pub struct SurfaceIndex {
     tree: Bvh<Triangle>,
@@ -136,19 +165,20 @@ impl SurfaceIndex {
         }
     }
 
-    /// The closest point to `q` on a triangle whose normal is less than 90°
-    /// from `normal`, if one lies within `max_distance` (of equally close
-    /// triangles, the first).
+    /// The closest point to `q` on a triangle whose unit normal is less
+    /// than `max_angle` from `normal` (a unit vector), if one lies within
+    /// `max_distance` (of equally close triangles, the first).
     pub fn closest_compatible(
         &self,
         q: [f64; 3],
         normal: [f64; 3],
         max_distance: f64,
+        max_angle: Angle,
     ) -> Option<ClosestPoint> {
         let (triangle, tri, d2) = self.tree.nearest(
             q,
             max_distance * max_distance,
-            |t| dot(t.normal, normal) > PERPENDICULAR,
+            |t| max_angle.admits(dot(t.normal, normal)),
             |t| {
                 let d = sub(closest_point_on_triangle(q, t.corners), q);
                 dot(d, d)
@@ -206,20 +236,22 @@ impl CentroidIndex {
     }
 
     /// The triangle whose centroid is nearest to `q` among those whose normal
-    /// is less than 90° from `normal` (and in part `part`, if given), if one
-    /// lies within `max_distance` (of equally near ones, the first).
+    /// is less than `max_angle` from `normal` (and in part `part`, if
+    /// given), if one lies within `max_distance` (of equally near ones, the
+    /// first).
     pub fn nearest_compatible(
         &self,
         q: [f64; 3],
         normal: [f64; 3],
         max_distance: f64,
+        max_angle: Angle,
         part: Option<u32>,
     ) -> Option<u32> {
         self.tree
             .nearest(
                 q,
                 max_distance * max_distance,
-                |c| dot(c.normal, normal) > PERPENDICULAR && part.is_none_or(|p| c.part == p),
+                |c| max_angle.admits(dot(c.normal, normal)) && part.is_none_or(|p| c.part == p),
                 |c| {
                     let d = sub(c.point, q);
                     dot(d, d)
@@ -232,6 +264,29 @@ impl CentroidIndex {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_surface_turned_beyond_the_angle_is_not_taken() {
+        // One triangle tilted 45° about the x axis, a query above it.
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let p = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, h, h]];
+        let s = SurfaceIndex::new(&p, &[[0, 1, 2]]);
+        let (q, up) = ([0.2, 0.2, 0.5], [0.0, 0.0, 1.0]);
+        for (degrees, found) in [
+            (90.0, true),
+            (60.0, true),
+            (46.0, true),
+            (44.0, false),
+            (25.0, false),
+        ] {
+            assert_eq!(
+                s.closest_compatible(q, up, 10.0, Angle::degrees(degrees))
+                    .is_some(),
+                found,
+                "{degrees}°"
+            );
+        }
+    }
 
     #[test]
     fn closest_point_regions() {
@@ -273,32 +328,38 @@ mod tests {
         let t = vec![[0, 1, 2], [0, 2, 3], [4, 6, 5], [4, 7, 6]];
         let s = SurfaceIndex::new(&p, &t);
         let q = [0.3, 0.6, 0.9];
-        let up = s.closest_compatible(q, [0.0, 0.0, 1.0], 10.0).unwrap();
+        let up = s
+            .closest_compatible(q, [0.0, 0.0, 1.0], 10.0, Angle::RIGHT)
+            .unwrap();
         assert!(up.triangle < 2 && (up.distance - 0.9).abs() < 1e-12);
-        let down = s.closest_compatible(q, [0.0, 0.0, -1.0], 10.0).unwrap();
+        let down = s
+            .closest_compatible(q, [0.0, 0.0, -1.0], 10.0, Angle::RIGHT)
+            .unwrap();
         assert!(down.triangle >= 2 && (down.distance - 0.1).abs() < 1e-12);
-        assert!(s.closest_compatible(q, [0.0, 0.0, 1.0], 0.5).is_none());
+        assert!(s
+            .closest_compatible(q, [0.0, 0.0, 1.0], 0.5, Angle::RIGHT)
+            .is_none());
         let c = CentroidIndex::new(&p, &t, &[0, 1, 0, 1]);
         assert!(
-            c.nearest_compatible(q, [0.0, 0.0, 1.0], 10.0, None)
+            c.nearest_compatible(q, [0.0, 0.0, 1.0], 10.0, Angle::RIGHT, None)
                 .unwrap()
                 < 2
         );
         assert!(
-            c.nearest_compatible(q, [0.0, 0.0, -1.0], 10.0, None)
+            c.nearest_compatible(q, [0.0, 0.0, -1.0], 10.0, Angle::RIGHT, None)
                 .unwrap()
                 >= 2
         );
         assert!(c
-            .nearest_compatible(q, [0.0, 0.0, 1.0], 0.5, None)
+            .nearest_compatible(q, [0.0, 0.0, 1.0], 0.5, Angle::RIGHT, None)
             .is_none());
         // Within one part only.
         assert_eq!(
-            c.nearest_compatible(q, [0.0, 0.0, 1.0], 10.0, Some(1)),
+            c.nearest_compatible(q, [0.0, 0.0, 1.0], 10.0, Angle::RIGHT, Some(1)),
             Some(1)
         );
         assert_eq!(
-            c.nearest_compatible(q, [0.0, 0.0, -1.0], 10.0, Some(0)),
+            c.nearest_compatible(q, [0.0, 0.0, -1.0], 10.0, Angle::RIGHT, Some(0)),
             Some(2)
         );
     }
