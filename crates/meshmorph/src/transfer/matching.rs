@@ -263,6 +263,52 @@ impl CorrespondResult {
 /// The fewest markers [`correspond`] accepts: fewer cannot fix an orientation.
 pub const MIN_MARKERS: usize = 3;
 
+/// Without markers, the similarity that brings the source onto a target
+/// that stands alike (the same way up and facing the same way, as two
+/// characters exported from one scene): no turn, the source's
+/// area-weighted centroid onto the target's, and its area-weighted RMS
+/// distance from it scaled to the target's. Moving or scaling the source
+/// changes nothing; turning it does.
+fn standing_alike(source: &Mesh3, target: &Mesh3) -> Similarity {
+    let moments = |mesh: &Mesh3| {
+        let areas = mesh.triangle_areas();
+        let total: f64 = areas.iter().sum::<f64>().max(f64::MIN_POSITIVE);
+        let centroids: Vec<[f64; 3]> = (0..mesh.num_triangles())
+            .map(|t| centroid(mesh.corners(t)))
+            .collect();
+        let mut c = [0.0; 3];
+        for (p, a) in centroids.iter().zip(&areas) {
+            c = add(c, scale(*p, a / total));
+        }
+        let spread: f64 = centroids
+            .iter()
+            .zip(&areas)
+            .map(|(p, a)| a / total * dot(sub(*p, c), sub(*p, c)))
+            .sum();
+        (c, spread.sqrt())
+    };
+    let ((cs, rs), (ct, rt)) = (moments(source), moments(target));
+    let s = if rs > 0.0 && rt > 0.0 { rt / rs } else { 1.0 };
+    Similarity {
+        rotation: identity(),
+        scale: s,
+        translation: sub(ct, scale(cs, s)),
+    }
+}
+
+/// How far the closest points reach in each closest-point round, in units
+/// of [`CorrespondOptions::closest_cutoff`]: with markers, as far each
+/// round; without, the first rounds reach five and two and a half times as
+/// far, as nothing else draws the parts of the source towards their
+/// partners.
+fn reach(unmarked: bool, round: usize) -> f64 {
+    match (unmarked, round) {
+        (true, 0) => 5.0,
+        (true, 1) => 2.5,
+        _ => 1.0,
+    }
+}
+
 /// Computes the triangle correspondence between `source` and `target` from
 /// `markers` ([`correspond_with_progress`] to follow its steps).
 ///
@@ -298,9 +344,10 @@ pub fn correspond_with_progress(
     options.validate()?;
     markers.validate(source.num_vertices(), target.num_vertices())?;
     markers.validate_on_triangles(source, target)?;
-    if markers.pairs().len() < MIN_MARKERS {
+    let unmarked = markers.pairs().is_empty();
+    if !unmarked && markers.pairs().len() < MIN_MARKERS {
         return Err(Error::InvalidArgument(format!(
-            "{} marker pair{} given: correspondence needs at least {MIN_MARKERS}",
+            "{} marker pair{} given: correspondence needs at least {MIN_MARKERS} (or none, for two shapes that stand alike)",
             markers.pairs().len(),
             if markers.pairs().len() == 1 { "" } else { "s" }
         )));
@@ -315,7 +362,9 @@ pub fn correspond_with_progress(
     let mut order: Vec<usize> = (0..from.len()).collect();
     order.sort_unstable_by_key(|&k| markers.pairs()[k]);
     let sorted = |p: &[[f64; 3]]| -> Vec<[f64; 3]> { order.iter().map(|&k| p[k]).collect() };
-    let alignment = if options.align {
+    let alignment = if options.align && unmarked {
+        standing_alike(source, target)
+    } else if options.align {
         fit_robust(&sorted(&from), &sorted(&to))?.0
     } else {
         Similarity::IDENTITY
@@ -550,7 +599,10 @@ fn deform(
         }
         if w_c > 0.0 {
             let mut diagonal = vec![0.0; m];
-            let within = (cutoff, Angle::degrees(options.closest_normal_angle));
+            let within = (
+                cutoff * reach(markers.pairs().is_empty(), round - 1),
+                Angle::degrees(options.closest_normal_angle),
+            );
             for (v, c) in closest_points(&surface, &positions, source.triangles(), within)
                 .iter()
                 .enumerate()
