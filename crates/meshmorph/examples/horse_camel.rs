@@ -1,9 +1,11 @@
 //! Transfers the poses of both deformation-transfer pairs of
 //! ../shared/data/dt (Sumner and Popović's horse to camel with both marker
-//! sets, and the face mask onto the whole head) and scores each pose
-//! against Sumner's own result: the RMS vertex distance after centring,
-//! over the target reference's bounding-box diagonal. Prints one markdown
-//! table per pair and marker set, with timings.
+//! sets and with every 7th of the 107 markers, and the face mask onto the
+//! whole head) and scores each pose against Sumner's own result: the RMS
+//! vertex distance after centring, over the target reference's
+//! bounding-box diagonal. Prints, per pair and marker set, how well the
+//! deformed source fits the target ([`meshmorph::FitReport`], and what
+//! measuring it costs) and one markdown table of the poses, with timings.
 //!
 //! Run with `cargo run --release -p meshmorph --example horse_camel`;
 //! `OUT=dir` also writes every result as OBJ.
@@ -15,7 +17,7 @@ use std::time::Instant;
 
 use meshmorph::io::MeshFile;
 use meshmorph::{
-    correspond, CorrespondOptions, Markers, Transfer, TransferOptions, VertexNumbering,
+    correspond, CorrespondOptions, FitReport, Markers, Transfer, TransferOptions, VertexNumbering,
 };
 
 /// One evaluation: a pair, a marker file, and (source pose, reference
@@ -25,6 +27,8 @@ struct Case {
     source_ref: &'static str,
     target_ref: &'static str,
     markers: &'static str,
+    /// Every how many-th marker of the file is used (1: all).
+    every: usize,
     poses: Vec<(String, String)>,
 }
 
@@ -43,6 +47,15 @@ fn cases() -> Vec<Case> {
             source_ref: "horse-camel/horse-poses/horse-reference.obj",
             target_ref: "horse-camel/camel-poses/camel-reference.obj",
             markers: "horse-camel/markers/horse-camel-107.cons",
+            every: 1,
+            poses: horse_poses.clone(),
+        },
+        Case {
+            name: "horse -> camel, every 7th of the 107 markers (16)",
+            source_ref: "horse-camel/horse-poses/horse-reference.obj",
+            target_ref: "horse-camel/camel-poses/camel-reference.obj",
+            markers: "horse-camel/markers/horse-camel-107.cons",
+            every: 7,
             poses: horse_poses.clone(),
         },
         Case {
@@ -50,6 +63,7 @@ fn cases() -> Vec<Case> {
             source_ref: "horse-camel/horse-poses/horse-reference.obj",
             target_ref: "horse-camel/camel-poses/camel-reference.obj",
             markers: "horse-camel/markers/horse-camel-124.txt",
+            every: 1,
             poses: horse_poses,
         },
         Case {
@@ -57,6 +71,7 @@ fn cases() -> Vec<Case> {
             source_ref: "face-head/face-poses/face-reference.obj",
             target_ref: "face-head/head-poses/head-reference.obj",
             markers: "face-head/markers/face-head.txt",
+            every: 1,
             poses: vec![(
                 "face-head/face-poses/face-02-cry.obj".into(),
                 "face-head/head-poses/head-02-cry.obj".into(),
@@ -80,6 +95,11 @@ fn run(dir: &Path, case: &Case, out_dir: Option<&Path>) -> Result<(), Box<dyn st
     let source = MeshFile::read(&dir.join(case.source_ref))?;
     let target = MeshFile::read(&dir.join(case.target_ref))?;
     let markers = Markers::read(&dir.join(case.markers), VertexNumbering::FromZero)?;
+    let markers = if case.every > 1 {
+        Markers::new(markers.pairs().iter().step_by(case.every).copied().collect())
+    } else {
+        markers
+    };
     let t = Instant::now();
     let found = correspond(
         source.mesh(),
@@ -115,6 +135,23 @@ fn run(dir: &Path, case: &Case, out_dir: Option<&Path>) -> Result<(), Box<dyn st
         transfer.carried_parts(),
         transfer.unpaired_triangles()
     );
+    print_fit(&found.fit, &markers);
+    // The report again on its own, to time it (the correspondence measures
+    // it once inside).
+    let t = Instant::now();
+    let again = FitReport::new(
+        &found.deformed_source,
+        target.mesh(),
+        c,
+        &markers,
+        found.fit.poor_threshold,
+    );
+    println!(
+        "fit report {:.1} ms of the correspondence's {:.0} ms\n",
+        t.elapsed().as_secs_f64() * 1e3,
+        t_corr * 1e3
+    );
+    assert_eq!(again, found.fit);
     println!("| pose | error | doing nothing | solve |");
     println!("|---|---:|---:|---:|");
     let mut ws = transfer.workspace();
@@ -149,6 +186,37 @@ fn run(dir: &Path, case: &Case, out_dir: Option<&Path>) -> Result<(), Box<dyn st
     let worst = scores.iter().copied().fold(0.0, f64::max);
     println!("| **mean / worst** | **{mean:.5} / {worst:.5}** | | |");
     Ok(())
+}
+
+/// The fit's figures (percentages of the target's diagonal and area) and
+/// its largest poor regions with their nearest markers.
+fn print_fit(fit: &FitReport, markers: &Markers) {
+    println!(
+        "fit: distance target to deformed source {:.3} % mean, {:.3} % 95th percentile; \
+         uncovered {:.2} %; farther than {:.3} %: {:.2} % in {} regions",
+        100.0 * fit.mean_distance,
+        100.0 * fit.distance_95,
+        100.0 * fit.uncovered_area,
+        100.0 * fit.poor_threshold,
+        100.0 * fit.poor_area,
+        fit.poor_regions.len()
+    );
+    for r in fit.poor_regions.iter().take(3) {
+        let near: Vec<String> = r
+            .nearest_markers
+            .iter()
+            .map(|&(k, d)| format!("{} at {:.2} %", markers.describe(k), 100.0 * d))
+            .collect();
+        println!(
+            "  region of {:.2} % (up to {:.2} %) at ({:.3}, {:.3}, {:.3}), nearest markers: {}",
+            100.0 * r.area,
+            100.0 * r.largest_distance,
+            r.point[0],
+            r.point[1],
+            r.point[2],
+            near.join("; ")
+        );
+    }
 }
 
 fn rms_centred(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {

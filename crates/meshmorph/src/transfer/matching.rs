@@ -39,6 +39,7 @@ use crate::mesh::closest::{unit_normal, vertex_normals, CentroidIndex, SurfaceIn
 use crate::mesh::topology::{connected_components, edges, Components, Edge};
 use crate::mesh::{used_vertices, Mesh3};
 use crate::transfer::correspondence::Correspondence;
+use crate::transfer::fit_report::FitReport;
 use crate::transfer::markers::Markers;
 use crate::transfer::mirror_plane::{mirror_plane, MirrorPlane};
 use crate::transfer::partner_parts::Partners;
@@ -208,6 +209,11 @@ pub struct CorrespondResult {
     /// [`CorrespondResult::marker_fit`]) and of the target, when both have
     /// one and the transfer's turn keeps them together ([`Mesh3::mirror_plane`]).
     pub mirror_planes: Option<[MirrorPlane; 2]>,
+    /// How well [`CorrespondResult::deformed_source`] lies on the target:
+    /// distances from the target to it, the target's area no source
+    /// triangle covers, and the regions where the fit is poor (farther than
+    /// the matching's threshold), with the markers nearest each.
+    pub fit: FitReport,
 }
 
 impl CorrespondResult {
@@ -310,6 +316,13 @@ pub fn correspond_with_progress(
         .max(source_edge)
         .max(target_edge);
     let matched = match_triangles(&deformed_source, &components, target, threshold);
+    let fit = FitReport::new(
+        &deformed_source,
+        target,
+        &matched,
+        markers,
+        threshold / target.bounding_box_diagonal(),
+    );
     // The markers' fit reads every difference of shape between the two as a
     // turn of the whole source: the transfer works in the orientation the
     // matched surface agrees on instead.
@@ -327,6 +340,7 @@ pub fn correspond_with_progress(
         deformed_source,
         marker_residuals,
         mirror_planes,
+        fit,
     })
 }
 
