@@ -45,8 +45,9 @@ pub const NEAREST_MARKERS: usize = 3;
 
 /// How well the deformed source lies on the target (see the module's
 /// formula). Distances are fractions of the target's bounding-box diagonal,
-/// areas shares of the target's area, so that moving, turning or scaling
-/// both meshes together changes nothing.
+/// areas shares of the target's area, so that moving or scaling both meshes
+/// together changes nothing (turning them changes the box, and with it the
+/// unit, as it changes the correspondence's thresholds).
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct FitReport {
@@ -67,7 +68,7 @@ pub struct FitReport {
     /// no partner.
     pub poor_threshold: f64,
     /// The farthest distance measured: [`FIT_DISTANCE_LIMIT`], or twice
-    /// `poor_threshold` if that is farther.
+    /// `poor_threshold` if that is farther (but never past 10 diagonals).
     pub distance_limit: f64,
     /// The share of the target's area in triangles farther than
     /// `poor_threshold`.
@@ -131,7 +132,7 @@ impl FitReport {
         } else {
             0.0
         };
-        let distance_limit = FIT_DISTANCE_LIMIT.max(2.0 * poor_threshold);
+        let distance_limit = FIT_DISTANCE_LIMIT.max(2.0 * poor_threshold).min(10.0);
         let distances = distances_to(deformed_source, target, distance_limit, unit);
         let areas = target.triangle_areas();
         let total: f64 = areas.iter().filter(|a| a.is_finite()).sum();
