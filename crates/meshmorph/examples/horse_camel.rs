@@ -137,21 +137,25 @@ fn run(dir: &Path, case: &Case, out_dir: Option<&Path>) -> Result<(), Box<dyn st
     );
     print_fit(&found.fit, &markers);
     // The report again on its own, to time it (the correspondence measures
-    // it once inside).
-    let t = Instant::now();
-    let again = FitReport::new(
-        &found.deformed_source,
-        target.mesh(),
-        c,
-        &markers,
-        found.fit.poor_threshold,
-    );
+    // it once inside): the fastest of five runs.
+    let mut fastest = f64::INFINITY;
+    for _ in 0..5 {
+        let t = Instant::now();
+        let again = FitReport::new(
+            &found.deformed_source,
+            target.mesh(),
+            c,
+            &markers,
+            found.fit.poor_threshold,
+        );
+        fastest = fastest.min(t.elapsed().as_secs_f64());
+        assert_eq!(again, found.fit);
+    }
     println!(
-        "fit report {:.1} ms of the correspondence's {:.0} ms\n",
-        t.elapsed().as_secs_f64() * 1e3,
+        "fit report {:.1} ms (the fastest of 5) beside the correspondence's {:.0} ms\n",
+        fastest * 1e3,
         t_corr * 1e3
     );
-    assert_eq!(again, found.fit);
     println!("| pose | error | doing nothing | solve |");
     println!("|---|---:|---:|---:|");
     let mut ws = transfer.workspace();

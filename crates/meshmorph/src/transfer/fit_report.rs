@@ -24,7 +24,7 @@
 use rayon::prelude::*;
 
 use crate::linalg::vector::{centroid, dot, sub};
-use crate::mesh::closest::{unit_normal, SurfaceIndex};
+use crate::mesh::closest::{closest_point_on_triangle, unit_normal, SurfaceIndex, PERPENDICULAR};
 use crate::mesh::Mesh3;
 use crate::transfer::correspondence::Correspondence;
 use crate::transfer::markers::Markers;
@@ -133,7 +133,15 @@ impl FitReport {
             0.0
         };
         let distance_limit = FIT_DISTANCE_LIMIT.max(2.0 * poor_threshold).min(10.0);
-        let distances = distances_to(deformed_source, target, distance_limit, unit);
+        let distances = distances_to(
+            deformed_source,
+            target,
+            correspondence,
+            distance_limit * unit,
+        )
+        .into_iter()
+        .map(|d| (d / unit).min(distance_limit))
+        .collect::<Vec<f64>>();
         let areas = target.triangle_areas();
         let total: f64 = areas.iter().filter(|a| a.is_finite()).sum();
         let share = |a: f64| if total > 0.0 { a / total } else { 0.0 };
@@ -186,24 +194,51 @@ impl FitReport {
     }
 }
 
-/// `d_t` of each target triangle (see the module's formula), as fractions
-/// of `unit`, at most `limit`.
-fn distances_to(deformed_source: &Mesh3, target: &Mesh3, limit: f64, unit: f64) -> Vec<f64> {
-    let surface = SurfaceIndex::new(deformed_source.positions(), deformed_source.triangles());
-    (0..target.num_triangles())
-        .into_par_iter()
-        .map(|t| {
-            let p = target.corners(t);
-            let d = surface
-                .closest_compatible(centroid(p), unit_normal(p), limit * unit)
-                .map_or(limit, |c| c.distance / unit);
-            if d.is_finite() {
-                d.min(limit)
-            } else {
-                limit
+/// The distance from each target triangle's centroid to the closest
+/// compatible point of `deformed_source`, `limit` where none lies within
+/// `limit` (or where it is not a number).
+///
+/// A triangle's partners in `correspondence` (those facing its way) give
+/// the search an upper bound to start from: most of a good fit's target
+/// lies within a hair of its partners, and the search then opens a leaf or
+/// two instead of every box within `limit`. The answer is the same.
+fn distances_to(
+    deformed_source: &Mesh3,
+    target: &Mesh3,
+    correspondence: &Correspondence,
+    limit: f64,
+) -> Vec<f64> {
+    let (surface, mut bound) = rayon::join(
+        || SurfaceIndex::new(deformed_source.positions(), deformed_source.triangles()),
+        || {
+            let mut bound = vec![f64::INFINITY; target.num_triangles()];
+            for &[s, t] in correspondence.pairs() {
+                let (s, t) = (s as usize, t as usize);
+                if s >= deformed_source.num_triangles() || t >= target.num_triangles() {
+                    continue;
+                }
+                let (p, q) = (target.corners(t), deformed_source.corners(s));
+                if dot(unit_normal(p), unit_normal(q)) > PERPENDICULAR {
+                    let c = centroid(p);
+                    let d = sub(closest_point_on_triangle(c, q), c);
+                    bound[t] = bound[t].min(dot(d, d).sqrt());
+                }
             }
-        })
-        .collect()
+            bound
+        },
+    );
+    bound
+        .par_iter_mut()
+        .enumerate()
+        .for_each(|(t, bound)| {
+            let p = target.corners(t);
+            let reach = bound.min(limit);
+            let d = surface
+                .closest_compatible(centroid(p), unit_normal(p), reach)
+                .map_or(reach, |c| c.distance.min(reach));
+            *bound = if d.is_finite() { d } else { limit };
+        });
+    bound
 }
 
 /// The smallest value of `values` such that those at most it carry the
