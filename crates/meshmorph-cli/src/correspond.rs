@@ -19,7 +19,7 @@ use crate::transfer::{
 /// Compute the triangle correspondence between two meshes and save it.
 #[derive(Debug, clap::Args)]
 #[command(
-    mut_arg("png", |a| a.help("Also write a still picture (PNG): the deformed source above (or beside) the target, the target coloured by its distance to the deformed source, from green (0) to red in steps of 0.25 % of the target's diagonal, purple past 1.75 %")),
+    mut_arg("png", |a| a.help("Also write a still picture (PNG): the deformed source above the target (beside it when both are tall), the target coloured by its distance to the deformed source: green up to 0.25 % of the target's diagonal, then a colour every 0.25 % through yellow and orange to red, purple past 1.75 %")),
     mut_arg("gif", |a| a.help("Also write an animated GIF: the source reference turning into the deformed source, above the target")),
 )]
 pub struct CorrespondCommand {

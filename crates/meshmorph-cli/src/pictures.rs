@@ -426,8 +426,8 @@ pub fn write_correspondence_pictures(
             },
         ];
         let captions = vec![
-            vec![format!("{source_name} deformed onto {target_name}")],
-            vec![format!("{target_name}, coloured by distance")],
+            vec![format!("{source_name} deformed")],
+            vec![format!("{target_name} by distance")],
         ];
         let steps = (Ramp::SCALE.len() - 1) as f64;
         let ramps: Vec<Ramp> = distances

@@ -124,9 +124,8 @@ impl FitSummary {
                 .map(|r| r.area)
                 .sum();
             warnings.push(format!(
-                "{} more {} fitted poorly, {:.2} % of the target's area in all (see the JSON report)",
-                output::count(rest, "region"),
-                if rest == 1 { "is" } else { "are" },
+                "{rest} more {} fitted poorly, {:.2} % of the target's area in all (see the JSON report)",
+                if rest == 1 { "region is" } else { "regions are" },
                 100.0 * area
             ));
         }
