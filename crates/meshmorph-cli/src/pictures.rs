@@ -425,9 +425,9 @@ pub fn write_correspondence_pictures(
                 style: Style3d::with_ramp(Ramp::SAND),
             },
         ];
-        let captions = vec![
-            vec![format!("{source_name} deformed")],
-            vec![format!("{target_name} by distance")],
+        let captions = [
+            format!("{source_name} deformed"),
+            format!("{target_name} by distance"),
         ];
         let steps = (Ramp::SCALE.len() - 1) as f64;
         let ramps: Vec<Ramp> = distances
@@ -437,8 +437,8 @@ pub fn write_correspondence_pictures(
         let options = args.draw.still_grid(FROM_FRONT);
         let layout = GridLayout::fit(&rows, &options);
         let mut canvas = layout.render_coloured(&rows, &[&[], &ramps]);
-        for (r, row) in captions.iter().enumerate() {
-            layout.caption(&mut canvas, r as u32, 0, &row[0]);
+        for (r, caption) in captions.iter().enumerate() {
+            layout.caption(&mut canvas, r as u32, 0, caption);
         }
         // "0.5", "1", "1.75": two decimals at most, trailing zeros dropped.
         let label = |k: usize| {

@@ -96,7 +96,14 @@ fn run(dir: &Path, case: &Case, out_dir: Option<&Path>) -> Result<(), Box<dyn st
     let target = MeshFile::read(&dir.join(case.target_ref))?;
     let markers = Markers::read(&dir.join(case.markers), VertexNumbering::FromZero)?;
     let markers = if case.every > 1 {
-        Markers::new(markers.pairs().iter().step_by(case.every).copied().collect())
+        Markers::new(
+            markers
+                .pairs()
+                .iter()
+                .step_by(case.every)
+                .copied()
+                .collect(),
+        )
     } else {
         markers
     };

@@ -2485,14 +2485,23 @@ fn correspond_and_transfer_report_the_fit_in_the_same_words() {
     let lines = |text: &str| -> Vec<String> {
         text.lines()
             .filter(|l| l.starts_with("fit:") || l.starts_with("coverage:"))
-            .map(|l| l.split_whitespace().filter(|w| w.parse::<f64>().is_err()).collect::<Vec<_>>().join(" "))
+            .map(|l| {
+                l.split_whitespace()
+                    .filter(|w| w.parse::<f64>().is_err())
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            })
             .collect()
     };
     let from_correspond = lines(&text);
     assert_eq!(from_correspond.len(), 2, "{text}");
     assert_mentions(
         &text,
-        &["target to deformed source", "(95th percentile)", "has no source partner"],
+        &[
+            "target to deformed source",
+            "(95th percentile)",
+            "has no source partner",
+        ],
     );
     let report = json(&succeeds(&rig.correspond(&corr, &[os("--json")])));
     assert_fit_fields(&report["fit"]);
@@ -2500,7 +2509,9 @@ fn correspond_and_transfer_report_the_fit_in_the_same_words() {
     let text = succeeds(&rig.transfer_with_markers(&out, &[]));
     assert_eq!(lines(&text), from_correspond, "{text}");
     let again = rig.path("again");
-    let report = json(&succeeds(&rig.transfer_with_markers(&again, &[os("--json")])));
+    let report = json(&succeeds(
+        &rig.transfer_with_markers(&again, &[os("--json")]),
+    ));
     assert_fit_fields(&report["fit"]);
     // A loaded correspondence has no deformed source to measure.
     let loaded = rig.path("loaded");
@@ -2563,10 +2574,18 @@ fn correspond_warns_where_the_source_does_not_reach_the_target_naming_the_marker
         let k = near["marker"].as_u64().unwrap();
         assert!((8..12).contains(&k), "{near}");
         let line = format!("line {}", k + 2);
-        assert!(near["description"].as_str().unwrap().contains(&line), "{near}");
+        assert!(
+            near["description"].as_str().unwrap().contains(&line),
+            "{near}"
+        );
     }
     let warnings = report["warnings"].as_array().unwrap();
-    assert!(warnings.iter().any(|w| w.as_str().unwrap().contains(&named)), "{report}");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.as_str().unwrap().contains(&named)),
+        "{report}"
+    );
 }
 
 /// Runs a command with `files` (each `--flag path`) and checks that its

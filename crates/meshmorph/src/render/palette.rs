@@ -170,7 +170,11 @@ impl Palette {
             };
             [mix(0.8, 0.0), base, mix(0.5, 1.0)]
         });
-        for (ramp, keys) in Ramp::ALL.iter().chain(&Ramp::SCALE).zip(RAMP_KEYS.iter().chain(&scale_keys)) {
+        for (ramp, keys) in Ramp::ALL
+            .iter()
+            .chain(&Ramp::SCALE)
+            .zip(RAMP_KEYS.iter().chain(&scale_keys))
+        {
             for k in 0..ramp.len {
                 let t = f64::from(k) / f64::from(ramp.len - 1);
                 colors[(ramp.first + k) as usize] = three_stop(*keys, t);

@@ -227,17 +227,14 @@ fn distances_to(
             bound
         },
     );
-    bound
-        .par_iter_mut()
-        .enumerate()
-        .for_each(|(t, bound)| {
-            let p = target.corners(t);
-            let reach = bound.min(limit);
-            let d = surface
-                .closest_compatible(centroid(p), unit_normal(p), reach)
-                .map_or(reach, |c| c.distance.min(reach));
-            *bound = if d.is_finite() { d } else { limit };
-        });
+    bound.par_iter_mut().enumerate().for_each(|(t, bound)| {
+        let p = target.corners(t);
+        let reach = bound.min(limit);
+        let d = surface
+            .closest_compatible(centroid(p), unit_normal(p), reach)
+            .map_or(reach, |c| c.distance.min(reach));
+        *bound = if d.is_finite() { d } else { limit };
+    });
     bound
 }
 
@@ -419,9 +416,16 @@ mod tests {
     fn the_half_the_source_misses_is_uncovered_and_one_poor_region() {
         let target = grid(10);
         let half = left_of(&target, 0.5);
-        let tris: Vec<[u32; 3]> = half.iter().map(|&t| target.triangles()[t as usize]).collect();
+        let tris: Vec<[u32; 3]> = half
+            .iter()
+            .map(|&t| target.triangles()[t as usize])
+            .collect();
         let source = Mesh3::new(target.positions().to_vec(), tris).unwrap();
-        let pairs = half.iter().enumerate().map(|(s, &t)| [s as u32, t]).collect();
+        let pairs = half
+            .iter()
+            .enumerate()
+            .map(|(s, &t)| [s as u32, t])
+            .collect();
         let c = Correspondence::new(pairs, &source, &target);
         // Markers at x = 0, 0.5 and 1 (on the row y = 0.5), in that order.
         let markers = Markers::new(vec![[55, 55], [60, 60], [65, 65]]);
@@ -466,9 +470,18 @@ mod tests {
 
     #[test]
     fn the_percentile_weighs_by_area() {
-        assert_eq!(weighted_percentile(&[3.0, 1.0, 2.0], &[1.0, 1.0, 1.0], 0.5), 2.0);
-        assert_eq!(weighted_percentile(&[3.0, 1.0, 2.0], &[1.0, 8.0, 1.0], 0.8), 1.0);
-        assert_eq!(weighted_percentile(&[3.0, 1.0], &[1.0, f64::NAN], 0.95), 3.0);
+        assert_eq!(
+            weighted_percentile(&[3.0, 1.0, 2.0], &[1.0, 1.0, 1.0], 0.5),
+            2.0
+        );
+        assert_eq!(
+            weighted_percentile(&[3.0, 1.0, 2.0], &[1.0, 8.0, 1.0], 0.8),
+            1.0
+        );
+        assert_eq!(
+            weighted_percentile(&[3.0, 1.0], &[1.0, f64::NAN], 0.95),
+            3.0
+        );
         assert_eq!(weighted_percentile(&[], &[], 0.95), 0.0);
     }
 
@@ -478,11 +491,21 @@ mod tests {
         let big = grid(6);
         // A correspondence and markers made for a bigger mesh, a threshold
         // that is not a number, a source facing the other way.
-        let flipped: Vec<[u32; 3]> = target.triangles().iter().map(|t| [t[0], t[2], t[1]]).collect();
+        let flipped: Vec<[u32; 3]> = target
+            .triangles()
+            .iter()
+            .map(|t| [t[0], t[2], t[1]])
+            .collect();
         let source = Mesh3::new(target.positions().to_vec(), flipped).unwrap();
         let markers = Markers::new(vec![[0, 0], [48, 48]]);
         for threshold in [f64::NAN, -1.0, f64::INFINITY, 0.0] {
-            let fit = FitReport::new(&source, &target, &Correspondence::identity(&big), &markers, threshold);
+            let fit = FitReport::new(
+                &source,
+                &target,
+                &Correspondence::identity(&big),
+                &markers,
+                threshold,
+            );
             assert_eq!(fit.poor_threshold, 0.0);
             assert!(fit.distances.iter().all(|&d| d == FIT_DISTANCE_LIMIT));
             assert_eq!(fit.poor_regions.len(), 1);
