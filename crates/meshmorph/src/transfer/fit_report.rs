@@ -6,25 +6,29 @@
 //! other way: the transfer deforms the target, and a target triangle far
 //! from every source triangle is one whose deformation comes from no source
 //! triangle of its own (a source that reaches beyond the target only leaves
-//! some of its triangles unused). For each target triangle `t`,
+//! some of its triangles unused). At each target vertex `v`,
 //!
-//! $$d_t = \min\left(\frac{\lVert c_t - \pi(c_t) \rVert}{L},\ d_{\max}\right),$$
+//! $$d_v = \min\left(\frac{\lVert x_v - \pi(x_v) \rVert}{L},\ d_{\max}\right),$$
 //!
-//! with $c_t$ the triangle's centroid, $\pi(c_t)$ the closest point of the
-//! deformed source on a triangle whose normal is less than 90° from the
-//! target triangle's (the same test as the matching: a surface facing the
-//! other way covers nothing), $L$ the target's bounding-box diagonal, and
-//! $d_{\max}$ the farthest the search looks ([`FitReport::distance_limit`]):
-//! a triangle with no compatible source surface that near counts as that far.
-//! The mean and the 95th percentile weigh each triangle by its area $a_t$:
-//! $\bar d = \sum_t a_t d_t / \sum_t a_t$, and the 95th percentile is the
-//! smallest $d$ such that the triangles with $d_t \le d$ cover 95 % of the
-//! area.
+//! with $x_v$ its position, $\pi(x_v)$ the closest point of the deformed
+//! source on a triangle whose normal is less than 90° from the vertex's
+//! (area-weighted) normal (the same test as the matching: a surface facing
+//! the other way covers nothing), $L$ the target's bounding-box diagonal,
+//! and $d_{\max}$ the farthest the search looks
+//! ([`FitReport::distance_limit`]): a vertex with no compatible source
+//! surface that near counts as that far. Each target triangle's distance is
+//! the mean of its corners', $d_t = (d_a + d_b + d_c) / 3$, so that the
+//! area-weighted mean $\bar d = \sum_t a_t d_t / \sum_t a_t$ is the mean of
+//! the distance interpolated linearly over the surface. The 95th percentile
+//! is the smallest $d$ such that the triangles with $d_t \le d$ cover 95 %
+//! of the area.
 
 use rayon::prelude::*;
 
 use crate::linalg::vector::{centroid, dot, sub};
-use crate::mesh::closest::{closest_point_on_triangle, unit_normal, SurfaceIndex, PERPENDICULAR};
+use crate::mesh::closest::{
+    closest_point_on_triangle, unit_normal, vertex_normals, SurfaceIndex, PERPENDICULAR,
+};
 use crate::mesh::Mesh3;
 use crate::transfer::correspondence::Correspondence;
 use crate::transfer::markers::Markers;
@@ -51,8 +55,8 @@ pub const NEAREST_MARKERS: usize = 3;
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct FitReport {
-    /// `d_t` of each target triangle (`#T` of the target), in
-    /// `[0, distance_limit]`.
+    /// `d_t` of each target triangle (`#T` of the target): the mean of its
+    /// corners' distances, in `[0, distance_limit]`.
     pub distances: Vec<f64>,
     /// The area-weighted mean distance.
     pub mean_distance: f64,
@@ -111,7 +115,7 @@ impl FitReport {
     ///
     /// # Performance
     /// One bounding volume hierarchy over the deformed source's triangles,
-    /// one closest-point query per target triangle (in parallel), one sort
+    /// one closest-point query per target vertex (in parallel), one sort
     /// of the target's triangles by distance, and per poor region a pass
     /// over its vertices per marker.
     pub fn new(
@@ -194,48 +198,56 @@ impl FitReport {
     }
 }
 
-/// The distance from each target triangle's centroid to the closest
-/// compatible point of `deformed_source`, `limit` where none lies within
-/// `limit` (or where it is not a number).
+/// `d_t` of each target triangle in the target's units: the mean of its
+/// corners' distances to the closest compatible point of
+/// `deformed_source`, each `limit` where none lies within `limit`.
 ///
-/// A triangle's partners in `correspondence` (those facing its way) give
-/// the search an upper bound to start from: most of a good fit's target
-/// lies within a hair of its partners, and the search then opens a leaf or
-/// two instead of every box within `limit`. The answer is the same.
+/// A vertex's triangles' partners in `correspondence` (those facing its
+/// way) give its search an upper bound to start from: most of a good fit's
+/// target lies within a hair of its partners, and the search then opens a
+/// few leaves instead of every box within `limit`. The answer is the same.
 fn distances_to(
     deformed_source: &Mesh3,
     target: &Mesh3,
     correspondence: &Correspondence,
     limit: f64,
 ) -> Vec<f64> {
+    let normals = vertex_normals(target.positions(), target.triangles());
     let (surface, mut bound) = rayon::join(
         || SurfaceIndex::new(deformed_source.positions(), deformed_source.triangles()),
         || {
-            let mut bound = vec![f64::INFINITY; target.num_triangles()];
+            let mut bound = vec![f64::INFINITY; target.num_vertices()];
             for &[s, t] in correspondence.pairs() {
                 let (s, t) = (s as usize, t as usize);
                 if s >= deformed_source.num_triangles() || t >= target.num_triangles() {
                     continue;
                 }
-                let (p, q) = (target.corners(t), deformed_source.corners(s));
-                if dot(unit_normal(p), unit_normal(q)) > PERPENDICULAR {
-                    let c = centroid(p);
-                    let d = sub(closest_point_on_triangle(c, q), c);
-                    bound[t] = bound[t].min(dot(d, d).sqrt());
+                let q = deformed_source.corners(s);
+                let n = unit_normal(q);
+                for v in target.triangles()[t] {
+                    let v = v as usize;
+                    if dot(normals[v], n) > PERPENDICULAR {
+                        let x = target.positions()[v];
+                        let d = sub(closest_point_on_triangle(x, q), x);
+                        bound[v] = bound[v].min(dot(d, d).sqrt());
+                    }
                 }
             }
             bound
         },
     );
-    bound.par_iter_mut().enumerate().for_each(|(t, bound)| {
-        let p = target.corners(t);
+    bound.par_iter_mut().enumerate().for_each(|(v, bound)| {
         let reach = bound.min(limit);
         let d = surface
-            .closest_compatible(centroid(p), unit_normal(p), reach)
+            .closest_compatible(target.positions()[v], normals[v], reach)
             .map_or(reach, |c| c.distance.min(reach));
         *bound = if d.is_finite() { d } else { limit };
     });
-    bound
+    target
+        .triangles()
+        .par_iter()
+        .map(|t| t.iter().map(|&v| bound[v as usize]).sum::<f64>() / 3.0)
+        .collect()
 }
 
 /// The smallest value of `values` such that those at most it carry the
@@ -434,8 +446,8 @@ mod tests {
         // Poor beyond 0.05 of the diagonal (about 0.07) from x = 0.5.
         let d = std::f64::consts::SQRT_2;
         for (t, &dt) in fit.distances.iter().enumerate() {
-            let x = centroid(target.corners(t))[0];
-            let want = ((x - 0.5).max(0.0) / d).min(fit.distance_limit);
+            let at = |x: f64| ((x - 0.5).max(0.0) / d).min(fit.distance_limit);
+            let want = target.corners(t).iter().map(|p| at(p[0])).sum::<f64>() / 3.0;
             assert!((dt - want).abs() < 1e-12, "triangle {t}: {dt} {want}");
         }
         assert_eq!(fit.poor_regions.len(), 1);
