@@ -12,14 +12,14 @@ use crate::output::{self};
 use crate::outputs::Plan;
 use crate::pictures::PictureArgs;
 use crate::transfer::{
-    print_unmatched, print_welded, signed_for, CorrespondArgs, MarkerReport, PictureOutputs,
-    References,
+    print_unmatched, print_welded, signed_for, CorrespondArgs, FitSummary, MarkerReport,
+    PictureOutputs, References,
 };
 
 /// Compute the triangle correspondence between two meshes and save it.
 #[derive(Debug, clap::Args)]
 #[command(
-    mut_arg("png", |a| a.help("Also write a still picture (PNG): the deformed source above the target")),
+    mut_arg("png", |a| a.help("Also write a still picture (PNG): the deformed source above the target (beside it when both are tall), the target coloured by its distance to the deformed source: green up to 0.25 % of the target's diagonal, then a colour every 0.25 % through yellow and orange to red, purple past 1.75 %")),
     mut_arg("gif", |a| a.help("Also write an animated GIF: the source reference turning into the deformed source, above the target")),
 )]
 pub struct CorrespondCommand {
@@ -69,6 +69,8 @@ pub struct CorrespondReport {
     pub files_written: Vec<PathBuf>,
     /// How the markers fitted.
     pub markers: MarkerReport,
+    /// How well the source deformed onto the target lies on it.
+    pub fit: FitSummary,
     /// The warnings given (also printed on stderr).
     pub warnings: Vec<String>,
 }
@@ -110,7 +112,7 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
             .iter()
             .flat_map(|r| output::surface_warnings(&r.file.file)),
     );
-    let (result, markers) =
+    let (result, markers, fit) =
         args.correspond
             .compute(&args.refs, &source_ref, &target_ref, &mut warnings)?;
     let seconds = begin.elapsed().as_secs_f64();
@@ -141,6 +143,7 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
             (source.triangles(), &[source.positions()]),
             result.deformed_source.positions(),
             (target.triangles(), &[target.positions()]),
+            &result.fit.distances,
             (&names.0, &names.1),
         )
         .map(|_| ())
@@ -166,12 +169,14 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
         png: args.pictures.png.clone(),
         files_written,
         markers,
+        fit,
         warnings,
     };
     if args.json {
         output::print_json(&report);
     } else {
         report.markers.print();
+        report.fit.print();
         say!(
             "correspondence: {} in {}, saved to {}",
             output::count(report.matched_pairs, "pair"),

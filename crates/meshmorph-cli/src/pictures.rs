@@ -362,15 +362,26 @@ pub fn write_transfer_pictures(
     Ok(written)
 }
 
+/// One step of the colour scale of a correspondence's picture, as a
+/// fraction of the target's bounding-box diagonal: seven steps from green
+/// to red cover 0 to 1.75 %, farther is purple. Fixed, so that pictures of
+/// different correspondences compare; the default match threshold (1 %)
+/// falls where orange begins.
+pub const FIT_STEP: f64 = 0.0025;
+
 /// Pictures of a correspondence: the source deformed onto the target above
 /// the target (side by side when they are tall), captioned with `names`
-/// (the source's and the target's). The GIF shows the source reference
-/// turning into the deformed source. Returns the files written.
+/// (the source's and the target's). In the PNG, each target triangle is
+/// coloured by `distances` (its distance to the deformed source over the
+/// target's diagonal) on a scale of [`FIT_STEP`] per colour, explained
+/// below the picture. The GIF shows the source reference turning into the
+/// deformed source. Returns the files written.
 pub fn write_correspondence_pictures(
     args: &PictureArgs,
     source: Poses<'_>,
     deformed: &[[f64; 3]],
     target: Poses<'_>,
+    distances: &[f64],
     (source_name, target_name): (&str, &str),
 ) -> Result<Vec<PathBuf>> {
     /// Steps of the GIF from the reference to the deformed source.
@@ -414,11 +425,34 @@ pub fn write_correspondence_pictures(
                 style: Style3d::with_ramp(Ramp::SAND),
             },
         ];
-        let captions = vec![
-            vec![format!("{source_name} deformed onto {target_name}")],
-            vec![target_name.to_string()],
+        let captions = [
+            format!("{source_name} deformed"),
+            format!("{target_name} by distance"),
         ];
-        write_still(path, &rows, &captions, &args.draw.still_grid(FROM_FRONT))
+        let steps = (Ramp::SCALE.len() - 1) as f64;
+        let ramps: Vec<Ramp> = distances
+            .iter()
+            .map(|d| Ramp::on_scale(d / (steps * FIT_STEP)))
+            .collect();
+        let options = args.draw.still_grid(FROM_FRONT);
+        let layout = GridLayout::fit(&rows, &options);
+        let mut canvas = layout.render_coloured(&rows, &[&[], &ramps]);
+        for (r, caption) in captions.iter().enumerate() {
+            layout.caption(&mut canvas, r as u32, 0, caption);
+        }
+        // "0.5", "1", "1.75": two decimals at most, trailing zeros dropped.
+        let label = |k: usize| {
+            let text = format!("{:.2}", 100.0 * FIT_STEP * k as f64);
+            text.trim_end_matches('0').trim_end_matches('.').to_string()
+        };
+        let labels: Vec<(usize, String)> = [0, 2, 4, 6, 7].map(|k| (k, label(k))).to_vec();
+        let ticks: Vec<(usize, &str)> = labels.iter().map(|(k, t)| (*k, t.as_str())).collect();
+        let legend = render::Legend {
+            title: "distance, % of target diagonal (purple: farther)",
+            ramps: &Ramp::SCALE,
+            ticks: &ticks,
+        };
+        render::write_png(path, &render::with_legend(&canvas, &legend))
             .with_context(|| format!("writing the picture `{}`", path.display()))?;
         written.push(path.clone());
     }

@@ -19,7 +19,7 @@ use std::time::Instant;
 
 use meshmorph::io::MeshFile;
 use meshmorph::{
-    correspond, CorrespondOptions, Markers, Transfer, TransferOptions, VertexNumbering,
+    correspond, CorrespondOptions, FitReport, Markers, Transfer, TransferOptions, VertexNumbering,
 };
 
 /// One evaluation: a pair, a marker file, and (source pose, reference
@@ -96,6 +96,7 @@ fn full_cases() -> Vec<Case> {
 /// What one case measured.
 struct Outcome {
     markers: usize,
+    fit: FitReport,
     mean: f64,
     worst: f64,
     correspond: f64,
@@ -108,17 +109,35 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out_dir = std::env::var_os("OUT").map(PathBuf::from);
     let only = std::env::var("ONLY").unwrap_or_default();
     let mut rows = Vec::new();
+    let mut refused = Vec::new();
     for case in cases().into_iter().filter(|c| label(c).contains(&only)) {
-        let outcome = run(&dir, &case, out_dir.as_deref())?;
-        rows.push((label(&case), outcome));
+        match run(&dir, &case, out_dir.as_deref()) {
+            Ok(outcome) => rows.push((label(&case), outcome)),
+            // Without markers, a poor fit is refused rather than used.
+            Err(e) if case.every == 0 => refused.push((label(&case), e.to_string())),
+            Err(e) => return Err(e),
+        }
     }
-    println!("\n| pair and markers | markers | mean error | worst error | correspondence |");
-    println!("|---|---:|---:|---:|---:|");
+    println!(
+        "\n| pair and markers | markers | mean error | worst error | fit: mean / 95th pct | uncovered | poor (regions) | correspondence |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|");
     for (name, o) in rows {
         println!(
-            "| {name} | {} | {:.5} | {:.5} | {:.3} s |",
-            o.markers, o.mean, o.worst, o.correspond
+            "| {name} | {} | {:.5} | {:.5} | {:.3} % / {:.3} % | {:.2} % | {:.2} % ({}) | {:.3} s |",
+            o.markers,
+            o.mean,
+            o.worst,
+            100.0 * o.fit.mean_distance,
+            100.0 * o.fit.distance_95,
+            100.0 * o.fit.uncovered_area,
+            100.0 * o.fit.poor_area,
+            o.fit.poor_regions.len(),
+            o.correspond
         );
+    }
+    for (name, why) in refused {
+        println!("\n{name}: refused: {why}");
     }
     Ok(())
 }
@@ -184,6 +203,7 @@ fn run(
             transfer.carried_parts(),
             transfer.unpaired_triangles()
         );
+        print_fit(&found.fit, &markers);
         println!("| pose | error | doing nothing | solve |");
         println!("|---|---:|---:|---:|");
     }
@@ -224,10 +244,43 @@ fn run(
     }
     Ok(Outcome {
         markers: markers.pairs().len(),
+        fit: found.fit.clone(),
         mean,
         worst,
         correspond: t_corr,
     })
+}
+
+/// The fit's figures (percentages of the target's diagonal and area) and
+/// its largest poor regions with their nearest markers.
+fn print_fit(fit: &FitReport, markers: &Markers) {
+    println!(
+        "fit: distance target to deformed source {:.3} % mean, {:.3} % 95th percentile; \
+         uncovered {:.2} %; farther than {:.3} %: {:.2} % in {} regions",
+        100.0 * fit.mean_distance,
+        100.0 * fit.distance_95,
+        100.0 * fit.uncovered_area,
+        100.0 * fit.poor_threshold,
+        100.0 * fit.poor_area,
+        fit.poor_regions.len()
+    );
+    for r in fit.poor_regions.iter().take(3) {
+        let near: Vec<String> = r
+            .nearest_markers
+            .iter()
+            .map(|&(k, d)| format!("{} at {:.2} %", markers.describe(k), 100.0 * d))
+            .collect();
+        println!(
+            "  region of {:.2} % (up to {:.2} %) at ({:.3}, {:.3}, {:.3}), nearest markers: {}",
+            100.0 * r.area,
+            100.0 * r.largest_distance,
+            r.point[0],
+            r.point[1],
+            r.point[2],
+            near.join("; ")
+        );
+    }
+    println!();
 }
 
 fn knob_options() -> CorrespondOptions {

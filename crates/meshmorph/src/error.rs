@@ -153,6 +153,11 @@ pub enum Error {
     #[error("{0}")]
     InvalidArgument(String),
 
+    /// A correspondence found without markers fits too poorly to be used:
+    /// the two shapes do not stand alike. The message says how poorly.
+    #[error("{0}")]
+    PoorFit(String),
+
     /// The linear solver could not factor its matrix (it was not positive
     /// definite: usually a sign of a disconnected or degenerate input).
     #[error("linear solver: {0}")]

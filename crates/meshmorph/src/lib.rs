@@ -48,8 +48,9 @@
 //! What the command line warns about is data here:
 //! [`io::MeshFile::surface_issues`] (faces repeated, edges shared by more
 //! than two faces), [`Mesh::surface_counts`], [`CorrespondResult::far_markers`],
-//! [`Markers::fit`], [`Interpolator::count_flipped`] and
-//! [`Blend::count_turned_over`].
+//! [`CorrespondResult::fit`] (a [`FitReport`]: how well the deformed source
+//! lies on the target), [`Markers::fit`], [`Interpolator::count_flipped`]
+//! and [`Blend::count_turned_over`].
 //!
 //! Positions are plain `[f64; D]` arrays and triangles `[u32; 3]` index
 //! triples; small matrices are row-major `[[f64; D]; D]` ([`Mat`]). The
@@ -106,6 +107,9 @@ pub use mesh::shapes;
 pub use mesh::topology::SurfaceCounts;
 pub use mesh::{Mesh, Mesh2, Mesh3};
 pub use transfer::correspondence::Correspondence;
+pub use transfer::fit_report::{
+    FitReport, PoorRegion, FIT_DISTANCE_LIMIT, MIN_POOR_REGION, NEAREST_MARKERS,
+};
 pub use transfer::markers::{Markers, Snap, VertexNumbering, SNAP_LIMIT};
 pub use transfer::matching::{
     correspond, correspond_with_progress, CorrespondOptions, CorrespondResult, MIN_MARKERS,

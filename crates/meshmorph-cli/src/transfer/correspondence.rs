@@ -11,6 +11,7 @@ use meshmorph::{
 };
 use serde::Serialize;
 
+use super::fit::FitSummary;
 use crate::output::{self, finite_number};
 use crate::progress;
 
@@ -77,15 +78,16 @@ impl CorrespondArgs {
     }
 
     /// Reads the markers (snapping marker points to vertices) and computes
-    /// the correspondence, with a progress bar. `refs` name the meshes in
-    /// error messages; warnings about the markers go to `warnings`.
+    /// the correspondence, with a progress bar, and how well the deformed
+    /// source fits the target. `refs` name the meshes in error messages;
+    /// warnings about the markers and the fit go to `warnings`.
     pub(crate) fn compute(
         &self,
         refs: &References,
         source_ref: &Reference,
         target_ref: &Reference,
         warnings: &mut Vec<String>,
-    ) -> Result<(meshmorph::CorrespondResult, MarkerReport)> {
+    ) -> Result<(meshmorph::CorrespondResult, MarkerReport, FitSummary)> {
         let (source, target) = (&source_ref.mesh, &target_ref.mesh);
         let Some(path) = &self.markers else {
             bail!(
@@ -138,6 +140,8 @@ impl CorrespondArgs {
         if !options.align && rms > options.closest_cutoff * diagonal {
             warnings.extend(misplaced_warning(source, target, &welded, rms / diagonal));
         }
+        let fit = FitSummary::new(&result.fit, &welded);
+        warnings.extend(fit.warnings());
         let report = MarkerReport {
             markers: markers.pairs().len(),
             snapped_points: snap.points,
@@ -154,7 +158,7 @@ impl CorrespondArgs {
                 .to_degrees(),
             mirror_plane_misfits: result.mirror_planes.map(|p| p.map(|p| p.misfit)),
         };
-        Ok((result, report))
+        Ok((result, report, fit))
     }
 }
 

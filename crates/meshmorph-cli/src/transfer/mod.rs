@@ -17,11 +17,13 @@ use crate::outputs::{Output, Plan, Staging};
 use crate::pictures::PictureArgs;
 use crate::progress;
 mod correspondence;
+mod fit;
 mod report;
 
 use correspondence::{name_degenerate_faces, Reference};
 pub(crate) use correspondence::{print_welded, signed_for, MarkerReport};
 pub use correspondence::{CorrespondArgs, References};
+pub use fit::FitSummary;
 pub(crate) use report::print_unmatched;
 use report::TransferReport;
 
@@ -166,6 +168,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let Prepared {
         correspondence,
         marker_report,
+        fit,
         transfer,
         correspondence_seconds,
         setup_seconds,
@@ -312,6 +315,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         gap_target_triangles: transfer.gap_triangles(),
         unpaired_target_triangles: transfer.unpaired_triangles(),
         markers: marker_report,
+        fit,
         reordered_pose_faces,
         carried_parts: transfer.carried_parts(),
         following_parts: transfer.following_parts(),
@@ -398,6 +402,9 @@ impl ReadPoses {
 struct Prepared {
     correspondence: Correspondence,
     marker_report: Option<MarkerReport>,
+    /// How well the deformed source fits (absent when the correspondence
+    /// was loaded).
+    fit: Option<FitSummary>,
     transfer: Transfer,
     correspondence_seconds: f64,
     setup_seconds: f64,
@@ -416,7 +423,7 @@ fn prepare(
         .flat_map(|r| output::surface_warnings(&r.file.file))
         .collect();
     let begin = Instant::now();
-    let mut marker_report = None;
+    let (mut marker_report, mut fit) = (None, None);
     let correspondence = match &args.correspondence {
         Some(path) => {
             let c = Correspondence::load(path).context("reading the correspondence")?;
@@ -430,10 +437,11 @@ fn prepare(
             signed_for(&c, source, target)
         }
         None => {
-            let (result, report) =
+            let (result, report, summary) =
                 args.correspond
                     .compute(&args.refs, source_ref, target_ref, &mut warnings)?;
             marker_report = Some(report);
+            fit = Some(summary);
             result.correspondence
         }
     };
@@ -455,6 +463,7 @@ fn prepare(
     Ok(Prepared {
         correspondence,
         marker_report,
+        fit,
         transfer,
         correspondence_seconds,
         setup_seconds: begin.elapsed().as_secs_f64(),

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use serde::Serialize;
 
 use super::correspondence::{print_welded, MarkerReport};
+use super::fit::FitSummary;
 use crate::output::{self};
 
 /// What a transfer did.
@@ -38,6 +39,9 @@ pub struct TransferReport {
     pub unpaired_target_triangles: usize,
     /// How the markers fitted (absent when the correspondence was loaded).
     pub markers: Option<MarkerReport>,
+    /// How well the source deformed onto the target lies on it (absent
+    /// when the correspondence was loaded).
+    pub fit: Option<FitSummary>,
     /// Pose faces that list the reference's corners in another order or winding.
     pub reordered_pose_faces: usize,
     /// Separate parts of the target carried rigidly by the surface around them.
@@ -79,6 +83,9 @@ impl TransferReport {
         }
         if let Some(m) = &self.markers {
             m.print();
+        }
+        if let Some(fit) = &self.fit {
+            fit.print();
         }
         say!(
             "wrote {} to {}",

@@ -2438,6 +2438,156 @@ fn correspond_draws_the_deformed_source_over_the_target() {
     assert_eq!(files.len(), 3, "{files:?}");
 }
 
+/// The length of a PNG's palette in entries.
+fn png_palette_len(bytes: &[u8]) -> usize {
+    let at = bytes
+        .windows(4)
+        .position(|w| w == b"PLTE")
+        .expect("an indexed PNG");
+    let len = u32::from_be_bytes(bytes[at - 4..at].try_into().unwrap());
+    len as usize / 3
+}
+
+#[test]
+fn correspond_colours_the_target_by_its_distance_to_the_deformed_source() {
+    let rig = Rig::new();
+    let png = rig.path("fit.png");
+    succeeds(&rig.correspond(&rig.path("c.corr"), &[os("--png"), png.as_os_str()]));
+    let bytes = fs::read(&png).unwrap();
+    assert!(bytes.starts_with(b"\x89PNG"));
+    // The colour scale's entries (from 192 on) are in use.
+    assert!(png_palette_len(&bytes) > 192, "{}", png_palette_len(&bytes));
+}
+
+/// The fields of the fit in a report, checked for range.
+fn assert_fit_fields(fit: &Value) {
+    for key in [
+        "mean_distance",
+        "distance_95th_percentile",
+        "distance_limit",
+        "uncovered_area",
+        "poor_threshold",
+        "poor_area",
+    ] {
+        let v = fit[key]
+            .as_f64()
+            .unwrap_or_else(|| panic!("`{key}` is not a number in {fit}"));
+        assert!((0.0..=1.0).contains(&v), "{key} = {v}");
+    }
+    assert!(fit["poor_regions"].is_array(), "{fit}");
+}
+
+#[test]
+fn correspond_and_transfer_report_the_fit_in_the_same_words() {
+    let rig = Rig::new();
+    let corr = rig.path("c.corr");
+    let text = succeeds(&rig.correspond(&corr, &[]));
+    let lines = |text: &str| -> Vec<String> {
+        text.lines()
+            .filter(|l| l.starts_with("fit:") || l.starts_with("coverage:"))
+            .map(|l| {
+                l.split_whitespace()
+                    .filter(|w| w.parse::<f64>().is_err())
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            })
+            .collect()
+    };
+    let from_correspond = lines(&text);
+    assert_eq!(from_correspond.len(), 2, "{text}");
+    assert_mentions(
+        &text,
+        &[
+            "target to deformed source",
+            "(95th percentile)",
+            "has no source partner",
+        ],
+    );
+    let report = json(&succeeds(&rig.correspond(&corr, &[os("--json")])));
+    assert_fit_fields(&report["fit"]);
+    let out = rig.path("out");
+    let text = succeeds(&rig.transfer_with_markers(&out, &[]));
+    assert_eq!(lines(&text), from_correspond, "{text}");
+    let again = rig.path("again");
+    let report = json(&succeeds(
+        &rig.transfer_with_markers(&again, &[os("--json")]),
+    ));
+    assert_fit_fields(&report["fit"]);
+    // A loaded correspondence has no deformed source to measure.
+    let loaded = rig.path("loaded");
+    let report = json(&succeeds(&rig.transfer(
+        &loaded,
+        &[os("--json"), os("--correspondence"), corr.as_os_str()],
+        &rig.poses,
+    )));
+    assert_eq!(report["fit"], Value::Null);
+}
+
+#[test]
+fn correspond_warns_where_the_source_does_not_reach_the_target_naming_the_markers_there() {
+    // A source tube 4 long on a target 6 long, markers on rings at x = 0,
+    // 2 and 4 (lines 2 to 13 of the file, four a ring).
+    let dir = tempfile::tempdir().unwrap();
+    let (source, target) = (tube(4.0, 0.5, 17, 16), tube(6.0, 0.5, 25, 16));
+    let (source_ref, target_ref) = (dir.path().join("short.obj"), dir.path().join("long.obj"));
+    write(&source_ref, &source);
+    write(&target_ref, &target);
+    let pairs: Vec<[u32; 2]> = [0, 8, 16]
+        .iter()
+        .flat_map(|&r| [0, 4, 8, 12].map(|s| [r * 16 + s; 2]))
+        .collect();
+    let markers = dir.path().join("markers.txt");
+    write_markers(&markers, &pairs, 0);
+    let corr = dir.path().join("c.corr");
+    let run_with = |extra: &[&str]| {
+        let mut args: Vec<&OsStr> = vec![
+            os("correspond"),
+            os("--source-ref"),
+            source_ref.as_os_str(),
+            os("--target-ref"),
+            target_ref.as_os_str(),
+            os("--markers"),
+            markers.as_os_str(),
+            os("-o"),
+            corr.as_os_str(),
+        ];
+        args.extend(extra.iter().map(|a| os(a)));
+        run(args)
+    };
+    let out = run_with(&[]);
+    succeeds(&out);
+    let err = stderr(&out);
+    let warning = err
+        .lines()
+        .find(|l| l.contains("the deformed source lies farther than"))
+        .unwrap_or_else(|| panic!("no warning about the fit in:\n{err}"));
+    // The nearest markers: those at the source's end, lines 10 to 13.
+    let named = format!("`{}`, line 1", shown(&markers));
+    assert!(warning.contains(&named), "{warning}");
+    assert_mentions(warning, &["add a marker pair there"]);
+    let report = json(&succeeds(&run_with(&["--json"])));
+    let regions = report["fit"]["poor_regions"].as_array().unwrap();
+    assert_eq!(regions.len(), 1, "{report}");
+    let area = regions[0]["area"].as_f64().unwrap();
+    assert!((0.2..0.4).contains(&area), "{area}");
+    for near in regions[0]["nearest_markers"].as_array().unwrap() {
+        let k = near["marker"].as_u64().unwrap();
+        assert!((8..12).contains(&k), "{near}");
+        let line = format!("line {}", k + 2);
+        assert!(
+            near["description"].as_str().unwrap().contains(&line),
+            "{near}"
+        );
+    }
+    let warnings = report["warnings"].as_array().unwrap();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.as_str().unwrap().contains(&named)),
+        "{report}"
+    );
+}
+
 /// Runs a command with `files` (each `--flag path`) and checks that its
 /// report names each: as a line `label path` in text, as the key's value
 /// with `--json`.

@@ -4,8 +4,8 @@
 
 use super::canvas::Canvas;
 use super::font::{ADVANCE, GLYPH_HEIGHT};
-use super::palette::{slot, Palette};
-use super::shade3d::{draw_mesh_3d, Camera3d, Style3d};
+use super::palette::{slot, Palette, Ramp};
+use super::shade3d::{draw_mesh_3d_coloured, Camera3d, Style3d};
 use super::Rect;
 
 /// One row of a grid: meshes with the same triangles (the poses of one
@@ -241,6 +241,13 @@ impl GridLayout {
     /// Draws pose `k` of row `r` into cell `(r, k)` with the row's camera.
     /// Rows beyond those the layout was fitted with are left empty.
     pub fn render(&self, rows: &[GridRow<'_>]) -> Canvas {
+        self.render_coloured(rows, &[])
+    }
+
+    /// [`GridLayout::render`] with the triangles of row `r` shaded in the
+    /// ramps `ramps[r]` ([`draw_mesh_3d_coloured`]), rows past the end of
+    /// `ramps` in their style's ramp.
+    pub fn render_coloured(&self, rows: &[GridRow<'_>], ramps: &[&[Ramp]]) -> Canvas {
         let (w, h) = self.size();
         let s = self.supersample.max(1);
         let mut canvas = Canvas::new(w * s, h * s, self.palette.clone());
@@ -261,7 +268,16 @@ impl GridLayout {
                     dither_px: s,
                     ..row.style
                 };
-                draw_mesh_3d(&mut canvas, pose, row.triangles, camera, inner, &style);
+                let ramps = ramps.get(r).copied().unwrap_or(&[]);
+                draw_mesh_3d_coloured(
+                    &mut canvas,
+                    pose,
+                    row.triangles,
+                    camera,
+                    inner,
+                    &style,
+                    ramps,
+                );
             }
         }
         if s == 1 {

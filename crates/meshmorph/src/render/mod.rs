@@ -16,7 +16,9 @@
 //! fitted to a set of meshes) and [`draw_mesh_3d`] (z-buffered, flat shaded
 //! in a [`Ramp`] of palette shades, both sides lit) draw one mesh into a
 //! rectangle of a canvas; [`render_grid_3d`] lays out rows of poses side by
-//! side, each row with its own camera.
+//! side, each row with its own camera. A value per triangle (a distance)
+//! is shown by [`draw_mesh_3d_coloured`] in the steps of [`Ramp::SCALE`],
+//! explained by a [`Legend`] drawn below the picture ([`with_legend`]).
 //!
 //! **Files**: [`write_png`] for a canvas, [`write_gif`] for any sequence of
 //! canvases, [`write_gif_grid`] for animated grids of meshes in space.
@@ -44,6 +46,7 @@ mod canvas;
 mod font;
 mod gif;
 mod grid;
+mod legend;
 mod mesh2d;
 mod palette;
 mod png;
@@ -59,10 +62,11 @@ pub use self::gif::{
     write_gif, write_gif_2d, write_gif_2d_frames, write_gif_3d_frames, write_gif_grid, GifOptions,
 };
 pub use self::grid::{render_grid_3d, GridLayout, GridOptions, GridRow};
+pub use self::legend::{with_legend, Legend};
 pub use self::mesh2d::draw_mesh_2d;
 pub use self::palette::{slot, Palette, Ramp, Rgb};
 pub use self::png::write_png;
-pub use self::shade3d::{draw_mesh_3d, Camera3d, Style3d};
+pub use self::shade3d::{draw_mesh_3d, draw_mesh_3d_coloured, Camera3d, Style3d};
 pub use self::style::{Edges, Flipped, Style2d};
 pub use self::svg::svg_frame;
 pub use self::view::View2d;

@@ -72,6 +72,38 @@ impl Ramp {
     };
     /// The standard ramps, in order.
     pub const ALL: [Ramp; 4] = [Self::BLUE, Self::SAND, Self::GREEN, Self::GREY];
+    /// Number of levels of each ramp of [`Ramp::SCALE`].
+    pub const SCALE_LEVELS: u8 = 8;
+    /// A colour scale for a value from good to bad (a distance, an error):
+    /// seven steps from green through yellow and orange to red, then a dark
+    /// purple for what lies past the scale, each a ramp of
+    /// [`Ramp::SCALE_LEVELS`] shades so that the surface stays shaded
+    /// ([`Ramp::on_scale`]).
+    pub const SCALE: [Ramp; 8] = {
+        let mut ramps = [Ramp { first: 0, len: 0 }; 8];
+        let mut k = 0;
+        while k < 8 {
+            ramps[k] = Ramp {
+                first: 192 + k as u8 * Self::SCALE_LEVELS,
+                len: Self::SCALE_LEVELS,
+            };
+            k += 1;
+        }
+        ramps
+    };
+
+    /// The ramp of [`Ramp::SCALE`] for `fraction` of the scale: step
+    /// `⌊7 fraction⌋` from 0 to 1 (the first below 0), the last (past the
+    /// scale) from 1 on and for NaN.
+    pub fn on_scale(fraction: f64) -> Ramp {
+        let past = Self::SCALE.len() - 1;
+        let k = if fraction < 1.0 {
+            (fraction.max(0.0) * past as f64) as usize
+        } else {
+            past
+        };
+        Self::SCALE[k.min(past)]
+    }
 
     /// The palette index of brightness `level` in `[0, 1]` (clamped; NaN is
     /// the darkest shade).
@@ -101,6 +133,18 @@ impl Default for Palette {
     }
 }
 
+/// The base colour of each step of [`Ramp::SCALE`].
+const SCALE_COLOURS: [Rgb; 8] = [
+    [0x2e, 0x8b, 0x57],
+    [0x7c, 0xb3, 0x42],
+    [0xc8, 0xc8, 0x2c],
+    [0xf0, 0xb4, 0x28],
+    [0xee, 0x84, 0x1e],
+    [0xde, 0x4e, 0x20],
+    [0xb8, 0x1e, 0x2a],
+    [0x6e, 0x1a, 0x6e],
+];
+
 /// Shadow, base and highlight colours of the standard ramps.
 const RAMP_KEYS: [[Rgb; 3]; 4] = [
     [[0x16, 0x22, 0x38], [0x4a, 0x7c, 0xc0], [0xe4, 0xee, 0xfb]],
@@ -111,17 +155,29 @@ const RAMP_KEYS: [[Rgb; 3]; 4] = [
 
 impl Palette {
     /// The standard palette: the default [`Style2d`] colours in the
-    /// [`slot`]s, the four standard [`Ramp`]s, black elsewhere.
+    /// [`slot`]s, the four standard [`Ramp`]s and the eight of
+    /// [`Ramp::SCALE`] (each from a dark shade of its colour through the
+    /// colour to a light tint of it).
     pub fn standard() -> Self {
         let mut colors = [[0u8; 3]; 256];
         colors[slot::BLACK as usize] = [0, 0, 0];
         colors[slot::GREY as usize] = [0x80, 0x84, 0x8c];
         colors[slot::LIGHT_GREY as usize] = [0xe6, 0xe8, 0xec];
         colors[slot::EDGE_3D as usize] = [0x10, 0x14, 0x1c];
-        for (ramp, keys) in Ramp::ALL.iter().zip(RAMP_KEYS) {
+        let scale_keys = SCALE_COLOURS.map(|base| {
+            let mix = |t: f64, to: f64| -> Rgb {
+                base.map(|c| from_linear((1.0 - t) * to_linear(c) + t * to))
+            };
+            [mix(0.8, 0.0), base, mix(0.5, 1.0)]
+        });
+        for (ramp, keys) in Ramp::ALL
+            .iter()
+            .chain(&Ramp::SCALE)
+            .zip(RAMP_KEYS.iter().chain(&scale_keys))
+        {
             for k in 0..ramp.len {
                 let t = f64::from(k) / f64::from(ramp.len - 1);
-                colors[(ramp.first + k) as usize] = three_stop(keys, t);
+                colors[(ramp.first + k) as usize] = three_stop(*keys, t);
             }
         }
         Palette { colors }.with_style(&Style2d::default())
@@ -242,6 +298,22 @@ mod tests {
             assert_eq!(r.index(7.0), r.first + r.len - 1);
             assert_eq!(r.index(f64::NAN), r.first);
         }
+        // The scale's steps fill the rest of the palette, each its own hue.
+        let scale = Ramp::SCALE;
+        assert_eq!(scale[0].first, Ramp::GREY.first + Ramp::GREY.len);
+        assert_eq!(scale[7].first as usize + scale[7].len as usize, 256);
+        for pair in scale.windows(2) {
+            assert_eq!(pair[0].first + pair[0].len, pair[1].first);
+            assert_ne!(p.get(pair[0].index(0.5)), p.get(pair[1].index(0.5)));
+        }
+        assert_eq!(Ramp::on_scale(0.0), scale[0]);
+        assert_eq!(Ramp::on_scale(-3.0), scale[0]);
+        assert_eq!(Ramp::on_scale(0.13), scale[0]);
+        assert_eq!(Ramp::on_scale(0.15), scale[1]);
+        assert_eq!(Ramp::on_scale(0.99), scale[6]);
+        assert_eq!(Ramp::on_scale(1.0), scale[7]);
+        assert_eq!(Ramp::on_scale(5.0), scale[7]);
+        assert_eq!(Ramp::on_scale(f64::NAN), scale[7]);
         assert_eq!(p.get(slot::BACKGROUND), [255, 255, 255]);
         assert_eq!(p.to_bytes().len(), 768);
         assert_eq!(hex([255, 0, 16]), "#ff0010");

@@ -307,6 +307,22 @@ pub fn draw_mesh_3d(
     viewport: Rect,
     style: &Style3d,
 ) {
+    draw_mesh_3d_coloured(canvas, positions, triangles, camera, viewport, style, &[]);
+}
+
+/// [`draw_mesh_3d`] with triangle `t` shaded in `ramps[t]` instead of
+/// `style.ramp` (those past the end of `ramps` in `style.ramp`): a value
+/// per triangle shown in colour ([`Ramp::on_scale`]) with the surface
+/// still shaded.
+pub fn draw_mesh_3d_coloured(
+    canvas: &mut Canvas,
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    camera: &Camera3d,
+    viewport: Rect,
+    style: &Style3d,
+    ramps: &[Ramp],
+) {
     // The dither's thresholds along each of its four kinds of row, for
     // every column (no division per pixel).
     let cell = style.dither_px.max(1) as usize;
@@ -356,18 +372,16 @@ pub fn draw_mesh_3d(
             }
         })
         .collect();
-    let valid: Vec<[u32; 3]> = triangles
+    let (valid, valid_ramps): (Vec<[u32; 3]>, Vec<Ramp>) = triangles
         .iter()
-        .copied()
-        .filter(|t| super::style::valid(t, n))
-        .collect();
+        .enumerate()
+        .filter(|(_, t)| super::style::valid(t, n))
+        .map(|(k, t)| (*t, ramps.get(k).copied().unwrap_or(style.ramp)))
+        .unzip();
     let shade: Vec<[f64; 3]> = corner_normals(&finite, &valid)
         .iter()
         .map(|c| c.map(|nn| ambient + (1.0 - ambient) * dot(nn, light).abs()))
         .collect();
-    let levels = f64::from(style.ramp.len.max(1) - 1);
-    let top = u32::from(style.ramp.len.max(1) - 1);
-    let first = style.ramp.first;
     // Nearest first: the depth test then turns away most hidden pixels
     // before they are shaded, with a branch that mostly goes one way. (Only
     // exact ties of depth depend on the order: the first drawn keeps them.)
@@ -383,10 +397,13 @@ pub fn draw_mesh_3d(
         })
         .collect();
     nearest_first.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-    for (t, corner_shade) in nearest_first
-        .iter()
-        .map(|&(_, k)| (&valid[k as usize], &shade[k as usize]))
-    {
+    for (t, corner_shade, ramp) in nearest_first.iter().map(|&(_, k)| {
+        let k = k as usize;
+        (&valid[k], &shade[k], valid_ramps[k])
+    }) {
+        let levels = f64::from(ramp.len.max(1) - 1);
+        let top = u32::from(ramp.len.max(1) - 1);
+        let first = ramp.first;
         let [a, b, c] = t.map(|i| i as usize);
         let normal = cross(
             sub(positions[b], positions[a]),

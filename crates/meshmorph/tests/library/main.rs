@@ -3,6 +3,7 @@
 //! meshes of ../shared/data. One binary links the library once (each
 //! integration test file used to be a program of its own).
 
+mod fit;
 mod gltf_files;
 mod interpolate;
 mod io;

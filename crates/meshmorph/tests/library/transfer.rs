@@ -809,8 +809,9 @@ fn bad_markers_are_refused() {
             good[3][0], good[3][1]
         )],
     );
-    // Too few.
-    for k in 0..MIN_MARKERS {
+    // Too few (none is another case: two shapes that stand alike, tested
+    // on its own).
+    for k in 1..MIN_MARKERS {
         assert_error(
             run(good[..k].to_vec()),
             is_invalid_argument,
@@ -1732,4 +1733,63 @@ fn a_ball_carried_in_a_pipe_goes_to_one_place_whatever_the_rounding() {
         d < 1e-5 * exact.bounding_box_diagonal(),
         "the ball moves by {d:.2e} with the rounding"
     );
+}
+
+#[test]
+fn without_markers_shapes_that_stand_alike_correspond_and_others_are_refused() {
+    let (source, target) = (THIN.mesh(), THICK.mesh());
+    // The target moved and scaled, but standing as the source does.
+    let moved = mapped(&target, |p| {
+        [2.0 * p[0] + 3.0, 2.0 * p[1] - 1.0, 2.0 * p[2] + 5.0]
+    });
+    let none = Markers::new(Vec::new());
+    let options = CorrespondOptions::default();
+    let found = correspond(&source, &moved, &none, &options).unwrap();
+    assert!(found.marker_residuals.is_empty());
+    let marked = tube_correspondence(THIN, THICK);
+    // The bent source carried over with each correspondence: the same
+    // bend (the target's moved copy brought back onto the target).
+    let pose = bend(&source, THIN.length, 0.5 * PI);
+    let result = |c: &Correspondence, target: &Mesh3| {
+        Transfer::new(&source, target, c, &TransferOptions::default())
+            .unwrap()
+            .apply(&pose)
+            .unwrap()
+    };
+    let unmarked = result(&found.correspondence, &moved);
+    let unmarked: Vec<P3> = unmarked
+        .iter()
+        .map(|p| [(p[0] - 3.0) / 2.0, (p[1] + 1.0) / 2.0, (p[2] - 5.0) / 2.0])
+        .collect();
+    let with_markers = result(&marked.correspondence, &target);
+    assert_close(&unmarked, &with_markers, &target, 0.01, "without markers");
+    // Lying across the source's axis, the target does not stand alike: refused.
+    let across = rigid(
+        &target,
+        &rotation([0.0, 0.0, 1.0], 0.5 * PI),
+        [2.0, -2.0, 0.0],
+    );
+    let e = correspond(&source, &across, &none, &options).unwrap_err();
+    assert_error(
+        e,
+        |e| matches!(e, Error::PoorFit(_)),
+        &[
+            "without markers",
+            "found no partner",
+            "give at least 3 markers",
+        ],
+    );
+    // One or two markers fix nothing: refused as before.
+    let one = Markers::new(marked_pairs(1));
+    let e = correspond(&source, &target, &one, &options).unwrap_err();
+    assert_error(
+        e,
+        |e| matches!(e, Error::InvalidArgument(_)),
+        &["1 marker pair given", "or none"],
+    );
+}
+
+/// The first `n` marker pairs of the usual thin-to-thick tube markers.
+fn marked_pairs(n: usize) -> Vec<[u32; 2]> {
+    tube_markers(THIN, THICK, &tube_picks(THIN, 4)).pairs()[..n].to_vec()
 }
