@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 use crate::output::WeldedFile;
 use anyhow::{bail, Context, Result};
 use meshmorph::{
-    correspond_with_progress, CorrespondOptions, Correspondence, Markers, Mesh3, VertexNumbering,
+    correspond_with_progress, CorrespondOptions, Correspondence, Markers, Mesh3, SurfacePoint,
+    VertexNumbering,
 };
 use serde::Serialize;
 
@@ -17,13 +18,19 @@ use crate::progress;
 /// How the triangle correspondence is computed (Sumner and Popovic 2004, section 5).
 #[derive(Debug, Clone, clap::Args)]
 pub struct CorrespondArgs {
-    /// Marker file: one `source target` vertex pair per line, or a point on
-    /// each mesh `sx sy sz tx ty tz` (snapped to the nearest vertex); white
-    /// space or a comma between, `#` comments, an optional first line with
-    /// the count.
-    #[arg(long, value_name = "FILE")]
-    pub markers: Option<PathBuf>,
-    /// Vertex indices in the marker file start at 1 instead of 0.
+    /// Markers: one file of pairs, or two files of points, the source's
+    /// then the target's (MeshLab's picked points `.pp`, Wrap's `.json`, or
+    /// one point a line), paired by name when every point is named, else in
+    /// order. A file of pairs holds `source target` vertex indices, a
+    /// position on each mesh `sx sy sz tx ty tz`, or `[name] SIDE SIDE`
+    /// with each side `v I` (a vertex), `t T b0 b1 b2` (a triangle's point,
+    /// barycentric) or `p x y z` (a position); positions are snapped to the
+    /// nearest point of the surface; white space or a comma between, `#`
+    /// comments, an optional first line with the count.
+    #[arg(long, value_name = "FILE", num_args = 1..=2)]
+    pub markers: Vec<PathBuf>,
+    /// Vertex and triangle indices in meshmorph's marker files start at 1
+    /// instead of 0.
     #[arg(long)]
     pub one_based: bool,
     /// Do not bring the source onto the target by the similarity (rotation,
@@ -62,6 +69,69 @@ pub struct CorrespondArgs {
 }
 
 impl CorrespondArgs {
+    /// The marker files, checked before anything is read: one file of
+    /// pairs or two files of points.
+    ///
+    /// # Errors
+    /// Without `--markers`, or when the second file is a mesh (a pose taken
+    /// for a marker file).
+    pub(crate) fn marker_files(&self) -> Result<&[PathBuf]> {
+        match self.markers.as_slice() {
+            [] => bail!(
+                "--markers is required to compute a correspondence (or pass --correspondence FILE)"
+            ),
+            [_, second] if meshmorph::io::Format::from_path(second).is_ok() => bail!(
+                "`{}` after --markers is a mesh: --markers takes one file of pairs or two files of points; put the poses before --markers or after `--`",
+                second.display()
+            ),
+            files => Ok(files),
+        }
+    }
+
+    /// "`a.pp` and `b.pp`", for messages.
+    fn describe_markers(&self) -> String {
+        self.markers
+            .iter()
+            .map(|p| format!("`{}`", p.display()))
+            .collect::<Vec<_>>()
+            .join(" and ")
+    }
+
+    /// The markers, from one file of pairs or two files of points. Wrap
+    /// numbers the triangles of a fan over each polygon: its files are
+    /// refused for a mesh with polygons, whose triangles meshmorph numbers
+    /// otherwise.
+    fn read_markers(&self, source_ref: &Reference, target_ref: &Reference) -> Result<Markers> {
+        let numbering = numbering(self.one_based);
+        let markers = match self.marker_files()? {
+            [one] => Markers::read(one, numbering),
+            [s, t] => {
+                for (path, reference, role) in [
+                    (s, source_ref, "source reference"),
+                    (t, target_ref, "target reference"),
+                ] {
+                    let wrap = path
+                        .extension()
+                        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+                    let file = &reference.file.file;
+                    if let Some(f) = (0..file.num_faces()).find(|&f| file.face(f).len() > 3) {
+                        if wrap {
+                            bail!(
+                                "`{}` is a Wrap point file, whose triangle numbers count a fan over each polygon, but the {role} `{}` has polygons (face {f} has {} corners), which meshmorph splits otherwise: export the mesh as triangles for both",
+                                path.display(),
+                                file.path().display(),
+                                file.face(f).len()
+                            );
+                        }
+                    }
+                }
+                Markers::read_pair(s, t, numbering)
+            }
+            _ => unreachable!("clap takes one or two files"),
+        };
+        markers.with_context(|| format!("reading the markers {}", self.describe_markers()))
+    }
+
     /// The library's defaults, with the options given on the command line.
     pub(crate) fn options(&self) -> CorrespondOptions {
         let d = CorrespondOptions::default();
@@ -87,20 +157,11 @@ impl CorrespondArgs {
         warnings: &mut Vec<String>,
     ) -> Result<(meshmorph::CorrespondResult, MarkerReport)> {
         let (source, target) = (&source_ref.mesh, &target_ref.mesh);
-        let Some(path) = &self.markers else {
-            bail!(
-                "--markers is required to compute a correspondence (or pass --correspondence FILE)"
-            );
-        };
-        let markers =
-            Markers::read(path, numbering(self.one_based)).context("reading the markers")?;
+        let markers = self.read_markers(source_ref, target_ref)?;
         let (markers, snap) = markers
             .snap(source_ref.file_mesh(), target_ref.file_mesh())
-            .context("snapping the marker points to vertices")?;
-        markers.check_ranges(
-            source_ref.file_mesh().num_vertices(),
-            target_ref.file_mesh().num_vertices(),
-        )?;
+            .context("snapping the marker points to the surfaces")?;
+        markers.validate(source_ref.file_mesh(), target_ref.file_mesh())?;
         let welded = markers.welded(&source_ref.file.seams, &target_ref.file.seams);
         let options = self.options();
         let bar = progress::bar(options.steps() as u64, "correspond");
@@ -110,9 +171,9 @@ impl CorrespondArgs {
         .map_err(|e| name_degenerate_faces(e, source_ref, target_ref))
         .with_context(|| {
             format!(
-                "computing the correspondence {} with the markers `{}`",
+                "computing the correspondence {} with the markers {}",
                 refs.describe(),
-                path.display()
+                self.describe_markers()
             )
         })?;
         bar.finish_and_clear();
@@ -140,6 +201,11 @@ impl CorrespondArgs {
         }
         let report = MarkerReport {
             markers: markers.pairs().len(),
+            on_triangles: markers
+                .pairs()
+                .iter()
+                .filter(|p| p.iter().any(|x| matches!(x, SurfacePoint::Triangle { .. })))
+                .count(),
             snapped_points: snap.points,
             largest_snap_source: snap.largest_source,
             largest_snap_target: snap.largest_target,
@@ -202,7 +268,10 @@ pub(crate) fn print_welded(source: usize, target: usize) {
 #[derive(Debug, Default, Serialize)]
 pub struct MarkerReport {
     pub markers: usize,
-    /// Markers given as points and snapped to the nearest vertex.
+    /// Markers with a side inside a triangle (or on an edge).
+    pub on_triangles: usize,
+    /// Markers with a side given as a position and snapped to the nearest
+    /// point of the surface; how far (largest) on each side.
     pub snapped_points: usize,
     pub largest_snap_source: f64,
     pub largest_snap_target: f64,
@@ -225,13 +294,23 @@ pub struct MarkerReport {
 impl MarkerReport {
     pub(crate) fn print(&self) {
         let mut line = format!("markers:        {}", self.markers);
+        let mut notes = Vec::new();
         if self.snapped_points > 0 {
-            line += &format!(
-                " ({} snapped to vertices, at most {:.3} % of the source's and {:.3} % of the target's diagonal away)",
-                output::count(self.snapped_points, "point"),
+            notes.push(format!(
+                "{} snapped to the surface, moved at most {:.3} % of the source's and {:.3} % of the target's diagonal",
+                output::count(self.snapped_points, "position"),
                 100.0 * self.largest_snap_source,
                 100.0 * self.largest_snap_target
-            );
+            ));
+        }
+        if self.on_triangles > 0 {
+            notes.push(format!(
+                "{} inside triangles",
+                output::count(self.on_triangles, "marker")
+            ));
+        }
+        if !notes.is_empty() {
+            line += &format!(" ({})", notes.join("; "));
         }
         say!("{line}");
         if self.aligned {

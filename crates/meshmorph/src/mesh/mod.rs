@@ -8,6 +8,7 @@ pub(crate) mod frame_source;
 pub(crate) mod nearest_vertices;
 pub(crate) mod seams;
 pub mod shapes;
+pub(crate) mod surface_point;
 pub(crate) mod topology;
 mod triangle_mesh;
 
@@ -16,4 +17,5 @@ pub(crate) use triangle_mesh::signed_areas;
 pub(crate) use triangle_mesh::{
     bounding_box_diagonal, check_areas, check_finite, check_overflow, used_vertices,
 };
+pub use surface_point::SurfacePoint;
 pub use triangle_mesh::{Mesh, Mesh2, Mesh3};

@@ -6,6 +6,7 @@
 mod gltf_files;
 mod interpolate;
 mod io;
+mod markers;
 mod properties;
 mod real_meshes;
 mod separate_parts;

@@ -9,7 +9,7 @@ use meshmorph::shapes::{bend, octahedron, tube};
 use meshmorph::MIN_MARKERS;
 use meshmorph::{
     correspond, io, CorrespondOptions, CorrespondResult, Correspondence, Error, Markers, Mesh3,
-    Transfer, TransferOptions, VertexNumbering,
+    SurfacePoint, Transfer, TransferOptions, VertexNumbering,
 };
 
 // ---------------------------------------------------------------------------
@@ -635,7 +635,7 @@ fn marker_order_does_not_matter() {
             for k in 0..4 {
                 let mut pairs = markers.pairs().to_vec();
                 rng.shuffle(&mut pairs);
-                let shuffled = correspond(&s0, &t0, &Markers::new(pairs), &opts).unwrap();
+                let shuffled = correspond(&s0, &t0, &Markers::on_surfaces(pairs), &opts).unwrap();
                 assert_eq!(
                     shuffled.correspondence, base.correspondence,
                     "{what}, shuffle {k}: other pairs"
@@ -760,9 +760,16 @@ fn apply_into_panics_on_a_pose_of_the_wrong_size() {
 fn bad_markers_are_refused() {
     let (s0, t0) = (THIN.mesh(), THICK.mesh());
     let (ns, nt) = (s0.num_vertices() as u32, t0.num_vertices() as u32);
-    let good = tube_markers(THIN, THICK, &tube_picks(THIN, 8))
+    let good: Vec<[u32; 2]> = tube_markers(THIN, THICK, &tube_picks(THIN, 8))
         .pairs()
-        .to_vec();
+        .iter()
+        .map(|p| {
+            p.map(|s| match s {
+                SurfacePoint::Vertex(v) => v,
+                other => panic!("{other:?}"),
+            })
+        })
+        .collect();
     let run = |pairs: Vec<[u32; 2]>| {
         correspond(
             &s0,
@@ -796,7 +803,7 @@ fn bad_markers_are_refused() {
         run(with(good[2])),
         is_invalid_argument,
         &[&format!(
-            "the pair {} {} repeats marker 2",
+            "the pair source vertex {}, target vertex {} repeats marker 2",
             good[2][0], good[2][1]
         )],
     );
@@ -805,7 +812,7 @@ fn bad_markers_are_refused() {
         run(with([good[3][0], other])),
         is_invalid_argument,
         &[&format!(
-            "source vertex {} is paired with target vertex {other} here and with {} in marker 3",
+            "source vertex {} is paired with target vertex {other} here and with target vertex {} in marker 3",
             good[3][0], good[3][1]
         )],
     );
@@ -905,7 +912,7 @@ fn marker_files_that_do_not_parse_name_the_line() {
     std::fs::write(&path, "0 0\n1 1\n999 2\n").unwrap();
     let m = Markers::read(&path, VertexNumbering::FromZero).unwrap();
     assert_error(
-        m.validate(100, 100).unwrap_err(),
+        m.validate(&THIN.mesh(), &THIN.mesh()).unwrap_err(),
         is_invalid_argument,
         &["bad.cons", "line 3", "source vertex 999"],
     );
