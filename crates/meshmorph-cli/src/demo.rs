@@ -241,7 +241,7 @@ fn transfer(args: &Args) -> Result<()> {
             no_weld: false,
         },
         correspond: CorrespondArgs {
-            markers: Some(markers_path.clone()),
+            markers: vec![markers_path.clone()],
             one_based: false,
             smoothness_weight: None,
             identity_weight: None,

@@ -174,6 +174,19 @@ impl Markers {
         &self.pairs
     }
 
+    /// The pairs as vertex indices `[source vertex, target vertex]`, when
+    /// every point is a vertex (as [`Markers::new`] takes them).
+    pub fn vertex_pairs(&self) -> Option<Vec<[u32; 2]>> {
+        let vertex = |p: &SurfacePoint| match *p {
+            SurfacePoint::Vertex(v) => Some(v),
+            SurfacePoint::Triangle { .. } => None,
+        };
+        self.pairs
+            .iter()
+            .map(|[s, t]| Some([vertex(s)?, vertex(t)?]))
+            .collect()
+    }
+
     /// The name of pair `k` of [`Markers::pairs`], if it has one.
     ///
     /// # Panics

@@ -9,7 +9,7 @@ use meshmorph::shapes::{bend, octahedron, tube};
 use meshmorph::MIN_MARKERS;
 use meshmorph::{
     correspond, io, CorrespondOptions, CorrespondResult, Correspondence, Error, Markers, Mesh3,
-    SurfacePoint, Transfer, TransferOptions, VertexNumbering,
+    Transfer, TransferOptions, VertexNumbering,
 };
 
 // ---------------------------------------------------------------------------
@@ -760,16 +760,9 @@ fn apply_into_panics_on_a_pose_of_the_wrong_size() {
 fn bad_markers_are_refused() {
     let (s0, t0) = (THIN.mesh(), THICK.mesh());
     let (ns, nt) = (s0.num_vertices() as u32, t0.num_vertices() as u32);
-    let good: Vec<[u32; 2]> = tube_markers(THIN, THICK, &tube_picks(THIN, 8))
-        .pairs()
-        .iter()
-        .map(|p| {
-            p.map(|s| match s {
-                SurfacePoint::Vertex(v) => v,
-                other => panic!("{other:?}"),
-            })
-        })
-        .collect();
+    let good = tube_markers(THIN, THICK, &tube_picks(THIN, 8))
+        .vertex_pairs()
+        .unwrap();
     let run = |pairs: Vec<[u32; 2]>| {
         correspond(
             &s0,
@@ -1550,8 +1543,8 @@ fn markers_on_vertices_in_no_triangle_are_refused() {
     let (s1, t1) = (with_loose(&s0), with_loose(&t0));
     let (ls, lt) = (s0.num_vertices() as u32, t0.num_vertices() as u32);
     let good = tube_markers(THIN, THICK, &tube_picks(THIN, 4))
-        .pairs()
-        .to_vec();
+        .vertex_pairs()
+        .unwrap();
     let text = |extra: [u32; 2]| {
         good.iter()
             .chain([&extra])
