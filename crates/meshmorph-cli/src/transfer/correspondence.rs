@@ -26,7 +26,8 @@ pub struct CorrespondArgs {
     /// with each side `v I` (a vertex), `t T b0 b1 b2` (a triangle's point,
     /// barycentric) or `p x y z` (a position); positions are snapped to the
     /// nearest point of the surface; white space or a comma between, `#`
-    /// comments, an optional first line with the count.
+    /// comments, an optional first line with the count. Put the poses of
+    /// `transfer` before --markers, or after `--`.
     #[arg(long, value_name = "FILE", num_args = 1..=2)]
     pub markers: Vec<PathBuf>,
     /// Vertex and triangle indices in meshmorph's marker files start at 1

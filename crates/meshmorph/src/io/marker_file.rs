@@ -88,7 +88,12 @@ impl Markers {
             ..Markers::default()
         };
         for (order, line) in lines.into_iter().enumerate() {
-            markers.push(order, [line.sides[0], line.sides[1]], line.name, [line.number; 2]);
+            markers.push(
+                order,
+                [line.sides[0], line.sides[1]],
+                line.name,
+                [line.number; 2],
+            );
         }
         Ok(markers)
     }
@@ -212,7 +217,11 @@ fn fields(line: &str) -> std::result::Result<Vec<Field>, String> {
                         Some('n') => text.push('\n'),
                         Some('r') => text.push('\r'),
                         Some(c @ ('"' | '\\')) => text.push(c),
-                        Some(c) => return Err(format!("`\\{c}` is no escape (`\\\"`, `\\\\`, `\\n`, `\\r`)")),
+                        Some(c) => {
+                            return Err(format!(
+                                "`\\{c}` is no escape (`\\\"`, `\\\\`, `\\n`, `\\r`)"
+                            ))
+                        }
                         None => return Err("a name in quotes has no closing quote".into()),
                     },
                     Some(c) => text.push(c),
@@ -275,8 +284,8 @@ pub(crate) fn parse_lines(
             continue;
         }
         first = false;
-        let named = fields[0].quoted
-            || (!is_tag(&fields[0]) && fields[0].text.parse::<f64>().is_err());
+        let named =
+            fields[0].quoted || (!is_tag(&fields[0]) && fields[0].text.parse::<f64>().is_err());
         let (name, rest) = if named {
             (Some(fields[0].text.clone()), &fields[1..])
         } else {
@@ -390,7 +399,11 @@ fn sides(
             rest = &rest[1 + arity..];
         }
         if out.len() != per_line {
-            return Err(format!("{expected}; found {} side{}", out.len(), if out.len() == 1 { "" } else { "s" }));
+            return Err(format!(
+                "{expected}; found {} side{}",
+                out.len(),
+                if out.len() == 1 { "" } else { "s" }
+            ));
         }
         return Ok(out);
     }
@@ -506,11 +519,8 @@ mod tests {
     #[test]
     fn reports_lines() {
         let p = Path::new("m.txt");
-        let bad = |text: &str, numbering| {
-            Markers::parse(text, p, numbering)
-                .unwrap_err()
-                .to_string()
-        };
+        let bad =
+            |text: &str, numbering| Markers::parse(text, p, numbering).unwrap_err().to_string();
         let e = bad("0 1\n2 x\n", VertexNumbering::FromZero);
         assert!(
             e.contains("m.txt") && e.contains("line 2") && e.contains("`x`"),
@@ -527,7 +537,10 @@ mod tests {
         let e = bad("a v 1 t 2 0.5 0.6 0.1\n", VertexNumbering::FromZero);
         assert!(e.contains("line 1") && e.contains("sum to"), "{e}");
         let e = bad("a 1 2\nb 3 4\na 5 6\n", VertexNumbering::FromZero);
-        assert!(e.contains("line 3") && e.contains("`a` is given twice (line 1"), "{e}");
+        assert!(
+            e.contains("line 3") && e.contains("`a` is given twice (line 1"),
+            "{e}"
+        );
         let e = bad("\"a 1 2\n", VertexNumbering::FromZero);
         assert!(e.contains("closing quote"), "{e}");
         let e = bad("v 1 t 2 0.5\n", VertexNumbering::FromZero);
@@ -562,7 +575,9 @@ mod tests {
         let m = Markers::parse("1 5\n1 6\n", p, VertexNumbering::FromOne).unwrap();
         let e = m.validate(&mesh, &mesh).unwrap_err().to_string();
         assert!(
-            e.contains("source vertex 1 is paired with target vertex 6 here and with target vertex 5"),
+            e.contains(
+                "source vertex 1 is paired with target vertex 6 here and with target vertex 5"
+            ),
             "{e}"
         );
     }

@@ -217,7 +217,9 @@ pub(crate) fn pair(source: &PointList, target: &PointList) -> Result<Markers> {
                 ),
             ))
         };
-        if let Some(e) = alone(source, target, &in_target).or_else(|| alone(target, source, &in_source)) {
+        if let Some(e) =
+            alone(source, target, &in_target).or_else(|| alone(target, source, &in_source))
+        {
             return Err(e);
         }
         source
@@ -268,12 +270,18 @@ mod tests {
         let m = pair(&a, &b).unwrap();
         assert_eq!(m.pairs().len(), 2);
         assert_eq!(m.name(0), Some("nose"));
-        assert_eq!(m.pairs()[1], [SurfacePoint::Vertex(4), SurfacePoint::Vertex(40)]);
+        assert_eq!(
+            m.pairs()[1],
+            [SurfacePoint::Vertex(4), SurfacePoint::Vertex(40)]
+        );
         assert_eq!(m.points.len(), 1);
         assert_eq!(m.points[0].order, 2);
         let unnamed = list("9\n8\n7\n", "c.txt");
         let m = pair(&a, &unnamed).unwrap();
-        assert_eq!(m.pairs()[0], [SurfacePoint::Vertex(3), SurfacePoint::Vertex(9)]);
+        assert_eq!(
+            m.pairs()[0],
+            [SurfacePoint::Vertex(3), SurfacePoint::Vertex(9)]
+        );
     }
 
     #[test]
@@ -285,7 +293,9 @@ mod tests {
             e.contains("`a.txt`, line 2") && e.contains("`eye`") && e.contains("`b.txt`"),
             "{e}"
         );
-        let e = pair(&a, &list("1\n2\n3\n", "c.txt")).unwrap_err().to_string();
+        let e = pair(&a, &list("1\n2\n3\n", "c.txt"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("2 points here and 3 in `c.txt`"), "{e}");
         let e = parse_points("a 1\n2\n", Path::new("d.txt"), VertexNumbering::FromZero)
             .unwrap_err()
@@ -294,6 +304,9 @@ mod tests {
         let e = parse_points("a 1\na 2\n", Path::new("d.txt"), VertexNumbering::FromZero)
             .unwrap_err()
             .to_string();
-        assert!(e.contains("line 2") && e.contains("`a` is given twice"), "{e}");
+        assert!(
+            e.contains("line 2") && e.contains("`a` is given twice"),
+            "{e}"
+        );
     }
 }

@@ -112,7 +112,8 @@ mod tests {
         assert!(s.contains("`a.pp`, line 2") && s.contains("no `z`"), "{s}");
         let s = e("<PickedPoints>\n<point x=\"1\" y=\"nan\" z=\"0\"/>\n</PickedPoints>");
         assert!(s.contains("line 2") && s.contains("y=\"nan\""), "{s}");
-        let s = e("<PickedPoints>\n\n<point x=\"1\" y=\"2\" z=\"0\" active=\"yes\"/></PickedPoints>");
+        let s =
+            e("<PickedPoints>\n\n<point x=\"1\" y=\"2\" z=\"0\" active=\"yes\"/></PickedPoints>");
         assert!(s.contains("line 3") && s.contains("active"), "{s}");
         let s = e("<Other/>");
         assert!(s.contains("`Other`"), "{s}");

@@ -133,7 +133,11 @@ mod tests {
             Path::new("b.json"),
         )
         .unwrap();
-        let names: Vec<_> = named.entries.iter().map(|e| e.name.clone().unwrap()).collect();
+        let names: Vec<_> = named
+            .entries
+            .iter()
+            .map(|e| e.name.clone().unwrap())
+            .collect();
         assert_eq!(names, ["Zed", "Alpha"]);
     }
 
@@ -141,7 +145,10 @@ mod tests {
     fn refuses_bad_points() {
         let e = |text: &str| parse(text, Path::new("a.json")).unwrap_err().to_string();
         let s = e("[[1, 0.5, 0.5], [2, 0.5]]");
-        assert!(s.contains("`a.json`: point 2") && s.contains("found 2 numbers"), "{s}");
+        assert!(
+            s.contains("`a.json`: point 2") && s.contains("found 2 numbers"),
+            "{s}"
+        );
         let s = e("[[1.5, 0.5, 0.5]]");
         assert!(s.contains("not a triangle index"), "{s}");
         let s = e("{\"P\": [-1, 0.5, 0.5]}");

@@ -187,20 +187,7 @@ impl SurfaceIndex {
     /// The closest point of the surface to `q`, whatever the normals (of
     /// equally close triangles, the first); `None` without triangles.
     pub fn closest(&self, q: [f64; 3]) -> Option<ClosestPoint> {
-        let (triangle, tri, d2) = self.tree.nearest(
-            q,
-            f64::INFINITY,
-            |_| true,
-            |t| {
-                let d = sub(closest_point_on_triangle(q, t.corners), q);
-                dot(d, d)
-            },
-        )?;
-        Some(ClosestPoint {
-            triangle,
-            point: closest_point_on_triangle(q, tri.corners),
-            distance: d2.sqrt(),
-        })
+        self.closest_where(q, f64::INFINITY, |_| true)
     }
 
     /// The closest point to `q` on a triangle whose normal is less than 90°
@@ -212,15 +199,24 @@ impl SurfaceIndex {
         normal: [f64; 3],
         max_distance: f64,
     ) -> Option<ClosestPoint> {
-        let (triangle, tri, d2) = self.tree.nearest(
-            q,
-            max_distance * max_distance,
-            |t| dot(t.normal, normal) > PERPENDICULAR,
-            |t| {
-                let d = sub(closest_point_on_triangle(q, t.corners), q);
-                dot(d, d)
-            },
-        )?;
+        self.closest_where(q, max_distance * max_distance, |t| {
+            dot(t.normal, normal) > PERPENDICULAR
+        })
+    }
+
+    /// The closest point to `q` on a triangle that `accept`s, within the
+    /// squared distance `max_distance_2`.
+    #[inline]
+    fn closest_where(
+        &self,
+        q: [f64; 3],
+        max_distance_2: f64,
+        accept: impl Fn(&Triangle) -> bool,
+    ) -> Option<ClosestPoint> {
+        let (triangle, tri, d2) = self.tree.nearest(q, max_distance_2, accept, |t| {
+            let d = sub(closest_point_on_triangle(q, t.corners), q);
+            dot(d, d)
+        })?;
         Some(ClosestPoint {
             triangle,
             point: closest_point_on_triangle(q, tri.corners),

@@ -12,10 +12,10 @@ pub(crate) mod surface_point;
 pub(crate) mod topology;
 mod triangle_mesh;
 
+pub use surface_point::SurfacePoint;
 #[cfg(test)]
 pub(crate) use triangle_mesh::signed_areas;
 pub(crate) use triangle_mesh::{
     bounding_box_diagonal, check_areas, check_finite, check_overflow, used_vertices,
 };
-pub use surface_point::SurfacePoint;
 pub use triangle_mesh::{Mesh, Mesh2, Mesh3};

@@ -47,10 +47,7 @@ impl SurfacePoint {
                 barycentric,
             } => (triangles[triangle as usize], barycentric),
         };
-        vertices
-            .into_iter()
-            .zip(weights)
-            .filter(|&(_, w)| w != 0.0)
+        vertices.into_iter().zip(weights).filter(|&(_, w)| w != 0.0)
     }
 
     /// The point's position on `mesh`: a vertex's own position (bit for
@@ -62,11 +59,9 @@ impl SurfacePoint {
     pub fn position(&self, mesh: &Mesh3) -> [f64; 3] {
         match self.as_vertex(mesh.triangles()) {
             Some(v) => mesh.positions()[v as usize],
-            None => self
-                .terms(mesh.triangles())
-                .fold([0.0; 3], |sum, (v, w)| {
-                    add(sum, scale(mesh.positions()[v as usize], w))
-                }),
+            None => self.terms(mesh.triangles()).fold([0.0; 3], |sum, (v, w)| {
+                add(sum, scale(mesh.positions()[v as usize], w))
+            }),
         }
     }
 
@@ -93,7 +88,9 @@ impl SurfacePoint {
         };
         let sum: f64 = b.iter().sum();
         if !b.iter().all(|x| x.is_finite()) {
-            Some(format!("the barycentric coordinates {b:?} are not all finite"))
+            Some(format!(
+                "the barycentric coordinates {b:?} are not all finite"
+            ))
         } else if (sum - 1.0).abs() > BARYCENTRIC_TOLERANCE {
             Some(format!(
                 "the barycentric coordinates {} {} {} sum to {sum}, not 1",

@@ -10,8 +10,8 @@ use std::path::PathBuf;
 use crate::error::{Error, Result};
 use crate::linalg::similarity::Similarity;
 use crate::mesh::closest::SurfaceIndex;
-use crate::mesh::surface_point::{nearest_surface_point, SurfacePoint};
 use crate::mesh::seams::Seams;
+use crate::mesh::surface_point::{nearest_surface_point, SurfacePoint};
 use crate::mesh::{used_vertices, Mesh3};
 
 /// Where a file's vertex and triangle indices start: marker files and
@@ -223,7 +223,11 @@ impl Markers {
             ..Snap::default()
         };
         let meshes = [source, target];
-        let needed = |s: usize| self.points.iter().any(|p| matches!(p.sides[s], Side::At(_)));
+        let needed = |s: usize| {
+            self.points
+                .iter()
+                .any(|p| matches!(p.sides[s], Side::At(_)))
+        };
         let indices: [Option<SurfaceIndex>; 2] = std::array::from_fn(|s| {
             needed(s).then(|| SurfaceIndex::new(meshes[s].positions(), meshes[s].triangles()))
         });

@@ -1,5 +1,5 @@
 //! Triangle correspondence between a source and a target mesh from a few
-//! marker vertex pairs (Sumner and Popović 2004, section 5).
+//! marker pairs of surface points (Sumner and Popović 2004, section 5).
 //!
 //! 0. Unless [`CorrespondOptions::align`] is off, the source reference is
 //!    first brought onto the target reference by the similarity (rotation,
@@ -9,7 +9,8 @@
 //!    [`Transfer`](crate::Transfer) applies it to every pose.
 //! 1. The source reference is deformed onto the target reference by
 //!    minimising `w_S E_S + w_I E_I + w_C E_C` over its vertices and fourth
-//!    vertices, markers held at their target positions: `E_S` asks
+//!    vertices, markers held at their target points (a vertex pinned, a
+//!    point inside a triangle by a stiff term): `E_S` asks
 //!    neighbouring triangles to deform alike, `E_I` asks every triangle to
 //!    keep its shape (its deformation gradient near a similarity: a turn and
 //!    a uniform scale) and `E_C` pulls every vertex to the closest compatible

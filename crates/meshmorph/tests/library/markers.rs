@@ -117,7 +117,10 @@ fn picked_points_and_wrap_files_give_the_index_files_correspondence() {
     );
     let picked = Markers::read_pair(&s, &t, VertexNumbering::FromZero).unwrap();
     let (snapped, snap) = picked.snap(&thin, &thick).unwrap();
-    assert_eq!((snap.points, snap.largest_source, snap.largest_target), (pairs.len(), 0.0, 0.0));
+    assert_eq!(
+        (snap.points, snap.largest_source, snap.largest_target),
+        (pairs.len(), 0.0, 0.0)
+    );
     assert_eq!(snapped.pairs(), Markers::new(pairs.clone()).pairs());
     assert_same(&found(&thin, &thick, &picked), &want, "picked points");
     // Wrap: a list for the source, named points for the target (in order).
@@ -182,8 +185,14 @@ fn a_point_moved_along_its_triangle_moves_the_result_continuously() {
             // the source, and the result is in the target's frame).
             let landed = point.position(&r.deformed_source);
             let goal = thick.positions()[pairs[k][1] as usize];
-            let miss = (0..3).map(|j| (landed[j] - goal[j]).powi(2)).sum::<f64>().sqrt();
-            assert!(miss < 1e-3 * thick.bounding_box_diagonal(), "missed by {miss}");
+            let miss = (0..3)
+                .map(|j| (landed[j] - goal[j]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            assert!(
+                miss < 1e-3 * thick.bounding_box_diagonal(),
+                "missed by {miss}"
+            );
             r.deformed_source.positions().to_vec()
         })
         .collect();
@@ -198,16 +207,28 @@ fn a_point_moved_along_its_triangle_moves_the_result_continuously() {
     for &d in &steps {
         assert!(d > 0.0 && d < 20.0 * step, "steps {steps:?}");
     }
-    let (lo, hi) = steps
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &d| (lo.min(d), hi.max(d)));
+    let (lo, hi) = steps.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &d| {
+        (lo.min(d), hi.max(d))
+    });
     assert!(hi < 1.5 * lo, "steps {steps:?}");
     // At the corner, the point is the vertex: the index file's result.
-    let corner = found(&thin, &thick, &with_point(&pairs, k, SurfacePoint::Triangle {
-        triangle: t as u32,
-        barycentric: [1.0, 0.0, 0.0],
-    }));
-    assert_same(&corner, &found(&thin, &thick, &Markers::new(pairs.clone())), "corner");
+    let corner = found(
+        &thin,
+        &thick,
+        &with_point(
+            &pairs,
+            k,
+            SurfacePoint::Triangle {
+                triangle: t as u32,
+                barycentric: [1.0, 0.0, 0.0],
+            },
+        ),
+    );
+    assert_same(
+        &corner,
+        &found(&thin, &thick, &Markers::new(pairs.clone())),
+        "corner",
+    );
 }
 
 #[test]
@@ -240,7 +261,11 @@ fn renamed_or_reordered_markers_change_nothing() {
         let mut turned = order.to_vec();
         turned.rotate_left(order.len() / 3);
         let b = dir.write(&format!("{tag}-target.pp"), &file(&turned, 1));
-        found(&thin, &thick, &Markers::read_pair(&a, &b, VertexNumbering::FromZero).unwrap())
+        found(
+            &thin,
+            &thick,
+            &Markers::read_pair(&a, &b, VertexNumbering::FromZero).unwrap(),
+        )
     };
     let n = pairs.len();
     let natural: Vec<usize> = (0..n).collect();
@@ -249,7 +274,11 @@ fn renamed_or_reordered_markers_change_nothing() {
     let mut sorted = shuffled.clone();
     sorted.sort_unstable();
     assert_eq!(sorted, natural);
-    assert_same(&files(&shuffled, &|k| format!("m{k}"), "b"), &want, "reordered");
+    assert_same(
+        &files(&shuffled, &|k| format!("m{k}"), "b"),
+        &want,
+        "reordered",
+    );
     assert_same(
         &files(&natural, &|k| format!("point {}", n - k), "c"),
         &want,
@@ -283,29 +312,60 @@ fn every_bad_marker_input_is_refused_with_its_place() {
     let o = [0.0; 3];
     let read_pair = |a: &Path, b: &Path| Markers::read_pair(a, b, VertexNumbering::FromZero);
     // A name on one side only.
-    let (a, b) = (pp("a.pp", &[("nose", o), ("eye", o)]), pp("b.pp", &[("nose", o), ("ear", o)]));
-    refused(read_pair(&a, &b).unwrap_err(), &["a.pp", "line 7", "`eye`", "b.pp"]);
+    let (a, b) = (
+        pp("a.pp", &[("nose", o), ("eye", o)]),
+        pp("b.pp", &[("nose", o), ("ear", o)]),
+    );
+    refused(
+        read_pair(&a, &b).unwrap_err(),
+        &["a.pp", "line 7", "`eye`", "b.pp"],
+    );
     // A name given twice in one file.
     let twice = pp("twice.pp", &[("nose", o), ("nose", o)]);
-    refused(read_pair(&twice, &b).unwrap_err(), &["twice.pp", "line 7", "`nose` is given twice"]);
+    refused(
+        read_pair(&twice, &b).unwrap_err(),
+        &["twice.pp", "line 7", "`nose` is given twice"],
+    );
     // Files without names of other lengths.
-    let (c, d) = (dir.write("c.json", "[[0, 1, 0]]"), dir.write("d.json", "[[0, 1, 0], [1, 1, 0]]"));
-    refused(read_pair(&c, &d).unwrap_err(), &["c.json", "1 point here and 2 in", "d.json"]);
+    let (c, d) = (
+        dir.write("c.json", "[[0, 1, 0]]"),
+        dir.write("d.json", "[[0, 1, 0], [1, 1, 0]]"),
+    );
+    refused(
+        read_pair(&c, &d).unwrap_err(),
+        &["c.json", "1 point here and 2 in", "d.json"],
+    );
     // A point far from the surface.
     let far = pp("far.pp", &[("nose", o), ("eye", [0.5, 3.0, 0.0])]);
     let near = pp("near.pp", &[("nose", o), ("eye", o)]);
     let m = read_pair(&far, &near).unwrap();
     refused(
         m.snap(&thin, &thick).unwrap_err(),
-        &["far.pp", "line 7", "`eye`", "from the source mesh's surface", "within 2 %"],
+        &[
+            "far.pp",
+            "line 7",
+            "`eye`",
+            "from the source mesh's surface",
+            "within 2 %",
+        ],
     );
     // A triangle out of range.
     let nt = thick.num_triangles();
-    let (e, f) = (dir.write("e.json", "[[0, 1, 0], [1, 0, 1], [2, 0, 0]]"), dir.write("f.json", &format!("[[0, 1, 0], [1, 0, 1], [{nt}, 0.5, 0.5]]")));
+    let (e, f) = (
+        dir.write("e.json", "[[0, 1, 0], [1, 0, 1], [2, 0, 0]]"),
+        dir.write(
+            "f.json",
+            &format!("[[0, 1, 0], [1, 0, 1], [{nt}, 0.5, 0.5]]"),
+        ),
+    );
     let m = read_pair(&e, &f).unwrap();
     refused(
         m.validate(&thin, &thick).unwrap_err(),
-        &["f.json", "point 3", &format!("target triangle {nt} is out of range (the target has {nt} triangles)")],
+        &[
+            "f.json",
+            "point 3",
+            &format!("target triangle {nt} is out of range (the target has {nt} triangles)"),
+        ],
     );
     // Barycentric coordinates that do not sum to 1.
     let g = dir.write("g.txt", "0 0\nv 1 t 2 0.5 0.5 0.5\n");
@@ -321,11 +381,18 @@ fn every_bad_marker_input_is_refused_with_its_place() {
             .unwrap()
             .validate(&thin, &thick)
             .unwrap_err(),
-        &["h.txt", "line 3", "two markers on one source point with different partners"],
+        &[
+            "h.txt",
+            "line 3",
+            "two markers on one source point with different partners",
+        ],
     );
     // A file of one mesh's points given alone.
     refused(
         Markers::read(&a, VertexNumbering::FromZero).unwrap_err(),
-        &["a.pp", "a MeshLab picked-points file holds the points of one mesh"],
+        &[
+            "a.pp",
+            "a MeshLab picked-points file holds the points of one mesh",
+        ],
     );
 }

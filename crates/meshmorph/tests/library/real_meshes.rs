@@ -519,7 +519,10 @@ fn marker_points_snap_to_the_surface_and_far_points_are_refused() {
         [thin.positions()[100], thick.positions()[90]],
     ];
     let (snapped, snap) = Markers::from_points(points).snap(&thin, &thick).unwrap();
-    assert_eq!(snapped.pairs(), Markers::new(vec![[5, 7], [100, 90]]).pairs());
+    assert_eq!(
+        snapped.pairs(),
+        Markers::new(vec![[5, 7], [100, 90]]).pairs()
+    );
     assert!((snap.largest_source - 1e-3 / thin.bounding_box_diagonal()).abs() < 1e-9);
     assert!((snap.largest_target - 2e-3 / thick.bounding_box_diagonal()).abs() < 1e-9);
     let text = "0 0 0 0 0 0\n5 5 5 0 0 0\n";
