@@ -73,7 +73,7 @@ impl SurfacePoint {
     pub fn as_vertex(&self, triangles: &[[u32; 3]]) -> Option<u32> {
         let mut terms = self.terms(triangles);
         match (terms.next(), terms.next()) {
-            (Some((v, w)), None) if w == 1.0 => Some(v),
+            (Some((v, w)), None) => (w == 1.0).then_some(v),
             _ => None,
         }
     }

@@ -695,29 +695,40 @@ fn marker_pins(source: &Mesh3, target: &Mesh3, markers: &Markers) -> Pins<3> {
 /// local terms whatever the mesh's size and tessellation, so the point
 /// lands within a small fraction of an edge of its target.
 struct HeldPoints {
-    /// Each point's `(vertex, b_i)` terms, target point and weight, in a
-    /// fixed order (the markers' order does not change the last bits).
-    points: Vec<(Vec<(usize, f64)>, [f64; 3], f64)>,
+    /// In a fixed order (the markers' order does not change the last bits).
+    points: Vec<HeldPoint>,
     holds: Vec<bool>,
+}
+
+/// A point held by [`HeldPoints`].
+struct HeldPoint {
+    /// The `(vertex, b_i)` terms.
+    terms: Vec<(usize, f64)>,
+    /// The target point.
+    at: [f64; 3],
+    weight: f64,
 }
 
 impl HeldPoints {
     fn new(source: &Mesh3, target: &Mesh3, markers: &Markers, base: &SymmetricMatrix) -> Self {
-        let mut held: Vec<(Key, Key, [f64; 3], Vec<(usize, f64)>)> = markers
+        let mut held: Vec<([Key; 2], HeldPoint)> = markers
             .pairs()
             .iter()
             .filter(|[s, _]| s.as_vertex(source.triangles()).is_none())
             .map(|[s, t]| {
                 let terms = s.terms(source.triangles()).map(|(v, b)| (v as usize, b));
+                let point = HeldPoint {
+                    terms: terms.collect(),
+                    at: t.position(target),
+                    weight: 0.0,
+                };
                 (
-                    key(s, source.triangles()),
-                    key(t, target.triangles()),
-                    t.position(target),
-                    terms.collect(),
+                    [key(s, source.triangles()), key(t, target.triangles())],
+                    point,
                 )
             })
             .collect();
-        held.sort_unstable_by_key(|h| (h.0, h.1));
+        held.sort_unstable_by_key(|h| h.0);
         let mut holds = vec![false; source.num_vertices()];
         let diagonal = if held.is_empty() {
             Vec::new()
@@ -726,12 +737,17 @@ impl HeldPoints {
         };
         let points = held
             .into_iter()
-            .map(|(_, _, at, terms)| {
-                let w = HOLD_STIFFNESS * terms.iter().map(|&(v, b)| b * diagonal[v]).sum::<f64>();
-                for &(v, _) in &terms {
+            .map(|(_, mut point)| {
+                point.weight = HOLD_STIFFNESS
+                    * point
+                        .terms
+                        .iter()
+                        .map(|&(v, b)| b * diagonal[v])
+                        .sum::<f64>();
+                for &(v, _) in &point.terms {
                     holds[v] = true;
                 }
-                (terms, at, w)
+                point
             })
             .collect();
         Self { points, holds }
@@ -744,18 +760,18 @@ impl HeldPoints {
 
     /// `w bᵀb` of every point into the matrix.
     fn add_to(&self, base: &mut SymmetricMatrix) {
-        for (terms, _, w) in &self.points {
-            base.add_row_outer(terms, *w);
+        for p in &self.points {
+            base.add_row_outer(&p.terms, p.weight);
         }
     }
 
     /// `w b p` of every point into the right-hand side (`m` unknowns a
     /// column).
     fn add_to_rhs(&self, rhs: &mut [f64], m: usize) {
-        for (terms, at, w) in &self.points {
-            for &(v, b) in terms {
+        for p in &self.points {
+            for &(v, b) in &p.terms {
                 for i in 0..3 {
-                    rhs[i * m + v] += w * b * at[i];
+                    rhs[i * m + v] += p.weight * b * p.at[i];
                 }
             }
         }
