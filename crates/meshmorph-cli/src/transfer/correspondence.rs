@@ -18,17 +18,16 @@ use crate::progress;
 /// How the triangle correspondence is computed (Sumner and Popovic 2004, section 5).
 #[derive(Debug, Clone, clap::Args)]
 pub struct CorrespondArgs {
-    /// Markers: one file of pairs, or two files of points, the source's
-    /// then the target's (MeshLab's picked points `.pp`, Wrap's `.json`, or
-    /// one point a line), paired by name when every point is named, else in
-    /// order. A file of pairs holds `source target` vertex indices, a
+    /// Markers: one file of pairs, or `--markers` twice with files of
+    /// points, the source's then the target's (MeshLab's picked points
+    /// `.pp`, Wrap's `.json`, or one point a line), paired by name when
+    /// every point is named, else in order. A file of pairs holds `source target` vertex indices, a
     /// position on each mesh `sx sy sz tx ty tz`, or `[name] SIDE SIDE`
     /// with each side `v I` (a vertex), `t T b0 b1 b2` (a triangle's point,
     /// barycentric) or `p x y z` (a position); positions are snapped to the
     /// nearest point of the surface; white space or a comma between, `#`
-    /// comments, an optional first line with the count. Put the poses of
-    /// `transfer` before --markers, or after `--`.
-    #[arg(long, value_name = "FILE", num_args = 1..=2)]
+    /// comments, an optional first line with the count.
+    #[arg(long, value_name = "FILE")]
     pub markers: Vec<PathBuf>,
     /// Vertex and triangle indices in meshmorph's marker files start at 1
     /// instead of 0.
@@ -74,18 +73,27 @@ impl CorrespondArgs {
     /// pairs or two files of points.
     ///
     /// # Errors
-    /// Without `--markers`, or when the second file is a mesh (a pose taken
-    /// for a marker file).
+    /// Without `--markers`, with more than two, or with a mesh among them.
     pub(crate) fn marker_files(&self) -> Result<&[PathBuf]> {
+        if let Some(mesh) = self
+            .markers
+            .iter()
+            .find(|p| meshmorph::io::Format::from_path(p).is_ok())
+        {
+            bail!(
+                "`{}` given to --markers is a mesh: --markers takes a file of marker pairs, or twice a file of marker points (the source's, then the target's)",
+                mesh.display()
+            );
+        }
         match self.markers.as_slice() {
             [] => bail!(
                 "--markers is required to compute a correspondence (or pass --correspondence FILE)"
             ),
-            [_, second] if meshmorph::io::Format::from_path(second).is_ok() => bail!(
-                "`{}` after --markers is a mesh: --markers takes one file of pairs or two files of points; put the poses before --markers or after `--`",
-                second.display()
+            files @ ([_] | [_, _]) => Ok(files),
+            files => bail!(
+                "--markers is given {} times: give it once (a file of marker pairs) or twice (a file of the source's points, then one of the target's)",
+                files.len()
             ),
-            files => Ok(files),
         }
     }
 
@@ -128,7 +136,7 @@ impl CorrespondArgs {
                 }
                 Markers::read_pair(s, t, numbering)
             }
-            _ => unreachable!("clap takes one or two files"),
+            _ => unreachable!("checked by marker_files"),
         };
         markers.with_context(|| format!("reading the markers {}", self.describe_markers()))
     }

@@ -66,7 +66,7 @@ impl Markers {
                 path,
                 None,
                 format!(
-                    "{kind} holds the points of one mesh: give it with the other mesh's file, source first (`--markers SOURCE TARGET` on the command line, Markers::read_pair in the library)"
+                    "{kind} holds the points of one mesh: give it with the other mesh's file, source first (`--markers SOURCE --markers TARGET` on the command line, Markers::read_pair in the library)"
                 ),
             ));
         }

@@ -82,7 +82,11 @@ impl Markers {
     /// vertex index, or `x y z`), told apart by extension or content. Two
     /// files whose points are all named pair by name; otherwise they pair in
     /// order. `numbering` applies to meshmorph's own files (`.pp` files
-    /// hold no indices, and Wrap's count from 0).
+    /// hold no indices, and Wrap's count from 0). Wrap numbers the
+    /// triangles of a fan over each polygon from its first vertex: the same
+    /// numbers as meshmorph's on a mesh of triangles only (meshmorph splits
+    /// quads along their shorter diagonal and larger polygons by ear
+    /// clipping), so give Wrap files for meshes exported as triangles.
     ///
     /// # Errors
     /// As [`Markers::read`], and [`Error::Parse`] naming the file (and
