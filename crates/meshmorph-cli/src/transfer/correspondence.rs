@@ -170,7 +170,7 @@ impl CorrespondArgs {
         let (markers, snap) = markers
             .snap(source_ref.file_mesh(), target_ref.file_mesh())
             .context("snapping the marker points to the surfaces")?;
-        markers.validate(source_ref.file_mesh(), target_ref.file_mesh())?;
+        markers.check_ranges(source_ref.file_mesh(), target_ref.file_mesh())?;
         let welded = markers.welded(&source_ref.file.seams, &target_ref.file.seams);
         let options = self.options();
         let bar = progress::bar(options.steps() as u64, "correspond");

@@ -394,11 +394,13 @@ impl Markers {
 
     /// Checks that every marker's vertices and triangles are in range of
     /// the meshes and its barycentric coordinates make a point of its
-    /// triangle (part of [`Markers::validate`]).
+    /// triangle (part of [`Markers::validate`]): what [`Markers::welded`]
+    /// needs of markers on a file's own vertices, where two markers on
+    /// copies of one vertex are still one marker.
     ///
     /// # Errors
     /// [`Error::InvalidMarker`] naming the first marker out of range.
-    pub(crate) fn check_ranges(&self, source: &Mesh3, target: &Mesh3) -> Result<()> {
+    pub fn check_ranges(&self, source: &Mesh3, target: &Mesh3) -> Result<()> {
         let counts = [
             [source.num_vertices(), source.num_triangles()],
             [target.num_vertices(), target.num_triangles()],
