@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{bail, Result};
+use anyhow::Result;
 use serde::Serialize;
 
 use crate::memory;
@@ -76,9 +76,7 @@ pub struct CorrespondReport {
 }
 
 pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
-    let Some(markers_path) = &args.correspond.markers else {
-        bail!("--markers is required");
-    };
+    let marker_files = args.correspond.marker_files()?;
     // Checked before any work, so that a bad name leaves no output behind.
     let deformed_format = args
         .deformed_source
@@ -88,7 +86,9 @@ pub fn run_correspond(args: &CorrespondCommand) -> Result<()> {
     let mut plan = Plan::new();
     plan.input(&args.refs.source_ref, "source reference");
     plan.input(&args.refs.target_ref, "target reference");
-    plan.input(markers_path, "marker file");
+    for path in marker_files {
+        plan.input(path, "marker file");
+    }
     let saved = plan.file(&args.output, "correspondence");
     let deformed = args
         .deformed_source

@@ -157,7 +157,7 @@ fn every_nth(markers: &Markers, every: usize) -> Markers {
     if every == 0 {
         return Markers::new(Vec::new());
     }
-    Markers::new(markers.pairs().iter().step_by(every).copied().collect())
+    Markers::on_surfaces(markers.pairs().iter().step_by(every).copied().collect())
 }
 
 fn run(

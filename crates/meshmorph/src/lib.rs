@@ -35,7 +35,7 @@
 //!   [`io::read_mesh`] any file as a [`Mesh3`].
 //! - [`correspond()`] and [`Transfer`]: deformation transfer (Sumner and
 //!   Popović, SIGGRAPH 2004): a triangle correspondence from a few marker
-//!   vertex pairs ([`Markers`]), then any number of source poses carried
+//!   pairs of surface points ([`Markers`], [`SurfacePoint`]), then any number of source poses carried
 //!   over to a target, one back-substitution each.
 //! - [`io`]: OBJ, OFF, PLY and STL read and written back whole
 //!   ([`io::MeshFile`]), animations and shape keys as binary glTF
@@ -105,7 +105,7 @@ pub use mesh::frame_source::FrameSource;
 pub use mesh::seams::Seams;
 pub use mesh::shapes;
 pub use mesh::topology::SurfaceCounts;
-pub use mesh::{Mesh, Mesh2, Mesh3};
+pub use mesh::{Mesh, Mesh2, Mesh3, SurfacePoint};
 pub use transfer::correspondence::Correspondence;
 pub use transfer::fit_report::{
     FitReport, PoorRegion, FIT_DISTANCE_LIMIT, MIN_POOR_REGION, NEAREST_MARKERS,

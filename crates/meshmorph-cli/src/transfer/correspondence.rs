@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 use crate::output::WeldedFile;
 use anyhow::{bail, Context, Result};
 use meshmorph::{
-    correspond_with_progress, CorrespondOptions, Correspondence, Markers, Mesh3, VertexNumbering,
+    correspond_with_progress, CorrespondOptions, Correspondence, Markers, Mesh3, SurfacePoint,
+    VertexNumbering,
 };
 use serde::Serialize;
 
@@ -18,13 +19,26 @@ use crate::progress;
 /// How the triangle correspondence is computed (Sumner and Popovic 2004, section 5).
 #[derive(Debug, Clone, clap::Args)]
 pub struct CorrespondArgs {
-    /// Marker file: one `source target` vertex pair per line, or a point on
-    /// each mesh `sx sy sz tx ty tz` (snapped to the nearest vertex); white
-    /// space or a comma between, `#` comments, an optional first line with
-    /// the count.
+    /// Markers: one file of pairs, or `--markers` twice with files of
+    /// points, the source's then the target's (MeshLab's picked points
+    /// `.pp`, Wrap's `.json`, or one point a line), paired by name when
+    /// every point is named, else in order. A file of pairs holds `source target` vertex indices, a
+    /// position on each mesh `sx sy sz tx ty tz`, or `[name] SIDE SIDE`
+    /// with each side `v I` (a vertex), `t T b0 b1 b2` (a triangle's point,
+    /// barycentric) or `p x y z` (a position); positions are snapped to the
+    /// nearest point of the surface; white space or a comma between, `#`
+    /// comments, an optional first line with the count.
     #[arg(long, value_name = "FILE")]
-    pub markers: Option<PathBuf>,
-    /// Vertex indices in the marker file start at 1 instead of 0.
+    pub markers: Vec<PathBuf>,
+    /// Correspond without markers, for two references that stand alike
+    /// (the same way up, facing the same way, as two characters exported
+    /// from one scene): the source is moved and scaled onto the target and
+    /// drawn onto its surface; a fit that leaves more than a tenth of the
+    /// source without a partner is refused.
+    #[arg(long, conflicts_with = "markers")]
+    pub no_markers: bool,
+    /// Vertex and triangle indices in meshmorph's marker files start at 1
+    /// instead of 0.
     #[arg(long)]
     pub one_based: bool,
     /// Do not bring the source onto the target by the similarity (rotation,
@@ -60,9 +74,92 @@ pub struct CorrespondArgs {
     /// length of either mesh [default: 0.01].
     #[arg(long, value_name = "FRACTION", allow_negative_numbers = true, value_parser = finite_number)]
     pub match_threshold: Option<f64>,
+    /// Largest angle, in degrees, between a source vertex's normal and the
+    /// surface its closest point lies on [default: 25].
+    #[arg(long, value_name = "DEGREES", allow_negative_numbers = true, value_parser = finite_number)]
+    pub closest_normal_angle: Option<f64>,
+    /// Largest angle, in degrees, between the normals of matched triangles
+    /// [default: 60].
+    #[arg(long, value_name = "DEGREES", allow_negative_numbers = true, value_parser = finite_number)]
+    pub match_normal_angle: Option<f64>,
 }
 
 impl CorrespondArgs {
+    /// The marker files, checked before anything is read: one file of
+    /// pairs or two files of points.
+    ///
+    /// # Errors
+    /// Without `--markers`, with more than two, or with a mesh among them.
+    pub(crate) fn marker_files(&self) -> Result<&[PathBuf]> {
+        if let Some(mesh) = self
+            .markers
+            .iter()
+            .find(|p| meshmorph::io::Format::from_path(p).is_ok())
+        {
+            bail!(
+                "`{}` given to --markers is a mesh: --markers takes a file of marker pairs, or twice a file of marker points (the source's, then the target's)",
+                mesh.display()
+            );
+        }
+        match self.markers.as_slice() {
+            [] if self.no_markers => Ok(&[]),
+            [] => bail!(
+                "--markers is required to compute a correspondence (or pass --correspondence FILE, or --no-markers for two references that stand alike)"
+            ),
+            files @ ([_] | [_, _]) => Ok(files),
+            files => bail!(
+                "--markers is given {} times: give it once (a file of marker pairs) or twice (a file of the source's points, then one of the target's)",
+                files.len()
+            ),
+        }
+    }
+
+    /// "`a.pp` and `b.pp`", for messages.
+    /// "`a.pp` and `b.pp`".
+    fn describe_markers(&self) -> String {
+        self.markers
+            .iter()
+            .map(|p| format!("`{}`", p.display()))
+            .collect::<Vec<_>>()
+            .join(" and ")
+    }
+
+    /// The markers, from one file of pairs or two files of points. Wrap
+    /// numbers the triangles of a fan over each polygon: its files are
+    /// refused for a mesh with polygons, whose triangles meshmorph numbers
+    /// otherwise.
+    fn read_markers(&self, source_ref: &Reference, target_ref: &Reference) -> Result<Markers> {
+        let numbering = numbering(self.one_based);
+        let markers = match self.marker_files()? {
+            [] => Ok(Markers::new(Vec::new())),
+            [one] => Markers::read(one, numbering),
+            [s, t] => {
+                for (path, reference, role) in [
+                    (s, source_ref, "source reference"),
+                    (t, target_ref, "target reference"),
+                ] {
+                    let wrap = path
+                        .extension()
+                        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+                    let file = &reference.file.file;
+                    if let Some(f) = (0..file.num_faces()).find(|&f| file.face(f).len() > 3) {
+                        if wrap {
+                            bail!(
+                                "`{}` is a Wrap point file, whose triangle numbers count a fan over each polygon, but the {role} `{}` has polygons (face {f} has {} corners), which meshmorph splits otherwise: export the mesh as triangles for both",
+                                path.display(),
+                                file.path().display(),
+                                file.face(f).len()
+                            );
+                        }
+                    }
+                }
+                Markers::read_pair(s, t, numbering)
+            }
+            _ => unreachable!("checked by marker_files"),
+        };
+        markers.with_context(|| format!("reading the markers {}", self.describe_markers()))
+    }
+
     /// The library's defaults, with the options given on the command line.
     pub(crate) fn options(&self) -> CorrespondOptions {
         let d = CorrespondOptions::default();
@@ -75,6 +172,10 @@ impl CorrespondArgs {
             .with_closest_cutoff(self.closest_cutoff.unwrap_or(d.closest_cutoff))
             .with_match_threshold(self.match_threshold.unwrap_or(d.match_threshold))
             .with_align(!self.no_align)
+            .with_normal_angles(
+                self.closest_normal_angle.unwrap_or(d.closest_normal_angle),
+                self.match_normal_angle.unwrap_or(d.match_normal_angle),
+            )
     }
 
     /// Reads the markers (snapping marker points to vertices) and computes
@@ -89,20 +190,11 @@ impl CorrespondArgs {
         warnings: &mut Vec<String>,
     ) -> Result<(meshmorph::CorrespondResult, MarkerReport, FitSummary)> {
         let (source, target) = (&source_ref.mesh, &target_ref.mesh);
-        let Some(path) = &self.markers else {
-            bail!(
-                "--markers is required to compute a correspondence (or pass --correspondence FILE)"
-            );
-        };
-        let markers =
-            Markers::read(path, numbering(self.one_based)).context("reading the markers")?;
+        let markers = self.read_markers(source_ref, target_ref)?;
         let (markers, snap) = markers
             .snap(source_ref.file_mesh(), target_ref.file_mesh())
-            .context("snapping the marker points to vertices")?;
-        markers.check_ranges(
-            source_ref.file_mesh().num_vertices(),
-            target_ref.file_mesh().num_vertices(),
-        )?;
+            .context("snapping the marker points to the surfaces")?;
+        markers.check_ranges(source_ref.file_mesh(), target_ref.file_mesh())?;
         let welded = markers.welded(&source_ref.file.seams, &target_ref.file.seams);
         let options = self.options();
         let bar = progress::bar(options.steps() as u64, "correspond");
@@ -112,9 +204,13 @@ impl CorrespondArgs {
         .map_err(|e| name_degenerate_faces(e, source_ref, target_ref))
         .with_context(|| {
             format!(
-                "computing the correspondence {} with the markers `{}`",
+                "computing the correspondence {} {}",
                 refs.describe(),
-                path.display()
+                if self.markers.is_empty() {
+                    "without markers".to_string()
+                } else {
+                    format!("with the markers {}", self.describe_markers())
+                }
             )
         })?;
         bar.finish_and_clear();
@@ -144,6 +240,11 @@ impl CorrespondArgs {
         warnings.extend(fit.warnings());
         let report = MarkerReport {
             markers: markers.pairs().len(),
+            on_triangles: markers
+                .pairs()
+                .iter()
+                .filter(|p| p.iter().any(|x| matches!(x, SurfacePoint::Triangle { .. })))
+                .count(),
             snapped_points: snap.points,
             largest_snap_source: snap.largest_source,
             largest_snap_target: snap.largest_target,
@@ -206,7 +307,10 @@ pub(crate) fn print_welded(source: usize, target: usize) {
 #[derive(Debug, Default, Serialize)]
 pub struct MarkerReport {
     pub markers: usize,
-    /// Markers given as points and snapped to the nearest vertex.
+    /// Markers with a side inside a triangle (or on an edge).
+    pub on_triangles: usize,
+    /// Markers with a side given as a position and snapped to the nearest
+    /// point of the surface; how far (largest) on each side.
     pub snapped_points: usize,
     pub largest_snap_source: f64,
     pub largest_snap_target: f64,
@@ -229,13 +333,23 @@ pub struct MarkerReport {
 impl MarkerReport {
     pub(crate) fn print(&self) {
         let mut line = format!("markers:        {}", self.markers);
+        let mut notes = Vec::new();
         if self.snapped_points > 0 {
-            line += &format!(
-                " ({} snapped to vertices, at most {:.3} % of the source's and {:.3} % of the target's diagonal away)",
-                output::count(self.snapped_points, "point"),
+            notes.push(format!(
+                "{} snapped to the surface, moved at most {:.3} % of the source's and {:.3} % of the target's diagonal",
+                output::count(self.snapped_points, "position"),
                 100.0 * self.largest_snap_source,
                 100.0 * self.largest_snap_target
-            );
+            ));
+        }
+        if self.on_triangles > 0 {
+            notes.push(format!(
+                "{} inside triangles",
+                output::count(self.on_triangles, "marker")
+            ));
+        }
+        if !notes.is_empty() {
+            line += &format!(" ({})", notes.join("; "));
         }
         say!("{line}");
         if self.aligned {

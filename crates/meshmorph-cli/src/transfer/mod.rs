@@ -109,7 +109,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     }
     plan.input(&args.refs.source_ref, "source reference");
     plan.input(&args.refs.target_ref, "target reference");
-    if let Some(m) = &args.correspond.markers {
+    for m in &args.correspond.markers {
         plan.input(m, "marker file");
     }
     if let Some(c) = &args.correspondence {

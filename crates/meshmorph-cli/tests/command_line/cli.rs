@@ -3289,3 +3289,59 @@ fn interpolation_and_blend_glbs_are_named_after_the_first_key() {
         );
     }
 }
+
+#[test]
+fn correspond_without_markers_fits_references_that_stand_alike_and_refuses_others() {
+    let rig = Rig::new();
+    let no_markers = |corr: &Path, target: &Path| {
+        run([
+            os("correspond"),
+            os("--source-ref"),
+            rig.source_ref.as_os_str(),
+            os("--target-ref"),
+            target.as_os_str(),
+            os("-o"),
+            corr.as_os_str(),
+            os("--no-markers"),
+            os("--json"),
+        ])
+    };
+    // A larger, moved copy of the source, denser: the same way up.
+    let alike_mesh = thin_tube();
+    let alike: Vec<[f64; 3]> = alike_mesh
+        .positions()
+        .iter()
+        .map(|p| [3.0 * p[0] + 1.0, 3.0 * p[1] - 2.0, 3.0 * p[2]])
+        .collect();
+    let alike_path = rig.path("alike.obj");
+    write(
+        &alike_path,
+        &alike_mesh.with_positions(alike.clone()).unwrap(),
+    );
+    let corr = rig.path("alike.corr");
+    let report = json(&succeeds(&no_markers(&corr, &alike_path)));
+    assert!(uint(&report, "matched_pairs") > 0, "{report}");
+    assert!(fs::read_to_string(&corr)
+        .unwrap()
+        .starts_with("meshmorph-correspondence"));
+    // The same copy lying across the source: refused, nothing written.
+    let across: Vec<[f64; 3]> = alike.iter().map(|p| [-p[1], p[0], p[2]]).collect();
+    let across_path = rig.path("across.obj");
+    write(&across_path, &alike_mesh.with_positions(across).unwrap());
+    let refused = rig.path("across.corr");
+    let out = no_markers(&refused, &across_path);
+    fails(&out);
+    assert_mentions(
+        &stderr(&out),
+        &[
+            "without markers",
+            "found no partner",
+            "give at least 3 markers",
+        ],
+    );
+    assert!(!refused.exists());
+    // --no-markers with --markers is a usage error.
+    let out = rig.correspond(&rig.path("both.corr"), &[os("--no-markers")]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert_mentions(&stderr(&out), &["--no-markers", "--markers"]);
+}

@@ -322,6 +322,59 @@ fn sheet_and_fold(d: &Path) {
     .unwrap();
 }
 
+/// The markers of `markers.txt` as points: MeshLab's picked points
+/// `s.pp` and `t.pp` (named `m0`, `m1`, ...) and Wrap's `s.json` and
+/// `t.json` (a corner of a triangle at each vertex).
+fn point_files(d: &Path) {
+    let pairs: Vec<[u32; 2]> = fs::read_to_string(d.join("markers.txt"))
+        .unwrap()
+        .lines()
+        .map(|l| {
+            let mut f = l.split_whitespace().map(|x| x.parse().unwrap());
+            [f.next().unwrap(), f.next().unwrap()]
+        })
+        .collect();
+    for (side, mesh, name) in [(0, "thin.obj", "s"), (1, "thick.obj", "t")] {
+        let mesh = read_mesh(&d.join(mesh)).unwrap();
+        let mut pp = String::from("<!DOCTYPE PickedPoints>\n<PickedPoints>\n <DocumentData/>\n");
+        let mut wrap = Vec::new();
+        for (k, pair) in pairs.iter().enumerate() {
+            let v = pair[side];
+            let p = mesh.positions()[v as usize];
+            pp += &format!(
+                " <point x=\"{:?}\" y=\"{:?}\" z=\"{:?}\" active=\"1\" name=\"m{k}\"/>\n",
+                p[0], p[1], p[2]
+            );
+            let (t, tri) = mesh
+                .triangles()
+                .iter()
+                .enumerate()
+                .find(|(_, tri)| tri.contains(&v))
+                .unwrap();
+            let corner = tri.iter().position(|&c| c == v).unwrap();
+            wrap.push(format!(
+                "[{t}, {}, {}]",
+                u32::from(corner == 0),
+                u32::from(corner == 1)
+            ));
+        }
+        fs::write(d.join(format!("{name}.pp")), pp + "</PickedPoints>\n").unwrap();
+        fs::write(
+            d.join(format!("{name}.json")),
+            format!("[{}]", wrap.join(", ")),
+        )
+        .unwrap();
+    }
+}
+
+/// [`point_files`], then `text` in place of `from` in `file`.
+fn point_files_with(d: &Path, file: &str, from: &str, text: &str) {
+    point_files(d);
+    let s = fs::read_to_string(d.join(file)).unwrap();
+    assert!(s.contains(from), "{from} not in {s}");
+    fs::write(d.join(file), s.replacen(from, text, 1)).unwrap();
+}
+
 fn exists(d: &Path, name: &str) -> bool {
     d.join(name).exists()
 }
@@ -500,6 +553,31 @@ fn catalogue() -> Vec<Case> {
         case("correspond --png onto the markers", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "-o", "x.corr", "--png", "markers.txt"], 2, &["extension .png"]),
         with_after(case("transfer writes its GLB and pictures", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--correspondence", "c.corr", "--gltf", "p/poses.glb", "--png", "p/poses.png", "--gif", "p/poses.gif", "-o", "out", "pose1.obj", "pose2.obj"], 0, &["wrote 2 poses"]),
             |d| assert!(exists(d, "p/poses.glb") && exists(d, "p/poses.png") && exists(d, "p/poses.gif"))),
+        // markers as points of the surfaces
+        with_setup(case("markers as MeshLab picked points", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "s.pp", "--markers", "t.pp", "-o", "x.corr"], 0, &["saved to x.corr", "snapped to the surface, moved at most 0.000 %"]),
+            point_files),
+        with_setup(case("markers as Wrap points", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "s.json", "--markers", "t.json", "-o", "out", "pose1.obj"], 0, &["wrote 1 pose "]),
+            point_files),
+        with_setup(case("a picked point named on one side only", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "s.pp", "--markers", "t.pp", "-o", "x.corr"], 1, &["`s.pp`, line 6", "`m2`", "no point of that name in `t.pp`"]),
+            |d| point_files_with(d, "t.pp", "name=\"m2\"", "name=\"nose\"")),
+        with_setup(case("a name given twice", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "s.pp", "--markers", "t.pp", "-o", "x.corr"], 1, &["`s.pp`, line 6", "`m0` is given twice"]),
+            |d| point_files_with(d, "s.pp", "name=\"m2\"", "name=\"m0\"")),
+        with_setup(case("a picked point far from the surface", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "s.pp", "--markers", "t.pp", "-o", "out", "pose1.obj"], 1, &["`s.pp`, line 4 (`m0`)", "from the source mesh's surface", "within 2 %"]),
+            |d| point_files_with(d, "s.pp", "point x=\"", "point x=\"9")),
+        with_setup(case("unnamed point files of other lengths", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "s.json", "--markers", "t.json", "-o", "x.corr"], 1, &["`s.json`", "12 points here and 11 in `t.json`"]),
+            |d| point_files_with(d, "t.json", "[[0, 1, 0], ", "[")),
+        with_setup(case("a Wrap triangle out of range", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "s.json", "--markers", "t.json", "-o", "x.corr"], 1, &["`t.json`, point 1", "target triangle 999990 is out of range (the target has 100 triangles)"]),
+            |d| point_files_with(d, "t.json", "[[", "[[99999")),
+        with_setup(case("Wrap barycentrics outside the triangle", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "s.json", "--markers", "t.json", "-o", "x.corr"], 1, &["`s.json`", "point 1", "outside its triangle"]),
+            |d| point_files_with(d, "s.json", "[[0, ", "[[0, 3")),
+        with_setup(case("barycentrics that do not sum to 1", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "m.txt", "-o", "out", "pose1.obj"], 1, &["`m.txt`, line 2", "sum to 1.5, not 1"]),
+            |d| obj_with(d, "m.txt", "0 0\nv 1 t 2 0.5 0.5 0.5\n")),
+        with_setup(case("two markers on one point with different partners", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "m.txt", "-o", "x.corr"], 1, &["`m.txt`, line 3", "two markers on one source point with different partners"]),
+            |d| obj_with(d, "m.txt", "0 0\n8 3\nv 0 t 0 0.5 0.25 0.25\n16 20\n")),
+        with_setup(case("a picked-points file alone", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "s.pp", "-o", "x.corr"], 1, &["s.pp", "holds the points of one mesh"]),
+            point_files),
+        case("a mesh given to --markers", &[T, "--source-ref", "thin.obj", "--target-ref", "thick.obj", "-o", "out", "--markers", "markers.txt", "--markers", "pose1.obj", "pose2.obj"], 1, &["`pose1.obj` given to --markers is a mesh"]),
+        case("three marker files", &["correspond", "--source-ref", "thin.obj", "--target-ref", "thick.obj", "--markers", "markers.txt", "--markers", "markers.txt", "--markers", "markers.txt", "-o", "x.corr"], 1, &["--markers is given 3 times"]),
         // interpolate: keys, surfaces in space
         with_after(case("three keys in space", &[I, "thin.obj", "pose1.obj", "pose2.obj", "-o", "out", "--frames", "3"], 0, &["wrote 3 frames", "in space, 3 keys", "throughput:"]),
             |d| assert!(exists(d, "out/frame_0002.obj"))),

@@ -1,25 +1,75 @@
-//! The marker file format: one pair `source target` (vertex indices) or
-//! `sx sy sz tx ty tz` (a point on each mesh) per line.
+//! meshmorph's marker file: one marker a line, an optional name, then a
+//! point on each mesh.
+//!
+//! ```text
+//! # the two forms other tools write
+//! 12 40                       # source vertex 12, target vertex 40
+//! 0.1 0.2 0.3 1.5 0.2 0.9     # a position on each mesh, snapped to its surface
+//! # the general form: [name] SIDE SIDE
+//! nose v 12 t 40 0.2 0.3 0.5  # a vertex, and a triangle's point (barycentric)
+//! "left eye" p 0.1 0.2 0.3 v 7
+//! ```
+//!
+//! A side is `v I` (vertex `I`), `t T b0 b1 b2` (the point `b0 A + b1 B +
+//! b2 C` of triangle `T` with corners `A B C`, weights in `[0, 1]` summing
+//! to 1) or `p x y z` (a position, snapped to the nearest point of the
+//! surface). Fields are separated by white space or a comma; `#` starts a
+//! comment; a name is a word that is not a number nor `v`, `t` or `p`, or
+//! any text in double quotes (with `\"`, `\\`, `\n` and `\r` escapes).
+//! Names are unique within a file. A first line holding only the number of
+//! markers (as in `.cons` files) is accepted and checked. Indices count
+//! from 0 or from 1 as the [`VertexNumbering`] says.
+//!
+//! The same lines with one side each (`[name] SIDE`, or a bare index, or a
+//! bare `x y z`) make a file of one mesh's points, paired with another
+//! mesh's file by [`Markers::read_pair`] (`marker_points.rs`).
 
+use std::collections::HashMap;
+use std::io::Write;
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::transfer::markers::{Markers, VertexNumbering};
+use crate::mesh::surface_point::SurfacePoint;
+use crate::transfer::markers::{Markers, Origin, Pending, Side, VertexNumbering};
+
+/// The first line [`Markers::write`] writes.
+const HEADER: &str = "# meshmorph markers: [name] SOURCE TARGET, each a vertex `v I`, a triangle's point `t T b0 b1 b2` or a position `p x y z`; indices from 0";
+
+/// One line of a marker file: its name and sides, as given.
+pub(crate) struct Line {
+    pub(crate) number: usize,
+    pub(crate) name: Option<String>,
+    pub(crate) sides: Vec<Side>,
+}
 
 impl Markers {
-    /// Reads a marker file: one pair `source target` per line, separated by
-    /// white space or a comma; `#` starts a comment; a first line holding
-    /// only the number of pairs (as in `.cons` files) is accepted and
-    /// checked. Indices count from 0 or from 1 as `numbering` says.
+    /// Reads a file of marker pairs in meshmorph's own format (see
+    /// `io/marker_file.rs`): one marker a line, `source target` vertex
+    /// indices, `sx sy sz tx ty tz` positions, or `[name] SIDE SIDE` with
+    /// each side a vertex `v I`, a triangle's point `t T b0 b1 b2` or a
+    /// position `p x y z`. Indices count from 0 or from 1 as `numbering`
+    /// says. Files of one mesh's points (MeshLab's `.pp`, Wrap's `.json`)
+    /// are read in twos by [`Markers::read_pair`].
     ///
     /// # Errors
     /// [`Error::Io`] if the file cannot be read, [`Error::FileRefused`] when
     /// it is not a regular file or is larger than a third of the memory
     /// available, [`Error::Parse`] naming the line of the first entry that
-    /// does not parse (or of a byte that is not UTF-8).
+    /// does not parse (or of a byte that is not UTF-8), a name given twice,
+    /// barycentric coordinates that do not sum to 1; a file of one mesh's
+    /// points is refused, saying how to pair it.
     pub fn read(path: &Path, numbering: VertexNumbering) -> Result<Self> {
         let bytes = crate::io::read::read_file(path, &crate::io::read::Limit::memory())?;
         let text = crate::io::read::utf8(bytes, path)?;
+        if let Some(kind) = crate::io::marker_points::one_mesh_format(path, &text) {
+            return Err(Error::parse(
+                path,
+                None,
+                format!(
+                    "{kind} holds the points of one mesh: give it with the other mesh's file, source first (`--markers SOURCE --markers TARGET` on the command line, Markers::read_pair in the library)"
+                ),
+            ));
+        }
         Self::parse(&text, path, numbering)
     }
 
@@ -28,99 +78,366 @@ impl Markers {
     /// # Errors
     /// [`Error::Parse`] naming the line of the first entry that does not parse.
     pub fn parse(text: &str, path: &Path, numbering: VertexNumbering) -> Result<Self> {
-        let one_based = numbering == VertexNumbering::FromOne;
-        // A byte-order mark, as some editors write, is not part of the text.
-        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        let mut pairs = Vec::new();
-        let mut lines = Vec::new();
-        let mut points = Vec::new();
-        let mut count: Option<(usize, usize)> = None;
-        let mut first = true;
-        for (k, raw) in text.lines().enumerate() {
-            let line = k + 1;
-            let content = raw.split('#').next().unwrap_or("").trim();
-            if content.is_empty() {
-                continue;
+        let lines = parse_lines(text, path, numbering, 2)?;
+        let mut markers = Markers {
+            origin: Origin {
+                files: [Some(path.to_path_buf()), Some(path.to_path_buf())],
+                units: ["line"; 2],
+                first_index: [u32::from(numbering == VertexNumbering::FromOne); 2],
+            },
+            ..Markers::default()
+        };
+        for (order, line) in lines.into_iter().enumerate() {
+            markers.push(
+                order,
+                [line.sides[0], line.sides[1]],
+                line.name,
+                [line.number; 2],
+            );
+        }
+        Ok(markers)
+    }
+
+    /// Adds marker `order` (its place among all the markers).
+    pub(crate) fn push(
+        &mut self,
+        order: usize,
+        sides: [Side; 2],
+        name: Option<String>,
+        lines: [usize; 2],
+    ) {
+        match sides {
+            [Side::On(s), Side::On(t)] => {
+                self.pairs.push([s, t]);
+                self.names.push(name);
+                self.lines.push(lines);
             }
-            let fields: Vec<&str> = content
-                .split(|c: char| c == ',' || c.is_whitespace())
-                .filter(|f| !f.is_empty())
-                .collect();
-            let bad = |msg: String| Error::parse(path, Some(line), msg);
-            let index = |f: &str| -> Result<u32> {
-                let v: i64 = f
-                    .parse()
-                    .map_err(|_| bad(format!("`{f}` is not a vertex index")))?;
-                let v = if one_based {
-                    if v < 1 {
-                        return Err(bad(format!(
-                            "vertex index {v} is not 1-based (1 is the first vertex)"
-                        )));
-                    }
-                    v - 1
-                } else {
-                    v
-                };
-                u32::try_from(v).map_err(|_| bad(format!("vertex index {f} is out of range")))
-            };
-            match fields.len() {
-                1 if first => {
-                    let n = fields[0].parse::<usize>().map_err(|_| {
-                        bad(format!(
-                            "`{}` is neither a pair count nor a pair",
-                            fields[0]
-                        ))
-                    })?;
-                    count = Some((n, line));
-                }
-                2 => {
-                    pairs.push([index(fields[0])?, index(fields[1])?]);
-                    lines.push(line);
-                }
-                6 => {
-                    let mut c = [0.0; 6];
-                    for (x, f) in c.iter_mut().zip(&fields) {
-                        *x = f
-                            .parse::<f64>()
-                            .ok()
-                            .filter(|x| x.is_finite())
-                            .ok_or_else(|| bad(format!("`{f}` is not a coordinate")))?;
-                    }
-                    points.push(([[c[0], c[1], c[2]], [c[3], c[4], c[5]]], line));
+            sides => self.points.push(Pending {
+                order,
+                sides,
+                name,
+                lines,
+            }),
+        }
+    }
+
+    /// Writes the markers in meshmorph's own format, the general form with
+    /// 0-based indices, every marker in the order given (positions not yet
+    /// snapped as `p x y z`), numbers printed so that they read back the
+    /// same: [`Markers::read`] with [`VertexNumbering::FromZero`] gives back
+    /// the same pairs, positions and names.
+    ///
+    /// # Errors
+    /// What `w` returns.
+    pub fn write(&self, w: &mut dyn Write) -> std::io::Result<()> {
+        writeln!(w, "{HEADER}")?;
+        let mut located = 0..self.pairs.len();
+        let mut pending = self.points.iter().peekable();
+        for order in 0..self.pairs.len() + self.points.len() {
+            let (sides, name) = match pending.peek() {
+                Some(p) if p.order == order => {
+                    let p = pending.next().expect("peeked");
+                    (p.sides, p.name.as_deref())
                 }
                 _ => {
-                    return Err(bad(format!(
-                        "expected `source target` (two vertex indices) or `sx sy sz tx ty tz` (a point on each mesh), found `{content}`"
-                    )))
+                    let k = located.next().expect("counted");
+                    (self.pairs[k].map(Side::On), self.names[k].as_deref())
+                }
+            };
+            if let Some(name) = name {
+                write!(w, "{} ", quoted(name))?;
+            }
+            writeln!(w, "{} {}", side_text(&sides[0]), side_text(&sides[1]))?;
+        }
+        Ok(())
+    }
+
+    /// [`Markers::write`] into the file `path`, atomically.
+    ///
+    /// # Errors
+    /// [`Error::Io`] when the file cannot be written.
+    pub fn save(&self, path: &Path) -> Result<()> {
+        crate::io::write_atomic(path, |w| self.write(w))
+    }
+}
+
+/// A side as [`Markers::write`] writes it.
+fn side_text(side: &Side) -> String {
+    match side {
+        Side::On(SurfacePoint::Vertex(v)) => format!("v {v}"),
+        Side::On(SurfacePoint::Triangle {
+            triangle,
+            barycentric: b,
+        }) => format!("t {triangle} {:?} {:?} {:?}", b[0], b[1], b[2]),
+        Side::At(p) => format!("p {:?} {:?} {:?}", p[0], p[1], p[2]),
+    }
+}
+
+/// `name` in double quotes, escaped.
+fn quoted(name: &str) -> String {
+    let mut out = String::with_capacity(name.len() + 2);
+    out.push('"');
+    for c in name.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// A field of a line: its text, and whether it was quoted (a name).
+struct Field {
+    text: String,
+    quoted: bool,
+}
+
+/// The fields of a line, split at white space and commas outside quotes,
+/// up to a `#` outside quotes.
+fn fields(line: &str) -> std::result::Result<Vec<Field>, String> {
+    let mut out = Vec::new();
+    let mut chars = line.chars().peekable();
+    while let Some(&c) = chars.peek() {
+        if c == ',' || c.is_whitespace() {
+            chars.next();
+        } else if c == '#' {
+            break;
+        } else if c == '"' {
+            chars.next();
+            let mut text = String::new();
+            loop {
+                match chars.next() {
+                    None => return Err("a name in quotes has no closing quote".into()),
+                    Some('"') => break,
+                    Some('\\') => match chars.next() {
+                        Some('n') => text.push('\n'),
+                        Some('r') => text.push('\r'),
+                        Some(c @ ('"' | '\\')) => text.push(c),
+                        Some(c) => {
+                            return Err(format!(
+                                "`\\{c}` is no escape (`\\\"`, `\\\\`, `\\n`, `\\r`)"
+                            ))
+                        }
+                        None => return Err("a name in quotes has no closing quote".into()),
+                    },
+                    Some(c) => text.push(c),
                 }
             }
-            first = false;
+            out.push(Field { text, quoted: true });
+        } else {
+            let mut text = String::new();
+            while let Some(&c) = chars.peek() {
+                if c == ',' || c == '#' || c == '"' || c.is_whitespace() {
+                    break;
+                }
+                text.push(c);
+                chars.next();
+            }
+            out.push(Field {
+                text,
+                quoted: false,
+            });
         }
-        if let Some((n, line)) = count {
-            if n != pairs.len() + points.len() {
-                return Err(Error::parse(
-                    path,
-                    Some(line),
-                    format!(
-                        "the count line says {n} pairs but {} follow",
-                        pairs.len() + points.len()
-                    ),
-                ));
+    }
+    Ok(out)
+}
+
+/// Whether an unquoted field starts a side.
+fn is_tag(f: &Field) -> bool {
+    !f.quoted && matches!(f.text.as_str(), "v" | "t" | "p")
+}
+
+/// Reads the marker lines of `text`, each with `per_line` sides (2 for a
+/// file of pairs, 1 for a file of one mesh's points).
+pub(crate) fn parse_lines(
+    text: &str,
+    path: &Path,
+    numbering: VertexNumbering,
+    per_line: usize,
+) -> Result<Vec<Line>> {
+    // A byte-order mark, as some editors write, is not part of the text.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut lines = Vec::new();
+    let mut count: Option<(usize, usize)> = None;
+    let mut first = true;
+    let mut names: HashMap<String, usize> = HashMap::new();
+    for (k, raw) in text.lines().enumerate() {
+        let number = k + 1;
+        let bad = |msg: String| Error::parse(path, Some(number), msg);
+        let fields = fields(raw).map_err(bad)?;
+        if fields.is_empty() {
+            continue;
+        }
+        if first && per_line == 2 && fields.len() == 1 && !fields[0].quoted {
+            let n = fields[0].text.parse::<usize>().map_err(|_| {
+                bad(format!(
+                    "`{}` is neither a marker count nor a marker",
+                    fields[0].text
+                ))
+            })?;
+            count = Some((n, number));
+            first = false;
+            continue;
+        }
+        first = false;
+        let named =
+            fields[0].quoted || (!is_tag(&fields[0]) && fields[0].text.parse::<f64>().is_err());
+        let (name, rest) = if named {
+            (Some(fields[0].text.clone()), &fields[1..])
+        } else {
+            (None, &fields[..])
+        };
+        let sides = sides(rest, per_line, numbering).map_err(|msg| {
+            let found = raw.split('#').next().unwrap_or("").trim();
+            bad(format!("{msg}, in `{found}`"))
+        })?;
+        if let Some(name) = &name {
+            if let Some(before) = names.insert(name.clone(), number) {
+                return Err(bad(format!(
+                    "the name `{name}` is given twice (line {before} and here): names must be unique within a file"
+                )));
             }
         }
-        Ok(Self {
-            pairs,
-            lines,
-            points,
-            path: Some(path.to_path_buf()),
-            first_index: u32::from(one_based),
-        })
+        lines.push(Line {
+            number,
+            name,
+            sides,
+        });
+    }
+    if let Some((n, line)) = count {
+        if n != lines.len() {
+            return Err(Error::parse(
+                path,
+                Some(line),
+                format!("the count line says {n} pairs but {} follow", lines.len()),
+            ));
+        }
+    }
+    Ok(lines)
+}
+
+/// The `per_line` sides in `fields`, or what is wrong with them.
+fn sides(
+    fields: &[Field],
+    per_line: usize,
+    numbering: VertexNumbering,
+) -> std::result::Result<Vec<Side>, String> {
+    let one_based = numbering == VertexNumbering::FromOne;
+    let index = |f: &Field, what: &str| -> std::result::Result<u32, String> {
+        let v: i64 = f
+            .text
+            .parse()
+            .map_err(|_| format!("`{}` is not a {what} index", f.text))?;
+        let v = if one_based {
+            if v < 1 {
+                return Err(format!(
+                    "{what} index {v} is not 1-based (1 is the first {what})"
+                ));
+            }
+            v - 1
+        } else {
+            v
+        };
+        u32::try_from(v).map_err(|_| format!("{what} index {} is out of range", f.text))
+    };
+    let number = |f: &Field, what: &str| -> std::result::Result<f64, String> {
+        f.text
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("`{}` is not a {what}", f.text))
+    };
+    let expected = if per_line == 2 {
+        "expected `source target` (two vertex indices), `sx sy sz tx ty tz` (a position on each mesh) or `[name] SIDE SIDE` with each side `v I`, `t T b0 b1 b2` or `p x y z`"
+    } else {
+        "expected a vertex index, `x y z` (a position) or `[name] SIDE` with the side `v I`, `t T b0 b1 b2` or `p x y z`"
+    };
+    if fields.first().is_some_and(is_tag) {
+        let mut out = Vec::with_capacity(per_line);
+        let mut rest = fields;
+        while let Some(tag) = rest.first() {
+            let arity = match tag.text.as_str() {
+                "v" if !tag.quoted => 1,
+                "t" if !tag.quoted => 4,
+                "p" if !tag.quoted => 3,
+                _ => return Err(format!("{expected}; `{}` starts no side", tag.text)),
+            };
+            if rest.len() < 1 + arity {
+                return Err(format!(
+                    "{expected}; `{}` needs {arity} number{}",
+                    tag.text,
+                    if arity == 1 { "" } else { "s" }
+                ));
+            }
+            let f = &rest[1..=arity];
+            out.push(match tag.text.as_str() {
+                "v" => Side::On(SurfacePoint::Vertex(index(&f[0], "vertex")?)),
+                "t" => {
+                    let point = SurfacePoint::Triangle {
+                        triangle: index(&f[0], "triangle")?,
+                        barycentric: [
+                            number(&f[1], "barycentric coordinate")?,
+                            number(&f[2], "barycentric coordinate")?,
+                            number(&f[3], "barycentric coordinate")?,
+                        ],
+                    };
+                    if let Some(problem) = point.barycentric_problem() {
+                        return Err(problem);
+                    }
+                    Side::On(point)
+                }
+                _ => Side::At([
+                    number(&f[0], "coordinate")?,
+                    number(&f[1], "coordinate")?,
+                    number(&f[2], "coordinate")?,
+                ]),
+            });
+            rest = &rest[1 + arity..];
+        }
+        if out.len() != per_line {
+            return Err(format!(
+                "{expected}; found {} side{}",
+                out.len(),
+                if out.len() == 1 { "" } else { "s" }
+            ));
+        }
+        return Ok(out);
+    }
+    if fields.len() == per_line {
+        fields
+            .iter()
+            .map(|f| Ok(Side::On(SurfacePoint::Vertex(index(f, "vertex")?))))
+            .collect()
+    } else if fields.len() == 3 * per_line {
+        let c = fields
+            .iter()
+            .map(|f| number(f, "coordinate"))
+            .collect::<std::result::Result<Vec<f64>, String>>()?;
+        Ok(c.chunks(3).map(|p| Side::At([p[0], p[1], p[2]])).collect())
+    } else {
+        Err(expected.into())
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn vertex_pairs(m: &Markers) -> Vec<[u32; 2]> {
+        m.pairs()
+            .iter()
+            .map(|p| {
+                p.map(|s| match s {
+                    SurfacePoint::Vertex(v) => v,
+                    other => panic!("{other:?}"),
+                })
+            })
+            .collect()
+    }
 
     #[test]
     fn parses_the_usual_layouts() {
@@ -131,9 +448,9 @@ mod tests {
             VertexNumbering::FromZero,
         )
         .unwrap();
-        assert_eq!(m.pairs(), &[[0, 5], [1, 6], [2, 7]]);
+        assert_eq!(vertex_pairs(&m), [[0, 5], [1, 6], [2, 7]]);
         let m = Markers::parse("1 1\n2 3\n", p, VertexNumbering::FromOne).unwrap();
-        assert_eq!(m.pairs(), &[[0, 0], [1, 2]]);
+        assert_eq!(vertex_pairs(&m), [[0, 0], [1, 2]]);
         assert_eq!(
             Markers::parse("", p, VertexNumbering::FromZero)
                 .unwrap()
@@ -144,36 +461,99 @@ mod tests {
     }
 
     #[test]
+    fn parses_names_triangles_and_positions() {
+        let p = Path::new("m.txt");
+        let text = "nose v 3 t 4 0.25 0.25 0.5\n\"left # eye\" p 1 2 3, v 9\n 2 7\n";
+        let m = Markers::parse(text, p, VertexNumbering::FromZero).unwrap();
+        assert_eq!(m.pairs().len(), 2);
+        assert_eq!(m.name(0), Some("nose"));
+        assert_eq!(
+            m.pairs()[0][1],
+            SurfacePoint::Triangle {
+                triangle: 4,
+                barycentric: [0.25, 0.25, 0.5]
+            }
+        );
+        assert_eq!(m.name(1), None);
+        assert_eq!(m.points.len(), 1);
+        assert_eq!(m.points[0].name.as_deref(), Some("left # eye"));
+        assert_eq!(m.points[0].order, 1);
+        let m = Markers::parse("a t 2 0.5 0.5 0 v 1\n", p, VertexNumbering::FromOne).unwrap();
+        assert_eq!(
+            m.pairs()[0],
+            [
+                SurfacePoint::Triangle {
+                    triangle: 1,
+                    barycentric: [0.5, 0.5, 0.0]
+                },
+                SurfacePoint::Vertex(0)
+            ]
+        );
+    }
+
+    #[test]
+    fn writing_and_reading_back_gives_the_same_markers() {
+        let p = Path::new("m.txt");
+        let text = "nose v 3 t 4 0.1 0.30000000000000004 0.6\n\"a \\\"b\\\" \\\\ c\" p 1e300 -0.0 3 v 9\n2 7\nv 1 p 0.1 0.2 0.3\n";
+        let m = Markers::parse(text, p, VertexNumbering::FromZero).unwrap();
+        let mut out = Vec::new();
+        m.write(&mut out).unwrap();
+        let back = Markers::parse(
+            std::str::from_utf8(&out).unwrap(),
+            p,
+            VertexNumbering::FromZero,
+        )
+        .unwrap();
+        assert_eq!(back.pairs, m.pairs);
+        assert_eq!(back.names, m.names);
+        let strip = |m: &Markers| {
+            m.points
+                .iter()
+                .map(|p| (p.order, p.sides, p.name.clone()))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(strip(&back), strip(&m));
+        assert_eq!(m.points[0].name.as_deref(), Some("a \"b\" \\ c"));
+    }
+
+    #[test]
     fn reports_lines() {
         let p = Path::new("m.txt");
-        let e = Markers::parse("0 1\n2 x\n", p, VertexNumbering::FromZero)
-            .unwrap_err()
-            .to_string();
+        let bad =
+            |text: &str, numbering| Markers::parse(text, p, numbering).unwrap_err().to_string();
+        let e = bad("0 1\n2 x\n", VertexNumbering::FromZero);
         assert!(
             e.contains("m.txt") && e.contains("line 2") && e.contains("`x`"),
             "{e}"
         );
-        let e = Markers::parse("0 1 2\n", p, VertexNumbering::FromZero)
-            .unwrap_err()
-            .to_string();
+        let e = bad("0 1 2\n", VertexNumbering::FromZero);
         assert!(e.contains("line 1"), "{e}");
-        let e = Markers::parse("4\n0 1\n", p, VertexNumbering::FromZero)
-            .unwrap_err()
-            .to_string();
+        let e = bad("4\n0 1\n", VertexNumbering::FromZero);
         assert!(e.contains("says 4 pairs but 1"), "{e}");
-        let e = Markers::parse("0 1\n", p, VertexNumbering::FromOne)
-            .unwrap_err()
-            .to_string();
+        let e = bad("0 1\n", VertexNumbering::FromOne);
         assert!(e.contains("1-based"), "{e}");
-        let e = Markers::parse("0 -1\n", p, VertexNumbering::FromZero)
-            .unwrap_err()
-            .to_string();
+        let e = bad("0 -1\n", VertexNumbering::FromZero);
         assert!(e.contains("out of range"), "{e}");
+        let e = bad("a v 1 t 2 0.5 0.6 0.1\n", VertexNumbering::FromZero);
+        assert!(e.contains("line 1") && e.contains("sum to"), "{e}");
+        let e = bad("a 1 2\nb 3 4\na 5 6\n", VertexNumbering::FromZero);
+        assert!(
+            e.contains("line 3") && e.contains("`a` is given twice (line 1"),
+            "{e}"
+        );
+        let e = bad("\"a 1 2\n", VertexNumbering::FromZero);
+        assert!(e.contains("closing quote"), "{e}");
+        let e = bad("v 1 t 2 0.5\n", VertexNumbering::FromZero);
+        assert!(e.contains("`t` needs 4 numbers"), "{e}");
+        let e = bad("v 1\n", VertexNumbering::FromZero);
+        assert!(e.contains("found 1 side"), "{e}");
     }
 
     #[test]
     fn messages_number_vertices_as_the_file_does() {
         let p = Path::new("m.txt");
+        let mesh = crate::mesh::shapes::tube(1.0, 0.2, 2, 3);
+        // 8 vertices: the 9th (or 10th, counting from 1) is out of range.
         for (one_based, text, shown) in [(false, "0 4\n1 9\n", "9"), (true, "1 5\n2 10\n", "10")] {
             let numbering = if one_based {
                 VertexNumbering::FromOne
@@ -181,7 +561,7 @@ mod tests {
                 VertexNumbering::FromZero
             };
             let m = Markers::parse(text, p, numbering).unwrap();
-            let e = m.check_ranges(5, 6).unwrap_err().to_string();
+            let e = m.check_ranges(&mesh, &mesh).unwrap_err().to_string();
             assert!(
                 e.contains(&format!("target vertex {shown} is out of range")),
                 "{e}"
@@ -193,9 +573,11 @@ mod tests {
             }));
         }
         let m = Markers::parse("1 5\n1 6\n", p, VertexNumbering::FromOne).unwrap();
-        let e = m.validate(10, 10).unwrap_err().to_string();
+        let e = m.validate(&mesh, &mesh).unwrap_err().to_string();
         assert!(
-            e.contains("source vertex 1 is paired with target vertex 6 here and with 5"),
+            e.contains(
+                "source vertex 1 is paired with target vertex 6 here and with target vertex 5"
+            ),
             "{e}"
         );
     }

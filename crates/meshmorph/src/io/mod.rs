@@ -15,9 +15,12 @@
 //!   groups, materials, other PLY properties and elements, colours) beside
 //!   the triangle mesh derived from it, and writes it back with new
 //!   positions: what deformation transfer writes for the target.
-//! - The files of deformation transfer (`marker_file.rs`, `correspondence_file.rs`):
+//! - The files of deformation transfer (`marker_file.rs`, `marker_points.rs`,
+//!   `picked_points.rs`, `wrap_points.rs`, `correspondence_file.rs`):
 //!   marker pairs ([`Markers::read`](crate::Markers::read),
-//!   [`Markers::parse`](crate::Markers::parse)) and triangle correspondences
+//!   [`Markers::parse`](crate::Markers::parse), [`Markers::save`](crate::Markers::save)),
+//!   one mesh's marker points in twos, as MeshLab's `.pp` and Wrap's `.json`
+//!   ([`Markers::read_pair`](crate::Markers::read_pair)), and triangle correspondences
 //!   ([`Correspondence::save`](crate::Correspondence::save) and
 //!   [`Correspondence::load`](crate::Correspondence::load)).
 //!
@@ -72,19 +75,22 @@ mod appearance;
 mod atomic;
 mod correspondence_file;
 pub mod gltf;
-mod marker_file;
+pub(crate) mod marker_file;
+pub(crate) mod marker_points;
 mod material_paths;
 mod mesh_file;
 pub mod mtl;
 mod normal_groups;
 mod obj;
 mod off;
+mod picked_points;
 mod ply;
 pub(crate) mod read;
 mod stl;
 mod surface_issues;
 mod triangulate;
 mod vertex_attributes;
+mod wrap_points;
 
 pub use appearance::Appearance;
 pub use atomic::{random_name, write_atomic, write_new};

@@ -50,45 +50,93 @@ pub fn vertex_normals(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[f6
 
 /// The point of triangle `p` closest to `q` (Ericson, "Real-Time Collision
 /// Detection", 5.1.5).
+#[inline]
 pub fn closest_point_on_triangle(q: [f64; 3], p: [[f64; 3]; 3]) -> [f64; 3] {
+    let [a, b, c] = p;
+    match closest_region(q, p) {
+        Region::Corner(k) => p[k],
+        Region::Edge { from, to, t } => add(p[from], scale(sub(p[to], p[from]), t)),
+        Region::Inside { v, w } => add(a, add(scale(sub(b, a), v), scale(sub(c, a), w))),
+    }
+}
+
+/// Where on a triangle the point closest to a query lies.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Region {
+    /// At corner `k` (also for a degenerate triangle: its nearest corner).
+    Corner(usize),
+    /// On the edge from corner `from` to corner `to`, at `t` along it.
+    Edge { from: usize, to: usize, t: f64 },
+    /// Inside: `a + v (b - a) + w (c - a)`.
+    Inside { v: f64, w: f64 },
+}
+
+impl Region {
+    /// The barycentric coordinates of the point, in the triangle's order.
+    pub(crate) fn barycentric(self) -> [f64; 3] {
+        let mut b = [0.0; 3];
+        match self {
+            Region::Corner(k) => b[k] = 1.0,
+            Region::Edge { from, to, t } => {
+                b[from] = 1.0 - t;
+                b[to] = t;
+            }
+            Region::Inside { v, w } => b = [1.0 - v - w, v, w],
+        }
+        b
+    }
+}
+
+/// The region of triangle `p` holding the point closest to `q` (Ericson,
+/// "Real-Time Collision Detection", 5.1.5).
+#[inline]
+pub(crate) fn closest_region(q: [f64; 3], p: [[f64; 3]; 3]) -> Region {
     let [a, b, c] = p;
     let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(q, a));
     let (d1, d2) = (dot(ab, ap), dot(ac, ap));
     if d1 <= 0.0 && d2 <= 0.0 {
-        return a;
+        return Region::Corner(0);
     }
     let bp = sub(q, b);
     let (d3, d4) = (dot(ab, bp), dot(ac, bp));
     if d3 >= 0.0 && d4 <= d3 {
-        return b;
+        return Region::Corner(1);
     }
     let vc = d1 * d4 - d3 * d2;
     if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        return add(a, scale(ab, d1 / (d1 - d3)));
+        let t = d1 / (d1 - d3);
+        return Region::Edge { from: 0, to: 1, t };
     }
     let cp = sub(q, c);
     let (d5, d6) = (dot(ab, cp), dot(ac, cp));
     if d6 >= 0.0 && d5 <= d6 {
-        return c;
+        return Region::Corner(2);
     }
     let vb = d5 * d2 - d1 * d6;
     if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        return add(a, scale(ac, d2 / (d2 - d6)));
+        let t = d2 / (d2 - d6);
+        return Region::Edge { from: 0, to: 2, t };
     }
     let va = d3 * d6 - d5 * d4;
     if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        return add(b, scale(sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6))));
+        let t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return Region::Edge { from: 1, to: 2, t };
     }
     let denom = va + vb + vc;
     if denom == 0.0 {
-        // Degenerate triangle: fall back to the nearest corner.
-        return *[a, b, c]
-            .iter()
-            .min_by(|x, y| dot(sub(q, **x), sub(q, **x)).total_cmp(&dot(sub(q, **y), sub(q, **y))))
-            .expect("three corners");
+        // Degenerate triangle: fall back to the nearest corner (the first
+        // of equally near ones).
+        let d = |x: [f64; 3]| dot(sub(q, x), sub(q, x));
+        return Region::Corner(
+            (0..3)
+                .min_by(|&i, &j| d(p[i]).total_cmp(&d(p[j])))
+                .expect("three corners"),
+        );
     }
-    let (v, w) = (vb / denom, vc / denom);
-    add(a, add(scale(ab, v), scale(ac, w)))
+    Region::Inside {
+        v: vb / denom,
+        w: vc / denom,
+    }
 }
 
 /// A triangle of an indexed surface.
@@ -165,6 +213,12 @@ impl SurfaceIndex {
         }
     }
 
+    /// The closest point of the surface to `q`, whatever the normals (of
+    /// equally close triangles, the first); `None` without triangles.
+    pub fn closest(&self, q: [f64; 3]) -> Option<ClosestPoint> {
+        self.closest_where(q, f64::INFINITY, |_| true)
+    }
+
     /// The closest point to `q` on a triangle whose unit normal is less
     /// than `max_angle` from `normal` (a unit vector), if one lies within
     /// `max_distance` (of equally close triangles, the first).
@@ -175,15 +229,24 @@ impl SurfaceIndex {
         max_distance: f64,
         max_angle: Angle,
     ) -> Option<ClosestPoint> {
-        let (triangle, tri, d2) = self.tree.nearest(
-            q,
-            max_distance * max_distance,
-            |t| max_angle.admits(dot(t.normal, normal)),
-            |t| {
-                let d = sub(closest_point_on_triangle(q, t.corners), q);
-                dot(d, d)
-            },
-        )?;
+        self.closest_where(q, max_distance * max_distance, |t| {
+            max_angle.admits(dot(t.normal, normal))
+        })
+    }
+
+    /// The closest point to `q` on a triangle that `accept`s, within the
+    /// squared distance `max_distance_2`.
+    #[inline]
+    fn closest_where(
+        &self,
+        q: [f64; 3],
+        max_distance_2: f64,
+        accept: impl Fn(&Triangle) -> bool,
+    ) -> Option<ClosestPoint> {
+        let (triangle, tri, d2) = self.tree.nearest(q, max_distance_2, accept, |t| {
+            let d = sub(closest_point_on_triangle(q, t.corners), q);
+            dot(d, d)
+        })?;
         Some(ClosestPoint {
             triangle,
             point: closest_point_on_triangle(q, tri.corners),

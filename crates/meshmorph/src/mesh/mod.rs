@@ -8,9 +8,11 @@ pub(crate) mod frame_source;
 pub(crate) mod nearest_vertices;
 pub(crate) mod seams;
 pub mod shapes;
+pub(crate) mod surface_point;
 pub(crate) mod topology;
 mod triangle_mesh;
 
+pub use surface_point::SurfacePoint;
 #[cfg(test)]
 pub(crate) use triangle_mesh::signed_areas;
 pub(crate) use triangle_mesh::{

@@ -29,6 +29,7 @@ use crate::linalg::vector::{centroid, dot, sub};
 use crate::mesh::closest::{
     closest_point_on_triangle, unit_normal, vertex_normals, Angle, SurfaceIndex, PERPENDICULAR,
 };
+use crate::mesh::surface_point::SurfacePoint;
 use crate::mesh::Mesh3;
 use crate::transfer::correspondence::Correspondence;
 use crate::transfer::markers::Markers;
@@ -350,8 +351,19 @@ fn region(
         .pairs()
         .par_iter()
         .enumerate()
-        .filter_map(|(k, &[_, v])| {
-            let m = *positions.get(v as usize)?;
+        .filter_map(|(k, &[_, point])| {
+            // Markers made for another mesh are left out, not a panic.
+            let in_range = match point {
+                SurfacePoint::Vertex(v) => (v as usize) < positions.len(),
+                SurfacePoint::Triangle { triangle, .. } => target
+                    .triangles()
+                    .get(triangle as usize)
+                    .is_some_and(|t| t.iter().all(|&v| (v as usize) < positions.len())),
+            };
+            if !in_range {
+                return None;
+            }
+            let m = point.position(target);
             let d2 = vertices
                 .iter()
                 .map(|&w| {

@@ -1,18 +1,21 @@
-//! Marker vertex pairs that tie a source mesh to a target mesh, given as
-//! vertex indices or as points snapped to the nearest vertex. The file
-//! format is read in [`crate::io`] (`io/marker_file.rs`).
+//! Markers: pairs of points, one on the source's surface and one on the
+//! target's, that tie the two meshes together. A point is a vertex, a
+//! triangle with barycentric coordinates ([`SurfacePoint`]), or a position
+//! in space until [`Markers::snap`] puts it on the surface. The files are
+//! read in [`crate::io`] (`io/marker_file.rs` and its neighbours).
 
 use std::collections::HashMap;
 use std::path::PathBuf;
 
 use crate::error::{Error, Result};
 use crate::linalg::similarity::Similarity;
-use crate::linalg::vector::{norm, sub};
+use crate::mesh::closest::SurfaceIndex;
 use crate::mesh::seams::Seams;
+use crate::mesh::surface_point::{nearest_surface_point, SurfacePoint};
 use crate::mesh::{used_vertices, Mesh3};
 
-/// Where a file's vertex indices start: marker files and picking tools
-/// count from 0 or from 1.
+/// Where a file's vertex and triangle indices start: marker files and
+/// picking tools count from 0 or from 1.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum VertexNumbering {
     /// The first vertex is 0 (as meshmorph, Python and C count).
@@ -22,242 +25,355 @@ pub enum VertexNumbering {
     FromOne,
 }
 
-/// Pairs `(source vertex, target vertex)`, 0-based, with where they came from
-/// so that errors can name the file and line. A marker file may also give
-/// points (`x y z` on each mesh, as picking tools write them): they become
-/// vertex pairs through [`Markers::snap`].
+/// One side of a marker as given: a point of the surface, or a position in
+/// space to be snapped onto it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Side {
+    On(SurfacePoint),
+    At([f64; 3]),
+}
+
+/// A marker with a side given as a position, waiting for [`Markers::snap`].
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Pending {
+    /// Its place among all the markers, in the order given.
+    pub(crate) order: usize,
+    pub(crate) sides: [Side; 2],
+    pub(crate) name: Option<String>,
+    pub(crate) lines: [usize; 2],
+}
+
+/// Where the markers came from: for each side (source, target), the file
+/// and the word for an entry's place in it (`line`, or `point` for files
+/// without lines), and the number its first vertex has.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct Origin {
+    pub(crate) files: [Option<PathBuf>; 2],
+    pub(crate) units: [&'static str; 2],
+    /// 1 for a file read as 1-based, else 0.
+    pub(crate) first_index: [u32; 2],
+}
+
+/// Marker pairs `[source point, target point]`, with optional names and
+/// where they came from, so that errors can name the file and line.
+///
+/// A pair may be given as vertex indices ([`Markers::new`]), as points of
+/// the surfaces ([`Markers::on_surfaces`]), or as positions in space
+/// ([`Markers::from_points`], `x y z` in files), which
+/// [`Markers::snap`] puts on the nearest point of each surface. Files:
+/// [`Markers::read`] (one file of pairs) and [`Markers::read_pair`] (a file
+/// of points for each mesh).
+///
+/// In the correspondence a marker whose source point is a vertex holds that
+/// vertex at the target point; one inside a triangle holds the point of the
+/// triangle there through a stiff least-squares term, so that moving it
+/// along the triangle moves the result continuously.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Markers {
-    pub(crate) pairs: Vec<[u32; 2]>,
-    /// 1-based line of each pair, when read from a file.
-    pub(crate) lines: Vec<usize>,
-    /// Point pairs not yet snapped to vertices, with their lines.
-    pub(crate) points: Vec<([[f64; 3]; 2], usize)>,
-    pub(crate) path: Option<PathBuf>,
-    /// The number messages give the first vertex: 1 for a file read as
-    /// 1-based, else 0.
-    pub(crate) first_index: u32,
+    pub(crate) pairs: Vec<[SurfacePoint; 2]>,
+    pub(crate) names: Vec<Option<String>>,
+    /// 1-based line (or entry) of each pair's sides, when read from files.
+    pub(crate) lines: Vec<[usize; 2]>,
+    /// Pairs with a side given as a position, not yet snapped.
+    pub(crate) points: Vec<Pending>,
+    pub(crate) origin: Origin,
 }
 
 /// How far [`Markers::snap`] moved the marker points, as fractions of each
 /// mesh's bounding-box diagonal.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Snap {
-    /// Number of point pairs snapped.
+    /// Number of markers with a side given as a position.
     pub points: usize,
-    /// The largest distance from a source point to its vertex.
+    /// The largest distance from a source position to the surface.
     pub largest_source: f64,
-    /// The largest distance from a target point to its vertex.
+    /// The largest distance from a target position to the surface.
     pub largest_target: f64,
 }
 
-/// The farthest a marker point may lie from a vertex, as a fraction of the
-/// mesh's bounding-box diagonal: farther, it is more likely a point of
-/// another model (or in other units) than a point picked on this one.
+/// The farthest a marker position may lie from the surface, as a fraction
+/// of the mesh's bounding-box diagonal: farther, it is more likely a point
+/// of another model (or in other units) than a point picked on this one.
 pub const SNAP_LIMIT: f64 = 0.02;
 
+/// The stiffness of a marker inside a triangle, over the diagonal of the
+/// correspondence's matrix at its vertices (see `matching.rs`).
+pub(crate) const HOLD_STIFFNESS: f64 = 1e4;
+
+/// The two sides' names in messages.
+const SIDES: [&str; 2] = ["source", "target"];
+
 impl Markers {
-    /// Markers from 0-based pairs in memory.
+    /// Markers from 0-based vertex pairs `[source vertex, target vertex]`.
     pub fn new(pairs: Vec<[u32; 2]>) -> Self {
-        Self {
-            pairs,
-            lines: Vec::new(),
-            points: Vec::new(),
-            path: None,
-            first_index: 0,
-        }
+        Self::on_surfaces(
+            pairs
+                .into_iter()
+                .map(|p| p.map(SurfacePoint::Vertex))
+                .collect(),
+        )
     }
 
-    /// Markers from point pairs `[source point, target point]` in memory,
-    /// to be snapped to vertices with [`Markers::snap`].
-    pub fn from_points(points: Vec<[[f64; 3]; 2]>) -> Self {
+    /// Markers from pairs of surface points `[source point, target point]`.
+    pub fn on_surfaces(pairs: Vec<[SurfacePoint; 2]>) -> Self {
         Self {
-            points: points.into_iter().map(|p| (p, 0)).collect(),
+            names: vec![None; pairs.len()],
+            lines: vec![[0; 2]; pairs.len()],
+            pairs,
             ..Self::default()
         }
     }
 
-    /// The vertex pairs, 0-based (point pairs count once snapped).
-    pub fn pairs(&self) -> &[[u32; 2]] {
+    /// Markers from position pairs `[source position, target position]`,
+    /// to be put on the surfaces with [`Markers::snap`].
+    pub fn from_points(points: Vec<[[f64; 3]; 2]>) -> Self {
+        Self {
+            points: points
+                .into_iter()
+                .enumerate()
+                .map(|(order, p)| Pending {
+                    order,
+                    sides: p.map(Side::At),
+                    name: None,
+                    lines: [0; 2],
+                })
+                .collect(),
+            ..Self::default()
+        }
+    }
+
+    /// The same markers named `names` (one per marker, in order, the
+    /// markers given as positions included).
+    ///
+    /// # Panics
+    /// If there are not as many names as markers.
+    #[track_caller]
+    pub fn with_names(mut self, names: Vec<Option<String>>) -> Self {
+        assert_eq!(
+            names.len(),
+            self.pairs.len() + self.points.len(),
+            "one name per marker"
+        );
+        let mut names = names.into_iter();
+        let mut located = self.names.iter_mut();
+        let total = self.pairs.len() + self.points.len();
+        let mut pending = self.points.iter_mut().peekable();
+        for order in 0..total {
+            let name = names.next().expect("counted");
+            match pending.peek_mut() {
+                Some(p) if p.order == order => pending.next().expect("peeked").name = name,
+                _ => *located.next().expect("counted") = name,
+            }
+        }
+        self
+    }
+
+    /// The pairs on the surfaces, in the order given (pairs given as
+    /// positions count once snapped).
+    pub fn pairs(&self) -> &[[SurfacePoint; 2]] {
         &self.pairs
     }
 
-    /// Whether some markers are points not yet snapped to vertices.
+    /// The pairs as vertex indices `[source vertex, target vertex]`, when
+    /// every point is a vertex (as [`Markers::new`] takes them).
+    pub fn vertex_pairs(&self) -> Option<Vec<[u32; 2]>> {
+        let vertex = |p: &SurfacePoint| match *p {
+            SurfacePoint::Vertex(v) => Some(v),
+            SurfacePoint::Triangle { .. } => None,
+        };
+        self.pairs
+            .iter()
+            .map(|[s, t]| Some([vertex(s)?, vertex(t)?]))
+            .collect()
+    }
+
+    /// The name of pair `k` of [`Markers::pairs`], if it has one.
+    ///
+    /// # Panics
+    /// If `k` is out of range.
+    pub fn name(&self, k: usize) -> Option<&str> {
+        self.names[k].as_deref()
+    }
+
+    /// Whether some markers have a side given as a position, not yet
+    /// snapped.
     pub fn has_points(&self) -> bool {
         !self.points.is_empty()
     }
 
-    /// Every point pair snapped to the nearest vertex (that a triangle uses)
-    /// of each mesh, added to the vertex pairs.
+    /// Every position put on the nearest point of its mesh's surface (a
+    /// triangle with barycentric coordinates, or a vertex when the nearest
+    /// point is a corner), in the order given.
     ///
     /// # Errors
     /// [`Error::InvalidMarker`] naming the marker (file and line when read
-    /// from a file) whose point lies farther than [`SNAP_LIMIT`] of the
-    /// mesh's bounding-box diagonal from every vertex.
+    /// from a file) whose position lies farther than [`SNAP_LIMIT`] of the
+    /// mesh's bounding-box diagonal from the surface.
     pub fn snap(&self, source: &Mesh3, target: &Mesh3) -> Result<(Markers, Snap)> {
+        let total = self.pairs.len() + self.points.len();
         let mut out = Markers {
-            pairs: self.pairs.clone(),
-            lines: self.lines.clone(),
+            pairs: Vec::with_capacity(total),
+            names: Vec::with_capacity(total),
+            lines: Vec::with_capacity(total),
             points: Vec::new(),
-            path: self.path.clone(),
-            first_index: self.first_index,
+            origin: self.origin.clone(),
         };
         let mut snap = Snap {
             points: self.points.len(),
             ..Snap::default()
         };
-        let (ds, dt) = (
-            source.bounding_box_diagonal(),
-            target.bounding_box_diagonal(),
-        );
-        let (us, ut) = (
-            used_vertices(source.num_vertices(), source.triangles()),
-            used_vertices(target.num_vertices(), target.triangles()),
-        );
-        for (k, &([ps, pt], line)) in self.points.iter().enumerate() {
-            let name = match &self.path {
-                Some(p) => format!("`{}`, line {line}", p.display()),
-                None => format!("marker point {k}"),
-            };
-            let mut pair = [0u32; 2];
-            for (slot, (mesh, used, point, diagonal, which, largest)) in [
-                (source, &us, ps, ds, "source", &mut snap.largest_source),
-                (target, &ut, pt, dt, "target", &mut snap.largest_target),
-            ]
-            .into_iter()
-            .enumerate()
-            {
-                let (v, d) = nearest(mesh.positions(), used, point);
-                if d.is_nan() || d > SNAP_LIMIT * diagonal {
-                    return Err(Error::InvalidMarker {
-                        marker: self.pairs.len() + k,
-                        line: self.path.as_ref().map(|_| line),
-                        message: format!(
-                            "{name}: the {which} point {point:?} is {:.3} % of the {which} mesh's diagonal from its nearest vertex ({which} vertex {}, numbered from {}); \
-                             marker points must lie on the mesh (within {} %)",
-                            100.0 * d / diagonal,
-                            self.number(v),
-                            self.first_index,
-                            100.0 * SNAP_LIMIT
-                        ),
-                    });
+        let meshes = [source, target];
+        let needed = |s: usize| {
+            self.points
+                .iter()
+                .any(|p| matches!(p.sides[s], Side::At(_)))
+        };
+        let indices: [Option<SurfaceIndex>; 2] = std::array::from_fn(|s| {
+            needed(s).then(|| SurfaceIndex::new(meshes[s].positions(), meshes[s].triangles()))
+        });
+        let mut located = 0..self.pairs.len();
+        let mut pending = self.points.iter().peekable();
+        for order in 0..total {
+            let p = match pending.peek() {
+                Some(p) if p.order == order => pending.next().expect("peeked"),
+                _ => {
+                    let k = located.next().expect("counted");
+                    out.pairs.push(self.pairs[k]);
+                    out.names.push(self.names[k].clone());
+                    out.lines.push(self.lines[k]);
+                    continue;
                 }
-                *largest = largest.max(d / diagonal);
-                pair[slot] = v;
+            };
+            let mut pair = [SurfacePoint::Vertex(0); 2];
+            for s in 0..2 {
+                pair[s] = match p.sides[s] {
+                    Side::On(point) => point,
+                    Side::At(q) => {
+                        let diagonal = meshes[s].bounding_box_diagonal();
+                        let index = indices[s].as_ref().expect("built when needed");
+                        let found = nearest_surface_point(index, meshes[s], q);
+                        let far = |d: Option<f64>| {
+                            Error::InvalidMarker {
+                                marker: order,
+                                line: self.line_of(p.lines[s], s),
+                                message: format!(
+                                    "{}: the {which} point {} {} {} is {} from the {which} mesh's surface; marker points must lie on the mesh (within {} % of its bounding-box diagonal)",
+                                    self.place(order, p.lines, p.name.as_deref(), Some(s)),
+                                    q[0],
+                                    q[1],
+                                    q[2],
+                                    match d {
+                                        Some(d) => format!("{:.3} % of the diagonal", 100.0 * d / diagonal),
+                                        None => "far".into(),
+                                    },
+                                    100.0 * SNAP_LIMIT,
+                                    which = SIDES[s],
+                                ),
+                            }
+                        };
+                        let (point, d) = found.ok_or_else(|| far(None))?;
+                        if d.is_nan() || d > SNAP_LIMIT * diagonal {
+                            return Err(far(Some(d)));
+                        }
+                        let largest = [&mut snap.largest_source, &mut snap.largest_target];
+                        *largest[s] = largest[s].max(d / diagonal);
+                        point
+                    }
+                };
             }
             out.pairs.push(pair);
-            out.lines.push(line);
+            out.names.push(p.name.clone());
+            out.lines.push(p.lines);
         }
         Ok((out, snap))
     }
 
-    /// Checks every pair against meshes of `source_vertices` and
-    /// `target_vertices` vertices: indices in range, no pair repeated, no
-    /// source vertex paired with two targets.
+    /// Checks every pair against the meshes: vertices and triangles in
+    /// range, barycentric coordinates in `[0, 1]` summing to 1, every vertex
+    /// on a triangle (a vertex in no triangle, a loose `v` line of an OBJ
+    /// file, is no point of the surface), every position snapped, no pair
+    /// repeated, and no source point paired with two different target
+    /// points (a target point may have several source partners: the
+    /// source is then drawn together there).
     ///
     /// # Errors
     /// [`Error::InvalidMarker`] naming the marker (and file and line, when
     /// read from a file).
-    pub fn validate(&self, source_vertices: usize, target_vertices: usize) -> Result<()> {
-        if let Some((_, line)) = self.points.first() {
+    pub fn validate(&self, source: &Mesh3, target: &Mesh3) -> Result<()> {
+        if let Some(p) = self.points.first() {
             return Err(Error::InvalidMarker {
-                marker: self.pairs.len(),
-                line: self.path.as_ref().map(|_| *line),
+                marker: p.order,
+                line: self.line_of(p.lines[0], 0),
                 message: format!(
-                    "{}: a marker given as points must be snapped to vertices first (Markers::snap)",
-                    match &self.path {
-                        Some(p) => format!("`{}`, line {line}", p.display()),
-                        None => "marker point 0".into(),
-                    }
+                    "{}: a marker given as a position must be put on the surface first (Markers::snap)",
+                    self.place(p.order, p.lines, p.name.as_deref(), None)
                 ),
             });
         }
-        self.check_ranges(source_vertices, target_vertices)?;
-        let mut seen: HashMap<u32, usize> = HashMap::with_capacity(self.pairs.len());
-        for (k, &[s, t]) in self.pairs.iter().enumerate() {
-            let fail = |msg: String| {
-                Err(Error::InvalidMarker {
-                    marker: k,
-                    line: self.path.as_ref().and(self.lines.get(k).copied()),
-                    message: format!("{}: {msg}", self.name(k)),
-                })
-            };
+        self.check_ranges(source, target)?;
+        let used = [
+            used_vertices(source.num_vertices(), source.triangles()),
+            used_vertices(target.num_vertices(), target.triangles()),
+        ];
+        let meshes = [source, target];
+        for (k, pair) in self.pairs.iter().enumerate() {
+            for s in 0..2 {
+                if let SurfacePoint::Vertex(v) = pair[s] {
+                    if !used[s][v as usize] {
+                        return Err(self.invalid(
+                            k,
+                            Some(s),
+                            format!(
+                                "{} vertex {} is in no triangle of the {} mesh; markers must lie on the surface",
+                                SIDES[s],
+                                self.number(v, s),
+                                SIDES[s]
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        let keys: Vec<[Key; 2]> = self
+            .pairs
+            .iter()
+            .map(|pair| std::array::from_fn(|s| key(&pair[s], meshes[s].triangles())))
+            .collect();
+        let mut seen: HashMap<Key, usize> = HashMap::with_capacity(self.pairs.len());
+        for (k, &[s, t]) in keys.iter().enumerate() {
             if let Some(&j) = seen.get(&s) {
-                let other = self.pairs[j][1];
-                return if other == t {
-                    fail(format!(
-                        "the pair {} {} repeats {}",
-                        self.number(s),
-                        self.number(t),
-                        self.name(j)
-                    ))
+                let message = if keys[j][1] == t {
+                    format!("the pair {} repeats {}", self.pair_text(k), self.name_of(j))
                 } else {
-                    fail(format!(
-                        "source vertex {} is paired with target vertex {} here and with {} in {}",
-                        self.number(s),
-                        self.number(t),
-                        self.number(other),
-                        self.name(j)
-                    ))
+                    format!(
+                        "two markers on one source point with different partners: {} is paired with {} here and with {} in {}",
+                        self.point_text(&self.pairs[k][0], 0),
+                        self.point_text(&self.pairs[k][1], 1),
+                        self.point_text(&self.pairs[j][1], 1),
+                        self.name_of(j)
+                    )
                 };
+                return Err(self.invalid(k, None, message));
             }
             seen.insert(s, k);
         }
         Ok(())
     }
 
-    /// Checks that a triangle of each mesh uses every marker's vertex: a
-    /// vertex in no triangle (a loose `v` line of an OBJ file) is no point
-    /// of the surface, and pinning it would throw the alignment off. Check
-    /// the indices first ([`Markers::validate`]).
-    ///
-    /// # Errors
-    /// [`Error::InvalidMarker`] naming the marker (and file and line, when
-    /// read from a file) and the vertex.
-    ///
-    /// # Panics
-    /// If a vertex is out of range.
-    pub fn validate_on_triangles(&self, source: &Mesh3, target: &Mesh3) -> Result<()> {
-        let used = [
-            used_vertices(source.num_vertices(), source.triangles()),
-            used_vertices(target.num_vertices(), target.triangles()),
-        ];
-        for (k, pair) in self.pairs.iter().enumerate() {
-            for (slot, which) in ["source", "target"].into_iter().enumerate() {
-                let v = pair[slot];
-                if !used[slot][v as usize] {
-                    return Err(Error::InvalidMarker {
-                        marker: k,
-                        line: self.path.as_ref().and(self.lines.get(k).copied()),
-                        message: format!(
-                            "{}: {which} vertex {v} is in no triangle of the {which} mesh; \
-                             markers must lie on the surface",
-                            self.name(k)
-                        ),
-                    });
-                }
-            }
-        }
-        Ok(())
-    }
-
-    /// The positions of the markers' vertices in `source` and in `target`,
+    /// The positions of the markers' points on `source` and on `target`,
     /// in the markers' order.
     ///
     /// # Panics
-    /// If a vertex is out of range (see [`Markers::validate`]).
+    /// If a point is out of range (see [`Markers::validate`]).
     pub fn positions(&self, source: &Mesh3, target: &Mesh3) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
-        let at = |mesh: &Mesh3, k: usize| -> Vec<[f64; 3]> {
-            self.pairs
-                .iter()
-                .map(|p| mesh.positions()[p[k] as usize])
-                .collect()
+        let at = |mesh: &Mesh3, s: usize| -> Vec<[f64; 3]> {
+            self.pairs.iter().map(|p| p[s].position(mesh)).collect()
         };
         (at(source, 0), at(target, 1))
     }
 
     /// The similarity (rotation, uniform scale, translation) that best fits
-    /// the markers' source vertices onto their target vertices, markers far
+    /// the markers' source points onto their target points, markers far
     /// off the others' fit left out ([`Similarity::fit`] made robust), and
     /// each marker's distance from its partner after it, in the target's
     /// units: what tells whether a pair of meshes stands apart or a marker
@@ -268,7 +384,7 @@ impl Markers {
     /// that fix no orientation (all on one line).
     ///
     /// # Panics
-    /// If a vertex is out of range (see [`Markers::validate`]).
+    /// If a point is out of range (see [`Markers::validate`]).
     pub fn fit(&self, source: &Mesh3, target: &Mesh3) -> Result<(Similarity, Vec<f64>)> {
         let (from, to) = self.positions(source, target);
         let fit = crate::linalg::similarity::fit_robust(&from, &to)?.0;
@@ -276,128 +392,240 @@ impl Markers {
         Ok((fit, residuals))
     }
 
-    /// Checks that every marker's vertices are in range of meshes of these
-    /// vertex counts (part of [`Markers::validate`]).
+    /// Checks that every marker's vertices and triangles are in range of
+    /// the meshes and its barycentric coordinates make a point of its
+    /// triangle (part of [`Markers::validate`]): what [`Markers::welded`]
+    /// needs of markers on a file's own vertices, where two markers on
+    /// copies of one vertex are still one marker.
     ///
     /// # Errors
     /// [`Error::InvalidMarker`] naming the first marker out of range.
-    pub fn check_ranges(&self, source_vertices: usize, target_vertices: usize) -> Result<()> {
-        // Counting from 0, the last vertex is numbered one less than the
-        // count: a marker naming the count itself most likely counts from 1.
-        let hint = |v: u32, count: usize| {
-            if self.first_index == 0 && v as usize == count {
-                "; if the file counts vertices from 1, read it so (--one-based on the command line)"
-            } else {
-                ""
+    pub fn check_ranges(&self, source: &Mesh3, target: &Mesh3) -> Result<()> {
+        let counts = [
+            [source.num_vertices(), source.num_triangles()],
+            [target.num_vertices(), target.num_triangles()],
+        ];
+        for (k, pair) in self.pairs.iter().enumerate() {
+            for s in 0..2 {
+                let (index, what, count) = match pair[s] {
+                    SurfacePoint::Vertex(v) => (v, "vertex", counts[s][0]),
+                    SurfacePoint::Triangle { triangle, .. } => (triangle, "triangle", counts[s][1]),
+                };
+                if index as usize >= count {
+                    // Counting from 0, the last is numbered one less than
+                    // the count: a marker naming the count itself most
+                    // likely counts from 1.
+                    let plural = if what == "vertex" {
+                        "vertices"
+                    } else {
+                        "triangles"
+                    };
+                    let hint = if self.origin.first_index[s] == 0
+                        && index as usize == count
+                        && self.origin.units[s] != "point"
+                    {
+                        format!("; if the file counts {plural} from 1, read it so (--one-based on the command line)")
+                    } else {
+                        String::new()
+                    };
+                    return Err(self.invalid(
+                        k,
+                        Some(s),
+                        format!(
+                            "{} {what} {} is out of range (the {} has {count} {plural}){hint}",
+                            SIDES[s],
+                            self.number(index, s),
+                            SIDES[s],
+                        ),
+                    ));
+                }
+                if let Some(problem) = pair[s].barycentric_problem() {
+                    return Err(self.invalid(
+                        k,
+                        Some(s),
+                        format!("{} triangle point: {problem}", SIDES[s]),
+                    ));
+                }
             }
-        };
-        for (k, &[s, t]) in self.pairs.iter().enumerate() {
-            let message = if s as usize >= source_vertices {
-                format!(
-                    "source vertex {} is out of range (the source has {source_vertices} vertices){}",
-                    self.number(s),
-                    hint(s, source_vertices)
-                )
-            } else if t as usize >= target_vertices {
-                format!(
-                    "target vertex {} is out of range (the target has {target_vertices} vertices){}",
-                    self.number(t),
-                    hint(t, target_vertices)
-                )
-            } else {
-                continue;
-            };
-            return Err(Error::InvalidMarker {
-                marker: k,
-                line: self.path.as_ref().and(self.lines.get(k).copied()),
-                message: format!("{}: {message}", self.name(k)),
-            });
         }
         Ok(())
     }
 
     /// The markers on the welded vertices of each mesh ([`Seams`]): what
     /// the solvers of welded meshes take, a pair given twice through copies
-    /// once. Lines and file stay, for messages. Check the pairs against the meshes' own vertex counts
-    /// first ([`Markers::validate`]).
+    /// once. Welding keeps the triangles, so points of triangles stay as
+    /// they are. Names, lines and files stay, for messages. Check the pairs
+    /// against the meshes' own vertex counts first ([`Markers::validate`]).
     ///
     /// # Panics
     /// If a vertex is out of range of its seams.
     pub fn welded(&self, source: &Seams, target: &Seams) -> Markers {
         let mut out = Markers {
             pairs: Vec::with_capacity(self.pairs.len()),
+            names: Vec::with_capacity(self.names.len()),
             lines: Vec::with_capacity(self.lines.len()),
             ..self.clone()
         };
+        let weld = |p: SurfacePoint, seams: &Seams| match p {
+            SurfacePoint::Vertex(v) => SurfacePoint::Vertex(seams.welded(v)),
+            p => p,
+        };
         // Markers on two copies of one vertex, to two copies of another,
         // are one marker (a pair given twice as it is stays twice, for
-        // [`Markers::validate`] to refuse).
-        // The pair first given for each welded pair kept (a welded pair is
-        // kept again only as an exact repeat of it): linear in the markers.
-        let mut given: HashMap<[u32; 2], [u32; 2]> = HashMap::with_capacity(self.pairs.len());
+        // [`Markers::validate`] to refuse). The pair first given for each
+        // welded pair is kept (a welded pair is kept again only as an exact
+        // repeat of it): linear in the markers.
+        let mut given: HashMap<[Key; 2], [Key; 2]> = HashMap::with_capacity(self.pairs.len());
         for (k, &[s, t]) in self.pairs.iter().enumerate() {
-            let pair = [source.welded(s), target.welded(t)];
-            let first = *given.entry(pair).or_insert([s, t]);
-            if first == [s, t] {
+            let pair = [weld(s, source), weld(t, target)];
+            let as_given = [raw_key(&s), raw_key(&t)];
+            let first = *given
+                .entry([raw_key(&pair[0]), raw_key(&pair[1])])
+                .or_insert(as_given);
+            if first == as_given {
                 out.pairs.push(pair);
-                out.lines.extend(self.lines.get(k));
+                out.names.push(self.names[k].clone());
+                out.lines.push(self.lines[k]);
             }
         }
         out
     }
 
     /// Marker `k` for messages: "marker 3 (source vertex 10, target vertex
-    /// 52)" or "`file.cons`, line 5 (...)".
+    /// 52)" or "`file.cons`, line 5 (...)", with its name when it has one.
+    ///
+    /// # Panics
+    /// If `k` is out of range of [`Markers::pairs`].
     pub fn describe(&self, k: usize) -> String {
-        let [s, t] = self.pairs[k];
-        format!(
-            "{} (source vertex {}, target vertex {})",
-            self.name(k),
-            self.number(s),
-            self.number(t)
-        )
+        format!("{} ({})", self.name_of(k), self.pair_text(k))
     }
 
-    /// Vertex `v` (0-based) numbered as the marker file numbers it.
-    fn number(&self, v: u32) -> u64 {
-        u64::from(v) + u64::from(self.first_index)
+    /// "source vertex 10, target triangle 4 at 0.2 0.3 0.5".
+    fn pair_text(&self, k: usize) -> String {
+        let [s, t] = &self.pairs[k];
+        format!("{}, {}", self.point_text(s, 0), self.point_text(t, 1))
     }
 
-    /// "marker 3" or "`file.cons`, line 5".
-    fn name(&self, k: usize) -> String {
-        match (&self.path, self.lines.get(k)) {
-            (Some(p), Some(l)) => format!("`{}`, line {l}", p.display()),
-            _ => format!("marker {k}"),
+    /// "source vertex 10", "target triangle 4 at 0.2 0.3 0.5" (numbered as
+    /// the file numbers them).
+    fn point_text(&self, p: &SurfacePoint, s: usize) -> String {
+        match *p {
+            SurfacePoint::Vertex(v) => format!("{} vertex {}", SIDES[s], self.number(v, s)),
+            SurfacePoint::Triangle {
+                triangle,
+                barycentric: b,
+            } => format!(
+                "{} triangle {} at {} {} {}",
+                SIDES[s],
+                self.number(triangle, s),
+                b[0],
+                b[1],
+                b[2]
+            ),
+        }
+    }
+
+    /// Index `i` (0-based) of side `s` numbered as its file numbers them.
+    fn number(&self, i: u32, s: usize) -> u64 {
+        u64::from(i) + u64::from(self.origin.first_index[s])
+    }
+
+    /// Pair `k` for messages: "marker 3" or "`file.cons`, line 5", with its
+    /// name.
+    fn name_of(&self, k: usize) -> String {
+        self.place(k, self.lines[k], self.names[k].as_deref(), None)
+    }
+
+    /// A marker's place for messages: "`a.txt`, line 5 (`nose`)", "`a.pp`,
+    /// line 5 and `b.json`, point 2", or "marker 3"; of one side only
+    /// when `side` is given.
+    pub(crate) fn place(
+        &self,
+        k: usize,
+        lines: [usize; 2],
+        name: Option<&str>,
+        side: Option<usize>,
+    ) -> String {
+        let of = |s: usize| -> Option<String> {
+            let path = self.origin.files[s].as_ref()?;
+            Some(format!(
+                "`{}`, {} {}",
+                path.display(),
+                self.origin.units[s],
+                lines[s]
+            ))
+        };
+        let same_file = self.origin.files[0] == self.origin.files[1] && lines[0] == lines[1];
+        let place = match side {
+            Some(s) => of(s),
+            None if same_file => of(0),
+            None => match (of(0), of(1)) {
+                (Some(a), Some(b)) => Some(format!("{a} and {b}")),
+                (a, b) => a.or(b),
+            },
+        };
+        let place = place.unwrap_or_else(|| format!("marker {k}"));
+        match name {
+            Some(n) => format!("{place} (`{n}`)"),
+            None => place,
+        }
+    }
+
+    /// The 1-based line of a side, when read from a file with lines.
+    fn line_of(&self, line: usize, s: usize) -> Option<usize> {
+        (self.origin.files[s].is_some() && line > 0).then_some(line)
+    }
+
+    /// The error for pair `k`, of side `side` or of both.
+    fn invalid(&self, k: usize, side: Option<usize>, message: String) -> Error {
+        Error::InvalidMarker {
+            marker: k,
+            line: self.line_of(self.lines[k][side.unwrap_or(0)], side.unwrap_or(0)),
+            message: format!(
+                "{}: {message}",
+                self.place(k, self.lines[k], self.names[k].as_deref(), side)
+            ),
         }
     }
 }
 
-/// The used vertex nearest to `p` (the lowest index among equals) and its
-/// distance.
-fn nearest(positions: &[[f64; 3]], used: &[bool], p: [f64; 3]) -> (u32, f64) {
-    let mut best = (0u32, f64::INFINITY);
-    for (v, q) in positions.iter().enumerate() {
-        if used[v] {
-            let d = norm(sub(*q, p));
-            if d < best.1 {
-                best = (v as u32, d);
-            }
-        }
+/// A point as a key that can be hashed and sorted: vertices before
+/// triangle points, each by index (so that vertex pairs sort as their
+/// indices do).
+pub(crate) type Key = (u8, u32, [u64; 3]);
+
+/// `p` as a [`Key`], as given.
+pub(crate) fn raw_key(p: &SurfacePoint) -> Key {
+    match *p {
+        SurfacePoint::Vertex(v) => (0, v, [0; 3]),
+        SurfacePoint::Triangle {
+            triangle,
+            barycentric,
+        } => (1, triangle, barycentric.map(f64::to_bits)),
     }
-    best
+}
+
+/// `p` as a [`Key`], a corner of a triangle as its vertex.
+pub(crate) fn key(p: &SurfacePoint, triangles: &[[u32; 3]]) -> Key {
+    match p.as_vertex(triangles) {
+        Some(v) => raw_key(&SurfacePoint::Vertex(v)),
+        None => raw_key(p),
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::shapes::tube;
     use std::path::Path;
 
     #[test]
     fn validation() {
+        let (small, large) = (tube(1.0, 0.2, 2, 3), tube(1.0, 0.2, 3, 4));
         let p = Path::new("m.txt");
-        let m = Markers::parse("0 1\n5 2\n", p, VertexNumbering::FromZero).unwrap();
-        assert!(m.validate(6, 3).is_ok());
-        let e = m.validate(5, 3).unwrap_err();
+        let m = Markers::parse("0 1\n9 2\n", p, VertexNumbering::FromZero).unwrap();
+        assert!(m.validate(&large, &small).is_ok());
+        let e = m.validate(&small, &small).unwrap_err();
         assert!(
             matches!(
                 e,
@@ -410,16 +638,17 @@ mod tests {
             "{e:?}"
         );
         let e = e.to_string();
-        assert!(e.contains("line 2") && e.contains("source vertex 5"), "{e}");
-        let e = m.validate(6, 2).unwrap_err().to_string();
-        assert!(e.contains("target vertex 2"), "{e}");
+        assert!(e.contains("line 2") && e.contains("source vertex 9"), "{e}");
+        let m = Markers::parse("0 1\n2 9\n", p, VertexNumbering::FromZero).unwrap();
+        let e = m.validate(&small, &small).unwrap_err().to_string();
+        assert!(e.contains("target vertex 9"), "{e}");
         let e = Markers::new(vec![[0, 1], [0, 1]])
-            .validate(6, 6)
+            .validate(&large, &large)
             .unwrap_err()
             .to_string();
         assert!(e.contains("repeats marker 0"), "{e}");
         let e = Markers::new(vec![[0, 1], [0, 2]])
-            .validate(6, 6)
+            .validate(&large, &large)
             .unwrap_err();
         assert!(
             matches!(
@@ -434,7 +663,48 @@ mod tests {
         );
         let e = e.to_string();
         assert!(
-            e.contains("paired with target vertex 2 here and with 1"),
+            e.contains("paired with target vertex 2 here and with target vertex 1"),
+            "{e}"
+        );
+        // A corner of a triangle is its vertex.
+        let corner = SurfacePoint::Triangle {
+            triangle: 0,
+            barycentric: [1.0, 0.0, 0.0],
+        };
+        let v = large.triangles()[0][0];
+        let e = Markers::on_surfaces(vec![
+            [SurfacePoint::Vertex(v), SurfacePoint::Vertex(1)],
+            [corner, SurfacePoint::Vertex(2)],
+        ])
+        .validate(&large, &large)
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("different partners"), "{e}");
+    }
+
+    #[test]
+    fn snapping_finds_the_surface_and_says_how_far() {
+        let mesh = tube(2.0, 0.5, 3, 8);
+        let corners = mesh.corners(0);
+        let normal = crate::mesh::closest::unit_normal(corners);
+        let centre = crate::linalg::vector::centroid(corners);
+        let near = crate::linalg::vector::add(centre, crate::linalg::vector::scale(normal, 0.01));
+        let on_vertex = mesh.positions()[3];
+        let (m, snap) = Markers::from_points(vec![[near, on_vertex], [on_vertex, near]])
+            .snap(&mesh, &mesh)
+            .unwrap();
+        assert_eq!(m.pairs()[0][1], SurfacePoint::Vertex(3));
+        assert!(matches!(m.pairs()[0][0], SurfacePoint::Triangle { .. }));
+        let p = m.pairs()[0][0].position(&mesh);
+        assert!((0..3).all(|i| (p[i] - centre[i]).abs() < 1e-12), "{p:?}");
+        assert!(snap.largest_source > 0.0 && snap.largest_source < SNAP_LIMIT);
+        assert_eq!(snap.points, 2);
+        let e = Markers::from_points(vec![[[0.0, 5.0, 0.0], near]])
+            .snap(&mesh, &mesh)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("the source point 0 5 0") && e.contains("surface"),
             "{e}"
         );
     }

@@ -1,5 +1,5 @@
 //! Triangle correspondence between a source and a target mesh from a few
-//! marker vertex pairs (Sumner and Popović 2004, section 5).
+//! marker pairs of surface points (Sumner and Popović 2004, section 5).
 //!
 //! 0. Unless [`CorrespondOptions::align`] is off, the source reference is
 //!    first brought onto the target reference by the similarity (rotation,
@@ -9,7 +9,8 @@
 //!    [`Transfer`](crate::Transfer) applies it to every pose.
 //! 1. The source reference is deformed onto the target reference by
 //!    minimising `w_S E_S + w_I E_I + w_C E_C` over its vertices and fourth
-//!    vertices, markers held at their target positions: `E_S` asks
+//!    vertices, markers held at their target points (a vertex pinned, a
+//!    point inside a triangle by a stiff term): `E_S` asks
 //!    neighbouring triangles to deform alike, `E_I` asks every triangle to
 //!    keep its shape (its deformation gradient near a similarity: a turn and
 //!    a uniform scale) and `E_C` pulls every vertex to the closest compatible
@@ -41,7 +42,7 @@ use crate::mesh::topology::{connected_components, edges, Components, Edge};
 use crate::mesh::{used_vertices, Mesh3};
 use crate::transfer::correspondence::Correspondence;
 use crate::transfer::fit_report::FitReport;
-use crate::transfer::markers::Markers;
+use crate::transfer::markers::{key, Key, Markers, HOLD_STIFFNESS};
 use crate::transfer::mirror_plane::{mirror_plane, MirrorPlane};
 use crate::transfer::partner_parts::Partners;
 
@@ -383,8 +384,7 @@ pub fn correspond_with_progress(
     progress: &mut dyn FnMut(usize),
 ) -> Result<CorrespondResult> {
     options.validate()?;
-    markers.validate(source.num_vertices(), target.num_vertices())?;
-    markers.validate_on_triangles(source, target)?;
+    markers.validate(source, target)?;
     let unmarked = markers.pairs().is_empty();
     if !unmarked && markers.pairs().len() < MIN_MARKERS {
         return Err(Error::InvalidArgument(format!(
@@ -401,7 +401,12 @@ pub fn correspond_with_progress(
     // Fitted in a fixed order of the pairs, so that the order of the
     // markers does not change the last bits.
     let mut order: Vec<usize> = (0..from.len()).collect();
-    order.sort_unstable_by_key(|&k| markers.pairs()[k]);
+    let keys: Vec<[Key; 2]> = markers
+        .pairs()
+        .iter()
+        .map(|[s, t]| [key(s, source.triangles()), key(t, target.triangles())])
+        .collect();
+    order.sort_unstable_by_key(|&k| keys[k]);
     let sorted = |p: &[[f64; 3]]| -> Vec<[f64; 3]> { order.iter().map(|&k| p[k]).collect() };
     let alignment = if options.align && unmarked {
         standing_alike(source, target)
@@ -613,17 +618,24 @@ fn deform(
         || -> Result<_> {
             let mut terms = DeformTerms::new(source, options)?;
             let pins = marker_pins(source, target, markers);
+            let held = HeldPoints::new(source, target, markers, &terms.base);
             let first_weight = options.closest_weights.first().copied().unwrap_or(1.0);
-            let anchors = part_anchors(&terms, components, &pins, (first_weight, per_square_size));
+            let anchors = part_anchors(
+                &terms,
+                components,
+                &|v| pins.is_pinned(v) || held.holds(v),
+                (first_weight, per_square_size),
+            );
             terms.base.add_to_diagonal(&anchors);
+            held.add_to(&mut terms.base);
             terms.anchors = anchors;
             // One factorization per round, each used once: the supernodal
             // factor is the faster one then.
             let system = FactoredSystem::new(&terms.base, &pins, FactorKind::Supernodal)?;
-            Ok((terms, system))
+            Ok((terms, system, held))
         },
     );
-    let (terms, mut system) = first?;
+    let (terms, mut system, held) = first?;
     let DeformTerms {
         ops,
         weights,
@@ -642,6 +654,7 @@ fn deform(
     let mut shapes: Vec<Mat3> = vec![identity(); source.num_triangles()];
     for (round, w_c) in rounds.enumerate() {
         let mut rhs = identity_rhs(&ops, &weights, options.identity_weight, &shapes);
+        held.add_to_rhs(&mut rhs, m);
         for (v, &a) in anchors.iter().enumerate() {
             if a > 0.0 {
                 for i in 0..3 {
@@ -789,16 +802,24 @@ fn nearest_similarities(ops: &GradientOperators<3, 4>, x: &[f64]) -> Vec<Mat3> {
         .collect()
 }
 
-/// Markers held at their targets (in a fixed order: the solve sums the
+/// Markers whose source point is a vertex (or a corner of its triangle),
+/// held at their target points (in a fixed order: the solve sums the
 /// pinned values' contributions in this order, and the last bits of the
 /// result decide ties in matching); vertices no triangle uses (and no marker
 /// names) have no term at all and stay where they are.
 fn marker_pins(source: &Mesh3, target: &Mesh3, markers: &Markers) -> Pins<3> {
-    let mut pairs = markers.pairs().to_vec();
-    pairs.sort_unstable();
+    let mut pairs: Vec<(u32, Key, [f64; 3])> = markers
+        .pairs()
+        .iter()
+        .filter_map(|[s, t]| {
+            let v = s.as_vertex(source.triangles())?;
+            Some((v, key(t, target.triangles()), t.position(target)))
+        })
+        .collect();
+    pairs.sort_unstable_by_key(|&(s, t, _)| (s, t));
     let mut pins = Pins::new(source.num_vertices());
-    for [s, t] in pairs {
-        let pinned = pins.pin(s as usize, target.positions()[t as usize]);
+    for (s, _, at) in pairs {
+        let pinned = pins.pin(s as usize, at);
         debug_assert!(pinned, "markers are validated");
     }
     for (v, used) in used_vertices(source.num_vertices(), source.triangles())
@@ -813,6 +834,101 @@ fn marker_pins(source: &Mesh3, target: &Mesh3, markers: &Markers) -> Pins<3> {
     pins
 }
 
+/// Markers whose source point lies inside a triangle or on an edge: each
+/// holds its point near its target point `p` through a stiff term
+/// `w ‖Σ_i b_i x_i − p‖²` over the point's vertices `x_i` and weights
+/// `b_i`, added to the matrix of every round. The vertices of a triangle
+/// are already coupled by the other terms, so the matrix keeps its
+/// pattern; the term is continuous in the `b_i`, so moving the point along
+/// its triangle moves the result continuously (a pin would jump from
+/// vertex to vertex). `w` is [`HOLD_STIFFNESS`] times the matrix's
+/// diagonal at the vertices, weighted by the `b_i`: stiff against the
+/// local terms whatever the mesh's size and tessellation, so the point
+/// lands within a small fraction of an edge of its target.
+struct HeldPoints {
+    /// In a fixed order (the markers' order does not change the last bits).
+    points: Vec<HeldPoint>,
+    holds: Vec<bool>,
+}
+
+/// A point held by [`HeldPoints`].
+struct HeldPoint {
+    /// The `(vertex, b_i)` terms.
+    terms: Vec<(usize, f64)>,
+    /// The target point.
+    at: [f64; 3],
+    weight: f64,
+}
+
+impl HeldPoints {
+    fn new(source: &Mesh3, target: &Mesh3, markers: &Markers, base: &SymmetricMatrix) -> Self {
+        let mut held: Vec<([Key; 2], HeldPoint)> = markers
+            .pairs()
+            .iter()
+            .filter(|[s, _]| s.as_vertex(source.triangles()).is_none())
+            .map(|[s, t]| {
+                let terms = s.terms(source.triangles()).map(|(v, b)| (v as usize, b));
+                let point = HeldPoint {
+                    terms: terms.collect(),
+                    at: t.position(target),
+                    weight: 0.0,
+                };
+                (
+                    [key(s, source.triangles()), key(t, target.triangles())],
+                    point,
+                )
+            })
+            .collect();
+        held.sort_unstable_by_key(|h| h.0);
+        let mut holds = vec![false; source.num_vertices()];
+        let diagonal = if held.is_empty() {
+            Vec::new()
+        } else {
+            base.diagonal()
+        };
+        let points = held
+            .into_iter()
+            .map(|(_, mut point)| {
+                point.weight = HOLD_STIFFNESS
+                    * point
+                        .terms
+                        .iter()
+                        .map(|&(v, b)| b * diagonal[v])
+                        .sum::<f64>();
+                for &(v, _) in &point.terms {
+                    holds[v] = true;
+                }
+                point
+            })
+            .collect();
+        Self { points, holds }
+    }
+
+    /// Whether a point holds vertex `v`.
+    fn holds(&self, v: usize) -> bool {
+        self.holds[v]
+    }
+
+    /// `w bᵀb` of every point into the matrix.
+    fn add_to(&self, base: &mut SymmetricMatrix) {
+        for p in &self.points {
+            base.add_row_outer(&p.terms, p.weight);
+        }
+    }
+
+    /// `w b p` of every point into the right-hand side (`m` unknowns a
+    /// column).
+    fn add_to_rhs(&self, rhs: &mut [f64], m: usize) {
+        for p in &self.points {
+            for &(v, b) in &p.terms {
+                for i in 0..3 {
+                    rhs[i * m + v] += p.weight * b * p.at[i];
+                }
+            }
+        }
+    }
+}
+
 /// A part of the source without a marker (an eye, a tooth, a strap) has
 /// nothing to place it in the first round: each of its vertices is held
 /// near where the alignment put it, in every round, with the first
@@ -823,13 +939,13 @@ fn marker_pins(source: &Mesh3, target: &Mesh3, markers: &Markers) -> Pins<3> {
 fn part_anchors(
     terms: &DeformTerms,
     components: &Components,
-    pins: &Pins<3>,
+    is_marked: &dyn Fn(usize) -> bool,
     (weight, per_square_size): (f64, f64),
 ) -> Vec<f64> {
     let mut marked = vec![false; components.count];
     for (v, c) in components.of_vertex.iter().enumerate() {
         if let Some(c) = c {
-            marked[*c as usize] |= pins.is_pinned(v);
+            marked[*c as usize] |= is_marked(v);
         }
     }
     // Over every unknown: the vertices, then the fourth vertices (0).

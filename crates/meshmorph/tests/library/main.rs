@@ -7,6 +7,7 @@ mod fit;
 mod gltf_files;
 mod interpolate;
 mod io;
+mod markers;
 mod properties;
 mod real_meshes;
 mod separate_parts;

@@ -508,32 +508,33 @@ fn markers_that_cannot_fix_a_similarity_are_refused() {
 }
 
 #[test]
-fn marker_points_snap_to_the_nearest_vertex_and_far_points_are_refused() {
+fn marker_points_snap_to_the_surface_and_far_points_are_refused() {
     let thin = tube(4.0, 0.25, 17, 12);
     let thick = tube(4.0, 0.5, 11, 16);
-    let nudge = |p: P3| [p[0] + 1e-3, p[1], p[2]];
+    // Out from the axis by 1e-3 (thin) and 2e-3 (thick): the nearest point
+    // of the surface is the vertex.
+    let nudge = |p: P3| [p[0], p[1] * 1.004, p[2] * 1.004];
     let points = vec![
         [nudge(thin.positions()[5]), nudge(thick.positions()[7])],
         [thin.positions()[100], thick.positions()[90]],
     ];
     let (snapped, snap) = Markers::from_points(points).snap(&thin, &thick).unwrap();
-    assert_eq!(snapped.pairs(), &[[5, 7], [100, 90]]);
+    assert_eq!(
+        snapped.pairs(),
+        Markers::new(vec![[5, 7], [100, 90]]).pairs()
+    );
     assert!((snap.largest_source - 1e-3 / thin.bounding_box_diagonal()).abs() < 1e-9);
+    assert!((snap.largest_target - 2e-3 / thick.bounding_box_diagonal()).abs() < 1e-9);
     let text = "0 0 0 0 0 0\n5 5 5 0 0 0\n";
     let m = Markers::parse(text, Path::new("picks.txt"), VertexNumbering::FromZero).unwrap();
     let e = m.snap(&thin, &thick).unwrap_err().to_string();
     assert!(
-        e.contains("picks.txt") && e.contains("line 2") && e.contains("source point"),
+        e.contains("picks.txt")
+            && e.contains("line 2")
+            && e.contains("source point 5 5 5")
+            && e.contains("from the source mesh's surface"),
         "{e}"
     );
-    // The nearest vertex is numbered as the file numbers vertices.
-    assert!(
-        e.contains("source vertex") && e.contains("numbered from 0"),
-        "{e}"
-    );
-    let m = Markers::parse(text, Path::new("picks.txt"), VertexNumbering::FromOne).unwrap();
-    let e = m.snap(&thin, &thick).unwrap_err().to_string();
-    assert!(e.contains("numbered from 1"), "{e}");
 }
 
 /// Two meshes as one (indices of the second shifted).

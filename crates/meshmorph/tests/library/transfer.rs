@@ -635,7 +635,7 @@ fn marker_order_does_not_matter() {
             for k in 0..4 {
                 let mut pairs = markers.pairs().to_vec();
                 rng.shuffle(&mut pairs);
-                let shuffled = correspond(&s0, &t0, &Markers::new(pairs), &opts).unwrap();
+                let shuffled = correspond(&s0, &t0, &Markers::on_surfaces(pairs), &opts).unwrap();
                 assert_eq!(
                     shuffled.correspondence, base.correspondence,
                     "{what}, shuffle {k}: other pairs"
@@ -761,8 +761,8 @@ fn bad_markers_are_refused() {
     let (s0, t0) = (THIN.mesh(), THICK.mesh());
     let (ns, nt) = (s0.num_vertices() as u32, t0.num_vertices() as u32);
     let good = tube_markers(THIN, THICK, &tube_picks(THIN, 8))
-        .pairs()
-        .to_vec();
+        .vertex_pairs()
+        .unwrap();
     let run = |pairs: Vec<[u32; 2]>| {
         correspond(
             &s0,
@@ -796,7 +796,7 @@ fn bad_markers_are_refused() {
         run(with(good[2])),
         is_invalid_argument,
         &[&format!(
-            "the pair {} {} repeats marker 2",
+            "the pair source vertex {}, target vertex {} repeats marker 2",
             good[2][0], good[2][1]
         )],
     );
@@ -805,7 +805,7 @@ fn bad_markers_are_refused() {
         run(with([good[3][0], other])),
         is_invalid_argument,
         &[&format!(
-            "source vertex {} is paired with target vertex {other} here and with {} in marker 3",
+            "source vertex {} is paired with target vertex {other} here and with target vertex {} in marker 3",
             good[3][0], good[3][1]
         )],
     );
@@ -906,7 +906,7 @@ fn marker_files_that_do_not_parse_name_the_line() {
     std::fs::write(&path, "0 0\n1 1\n999 2\n").unwrap();
     let m = Markers::read(&path, VertexNumbering::FromZero).unwrap();
     assert_error(
-        m.validate(100, 100).unwrap_err(),
+        m.validate(&THIN.mesh(), &THIN.mesh()).unwrap_err(),
         is_invalid_argument,
         &["bad.cons", "line 3", "source vertex 999"],
     );
@@ -1544,8 +1544,8 @@ fn markers_on_vertices_in_no_triangle_are_refused() {
     let (s1, t1) = (with_loose(&s0), with_loose(&t0));
     let (ls, lt) = (s0.num_vertices() as u32, t0.num_vertices() as u32);
     let good = tube_markers(THIN, THICK, &tube_picks(THIN, 4))
-        .pairs()
-        .to_vec();
+        .vertex_pairs()
+        .unwrap();
     let text = |extra: [u32; 2]| {
         good.iter()
             .chain([&extra])
@@ -1780,7 +1780,7 @@ fn without_markers_shapes_that_stand_alike_correspond_and_others_are_refused() {
         ],
     );
     // One or two markers fix nothing: refused as before.
-    let one = Markers::new(marked_pairs(1));
+    let one = Markers::on_surfaces(marked_pairs(1));
     let e = correspond(&source, &target, &one, &options).unwrap_err();
     assert_error(
         e,
@@ -1790,6 +1790,6 @@ fn without_markers_shapes_that_stand_alike_correspond_and_others_are_refused() {
 }
 
 /// The first `n` marker pairs of the usual thin-to-thick tube markers.
-fn marked_pairs(n: usize) -> Vec<[u32; 2]> {
+fn marked_pairs(n: usize) -> Vec<[meshmorph::SurfacePoint; 2]> {
     tube_markers(THIN, THICK, &tube_picks(THIN, 4)).pairs()[..n].to_vec()
 }

@@ -132,6 +132,26 @@ impl SymmetricMatrix {
         }
     }
 
+    /// Adds `weight · aᵀa` for the sparse row `a` given as `(column, value)`
+    /// pairs (distinct columns) to entries already stored: a term over
+    /// unknowns that other terms already couple.
+    ///
+    /// # Panics
+    /// If one of the entries is not stored.
+    #[track_caller]
+    pub fn add_row_outer(&mut self, row: &[(usize, f64)], weight: f64) {
+        for (k, &(i, a)) in row.iter().enumerate() {
+            for &(j, b) in &row[k..] {
+                let (r, c) = (i.min(j), i.max(j));
+                let rows = &self.row_idx[self.col_ptr[c]..self.col_ptr[c + 1]];
+                let p = rows
+                    .binary_search(&r)
+                    .unwrap_or_else(|_| panic!("entry ({r}, {c}) is not stored"));
+                self.values[self.col_ptr[c] + p] += weight * a * b;
+            }
+        }
+    }
+
     /// The diagonal entries (0 where not stored).
     pub fn diagonal(&self) -> Vec<f64> {
         (0..self.n)
