@@ -1,7 +1,8 @@
 //! The command line end to end, one binary: every subcommand on procedural
 //! and real meshes, the catalogue of hostile inputs and outputs, and
-//! interrupts. (The glTF client checks, which need Chromium and node, are
-//! a binary of their own: `gltf_clients.rs`.)
+//! interrupts. (The glTF client checks, which need Chromium and node, and
+//! the README's paths into ../shared/data are a binary of their own:
+//! `external`.)
 
 mod cli;
 mod hostile;

@@ -1,18 +1,12 @@
 //! Invariants of as-rigid-as-possible interpolation over families of
-//! procedural meshes, and the real 2D meshes of ../shared/data when present.
+//! procedural meshes. (The real 2D meshes of ../shared/data are in the
+//! `shared_data` binary.)
 
 use std::f64::consts::PI;
-use std::path::PathBuf;
 
+use crate::common::{max_distance, max_flipped};
 use meshmorph::shapes::{curl, rigid_motion, strip};
 use meshmorph::{Error, Interpolator, InterpolatorOptions, Mesh2, StretchMode};
-
-fn max_distance(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1]))
-        .fold(0.0, f64::max)
-}
 
 /// A stretch that grows along the strip and a shear, applied to every vertex.
 fn stretched(m: &Mesh2, sx: f64, shear: f64) -> Mesh2 {
@@ -98,13 +92,6 @@ fn rigid_motions_stay_rigid() {
             }
         }
     }
-}
-
-fn max_flipped(m: &Interpolator<2>, frames: usize) -> usize {
-    (0..frames)
-        .map(|k| m.count_flipped(&m.at(k as f64 / (frames - 1) as f64)))
-        .max()
-        .unwrap()
 }
 
 #[test]
@@ -366,49 +353,6 @@ fn unused_vertices_move_on_straight_lines() {
     let tgt = src.with_positions(p).unwrap();
     let m = Interpolator::new(&src, &tgt, &InterpolatorOptions::default()).unwrap();
     assert_eq!(m.at(0.5)[last], [6.0, 3.0]);
-}
-
-fn data_dir() -> Option<PathBuf> {
-    let d = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/2d"
-    ));
-    if d.is_dir() {
-        Some(d)
-    } else {
-        eprintln!("skipped: ../shared/data/2d not found");
-        None
-    }
-}
-
-fn read2(path: &std::path::Path) -> Mesh2 {
-    meshmorph::io::read_mesh(path).unwrap().to_2d().unwrap()
-}
-
-#[test]
-fn real_2d_meshes_interpolate_without_flips() {
-    let Some(dir) = data_dir() else { return };
-    let pairs = [
-        ("elephant/elephant_s.obj", "elephant/elephant_t.obj"),
-        ("man/man.obj", "man/man0.obj"),
-        ("man/man.obj", "man/man1.obj"),
-        ("man/man.obj", "man/man2.obj"),
-        ("man/man.obj", "man/man3.obj"),
-        ("man/man-bend-a.obj", "man/man-bend-b.obj"),
-        ("bar/ref.obj", "bar/twist1.obj"),
-        ("bar/ref.obj", "bar/twist2.obj"),
-    ];
-    for (s, t) in pairs {
-        let (source, target) = (read2(&dir.join(s)), read2(&dir.join(t)));
-        let m = Interpolator::new(&source, &target, &InterpolatorOptions::default())
-            .unwrap_or_else(|e| panic!("{s} -> {t}: {e}"));
-        assert_eq!(max_flipped(&m, 101), 0, "{s} -> {t}");
-        let tol = 1e-9 * source.bounding_box_diagonal();
-        assert!(
-            max_distance(&m.at(1.0), target.positions()) < tol,
-            "{s} -> {t}"
-        );
-    }
 }
 
 /// Two strips that share one vertex only (a bow-tie): angles cannot cross

@@ -4,24 +4,21 @@
 //!
 //! Both need `npm ci` in tools/gltf-check (and Debian's `chromium` for the
 //! second). Without them a check is reported as ignored, with what is
-//! missing (`--include-ignored` runs it anyway, and it fails); in CI
-//! (`CI=true`), which installs them, a missing tool fails it instead. The
-//! harness is libtest-mimic's, which can tell at run time.
+//! missing; in CI (`CI=true`), which installs them, it fails instead.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use std::fs;
 
+use libtest_mimic::Trial;
 use meshmorph::io::read_mesh;
 use meshmorph::Mesh3;
 
+use crate::needs::trial;
+
 fn tools() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tools/gltf-check")
-}
-
-fn in_ci() -> bool {
-    std::env::var("CI").is_ok_and(|v| v == "true")
 }
 
 /// Whether `program --version` runs.
@@ -48,18 +45,18 @@ fn chromium() -> String {
 /// A check: its name, its body and what it needs that is missing.
 type Check = (&'static str, fn(), Vec<String>);
 
-fn main() {
-    let args = libtest_mimic::Arguments::from_args();
+/// The two checks, each ignored (or failed in CI) with what it misses.
+pub fn trials() -> Vec<Trial> {
     let node = runs("node");
     let packages = node_packages();
     let checks: [Check; 2] = [
         (
-            "every_glb_passes_the_khronos_validator",
+            "gltf_clients::every_glb_passes_the_khronos_validator",
             every_glb_passes_the_khronos_validator,
             missing(&[("node", node), ("npm packages", packages)]),
         ),
         (
-            "three_js_in_chromium_draws_the_animation_moving",
+            "gltf_clients::three_js_in_chromium_draws_the_animation_moving",
             three_js_in_chromium_draws_the_animation_moving,
             missing(&[
                 ("node", node),
@@ -68,27 +65,20 @@ fn main() {
             ]),
         ),
     ];
-    let trials = checks
+    checks
         .into_iter()
         .map(|(name, check, missing)| {
-            let ignored = !missing.is_empty() && !in_ci();
-            if ignored {
-                eprintln!(
-                    "{name}: ignored, missing {} (install: apt-get install nodejs chromium; npm ci in tools/gltf-check)",
-                    missing.join(", ")
-                );
-            }
-            libtest_mimic::Trial::test(name, move || {
-                if !missing.is_empty() {
-                    return Err(format!("missing {}: CI must run this check", missing.join(", ")).into());
-                }
-                check();
+            let found = if missing.is_empty() {
                 Ok(())
-            })
-            .with_ignored_flag(ignored)
+            } else {
+                Err(format!(
+                    "missing {}: apt-get install nodejs chromium, npm ci in tools/gltf-check",
+                    missing.join(", ")
+                ))
+            };
+            trial(name, found, move |()| check())
         })
-        .collect();
-    libtest_mimic::run(&args, trials).exit();
+        .collect()
 }
 
 fn node_packages() -> bool {
