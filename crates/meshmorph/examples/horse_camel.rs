@@ -173,7 +173,8 @@ fn run(
         case.every,
     );
     let t = Instant::now();
-    let found = correspond(source.mesh(), target.mesh(), &markers, &knob_options())?;
+    let options = CorrespondOptions::default().with_align(std::env::var_os("NOALIGN").is_none());
+    let found = correspond(source.mesh(), target.mesh(), &markers, &options)?;
     let t_corr = t.elapsed().as_secs_f64();
     let c = &found.correspondence;
     let t = Instant::now();
@@ -281,24 +282,6 @@ fn print_fit(fit: &FitReport, markers: &Markers) {
         );
     }
     println!();
-}
-
-fn knob_options() -> CorrespondOptions {
-    let mut o = CorrespondOptions::default().with_align(std::env::var_os("NOALIGN").is_none());
-    let one = |k: &str| std::env::var(k).ok().and_then(|s| s.parse::<f64>().ok());
-    if let Some(w) = one("MM_IDENTITY") {
-        o.identity_weight = w;
-    }
-    if let Some(w) = one("MM_SMOOTH") {
-        o.smoothness_weight = w;
-    }
-    if let Some(w) = one("MM_MATCH") {
-        o.match_threshold = w;
-    }
-    if let Ok(w) = std::env::var("MM_WEIGHTS") {
-        o.closest_weights = w.split(',').filter_map(|x| x.parse().ok()).collect();
-    }
-    o
 }
 
 fn rms_centred(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
