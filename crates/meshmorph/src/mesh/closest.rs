@@ -15,7 +15,7 @@ use crate::mesh::bvh::{Aabb, Bvh};
 /// side and its cap, as procedural and CAD meshes have them) would
 /// otherwise be compatible or not by the rounding of their coordinates, and
 /// moving the same mesh elsewhere could change the result.
-pub(crate) const PERPENDICULAR: f64 = 1e-9;
+const PERPENDICULAR: f64 = 1e-9;
 
 /// Unit normal of a triangle (zero for a degenerate one).
 #[inline]
@@ -169,7 +169,7 @@ impl Angle {
 
     /// Whether two unit normals whose dot product is `dot` are less than
     /// this angle apart.
-    fn admits(self, dot: f64) -> bool {
+    pub(crate) fn admits(self, dot: f64) -> bool {
         dot > self.cos
     }
 }

@@ -27,7 +27,7 @@ use rayon::prelude::*;
 
 use crate::linalg::vector::{centroid, dot, sub};
 use crate::mesh::closest::{
-    closest_point_on_triangle, unit_normal, vertex_normals, Angle, SurfaceIndex, PERPENDICULAR,
+    closest_point_on_triangle, unit_normal, vertex_normals, Angle, SurfaceIndex,
 };
 use crate::mesh::surface_point::SurfacePoint;
 use crate::mesh::Mesh3;
@@ -227,7 +227,8 @@ fn distances_to(
                 let n = unit_normal(q);
                 for v in target.triangles()[t] {
                     let v = v as usize;
-                    if dot(normals[v], n) > PERPENDICULAR {
+                    // The same test as the search below: the same answer.
+                    if Angle::RIGHT.admits(dot(normals[v], n)) {
                         let x = target.positions()[v];
                         let d = sub(closest_point_on_triangle(x, q), x);
                         bound[v] = bound[v].min(dot(d, d).sqrt());

@@ -280,17 +280,13 @@ fn standing_alike(source: &Mesh3, target: &Mesh3) -> Similarity {
     let moments = |mesh: &Mesh3| {
         let areas = mesh.triangle_areas();
         let total: f64 = areas.iter().sum::<f64>().max(f64::MIN_POSITIVE);
-        let centroids: Vec<[f64; 3]> = (0..mesh.num_triangles())
-            .map(|t| centroid(mesh.corners(t)))
-            .collect();
-        let mut c = [0.0; 3];
-        for (p, a) in centroids.iter().zip(&areas) {
-            c = add(c, scale(*p, a / total));
-        }
-        let spread: f64 = centroids
-            .iter()
+        let c = area_centroid(mesh, &areas);
+        let spread: f64 = (0..mesh.num_triangles())
             .zip(&areas)
-            .map(|(p, a)| a / total * dot(sub(*p, c), sub(*p, c)))
+            .map(|(t, a)| {
+                let d = sub(centroid(mesh.corners(t)), c);
+                a / total * dot(d, d)
+            })
             .sum();
         (c, spread.sqrt())
     };
@@ -336,6 +332,16 @@ fn check_unmarked_fit(source: &Mesh3, matched: &Correspondence) -> Result<()> {
         )));
     }
     Ok(())
+}
+
+/// The centroid of `mesh`'s surface: its triangles' centroids weighted by
+/// their `areas`.
+fn area_centroid(mesh: &Mesh3, areas: &[f64]) -> [f64; 3] {
+    let mut centre = [0.0; 3];
+    for (t, a) in areas.iter().enumerate() {
+        centre = add(centre, scale(centroid(mesh.corners(t)), *a));
+    }
+    scale(centre, 1.0 / areas.iter().sum::<f64>())
 }
 
 /// How far the closest points reach in each closest-point round, in units
@@ -524,11 +530,7 @@ fn matched_orientation(
         scale: 1.0,
         translation: [0.0; 3],
     };
-    let mut centre = [0.0; 3];
-    for (t, a) in source_areas.iter().enumerate() {
-        centre = add(centre, scale(centroid(source.corners(t)), *a));
-    }
-    let centre = scale(centre, 1.0 / source_areas.iter().sum::<f64>());
+    let centre = area_centroid(source, &source_areas);
     let turn = Similarity {
         translation: sub(centre, turn.rotate(centre)),
         ..turn
