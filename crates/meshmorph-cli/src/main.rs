@@ -25,6 +25,7 @@ mod manual;
 mod memory;
 mod output;
 mod outputs;
+mod pick;
 mod pictures;
 mod progress;
 mod threads;
@@ -58,6 +59,8 @@ enum Command {
     Transfer(transfer::TransferArgs),
     /// Compute the triangle correspondence between two meshes and save it.
     Correspond(correspond::CorrespondCommand),
+    /// Pick marker pairs on two meshes in the browser and save them.
+    Pick(pick::Args),
     /// Run on built-in procedural shapes and write frames and pictures.
     Demo(demo::Args),
     /// Print a shell completion script, e.g.
@@ -81,7 +84,7 @@ impl Command {
             Command::Transfer(a) => Some(&a.pictures.draw),
             Command::Correspond(a) => Some(&a.pictures.draw),
             Command::Demo(a) => Some(&a.draw),
-            Command::Completions { .. } | Command::Man(_) => None,
+            Command::Pick(_) | Command::Completions { .. } | Command::Man(_) => None,
         }
     }
 
@@ -93,7 +96,7 @@ impl Command {
             Command::Transfer(a) => a.json,
             Command::Correspond(a) => a.json,
             Command::Demo(a) => a.json,
-            Command::Completions { .. } | Command::Man(_) => false,
+            Command::Pick(_) | Command::Completions { .. } | Command::Man(_) => false,
         }
     }
 }
@@ -110,6 +113,7 @@ fn main() -> ExitCode {
         Command::Blend(args) => blend::run(&args),
         Command::Transfer(args) => transfer::run_transfer(&args),
         Command::Correspond(args) => correspond::run_correspond(&args),
+        Command::Pick(args) => pick::run(&args),
         Command::Demo(args) => demo::run(&args),
         Command::Completions { shell } => {
             manual::completions(Cli::command(), shell);

@@ -128,7 +128,11 @@ impl CorrespondArgs {
     /// numbers the triangles of a fan over each polygon: its files are
     /// refused for a mesh with polygons, whose triangles meshmorph numbers
     /// otherwise.
-    fn read_markers(&self, source_ref: &Reference, target_ref: &Reference) -> Result<Markers> {
+    pub(crate) fn read_markers(
+        &self,
+        source_ref: &Reference,
+        target_ref: &Reference,
+    ) -> Result<Markers> {
         let numbering = numbering(self.one_based);
         let markers = match self.marker_files()? {
             [] => Ok(Markers::new(Vec::new())),
@@ -189,8 +193,28 @@ impl CorrespondArgs {
         target_ref: &Reference,
         warnings: &mut Vec<String>,
     ) -> Result<(meshmorph::CorrespondResult, MarkerReport, FitSummary)> {
-        let (source, target) = (&source_ref.mesh, &target_ref.mesh);
         let markers = self.read_markers(source_ref, target_ref)?;
+        let described = if self.markers.is_empty() {
+            "without markers".to_string()
+        } else {
+            format!("with the markers {}", self.describe_markers())
+        };
+        self.compute_from(markers, &described, refs, source_ref, target_ref, warnings)
+    }
+
+    /// [`CorrespondArgs::compute`] with the markers given rather than read
+    /// from the files of `--markers` (`meshmorph pick` fits the page's),
+    /// `described` for messages ("with the markers `a.txt`").
+    pub(crate) fn compute_from(
+        &self,
+        markers: Markers,
+        described: &str,
+        refs: &References,
+        source_ref: &Reference,
+        target_ref: &Reference,
+        warnings: &mut Vec<String>,
+    ) -> Result<(meshmorph::CorrespondResult, MarkerReport, FitSummary)> {
+        let (source, target) = (&source_ref.mesh, &target_ref.mesh);
         let (markers, snap) = markers
             .snap(source_ref.file_mesh(), target_ref.file_mesh())
             .context("snapping the marker points to the surfaces")?;
@@ -204,13 +228,8 @@ impl CorrespondArgs {
         .map_err(|e| name_degenerate_faces(e, source_ref, target_ref))
         .with_context(|| {
             format!(
-                "computing the correspondence {} {}",
-                refs.describe(),
-                if self.markers.is_empty() {
-                    "without markers".to_string()
-                } else {
-                    format!("with the markers {}", self.describe_markers())
-                }
+                "computing the correspondence {} {described}",
+                refs.describe()
             )
         })?;
         bar.finish_and_clear();

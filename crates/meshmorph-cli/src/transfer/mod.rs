@@ -20,7 +20,8 @@ mod correspondence;
 mod fit;
 mod report;
 
-use correspondence::{name_degenerate_faces, Reference};
+use correspondence::name_degenerate_faces;
+pub(crate) use correspondence::Reference;
 pub(crate) use correspondence::{print_welded, signed_for, MarkerReport};
 pub use correspondence::{CorrespondArgs, References};
 pub use fit::FitSummary;

@@ -10,3 +10,5 @@ mod hostile_meshes;
 mod hostile_outputs;
 mod hostile_reads;
 mod interrupt;
+mod pick_door;
+mod pick_session;

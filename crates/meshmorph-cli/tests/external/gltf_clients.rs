@@ -2,7 +2,7 @@
 //! validator (no error, no warning) and three.js's GLTFLoader in headless
 //! Chromium (the mesh is drawn and moves).
 //!
-//! Both need `npm ci` in tools/gltf-check (and Debian's `chromium` for the
+//! Both need `npm ci` in tools/browser-checks (and Debian's `chromium` for the
 //! second). Without them a check is reported as ignored, with what is
 //! missing; in CI (`CI=true`), which installs them, it fails instead.
 
@@ -18,7 +18,7 @@ use meshmorph::Mesh3;
 use crate::needs::trial;
 
 fn tools() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tools/gltf-check")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tools/browser-checks")
 }
 
 /// Whether `program --version` runs.
@@ -72,7 +72,7 @@ pub fn trials() -> Vec<Trial> {
                 Ok(())
             } else {
                 Err(format!(
-                    "missing {}: apt-get install nodejs chromium, npm ci in tools/gltf-check",
+                    "missing {}: apt-get install nodejs chromium, npm ci in tools/browser-checks",
                     missing.join(", ")
                 ))
             };

@@ -1,0 +1,330 @@
+//! The door of `meshmorph pick`: a small HTTP/1.1 server on the loopback
+//! address only, for one page.
+//!
+//! - It listens on `127.0.0.1` (and `::1` on the same port where the
+//!   system has it), never on another address.
+//! - Every request names the token (random, 128 bits, new for each run) as
+//!   the first segment of its path: `/TOKEN/...`. The page's own relative
+//!   URLs (its scripts, three.js's imports, its API calls) carry it without
+//!   further work; a request without it or with another is refused (403).
+//! - A request whose `Host` is not the loopback address with this port, or
+//!   whose `Origin` (when sent) is not the page's own, is refused (403):
+//!   another site, even one whose name resolves to 127.0.0.1 (DNS
+//!   rebinding), cannot read or write through the door.
+//! - Requests are bounded: the request line and headers to
+//!   [`MAX_HEAD`], a body to [`MAX_BODY`] (413 past it, announced by
+//!   `Content-Length`; chunked bodies are refused with 411), a slow client to
+//!   [`IDLE`] per read, and [`MAX_CONNECTIONS`] at once (503 past them).
+//! - Anything malformed gets a 4xx with a one-line reason; the server goes
+//!   on. Every response closes its connection.
+//!
+//! What a request may do is the caller's [`Handler`]; the door hands it only
+//! requests that passed every check, with the token stripped from the path.
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::{Ipv4Addr, Ipv6Addr, SocketAddr, TcpListener, TcpStream};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+use anyhow::{Context, Result};
+
+/// The largest request line and headers, together.
+pub const MAX_HEAD: usize = 16 * 1024;
+/// The largest request body (a marker list of [`super::session::MAX_MARKERS`]
+/// pairs fits with room to spare).
+pub const MAX_BODY: usize = 4 * 1024 * 1024;
+/// The longest wait for a client's next bytes.
+pub const IDLE: Duration = Duration::from_secs(10);
+/// The most connections served at once.
+pub const MAX_CONNECTIONS: usize = 32;
+
+/// A request that passed the door.
+#[derive(Debug)]
+pub struct Request {
+    pub method: String,
+    /// The path after `/TOKEN`, starting with `/` (`/` for the page), without
+    /// the query.
+    pub path: String,
+    pub body: Vec<u8>,
+}
+
+/// A response: status, content type and body.
+#[derive(Debug)]
+pub struct Response {
+    pub status: u16,
+    pub content_type: &'static str,
+    pub body: Vec<u8>,
+}
+
+impl Response {
+    pub fn ok(content_type: &'static str, body: Vec<u8>) -> Self {
+        Self {
+            status: 200,
+            content_type,
+            body,
+        }
+    }
+
+    pub fn json(value: &serde_json::Value) -> Self {
+        Self::ok("application/json", value.to_string().into_bytes())
+    }
+
+    /// A refusal or failure with its reason as JSON (`{"error": ...}`).
+    pub fn error(status: u16, message: &str) -> Self {
+        Self {
+            status,
+            content_type: "application/json",
+            body: serde_json::json!({ "error": message })
+                .to_string()
+                .into_bytes(),
+        }
+    }
+}
+
+/// What the door hands requests to.
+pub trait Handler: Send + Sync + 'static {
+    fn handle(&self, request: Request) -> Response;
+}
+
+/// The listening door: its address and token.
+pub struct Door {
+    listeners: Vec<TcpListener>,
+    port: u16,
+    token: String,
+}
+
+impl Door {
+    /// Listens on `127.0.0.1:port` (0: a free port) and on `::1` with the
+    /// same port where the system has IPv6 loopback.
+    ///
+    /// # Errors
+    /// If `127.0.0.1` cannot be bound (the port taken), or the system has no
+    /// randomness for the token.
+    pub fn open(port: u16) -> Result<Self> {
+        let v4 = TcpListener::bind(SocketAddr::from((Ipv4Addr::LOCALHOST, port)))
+            .with_context(|| format!("listening on 127.0.0.1 port {port}"))?;
+        let port = v4.local_addr()?.port();
+        let mut listeners = vec![v4];
+        if let Ok(v6) = TcpListener::bind(SocketAddr::from((Ipv6Addr::LOCALHOST, port))) {
+            listeners.push(v6);
+        }
+        let mut bytes = [0u8; 16];
+        getrandom::fill(&mut bytes)
+            .map_err(|e| anyhow::anyhow!("no randomness for the token: {e}"))?;
+        let token = bytes.iter().map(|b| format!("{b:02x}")).collect();
+        Ok(Self {
+            listeners,
+            port,
+            token,
+        })
+    }
+
+    /// The page's address, token included.
+    pub fn url(&self) -> String {
+        format!("http://127.0.0.1:{}/{}/", self.port, self.token)
+    }
+
+    /// Serves `handler` on every listener, each connection on a thread of
+    /// its own; returns at once (the listeners run until the process ends).
+    pub fn serve(self, handler: Arc<dyn Handler>) {
+        let checks = Arc::new(Checks {
+            port: self.port,
+            token: self.token,
+        });
+        let open = Arc::new(AtomicUsize::new(0));
+        for listener in self.listeners {
+            let (checks, handler, open) = (checks.clone(), handler.clone(), open.clone());
+            let spawned = std::thread::Builder::new()
+                .name("pick-door".into())
+                .spawn(move || accept(listener, checks, handler, open));
+            if let Err(e) = spawned {
+                eprintln!("warning: cannot listen on one address: {e}");
+            }
+        }
+    }
+}
+
+/// What every request is checked against.
+struct Checks {
+    port: u16,
+    token: String,
+}
+
+fn accept(
+    listener: TcpListener,
+    checks: Arc<Checks>,
+    handler: Arc<dyn Handler>,
+    open: Arc<AtomicUsize>,
+) {
+    for stream in listener.incoming() {
+        let Ok(mut stream) = stream else { continue };
+        if open.fetch_add(1, Ordering::SeqCst) >= MAX_CONNECTIONS {
+            open.fetch_sub(1, Ordering::SeqCst);
+            let _ = respond(&mut stream, &Response::error(503, "too many connections"));
+            continue;
+        }
+        let (checks, handler, open_here) = (checks.clone(), handler.clone(), open.clone());
+        let spawned = std::thread::Builder::new()
+            .name("pick-request".into())
+            .spawn(move || {
+                let _ = stream.set_read_timeout(Some(IDLE));
+                let _ = stream.set_write_timeout(Some(IDLE));
+                let response = match read_request(&mut stream, &checks) {
+                    Ok(request) => handler.handle(request),
+                    Err(refusal) => refusal,
+                };
+                let _ = respond(&mut stream, &response);
+                open_here.fetch_sub(1, Ordering::SeqCst);
+            });
+        if spawned.is_err() {
+            open.fetch_sub(1, Ordering::SeqCst);
+        }
+    }
+}
+
+/// Reads one request and checks it; a refusal is the response to send.
+fn read_request(stream: &mut TcpStream, checks: &Checks) -> std::result::Result<Request, Response> {
+    let bad = |m: &str| Response::error(400, m);
+    let mut reader = BufReader::new(stream.take(MAX_HEAD as u64));
+    let mut lines = Vec::new();
+    loop {
+        let mut line = Vec::new();
+        match reader.read_until(b'\n', &mut line) {
+            Ok(0) => return Err(bad("the request ended before its headers did")),
+            Ok(_) if !line.ends_with(b"\n") => {
+                return Err(Response::error(431, "the request's headers are too long"))
+            }
+            Ok(_) => {}
+            Err(_) => return Err(Response::error(408, "the request was not sent in time")),
+        }
+        let text = String::from_utf8(line).map_err(|_| bad("the headers are not UTF-8"))?;
+        let text = text.trim_end_matches(['\r', '\n']).to_string();
+        if text.is_empty() {
+            break;
+        }
+        lines.push(text);
+    }
+    let mut first = lines
+        .first()
+        .map(|l| l.split(' '))
+        .ok_or_else(|| bad("no request line"))?;
+    let (Some(method), Some(target), Some(version), None) =
+        (first.next(), first.next(), first.next(), first.next())
+    else {
+        return Err(bad("malformed request line"));
+    };
+    if !version.starts_with("HTTP/1.") {
+        return Err(Response::error(505, "only HTTP/1.x is spoken here"));
+    }
+    let mut host = None;
+    let mut origin = None;
+    let mut length = None;
+    for line in &lines[1..] {
+        let (name, value) = line
+            .split_once(':')
+            .ok_or_else(|| bad("malformed header"))?;
+        let value = value.trim();
+        match name.to_ascii_lowercase().as_str() {
+            "host" if host.is_some() => return Err(bad("two Host headers")),
+            "host" => host = Some(value.to_string()),
+            "origin" => origin = Some(value.to_string()),
+            "content-length" if length.is_some() => return Err(bad("two Content-Length headers")),
+            "content-length" => {
+                length = Some(
+                    value
+                        .parse::<usize>()
+                        .map_err(|_| bad("bad Content-Length"))?,
+                )
+            }
+            "transfer-encoding" => {
+                return Err(Response::error(411, "send the body with a Content-Length"))
+            }
+            _ => {}
+        }
+    }
+    let allowed = |h: &str| {
+        let port = checks.port;
+        [
+            format!("127.0.0.1:{port}"),
+            format!("localhost:{port}"),
+            format!("[::1]:{port}"),
+        ]
+        .iter()
+        .any(|a| a.eq_ignore_ascii_case(h))
+    };
+    if !host.as_deref().is_some_and(allowed) {
+        return Err(Response::error(403, "the Host is not this loopback server"));
+    }
+    if let Some(origin) = &origin {
+        let ours = origin.strip_prefix("http://").is_some_and(allowed);
+        if !ours {
+            return Err(Response::error(403, "the Origin is not this page"));
+        }
+    }
+    let path = target.split(['?', '#']).next().unwrap_or_default();
+    let rest = path
+        .strip_prefix('/')
+        .and_then(|p| {
+            let (token, rest) = p.split_once('/').unwrap_or((p, ""));
+            same(token.as_bytes(), checks.token.as_bytes()).then_some(rest)
+        })
+        .ok_or_else(|| Response::error(403, "no or wrong token"))?;
+    let length = length.unwrap_or(0);
+    if length > MAX_BODY {
+        return Err(Response::error(413, "the body is too large"));
+    }
+    // The headers' reader may hold the first bytes of the body.
+    let mut body = Vec::with_capacity(length);
+    let buffered = reader.buffer().len().min(length);
+    body.extend_from_slice(&reader.buffer()[..buffered]);
+    let stream = reader.into_inner().into_inner();
+    stream
+        .take((length - buffered) as u64)
+        .read_to_end(&mut body)
+        .map_err(|_| Response::error(408, "the body was not sent in time"))?;
+    if body.len() != length {
+        return Err(bad("the body is shorter than its Content-Length"));
+    }
+    Ok(Request {
+        method: method.to_string(),
+        path: format!("/{rest}"),
+        body,
+    })
+}
+
+/// Compares two tokens in time that does not depend on where they differ.
+fn same(a: &[u8], b: &[u8]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0
+}
+
+fn respond(stream: &mut TcpStream, r: &Response) -> std::io::Result<()> {
+    let reason = match r.status {
+        200 => "OK",
+        400 => "Bad Request",
+        403 => "Forbidden",
+        404 => "Not Found",
+        405 => "Method Not Allowed",
+        408 => "Request Timeout",
+        409 => "Conflict",
+        411 => "Length Required",
+        413 => "Content Too Large",
+        422 => "Unprocessable Content",
+        431 => "Request Header Fields Too Large",
+        500 => "Internal Server Error",
+        503 => "Service Unavailable",
+        505 => "HTTP Version Not Supported",
+        _ => "",
+    };
+    let head = format!(
+        "HTTP/1.1 {} {reason}\r\nContent-Type: {}\r\nContent-Length: {}\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nReferrer-Policy: no-referrer\r\nContent-Security-Policy: default-src 'self'; img-src 'self' data: blob:; connect-src 'self'; frame-ancestors 'none'\r\nConnection: close\r\n\r\n",
+        r.status,
+        r.content_type,
+        r.body.len()
+    );
+    stream.write_all(head.as_bytes())?;
+    stream.write_all(&r.body)?;
+    stream.flush()?;
+    let _ = stream.shutdown(std::net::Shutdown::Write);
+    Ok(())
+}

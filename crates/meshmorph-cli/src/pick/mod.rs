@@ -1,0 +1,160 @@
+//! `meshmorph pick`: marker pairs picked on the two meshes in the browser,
+//! with the correspondence's fit (and a transferred pose) shown on demand.
+//!
+//! The command reads the files named on its command line once, opens a
+//! door on the loopback address ([`door`]) and serves one page
+//! ([`page`], three.js built in) and what the page asks for ([`session`]):
+//! the meshes as binary arrays, fits, mirrored pairs, saves to `-o`. It
+//! stops when the page says done, or on Ctrl-C.
+
+mod door;
+mod page;
+mod session;
+
+use std::path::PathBuf;
+use std::sync::{mpsc, Arc, Mutex};
+
+use anyhow::{Context, Result};
+use meshmorph::Markers;
+
+use crate::output;
+use crate::outputs::Plan;
+use crate::transfer::{CorrespondArgs, References};
+
+/// Pick marker pairs on two meshes in the browser and save them.
+///
+/// Starts a server on the loopback address (127.0.0.1 and ::1 only) and
+/// prints the page's address, with a random token in it that every request
+/// needs. On the page: click the source, then the target, to make a pair
+/// (Alt-click snaps to the nearest vertex); "fit" shows the correspondence
+/// the markers make; "save" writes them to the output.
+#[derive(Debug, clap::Args)]
+#[command(
+    mut_arg("markers", |a| a.help("Start from these markers: one file of pairs, or twice a file of points (the source's, then the target's: MeshLab's .pp, Wrap's .json, or one point a line), as `correspond` reads them")),
+    mut_arg("no_markers", |a| a.hide(true)),
+)]
+pub struct Args {
+    /// The source mesh at rest.
+    #[arg(value_name = "SOURCE")]
+    pub source: PathBuf,
+    /// The target mesh at rest.
+    #[arg(value_name = "TARGET")]
+    pub target: PathBuf,
+    /// Where "save" writes the markers: meshmorph's marker file, with names
+    /// and surface points. Never one of the inputs.
+    #[arg(short, long, value_name = "MARKERS")]
+    pub output: PathBuf,
+    /// A pose of the source, shown transferred to the target after each fit.
+    #[arg(long, value_name = "POSE")]
+    pub pose: Option<PathBuf>,
+    /// Open the page in the default browser.
+    #[arg(long)]
+    pub open: bool,
+    /// The port to listen on [default: a free one].
+    #[arg(
+        long,
+        value_name = "PORT",
+        default_value_t = 0,
+        hide_default_value = true
+    )]
+    pub port: u16,
+    /// Keep apart vertices that share a place (see `correspond --help`).
+    #[arg(long)]
+    pub no_weld: bool,
+    /// How the fit computes the correspondence (as for `correspond`).
+    #[command(flatten)]
+    pub correspond: CorrespondArgs,
+}
+
+pub fn run(args: &Args) -> Result<()> {
+    let marker_files = if args.correspond.markers.is_empty() {
+        &[][..]
+    } else {
+        args.correspond.marker_files()?
+    };
+    let mut inputs: Vec<(PathBuf, &'static str)> = vec![
+        (args.source.clone(), "source reference"),
+        (args.target.clone(), "target reference"),
+    ];
+    inputs.extend(marker_files.iter().map(|p| (p.clone(), "marker file")));
+    inputs.extend(args.pose.iter().map(|p| (p.clone(), "source pose")));
+    // The output is checked before anything is read, as every save checks
+    // it again: never an input.
+    let mut plan = Plan::new();
+    for (path, role) in &inputs {
+        plan.input(path, role);
+    }
+    plan.file(&args.output, "marker file");
+    drop(plan.prepare()?);
+    let refs = References {
+        source_ref: args.source.clone(),
+        target_ref: args.target.clone(),
+        no_weld: args.no_weld,
+    };
+    let (source, target) = refs.read()?;
+    let start = if marker_files.is_empty() {
+        Markers::new(Vec::new())
+    } else {
+        let read = args.correspond.read_markers(&source, &target)?;
+        let (snapped, _) = read
+            .snap(source.file_mesh(), target.file_mesh())
+            .context("snapping the marker points to the surfaces")?;
+        snapped.check_ranges(source.file_mesh(), target.file_mesh())?;
+        snapped
+    };
+    let pose = match &args.pose {
+        Some(path) => {
+            let (pose, _) = output::read_pose(&source.file.file, "source reference", path, "pose")?;
+            let welded = source
+                .mesh
+                .with_positions(source.file.seams.weld_positions(pose.positions()))?;
+            Some((path.clone(), welded))
+        }
+        None => None,
+    };
+    let planes = rayon::join(
+        || source.file_mesh().mirror_plane(),
+        || target.file_mesh().mirror_plane(),
+    );
+    let door = door::Door::open(args.port)?;
+    let url = door.url();
+    let (done, finished) = mpsc::channel();
+    let session = session::Session {
+        refs,
+        correspond: args.correspond.clone(),
+        source,
+        target,
+        pose,
+        output: args.output.clone(),
+        start,
+        planes: [planes.0, planes.1],
+        inputs,
+        fitting: Mutex::new(()),
+        done: Mutex::new(done),
+    };
+    door.serve(Arc::new(session));
+    say!("pick: open {url} in a browser (Ctrl-C or \"done\" on the page stops)");
+    if args.open {
+        open_browser(&url);
+    }
+    // Until the page says done; Ctrl-C ends the process from its handler.
+    let _ = finished.recv();
+    say!("pick: done");
+    Ok(())
+}
+
+/// Opens `url` in the default browser, or says how to.
+fn open_browser(url: &str) {
+    let opener = if cfg!(target_os = "macos") {
+        std::process::Command::new("open").arg(url).spawn()
+    } else if cfg!(windows) {
+        std::process::Command::new("cmd")
+            .args(["/C", "start", "", url])
+            .spawn()
+    } else {
+        std::process::Command::new("xdg-open").arg(url).spawn()
+    };
+    if let Err(e) = opener {
+        eprintln!("warning: cannot open a browser ({e}): open the address above by hand");
+    }
+}

@@ -1,0 +1,352 @@
+//! What the page of `meshmorph pick` may ask for: its own files, the two
+//! meshes (binary arrays), the session (file names, the starting markers,
+//! the mirror planes), a fit of the current markers (the correspondence,
+//! its fit report and, with `--pose`, that pose transferred), a pair
+//! mirrored across the meshes' planes, a save of the markers to `-o`, and
+//! the end of the session. Nothing else is read or written: the files are
+//! those named on the command line, read once at the start.
+
+use std::path::PathBuf;
+use std::sync::mpsc::Sender;
+use std::sync::Mutex;
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use meshmorph::{Markers, MirrorPlane, SurfacePoint, Transfer, TransferOptions};
+use serde::Deserialize;
+use serde_json::{json, Value};
+
+use super::door::{Handler, Request, Response};
+use super::page;
+use crate::outputs::Plan;
+use crate::transfer::{CorrespondArgs, Reference, References};
+
+/// The most marker pairs a request may hold.
+pub const MAX_MARKERS: usize = 10_000;
+
+/// One run of `pick`: the meshes, what the fit needs, and where to save.
+pub struct Session {
+    pub refs: References,
+    pub correspond: CorrespondArgs,
+    pub source: Reference,
+    pub target: Reference,
+    /// The pose shown transferred after each fit (welded like the source).
+    pub pose: Option<(PathBuf, meshmorph::Mesh3)>,
+    /// Where "save" writes.
+    pub output: PathBuf,
+    /// The markers the page starts from.
+    pub start: Markers,
+    pub planes: [Option<MirrorPlane>; 2],
+    /// Every file the run reads (for the output rules of each save).
+    pub inputs: Vec<(PathBuf, &'static str)>,
+    /// One fit at a time (each takes the machine's cores).
+    pub fitting: Mutex<()>,
+    /// Told when the page says it is done.
+    pub done: Mutex<Sender<()>>,
+}
+
+/// A marker pair as the page sends it.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PagePair {
+    #[serde(default)]
+    name: Option<String>,
+    source: PagePoint,
+    target: PagePoint,
+}
+
+/// A surface point as the page sends it: a vertex, or a triangle's point.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PagePoint {
+    #[serde(default)]
+    vertex: Option<u32>,
+    #[serde(default)]
+    triangle: Option<u32>,
+    #[serde(default)]
+    barycentric: Option<[f64; 3]>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PageMarkers {
+    pairs: Vec<PagePair>,
+}
+
+impl Handler for Session {
+    fn handle(&self, request: Request) -> Response {
+        let Request { method, path, body } = request;
+        if let Some(asset) = page::asset(&path) {
+            return if method == "GET" {
+                Response::ok(asset.content_type, asset.body.to_vec())
+            } else {
+                Response::error(405, "use GET")
+            };
+        }
+        let answer = match (method.as_str(), path.as_str()) {
+            ("GET", "/api/session") => Ok(Response::json(&self.describe())),
+            ("GET", "/api/mesh/source") => Ok(mesh_bytes(self.source.file_mesh())),
+            ("GET", "/api/mesh/target") => Ok(mesh_bytes(self.target.file_mesh())),
+            ("POST", "/api/fit") => self.markers(&body).and_then(|m| self.fit(&m)),
+            ("POST", "/api/mirror") => self.markers(&body).and_then(|m| self.mirror(&m)),
+            ("POST", "/api/save") => self.markers(&body).and_then(|m| self.save(&m)),
+            ("POST", "/api/done") => {
+                let _ = self.done.lock().map(|d| d.send(()));
+                Ok(Response::json(&json!({ "done": true })))
+            }
+            (_, "/api/session" | "/api/mesh/source" | "/api/mesh/target") => {
+                return Response::error(405, "use GET")
+            }
+            (_, "/api/fit" | "/api/mirror" | "/api/save" | "/api/done") => {
+                return Response::error(405, "use POST")
+            }
+            _ => return Response::error(404, "no such page"),
+        };
+        answer.unwrap_or_else(|e| Response::error(422, &format!("{e:#}")))
+    }
+}
+
+impl Session {
+    /// The session as the page starts it.
+    fn describe(&self) -> Value {
+        let name = |p: &std::path::Path| p.display().to_string();
+        let pairs: Vec<Value> = (0..self.start.pairs().len())
+            .map(|k| {
+                let [s, t] = self.start.pairs()[k];
+                json!({
+                    "name": self.start.name(k),
+                    "source": point_json(&s),
+                    "target": point_json(&t),
+                })
+            })
+            .collect();
+        let plane = |p: &Option<MirrorPlane>| {
+            p.as_ref()
+                .map(|p| json!({ "normal": p.normal, "offset": p.offset }))
+        };
+        json!({
+            "source": name(&self.refs.source_ref),
+            "target": name(&self.refs.target_ref),
+            "output": name(&self.output),
+            "pose": self.pose.as_ref().map(|(p, _)| name(p)),
+            "pairs": pairs,
+            "mirror_planes": [plane(&self.planes[0]), plane(&self.planes[1])],
+            "max_markers": MAX_MARKERS,
+        })
+    }
+
+    /// The page's markers, checked against the files' meshes.
+    fn markers(&self, body: &[u8]) -> Result<Markers> {
+        let page: PageMarkers =
+            serde_json::from_slice(body).context("the request is not a list of marker pairs")?;
+        if page.pairs.len() > MAX_MARKERS {
+            bail!(
+                "{} marker pairs: at most {MAX_MARKERS} are taken",
+                page.pairs.len()
+            );
+        }
+        let mut pairs = Vec::with_capacity(page.pairs.len());
+        let mut names = Vec::with_capacity(page.pairs.len());
+        for (k, p) in page.pairs.into_iter().enumerate() {
+            let side = |q: PagePoint, which: &str| -> Result<SurfacePoint> {
+                match (q.vertex, q.triangle, q.barycentric) {
+                    (Some(v), None, None) => Ok(SurfacePoint::Vertex(v)),
+                    (None, Some(triangle), Some(barycentric)) => Ok(SurfacePoint::Triangle {
+                        triangle,
+                        barycentric,
+                    }),
+                    _ => bail!(
+                        "pair {}: its {which} point is neither a vertex nor a triangle with barycentric coordinates",
+                        k + 1
+                    ),
+                }
+            };
+            pairs.push([side(p.source, "source")?, side(p.target, "target")?]);
+            names.push(p.name.filter(|n| !n.trim().is_empty()));
+        }
+        let markers = Markers::on_surfaces(pairs).with_names(names);
+        markers.validate(self.source.file_mesh(), self.target.file_mesh())?;
+        Ok(markers)
+    }
+
+    /// The correspondence of `markers`: the fit report, the deformed source
+    /// and the target's distances on the files' vertices and, with a pose,
+    /// that pose transferred. Binary: the JSON report's length (u32, little
+    /// endian), the report, padding to 4 bytes, then f32 arrays: the
+    /// deformed source's positions, the distance at each target vertex (the
+    /// largest of its triangles'), the transferred pose's positions (when
+    /// the report says `pose`).
+    fn fit(&self, markers: &Markers) -> Result<Response> {
+        let _one = self.fitting.lock().unwrap_or_else(|e| e.into_inner());
+        let begin = Instant::now();
+        let mut warnings = Vec::new();
+        let (result, marker_report, fit) = self.correspond.compute_from(
+            markers.clone(),
+            &format!("with the page's {} markers", markers.pairs().len()),
+            &self.refs,
+            &self.source,
+            &self.target,
+            &mut warnings,
+        )?;
+        let seconds = begin.elapsed().as_secs_f64();
+        let target_file = self.target.file_mesh();
+        let deformed = self
+            .source
+            .file
+            .seams
+            .unweld(result.deformed_source.positions());
+        let mut distance = vec![0.0f64; target_file.num_vertices()];
+        for (tri, &d) in target_file.triangles().iter().zip(&result.fit.distances) {
+            for &v in tri {
+                distance[v as usize] = distance[v as usize].max(d);
+            }
+        }
+        let pose = match &self.pose {
+            Some((path, pose)) => {
+                let transfer = Transfer::new(
+                    &self.source.mesh,
+                    &self.target.mesh,
+                    &result.correspondence,
+                    &TransferOptions::default(),
+                )
+                .with_context(|| format!("transferring the pose `{}`", path.display()))?;
+                let out = transfer.apply(pose)?;
+                Some(self.target.file.seams.unweld(&out))
+            }
+            None => None,
+        };
+        // The page's pairs nearest each poor region, found by their target
+        // points (welding keeps every position).
+        let target_points: Vec<[f64; 3]> = markers
+            .pairs()
+            .iter()
+            .map(|p| p[1].position(target_file))
+            .collect();
+        let welded = markers.welded(&self.source.file.seams, &self.target.file.seams);
+        let regions: Vec<Vec<usize>> = fit
+            .poor_regions
+            .iter()
+            .map(|r| {
+                r.nearest_markers
+                    .iter()
+                    .filter_map(|m| {
+                        let at = welded.pairs().get(m.marker)?[1].position(&self.target.mesh);
+                        target_points.iter().position(|p| *p == at)
+                    })
+                    .collect()
+            })
+            .collect();
+        let report = json!({
+            "seconds": seconds,
+            "fit": fit,
+            "markers": marker_report,
+            "warnings": warnings,
+            "nearest_pairs": regions,
+            "matched_pairs": result.correspondence.pairs().len(),
+            "pose": pose.is_some(),
+        });
+        let text = report.to_string().into_bytes();
+        let mut body =
+            Vec::with_capacity(text.len() + 4 * (3 * deformed.len() + distance.len()) + 8);
+        body.extend_from_slice(&(text.len() as u32).to_le_bytes());
+        body.extend_from_slice(&text);
+        while body.len() % 4 != 0 {
+            body.push(b' ');
+        }
+        let f32s = |body: &mut Vec<u8>, values: &mut dyn Iterator<Item = f64>| {
+            for x in values {
+                body.extend_from_slice(&(x as f32).to_le_bytes());
+            }
+        };
+        f32s(&mut body, &mut deformed.iter().flatten().copied());
+        f32s(&mut body, &mut distance.iter().copied());
+        if let Some(pose) = &pose {
+            f32s(&mut body, &mut pose.iter().flatten().copied());
+        }
+        Ok(Response::ok("application/octet-stream", body))
+    }
+
+    /// Each pair mirrored across the meshes' planes and put back on the
+    /// surfaces (the nearest point of each).
+    fn mirror(&self, markers: &Markers) -> Result<Response> {
+        let (Some(sp), Some(tp)) = (&self.planes[0], &self.planes[1]) else {
+            bail!(
+                "a pair can be mirrored only when both meshes have a mirror plane, and {} has none",
+                if self.planes[0].is_none() {
+                    "the source"
+                } else {
+                    "the target"
+                }
+            );
+        };
+        let (source, target) = (self.source.file_mesh(), self.target.file_mesh());
+        let reflect = |p: [f64; 3], plane: &MirrorPlane| {
+            let d =
+                2.0 * (plane.normal.iter().zip(&p).map(|(n, x)| n * x).sum::<f64>() - plane.offset);
+            std::array::from_fn(|i| p[i] - d * plane.normal[i])
+        };
+        let points: Vec<[[f64; 3]; 2]> = markers
+            .pairs()
+            .iter()
+            .map(|[s, t]| {
+                [
+                    reflect(s.position(source), sp),
+                    reflect(t.position(target), tp),
+                ]
+            })
+            .collect();
+        let (snapped, _) = Markers::from_points(points).snap(source, target)?;
+        let pairs: Vec<Value> = snapped
+            .pairs()
+            .iter()
+            .map(|[s, t]| json!({ "source": point_json(s), "target": point_json(t) }))
+            .collect();
+        Ok(Response::json(&json!({ "pairs": pairs })))
+    }
+
+    /// Writes `markers` to `-o` through the output rules (never over an
+    /// input, staged and moved into place).
+    fn save(&self, markers: &Markers) -> Result<Response> {
+        let mut plan = Plan::new();
+        for (path, role) in &self.inputs {
+            plan.input(path, role);
+        }
+        let out = plan.file(&self.output, "marker file");
+        let staging = plan.prepare()?;
+        staging.write(out, |path| Ok(markers.save(path)?))?;
+        staging.commit()?;
+        Ok(Response::json(&json!({
+            "saved": self.output.display().to_string(),
+            "pairs": markers.pairs().len(),
+        })))
+    }
+}
+
+fn point_json(p: &SurfacePoint) -> Value {
+    match p {
+        SurfacePoint::Vertex(v) => json!({ "vertex": v }),
+        SurfacePoint::Triangle {
+            triangle,
+            barycentric,
+        } => json!({ "triangle": triangle, "barycentric": barycentric }),
+    }
+}
+
+/// A mesh as the page draws it: vertex and triangle counts (u32, little
+/// endian), the positions (f32) and the triangles' corners (u32).
+fn mesh_bytes(mesh: &meshmorph::Mesh3) -> Response {
+    let mut body = Vec::with_capacity(8 + 12 * mesh.num_vertices() + 12 * mesh.num_triangles());
+    body.extend_from_slice(&(mesh.num_vertices() as u32).to_le_bytes());
+    body.extend_from_slice(&(mesh.num_triangles() as u32).to_le_bytes());
+    for p in mesh.positions() {
+        for x in p {
+            body.extend_from_slice(&(*x as f32).to_le_bytes());
+        }
+    }
+    for t in mesh.triangles() {
+        for v in t {
+            body.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    Response::ok("application/octet-stream", body)
+}

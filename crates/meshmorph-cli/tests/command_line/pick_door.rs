@@ -1,0 +1,245 @@
+//! The door of `meshmorph pick`, tested with hostile requests: each refused
+//! (or handled) with a 4xx, the server still answering afterwards, nothing
+//! read but the files named and nothing written but `-o`.
+
+use std::fs;
+
+use meshmorph::{Markers, VertexNumbering};
+use tempfile::TempDir;
+
+use super::pick_session::Pick;
+
+/// Three pairs on the two sheets (a vertex, and points of triangles).
+const PAIRS: &str = r#"{"pairs": [
+  {"name": "corner", "source": {"vertex": 0}, "target": {"vertex": 0}},
+  {"name": "middle", "source": {"triangle": 100, "barycentric": [0.2, 0.3, 0.5]}, "target": {"triangle": 500, "barycentric": [0.6, 0.2, 0.2]}},
+  {"source": {"triangle": 400, "barycentric": [1, 0, 0]}, "target": {"vertex": 600}}
+]}"#;
+
+fn still_answers(pick: &Pick) {
+    let (status, body) = pick.page("GET", "/api/session", "");
+    assert_eq!(status, 200, "{body}");
+    assert!(body.contains("\"max_markers\""), "{body}");
+}
+
+#[test]
+fn pick_serves_its_page_meshes_and_session_with_the_token() {
+    let dir = TempDir::new().unwrap();
+    let pick = Pick::start(dir.path(), &[]);
+    for path in [
+        "/",
+        "/pick.js",
+        "/pick.css",
+        "/three.module.js",
+        "/three.core.js",
+        "/OrbitControls.js",
+    ] {
+        let (status, _) = pick.page("GET", path, "");
+        assert_eq!(status, 200, "{path}");
+    }
+    let (status, body) = pick.page("GET", "/api/mesh/source", "");
+    assert_eq!(status, 200);
+    // 17 x 17 vertices, 2 x 16 x 16 triangles, as counts then arrays.
+    let bytes = body.as_bytes();
+    assert!(bytes.len() >= 8);
+    assert_eq!(u32::from_le_bytes(bytes[0..4].try_into().unwrap()), 289);
+    still_answers(&pick);
+}
+
+#[test]
+fn pick_refuses_requests_without_the_token_or_from_elsewhere() {
+    let dir = TempDir::new().unwrap();
+    let pick = Pick::start(dir.path(), &[]);
+    let host = format!("127.0.0.1:{}", pick.port);
+    let t = &pick.token;
+    let cases: Vec<(String, u16, &str)> = vec![
+        (format!("GET / HTTP/1.1\r\nHost: {host}\r\n\r\n"), 403, "no token"),
+        (format!("GET /api/session HTTP/1.1\r\nHost: {host}\r\n\r\n"), 403, "no token"),
+        (
+            format!("GET /{}/ HTTP/1.1\r\nHost: {host}\r\n\r\n", "0".repeat(32)),
+            403,
+            "wrong token",
+        ),
+        (
+            format!("GET /{}/api/session HTTP/1.1\r\nHost: {host}\r\n\r\n", &t[..31]),
+            403,
+            "a token one short",
+        ),
+        (
+            format!("GET /{t}/ HTTP/1.1\r\nHost: evil.example:{}\r\n\r\n", pick.port),
+            403,
+            "a foreign Host (DNS rebinding)",
+        ),
+        (format!("GET /{t}/ HTTP/1.1\r\n\r\n"), 403, "no Host"),
+        (
+            format!("GET /{t}/ HTTP/1.1\r\nHost: 127.0.0.1:1\r\n\r\n"),
+            403,
+            "another port",
+        ),
+        (
+            format!(
+                "POST /{t}/api/save HTTP/1.1\r\nHost: {host}\r\nOrigin: http://evil.example\r\nContent-Length: {}\r\n\r\n{PAIRS}",
+                PAIRS.len()
+            ),
+            403,
+            "a foreign Origin on a write",
+        ),
+        (
+            format!(
+                "POST /{t}/api/done HTTP/1.1\r\nHost: {host}\r\nOrigin: http://127.0.0.1.evil.example:{}\r\nContent-Length: 2\r\n\r\n{{}}",
+                pick.port
+            ),
+            403,
+            "an Origin that starts like ours",
+        ),
+        (format!("GET /{t}/../../etc/passwd HTTP/1.1\r\nHost: {host}\r\n\r\n"), 404, "a path outside"),
+        (format!("GET /{t}/vendor/LICENSE HTTP/1.1\r\nHost: {host}\r\n\r\n"), 404, "a file beside the page's"),
+        (
+            format!("GET /{t}/%2e%2e/Cargo.toml HTTP/1.1\r\nHost: {host}\r\n\r\n"),
+            404,
+            "an escaped path",
+        ),
+        (format!("GET /{t}/api/nothing HTTP/1.1\r\nHost: {host}\r\n\r\n"), 404, "no such call"),
+        (format!("DELETE /{t}/api/save HTTP/1.1\r\nHost: {host}\r\n\r\n"), 405, "a wrong method"),
+        (format!("POST /{t}/pick.js HTTP/1.1\r\nHost: {host}\r\nContent-Length: 0\r\n\r\n"), 405, "a write to a file"),
+        (
+            format!("POST /{t}/api/save HTTP/1.1\r\nHost: {host}\r\nContent-Length: 99999999\r\n\r\n"),
+            413,
+            "an oversized body",
+        ),
+        (
+            format!("POST /{t}/api/save HTTP/1.1\r\nHost: {host}\r\nTransfer-Encoding: chunked\r\n\r\n0\r\n\r\n"),
+            411,
+            "a chunked body",
+        ),
+        (
+            format!("GET /{t}/ HTTP/1.1\r\nHost: {host}\r\nX-Long: {}\r\n\r\n", "a".repeat(40_000)),
+            431,
+            "headers too long",
+        ),
+        ("garbage\r\n\r\n".to_string(), 400, "no request line"),
+        (format!("GET /{t}/ SPDY/3\r\nHost: {host}\r\n\r\n"), 505, "another protocol"),
+        (
+            format!("POST /{t}/api/save HTTP/1.1\r\nHost: {host}\r\nContent-Length: x\r\n\r\n"),
+            400,
+            "a bad length",
+        ),
+    ];
+    for (raw, expected, what) in cases {
+        let (status, body) = pick.send(raw.as_bytes());
+        assert_eq!(status, expected, "{what}: {body}");
+        still_answers(&pick);
+    }
+    assert!(!pick.output.exists(), "a refused write wrote");
+}
+
+#[test]
+fn pick_refuses_malformed_and_bad_markers_naming_them() {
+    let dir = TempDir::new().unwrap();
+    let pick = Pick::start(dir.path(), &[]);
+    let cases = [
+        ("{not json", "not a list of marker pairs"),
+        (r#"{"pairs": 3}"#, "not a list of marker pairs"),
+        (
+            r#"{"pairs": [{"source": {"vertex": 0}}]}"#,
+            "not a list of marker pairs",
+        ),
+        (
+            r#"{"pairs": [{"source": {"vertex": 0}, "target": {"vertex": 99999}}]}"#,
+            "99999",
+        ),
+        (
+            r#"{"pairs": [{"source": {"triangle": 99999, "barycentric": [1, 0, 0]}, "target": {"vertex": 0}}]}"#,
+            "99999",
+        ),
+        (
+            r#"{"pairs": [{"source": {"triangle": 3, "barycentric": [0.5, 0.5, 0.5]}, "target": {"vertex": 0}}]}"#,
+            "sum",
+        ),
+        (
+            r#"{"pairs": [{"source": {"vertex": 1, "triangle": 3}, "target": {"vertex": 0}}]}"#,
+            "neither a vertex nor a triangle",
+        ),
+    ];
+    for (body, says) in cases {
+        for call in ["/api/save", "/api/fit", "/api/mirror"] {
+            let (status, answer) = pick.page("POST", call, body);
+            assert_eq!(status, 422, "{call} {body}: {answer}");
+            assert!(answer.contains(says), "{call} {body}: {answer}");
+        }
+        still_answers(&pick);
+    }
+    let many = format!(
+        r#"{{"pairs": [{}]}}"#,
+        vec![r#"{"source": {"vertex": 0}, "target": {"vertex": 0}}"#; 10_001].join(",")
+    );
+    let (status, answer) = pick.page("POST", "/api/save", &many);
+    assert_eq!(status, 422);
+    assert!(answer.contains("at most 10000"), "{answer}");
+    assert!(!pick.output.exists());
+}
+
+#[test]
+fn pick_saves_named_surface_points_fits_and_stops_when_done() {
+    let dir = TempDir::new().unwrap();
+    let mut pick = Pick::start(dir.path(), &[]);
+    // Two pages at once: both served.
+    let (a, b) = std::thread::scope(|s| {
+        let a = s.spawn(|| pick.page("GET", "/api/session", ""));
+        let b = s.spawn(|| pick.page("GET", "/api/mesh/target", ""));
+        (a.join().unwrap(), b.join().unwrap())
+    });
+    assert_eq!((a.0, b.0), (200, 200));
+    let (status, body) = pick.page("POST", "/api/save", PAIRS);
+    assert_eq!(status, 200, "{body}");
+    let saved = Markers::read(&pick.output, VertexNumbering::FromZero).unwrap();
+    assert_eq!(saved.pairs().len(), 3);
+    assert_eq!(saved.name(0), Some("corner"));
+    assert_eq!(saved.name(1), Some("middle"));
+    assert_eq!(saved.name(2), None);
+    let text = fs::read_to_string(&pick.output).unwrap();
+    assert!(text.contains("t 100 0.2 0.3 0.5"), "{text}");
+    // Saved again: replaced, no staged file left beside it.
+    let (status, _) = pick.page("POST", "/api/save", PAIRS);
+    assert_eq!(status, 200);
+    let names: Vec<String> = fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names.len(), 3, "{names:?}");
+    // A fit: the report first, then the arrays.
+    let (status, body) = pick.page("POST", "/api/fit", PAIRS);
+    assert_eq!(status, 200, "{body}");
+    assert!(
+        body.contains("\"mean_distance\""),
+        "{}",
+        &body[..body.len().min(400)]
+    );
+    let (status, body) = pick.page("POST", "/api/done", "{}");
+    assert_eq!(status, 200, "{body}");
+    assert!(pick.wait().success());
+}
+
+#[test]
+fn pick_never_saves_over_an_input() {
+    let dir = TempDir::new().unwrap();
+    let source = dir.path().join("source.obj");
+    meshmorph::io::write_mesh(
+        &source,
+        &super::pick_session::sheet(4, 1.0),
+        meshmorph::io::Format::Obj,
+    )
+    .unwrap();
+    let before = fs::read(&source).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_meshmorph"))
+        .arg("pick")
+        .args([&source, &source])
+        .arg("-o")
+        .arg(&source)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("would overwrite"), "{err}");
+    assert_eq!(fs::read(&source).unwrap(), before);
+}

@@ -1,0 +1,103 @@
+// Drives the page of `meshmorph pick` in headless Chromium, as a user would:
+// clicks pairs of points (given in each mesh's own coordinates, found on the
+// screen through the page's camera), deletes one, undoes, saves, fits.
+// Prints what the page shows as one JSON object and saves a screenshot.
+//
+//   node pick.mjs URL OUTDIR PLAN.json [--chromium PATH]
+//
+// PLAN.json: { "pairs": [[[sx, sy, sz], [tx, ty, tz]], ...],
+//              "delete": k, "undo": true, "save": true, "fit": true,
+//              "screenshot": "name.png", "size": [width, height] }
+// Every step is optional. Exits 0 when every step ran, 1 when one failed,
+// 2 on a usage or setup error.
+import { readFile, mkdir } from 'node:fs/promises';
+import { join, resolve } from 'node:path';
+import puppeteer from 'puppeteer-core';
+
+const args = process.argv.slice(2);
+const chromiumAt = args.indexOf('--chromium');
+const chromium = chromiumAt >= 0 ? args.splice(chromiumAt, 2)[1] : process.env.CHROMIUM ?? '/usr/bin/chromium';
+if (args.length !== 3) {
+  console.error('usage: node pick.mjs URL OUTDIR PLAN.json [--chromium PATH]');
+  process.exit(2);
+}
+const [url, outdirArg, planPath] = args;
+const outdir = resolve(outdirArg);
+await mkdir(outdir, { recursive: true });
+const plan = JSON.parse(await readFile(planPath, 'utf8'));
+const [width, height] = plan.size ?? [1280, 720];
+
+const browser = await puppeteer.launch({
+  executablePath: chromium,
+  headless: true,
+  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
+});
+const result = { errors: [], steps: [] };
+let failed = false;
+try {
+  const page = await browser.newPage();
+  page.on('pageerror', (e) => result.errors.push(e.message));
+  page.on('console', (m) => { if (m.type() === 'error') result.errors.push(m.text()); });
+  await page.setViewport({ width, height });
+  const begin = Date.now();
+  await page.goto(url);
+  await page.waitForSelector('body[data-ready="yes"]', { timeout: 60000 });
+  result.ready_ms = Date.now() - begin;
+  const project = (side, p) => page.evaluate((s, q) => window.pick.project(s, q), side, p);
+  const clicks = [];
+  for (const [s, t] of plan.pairs ?? []) {
+    for (const [side, point] of [['source', s], ['target', t]]) {
+      const at = await project(side, point);
+      const before = Date.now();
+      await page.mouse.click(at.x, at.y);
+      await page.evaluate(() => new Promise((ok) => requestAnimationFrame(() => requestAnimationFrame(ok))));
+      clicks.push({ side, at, wall_ms: Date.now() - before, page_ms: await page.evaluate(() => window.pick.timings.lastClick) });
+    }
+  }
+  result.clicks = clicks;
+  result.after_clicks = await page.evaluate(() => window.pick.pairs().length);
+  if (plan.delete !== undefined) {
+    await page.click(`#pairs li:nth-child(${plan.delete + 1})`);
+    await page.keyboard.press('Delete');
+    result.after_delete = await page.evaluate(() => window.pick.pairs().length);
+  }
+  if (plan.undo) {
+    await page.click('#undo');
+    result.after_undo = await page.evaluate(() => window.pick.pairs().length);
+  }
+  if (plan.save) {
+    await page.click('#save');
+    await page.waitForSelector('body[data-saved]', { timeout: 30000 });
+    result.saved = await page.evaluate(() => document.body.dataset.saved);
+  }
+  if (plan.fit) {
+    const before = Date.now();
+    await page.click('#fit');
+    await page.waitForFunction(() => ['done', 'failed'].includes(document.body.dataset.fit), { timeout: 300000 });
+    result.fit_wall_ms = Date.now() - before;
+    result.fit_state = await page.evaluate(() => document.body.dataset.fit);
+    result.fit_page_ms = await page.evaluate(() => window.pick.timings.lastFit);
+    result.fit = await page.evaluate(() => window.pick.fit());
+    result.fit_text = await page.evaluate(() => document.getElementById('fit-report').innerText);
+    if (plan.pose) {
+      await page.click('#show-pose');
+    }
+  }
+  result.status = await page.evaluate(() => document.getElementById('status').innerText);
+  result.pairs = await page.evaluate(() => window.pick.pairs());
+  if (plan.screenshot) {
+    await page.evaluate(() => new Promise((ok) => requestAnimationFrame(() => requestAnimationFrame(ok))));
+    await page.screenshot({ path: join(outdir, plan.screenshot) });
+  }
+  if (plan.done) {
+    await page.click('#done');
+  }
+} catch (e) {
+  result.errors.push(String(e));
+  failed = true;
+} finally {
+  await browser.close();
+}
+if (result.errors.length) failed = true;
+console.log(JSON.stringify(result));
+process.exit(failed ? 1 : 0);
