@@ -3,87 +3,32 @@
 //! Chromium (the mesh is drawn and moves).
 //!
 //! Both need `npm ci` in tools/browser-checks (and Debian's `chromium` for the
-//! second). Without them a check is reported as ignored, with what is
-//! missing; in CI (`CI=true`), which installs them, it fails instead.
+//! second): see `browser.rs`.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use std::fs;
 
-use libtest_mimic::Trial;
 use meshmorph::io::read_mesh;
 use meshmorph::Mesh3;
 
-use crate::needs::trial;
+use crate::browser::{chromium, tools, which, Check, Needs};
 
-fn tools() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tools/browser-checks")
-}
-
-/// Whether `program --version` runs.
-fn runs(program: &str) -> bool {
-    Command::new(program)
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success())
-}
-
-/// What the check needs and does not find (empty when it can run).
-fn missing(needs: &[(&str, bool)]) -> Vec<String> {
-    needs
-        .iter()
-        .filter(|(_, ok)| !ok)
-        .map(|(name, _)| name.to_string())
-        .collect()
-}
-
-fn chromium() -> String {
-    std::env::var("CHROMIUM").unwrap_or_else(|_| "chromium".into())
-}
-
-/// A check: its name, its body and what it needs that is missing.
-type Check = (&'static str, fn(), Vec<String>);
-
-/// The two checks, each ignored (or failed in CI) with what it misses.
-pub fn trials() -> Vec<Trial> {
-    let node = runs("node");
-    let packages = node_packages();
-    let checks: [Check; 2] = [
+/// The two checks (see `browser.rs`).
+pub fn checks() -> Vec<Check> {
+    vec![
         (
             "gltf_clients::every_glb_passes_the_khronos_validator",
             every_glb_passes_the_khronos_validator,
-            missing(&[("node", node), ("npm packages", packages)]),
+            Needs::Node,
         ),
         (
             "gltf_clients::three_js_in_chromium_draws_the_animation_moving",
             three_js_in_chromium_draws_the_animation_moving,
-            missing(&[
-                ("node", node),
-                ("npm packages", packages),
-                ("chromium", runs(&chromium())),
-            ]),
+            Needs::Chromium,
         ),
-    ];
-    checks
-        .into_iter()
-        .map(|(name, check, missing)| {
-            let found = if missing.is_empty() {
-                Ok(())
-            } else {
-                Err(format!(
-                    "missing {}: apt-get install nodejs chromium, npm ci in tools/browser-checks",
-                    missing.join(", ")
-                ))
-            };
-            trial(name, found, move |()| check())
-        })
-        .collect()
-}
-
-fn node_packages() -> bool {
-    tools().join("node_modules/gltf-validator").is_dir()
-        && tools().join("node_modules/three").is_dir()
+    ]
 }
 
 fn meshmorph(args: &[&str]) {
@@ -237,19 +182,4 @@ fn three_js_in_chromium_draws_the_animation_moving() {
         assert!(out.status.success(), "three.js check failed:\n{report}");
     }
     println!("screenshots in {}", shots.display());
-}
-
-/// The full path of a program on the PATH (puppeteer wants one).
-fn which(program: &str) -> String {
-    if program.contains('/') {
-        return program.to_string();
-    }
-    std::env::var_os("PATH")
-        .and_then(|paths| {
-            std::env::split_paths(&paths)
-                .map(|d| d.join(program))
-                .find(|p| p.is_file())
-        })
-        .map(|p| p.display().to_string())
-        .unwrap_or_else(|| program.to_string())
 }

@@ -1,0 +1,137 @@
+//! The page of `meshmorph pick` in headless Chromium, driven as a user
+//! drives it (`tools/browser-checks/pick.mjs`): three pairs clicked at
+//! known points of two procedural sheets, one deleted, the deletion undone,
+//! the markers saved and fitted; the saved file must hold the three pairs
+//! at the points clicked. A screenshot is kept in `target/pick-check/`.
+//! Also: the three.js files built into the page are those the lock file
+//! pins.
+
+use std::path::Path;
+use std::process::Command;
+
+use meshmorph::io::read_mesh;
+use meshmorph::{Markers, SurfacePoint, VertexNumbering};
+use serde_json::Value;
+
+#[path = "../command_line/pick_session.rs"]
+mod pick_session;
+use pick_session::{height, Pick};
+
+use crate::browser::{chromium, tools, which, Check, Needs};
+
+/// The two checks (see `browser.rs`).
+pub fn checks() -> Vec<Check> {
+    vec![
+        (
+            "pick_page::the_page_makes_deletes_undoes_saves_and_fits_pairs",
+            the_page_makes_deletes_undoes_saves_and_fits_pairs,
+            Needs::Chromium,
+        ),
+        (
+            "pick_page::the_page_carries_the_pinned_three_js",
+            the_page_carries_the_pinned_three_js,
+            Needs::Node,
+        ),
+    ]
+}
+
+/// The points clicked: on the source sheet (scale 1) and the target (1.5).
+fn points() -> Vec<[[f64; 3]; 2]> {
+    [(-0.5, -0.4), (0.45, -0.3), (0.0, 0.5)]
+        .iter()
+        .map(|&(x, y)| {
+            let at = |s: f64| [s * x, s * y, height(s * x, s * y, s)];
+            [at(1.0), at(1.5)]
+        })
+        .collect()
+}
+
+fn the_page_makes_deletes_undoes_saves_and_fits_pairs() {
+    let dir = tempfile::TempDir::new().unwrap();
+    let mut pick = Pick::start(dir.path(), &[]);
+    let artifacts = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/pick-check");
+    let plan = serde_json::json!({
+        "pairs": points(),
+        "delete": 1,
+        "undo": true,
+        "save": true,
+        "fit": true,
+        "screenshot": "pick-page.png",
+        "size": [1280, 720],
+        "done": true,
+    });
+    let plan_path = dir.path().join("plan.json");
+    std::fs::write(&plan_path, plan.to_string()).unwrap();
+    let out = Command::new("node")
+        .arg(tools().join("pick.mjs"))
+        .arg(&pick.url)
+        .arg(&artifacts)
+        .arg(&plan_path)
+        .arg("--chromium")
+        .arg(which(&chromium()))
+        .output()
+        .expect("node runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "the page check failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: Value = serde_json::from_str(stdout.trim()).expect("one JSON line");
+    assert_eq!(report["after_clicks"], 3, "{report}");
+    assert_eq!(report["after_delete"], 2, "{report}");
+    assert_eq!(report["after_undo"], 3, "{report}");
+    assert_eq!(report["saved"], "3", "{report}");
+    assert_eq!(report["fit_state"], "done", "{report}");
+    let mean = report["fit"]["fit"]["mean_distance"].as_f64().unwrap();
+    assert!(mean.is_finite() && mean >= 0.0, "{report}");
+    assert!(
+        report["fit_text"]
+            .as_str()
+            .unwrap()
+            .contains("mean distance"),
+        "{report}"
+    );
+    assert!(artifacts.join("pick-page.png").is_file());
+    // The file holds the three pairs where they were clicked, as points of
+    // triangles (no vertex snapping without Alt).
+    let saved = Markers::read(&pick.output, VertexNumbering::FromZero).unwrap();
+    let meshes = [
+        read_mesh(&pick.source).unwrap(),
+        read_mesh(&pick.target).unwrap(),
+    ];
+    assert_eq!(saved.pairs().len(), 3);
+    for (pair, wanted) in saved.pairs().iter().zip(points()) {
+        for side in 0..2 {
+            assert!(matches!(pair[side], SurfacePoint::Triangle { .. }));
+            let at = pair[side].position(&meshes[side]);
+            let off = (0..3)
+                .map(|i| (at[i] - wanted[side][i]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            let tolerance = 0.01 * meshes[side].bounding_box_diagonal();
+            assert!(
+                off < tolerance,
+                "side {side}: {at:?} is {off} from {:?}",
+                wanted[side]
+            );
+        }
+    }
+    assert!(pick.wait().success(), "pick did not stop on done");
+}
+
+/// The page's three.js is byte for byte the pinned package's.
+fn the_page_carries_the_pinned_three_js() {
+    let vendored = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/pick/page/vendor");
+    let package = tools().join("node_modules/three");
+    for (ours, theirs) in [
+        ("three.module.js", "build/three.module.js"),
+        ("three.core.js", "build/three.core.js"),
+        ("OrbitControls.js", "examples/jsm/controls/OrbitControls.js"),
+        ("LICENSE", "LICENSE"),
+    ] {
+        let a = std::fs::read(vendored.join(ours)).unwrap();
+        let b = std::fs::read(package.join(theirs)).unwrap();
+        assert!(a == b, "{ours} differs from the pinned three's {theirs}: copy it again after changing the version");
+    }
+}
