@@ -51,7 +51,7 @@ try {
       const before = Date.now();
       await page.mouse.click(at.x, at.y);
       await page.evaluate(() => new Promise((ok) => requestAnimationFrame(() => requestAnimationFrame(ok))));
-      clicks.push({ side, at, wall_ms: Date.now() - before, page_ms: await page.evaluate(() => window.pick.timings.lastClick) });
+      clicks.push({ side, at, wall_ms: Date.now() - before, ...(await page.evaluate(() => ({ work_ms: window.pick.timings.lastClickWork, frame_ms: window.pick.timings.lastClick }))) });
     }
   }
   result.clicks = clicks;
@@ -79,7 +79,7 @@ try {
     result.fit_page_ms = await page.evaluate(() => window.pick.timings.lastFit);
     result.fit = await page.evaluate(() => window.pick.fit());
     result.fit_text = await page.evaluate(() => document.getElementById('fit-report').innerText);
-    if (plan.pose) {
+    if (plan.pose && await page.$eval('#pose-toggle', (e) => !e.hidden)) {
       await page.click('#show-pose');
     }
   }

@@ -55,6 +55,8 @@ pub struct Response {
     pub status: u16,
     pub content_type: &'static str,
     pub body: Vec<u8>,
+    /// The session ends once this response is sent ([`Handler::ended`]).
+    pub last: bool,
 }
 
 impl Response {
@@ -63,6 +65,7 @@ impl Response {
             status: 200,
             content_type,
             body,
+            last: false,
         }
     }
 
@@ -78,6 +81,7 @@ impl Response {
             body: serde_json::json!({ "error": message })
                 .to_string()
                 .into_bytes(),
+            last: false,
         }
     }
 }
@@ -85,6 +89,8 @@ impl Response {
 /// What the door hands requests to.
 pub trait Handler: Send + Sync + 'static {
     fn handle(&self, request: Request) -> Response;
+    /// Called once a response marked [`Response::last`] has been sent.
+    fn ended(&self);
 }
 
 /// The listening door: its address and token.
@@ -176,6 +182,9 @@ fn accept(
                 };
                 let _ = respond(&mut stream, &response);
                 open_here.fetch_sub(1, Ordering::SeqCst);
+                if response.last {
+                    handler.ended();
+                }
             });
         if spawned.is_err() {
             open.fetch_sub(1, Ordering::SeqCst);

@@ -41,7 +41,7 @@ pub struct Session {
     pub inputs: Vec<(PathBuf, &'static str)>,
     /// One fit at a time (each takes the machine's cores).
     pub fitting: Mutex<()>,
-    /// Told when the page says it is done.
+    /// Told when the page's "done" has been answered.
     pub done: Mutex<Sender<()>>,
 }
 
@@ -91,8 +91,9 @@ impl Handler for Session {
             ("POST", "/api/mirror") => self.markers(&body).and_then(|m| self.mirror(&m)),
             ("POST", "/api/save") => self.markers(&body).and_then(|m| self.save(&m)),
             ("POST", "/api/done") => {
-                let _ = self.done.lock().map(|d| d.send(()));
-                Ok(Response::json(&json!({ "done": true })))
+                let mut answer = Response::json(&json!({ "done": true }));
+                answer.last = true;
+                Ok(answer)
             }
             (_, "/api/session" | "/api/mesh/source" | "/api/mesh/target") => {
                 return Response::error(405, "use GET")
@@ -103,6 +104,10 @@ impl Handler for Session {
             _ => return Response::error(404, "no such page"),
         };
         answer.unwrap_or_else(|e| Response::error(422, &format!("{e:#}")))
+    }
+
+    fn ended(&self) {
+        let _ = self.done.lock().map(|d| d.send(()));
     }
 }
 

@@ -17,6 +17,8 @@ pub enum Needs {
     Node,
     /// Those and Chromium.
     Chromium,
+    /// Those, Chromium and a folder of ../shared/data.
+    ChromiumAndSharedData(&'static str),
 }
 
 /// A check: its name, its body and what it needs.
@@ -74,11 +76,16 @@ pub fn trials(checks: Vec<Check>) -> Vec<Trial> {
                     missing.push(what);
                 }
             }
-            if needs == Needs::Chromium && !browser {
+            if needs != Needs::Node && !browser {
                 missing.push("chromium");
             }
             let found = if missing.is_empty() {
-                Ok(())
+                match needs {
+                    Needs::ChromiumAndSharedData(folder) => {
+                        crate::needs::shared_data(folder).map(|_| ())
+                    }
+                    _ => Ok(()),
+                }
             } else {
                 Err(format!(
                     "missing {}: apt-get install nodejs chromium, npm ci in tools/browser-checks",

@@ -28,6 +28,11 @@ pub fn checks() -> Vec<Check> {
             Needs::Chromium,
         ),
         (
+            "pick_page::horse_camel_fits_on_the_page_as_correspond_fits",
+            horse_camel_fits_on_the_page_as_correspond_fits,
+            Needs::ChromiumAndSharedData("dt/horse-camel"),
+        ),
+        (
             "pick_page::the_page_carries_the_pinned_three_js",
             the_page_carries_the_pinned_three_js,
             Needs::Node,
@@ -49,7 +54,6 @@ fn points() -> Vec<[[f64; 3]; 2]> {
 fn the_page_makes_deletes_undoes_saves_and_fits_pairs() {
     let dir = tempfile::TempDir::new().unwrap();
     let mut pick = Pick::start(dir.path(), &[]);
-    let artifacts = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/pick-check");
     let plan = serde_json::json!({
         "pairs": points(),
         "delete": 1,
@@ -60,24 +64,7 @@ fn the_page_makes_deletes_undoes_saves_and_fits_pairs() {
         "size": [1280, 720],
         "done": true,
     });
-    let plan_path = dir.path().join("plan.json");
-    std::fs::write(&plan_path, plan.to_string()).unwrap();
-    let out = Command::new("node")
-        .arg(tools().join("pick.mjs"))
-        .arg(&pick.url)
-        .arg(&artifacts)
-        .arg(&plan_path)
-        .arg("--chromium")
-        .arg(which(&chromium()))
-        .output()
-        .expect("node runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "the page check failed:\n{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: Value = serde_json::from_str(stdout.trim()).expect("one JSON line");
+    let report = drive(&pick.url, &plan, dir.path());
     assert_eq!(report["after_clicks"], 3, "{report}");
     assert_eq!(report["after_delete"], 2, "{report}");
     assert_eq!(report["after_undo"], 3, "{report}");
@@ -92,7 +79,9 @@ fn the_page_makes_deletes_undoes_saves_and_fits_pairs() {
             .contains("mean distance"),
         "{report}"
     );
-    assert!(artifacts.join("pick-page.png").is_file());
+    assert!(Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../target/pick-check/pick-page.png")
+        .is_file());
     // The file holds the three pairs where they were clicked, as points of
     // triangles (no vertex snapping without Alt).
     let saved = Markers::read(&pick.output, VertexNumbering::FromZero).unwrap();
@@ -118,6 +107,104 @@ fn the_page_makes_deletes_undoes_saves_and_fits_pairs() {
         }
     }
     assert!(pick.wait().success(), "pick did not stop on done");
+}
+
+/// Runs `pick.mjs` on the page at `url` with `plan`, keeping its
+/// screenshots in `target/pick-check/`; the page's report.
+fn drive(url: &str, plan: &Value, dir: &Path) -> Value {
+    let artifacts = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/pick-check");
+    let plan_path = dir.join("plan.json");
+    std::fs::write(&plan_path, plan.to_string()).unwrap();
+    let out = Command::new("node")
+        .arg(tools().join("pick.mjs"))
+        .arg(url)
+        .arg(&artifacts)
+        .arg(&plan_path)
+        .arg("--chromium")
+        .arg(which(&chromium()))
+        .output()
+        .expect("node runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "the page check failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_str(stdout.trim()).expect("one JSON line")
+}
+
+/// Horse to camel with the shared 107 markers and a pose: the page's fit
+/// reports what `correspond` reports for the same markers, and shows the
+/// pose transferred. Its screenshot is the README's picture of the page
+/// (`docs/pick.png`, copied from `target/pick-check/pick-horse-camel.png`).
+fn horse_camel_fits_on_the_page_as_correspond_fits() {
+    let data = crate::needs::shared_data("dt/horse-camel").unwrap();
+    let dir = tempfile::TempDir::new().unwrap();
+    let (horse, camel, markers, pose) = (
+        data.join("horse-poses/horse-reference.obj"),
+        data.join("camel-poses/camel-reference.obj"),
+        data.join("markers/horse-camel-107.cons"),
+        data.join("horse-poses/horse-09.obj"),
+    );
+    let output = dir.path().join("picked.txt");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_meshmorph"))
+        .args(["pick".as_ref(), horse.as_os_str(), camel.as_os_str()])
+        .args(["-o".as_ref(), output.as_os_str()])
+        .args(["--markers".as_ref(), markers.as_os_str()])
+        .args(["--pose".as_ref(), pose.as_os_str()])
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    std::io::BufRead::read_line(
+        &mut std::io::BufReader::new(child.stdout.as_mut().unwrap()),
+        &mut line,
+    )
+    .unwrap();
+    let url = line
+        .split_whitespace()
+        .find(|w| w.starts_with("http://"))
+        .unwrap();
+    let plan = serde_json::json!({
+        "fit": true, "pose": false, "save": true,
+        "screenshot": "pick-horse-camel.png", "size": [1280, 720], "done": true,
+    });
+    let page = drive(url, &plan, dir.path());
+    assert!(child.wait().unwrap().success());
+    let corr = Command::new(env!("CARGO_BIN_EXE_meshmorph"))
+        .args(["correspond", "--json", "--source-ref"])
+        .arg(&horse)
+        .arg("--target-ref")
+        .arg(&camel)
+        .arg("--markers")
+        .arg(&markers)
+        .arg("-o")
+        .arg(dir.path().join("c.corr"))
+        .output()
+        .unwrap();
+    assert!(corr.status.success());
+    let corr: Value = serde_json::from_slice(&corr.stdout).unwrap();
+    for key in [
+        "mean_distance",
+        "distance_95th_percentile",
+        "uncovered_area",
+        "poor_area",
+    ] {
+        let (a, b) = (
+            page["fit"]["fit"][key].as_f64().unwrap(),
+            corr["fit"][key].as_f64().unwrap(),
+        );
+        assert!(
+            (a - b).abs() <= 1e-12,
+            "{key}: the page's {a}, correspond's {b}"
+        );
+    }
+    assert_eq!(page["fit"]["matched_pairs"], corr["matched_pairs"]);
+    assert_eq!(page["fit"]["pose"], true);
+    // Saved from the page, the markers read back as the file's.
+    let saved = Markers::read(&output, VertexNumbering::FromZero).unwrap();
+    let given = Markers::read(&markers, VertexNumbering::FromZero).unwrap();
+    assert_eq!(saved.pairs(), given.pairs());
 }
 
 /// The page's three.js is byte for byte the pinned package's.

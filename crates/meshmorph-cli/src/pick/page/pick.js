@@ -132,7 +132,13 @@ class View {
     this.scene = new THREE.Scene();
     this.scene.background = new THREE.Color(0x2a2d33);
     this.camera = new THREE.PerspectiveCamera(35, 1, 0.01, 100);
-    this.camera.position.set(0, 0, 1.9);
+    // Y up (as glTF, Blender's exports and most characters stand), looking
+    // across the thinner of the other two sides: a character from the side,
+    // a face or a sheet from the front.
+    const size = mesh.geometry.boundingBox.getSize(new THREE.Vector3());
+    if (size.x < size.z) this.camera.position.set(1.9, 0, 0);
+    else this.camera.position.set(0, 0, 1.9);
+    this.camera.lookAt(0, 0, 0);
     const light = new THREE.DirectionalLight(0xffffff, 2.2);
     light.position.set(0.6, 0.8, 1);
     this.camera.add(light);
@@ -185,7 +191,7 @@ const state = {
   nearPoor: new Set(),
   closed: false,
 };
-const timings = { ready: null, lastClick: null, lastFit: null };
+const timings = { ready: null, lastClickWork: null, lastClick: null, lastFit: null };
 let fitGeneration = 0;
 
 function snapshot() {
@@ -419,6 +425,7 @@ function attachPointer(view) {
     } else {
       addPoint(u.side, surfacePoint(state.meshes[u.side], u.hit, u.object, event.altKey));
     }
+    timings.lastClickWork = performance.now() - start;
     requestAnimationFrame(() => { timings.lastClick = performance.now() - start; });
   });
 }
@@ -496,6 +503,7 @@ function showFit({ report, deformed, distances, pose }) {
   g.setIndex(new THREE.BufferAttribute(state.meshes[SOURCE].index, 1));
   const wire = new THREE.Mesh(g, new THREE.MeshBasicMaterial({ color: 0xffffff, wireframe: true, transparent: true, opacity: 0.12 }));
   layer.add(wire);
+  view.fitWire = wire;
   for (const region of report.fit.poor_regions) {
     const ring = new THREE.Mesh(sphere, markerMaterials.poor);
     ring.position.fromArray(region.point);
@@ -526,6 +534,7 @@ function showPose() {
   const view = state.views[TARGET];
   const on = $('show-pose').checked && view.poseObject;
   if (view.poseObject) view.poseObject.visible = !!on;
+  if (view.fitWire) view.fitWire.visible = !on;
   view.object.visible = !on;
   render();
 }
@@ -643,7 +652,9 @@ async function start() {
   ]);
   state.session = session;
   state.meshes = [prepare(source), prepare(target)];
-  $('files').textContent = `${session.source} → ${session.target}, saving to ${session.output}`;
+  const base = (path) => path.split(/[\\/]/).pop();
+  $('files').textContent = `${base(session.source)} → ${base(session.target)}, saving to ${base(session.output)}`;
+  $('files').title = `${session.source} → ${session.target}, saving to ${session.output}`;
   state.views = [new View($('source'), source, 0x8fb3d9), new View($('target'), target, 0xd9b38f)];
   // The source drawn over the target when overlaid.
   const ghostRoot = normalised(source);
