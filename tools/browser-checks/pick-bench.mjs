@@ -55,7 +55,7 @@ async function run(pickArgs, plan) {
   const line = await new Promise((ok) => createInterface({ input: child.stdout }).once('line', ok));
   const url = line.split(/\s+/).find((w) => w.startsWith('http://'));
   const page = spawnSync('node', [join(here, 'pick.mjs'), url, work, planPath, '--chromium', chromium], { encoding: 'utf8', maxBuffer: 1 << 26 });
-  child.kill();
+  if (child.exitCode === null) await new Promise((ok) => child.once('exit', ok));
   if (page.status !== 0) throw new Error(`pick.mjs failed: ${page.stdout}${page.stderr}`);
   return JSON.parse(page.stdout);
 }
@@ -85,7 +85,7 @@ console.log('|---|---:|---:|---:|---:|---:|');
 for (const k of cases) {
   const ready = [], work_ = [], frame = [], fit = [], server = [];
   for (let run_ = 0; run_ < 3; run_++) {
-    const r = await run(k.args, { pairs: k.pairs, fit: true, size: [1280, 720] });
+    const r = await run(k.args, { pairs: k.pairs, fit: true, size: [1280, 720], done: true });
     ready.push(r.ready_ms);
     for (const click of r.clicks) { work_.push(click.work_ms); frame.push(click.frame_ms); }
     fit.push(r.fit_page_ms);
