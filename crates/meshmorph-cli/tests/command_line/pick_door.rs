@@ -243,3 +243,45 @@ fn pick_never_saves_over_an_input() {
     assert!(err.contains("would overwrite"), "{err}");
     assert_eq!(fs::read(&source).unwrap(), before);
 }
+
+#[test]
+fn pick_mirrors_a_pair_across_both_planes_of_symmetry() {
+    // Both sheets are their own mirror images across y = 0.
+    let dir = TempDir::new().unwrap();
+    let pick = Pick::start(dir.path(), &[]);
+    let (status, session) = pick.page("GET", "/api/session", "");
+    assert_eq!(status, 200);
+    let session: serde_json::Value = serde_json::from_str(&session).unwrap();
+    for plane in session["mirror_planes"].as_array().unwrap() {
+        let n = plane["normal"].as_array().unwrap();
+        assert!(n[1].as_f64().unwrap().abs() > 0.999, "{plane}");
+    }
+    // Source vertex (4, 2) and target vertex (6, 3): both at y = -0.75.
+    let (s, t) = (2 * 17 + 4, 3 * 25 + 6);
+    let body =
+        format!(r#"{{"pairs": [{{"source": {{"vertex": {s}}}, "target": {{"vertex": {t}}}}}]}}"#);
+    let (status, answer) = pick.page("POST", "/api/mirror", &body);
+    assert_eq!(status, 200, "{answer}");
+    let answer: serde_json::Value = serde_json::from_str(&answer).unwrap();
+    let pair = &answer["pairs"][0];
+    // The mirror images are vertices (4, 14) and (6, 21), at y = +0.75.
+    assert_eq!(pair["source"]["vertex"], 14 * 17 + 4, "{pair}");
+    assert_eq!(pair["target"]["vertex"], 21 * 25 + 6, "{pair}");
+}
+
+#[cfg(unix)]
+#[test]
+fn pick_stops_on_ctrl_c_leaving_nothing() {
+    let dir = TempDir::new().unwrap();
+    let mut pick = Pick::start(dir.path(), &[]);
+    still_answers(&pick);
+    let killed = std::process::Command::new("kill")
+        .args(["-INT", &pick.child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = pick.wait();
+    assert_eq!(status.code(), Some(130), "{status:?}");
+    assert!(!pick.output.exists());
+    assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 2);
+}
