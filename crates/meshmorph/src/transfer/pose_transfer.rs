@@ -371,7 +371,8 @@ impl Transfer {
         self.target_gradients.triangles()
     }
 
-    fn target_vertices(&self) -> usize {
+    /// The number of the target's vertices, as every output has.
+    pub fn num_target_vertices(&self) -> usize {
         self.target_gradients.num_vertices()
     }
 
@@ -404,7 +405,7 @@ impl Transfer {
     /// [`Error::Mismatch`] if `pose` does not have the source's connectivity.
     pub fn apply(&self, pose: &Mesh3) -> Result<Vec<[f64; 3]>> {
         self.check_pose(pose)?;
-        let mut out = vec![[0.0; 3]; self.target_vertices()];
+        let mut out = vec![[0.0; 3]; self.num_target_vertices()];
         self.apply_into(pose.positions(), &mut out, &mut self.workspace());
         Ok(out)
     }
@@ -423,7 +424,7 @@ impl Transfer {
             .map_init(
                 || self.workspace(),
                 |ws, pose| {
-                    let mut out = vec![[0.0; 3]; self.target_vertices()];
+                    let mut out = vec![[0.0; 3]; self.num_target_vertices()];
                     self.apply_into(pose.positions(), &mut out, ws);
                     out
                 },
@@ -445,7 +446,7 @@ impl Transfer {
         );
         assert_eq!(
             out.len(),
-            self.target_vertices(),
+            self.num_target_vertices(),
             "output has the wrong number of vertices"
         );
         let mut aligned = std::mem::take(&mut ws.aligned);

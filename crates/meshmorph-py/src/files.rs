@@ -1,0 +1,189 @@
+//! Files: `read_mesh` keeps the whole file so that `write_mesh` writes a
+//! result with its polygons, texture coordinates, normals and materials, as
+//! the command line does; `read_markers` reads every marker format.
+
+use std::path::PathBuf;
+
+use meshmorph::io::MeshFile;
+use meshmorph::{Markers, SurfacePoint, VertexNumbering};
+use numpy::PyArray1;
+use numpy::PyArrayMethods;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyModule};
+
+use crate::{arrays, bad, error};
+
+/// A mesh file as read: `.vertices` `(n, 3)`, `.faces` `(m, 3)` (polygons
+/// split into triangles), and everything else of the file, kept for
+/// `write_mesh`.
+#[pyclass(name = "Mesh", module = "meshmorph", frozen)]
+pub struct PyMesh {
+    pub file: MeshFile,
+}
+
+#[pymethods]
+impl PyMesh {
+    /// Vertex positions, `(n, 3)` float64.
+    #[getter]
+    fn vertices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        arrays::array(py, self.file.mesh().positions())
+    }
+
+    /// Triangles, `(m, 3)` int64 (polygons split as the file's order gives).
+    #[getter]
+    fn faces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let flat: Vec<i64> = self
+            .file
+            .mesh()
+            .triangles()
+            .iter()
+            .flatten()
+            .map(|&v| v as i64)
+            .collect();
+        Ok(PyArray1::from_vec(py, flat)
+            .reshape([self.file.mesh().num_triangles(), 3])?
+            .into_any())
+    }
+
+    /// The file it was read from.
+    #[getter]
+    fn path(&self) -> PathBuf {
+        self.file.path().to_path_buf()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "<meshmorph.Mesh {} vertices, {} triangles from {:?}>",
+            self.file.mesh().num_vertices(),
+            self.file.mesh().num_triangles(),
+            self.file.path()
+        )
+    }
+}
+
+/// Reads a mesh file (OBJ, OFF, PLY, STL, glTF/GLB).
+#[pyfunction]
+fn read_mesh(py: Python<'_>, path: PathBuf) -> PyResult<PyMesh> {
+    let file = py.detach(|| MeshFile::read(&path)).map_err(error)?;
+    Ok(PyMesh { file })
+}
+
+/// Writes `mesh` with new `vertices` `(n, 3)` to `path`, in the format its
+/// extension names: in the file's own format everything but the positions
+/// is kept; never over the file `mesh` was read from; atomically.
+#[pyfunction]
+fn write_mesh(
+    py: Python<'_>,
+    path: PathBuf,
+    mesh: &PyMesh,
+    vertices: &Bound<'_, PyAny>,
+) -> PyResult<Vec<String>> {
+    let positions = arrays::points_of::<3>("vertices", vertices)?;
+    let n = mesh.file.mesh().num_vertices();
+    if positions.len() != n {
+        return Err(bad(
+            "vertices",
+            format!("{} vertices, the mesh has {n}", positions.len()),
+        ));
+    }
+    let same = match (
+        std::fs::canonicalize(&path),
+        std::fs::canonicalize(mesh.file.path()),
+    ) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if same {
+        return Err(bad("path", format!("{} is the file the mesh was read from: meshmorph never writes over its inputs; choose another path", path.display())));
+    }
+    let format = meshmorph::io::Format::from_path(&path).map_err(error)?;
+    py.detach(|| mesh.file.write(&path, &positions, format))
+        .map_err(error)
+}
+
+/// Marker pairs on two surfaces, with names.
+#[pyclass(name = "Markers", module = "meshmorph", frozen)]
+pub struct PyMarkers {
+    pub markers: Markers,
+}
+
+fn point(py: Python<'_>, p: &SurfacePoint) -> PyResult<Py<PyAny>> {
+    let d = PyDict::new(py);
+    match *p {
+        SurfacePoint::Vertex(v) => d.set_item("vertex", v)?,
+        SurfacePoint::Triangle {
+            triangle,
+            barycentric,
+        } => {
+            d.set_item("triangle", triangle)?;
+            d.set_item("barycentric", barycentric.to_vec())?;
+        }
+    }
+    Ok(d.into_any().unbind())
+}
+
+#[pymethods]
+impl PyMarkers {
+    fn __len__(&self) -> usize {
+        self.markers.pairs().len()
+    }
+
+    /// The pairs, each `(source, target)`: `{"vertex": v}` or
+    /// `{"triangle": t, "barycentric": [b0, b1, b2]}` (points given as
+    /// positions are put on the surfaces by `correspond`).
+    #[getter]
+    fn pairs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let items = self
+            .markers
+            .pairs()
+            .iter()
+            .map(|[s, t]| Ok((point(py, s)?, point(py, t)?)))
+            .collect::<PyResult<Vec<_>>>()?;
+        PyList::new(py, items)
+    }
+
+    /// Each pair's name, or None.
+    #[getter]
+    fn names(&self) -> Vec<Option<String>> {
+        (0..self.markers.pairs().len())
+            .map(|k| self.markers.name(k).map(String::from))
+            .collect()
+    }
+
+    /// Writes meshmorph's marker file (names and surface points).
+    fn save(&self, path: PathBuf) -> PyResult<()> {
+        self.markers.save(&path).map_err(error)
+    }
+}
+
+/// Reads markers: one file of pairs (meshmorph's format, `.cons`), or with
+/// `target_path` two files of points paired by name or order (MeshLab's
+/// `.pp`, Wrap's `.json`, one point a line).
+#[pyfunction]
+#[pyo3(signature = (path, target_path = None, *, one_based = false))]
+fn read_markers(
+    path: PathBuf,
+    target_path: Option<PathBuf>,
+    one_based: bool,
+) -> PyResult<PyMarkers> {
+    let numbering = if one_based {
+        VertexNumbering::FromOne
+    } else {
+        VertexNumbering::FromZero
+    };
+    let markers = match target_path {
+        None => Markers::read(&path, numbering),
+        Some(t) => Markers::read_pair(&path, &t, numbering),
+    }
+    .map_err(error)?;
+    Ok(PyMarkers { markers })
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyMesh>()?;
+    m.add_class::<PyMarkers>()?;
+    m.add_function(wrap_pyfunction!(read_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(write_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(read_markers, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,44 @@
+//! meshmorph for Python: as-rigid-as-possible shape interpolation and
+//! deformation transfer on numpy arrays, factored once, the GIL released
+//! while the work runs. A thin layer over the Rust library: arrays in
+//! (`arrays.rs`), the library's objects held, arrays out.
+
+mod arrays;
+mod files;
+mod gradients;
+mod interpolation;
+mod transfer;
+
+use pyo3::create_exception;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+create_exception!(
+    meshmorph,
+    MeshmorphError,
+    PyValueError,
+    "A meshmorph error: bad input (its message names the argument and the element) or a failure of the work. A subclass of ValueError."
+);
+
+/// The library's error as a Python exception.
+pub(crate) fn error(e: meshmorph::Error) -> PyErr {
+    MeshmorphError::new_err(e.to_string())
+}
+
+/// An error about the argument `arg`.
+pub(crate) fn bad(arg: &str, message: impl std::fmt::Display) -> PyErr {
+    MeshmorphError::new_err(format!("{arg}: {message}"))
+}
+
+/// As-rigid-as-possible shape interpolation and deformation transfer on
+/// triangle meshes: numpy arrays in and out.
+#[pymodule(name = "meshmorph")]
+fn meshmorph_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("MeshmorphError", m.py().get_type::<MeshmorphError>())?;
+    interpolation::register(m)?;
+    transfer::register(m)?;
+    files::register(m)?;
+    gradients::register(m)?;
+    Ok(())
+}
