@@ -25,7 +25,7 @@ use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{Ipv4Addr, Ipv6Addr, SocketAddr, TcpListener, TcpStream};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 
@@ -57,6 +57,8 @@ pub struct Response {
     pub body: Vec<u8>,
     /// The session ends once this response is sent ([`Handler::ended`]).
     pub last: bool,
+    /// Where a redirection points.
+    pub location: Option<String>,
 }
 
 impl Response {
@@ -66,6 +68,7 @@ impl Response {
             content_type,
             body,
             last: false,
+            location: None,
         }
     }
 
@@ -82,6 +85,7 @@ impl Response {
                 .to_string()
                 .into_bytes(),
             last: false,
+            location: None,
         }
     }
 }
@@ -151,6 +155,16 @@ impl Door {
     }
 }
 
+/// One of the [`MAX_CONNECTIONS`] connections served at once, given back
+/// when dropped (also when a handler panics).
+struct Slot(Arc<AtomicUsize>);
+
+impl Drop for Slot {
+    fn drop(&mut self) {
+        self.0.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
 /// What every request is checked against.
 struct Checks {
     port: u16,
@@ -170,34 +184,50 @@ fn accept(
             let _ = respond(&mut stream, &Response::error(503, "too many connections"));
             continue;
         }
-        let (checks, handler, open_here) = (checks.clone(), handler.clone(), open.clone());
-        let spawned = std::thread::Builder::new()
+        let slot = Slot(open.clone());
+        let (checks, handler) = (checks.clone(), handler.clone());
+        // A thread that cannot start drops its slot with the closure.
+        let _ = std::thread::Builder::new()
             .name("pick-request".into())
             .spawn(move || {
-                let _ = stream.set_read_timeout(Some(IDLE));
+                let _slot = slot;
                 let _ = stream.set_write_timeout(Some(IDLE));
                 let response = match read_request(&mut stream, &checks) {
-                    Ok(request) => handler.handle(request),
+                    Ok(request) => std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                        handler.handle(request)
+                    }))
+                    .unwrap_or_else(|_| {
+                        Response::error(500, "the request failed inside meshmorph")
+                    }),
                     Err(refusal) => refusal,
                 };
                 let _ = respond(&mut stream, &response);
-                open_here.fetch_sub(1, Ordering::SeqCst);
                 if response.last {
                     handler.ended();
                 }
             });
-        if spawned.is_err() {
-            open.fetch_sub(1, Ordering::SeqCst);
-        }
     }
 }
 
 /// Reads one request and checks it; a refusal is the response to send.
+/// The whole request must arrive within [`IDLE`]; the token is checked as
+/// soon as the request line has.
 fn read_request(stream: &mut TcpStream, checks: &Checks) -> std::result::Result<Request, Response> {
     let bad = |m: &str| Response::error(400, m);
+    let deadline = Instant::now() + IDLE;
+    let in_time = |s: &TcpStream| -> std::result::Result<(), Response> {
+        let left = deadline.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            return Err(Response::error(408, "the request was not sent in time"));
+        }
+        s.set_read_timeout(Some(left))
+            .map_err(|_| Response::error(500, "cannot wait for the request"))
+    };
     let mut reader = BufReader::new(stream.take(MAX_HEAD as u64));
-    let mut lines = Vec::new();
+    let mut lines: Vec<String> = Vec::new();
+    let mut rest = None;
     loop {
+        in_time(reader.get_ref().get_ref())?;
         let mut line = Vec::new();
         match reader.read_until(b'\n', &mut line) {
             Ok(0) => return Err(bad("the request ended before its headers did")),
@@ -212,20 +242,14 @@ fn read_request(stream: &mut TcpStream, checks: &Checks) -> std::result::Result<
         if text.is_empty() {
             break;
         }
+        if lines.is_empty() {
+            rest = Some(request_line(&text, checks)?);
+        } else if text.starts_with([' ', '\t']) {
+            return Err(bad("folded header lines are not taken"));
+        }
         lines.push(text);
     }
-    let mut first = lines
-        .first()
-        .map(|l| l.split(' '))
-        .ok_or_else(|| bad("no request line"))?;
-    let (Some(method), Some(target), Some(version), None) =
-        (first.next(), first.next(), first.next(), first.next())
-    else {
-        return Err(bad("malformed request line"));
-    };
-    if !version.starts_with("HTTP/1.") {
-        return Err(Response::error(505, "only HTTP/1.x is spoken here"));
-    }
+    let (method, rest) = rest.ok_or_else(|| bad("no request line"))?;
     let mut host = None;
     let mut origin = None;
     let mut length = None;
@@ -233,18 +257,21 @@ fn read_request(stream: &mut TcpStream, checks: &Checks) -> std::result::Result<
         let (name, value) = line
             .split_once(':')
             .ok_or_else(|| bad("malformed header"))?;
+        if name.is_empty() || name.contains(|c: char| c.is_whitespace()) {
+            return Err(bad("malformed header name"));
+        }
         let value = value.trim();
         match name.to_ascii_lowercase().as_str() {
             "host" if host.is_some() => return Err(bad("two Host headers")),
             "host" => host = Some(value.to_string()),
+            "origin" if origin.is_some() => return Err(bad("two Origin headers")),
             "origin" => origin = Some(value.to_string()),
             "content-length" if length.is_some() => return Err(bad("two Content-Length headers")),
             "content-length" => {
-                length = Some(
-                    value
-                        .parse::<usize>()
-                        .map_err(|_| bad("bad Content-Length"))?,
-                )
+                if value.is_empty() || !value.bytes().all(|b| b.is_ascii_digit()) {
+                    return Err(bad("bad Content-Length"));
+                }
+                length = Some(value.parse::<usize>().unwrap_or(usize::MAX));
             }
             "transfer-encoding" => {
                 return Err(Response::error(411, "send the body with a Content-Length"))
@@ -271,14 +298,13 @@ fn read_request(stream: &mut TcpStream, checks: &Checks) -> std::result::Result<
             return Err(Response::error(403, "the Origin is not this page"));
         }
     }
-    let path = target.split(['?', '#']).next().unwrap_or_default();
-    let rest = path
-        .strip_prefix('/')
-        .and_then(|p| {
-            let (token, rest) = p.split_once('/').unwrap_or((p, ""));
-            same(token.as_bytes(), checks.token.as_bytes()).then_some(rest)
-        })
-        .ok_or_else(|| Response::error(403, "no or wrong token"))?;
+    let Some(rest) = rest else {
+        // The page's address without its last slash: its relative URLs
+        // would lose the token.
+        let mut moved = Response::error(308, "the page is at /TOKEN/");
+        moved.location = Some(format!("/{}/", checks.token));
+        return Err(moved);
+    };
     let length = length.unwrap_or(0);
     if length > MAX_BODY {
         return Err(Response::error(413, "the body is too large"));
@@ -288,18 +314,53 @@ fn read_request(stream: &mut TcpStream, checks: &Checks) -> std::result::Result<
     let buffered = reader.buffer().len().min(length);
     body.extend_from_slice(&reader.buffer()[..buffered]);
     let stream = reader.into_inner().into_inner();
-    stream
-        .take((length - buffered) as u64)
-        .read_to_end(&mut body)
-        .map_err(|_| Response::error(408, "the body was not sent in time"))?;
-    if body.len() != length {
-        return Err(bad("the body is shorter than its Content-Length"));
+    let mut left = length - buffered;
+    let mut chunk = [0u8; 64 * 1024];
+    while left > 0 {
+        in_time(stream)?;
+        let n = stream
+            .read(&mut chunk[..left.min(64 * 1024)])
+            .map_err(|_| Response::error(408, "the body was not sent in time"))?;
+        if n == 0 {
+            return Err(bad("the body is shorter than its Content-Length"));
+        }
+        body.extend_from_slice(&chunk[..n]);
+        left -= n;
     }
     Ok(Request {
-        method: method.to_string(),
-        path: format!("/{rest}"),
+        method,
+        path: rest,
         body,
     })
+}
+
+/// The method and the path after the token (None for `/TOKEN` without its
+/// slash) of a request line, the token checked.
+fn request_line(
+    line: &str,
+    checks: &Checks,
+) -> std::result::Result<(String, Option<String>), Response> {
+    let mut parts = line.split(' ');
+    let (Some(method), Some(target), Some(version), None) =
+        (parts.next(), parts.next(), parts.next(), parts.next())
+    else {
+        return Err(Response::error(400, "malformed request line"));
+    };
+    if !version.starts_with("HTTP/1.") {
+        return Err(Response::error(505, "only HTTP/1.x is spoken here"));
+    }
+    let path = target.split(['?', '#']).next().unwrap_or_default();
+    let p = path
+        .strip_prefix('/')
+        .ok_or_else(|| Response::error(403, "no or wrong token"))?;
+    let (token, rest) = match p.split_once('/') {
+        Some((token, rest)) => (token, Some(format!("/{rest}"))),
+        None => (p, None),
+    };
+    if !same(token.as_bytes(), checks.token.as_bytes()) {
+        return Err(Response::error(403, "no or wrong token"));
+    }
+    Ok((method.to_string(), rest))
 }
 
 /// Compares two tokens in time that does not depend on where they differ.
@@ -310,6 +371,7 @@ fn same(a: &[u8], b: &[u8]) -> bool {
 fn respond(stream: &mut TcpStream, r: &Response) -> std::io::Result<()> {
     let reason = match r.status {
         200 => "OK",
+        308 => "Permanent Redirect",
         400 => "Bad Request",
         403 => "Forbidden",
         404 => "Not Found",
@@ -325,8 +387,13 @@ fn respond(stream: &mut TcpStream, r: &Response) -> std::io::Result<()> {
         505 => "HTTP Version Not Supported",
         _ => "",
     };
+    let location = r
+        .location
+        .as_ref()
+        .map(|l| format!("Location: {l}\r\n"))
+        .unwrap_or_default();
     let head = format!(
-        "HTTP/1.1 {} {reason}\r\nContent-Type: {}\r\nContent-Length: {}\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nReferrer-Policy: no-referrer\r\nContent-Security-Policy: default-src 'self'; img-src 'self' data: blob:; connect-src 'self'; frame-ancestors 'none'\r\nConnection: close\r\n\r\n",
+        "HTTP/1.1 {} {reason}\r\n{location}Content-Type: {}\r\nContent-Length: {}\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nReferrer-Policy: no-referrer\r\nContent-Security-Policy: default-src 'self'; img-src 'self' data: blob:; connect-src 'self'; frame-ancestors 'none'\r\nConnection: close\r\n\r\n",
         r.status,
         r.content_type,
         r.body.len()
@@ -335,5 +402,16 @@ fn respond(stream: &mut TcpStream, r: &Response) -> std::io::Result<()> {
     stream.write_all(&r.body)?;
     stream.flush()?;
     let _ = stream.shutdown(std::net::Shutdown::Write);
+    // What the client sent beyond what was read (a refused body) is read
+    // away, a little and briefly, so that closing does not reset the
+    // connection before the client has read the response.
+    let _ = stream.set_read_timeout(Some(Duration::from_millis(200)));
+    let mut sink = [0u8; 16 * 1024];
+    for _ in 0..64 {
+        match stream.read(&mut sink) {
+            Ok(n) if n > 0 => {}
+            _ => break,
+        }
+    }
     Ok(())
 }

@@ -169,6 +169,18 @@ impl Session {
             pairs.push([side(p.source, "source")?, side(p.target, "target")?]);
             names.push(p.name.filter(|n| !n.trim().is_empty()));
         }
+        let mut seen = std::collections::HashMap::new();
+        for (k, name) in names.iter().enumerate() {
+            if let Some(name) = name {
+                if let Some(first) = seen.insert(name.clone(), k) {
+                    bail!(
+                        "pairs {} and {} are both named {name:?}: names must differ",
+                        first + 1,
+                        k + 1
+                    );
+                }
+            }
+        }
         let markers = Markers::on_surfaces(pairs).with_names(names);
         markers.validate(self.source.file_mesh(), self.target.file_mesh())?;
         Ok(markers)
@@ -182,7 +194,13 @@ impl Session {
     /// largest of its triangles'), the transferred pose's positions (when
     /// the report says `pose`).
     fn fit(&self, markers: &Markers) -> Result<Response> {
-        let _one = self.fitting.lock().unwrap_or_else(|e| e.into_inner());
+        let _one = match self.fitting.try_lock() {
+            Ok(one) => one,
+            Err(std::sync::TryLockError::Poisoned(e)) => e.into_inner(),
+            Err(std::sync::TryLockError::WouldBlock) => {
+                bail!("another fit is running (from another page): try again when it is done")
+            }
+        };
         let begin = Instant::now();
         let mut warnings = Vec::new();
         let (result, marker_report, fit) = self.correspond.compute_from(

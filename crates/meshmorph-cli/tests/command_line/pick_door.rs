@@ -124,6 +124,28 @@ fn pick_refuses_requests_without_the_token_or_from_elsewhere() {
             400,
             "a bad length",
         ),
+        (
+            format!("POST /{t}/api/save HTTP/1.1\r\nHost: {host}\r\nContent-Length: +2\r\n\r\n{{}}"),
+            400,
+            "a signed length",
+        ),
+        (
+            format!("GET /{t}/ HTTP/1.1\r\nHost: {host}\r\nOrigin : http://evil.example\r\n\r\n"),
+            400,
+            "a header name with a space",
+        ),
+        (
+            format!("GET /{t}/ HTTP/1.1\r\nHost: {host}\r\nOrigin: http://{host}\r\nOrigin: http://evil.example\r\n\r\n"),
+            400,
+            "two Origins",
+        ),
+        (
+            format!("GET /{t}/ HTTP/1.1\r\nHost: {host}\r\nX-A: 1\r\n Origin: http://evil.example\r\n\r\n"),
+            400,
+            "a folded header",
+        ),
+        (format!("GET /{t} HTTP/1.1\r\nHost: {host}\r\n\r\n"), 308, "the page without its slash"),
+        (format!("GET /{t} HTTP/1.1\r\nHost: evil.example\r\n\r\n"), 403, "the same from elsewhere"),
     ];
     for (raw, expected, what) in cases {
         let (status, body) = pick.send(raw.as_bytes());
@@ -169,6 +191,12 @@ fn pick_refuses_malformed_and_bad_markers_naming_them() {
         }
         still_answers(&pick);
     }
+    let twice = r#"{"pairs": [
+      {"name": "nose", "source": {"vertex": 0}, "target": {"vertex": 0}},
+      {"name": "nose", "source": {"vertex": 1}, "target": {"vertex": 1}}]}"#;
+    let (status, answer) = pick.page("POST", "/api/save", twice);
+    assert_eq!(status, 422);
+    assert!(answer.contains("both named"), "{answer}");
     let many = format!(
         r#"{{"pairs": [{}]}}"#,
         vec![r#"{"source": {"vertex": 0}, "target": {"vertex": 0}}"#; 10_001].join(",")

@@ -214,6 +214,7 @@ function change(apply, { fit = true } = {}) {
 }
 
 function changed(fit = true) {
+  if (fit) state.nearPoor = new Set(); // the last fit's pairs are not these
   drawMarkers();
   listPairs();
   if (fit && $('autofit').checked) scheduleFit();
@@ -360,18 +361,24 @@ function under(view, event) {
     markerGroups.push([state.ghost.markers, SOURCE]);
     meshes.push([state.ghost.object, SOURCE]);
   }
-  let best = null;
+  // The nearest visible surface, then a marker in front of it (a marker on
+  // the far side of the mesh is hidden, and not picked).
+  let surface = null;
+  for (const [object, side] of meshes) {
+    if (!object.visible || !object.parent?.visible) continue;
+    const hit = raycaster.intersectObject(object, false)[0];
+    if (hit && (!surface || hit.distance < surface.hit.distance)) surface = { side, hit, object };
+  }
+  let marker = null;
   for (const [group, side] of markerGroups) {
+    if (!group.parent?.visible) continue;
     for (const hit of raycaster.intersectObjects(group.children, false)) {
-      if (!best || hit.distance < best.hit.distance) best = { marker: hit.object.userData.pair, side, hit };
+      const radius = hit.object.scale.x * group.parent.scale.x;
+      const visible = !surface || hit.distance <= surface.hit.distance + radius;
+      if (visible && (!marker || hit.distance < marker.hit.distance)) marker = { marker: hit.object.userData.pair, side, hit };
     }
   }
-  if (best) return best;
-  for (const [object, side] of meshes) {
-    const hit = raycaster.intersectObject(object, false)[0];
-    if (hit && (!best || hit.distance < best.hit.distance)) best = { side, hit, object };
-  }
-  return best;
+  return marker ?? surface;
 }
 
 function attachPointer(view) {
@@ -458,8 +465,25 @@ function colourOf(d) {
   return FIT_COLOURS[Math.min(FIT_COLOURS.length - 1, Math.floor(d / FIT_STEP))];
 }
 
+let fitRunning = false, fitAgain = false;
+/** One fit at a time: a fit asked for meanwhile runs when it is done. */
 async function fit() {
+  if (fitRunning) { fitAgain = true; return; }
+  fitRunning = true;
+  try {
+    do {
+      fitAgain = false;
+      await fitOnce();
+    } while (fitAgain);
+  } finally {
+    fitRunning = false;
+  }
+}
+
+async function fitOnce() {
   const pairs = completePairs();
+  // The list's index of each pair sent, to name the pairs the fit names.
+  const sent = state.pairs.map((p, k) => (complete(p) ? k : -1)).filter((k) => k >= 0);
   const generation = ++fitGeneration;
   const start = performance.now();
   status(`fitting ${pairs.length} pairs…`);
@@ -476,6 +500,7 @@ async function fit() {
     return;
   }
   if (generation !== fitGeneration) return; // a newer fit is on its way
+  result.report.nearest_pairs = result.report.nearest_pairs.map((ks) => ks.map((k) => sent[k]));
   showFit(result);
   requestAnimationFrame(() => {
     timings.lastFit = performance.now() - start;
@@ -623,15 +648,17 @@ async function done() {
 }
 
 function keys(event) {
+  if (state.closed) return;
   if (event.target instanceof HTMLInputElement && event.target.type === 'text') return;
   const mod = event.ctrlKey || event.metaKey;
+  const plain = !mod && !event.altKey;
   if (mod && event.key.toLowerCase() === 'z') { event.preventDefault(); if (event.shiftKey) redo(); else undo(); }
   else if (mod && event.key.toLowerCase() === 'y') { event.preventDefault(); redo(); }
   else if (mod && event.key.toLowerCase() === 's') { event.preventDefault(); save(); }
   else if (event.key === 'Delete' || event.key === 'Backspace') deleteSelected();
   else if (event.key === 'Escape') cancelPending();
-  else if (event.key === 'f') fit();
-  else if (event.key === 'm') mirror();
+  else if (plain && event.key === 'f') fit();
+  else if (plain && event.key === 'm') mirror();
 }
 
 function overlay() {
