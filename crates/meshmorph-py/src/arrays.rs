@@ -239,16 +239,36 @@ pub fn array<'py, const D: usize>(
         .into_any())
 }
 
-/// A new `(k, n, D)` float64 array.
-pub fn array3<'py, const D: usize>(
+/// A new `(k, n, D)` float64 array filled in place, the GIL released and
+/// no frame copied: each thread takes an equal share of the frames, with
+/// its own `init()` workspace, and `fill(ws, frames, outs)` writes the
+/// frames of the range `frames` into `outs`.
+pub fn frames_in_place<'py, const D: usize, W>(
     py: Python<'py>,
-    frames: &[Vec<[f64; D]>],
+    (k, n): (usize, usize),
+    init: impl Fn() -> W + Send + Sync,
+    fill: impl Fn(&mut W, std::ops::Range<usize>, &mut [&mut [[f64; D]]]) + Send + Sync,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let n = frames.first().map_or(0, Vec::len);
-    let flat: Vec<f64> = frames.iter().flatten().flatten().copied().collect();
-    Ok(PyArray1::from_vec(py, flat)
-        .reshape([frames.len(), n, D])?
-        .into_any())
+    use rayon::prelude::*;
+    let array = PyArray3::<f64>::zeros(py, [k, n, D], false);
+    if k > 0 && n > 0 {
+        let share = k.div_ceil(rayon::current_num_threads()).max(1);
+        let mut write = array.readwrite();
+        let flat = write.as_slice_mut().expect("a new array is contiguous");
+        py.detach(|| {
+            flat.par_chunks_mut(share * n * D)
+                .enumerate()
+                .for_each_init(init, |ws, (c, block)| {
+                    let mut outs: Vec<&mut [[f64; D]]> = block
+                        .chunks_mut(n * D)
+                        .map(|frame| frame.as_chunks_mut::<D>().0)
+                        .collect();
+                    let first = c * share;
+                    fill(ws, first..first + outs.len(), &mut outs);
+                });
+        });
+    }
+    Ok(array.into_any())
 }
 
 /// `rows` as a new array, or written into `out` (a writeable `(n, D)`

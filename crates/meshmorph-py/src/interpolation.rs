@@ -150,7 +150,7 @@ impl PyInterpolator {
     /// The shapes at times `ts`, `(k, n, d)` float64, computed in parallel.
     fn frames<'py>(&self, py: Python<'py>, ts: Vec<f64>) -> PyResult<Bound<'py, PyAny>> {
         let ts = times("ts", ts)?;
-        each!(&self.0, i => { let frames = py.detach(|| i.frames(&ts)); arrays::array3(py, &frames) })
+        each!(&self.0, i => arrays::frames_in_place(py, (ts.len(), i.num_vertices()), || i.workspace(), |ws, fs, outs| i.sequence().frames_into(&ts[fs], outs, ws)))
     }
 
     /// The number of vertices.
@@ -235,7 +235,7 @@ impl PySequence {
     /// The shapes at `ss`, `(k, n, d)`, computed in parallel.
     fn frames<'py>(&self, py: Python<'py>, ss: Vec<f64>) -> PyResult<Bound<'py, PyAny>> {
         let ss = times("ss", ss)?;
-        each!(&self.0, q => { let frames = py.detach(|| q.frames(&ss)); arrays::array3(py, &frames) })
+        each!(&self.0, q => arrays::frames_in_place(py, (ss.len(), q.num_vertices()), || q.workspace(), |ws, fs, outs| q.frames_into(&ss[fs], outs, ws)))
     }
 }
 

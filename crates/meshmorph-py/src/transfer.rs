@@ -291,7 +291,6 @@ impl PyTransfer {
         poses: &Bound<'py, PyAny>,
         progress: Option<Py<PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        use rayon::prelude::*;
         let poses = arrays::stack::<3>("poses", poses)?;
         if let Some(k) = poses.iter().position(|p| p.len() != self.source_vertices) {
             return Err(bad(
@@ -306,34 +305,31 @@ impl PyTransfer {
         let total = poses.len();
         let done = std::sync::atomic::AtomicUsize::new(0);
         let failed: Mutex<Option<PyErr>> = Mutex::new(None);
-        let results = py.detach(|| {
-            poses
-                .par_iter()
-                .map_init(
-                    || self.inner.workspace(),
-                    |ws, pose| {
-                        let mut out = vec![[0.0; 3]; self.target_vertices()];
-                        self.inner.apply_into(pose, &mut out, ws);
-                        let finished = done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
-                        if let Some(cb) = &progress {
-                            Python::attach(|py| {
-                                if let Err(e) = cb.call1(py, (finished, total)) {
-                                    failed
-                                        .lock()
-                                        .unwrap_or_else(|p| p.into_inner())
-                                        .get_or_insert(e);
-                                }
-                            });
-                        }
-                        out
-                    },
-                )
-                .collect::<Vec<_>>()
-        });
+        let results = arrays::frames_in_place(
+            py,
+            (total, self.target_vertices()),
+            || self.inner.workspace(),
+            |ws, ks, outs| {
+                for (k, out) in ks.zip(outs.iter_mut()) {
+                    self.inner.apply_into(&poses[k], out, ws);
+                    let finished = done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
+                    if let Some(cb) = &progress {
+                        Python::attach(|py| {
+                            if let Err(e) = cb.call1(py, (finished, total)) {
+                                failed
+                                    .lock()
+                                    .unwrap_or_else(|p| p.into_inner())
+                                    .get_or_insert(e);
+                            }
+                        });
+                    }
+                }
+            },
+        )?;
         if let Some(e) = failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
             return Err(e);
         }
-        arrays::array3(py, &results)
+        Ok(results)
     }
 }
 
