@@ -2,7 +2,7 @@
 times the Rust side, run first by this script): horse -> camel's
 correspondence, its ten poses with apply_all, 100 horse frames, 10 frames
 of a 1M-triangle strip, and `at` on two triangles. Prints a markdown table;
-the fastest of several runs each side.
+the fastest of 3 (correspondence), 10 (strip) or 15 runs each side.
 
     python crates/meshmorph-py/bench/overhead.py   (with meshmorph installed)
 """
@@ -48,13 +48,19 @@ def main():
     found = {}
     py = {"correspond": fastest(3, lambda: found.setdefault("c", meshmorph.correspond(hv, hf, cv, cf, markers)))}
     transfer = meshmorph.Transfer(hv, hf, cv, cf, found["c"])
-    py["apply_all"] = fastest(5, lambda: transfer.apply_all(poses))
+    py["apply_all"] = fastest(15, lambda: transfer.apply_all(poses))
     walk = meshmorph.Interpolator(hv, poses[4], hf)
-    py["frames_100"] = fastest(5, lambda: walk.frames(np.linspace(0, 1, 100)))
+    py["frames_100"] = fastest(15, lambda: walk.frames(np.linspace(0, 1, 100)))
     strip = meshmorph.read_mesh(work / "strip.obj")
     curl = meshmorph.read_mesh(work / "curl.obj")
     big = meshmorph.Interpolator(strip.vertices[:, :2], curl.vertices[:, :2], strip.faces)
-    py["strip_frames"] = fastest(3, lambda: big.frames(np.linspace(0, 1, 10)))
+    py["strip_frames"] = fastest(10, lambda: big.frames(np.linspace(0, 1, 10)))
+    # Into a buffer the caller keeps, as the Rust side's repeated runs reuse
+    # their freed memory (a new 80 MB array is new pages each time).
+    buffer = np.empty((10,) + strip.vertices[:, :2].shape)
+    py["strip_frames_out"] = fastest(10, lambda: big.frames(np.linspace(0, 1, 10), out=buffer))
+    frames_out = np.empty((100,) + hv.shape)
+    py["frames_100_out"] = fastest(15, lambda: walk.frames(np.linspace(0, 1, 100), out=frames_out))
     one = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
     small = meshmorph.Interpolator(one, one @ np.array([[0.9, 0.3], [-0.3, 0.9]]), np.array([[0, 1, 2], [0, 2, 3]]))
     calls = 100_000
@@ -69,6 +75,13 @@ def main():
     print("|---|---:|---:|---:|")
     for name, key in rows:
         r, p = rust[key], py[key]
+        print(f"| {name} | {r * 1e3:.1f} ms | {p * 1e3:.1f} ms | {100 * (p / r - 1):+.1f} % |")
+    for name, key, rkey in [
+        ("horse, 100 frames, `frames(out=)`", "frames_100_out", "frames_100"),
+        (f"strip, 10 frames, `frames(out=)`", "strip_frames_out", "strip_frames"),
+        ("strip, 10 frames: Python's new array against Rust's first call (new memory both)", "strip_frames", "strip_first"),
+    ]:
+        r, p = rust[rkey], py[key]
         print(f"| {name} | {r * 1e3:.1f} ms | {p * 1e3:.1f} ms | {100 * (p / r - 1):+.1f} % |")
     r, p = rust["small_at"], py["small_at"]
     print(f"| `at` on two triangles, a call | {r * 1e6:.2f} µs | {p * 1e6:.2f} µs | {(p - r) * 1e6:+.2f} µs a call |")

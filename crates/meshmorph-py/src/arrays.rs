@@ -239,22 +239,54 @@ pub fn array<'py, const D: usize>(
         .into_any())
 }
 
-/// A new `(k, n, D)` float64 array filled in place, the GIL released and
-/// no frame copied: each thread takes an equal share of the frames, with
-/// its own `init()` workspace, and `fill(ws, frames, outs)` writes the
+/// A `(k, n, D)` float64 array filled in place, the GIL released and no
+/// frame copied: a new one, or `out` (a writeable, C-contiguous array of
+/// that shape, returned). Each thread takes an equal share of the frames,
+/// with its own `init()` workspace, and `fill(ws, frames, outs)` writes the
 /// frames of the range `frames` into `outs`.
 pub fn frames_in_place<'py, const D: usize, W>(
     py: Python<'py>,
     (k, n): (usize, usize),
+    out: Option<Bound<'py, PyAny>>,
     init: impl Fn() -> W + Send + Sync,
     fill: impl Fn(&mut W, std::ops::Range<usize>, &mut [&mut [[f64; D]]]) + Send + Sync,
 ) -> PyResult<Bound<'py, PyAny>> {
     use rayon::prelude::*;
-    let array = PyArray3::<f64>::zeros(py, [k, n, D], false);
+    let array = match out {
+        None => PyArray3::<f64>::zeros(py, [k, n, D], false),
+        Some(out) => {
+            let Ok(array) = out.cast::<PyArray3<f64>>() else {
+                return Err(bad(
+                    "out",
+                    format!(
+                        "expected a ({k}, {n}, {D}) float64 numpy array, got {}",
+                        describe(&out)
+                    ),
+                ));
+            };
+            if array.shape() != [k, n, D] {
+                return Err(bad(
+                    "out",
+                    format!(
+                        "expected the shape ({k}, {n}, {D}), got {:?}",
+                        array.shape()
+                    ),
+                ));
+            }
+            if !array.is_c_contiguous() {
+                return Err(bad("out", "the array is not C-contiguous"));
+            }
+            array.clone()
+        }
+    };
     if k > 0 && n > 0 {
         let share = k.div_ceil(rayon::current_num_threads()).max(1);
-        let mut write = array.readwrite();
-        let flat = write.as_slice_mut().expect("a new array is contiguous");
+        let mut write = array
+            .try_readwrite()
+            .map_err(|_| bad("out", "the array is not writeable (or is borrowed)"))?;
+        let flat = write
+            .as_slice_mut()
+            .map_err(|_| bad("out", "the array is not C-contiguous"))?;
         py.detach(|| {
             flat.par_chunks_mut(share * n * D)
                 .enumerate()

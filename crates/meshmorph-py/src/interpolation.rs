@@ -147,10 +147,17 @@ impl PyInterpolator {
         each!(&self.0, i => { let frame = py.detach(|| i.at(t)); arrays::give(py, &frame, out) })
     }
 
-    /// The shapes at times `ts`, `(k, n, d)` float64, computed in parallel.
-    fn frames<'py>(&self, py: Python<'py>, ts: Vec<f64>) -> PyResult<Bound<'py, PyAny>> {
+    /// The shapes at times `ts`, `(k, n, d)` float64, computed in parallel,
+    /// or written into `out`.
+    #[pyo3(signature = (ts, *, out = None))]
+    fn frames<'py>(
+        &self,
+        py: Python<'py>,
+        ts: Vec<f64>,
+        out: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let ts = times("ts", ts)?;
-        each!(&self.0, i => arrays::frames_in_place(py, (ts.len(), i.num_vertices()), || i.workspace(), |ws, fs, outs| i.sequence().frames_into(&ts[fs], outs, ws)))
+        each!(&self.0, i => arrays::frames_in_place(py, (ts.len(), i.num_vertices()), out, || i.workspace(), |ws, fs, outs| i.sequence().frames_into(&ts[fs], outs, ws)))
     }
 
     /// The number of vertices.
@@ -232,10 +239,17 @@ impl PySequence {
         each!(&self.0, q => { let frame = py.detach(|| q.at(s)); arrays::give(py, &frame, out) })
     }
 
-    /// The shapes at `ss`, `(k, n, d)`, computed in parallel.
-    fn frames<'py>(&self, py: Python<'py>, ss: Vec<f64>) -> PyResult<Bound<'py, PyAny>> {
+    /// The shapes at `ss`, `(k, n, d)`, computed in parallel, or written
+    /// into `out`.
+    #[pyo3(signature = (ss, *, out = None))]
+    fn frames<'py>(
+        &self,
+        py: Python<'py>,
+        ss: Vec<f64>,
+        out: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let ss = times("ss", ss)?;
-        each!(&self.0, q => arrays::frames_in_place(py, (ss.len(), q.num_vertices()), || q.workspace(), |ws, fs, outs| q.frames_into(&ss[fs], outs, ws)))
+        each!(&self.0, q => arrays::frames_in_place(py, (ss.len(), q.num_vertices()), out, || q.workspace(), |ws, fs, outs| q.frames_into(&ss[fs], outs, ws)))
     }
 }
 

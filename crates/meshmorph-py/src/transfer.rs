@@ -283,12 +283,14 @@ impl PyTransfer {
     }
 
     /// The target in each pose of `poses` `(k, n, 3)`, `(k, m, 3)`, in
-    /// parallel; `progress(done, total)` is called as poses finish.
-    #[pyo3(signature = (poses, *, progress = None))]
+    /// parallel, or written into `out`; `progress(done, total)` is called
+    /// as poses finish.
+    #[pyo3(signature = (poses, *, out = None, progress = None))]
     fn apply_all<'py>(
         &self,
         py: Python<'py>,
         poses: &Bound<'py, PyAny>,
+        out: Option<Bound<'py, PyAny>>,
         progress: Option<Py<PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let poses = arrays::stack::<3>("poses", poses)?;
@@ -308,6 +310,7 @@ impl PyTransfer {
         let results = arrays::frames_in_place(
             py,
             (total, self.target_vertices()),
+            out,
             || self.inner.workspace(),
             |ws, ks, outs| {
                 for (k, out) in ks.zip(outs.iter_mut()) {

@@ -68,6 +68,12 @@ def test_interpolation_passes_through_its_keys_in_the_plane_and_in_space():
         assert np.array_equal(frames[1], i.at(0.5))
         out = np.zeros_like(v0)
         assert i.at(0.5, out=out) is out and np.array_equal(out, frames[1])
+        many = np.zeros((3,) + v0.shape)
+        assert i.frames([0.0, 0.5, 1.0], out=many) is many and np.array_equal(many, frames)
+        with pytest.raises(meshmorph.MeshmorphError, match="out:"):
+            i.frames([0.0, 0.5], out=many)
+        with pytest.raises(meshmorph.MeshmorphError, match="out:"):
+            i.frames([0.0, 0.5, 1.0], out=np.asfortranarray(many))
 
 
 def test_a_rigid_turn_stays_rigid():
@@ -185,6 +191,8 @@ def test_transfer_of_the_rest_pose_is_the_target_and_apply_all_matches_apply(tmp
     assert sorted(seen) == [(1, 3), (2, 3), (3, 3)]
     for k in range(3):
         assert np.array_equal(every[k], t.apply(poses[k]))
+    into = np.empty_like(every)
+    assert t.apply_all(poses, out=into) is into and np.array_equal(into, every)
     path = tmp_path / "c.corr"
     c.save(path)
     again = meshmorph.Transfer(vs, fs, vt, ft, meshmorph.Correspondence.load(path))
