@@ -6,7 +6,9 @@
 //   node pick.mjs URL OUTDIR PLAN.json [--chromium PATH]
 //
 // PLAN.json: { "pairs": [[[sx, sy, sz], [tx, ty, tz]], ...],
-//              "delete": k, "undo": true, "save": true, "fit": true,
+//              "delete": k, "undo": true, "redo": true (then undone),
+//              "mirror": k (then undone), "overlay": "overlay.png",
+//              "save": true, "fit": true,
 //              "screenshot": "name.png", "size": [width, height] }
 // Every step is optional. Exits 0 when every step ran, 1 when one failed,
 // 2 on a usage or setup error.
@@ -64,6 +66,25 @@ try {
   if (plan.undo) {
     await page.click('#undo');
     result.after_undo = await page.evaluate(() => window.pick.pairs().length);
+  }
+  if (plan.redo) {
+    await page.click('#redo');
+    result.after_redo = await page.evaluate(() => window.pick.pairs().length);
+    await page.click('#undo');
+  }
+  if (plan.mirror !== undefined) {
+    await page.click(`#pairs li:nth-child(${plan.mirror + 1})`);
+    const before = await page.evaluate(() => window.pick.pairs().length);
+    await page.click('#mirror');
+    await page.waitForFunction((n) => window.pick.pairs().length > n, { timeout: 30000 }, before);
+    result.mirrored = await page.evaluate(() => window.pick.pairs().at(-1));
+    await page.click('#undo');
+  }
+  if (plan.overlay) {
+    await page.click('#overlay');
+    await page.evaluate(() => new Promise((ok) => requestAnimationFrame(() => requestAnimationFrame(ok))));
+    await page.screenshot({ path: join(outdir, plan.overlay) });
+    await page.click('#overlay');
   }
   if (plan.save) {
     await page.click('#save');

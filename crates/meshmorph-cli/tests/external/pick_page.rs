@@ -58,6 +58,9 @@ fn the_page_makes_deletes_undoes_saves_and_fits_pairs() {
         "pairs": points(),
         "delete": 1,
         "undo": true,
+        "redo": true,
+        "mirror": 0,
+        "overlay": "pick-overlay.png",
         "save": true,
         "fit": true,
         "screenshot": "pick-page.png",
@@ -68,6 +71,33 @@ fn the_page_makes_deletes_undoes_saves_and_fits_pairs() {
     assert_eq!(report["after_clicks"], 3, "{report}");
     assert_eq!(report["after_delete"], 2, "{report}");
     assert_eq!(report["after_undo"], 3, "{report}");
+    assert_eq!(report["after_redo"], 2, "{report}");
+    // The first pair mirrored across both sheets' planes (y = 0): at the
+    // mirror images of its points, on the surfaces.
+    let mirrored = &report["mirrored"];
+    let sheets = [
+        read_mesh(&pick.source).unwrap(),
+        read_mesh(&pick.target).unwrap(),
+    ];
+    for (side, key) in ["source", "target"].iter().enumerate() {
+        let p = &mirrored[key];
+        let at = match (p["vertex"].as_u64(), p["triangle"].as_u64()) {
+            (Some(v), _) => SurfacePoint::Vertex(v as u32),
+            (None, Some(t)) => SurfacePoint::Triangle {
+                triangle: t as u32,
+                barycentric: std::array::from_fn(|i| p["barycentric"][i].as_f64().unwrap()),
+            },
+            _ => panic!("{mirrored}"),
+        }
+        .position(&sheets[side]);
+        let [x, y, z] = points()[0][side];
+        let off = ((at[0] - x).powi(2) + (at[1] + y).powi(2) + (at[2] - z).powi(2)).sqrt();
+        assert!(
+            off < 0.01 * sheets[side].bounding_box_diagonal(),
+            "{key}: {at:?} against {:?}",
+            [x, -y, z]
+        );
+    }
     assert_eq!(report["saved"], "3", "{report}");
     assert_eq!(report["fit_state"], "done", "{report}");
     let mean = report["fit"]["fit"]["mean_distance"].as_f64().unwrap();

@@ -685,7 +685,10 @@ async function start() {
   state.views = [new View($('source'), source, 0x8fb3d9), new View($('target'), target, 0xd9b38f)];
   // The source drawn over the target when overlaid.
   const ghostRoot = normalised(source);
-  const ghost = { root: ghostRoot, object: new THREE.Mesh(source.geometry, new THREE.MeshStandardMaterial({ color: 0x8fb3d9, transparent: true, opacity: 0.45, side: THREE.DoubleSide })), markers: new THREE.Group() };
+  // Drawn after the target, seen through it (an x-ray): where the two
+  // surfaces coincide, the source tints the target instead of fighting it.
+  const ghost = { root: ghostRoot, object: new THREE.Mesh(source.geometry, new THREE.MeshStandardMaterial({ color: 0x8fb3d9, transparent: true, opacity: 0.35, depthWrite: false, depthTest: false, side: THREE.DoubleSide })), markers: new THREE.Group() };
+  ghost.object.renderOrder = 1;
   ghostRoot.add(ghost.object, ghost.markers);
   ghostRoot.visible = false;
   state.views[TARGET].scene.add(ghostRoot);
@@ -707,7 +710,7 @@ async function start() {
   window.addEventListener('keydown', keys);
   drawMarkers();
   listPairs();
-  status(`${source.positions.length / 3} and ${target.positions.length / 3} vertices; ${state.pairs.length} pairs`);
+  status(`source ${source.positions.length / 3} vertices, target ${target.positions.length / 3} vertices`);
   await new Promise((ok) => requestAnimationFrame(() => requestAnimationFrame(ok)));
   timings.ready = performance.now();
   document.body.dataset.ready = 'yes';
