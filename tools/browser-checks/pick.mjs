@@ -8,6 +8,7 @@
 // PLAN.json: { "pairs": [[[sx, sy, sz], [tx, ty, tz]], ...],
 //              "delete": k, "undo": true, "redo": true (then undone),
 //              "mirror": k (then undone), "overlay": "overlay.png",
+//              "drag": { "pair": k, "side": "source", "to": [x, y, z] } (then undone),
 //              "save": true, "fit": true,
 //              "screenshot": "name.png", "size": [width, height] }
 // Every step is optional. Exits 0 when every step ran, 1 when one failed,
@@ -79,6 +80,20 @@ try {
     await page.waitForFunction((n) => window.pick.pairs().length > n, { timeout: 30000 }, before);
     result.mirrored = await page.evaluate(() => window.pick.pairs().at(-1));
     await page.click('#undo');
+  }
+  if (plan.drag) {
+    // Select the pair, then drag its marker on one mesh to another point.
+    const { pair, side, to } = plan.drag;
+    await page.click(`#pairs li:nth-child(${pair + 1})`);
+    const from = await page.evaluate((k, s) => window.pick.position(s, window.pick.pairs()[k][s]), pair, side);
+    const [a, b] = [await project(side, from), await project(side, to)];
+    await page.mouse.move(a.x, a.y);
+    await page.mouse.down();
+    await page.mouse.move(b.x, b.y, { steps: 8 });
+    await page.mouse.up();
+    result.dragged = await page.evaluate((k, s) => window.pick.position(s, window.pick.pairs()[k][s]), pair, side);
+    await page.click('#undo');
+    result.after_drag_undone = await page.evaluate((k, s) => window.pick.position(s, window.pick.pairs()[k][s]), pair, side);
   }
   if (plan.overlay) {
     await page.click('#overlay');

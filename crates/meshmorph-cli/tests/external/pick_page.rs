@@ -61,6 +61,7 @@ fn the_page_makes_deletes_undoes_saves_and_fits_pairs() {
         "redo": true,
         "mirror": 0,
         "overlay": "pick-overlay.png",
+        "drag": { "pair": 1, "side": "source", "to": [0.3, 0.4, height(0.3, 0.4, 1.0)] },
         "save": true,
         "fit": true,
         "screenshot": "pick-page.png",
@@ -98,6 +99,21 @@ fn the_page_makes_deletes_undoes_saves_and_fits_pairs() {
             [x, -y, z]
         );
     }
+    // The second pair's source marker dragged along the sheet ends where
+    // it was dropped; undone, it is back.
+    let point = |v: &Value| -> [f64; 3] { std::array::from_fn(|i| v[i].as_f64().unwrap()) };
+    let near = |a: [f64; 3], b: [f64; 3]| {
+        (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt()
+            < 0.01 * sheets[0].bounding_box_diagonal()
+    };
+    assert!(
+        near(point(&report["dragged"]), [0.3, 0.4, height(0.3, 0.4, 1.0)]),
+        "{report}"
+    );
+    assert!(
+        near(point(&report["after_drag_undone"]), points()[1][0]),
+        "{report}"
+    );
     assert_eq!(report["saved"], "3", "{report}");
     assert_eq!(report["fit_state"], "done", "{report}");
     let mean = report["fit"]["fit"]["mean_distance"].as_f64().unwrap();

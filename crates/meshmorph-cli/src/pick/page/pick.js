@@ -722,6 +722,10 @@ window.pick = {
   pairs: () => JSON.parse(JSON.stringify(state.pairs)),
   fit: () => state.fit,
   timings,
+  /** Where a surface point (as the pairs hold them) lies on its mesh. */
+  position(side, point) {
+    return pointPosition(state.meshes[side === 'source' ? SOURCE : TARGET], point).toArray();
+  },
   /** Where a point of a mesh (file coordinates) is on the screen. */
   project(side, [x, y, z]) {
     const view = state.views[side === 'source' ? SOURCE : TARGET];
