@@ -33,6 +33,25 @@ impl Points {
             Points::Space(p) => p.len(),
         }
     }
+
+    /// The positions as rows of `D` coordinates; refused, naming `arg`, when
+    /// they have the other dimension.
+    pub fn into_dimension<const D: usize>(self, arg: &str) -> PyResult<Vec<[f64; D]>> {
+        // Called with `A == D` only: the rows as they are, retyped.
+        fn retyped<const A: usize, const D: usize>(v: Vec<[f64; A]>) -> Vec<[f64; D]> {
+            v.into_iter()
+                .map(|x| std::array::from_fn(|c| x[c]))
+                .collect()
+        }
+        match (self, D) {
+            (Points::Plane(p), 2) => Ok(retyped(p)),
+            (Points::Space(p), 3) => Ok(retyped(p)),
+            (p, _) => Err(bad(
+                arg,
+                format!("expected {D} coordinates a vertex, got {}", p.dimension()),
+            )),
+        }
+    }
 }
 
 /// What `a` is, for messages: "a (4, 2) float64 array" or its type.
@@ -100,20 +119,7 @@ pub fn points(arg: &str, a: &Bound<'_, PyAny>) -> PyResult<Points> {
 
 /// Positions of dimension `D`.
 pub fn points_of<const D: usize>(arg: &str, a: &Bound<'_, PyAny>) -> PyResult<Vec<[f64; D]>> {
-    match (points(arg, a)?, D) {
-        (Points::Plane(p), 2) => Ok(p
-            .into_iter()
-            .map(|x| std::array::from_fn(|c| x[c]))
-            .collect()),
-        (Points::Space(p), 3) => Ok(p
-            .into_iter()
-            .map(|x| std::array::from_fn(|c| x[c]))
-            .collect()),
-        (p, _) => Err(bad(
-            arg,
-            format!("expected {D} coordinates a vertex, got {}", p.dimension()),
-        )),
-    }
+    points(arg, a)?.into_dimension(arg)
 }
 
 /// Rows of `W` indices, int32, int64 or uint32.

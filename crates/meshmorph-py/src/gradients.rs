@@ -3,7 +3,7 @@
 //! Jacobians need (Neural Jacobian Fields and its followers solve this
 //! Poisson system), factored once for repeated calls.
 
-use meshmorph::{FactorKind, Mat, Mesh, RestSystem, Space, TriangleMaps};
+use meshmorph::{FactorKind, Mat, RestSystem, Space, TriangleMaps};
 use numpy::ndarray::Array3;
 use numpy::{PyArray3, PyArrayMethods, PyUntypedArrayMethods, ToPyArray};
 use pyo3::prelude::*;
@@ -152,10 +152,28 @@ fn positions_from_gradients<'py>(
     PyGradientSolver::new(py, v_rest, f)?.solve(py, j, None)
 }
 
-fn linear_maps<const D: usize>(rest: &Mesh<D>, posed: &[[f64; D]]) -> Array3<f64>
+/// The linear map of every triangle of `rest` (with `faces`) to `v`,
+/// `(m, D, D)`.
+fn linear_maps<const D: usize>(
+    rest: Vec<[f64; D]>,
+    faces: Vec<[u32; 3]>,
+    v: &Bound<'_, PyAny>,
+) -> PyResult<Array3<f64>>
 where
     Space<D>: TriangleMaps<D>,
 {
+    let rest = arrays::mesh(("v_rest", "f"), rest, faces)?;
+    let posed = arrays::points_of::<D>("v", v)?;
+    if posed.len() != rest.num_vertices() {
+        return Err(bad(
+            "v",
+            format!(
+                "{} vertices, v_rest has {}",
+                posed.len(),
+                rest.num_vertices()
+            ),
+        ));
+    }
     let mut out = Array3::zeros((rest.num_triangles(), D, D));
     for (t, tri) in rest.triangles().iter().enumerate() {
         let r: [[f64; D]; 3] = tri.map(|v| rest.positions()[v as usize]);
@@ -168,7 +186,7 @@ where
             }
         }
     }
-    out
+    Ok(out)
 }
 
 /// The linear map of every triangle from `v_rest` to `v` (same faces
@@ -183,36 +201,8 @@ fn deformation_gradients<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let faces = arrays::faces("f", f)?;
     let out = match arrays::points("v_rest", v_rest)? {
-        Points::Plane(p) => {
-            let rest = arrays::mesh(("v_rest", "f"), p, faces)?;
-            let posed = arrays::points_of::<2>("v", v)?;
-            if posed.len() != rest.num_vertices() {
-                return Err(bad(
-                    "v",
-                    format!(
-                        "{} vertices, v_rest has {}",
-                        posed.len(),
-                        rest.num_vertices()
-                    ),
-                ));
-            }
-            linear_maps(&rest, &posed)
-        }
-        Points::Space(p) => {
-            let rest = arrays::mesh(("v_rest", "f"), p, faces)?;
-            let posed = arrays::points_of::<3>("v", v)?;
-            if posed.len() != rest.num_vertices() {
-                return Err(bad(
-                    "v",
-                    format!(
-                        "{} vertices, v_rest has {}",
-                        posed.len(),
-                        rest.num_vertices()
-                    ),
-                ));
-            }
-            linear_maps(&rest, &posed)
-        }
+        Points::Plane(p) => linear_maps(p, faces, v)?,
+        Points::Space(p) => linear_maps(p, faces, v)?,
     };
     Ok(out.to_pyarray(py).into_any())
 }

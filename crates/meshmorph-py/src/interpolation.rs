@@ -42,22 +42,39 @@ fn options(consistency: bool, turns: i32, stretch: &str) -> PyResult<Interpolato
         .with_stretch(stretch))
 }
 
-/// Keys of one dimension from arrays, checked: `(name, array)` each.
+/// Keys of one dimension (checked by [`dimension`]) with the faces
+/// `triangles`, each checked, named in messages as given.
 fn keys<const D: usize>(
-    named: &[(String, Points)],
+    named: Vec<(String, Points)>,
     triangles: &[[u32; 3]],
-    faces_arg: &str,
 ) -> PyResult<Vec<Mesh<D>>> {
     named
-        .iter()
+        .into_iter()
         .map(|(name, p)| {
-            let rows: Vec<[f64; D]> = match p {
-                Points::Plane(v) => v.iter().map(|x| std::array::from_fn(|c| x[c])).collect(),
-                Points::Space(v) => v.iter().map(|x| std::array::from_fn(|c| x[c])).collect(),
-            };
-            arrays::mesh((name, faces_arg), rows, triangles.to_vec())
+            let rows = p.into_dimension::<D>(&name)?;
+            arrays::mesh((&name, "f"), rows, triangles.to_vec())
         })
         .collect()
+}
+
+/// The keys `named` with the faces `f`, checked (one dimension, one
+/// vertex count), made into the plane's or the space's `$make` (with `$k`
+/// the keys), the GIL released.
+macro_rules! build {
+    ($py:expr, $named:expr, $f:expr, |$k:ident| $make:expr) => {{
+        let named = $named;
+        let triangles = arrays::faces("f", $f)?;
+        match dimension(&named)? {
+            2 => {
+                let $k = keys::<2>(named, &triangles)?;
+                Either::Plane($py.detach(|| $make).map_err(error)?)
+            }
+            _ => {
+                let $k = keys::<3>(named, &triangles)?;
+                Either::Space($py.detach(|| $make).map_err(error)?)
+            }
+        }
+    }};
 }
 
 /// The dimension of every key, which must agree.
@@ -114,23 +131,7 @@ impl PyInterpolator {
             ("v0".to_string(), arrays::points("v0", v0)?),
             ("v1".to_string(), arrays::points("v1", v1)?),
         ];
-        let triangles = arrays::faces("f", f)?;
-        let inner = match dimension(&named)? {
-            2 => {
-                let k = keys::<2>(&named, &triangles, "f")?;
-                Either::Plane(
-                    py.detach(|| Interpolator::new(&k[0], &k[1], &options))
-                        .map_err(error)?,
-                )
-            }
-            _ => {
-                let k = keys::<3>(&named, &triangles, "f")?;
-                Either::Space(
-                    py.detach(|| Interpolator::new(&k[0], &k[1], &options))
-                        .map_err(error)?,
-                )
-            }
-        };
+        let inner = build!(py, named, f, |k| Interpolator::new(&k[0], &k[1], &options));
         Ok(Self(inner))
     }
 
@@ -213,17 +214,7 @@ impl PySequence {
                 format!("{} keys: a sequence needs two or more", named.len()),
             ));
         }
-        let triangles = arrays::faces("f", f)?;
-        let inner = match dimension(&named)? {
-            2 => {
-                let k = self::keys::<2>(&named, &triangles, "f")?;
-                Either::Plane(py.detach(|| Sequence::new(&k, &options)).map_err(error)?)
-            }
-            _ => {
-                let k = self::keys::<3>(&named, &triangles, "f")?;
-                Either::Space(py.detach(|| Sequence::new(&k, &options)).map_err(error)?)
-            }
-        };
+        let inner = build!(py, named, f, |k| Sequence::new(&k, &options));
         Ok(Self(inner))
     }
 
@@ -275,23 +266,7 @@ impl PyBlend {
         let mut named = vec![("base".to_string(), arrays::points("base", base)?)];
         named.extend(stacked("shapes", shapes)?);
         let count = named.len() - 1;
-        let triangles = arrays::faces("f", f)?;
-        let inner = match dimension(&named)? {
-            2 => {
-                let k = keys::<2>(&named, &triangles, "f")?;
-                Either::Plane(
-                    py.detach(|| Blend::new(&k[0], &k[1..], &options))
-                        .map_err(error)?,
-                )
-            }
-            _ => {
-                let k = keys::<3>(&named, &triangles, "f")?;
-                Either::Space(
-                    py.detach(|| Blend::new(&k[0], &k[1..], &options))
-                        .map_err(error)?,
-                )
-            }
-        };
+        let inner = build!(py, named, f, |k| Blend::new(&k[0], &k[1..], &options));
         Ok(Self(inner, count))
     }
 

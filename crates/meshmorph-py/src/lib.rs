@@ -7,6 +7,7 @@ mod arrays;
 mod files;
 mod gradients;
 mod interpolation;
+mod progress;
 mod transfer;
 
 use pyo3::create_exception;

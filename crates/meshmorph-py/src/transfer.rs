@@ -3,7 +3,6 @@
 //! back-substitution, `apply_all` in parallel), the GIL released.
 
 use std::path::PathBuf;
-use std::sync::Mutex;
 
 use meshmorph::{
     correspond_with_progress, CorrespondOptions, Correspondence, FitReport, Markers, Mesh3,
@@ -14,6 +13,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyModule};
 
 use crate::files::PyMarkers;
+use crate::progress::Progress;
 use crate::{arrays, bad, error};
 
 fn mesh3(names: (&str, &str), v: &Bound<'_, PyAny>, f: &Bound<'_, PyAny>) -> PyResult<Mesh3> {
@@ -190,24 +190,13 @@ fn correspond(
         options = options.with_match_threshold(arrays::finite("match_threshold", m)?);
     }
     let total = options.steps();
-    let failed: Mutex<Option<PyErr>> = Mutex::new(None);
+    let progress = Progress::new(progress);
     let result = py.detach(|| {
         correspond_with_progress(&source, &target, &markers, &options, &mut |done| {
-            if let Some(cb) = &progress {
-                Python::attach(|py| {
-                    if let Err(e) = cb.call1(py, (done, total)) {
-                        failed
-                            .lock()
-                            .unwrap_or_else(|p| p.into_inner())
-                            .get_or_insert(e);
-                    }
-                });
-            }
+            progress.report(done, total)
         })
     });
-    if let Some(e) = failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
-        return Err(e);
-    }
+    progress.finish()?;
     let result = result.map_err(error)?;
     Ok(PyCorrespondence {
         inner: result.correspondence,
@@ -306,7 +295,7 @@ impl PyTransfer {
         }
         let total = poses.len();
         let done = std::sync::atomic::AtomicUsize::new(0);
-        let failed: Mutex<Option<PyErr>> = Mutex::new(None);
+        let progress = Progress::new(progress);
         let results = arrays::frames_in_place(
             py,
             (total, self.target_vertices()),
@@ -316,22 +305,11 @@ impl PyTransfer {
                 for (k, out) in ks.zip(outs.iter_mut()) {
                     self.inner.apply_into(&poses[k], out, ws);
                     let finished = done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
-                    if let Some(cb) = &progress {
-                        Python::attach(|py| {
-                            if let Err(e) = cb.call1(py, (finished, total)) {
-                                failed
-                                    .lock()
-                                    .unwrap_or_else(|p| p.into_inner())
-                                    .get_or_insert(e);
-                            }
-                        });
-                    }
+                    progress.report(finished, total);
                 }
             },
         )?;
-        if let Some(e) = failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
-            return Err(e);
-        }
+        progress.finish()?;
         Ok(results)
     }
 }

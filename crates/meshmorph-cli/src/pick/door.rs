@@ -62,14 +62,18 @@ pub struct Response {
 }
 
 impl Response {
-    pub fn ok(content_type: &'static str, body: Vec<u8>) -> Self {
+    fn new(status: u16, content_type: &'static str, body: Vec<u8>) -> Self {
         Self {
-            status: 200,
+            status,
             content_type,
             body,
             last: false,
             location: None,
         }
+    }
+
+    pub fn ok(content_type: &'static str, body: Vec<u8>) -> Self {
+        Self::new(200, content_type, body)
     }
 
     pub fn json(value: &serde_json::Value) -> Self {
@@ -78,15 +82,8 @@ impl Response {
 
     /// A refusal or failure with its reason as JSON (`{"error": ...}`).
     pub fn error(status: u16, message: &str) -> Self {
-        Self {
-            status,
-            content_type: "application/json",
-            body: serde_json::json!({ "error": message })
-                .to_string()
-                .into_bytes(),
-            last: false,
-            location: None,
-        }
+        let body = serde_json::json!({ "error": message }).to_string();
+        Self::new(status, "application/json", body.into_bytes())
     }
 }
 

@@ -18,7 +18,6 @@ use anyhow::{Context, Result};
 use meshmorph::Markers;
 
 use crate::output;
-use crate::outputs::Plan;
 use crate::transfer::{CorrespondArgs, References};
 
 /// Pick marker pairs on two meshes in the browser and save them.
@@ -80,12 +79,11 @@ pub fn run(args: &Args) -> Result<()> {
     inputs.extend(args.pose.iter().map(|p| (p.clone(), "source pose")));
     // The output is checked before anything is read, as every save checks
     // it again: never an input.
-    let mut plan = Plan::new();
-    for (path, role) in &inputs {
-        plan.input(path, role);
-    }
-    plan.file(&args.output, "marker file");
-    drop(plan.prepare()?);
+    let save = session::SaveTarget {
+        path: args.output.clone(),
+        inputs,
+    };
+    drop(save.prepare()?);
     let refs = References {
         source_ref: args.source.clone(),
         target_ref: args.target.clone(),
@@ -125,10 +123,9 @@ pub fn run(args: &Args) -> Result<()> {
         source,
         target,
         pose,
-        output: args.output.clone(),
+        save,
         start,
         planes: [planes.0, planes.1],
-        inputs,
         fitting: Mutex::new(()),
         done: Mutex::new(done),
     };

@@ -18,7 +18,7 @@ use serde_json::{json, Value};
 
 use super::door::{Handler, Request, Response};
 use super::page;
-use crate::outputs::Plan;
+use crate::outputs::{Output, Plan, Staging};
 use crate::transfer::{CorrespondArgs, Reference, References};
 
 /// The most marker pairs a request may hold.
@@ -33,16 +33,34 @@ pub struct Session {
     /// The pose shown transferred after each fit (welded like the source).
     pub pose: Option<(PathBuf, meshmorph::Mesh3)>,
     /// Where "save" writes.
-    pub output: PathBuf,
+    pub save: SaveTarget,
     /// The markers the page starts from.
     pub start: Markers,
     pub planes: [Option<MirrorPlane>; 2],
-    /// Every file the run reads (for the output rules of each save).
-    pub inputs: Vec<(PathBuf, &'static str)>,
     /// One fit at a time (each takes the machine's cores).
     pub fitting: Mutex<()>,
     /// Told when the page's "done" has been answered.
     pub done: Mutex<Sender<()>>,
+}
+
+/// Where "save" writes, and every file the run reads: each save (and the
+/// check before serving) goes through the output rules against them.
+pub struct SaveTarget {
+    pub path: PathBuf,
+    pub inputs: Vec<(PathBuf, &'static str)>,
+}
+
+impl SaveTarget {
+    /// The save planned and prepared: refused if it would write over an
+    /// input, else staged for [`Staging::write`] and [`Staging::commit`].
+    pub fn prepare(&self) -> Result<(Staging, Output)> {
+        let mut plan = Plan::new();
+        for (path, role) in &self.inputs {
+            plan.input(path, role);
+        }
+        let out = plan.file(&self.path, "marker file");
+        Ok((plan.prepare()?, out))
+    }
 }
 
 /// A marker pair as the page sends it.
@@ -132,7 +150,7 @@ impl Session {
         json!({
             "source": name(&self.refs.source_ref),
             "target": name(&self.refs.target_ref),
-            "output": name(&self.output),
+            "output": name(&self.save.path),
             "pose": self.pose.as_ref().map(|(p, _)| name(p)),
             "pairs": pairs,
             "mirror_planes": [plane(&self.planes[0]), plane(&self.planes[1])],
@@ -330,16 +348,11 @@ impl Session {
     /// Writes `markers` to `-o` through the output rules (never over an
     /// input, staged and moved into place).
     fn save(&self, markers: &Markers) -> Result<Response> {
-        let mut plan = Plan::new();
-        for (path, role) in &self.inputs {
-            plan.input(path, role);
-        }
-        let out = plan.file(&self.output, "marker file");
-        let staging = plan.prepare()?;
+        let (staging, out) = self.save.prepare()?;
         staging.write(out, |path| Ok(markers.save(path)?))?;
         staging.commit()?;
         Ok(Response::json(&json!({
-            "saved": self.output.display().to_string(),
+            "saved": self.save.path.display().to_string(),
             "pairs": markers.pairs().len(),
         })))
     }
