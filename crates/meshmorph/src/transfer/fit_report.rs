@@ -155,7 +155,8 @@ impl FitReport {
                 (0..areas.len())
                     .filter(|&t| keep(t) && areas[t].is_finite())
                     .map(|t| areas[t])
-                    .sum(),
+                    // From +0: an empty `sum` of floats is -0, printed "-0.00 %".
+                    .fold(0.0, |a, b| a + b),
             )
         };
         let mut paired = vec![false; target.num_triangles()];
