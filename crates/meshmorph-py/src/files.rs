@@ -125,7 +125,7 @@ fn point(py: Python<'_>, p: &SurfacePoint) -> PyResult<Py<PyAny>> {
 #[pymethods]
 impl PyMarkers {
     fn __len__(&self) -> usize {
-        self.markers.pairs().len()
+        self.markers.len()
     }
 
     /// The pairs, each `(source, target)`: `{"vertex": v}` or
@@ -148,6 +148,38 @@ impl PyMarkers {
         (0..self.markers.pairs().len())
             .map(|k| self.markers.name(k).map(String::from))
             .collect()
+    }
+
+    /// Markers from positions: row `k` of `source` `(k, 3)` paired with
+    /// row `k` of `target`, put on the surfaces (the nearest point of
+    /// each) by `correspond`; `names`, if given, one per pair.
+    #[staticmethod]
+    #[pyo3(signature = (source, target, names = None))]
+    fn from_points(
+        source: &Bound<'_, PyAny>,
+        target: &Bound<'_, PyAny>,
+        names: Option<Vec<Option<String>>>,
+    ) -> PyResult<Self> {
+        let s = arrays::points_of::<3>("source", source)?;
+        let t = arrays::points_of::<3>("target", target)?;
+        if s.len() != t.len() {
+            return Err(bad(
+                "target",
+                format!("{} points for the source's {}", t.len(), s.len()),
+            ));
+        }
+        let markers = Markers::from_points(s.into_iter().zip(t).map(|(a, b)| [a, b]).collect());
+        let markers = match names {
+            None => markers,
+            Some(n) if n.len() == markers.len() => markers.with_names(n),
+            Some(n) => {
+                return Err(bad(
+                    "names",
+                    format!("{} names for {} pairs", n.len(), markers.len()),
+                ))
+            }
+        };
+        Ok(PyMarkers { markers })
     }
 
     /// Writes meshmorph's marker file (names and surface points).

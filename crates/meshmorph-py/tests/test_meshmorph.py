@@ -278,6 +278,25 @@ def test_read_markers_reads_named_points_and_pairs(tmp_path):
         meshmorph.read_markers(tmp_path / "a.txt")
 
 
+def test_markers_from_points_land_on_the_vertices_they_name(tmp_path):
+    vs, fs = sheet(8)
+    vt, ft = sheet(11, scale=1.3)
+    pick_s, pick_t = [0, 8, 72, 80, 40], [0, 11, 132, 143, 72]
+    by_points = meshmorph.Markers.from_points(vs[pick_s], vt[pick_t], names=list("abcde"))
+    assert len(by_points) == 5
+    by_points.save(tmp_path / "m.txt")
+    assert len(meshmorph.read_markers(tmp_path / "m.txt")) == 5
+    a = meshmorph.correspond(vs, fs, vt, ft, by_points)
+    b = meshmorph.correspond(vs, fs, vt, ft, np.stack([pick_s, pick_t], axis=1))
+    assert np.array_equal(a.pairs, b.pairs)
+    with pytest.raises(meshmorph.MeshmorphError, match="target:"):
+        meshmorph.Markers.from_points(vs[pick_s], vt[pick_t[:4]])
+    with pytest.raises(meshmorph.MeshmorphError, match="names:"):
+        meshmorph.Markers.from_points(vs[pick_s], vt[pick_t], names=["a"])
+    with pytest.raises(meshmorph.MeshmorphError, match="source:"):
+        meshmorph.Markers.from_points(vs[pick_s][:, :2], vt[pick_t])
+
+
 def test_a_trimesh_round_trip(tmp_path):
     trimesh = pytest.importorskip("trimesh")
     sphere = trimesh.creation.icosphere(subdivisions=3)

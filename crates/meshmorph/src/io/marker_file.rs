@@ -133,7 +133,7 @@ impl Markers {
         writeln!(w, "{HEADER}")?;
         let mut located = 0..self.pairs.len();
         let mut pending = self.points.iter().peekable();
-        for order in 0..self.pairs.len() + self.points.len() {
+        for order in 0..self.len() {
             let (sides, name) = match pending.peek() {
                 Some(p) if p.order == order => {
                     let p = pending.next().expect("peeked");

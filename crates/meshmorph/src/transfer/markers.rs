@@ -151,12 +151,12 @@ impl Markers {
     pub fn with_names(mut self, names: Vec<Option<String>>) -> Self {
         assert_eq!(
             names.len(),
-            self.pairs.len() + self.points.len(),
+            self.len(),
             "one name per marker"
         );
         let mut names = names.into_iter();
+        let total = self.len();
         let mut located = self.names.iter_mut();
-        let total = self.pairs.len() + self.points.len();
         let mut pending = self.points.iter_mut().peekable();
         for order in 0..total {
             let name = names.next().expect("counted");
@@ -195,6 +195,16 @@ impl Markers {
         self.names[k].as_deref()
     }
 
+    /// How many markers there are, those given as positions included.
+    pub fn len(&self) -> usize {
+        self.pairs.len() + self.points.len()
+    }
+
+    /// Whether there are no markers at all.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
     /// Whether some markers have a side given as a position, not yet
     /// snapped.
     pub fn has_points(&self) -> bool {
@@ -210,7 +220,7 @@ impl Markers {
     /// from a file) whose position lies farther than [`SNAP_LIMIT`] of the
     /// mesh's bounding-box diagonal from the surface.
     pub fn snap(&self, source: &Mesh3, target: &Mesh3) -> Result<(Markers, Snap)> {
-        let total = self.pairs.len() + self.points.len();
+        let total = self.len();
         let mut out = Markers {
             pairs: Vec::with_capacity(total),
             names: Vec::with_capacity(total),
