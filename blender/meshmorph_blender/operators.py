@@ -1,0 +1,237 @@
+"""The operators: each checks the selection and its settings, calls the
+work in its module, and reports in Blender's report area and status bar
+(a sentence saying what to do, never a traceback). The work modules need
+numpy and meshmorph, so they are imported once those are loaded: an add-on
+whose wheels cannot load still registers and says why."""
+
+import os
+
+import bpy
+
+from . import kept_correspondence, wheels
+from .refusal import Refusal
+
+
+def _meshmorph():
+    try:
+        return wheels.load()
+    except ImportError as e:
+        raise Refusal(str(e)) from e
+
+
+def _settings(context):
+    return context.scene.meshmorph
+
+
+def _source_and_target(context):
+    """The two selected meshes: the active one is the target."""
+    target = context.active_object
+    others = [o for o in context.selected_objects if o != target]
+    if (
+        target is None
+        or target.type != "MESH"
+        or not target.select_get()
+        or len(others) != 1
+        or others[0].type != "MESH"
+    ):
+        raise Refusal(
+            "Select two meshes: first the source (with shape keys), then the target last, so that it is active"
+        )
+    return others[0], target
+
+
+def _shaped_object(context):
+    obj = context.active_object
+    if obj is None or obj.type != "MESH" or obj.data.shape_keys is None:
+        raise Refusal("Select a mesh with shape keys (made active)")
+    return obj
+
+
+class _Progress:
+    """Blender's progress indicator and status bar for one operator."""
+
+    def __init__(self, context, title):
+        self.wm = context.window_manager
+        self.workspace = context.workspace
+        self.title = title
+        self.wm.progress_begin(0, 1000)
+
+    def __call__(self, stage, done, total):
+        self.wm.progress_update(int(1000 * done / max(total, 1)))
+        if self.workspace is not None:
+            self.workspace.status_text_set("meshmorph: {} {}, {} of {}".format(self.title, stage, done, total))
+
+    def end(self):
+        self.wm.progress_end()
+        if self.workspace is not None:
+            self.workspace.status_text_set(None)
+
+
+class _Refusing:
+    """execute() runs `work` and turns a Refusal into an error report."""
+
+    def execute(self, context):
+        try:
+            return self.work(context)
+        except Refusal as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
+
+
+class MESHMORPH_OT_transfer_shape_keys(_Refusing, bpy.types.Operator):
+    """Carry the source's shape keys to the active target mesh (any topology), fitting a correspondence from the markers once"""
+
+    bl_idname = "meshmorph.transfer_shape_keys"
+    bl_label = "Transfer Shape Keys"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def work(self, context):
+        source, target = _source_and_target(context)
+        meshmorph = _meshmorph()
+        from . import marker_sources, transfer_keys
+
+        s = _settings(context)
+        names = transfer_keys.chosen_keys(source, s.keys)
+
+        def markers():
+            if s.marker_source == "FILE":
+                return marker_sources.from_file(meshmorph, bpy.path.abspath(s.marker_file), bpy.path.abspath(s.target_points_file))
+            if s.marker_source == "GROUPS":
+                return marker_sources.from_vertex_groups(meshmorph, source, target, s.group_prefix)
+            return marker_sources.from_empties(meshmorph, source, target)
+
+        progress = _Progress(context, "transferring")
+        try:
+            report, reused = transfer_keys.transfer(meshmorph, source, target, names, markers, s.refit, progress)
+        finally:
+            progress.end()
+        how = "with the kept correspondence" if reused else "after a new fit"
+        keys = "1 shape key" if len(names) == 1 else "{} shape keys".format(len(names))
+        self.report({"INFO"}, "{} carried to {} {}. {}".format(keys, target.name, how, report))
+        return {"FINISHED"}
+
+
+class MESHMORPH_OT_add_inbetweens(_Refusing, bpy.types.Operator):
+    """Add as-rigid-as-possible in-between shape keys from one key (or the basis) to another"""
+
+    bl_idname = "meshmorph.add_inbetweens"
+    bl_label = "Add In-betweens"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def work(self, context):
+        obj = _shaped_object(context)
+        meshmorph = _meshmorph()
+        from . import inbetweens
+
+        s = _settings(context)
+        start = s.inbetween_from or obj.data.shape_keys.reference_key.name
+        if not s.inbetween_to:
+            raise Refusal("Choose the key to go to in the meshmorph panel")
+        names = inbetweens.add(meshmorph, obj, start, s.inbetween_to, s.inbetween_count)
+        self.report({"INFO"}, "Added {}".format(", ".join(names)))
+        return {"FINISHED"}
+
+
+class MESHMORPH_OT_bake_animation(_Refusing, bpy.types.Operator):
+    """Bake an as-rigid-as-possible animation through the listed keys: one shape key a frame, its value keyframed"""
+
+    bl_idname = "meshmorph.bake_animation"
+    bl_label = "Bake ARAP Animation"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def work(self, context):
+        obj = _shaped_object(context)
+        meshmorph = _meshmorph()
+        from . import inbetweens
+
+        s = _settings(context)
+        keys = [k.strip() for k in s.bake_keys.split(",") if k.strip()]
+        names = inbetweens.bake(meshmorph, obj, keys, s.frames_per_key, context.scene.frame_current)
+        self.report({"INFO"}, "Baked {} frames from frame {}".format(len(names), context.scene.frame_current))
+        return {"FINISHED"}
+
+
+class MESHMORPH_OT_pick(bpy.types.Operator):
+    """Pick marker pairs on the two selected meshes in the browser with meshmorph pick; the saved file becomes the panel's marker file"""
+
+    bl_idname = "meshmorph.pick"
+    bl_label = "Pick Markers in the Browser"
+
+    _picking = None
+    _timer = None
+
+    def invoke(self, context, event):
+        try:
+            source, target = _source_and_target(context)
+            _meshmorph()
+            from . import pick
+
+            prefs = context.preferences.addons[__package__].preferences
+            command = pick.executable(prefs.executable)
+        except Refusal as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
+        s = _settings(context)
+        path = bpy.path.abspath(s.marker_file) if s.marker_file else ""
+        if not path:
+            folder = bpy.path.abspath("//") if bpy.data.filepath else bpy.app.tempdir
+            path = os.path.join(folder, "{}-to-{}.markers.txt".format(bpy.path.clean_name(source.name), bpy.path.clean_name(target.name)))
+        self._picking = pick.Picking(command, source, target, path)
+        self._timer = context.window_manager.event_timer_add(0.5, window=context.window)
+        context.window_manager.modal_handler_add(self)
+        self.report({"INFO"}, "meshmorph pick is open in the browser; save there, then press Done")
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        if event.type == "ESC":
+            self._picking.stop()
+            return self._end(context, {"CANCELLED"})
+        if event.type != "TIMER":
+            return {"PASS_THROUGH"}
+        s = _settings(context)
+        if self._picking.newly_saved():
+            s.marker_file = self._picking.markers_path
+            s.marker_source = "FILE"
+            self.report({"INFO"}, "Markers saved to {}".format(self._picking.markers_path))
+        ended = self._picking.finished()
+        if ended is None:
+            address = self._picking.address()
+            if address and context.workspace is not None:
+                context.workspace.status_text_set("meshmorph pick at {} (Esc in Blender stops it)".format(address))
+            return {"PASS_THROUGH"}
+        status, said = ended
+        if status != 0:
+            self.report({"ERROR"}, "meshmorph pick stopped: {}".format(said.splitlines()[-1] if said else status))
+            return self._end(context, {"CANCELLED"})
+        return self._end(context, {"FINISHED"})
+
+    def _end(self, context, result):
+        context.window_manager.event_timer_remove(self._timer)
+        if context.workspace is not None:
+            context.workspace.status_text_set(None)
+        return result
+
+
+class MESHMORPH_OT_forget_correspondence(bpy.types.Operator):
+    """Forget the correspondence kept on the active object, so that the next transfer fits anew"""
+
+    bl_idname = "meshmorph.forget_correspondence"
+    bl_label = "Forget Kept Correspondence"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def execute(self, context):
+        obj = context.active_object
+        if obj is None or kept_correspondence.PROPERTY not in obj:
+            self.report({"ERROR"}, "Select a target that keeps a correspondence")
+            return {"CANCELLED"}
+        del obj[kept_correspondence.PROPERTY]
+        return {"FINISHED"}
+
+
+CLASSES = (
+    MESHMORPH_OT_transfer_shape_keys,
+    MESHMORPH_OT_add_inbetweens,
+    MESHMORPH_OT_bake_animation,
+    MESHMORPH_OT_pick,
+    MESHMORPH_OT_forget_correspondence,
+)

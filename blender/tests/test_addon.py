@@ -1,0 +1,293 @@
+"""The add-on inside Blender, run in the background by tools/test:
+
+    blender -b --factory-startup --python-exit-code 1 --python blender/tests/test_addon.py -- LEGACY_ZIP
+
+It installs the add-on from its zip as a user would (into the user scripts
+folder given by BLENDER_USER_SCRIPTS), then: shape keys carried from a quad
+source to a target of other topology (with an n-gon) equal the Python
+package's transfer of the same arrays; a key added later is carried with
+the kept correspondence; a rigidly turned key gives rigid in-betweens and a
+baked animation; bad selections give their sentence, not a traceback; the
+target's polygons, UVs and materials are untouched."""
+
+import math
+import sys
+import traceback
+
+import addon_utils
+import bpy
+
+ZIP = sys.argv[sys.argv.index("--") + 1]
+
+bpy.ops.preferences.addon_install(filepath=ZIP, overwrite=True)
+addon_utils.enable("meshmorph_blender", default_set=True, handle_error=None)
+assert hasattr(bpy.ops.meshmorph, "transfer_shape_keys"), "the add-on did not register"
+# Both put on the path by the add-on from its bundled wheels (Debian's
+# Blender has no numpy of its own).
+import meshmorph
+import numpy as np
+
+
+# ------------------------------------------------------------------ scene
+
+def grid(name, n, m, size, bump, merge=False):
+    """A bumpy n x m grid of quads (two of them merged into a hexagon when
+    `merge`), as a mesh object with a UV map and a material."""
+    xs, ys = np.linspace(-size, size, n + 1), np.linspace(-size * 0.8, size * 0.8, m + 1)
+    verts = [(x, y, bump * (math.sin(1.7 * x) + math.cos(1.3 * y))) for y in ys for x in xs]
+    at = lambda i, j: j * (n + 1) + i
+    faces = [[at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)] for j in range(m) for i in range(n)]
+    if merge:
+        faces = faces[2:]
+        faces.append([at(0, 0), at(1, 0), at(2, 0), at(2, 1), at(1, 1), at(0, 1)])
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], faces)
+    uv = mesh.uv_layers.new(name="UVMap")
+    for loop in mesh.loops:
+        x, y, _ = verts[loop.vertex_index]
+        uv.data[loop.index].uv = (x / size, y / size)
+    mesh.materials.append(bpy.data.materials.new(name + "-material"))
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def coordinates(items, n):
+    flat = np.empty(3 * n, dtype=np.float32)
+    items.foreach_get("co", flat)
+    return flat.reshape(n, 3).astype(np.float64)
+
+
+def world(obj, local):
+    m = np.array(obj.matrix_world, dtype=np.float64)
+    return local @ m[:3, :3].T + m[:3, 3]
+
+
+def local(obj, positions):
+    m = np.linalg.inv(np.array(obj.matrix_world, dtype=np.float64))
+    return positions @ m[:3, :3].T + m[:3, 3]
+
+
+def triangles(obj):
+    obj.data.calc_loop_triangles()
+    t = np.empty(3 * len(obj.data.loop_triangles), dtype=np.int64)
+    obj.data.loop_triangles.foreach_get("vertices", t)
+    return t.reshape(-1, 3)
+
+
+def add_key(obj, name, positions):
+    if obj.data.shape_keys is None:
+        obj.shape_key_add(name="Basis", from_mix=False)
+    k = obj.shape_key_add(name=name, from_mix=False)
+    k.data.foreach_set("co", positions.astype(np.float32).ravel())
+
+
+def key(obj, name):
+    return coordinates(obj.data.shape_keys.key_blocks[name].data, len(obj.data.vertices))
+
+
+def bend(v, angle):
+    out = v.copy()
+    a = angle * (v[:, 0] + 1.2) / 2.4
+    out[:, 0] = np.cos(a) * v[:, 0] - np.sin(a) * v[:, 2]
+    out[:, 2] = np.sin(a) * v[:, 0] + np.cos(a) * v[:, 2]
+    return out
+
+
+def twist(v, angle):
+    out = v.copy()
+    a = angle * v[:, 0] / 1.2
+    out[:, 1] = np.cos(a) * v[:, 1] - np.sin(a) * v[:, 2]
+    out[:, 2] = np.sin(a) * v[:, 1] + np.cos(a) * v[:, 2]
+    return out
+
+
+def select(*objects, active=None):
+    for o in bpy.context.view_layer.objects:
+        o.select_set(o in objects)
+    bpy.context.view_layer.objects.active = active
+
+
+MARKED = {"c0": (0, 0), "c1": (1, 0), "c2": (1, 1), "c3": (0, 1), "mid": (0.5, 0.5), "q": (0.25, 0.75)}
+
+
+def mark(obj, n, m):
+    for name, (u, w) in MARKED.items():
+        g = obj.vertex_groups.new(name="marker." + name)
+        g.add([round(w * m) * (n + 1) + round(u * n)], 1.0, "REPLACE")
+
+
+def characters():
+    source = grid("Source", 8, 6, 1.2, 0.1)
+    source.location, source.rotation_euler, source.scale = (0.5, -2, 0.3), (0.3, 0.1, 0.7), (1.5, 1.5, 1.5)
+    v = coordinates(source.data.vertices, len(source.data.vertices))
+    add_key(source, "bend", bend(v, 1.2))
+    add_key(source, "twist", twist(v, 0.9))
+    add_key(source, "bulge", v + np.array([0, 0, 0.3]) * np.exp(-4 * (v[:, :1] ** 2 + v[:, 1:2] ** 2)))
+    target = grid("Target", 13, 9, 1.5, 0.07, merge=True)
+    target.location, target.rotation_euler, target.scale = (3, 1, 0), (0, 0, -0.4), (1.0, 0.8, 1.2)
+    mark(source, 8, 6)
+    mark(target, 13, 9)
+    bpy.context.view_layer.update()
+    return source, target
+
+
+def expected(source, target, names):
+    """The Python package's transfer of the same arrays, in the target's
+    space, as Blender stores it (32-bit floats)."""
+    vs = world(source, coordinates(source.data.vertices, len(source.data.vertices)))
+    vt = world(target, coordinates(target.data.vertices, len(target.data.vertices)))
+    fs, ft = triangles(source), triangles(target)
+
+    def group_points(obj, v):
+        out = []
+        for name in MARKED:
+            g = obj.vertex_groups["marker." + name].index
+            out.append(next(v[x.index] for x in obj.data.vertices if any(e.group == g for e in x.groups)))
+        return np.array(out)
+
+    markers = meshmorph.Markers.from_points(group_points(source, vs), group_points(target, vt))
+    c = meshmorph.correspond(vs, fs, vt, ft, markers)
+    poses = np.stack([world(source, key(source, n)) for n in names])
+    return local(target, meshmorph.Transfer(vs, fs, vt, ft, c).apply_all(poses)).astype(np.float32)
+
+
+def diagonal(v):
+    return float(np.linalg.norm(v.max(0) - v.min(0)))
+
+
+def error_of(operator, **kw):
+    """The error an operator reports (bpy.ops raises it as RuntimeError)."""
+    try:
+        operator(**kw)
+    except RuntimeError as e:
+        return str(e)
+    return None
+
+
+# ------------------------------------------------------------------ tests
+
+def test_transfer_equals_the_python_packages_and_a_later_key_reuses_the_fit():
+    source, target = characters()
+    polygons = [tuple(p.vertices) for p in target.data.polygons]
+    uvs = np.empty(2 * len(target.data.loops), dtype=np.float32)
+    target.data.uv_layers[0].data.foreach_get("uv", uvs)
+    s = bpy.context.scene.meshmorph
+    s.marker_source, s.group_prefix = "GROUPS", "marker."
+    select(source, target, active=target)
+    assert bpy.ops.meshmorph.transfer_shape_keys() == {"FINISHED"}
+    names = [k.name for k in target.data.shape_keys.key_blocks]
+    assert names == ["Basis", "bend", "twist", "bulge"], names
+    want = expected(source, target, ["bend", "twist", "bulge"])
+    d = diagonal(coordinates(target.data.vertices, len(target.data.vertices)))
+    worst = max(float(np.abs(key(target, n) - w).max()) for n, w in zip(["bend", "twist", "bulge"], want))
+    print("  largest difference from the Python package: {:.3g} of the diagonal".format(worst / d))
+    assert worst <= 1e-9 * d, worst / d
+    moved = max(float(np.abs(key(target, n) - key(target, "Basis")).max()) for n in ["bend", "twist", "bulge"])
+    assert moved > 0.05 * d, "the keys barely move the target"
+    assert [tuple(p.vertices) for p in target.data.polygons] == polygons
+    after = np.empty_like(uvs)
+    target.data.uv_layers[0].data.foreach_get("uv", after)
+    assert np.array_equal(after, uvs) and target.data.materials[0].name == "Target-material"
+    assert "meshmorph_correspondence" in target
+
+    v = coordinates(source.data.vertices, len(source.data.vertices))
+    add_key(source, "later", bend(twist(v, -0.5), -0.8))
+    for g in list(source.vertex_groups):
+        source.vertex_groups.remove(g)  # no markers now: only the kept fit can serve
+    s.keys = "later"
+    assert bpy.ops.meshmorph.transfer_shape_keys() == {"FINISHED"}
+    s.keys = ""
+    mark(source, 8, 6)
+    assert np.abs(key(target, "later") - expected(source, target, ["later"])[0]).max() <= 1e-9 * d
+    assert [k.name for k in target.data.shape_keys.key_blocks][-1] == "later"
+
+
+def rigid_residual(a, b):
+    """How far `b` is from a rigid motion of `a` (largest distance after the
+    best rotation and translation), and the rotation's angle."""
+    ca, cb = a - a.mean(0), b - b.mean(0)
+    u, _, vt = np.linalg.svd(ca.T @ cb)
+    r = (u @ vt).T
+    if np.linalg.det(r) < 0:
+        vt[-1] *= -1
+        r = (u @ vt).T
+    residual = float(np.linalg.norm(ca @ r.T - cb, axis=1).max())
+    return residual, math.degrees(math.acos(max(-1.0, min(1.0, (np.trace(r) - 1) / 2))))
+
+
+def test_a_rigidly_turned_key_gives_rigid_inbetweens_and_a_rigid_baked_animation():
+    obj = grid("Turning", 10, 10, 1.0, 0.15)
+    obj.location, obj.scale = (0, 4, 0), (2.0, 2.0, 2.0)
+    v = coordinates(obj.data.vertices, len(obj.data.vertices))
+    c, s = math.cos(math.radians(120)), math.sin(math.radians(120))
+    add_key(obj, "turned", v @ np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]).T + [0.3, 0, 0.1])
+    bpy.context.view_layer.update()
+    select(obj, active=obj)
+    settings = bpy.context.scene.meshmorph
+    settings.inbetween_from, settings.inbetween_to, settings.inbetween_count = "", "turned", 3
+    assert bpy.ops.meshmorph.add_inbetweens() == {"FINISHED"}
+    d = diagonal(v)
+    for t in (0.25, 0.5, 0.75):
+        name = "turned {:g} %".format(100 * t)
+        residual, angle = rigid_residual(v, key(obj, name))
+        print("  in-between at {:.2f}: {:.3g} of the diagonal from rigid, turned {:.4f} deg".format(t, residual / d, angle))
+        assert residual < 1e-6 * d and abs(angle - 120 * t) < 1e-3, (residual, angle)
+        linear = v + t * (key(obj, "turned") - v)
+        assert rigid_residual(v, linear)[0] > 0.1 * d  # what Blender's own mix does
+
+    bpy.context.scene.frame_set(10)
+    settings.bake_keys, settings.frames_per_key = "Basis, turned", 4
+    assert bpy.ops.meshmorph.bake_animation() == {"FINISHED"}
+    baked = ["ARAP {:04d}".format(i) for i in range(5)]
+    blocks = obj.data.shape_keys.key_blocks
+    assert all(b in blocks for b in baked)
+    for i, b in enumerate(baked):
+        residual, angle = rigid_residual(v, key(obj, b))
+        assert residual < 1e-6 * d and abs(angle - 30 * i) < 1e-3, (b, residual, angle)
+        curve = obj.data.shape_keys.animation_data.action.fcurves.find('key_blocks["{}"].value'.format(b))
+        assert curve.evaluate(10 + i) == 1.0 and curve.evaluate(11 + i) == 0.0 and curve.evaluate(9 + i) == 0.0
+
+
+def test_bad_selections_give_a_sentence_not_a_traceback():
+    source, target = bpy.data.objects["Source"], bpy.data.objects["Target"]
+    plain = bpy.data.objects.new("Plain", bpy.data.meshes.new("Plain"))
+    bpy.context.scene.collection.objects.link(plain)
+    cases = [
+        (bpy.ops.meshmorph.transfer_shape_keys, (), None, "Select two meshes: first the source"),
+        (bpy.ops.meshmorph.transfer_shape_keys, (target,), target, "Select two meshes: first the source"),
+        (bpy.ops.meshmorph.transfer_shape_keys, (plain, target), target, "Plain has no shape keys besides its basis"),
+        (bpy.ops.meshmorph.add_inbetweens, (plain,), plain, "Select a mesh with shape keys"),
+        (bpy.ops.meshmorph.bake_animation, (plain,), plain, "Select a mesh with shape keys"),
+    ]
+    for operator, chosen, active, sentence in cases:
+        select(*chosen, active=active)
+        said = error_of(operator)
+        assert said is not None and sentence in said and "Traceback" not in said, said
+    settings = bpy.context.scene.meshmorph
+    select(source, target, active=target)
+    settings.keys, settings.refit = "smile", False
+    assert "Source has no shape key \"smile\"" in error_of(bpy.ops.meshmorph.transfer_shape_keys)
+    settings.keys, settings.refit, settings.marker_source, settings.marker_file = "", True, "FILE", "/nonexistent/markers.txt"
+    said = error_of(bpy.ops.meshmorph.transfer_shape_keys)
+    assert "/nonexistent/markers.txt" in said and "Traceback" not in said, said
+    settings.marker_source = "EMPTIES"
+    said = error_of(bpy.ops.meshmorph.transfer_shape_keys)
+    assert "No markers: give Source and Target empties parented to each object" in said, said
+    select(bpy.data.objects["Turning"], active=bpy.data.objects["Turning"])
+    settings.inbetween_to = "nothing"
+    assert "Turning has no shape key \"nothing\"" in error_of(bpy.ops.meshmorph.add_inbetweens)
+
+
+failed = 0
+for name, test in list(globals().items()):
+    if name.startswith("test_") and callable(test):
+        try:
+            test()
+            print("blender add-on: {} ... ok".format(name))
+        except Exception:
+            failed += 1
+            traceback.print_exc()
+            print("blender add-on: {} ... FAILED".format(name))
+print("blender add-on: {} failed".format(failed) if failed else "blender add-on: all passed")
+sys.exit(1 if failed else 0)
