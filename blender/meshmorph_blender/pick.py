@@ -37,14 +37,14 @@ def write_obj(obj, path):
 class Picking:
     """One running `meshmorph pick`: its process, its files, the markers."""
 
-    def __init__(self, command, source, target, markers_path):
+    def __init__(self, command, source, target, markers_path, open_browser=True):
         self.folder = tempfile.mkdtemp(prefix="meshmorph-pick-")
         self.markers_path = markers_path
         src = os.path.join(self.folder, "source.obj")
         tgt = os.path.join(self.folder, "target.obj")
         write_obj(source, src)
         write_obj(target, tgt)
-        args = [command, "pick", src, tgt, "--output", markers_path, "--open"]
+        args = [command, "pick", src, tgt, "--output", markers_path] + (["--open"] if open_browser else [])
         if os.path.exists(markers_path):
             # pick never writes over an input: it starts from a copy.
             start = os.path.join(self.folder, "start.txt")

@@ -10,14 +10,20 @@ the kept correspondence; a rigidly turned key gives rigid in-betweens and a
 baked animation; bad selections give their sentence, not a traceback; the
 target's polygons, UVs and materials are untouched."""
 
+import http.client
+import json
 import math
+import os
 import sys
+import time
 import traceback
 
 import addon_utils
 import bpy
 
 ZIP = sys.argv[sys.argv.index("--") + 1]
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+CLI = os.environ.get("MESHMORPH_BIN", os.path.join(ROOT, "target", "release", "meshmorph"))
 
 bpy.ops.preferences.addon_install(filepath=ZIP, overwrite=True)
 addon_utils.enable("meshmorph_blender", default_set=True, handle_error=None)
@@ -201,6 +207,86 @@ def test_transfer_equals_the_python_packages_and_a_later_key_reuses_the_fit():
     mark(source, 8, 6)
     assert np.abs(key(target, "later") - expected(source, target, ["later"])[0]).max() <= 1e-9 * d
     assert [k.name for k in target.data.shape_keys.key_blocks][-1] == "later"
+
+
+def vertex_of_group(obj, name):
+    g = obj.vertex_groups["marker." + name].index
+    return next(v.index for v in obj.data.vertices if any(e.group == g for e in v.groups))
+
+
+def test_markers_from_empties_and_from_a_marker_file_give_the_same_keys():
+    source, target = bpy.data.objects["Source"], bpy.data.objects["Target"]
+    want = {n: key(target, n) for n in ("bend", "twist", "bulge")}
+    d = diagonal(want["bend"])
+    for obj, suffix in ((source, ""), (target, ".001")):
+        vs = world(obj, coordinates(obj.data.vertices, len(obj.data.vertices)))
+        for name in MARKED:
+            empty = bpy.data.objects.new(name + suffix, None)
+            bpy.context.scene.collection.objects.link(empty)
+            empty.parent = obj
+            empty.matrix_world.translation = vs[vertex_of_group(obj, name)].tolist()
+    bpy.context.view_layer.update()
+    s = bpy.context.scene.meshmorph
+    s.marker_source, s.keys, s.refit = "EMPTIES", "bend,twist,bulge", True
+    select(source, target, active=target)
+    assert bpy.ops.meshmorph.transfer_shape_keys() == {"FINISHED"}
+    for n, w in want.items():
+        assert np.abs(key(target, n) - w).max() <= 1e-6 * d, n  # empties hold 32-bit positions
+    for obj in (source, target):
+        for child in list(obj.children):
+            bpy.data.objects.remove(child)
+
+    path = os.path.join(bpy.app.tempdir, "pairs.cons")
+    with open(path, "w") as f:
+        f.write("{}\n".format(len(MARKED)))
+        f.writelines("{}, {}\n".format(vertex_of_group(source, n), vertex_of_group(target, n)) for n in MARKED)
+    s.marker_source, s.marker_file = "FILE", path
+    assert bpy.ops.meshmorph.transfer_shape_keys() == {"FINISHED"}
+    for n, w in want.items():
+        assert np.abs(key(target, n) - w).max() <= 1e-9 * d, n
+    s.keys, s.refit = "", False
+
+
+def test_the_pick_button_runs_meshmorph_pick_and_reads_the_saved_markers_back():
+    from meshmorph_blender import pick
+
+    if not os.path.exists(CLI):
+        raise AssertionError("the meshmorph command is not built at {} (cargo build --release)".format(CLI))
+    source, target = bpy.data.objects["Source"], bpy.data.objects["Target"]
+    path = os.path.join(bpy.app.tempdir, "picked.txt")
+    picking = pick.Picking(pick.executable(CLI), source, target, path, open_browser=False)
+    try:
+        for _ in range(300):
+            address = picking.address()
+            if address:
+                break
+            time.sleep(0.1)
+        assert address, "pick printed no address"
+        port, token = address[len("http://127.0.0.1:") :].rstrip("/").split("/")
+        pairs = [{"name": n, "source": {"vertex": vertex_of_group(source, n)}, "target": {"vertex": vertex_of_group(target, n)}} for n in MARKED]
+
+        def call(what, body):
+            c = http.client.HTTPConnection("127.0.0.1", int(port), timeout=60)
+            host = "127.0.0.1:" + port
+            c.request("POST", "/{}/api/{}".format(token, what), json.dumps(body), {"Host": host, "Origin": "http://" + host, "Content-Type": "application/json"})
+            r = c.getresponse()
+            return r.status, r.read()
+
+        assert not picking.newly_saved()
+        assert call("save", {"pairs": pairs})[0] == 200
+        assert picking.newly_saved() and not picking.newly_saved()
+        assert call("done", {})[0] == 200
+        for _ in range(300):
+            ended = picking.finished()
+            if ended is not None:
+                break
+            time.sleep(0.1)
+        assert ended is not None and ended[0] == 0, ended
+    finally:
+        picking.stop()
+    markers = meshmorph.read_markers(path)
+    assert markers.names == list(MARKED)
+    assert [(p[0]["vertex"], p[1]["vertex"]) for p in markers.pairs] == [(vertex_of_group(source, n), vertex_of_group(target, n)) for n in MARKED]
 
 
 def rigid_residual(a, b):
