@@ -5,6 +5,7 @@ numpy and meshmorph, so they are imported once those are loaded: an add-on
 whose wheels cannot load still registers and says why."""
 
 import os
+import threading
 
 import bpy
 
@@ -48,7 +49,9 @@ def _shaped_object(context):
 
 
 class _Progress:
-    """Blender's progress indicator and status bar for one operator."""
+    """Blender's progress indicator and status bar for one operator. Calls
+    from other threads than Blender's main thread (meshmorph's workers) are
+    let pass: Blender's API may only be used from the main thread."""
 
     def __init__(self, context, title):
         self.wm = context.window_manager
@@ -57,6 +60,8 @@ class _Progress:
         self.wm.progress_begin(0, 1000)
 
     def __call__(self, stage, done, total):
+        if threading.current_thread() is not threading.main_thread():
+            return
         self.wm.progress_update(int(1000 * done / max(total, 1)))
         if self.workspace is not None:
             self.workspace.status_text_set("meshmorph: {} {}, {} of {}".format(self.title, stage, done, total))

@@ -2,6 +2,8 @@
 (deformation transfer, Sumner and Popović 2004): one correspondence, fitted
 from markers or reused from the target, then one solve per key."""
 
+import os
+
 import numpy as np
 
 from . import kept_correspondence, mesh_arrays
@@ -53,8 +55,17 @@ def transfer(meshmorph, source, target, names, markers, refit=False, progress=No
         else:
             correspondence, report = found
         poses = np.stack([mesh_arrays.to_world(source, mesh_arrays.key_positions(source, n)) for n in names])
-        step = (lambda d, t: progress("keys", d, t)) if progress else None
-        moved = meshmorph.Transfer(vs, fs, vt, ft, correspondence).apply_all(poses, progress=step)
+        transfer = meshmorph.Transfer(vs, fs, vt, ft, correspondence)
+        # In batches of one pose a core (each batch in parallel), so that
+        # progress is shown from Blender's main thread between them: the
+        # package calls a progress callback from its worker threads, where
+        # Blender's API must not be touched.
+        batch = max(2, os.cpu_count() or 2)
+        moved = np.empty((len(names), len(vt), 3))
+        for start in range(0, len(names), batch):
+            transfer.apply_all(poses[start : start + batch], out=moved[start : start + batch])
+            if progress:
+                progress("keys", min(start + batch, len(names)), len(names))
     except meshmorph.MeshmorphError as e:
         raise Refusal(str(e)) from e
     for name, world in zip(names, moved):

@@ -2,6 +2,11 @@
 
     blender -b --factory-startup --python-exit-code 1 --python blender/tests/test_addon.py -- LEGACY_ZIP
 
+or, for Blender 4.2 and later, with Blender as a Python module (pip's
+`bpy==4.2.0` on CPython 3.11) and the extension zip:
+
+    python blender/tests/test_addon.py -- target/blender/meshmorph-VERSION-extension.zip
+
 It installs the add-on from its zip as a user would (into the user scripts
 folder given by BLENDER_USER_SCRIPTS), then: shape keys carried from a quad
 source to a target of other topology (with an n-gon) equal the Python
@@ -18,15 +23,21 @@ import sys
 import time
 import traceback
 
+import bpy  # first: with Blender as a Python module (pip's bpy), it brings addon_utils
 import addon_utils
-import bpy
 
 ZIP = sys.argv[sys.argv.index("--") + 1]
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 CLI = os.environ.get("MESHMORPH_BIN", os.path.join(ROOT, "target", "release", "meshmorph"))
 
-bpy.ops.preferences.addon_install(filepath=ZIP, overwrite=True)
-addon_utils.enable("meshmorph_blender", default_set=True, handle_error=None)
+if ZIP.endswith("-extension.zip"):
+    # Blender 4.2 and later: installed as an extension, its wheels by Blender.
+    bpy.ops.extensions.package_install_files(filepath=ZIP, repo="user_default", enable_on_install=True)
+    ADDON = "bl_ext.user_default.meshmorph"
+else:
+    bpy.ops.preferences.addon_install(filepath=ZIP, overwrite=True)
+    addon_utils.enable("meshmorph_blender", default_set=True, handle_error=None)
+    ADDON = "meshmorph_blender"
 assert hasattr(bpy.ops.meshmorph, "transfer_shape_keys"), "the add-on did not register"
 # Both put on the path by the add-on from its bundled wheels (Debian's
 # Blender has no numpy of its own).
@@ -248,7 +259,7 @@ def test_markers_from_empties_and_from_a_marker_file_give_the_same_keys():
 
 
 def test_the_pick_button_runs_meshmorph_pick_and_reads_the_saved_markers_back():
-    from meshmorph_blender import pick
+    pick = __import__(ADDON + ".pick", fromlist=["pick"])
 
     if not os.path.exists(CLI):
         raise AssertionError("the meshmorph command is not built at {} (cargo build --release)".format(CLI))
