@@ -345,6 +345,21 @@ def test_a_rigidly_turned_key_gives_rigid_inbetweens_and_a_rigid_baked_animation
         curve = obj.data.shape_keys.animation_data.action.fcurves.find('key_blocks["{}"].value'.format(b))
         assert curve.evaluate(10 + i) == 1.0 and curve.evaluate(11 + i) == 0.0 and curve.evaluate(9 + i) == 0.0
 
+    # glTF exports the baked keys as morph targets with animated weights.
+    addon_utils.enable("io_scene_gltf2", default_set=True)
+    path = os.path.join(bpy.app.tempdir, "baked.glb")
+    select(obj, active=obj)
+    bpy.ops.export_scene.gltf(filepath=path, use_selection=True, export_morph=True, export_animations=True)
+    with open(path, "rb") as f:
+        glb = f.read()
+    length = int.from_bytes(glb[12:16], "little")
+    document = json.loads(glb[20 : 20 + length])
+    mesh = document["meshes"][0]
+    assert all(b in mesh["extras"]["targetNames"] for b in baked), mesh.get("extras")
+    assert len(mesh["primitives"][0]["targets"]) == len(mesh["extras"]["targetNames"])
+    channels = [c["target"]["path"] for a in document["animations"] for c in a["channels"]]
+    assert "weights" in channels, channels
+
 
 def test_bad_selections_give_a_sentence_not_a_traceback():
     source, target = bpy.data.objects["Source"], bpy.data.objects["Target"]

@@ -15,6 +15,7 @@ __version__: str
 
 Vertices = npt.NDArray[Union[np.float64, np.float32]]
 Faces = npt.NDArray[Union[np.int32, np.int64, np.uint32]]
+# progress(done, total): called from the threads doing the work, with the GIL taken.
 Progress = Callable[[int, int], object]
 PathLike = Union[str, os.PathLike]
 

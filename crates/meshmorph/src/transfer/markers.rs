@@ -149,11 +149,7 @@ impl Markers {
     /// If there are not as many names as markers.
     #[track_caller]
     pub fn with_names(mut self, names: Vec<Option<String>>) -> Self {
-        assert_eq!(
-            names.len(),
-            self.len(),
-            "one name per marker"
-        );
+        assert_eq!(names.len(), self.len(), "one name per marker");
         let mut names = names.into_iter();
         let total = self.len();
         let mut located = self.names.iter_mut();
