@@ -11,6 +11,8 @@ the object's own space before they are stored.
 
 import numpy as np
 
+from .refusal import Refusal
+
 
 def triangles(obj):
     """The mesh's triangles `(m, 3)` int64, as Blender splits its polygons."""
@@ -22,8 +24,13 @@ def triangles(obj):
 
 
 def matrix(obj):
-    """The object's world transform, a 4x4 float64 array."""
-    return np.array(obj.matrix_world, dtype=np.float64)
+    """The object's world transform, a 4x4 float64 array; refused when it
+    flattens the object (a scale of 0), which no result could undo."""
+    m = np.array(obj.matrix_world, dtype=np.float64)
+    scales = np.linalg.svd(m[:3, :3], compute_uv=False)
+    if not scales[-1] > 1e-9 * scales[0]:
+        raise Refusal("{} is scaled to nothing along an axis: give it a scale other than 0".format(obj.name))
+    return m
 
 
 def to_world(obj, local):

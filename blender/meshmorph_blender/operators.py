@@ -38,13 +38,23 @@ def _source_and_target(context):
         raise Refusal(
             "Select two meshes: first the source (with shape keys), then the target last, so that it is active"
         )
+    _in_object_mode(others[0], target)
     return others[0], target
+
+
+def _in_object_mode(*objects):
+    """Refuses meshes in Edit Mode: their shape keys are not up to date, and
+    Blender would write the edit over new keys on leaving it."""
+    for obj in objects:
+        if obj.mode == "EDIT":
+            raise Refusal("Leave Edit Mode (Tab) on {} first".format(obj.name))
 
 
 def _shaped_object(context):
     obj = context.active_object
     if obj is None or obj.type != "MESH" or obj.data.shape_keys is None:
         raise Refusal("Select a mesh with shape keys (made active)")
+    _in_object_mode(obj)
     return obj
 
 

@@ -389,6 +389,17 @@ def test_bad_selections_give_a_sentence_not_a_traceback():
     select(bpy.data.objects["Turning"], active=bpy.data.objects["Turning"])
     settings.inbetween_to = "nothing"
     assert "Turning has no shape key \"nothing\"" in error_of(bpy.ops.meshmorph.add_inbetweens)
+    settings.inbetween_to = "turned"
+    bpy.ops.object.mode_set(mode="EDIT")
+    assert "Leave Edit Mode (Tab) on Turning first" in error_of(bpy.ops.meshmorph.add_inbetweens)
+    bpy.ops.object.mode_set(mode="OBJECT")
+    select(source, target, active=target)
+    settings.marker_source, settings.refit = "GROUPS", False
+    scale = target.scale.copy()
+    target.scale = (1, 0, 1)
+    bpy.context.view_layer.update()
+    assert "Target is scaled to nothing along an axis" in error_of(bpy.ops.meshmorph.transfer_shape_keys)
+    target.scale = scale
 
 
 failed = 0
