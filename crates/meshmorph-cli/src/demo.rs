@@ -235,11 +235,12 @@ fn transfer(args: &Args) -> Result<()> {
     }
     let out = dir.join("target");
     run_transfer(&TransferArgs {
-        refs: References {
+        refs: Some(References {
             source_ref: source_ref.clone(),
             target_ref: target_ref.clone(),
             no_weld: false,
-        },
+        }),
+        batch: Vec::new(),
         correspond: CorrespondArgs {
             markers: vec![markers_path.clone()],
             no_markers: false,
@@ -256,7 +257,7 @@ fn transfer(args: &Args) -> Result<()> {
         correspondence: None,
         save_correspondence: Some(dir.join("thin-to-thick.corr")),
         pin: Vec::new(),
-        output: out.clone(),
+        output: Some(out.clone()),
         format: None,
         json: args.json,
         gltf: GltfArgs {

@@ -111,7 +111,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Interpolate(args) => interpolate::run(&args),
         Command::Blend(args) => blend::run(&args),
-        Command::Transfer(args) => transfer::run_transfer(&args),
+        Command::Transfer(args) => transfer::run(&args),
         Command::Correspond(args) => correspond::run_correspond(&args),
         Command::Pick(args) => pick::run(&args),
         Command::Demo(args) => demo::run(&args),

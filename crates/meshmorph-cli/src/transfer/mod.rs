@@ -16,6 +16,7 @@ use crate::output::{self, FormatArg};
 use crate::outputs::{Output, Plan, Staging};
 use crate::pictures::PictureArgs;
 use crate::progress;
+mod batch;
 mod correspondence;
 mod fit;
 mod report;
@@ -28,10 +29,11 @@ pub use fit::FitSummary;
 pub(crate) use report::print_unmatched;
 use report::TransferReport;
 
-/// Carry the poses of a source mesh over to a target mesh.
+/// Carry the poses of a source mesh over to a target mesh, or to many
+/// targets at once (--batch).
 ///
 /// Writes one mesh per pose: DIR/<the pose file's stem>.<ext>.
-#[derive(Debug, clap::Args)]
+#[derive(Debug, Clone, clap::Args)]
 #[command(
     mut_arg("one_based", |a| a.help("Vertex indices (markers and --pin) start at 1 instead of 0")),
     mut_arg("png", |a| a.help("Also write a still picture (PNG): source poses above, transferred poses below (the first, middle and last)")),
@@ -40,7 +42,20 @@ use report::TransferReport;
 )]
 pub struct TransferArgs {
     #[command(flatten)]
-    pub refs: References,
+    pub refs: Option<References>,
+    /// A batch file (TOML or JSON): one source and its poses, and any number
+    /// of targets, each with its markers or saved correspondence and its
+    /// output directory (see `meshmorph transfer --help`'s end, or the
+    /// README). One correspondence a target; each target written all or
+    /// nothing; a target that fails is reported and the others go on.
+    /// Repeat it to run several batches together. The other options here
+    /// apply to every target.
+    #[arg(
+        long,
+        value_name = "FILE",
+        conflicts_with_all = ["source_ref", "target_ref", "markers", "no_markers", "correspondence", "save_correspondence", "pin", "output", "gltf", "png", "gif", "poses"]
+    )]
+    pub batch: Vec<PathBuf>,
     #[command(flatten)]
     pub correspond: CorrespondArgs,
     /// Reuse a correspondence saved by --save-correspondence or `meshmorph
@@ -63,8 +78,8 @@ pub struct TransferArgs {
     )]
     pub pin: Vec<u32>,
     /// Directory for the transferred poses (created if missing).
-    #[arg(short, long, value_name = "DIR")]
-    pub output: PathBuf,
+    #[arg(short, long, value_name = "DIR", required_unless_present = "batch")]
+    pub output: Option<PathBuf>,
     /// Output mesh format [default: the target reference's].
     #[arg(long, value_enum)]
     pub format: Option<FormatArg>,
@@ -81,8 +96,24 @@ pub struct TransferArgs {
     pub pictures: PictureArgs,
     /// Source poses: new positions for the source reference's vertices, with
     /// its faces (listed in any corner order or winding).
-    #[arg(required = true, value_name = "POSE")]
+    #[arg(required_unless_present = "batch", value_name = "POSE")]
     pub poses: Vec<PathBuf>,
+}
+
+impl TransferArgs {
+    /// The two references (clap asks for them unless --batch is given).
+    fn references(&self) -> Result<&References> {
+        self.refs
+            .as_ref()
+            .context("--source-ref and --target-ref are needed (or --batch FILE)")
+    }
+
+    /// The output directory (clap asks for it unless --batch is given).
+    fn output_dir(&self) -> Result<&Path> {
+        self.output
+            .as_deref()
+            .context("--output is needed (or --batch FILE)")
+    }
 }
 
 /// A vertex index (0 or more).
@@ -98,18 +129,32 @@ fn vertex_index(text: &str) -> Result<u32, String> {
 /// the output format dropped, the positions (kept for the glTF and pictures).
 type SolvedPose = (f64, f64, Vec<String>, Option<Vec<[f64; 3]>>);
 
-pub fn run_transfer(args: &TransferArgs) -> Result<()> {
+/// `meshmorph transfer`: one target, or a batch.
+pub fn run(args: &TransferArgs) -> Result<()> {
+    if args.batch.is_empty() {
+        run_transfer(args).map(|_| ())
+    } else {
+        batch::run(args)
+    }
+}
+
+/// Carries the poses to the target and prints the report; returns how many
+/// poses were written and the seconds in the correspondence and in the
+/// transfer.
+pub fn run_transfer(args: &TransferArgs) -> Result<Done> {
     let start = Instant::now();
-    let format = output::format_or_like(args.format, &args.refs.target_ref)?;
+    let refs = args.references()?;
+    let output_dir = args.output_dir()?;
+    let format = output::format_or_like(args.format, &refs.target_ref)?;
     // Every output is checked against every input (by resolved path) before
     // anything is read or computed.
-    let outputs = output_paths(&args.poses, &args.output, format.extension())?;
+    let outputs = output_paths(&args.poses, output_dir, format.extension())?;
     let mut plan = Plan::new();
     for pose in &args.poses {
         plan.input(pose, "source pose");
     }
-    plan.input(&args.refs.source_ref, "source reference");
-    plan.input(&args.refs.target_ref, "target reference");
+    plan.input(&refs.source_ref, "source reference");
+    plan.input(&refs.target_ref, "target reference");
     for m in &args.correspond.markers {
         plan.input(m, "marker file");
     }
@@ -128,12 +173,9 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let pictures = PictureOutputs::plan(&mut plan, &args.pictures);
     let staging = plan.prepare()?;
     let mut read: Vec<&Path> = args.poses.iter().map(PathBuf::as_path).collect();
-    read.extend([
-        args.refs.source_ref.as_path(),
-        args.refs.target_ref.as_path(),
-    ]);
+    read.extend([refs.source_ref.as_path(), refs.target_ref.as_path()]);
     memory::check_reading(&read)?;
-    let (source_ref, target_ref) = args.refs.read()?;
+    let (source_ref, target_ref) = refs.read()?;
     output::protect_side_files(&staging, &source_ref.file.file, "source reference")?;
     output::protect_side_files(&staging, &target_ref.file.file, "target reference")?;
     let (source, target) = (&source_ref.mesh, &target_ref.mesh);
@@ -152,7 +194,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let mut read = read_poses(first, &source_ref)?;
     let (others, prepared) = rayon::join(
         || read_poses(others, &source_ref),
-        || prepare(args, &source_ref, &target_ref, pins),
+        || prepare(args, refs, &source_ref, &target_ref, pins),
     );
     read.append(others?);
     let ReadPoses {
@@ -218,7 +260,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     bar.finish_and_clear();
     if let Some((_, _, dropped, _)) = solved.first() {
         // The same for every pose: said once, for the directory.
-        warnings.extend(output::dropped_for(&args.output, dropped));
+        warnings.extend(output::dropped_for(output_dir, dropped));
     }
     let mut timings = Vec::with_capacity(solved.len());
     let mut results = Vec::new();
@@ -232,7 +274,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     let options = GltfOptions::default()
         .with_fps(args.pictures.draw.fps)
         .with_animation(!args.gltf_shapes)
-        .with_name(crate::gltf::mesh_name(&args.refs.target_ref));
+        .with_name(crate::gltf::mesh_name(&refs.target_ref));
     let mut gltf = None;
     if let Some(output) = gltf_output {
         let look = Appearance::of_file(&target_ref.file.file, image_budget)?;
@@ -255,7 +297,7 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
             .iter()
             .map(|p| crate::gltf::mesh_name(p))
             .collect();
-        let target_name = crate::gltf::mesh_name(&args.refs.target_ref);
+        let target_name = crate::gltf::mesh_name(&refs.target_ref);
         files_written.extend(pictures.write(&staging, &args.pictures, |staged| {
             crate::pictures::write_transfer_pictures(
                 staged,
@@ -302,8 +344,13 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
     output::print_warnings(&warnings);
     staging.commit()?;
     let n = timings.len() as f64;
+    let done = Done {
+        poses: timings.len(),
+        correspondence_seconds,
+        transfer_seconds: start.elapsed().as_secs_f64() - correspondence_seconds,
+    };
     TransferReport {
-        output: args.output.clone(),
+        output: output_dir.to_path_buf(),
         poses_written: timings.len(),
         correspondence_seconds,
         correspondence_loaded: args.correspondence.is_some(),
@@ -332,7 +379,17 @@ pub fn run_transfer(args: &TransferArgs) -> Result<()> {
         warnings,
     }
     .print(args.json);
-    Ok(())
+    Ok(done)
+}
+
+/// What one transfer did, for a batch's totals.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Done {
+    pub poses: usize,
+    /// Computing (or loading) the correspondence.
+    pub correspondence_seconds: f64,
+    /// The rest: reading, setting up, solving and writing.
+    pub transfer_seconds: f64,
 }
 
 /// The source poses, read and checked against the source reference.
@@ -414,6 +471,7 @@ struct Prepared {
 
 fn prepare(
     args: &TransferArgs,
+    refs: &References,
     source_ref: &Reference,
     target_ref: &Reference,
     pins: Vec<(u32, [f64; 3])>,
@@ -440,7 +498,7 @@ fn prepare(
         None => {
             let (result, report, summary) =
                 args.correspond
-                    .compute(&args.refs, source_ref, target_ref, &mut warnings)?;
+                    .compute(refs, source_ref, target_ref, &mut warnings)?;
             marker_report = Some(report);
             fit = Some(summary);
             result.correspondence
@@ -460,7 +518,7 @@ fn prepare(
         &TransferOptions::default().with_pins(pins),
     )
     .map_err(|e| name_degenerate_faces(e, source_ref, target_ref))
-    .with_context(|| format!("setting up the transfer {}", args.refs.describe()))?;
+    .with_context(|| format!("setting up the transfer {}", refs.describe()))?;
     Ok(Prepared {
         correspondence,
         marker_report,

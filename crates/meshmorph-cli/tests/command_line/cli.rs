@@ -1332,6 +1332,151 @@ fn os(s: &str) -> &OsStr {
     OsStr::new(s)
 }
 
+/// A batch file in the rig's folder: the rig's source and poses, and a
+/// target per entry of `targets` (TOML lines of its table).
+fn batch_file(rig: &Rig, name: &str, targets: &[String]) -> PathBuf {
+    let quoted = |p: &Path| format!("{:?}", p.to_str().unwrap());
+    let mut text = format!(
+        "source = {}\nposes = [{}]\n",
+        quoted(&rig.source_ref),
+        rig.poses
+            .iter()
+            .map(|p| quoted(p))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    for t in targets {
+        text += &format!(
+            "\n[[targets]]\nreference = {}\n{t}\n",
+            quoted(&rig.target_ref)
+        );
+    }
+    let path = rig.path(name);
+    fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn a_batch_with_a_bad_marker_file_writes_the_other_targets_and_names_it() {
+    let rig = Rig::new();
+    let bad = rig.path("bad-markers.txt");
+    fs::write(&bad, "0 0\n1 999999\n").unwrap();
+    let target = |markers: &Path, out: &str| {
+        format!(
+            "markers = {:?}\noutput = {out:?}",
+            markers.to_str().unwrap()
+        )
+    };
+    let batch = batch_file(
+        &rig,
+        "batch.toml",
+        &[
+            target(&rig.markers, "a"),
+            target(&bad, "b"),
+            target(&rig.markers, "c"),
+        ],
+    );
+    let out = run([os("transfer"), os("--batch"), batch.as_os_str()]);
+    let err = fails(&out);
+    assert_mentions(
+        &err,
+        &["target 1 of", "bad-markers.txt", "1 of 3 targets failed"],
+    );
+    assert!(
+        stdout(&out).contains("batch: 2 of 3 targets written, 6 shapes"),
+        "{}",
+        stdout(&out)
+    );
+    assert_eq!(names(&rig.path("a")).len(), 3);
+    assert_eq!(names(&rig.path("c")).len(), 3);
+    assert!(!rig.path("b").exists() || names(&rig.path("b")).is_empty());
+    // The good targets are what the single command writes.
+    let single = rig.path("single");
+    succeeds(&rig.transfer_with_markers(&single, &[]));
+    assert_eq!(rig.outputs(&rig.path("a")), rig.outputs(&single));
+}
+
+#[test]
+fn a_batch_reusing_its_saved_correspondence_writes_the_same_bytes() {
+    let rig = Rig::new();
+    let corr = rig.path("kept.corr");
+    let first = batch_file(
+        &rig,
+        "first.toml",
+        &[format!(
+            "markers = {:?}\nsave_correspondence = {:?}\noutput = \"fitted\"",
+            rig.markers.to_str().unwrap(),
+            corr.to_str().unwrap()
+        )],
+    );
+    let report = succeeds(&run([
+        os("transfer"),
+        os("--json"),
+        os("--batch"),
+        first.as_os_str(),
+    ]));
+    let totals = json(report.lines().last().unwrap());
+    assert_eq!(uint(&totals, "shapes_written"), 3);
+    assert!(
+        seconds(&totals, "correspondence_seconds") > 0.0
+            && seconds(&totals, "transfer_seconds") > 0.0
+    );
+    assert!(corr.exists());
+    // The same batch as JSON, from the saved correspondence.
+    let again = rig.path("again.json");
+    let quoted = |p: &Path| serde_json::Value::from(p.to_str().unwrap());
+    fs::write(
+        &again,
+        serde_json::json!({
+            "source": quoted(&rig.source_ref),
+            "poses": rig.poses.iter().map(|p| quoted(p)).collect::<Vec<_>>(),
+            "targets": [{"reference": quoted(&rig.target_ref), "correspondence": "kept.corr", "output": "reused"}],
+        })
+        .to_string(),
+    )
+    .unwrap();
+    succeeds(&run([os("transfer"), os("--batch"), again.as_os_str()]));
+    let fitted = rig.outputs(&rig.path("fitted"));
+    assert_eq!(fitted.len(), 3);
+    assert_eq!(rig.outputs(&rig.path("reused")), fitted);
+}
+
+#[test]
+fn a_batch_file_that_does_not_parse_is_named_before_anything_is_written() {
+    let rig = Rig::new();
+    let batch = rig.path("broken.toml");
+    fs::write(&batch, "source = \"s.obj\"\nposes = [\"p.obj\"]\n[[targets]]\nreference = \"t.obj\"\nmarkers = \"m.txt\"\nouptut = \"o\"\n").unwrap();
+    let err = fails(&run([os("transfer"), os("--batch"), batch.as_os_str()]));
+    assert_mentions(&err, &["broken.toml", "ouptut"]);
+    let twice = batch_file(
+        &rig,
+        "twice.toml",
+        &[
+            format!(
+                "markers = {:?}\noutput = \"same\"",
+                rig.markers.to_str().unwrap()
+            ),
+            format!(
+                "markers = {:?}\noutput = \"same\"",
+                rig.markers.to_str().unwrap()
+            ),
+        ],
+    );
+    let err = fails(&run([os("transfer"), os("--batch"), twice.as_os_str()]));
+    assert_mentions(&err, &["both write to", "same"]);
+    assert!(!rig.path("same").exists());
+    // A usage error (status 2), as clap gives them.
+    let mixed = run([
+        os("transfer"),
+        os("--batch"),
+        twice.as_os_str(),
+        os("--source-ref"),
+        rig.source_ref.as_os_str(),
+    ]);
+    assert_eq!(mixed.status.code(), Some(2));
+    assert_mentions(&stderr(&mixed), &["--batch", "--source-ref"]);
+}
+
 #[test]
 fn transfer_happy_path_then_reuse_the_saved_correspondence() {
     let rig = Rig::new();

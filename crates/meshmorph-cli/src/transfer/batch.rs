@@ -1,0 +1,226 @@
+//! `meshmorph transfer --batch FILE`: one source's poses carried to many
+//! targets. Each target is an ordinary transfer (its own correspondence,
+//! reused from its file when given; its outputs written all or nothing);
+//! a target that fails is reported and the others go on, and the exit
+//! status says that one failed. The report ends with the totals.
+//!
+//! A batch file, TOML or JSON, paths relative to it:
+//!
+//! ```toml
+//! source = "horse-reference.obj"
+//! poses = ["horse-01.obj", "horse-02.obj"]
+//!
+//! [[targets]]
+//! reference = "camel-reference.obj"
+//! markers = "horse-camel.cons"        # or two point files: ["horse.pp", "camel.pp"]
+//! # correspondence = "horse-camel.corr"  (instead of markers)
+//! # save_correspondence = "horse-camel.corr"
+//! # gltf = "camel.glb"
+//! output = "camel/"
+//! ```
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use serde::{Deserialize, Serialize};
+
+use super::{run_transfer, Done, References, TransferArgs};
+use crate::output;
+
+/// A batch file as written.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BatchFile {
+    source: PathBuf,
+    poses: Vec<PathBuf>,
+    targets: Vec<Target>,
+}
+
+/// One target of a batch file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Target {
+    reference: PathBuf,
+    #[serde(default)]
+    markers: Option<MarkerFiles>,
+    #[serde(default)]
+    correspondence: Option<PathBuf>,
+    #[serde(default)]
+    save_correspondence: Option<PathBuf>,
+    #[serde(default)]
+    gltf: Option<PathBuf>,
+    output: PathBuf,
+}
+
+/// One file of pairs, or the source's and the target's point files.
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+enum MarkerFiles {
+    One(PathBuf),
+    Several(Vec<PathBuf>),
+}
+
+/// The totals printed at the end.
+#[derive(Debug, Serialize)]
+struct BatchReport {
+    targets: usize,
+    #[serde(serialize_with = "output::lossy")]
+    targets_failed: Vec<PathBuf>,
+    shapes_written: usize,
+    seconds: f64,
+    shapes_per_second: f64,
+    correspondence_seconds: f64,
+    transfer_seconds: f64,
+}
+
+/// One transfer of the batch: the command line's options with the target's
+/// files.
+struct Job {
+    /// The batch file it comes from and the target's index there, for messages.
+    named: String,
+    args: TransferArgs,
+}
+
+pub fn run(args: &TransferArgs) -> Result<()> {
+    let start = Instant::now();
+    let mut jobs = Vec::new();
+    for file in &args.batch {
+        jobs.extend(read(file, args)?);
+    }
+    distinct_outputs(&jobs)?;
+    let mut done = Done::default();
+    let mut failed = Vec::new();
+    for (k, job) in jobs.iter().enumerate() {
+        if !args.json {
+            say!("\n== {} of {}: {} ==", k + 1, jobs.len(), job.named);
+        }
+        match run_transfer(&job.args) {
+            Ok(d) => {
+                done.poses += d.poses;
+                done.correspondence_seconds += d.correspondence_seconds;
+                done.transfer_seconds += d.transfer_seconds;
+            }
+            Err(e) => {
+                let message = format!("{}: {e:#}", job.named);
+                eprintln!("error: {message}");
+                if args.json {
+                    output::print_json_error(&message, 1);
+                }
+                failed.push(job.args.output.clone().unwrap_or_default());
+            }
+        }
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    let report = BatchReport {
+        targets: jobs.len(),
+        targets_failed: failed.clone(),
+        shapes_written: done.poses,
+        seconds,
+        shapes_per_second: done.poses as f64 / seconds,
+        correspondence_seconds: done.correspondence_seconds,
+        transfer_seconds: done.transfer_seconds,
+    };
+    if args.json {
+        output::print_json(&report);
+    } else {
+        say!(
+            "\nbatch: {} of {} targets written, {} in {} ({:.1} shapes a second): {} in correspondences, {} in transfers",
+            jobs.len() - failed.len(),
+            jobs.len(),
+            output::count(done.poses, "shape"),
+            output::human_seconds(seconds),
+            report.shapes_per_second,
+            output::human_seconds(done.correspondence_seconds),
+            output::human_seconds(done.transfer_seconds),
+        );
+    }
+    if !failed.is_empty() {
+        bail!(
+            "{} of {} targets failed (named above); the others were written",
+            failed.len(),
+            jobs.len()
+        );
+    }
+    Ok(())
+}
+
+/// The jobs of one batch file: its paths taken relative to its folder.
+fn read(file: &Path, args: &TransferArgs) -> Result<Vec<Job>> {
+    let text = std::fs::read_to_string(file)
+        .with_context(|| format!("cannot read the batch file `{}`", file.display()))?;
+    let is_json = file
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let batch: BatchFile = if is_json {
+        serde_json::from_str(&text).map_err(anyhow::Error::from)
+    } else {
+        toml::from_str(&text).map_err(anyhow::Error::from)
+    }
+    .with_context(|| format!("the batch file `{}`", file.display()))?;
+    if batch.poses.is_empty() {
+        bail!("the batch file `{}` lists no poses", file.display());
+    }
+    if batch.targets.is_empty() {
+        bail!("the batch file `{}` lists no targets", file.display());
+    }
+    let folder = file.parent().unwrap_or(Path::new(""));
+    let at = |p: &Path| folder.join(p);
+    batch
+        .targets
+        .iter()
+        .enumerate()
+        .map(|(k, t)| {
+            let named = format!(
+                "target {k} of `{}` (`{}`)",
+                file.display(),
+                t.reference.display()
+            );
+            let markers = match &t.markers {
+                None => Vec::new(),
+                Some(MarkerFiles::One(m)) => vec![at(m)],
+                Some(MarkerFiles::Several(m)) if (1..=2).contains(&m.len()) => {
+                    m.iter().map(|p| at(p)).collect()
+                }
+                Some(MarkerFiles::Several(_)) => {
+                    bail!("{named}: `markers` is one file of pairs or two files of points")
+                }
+            };
+            if markers.is_empty() == t.correspondence.is_none() {
+                bail!("{named}: give `markers` or `correspondence` (one of them)");
+            }
+            let mut job = args.clone();
+            job.batch = Vec::new();
+            job.refs = Some(References {
+                source_ref: at(&batch.source),
+                target_ref: at(&t.reference),
+                no_weld: args.refs.as_ref().is_some_and(|r| r.no_weld),
+            });
+            job.correspond.markers = markers;
+            job.correspondence = t.correspondence.as_deref().map(at);
+            job.save_correspondence = t.save_correspondence.as_deref().map(at);
+            job.gltf.gltf = t.gltf.as_deref().map(at);
+            job.output = Some(at(&t.output));
+            job.poses = batch.poses.iter().map(|p| at(p)).collect();
+            Ok(Job { named, args: job })
+        })
+        .collect()
+}
+
+/// Refuses two targets writing to the same place.
+fn distinct_outputs(jobs: &[Job]) -> Result<()> {
+    let mut seen: HashMap<PathBuf, &str> = HashMap::new();
+    for job in jobs {
+        let out = job.args.output.as_deref().unwrap_or(Path::new(""));
+        let key = std::path::absolute(out).unwrap_or_else(|_| out.to_path_buf());
+        if let Some(other) = seen.insert(key, &job.named) {
+            bail!(
+                "{} and {other} both write to `{}`: give each target its own output",
+                job.named,
+                out.display()
+            );
+        }
+    }
+    Ok(())
+}
