@@ -66,12 +66,16 @@ def bake(meshmorph, obj, keys, frames_per_key, first_frame, prefix="ARAP"):
         raise Refusal("List at least two keys to animate through, comma-separated")
     if frames_per_key < 1:
         raise Refusal("Give at least one frame from one key to the next")
+    keys_of = obj.data.shape_keys
+    if keys_of is not None and any(k.startswith(prefix + " ") for k in keys):
+        raise Refusal("Bake through your own keys, not the baked \"{} ....\" ones".format(prefix))
     stack = np.stack([_world_key(obj, k) for k in keys])
     ss = np.linspace(0, len(keys) - 1, (len(keys) - 1) * frames_per_key + 1)
     try:
         frames = meshmorph.Sequence(stack, _faces(obj)).frames(ss)
     except meshmorph.MeshmorphError as e:
         raise Refusal(str(e)) from e
+    _forget_bake(obj, prefix)
     names = []
     for i, world in enumerate(frames):
         name = "{} {:04d}".format(prefix, i)
@@ -81,8 +85,43 @@ def bake(meshmorph, obj, keys, frames_per_key, first_frame, prefix="ARAP"):
             block.value = v
             block.keyframe_insert("value", frame=f)
         names.append(name)
-    action = obj.data.shape_keys.animation_data.action
-    for curve in action.fcurves:
-        for point in curve.keyframe_points:
-            point.interpolation = "LINEAR"
+    for curve in _curves(obj):
+        if _baked_name(curve.data_path, prefix):
+            for point in curve.keyframe_points:
+                point.interpolation = "LINEAR"
     return names
+
+
+def _baked_name(data_path, prefix):
+    """Whether an F-curve's path is the value of a baked key."""
+    return data_path.startswith('key_blocks["{} '.format(prefix)) and data_path.endswith('"].value')
+
+
+def _curves(obj):
+    """The F-curves of the object's shape key animation (none without one;
+    Blender 5's layered actions keep them in a channel bag)."""
+    data = obj.data.shape_keys.animation_data
+    action = data.action if data is not None else None
+    if action is None:
+        return []
+    if hasattr(action, "fcurves"):
+        return list(action.fcurves)
+    try:
+        from bpy_extras import anim_utils
+
+        bag = anim_utils.action_get_channelbag_for_slot(action, data.action_slot)
+        return list(bag.fcurves) if bag is not None else []
+    except (ImportError, AttributeError):
+        return []
+
+
+def _forget_bake(obj, prefix):
+    """Removes an earlier bake: its keys and their curves."""
+    data = obj.data.shape_keys.animation_data
+    action = data.action if data is not None else None
+    if action is not None and hasattr(action, "fcurves"):
+        for curve in [c for c in action.fcurves if _baked_name(c.data_path, prefix)]:
+            action.fcurves.remove(curve)
+    blocks = obj.data.shape_keys.key_blocks
+    for name in [b.name for b in blocks if b.name.startswith(prefix + " ") and b.name[len(prefix) + 1 :].isdigit()]:
+        obj.shape_key_remove(blocks[name])

@@ -2,9 +2,12 @@
 shape keys added to the source later transfer without a new fit.
 
 It is stored as the target's custom property ``meshmorph_correspondence``:
-the source's name, a fingerprint of both meshes' vertex counts and
-triangles (a changed mesh needs a new fit), the fit report, and meshmorph's
-correspondence file, base64-encoded (saved and reloaded with the .blend).
+the source's name, a fingerprint of both meshes at rest (vertex positions
+in their own space, and triangles) and one of the markers it was fitted
+from, the fit report, and meshmorph's correspondence file,
+base64-encoded (saved and reloaded with the .blend). A kept fit serves
+while both meshes are unchanged and the markers are either unchanged or
+not given at all; a changed mesh or changed markers fit anew.
 """
 
 import base64
@@ -15,29 +18,48 @@ import tempfile
 PROPERTY = "meshmorph_correspondence"
 
 
-def fingerprint(fs, nvs, ft, nvt):
-    """Names both meshes' topology: vertex counts and triangles."""
+def meshes_print(source_rest, fs, target_rest, ft):
+    """Names both meshes at rest: positions (as Blender stores them) and triangles."""
     h = hashlib.sha256()
-    for part in (fs, ft):
-        h.update(part.astype("<i8").tobytes())
-    return "{} {} {}".format(nvs, nvt, h.hexdigest()[:32])
+    for rest, tris in ((source_rest, fs), (target_rest, ft)):
+        h.update(rest.astype("<f4").tobytes())
+        h.update(tris.astype("<i8").tobytes())
+    return h.hexdigest()[:32]
 
 
-def keep(target, source_name, print_, correspondence, report):
-    """Stores `correspondence` (with its report) on `target`."""
+def markers_print(markers):
+    """Names a set of markers (their file as meshmorph writes it)."""
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "markers.txt")
+        markers.save(path)
+        with open(path, "rb") as f:
+            return hashlib.sha256(f.read()).hexdigest()[:32]
+
+
+def keep(target, source_name, meshes, markers, correspondence, report):
+    """Stores `correspondence` (with its report and fingerprints) on `target`."""
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "kept.corr")
         correspondence.save(path)
         with open(path, "rb") as f:
             data = base64.b64encode(f.read()).decode("ascii")
-    target[PROPERTY] = {"source": source_name, "fingerprint": print_, "report": report, "data": data}
+    target[PROPERTY] = {
+        "source": source_name,
+        "meshes": meshes,
+        "markers": markers,
+        "report": report,
+        "data": data,
+    }
 
 
-def kept(meshmorph, target, source_name, print_):
-    """The correspondence kept on `target` for `source_name` with this
-    fingerprint, and its report; None when there is none that fits."""
+def kept(meshmorph, target, source_name, meshes, markers):
+    """The correspondence kept on `target` that serves `source_name` with
+    these meshes and markers (None: no markers given), and its report; None
+    when there is none that serves."""
     stored = target.get(PROPERTY)
-    if stored is None or stored.get("source") != source_name or stored.get("fingerprint") != print_:
+    if stored is None or stored.get("source") != source_name or stored.get("meshes") != meshes:
+        return None
+    if markers is not None and stored.get("markers") != markers:
         return None
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "kept.corr")

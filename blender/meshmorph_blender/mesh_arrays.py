@@ -15,12 +15,18 @@ from .refusal import Refusal
 
 
 def triangles(obj):
-    """The mesh's triangles `(m, 3)` int64, as Blender splits its polygons."""
+    """The mesh's triangles `(m, 3)` int64, as Blender splits its polygons,
+    wound as they face in world space: an object mirrored by its transform
+    (a negative scale) has them turned over, so that their normals still
+    point outwards there."""
     mesh = obj.data
     mesh.calc_loop_triangles()
     tris = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int64)
     mesh.loop_triangles.foreach_get("vertices", tris)
-    return tris.reshape(-1, 3)
+    tris = tris.reshape(-1, 3)
+    if np.linalg.det(matrix(obj)[:3, :3]) < 0:
+        tris = tris[:, ::-1].copy()
+    return tris
 
 
 def matrix(obj):

@@ -38,16 +38,19 @@ def _source_and_target(context):
         raise Refusal(
             "Select two meshes: first the source (with shape keys), then the target last, so that it is active"
         )
+    if others[0].data is target.data:
+        raise Refusal("{} and {} share one mesh: select two different meshes".format(others[0].name, target.name))
     _in_object_mode(others[0], target)
     return others[0], target
 
 
 def _in_object_mode(*objects):
-    """Refuses meshes in Edit Mode: their shape keys are not up to date, and
-    Blender would write the edit over new keys on leaving it."""
+    """Refuses meshes in another mode than Object Mode: in Edit or Sculpt
+    Mode their shape keys are not up to date, and Blender would write the
+    edit over new keys on leaving it."""
     for obj in objects:
-        if obj.mode == "EDIT":
-            raise Refusal("Leave Edit Mode (Tab) on {} first".format(obj.name))
+        if obj.mode != "OBJECT":
+            raise Refusal("Go back to Object Mode on {} first".format(obj.name))
 
 
 def _shaped_object(context):
@@ -72,6 +75,9 @@ class _Progress:
     def __call__(self, stage, done, total):
         if threading.current_thread() is not threading.main_thread():
             return
+        self.show(stage, done, total)
+
+    def show(self, stage, done, total):
         self.wm.progress_update(int(1000 * done / max(total, 1)))
         if self.workspace is not None:
             self.workspace.status_text_set("meshmorph: {} {}, {} of {}".format(self.title, stage, done, total))
@@ -100,13 +106,14 @@ class MESHMORPH_OT_transfer_shape_keys(_Refusing, bpy.types.Operator):
     bl_label = "Transfer Shape Keys"
     bl_options = {"REGISTER", "UNDO"}
 
-    def work(self, context):
+    def _gather(self, context):
+        """The transfer's arrays, read from Blender (main thread)."""
         source, target = _source_and_target(context)
         meshmorph = _meshmorph()
         from . import marker_sources, transfer_keys
 
         s = _settings(context)
-        names = transfer_keys.chosen_keys(source, s.keys)
+        names = transfer_keys.chosen_keys(source, target, s.keys)
 
         def markers():
             if s.marker_source == "FILE":
@@ -115,15 +122,71 @@ class MESHMORPH_OT_transfer_shape_keys(_Refusing, bpy.types.Operator):
                 return marker_sources.from_vertex_groups(meshmorph, source, target, s.group_prefix)
             return marker_sources.from_empties(meshmorph, source, target)
 
+        return transfer_keys.Work(meshmorph, source, target, names, markers, s.refit)
+
+    def _finish(self, job):
+        report, reused = job.store()
+        how = "with the kept correspondence" if reused else "after a new fit"
+        n = len(job.names)
+        keys = "1 shape key" if n == 1 else "{} shape keys".format(n)
+        self.report({"INFO"}, "{} carried to {} {}. {}".format(keys, job.target.name, how, report))
+        return {"FINISHED"}
+
+    def work(self, context):
+        """From a script: all at once."""
+        job = self._gather(context)
         progress = _Progress(context, "transferring")
         try:
-            report, reused = transfer_keys.transfer(meshmorph, source, target, names, markers, s.refit, progress)
+            job.run(progress)
         finally:
             progress.end()
-        how = "with the kept correspondence" if reused else "after a new fit"
-        keys = "1 shape key" if len(names) == 1 else "{} shape keys".format(len(names))
-        self.report({"INFO"}, "{} carried to {} {}. {}".format(keys, target.name, how, report))
-        return {"FINISHED"}
+        return self._finish(job)
+
+    def invoke(self, context, event):
+        """From the panel: the fit and the solves on a thread of their own
+        (meshmorph releases the GIL), Blender's status bar showing how far
+        they are; the keys are written once they are done."""
+        try:
+            self._job = self._gather(context)
+        except Refusal as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
+        state = self._state = {"stage": "fit", "done": 0, "total": 1, "error": None, "finished": False}
+
+        def record(stage, done, total):
+            state.update(stage=stage, done=done, total=total)
+
+        def run():
+            try:
+                self._job.run(record)
+            except Exception as e:  # reported from the main thread
+                state["error"] = e
+            finally:
+                state["finished"] = True
+
+        self._progress = _Progress(context, "transferring")
+        self._timer = context.window_manager.event_timer_add(0.1, window=context.window)
+        threading.Thread(target=run, daemon=True).start()
+        context.window_manager.modal_handler_add(self)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        if event.type != "TIMER":
+            return {"RUNNING_MODAL"}  # the meshes stay as they are until the keys are written
+        state = self._state
+        self._progress.show(state["stage"], state["done"], state["total"])
+        if not state["finished"]:
+            return {"RUNNING_MODAL"}
+        context.window_manager.event_timer_remove(self._timer)
+        self._progress.end()
+        if state["error"] is not None:
+            self.report({"ERROR"}, str(state["error"]))
+            return {"CANCELLED"}
+        try:
+            return self._finish(self._job)
+        except Refusal as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
 
 
 class MESHMORPH_OT_add_inbetweens(_Refusing, bpy.types.Operator):
@@ -176,6 +239,7 @@ class MESHMORPH_OT_pick(bpy.types.Operator):
     _timer = None
 
     def invoke(self, context, event):
+        s = _settings(context)
         try:
             source, target = _source_and_target(context)
             _meshmorph()
@@ -183,18 +247,21 @@ class MESHMORPH_OT_pick(bpy.types.Operator):
 
             prefs = context.preferences.addons[__package__].preferences
             command = pick.executable(prefs.executable)
-        except Refusal as e:
+            # Start from the markers given, if any; save to a new file beside
+            # them (or beside the .blend), never over an existing one.
+            start = [bpy.path.abspath(p) for p in (s.marker_file, s.target_points_file) if p] if s.marker_source == "FILE" else []
+            start = [p for p in start if os.path.isfile(p)]
+            folder = os.path.dirname(start[0]) if start else (bpy.path.abspath("//") if bpy.data.filepath else bpy.app.tempdir)
+            stem = "{}-to-{}.markers".format(bpy.path.clean_name(source.name), bpy.path.clean_name(target.name))
+            path = pick.unused_path(folder, stem, ".txt")
+            self._picking = pick.Picking(command, source, target, path, start)
+        except (Refusal, OSError) as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
-        s = _settings(context)
-        path = bpy.path.abspath(s.marker_file) if s.marker_file else ""
-        if not path:
-            folder = bpy.path.abspath("//") if bpy.data.filepath else bpy.app.tempdir
-            path = os.path.join(folder, "{}-to-{}.markers.txt".format(bpy.path.clean_name(source.name), bpy.path.clean_name(target.name)))
-        self._picking = pick.Picking(command, source, target, path)
+        self._workspace = context.workspace
         self._timer = context.window_manager.event_timer_add(0.5, window=context.window)
         context.window_manager.modal_handler_add(self)
-        self.report({"INFO"}, "meshmorph pick is open in the browser; save there, then press Done")
+        self.report({"INFO"}, "meshmorph pick is open in the browser; save there, then press Done (Esc here stops it)")
         return {"RUNNING_MODAL"}
 
     def modal(self, context, event):
@@ -205,14 +272,13 @@ class MESHMORPH_OT_pick(bpy.types.Operator):
             return {"PASS_THROUGH"}
         s = _settings(context)
         if self._picking.newly_saved():
-            s.marker_file = self._picking.markers_path
-            s.marker_source = "FILE"
+            s.marker_source, s.marker_file, s.target_points_file = "FILE", self._picking.markers_path, ""
             self.report({"INFO"}, "Markers saved to {}".format(self._picking.markers_path))
         ended = self._picking.finished()
         if ended is None:
             address = self._picking.address()
-            if address and context.workspace is not None:
-                context.workspace.status_text_set("meshmorph pick at {} (Esc in Blender stops it)".format(address))
+            if address and self._workspace is not None:
+                self._workspace.status_text_set("meshmorph pick at {} (Esc in Blender stops it)".format(address))
             return {"PASS_THROUGH"}
         status, said = ended
         if status != 0:
@@ -220,10 +286,15 @@ class MESHMORPH_OT_pick(bpy.types.Operator):
             return self._end(context, {"CANCELLED"})
         return self._end(context, {"FINISHED"})
 
+    def cancel(self, context):
+        """Blender ends the operator (a file opened, the window closed): pick stops too."""
+        self._picking.stop()
+        self._end(context, {"CANCELLED"})
+
     def _end(self, context, result):
         context.window_manager.event_timer_remove(self._timer)
-        if context.workspace is not None:
-            context.workspace.status_text_set(None)
+        if self._workspace is not None:
+            self._workspace.status_text_set(None)
         return result
 
 

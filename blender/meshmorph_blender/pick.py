@@ -34,26 +34,40 @@ def write_obj(obj, path):
         out.writelines("f {} {} {}\n".format(*t) for t in f.tolist())
 
 
+def unused_path(folder, stem, extension):
+    """`folder/stem.extension`, or with -2, -3, ... the first that does not
+    exist: the markers are never saved over a file."""
+    path = os.path.join(folder, stem + extension)
+    k = 2
+    while os.path.exists(path):
+        path = os.path.join(folder, "{}-{}{}".format(stem, k, extension))
+        k += 1
+    return path
+
+
 class Picking:
     """One running `meshmorph pick`: its process, its files, the markers."""
 
-    def __init__(self, command, source, target, markers_path, open_browser=True):
+    def __init__(self, command, source, target, markers_path, start=(), open_browser=True):
         self.folder = tempfile.mkdtemp(prefix="meshmorph-pick-")
-        self.markers_path = markers_path
-        src = os.path.join(self.folder, "source.obj")
-        tgt = os.path.join(self.folder, "target.obj")
-        write_obj(source, src)
-        write_obj(target, tgt)
-        args = [command, "pick", src, tgt, "--output", markers_path] + (["--open"] if open_browser else [])
-        if os.path.exists(markers_path):
-            # pick never writes over an input: it starts from a copy.
-            start = os.path.join(self.folder, "start.txt")
-            shutil.copyfile(markers_path, start)
-            args += ["--markers", start]
-        self.saved = self._stamp()
-        self.log = os.path.join(self.folder, "pick.log")
-        with open(self.log, "w") as log:
-            self.process = subprocess.Popen(args, stdout=log, stderr=subprocess.STDOUT)
+        try:
+            self.markers_path = markers_path
+            src = os.path.join(self.folder, "source.obj")
+            tgt = os.path.join(self.folder, "target.obj")
+            write_obj(source, src)
+            write_obj(target, tgt)
+            args = [command, "pick", src, tgt, "--output", markers_path] + (["--open"] if open_browser else [])
+            for given in start:
+                # The markers to start from (one file of pairs, or the two point
+                # files), as they are: pick only reads them.
+                args += ["--markers", given]
+            self.saved = self._stamp()
+            self.log = os.path.join(self.folder, "pick.log")
+            with open(self.log, "w") as log:
+                self.process = subprocess.Popen(args, stdout=log, stderr=subprocess.STDOUT)
+        except BaseException:
+            shutil.rmtree(self.folder, ignore_errors=True)
+            raise
 
     def address(self):
         """The page's address once pick has printed it, else None."""

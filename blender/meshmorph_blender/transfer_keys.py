@@ -19,57 +19,108 @@ def fit_report(c):
     )
 
 
-def chosen_keys(source, wanted):
-    """The source's keys to carry: all (`wanted` empty) or the names in
-    `wanted`, comma-separated, each checked."""
+def chosen_keys(source, target, wanted):
+    """The source's keys to carry: all (`wanted` empty), or the key named
+    `wanted`, or the names in `wanted`, comma-separated; each checked, and
+    none named like the target's basis (which would move its rest shape)."""
     names = mesh_arrays.key_names(source)
     if not names:
         raise Refusal("{} has no shape keys besides its basis: select a source with shape keys".format(source.name))
     if not wanted.strip():
-        return names
-    chosen = [w.strip() for w in wanted.split(",") if w.strip()]
-    for w in chosen:
-        if w not in names:
-            raise Refusal("{} has no shape key \"{}\"; it has: {}".format(source.name, w, ", ".join(names)))
+        chosen = names
+    elif wanted.strip() in names:
+        chosen = [wanted.strip()]
+    else:
+        chosen = [w.strip() for w in wanted.split(",") if w.strip()]
+        for w in chosen:
+            if w not in names:
+                raise Refusal("{} has no shape key \"{}\"; it has: {}".format(source.name, w, ", ".join(names)))
+    keys = target.data.shape_keys
+    basis = keys.reference_key.name if keys is not None else "Basis"
+    if basis in chosen:
+        raise Refusal(
+            "{}'s key \"{}\" has the name of {}'s basis: rename one of them".format(source.name, basis, target.name)
+        )
     return chosen
+
+
+class Work:
+    """A transfer's arrays, gathered from Blender on its main thread; `run`
+    (which touches no Blender data, so it may run on another thread) does
+    the fit and the solves; `store` writes the keys back, on the main
+    thread again."""
+
+    def __init__(self, meshmorph, source, target, names, markers, refit):
+        self.meshmorph = meshmorph
+        self.source, self.target, self.names = source, target, names
+        self.fs, self.ft = mesh_arrays.triangles(source), mesh_arrays.triangles(target)
+        if len(self.fs) == 0 or len(self.ft) == 0:
+            empty = source if len(self.fs) == 0 else target
+            raise Refusal("{} has no faces: select meshes with faces".format(empty.name))
+        source_rest, target_rest = mesh_arrays.rest(source), mesh_arrays.rest(target)
+        self.vs = mesh_arrays.to_world(source, source_rest)
+        self.vt = mesh_arrays.to_world(target, target_rest)
+        self.poses = np.stack([mesh_arrays.to_world(source, mesh_arrays.key_positions(source, n)) for n in names])
+        self.meshes = kept_correspondence.meshes_print(source_rest, self.fs, target_rest, self.ft)
+        # Markers where there are some; a kept fit serves without them.
+        try:
+            self.markers = markers()
+            self.markers_print = kept_correspondence.markers_print(self.markers)
+        except Refusal as missing:
+            self.markers, self.markers_print, self.missing = None, None, missing
+        found = None if refit else kept_correspondence.kept(meshmorph, target, source.name, self.meshes, self.markers_print)
+        if found is None and self.markers is None:
+            raise self.missing
+        self.correspondence, self.report = found if found is not None else (None, None)
+        self.reused = found is not None
+        self.moved = None
+
+    def run(self, progress=None):
+        """The fit (unless a kept one serves) and every key's solve."""
+        meshmorph = self.meshmorph
+        try:
+            if self.correspondence is None:
+                step = (lambda d, t: progress("fit", d, t)) if progress else None
+                self.correspondence = meshmorph.correspond(self.vs, self.fs, self.vt, self.ft, self.markers, progress=step)
+                self.report = fit_report(self.correspondence)
+            transfer = meshmorph.Transfer(self.vs, self.fs, self.vt, self.ft, self.correspondence)
+            # In batches of one pose a core (each batch in parallel), with
+            # progress between them.
+            batch = max(2, os.cpu_count() or 2)
+            n = len(self.names)
+            self.moved = np.empty((n, len(self.vt), 3))
+            for start in range(0, n, batch):
+                transfer.apply_all(self.poses[start : start + batch], out=self.moved[start : start + batch])
+                if progress:
+                    progress("keys", min(start + batch, n), n)
+        except meshmorph.MeshmorphError as e:
+            raise Refusal(str(e)) from e
+
+    def store(self):
+        """The keys written to the target, the fit kept; returns (the fit
+        report, whether a kept correspondence served)."""
+        if not self.reused:
+            kept_correspondence.keep(
+                self.target, self.source.name, self.meshes, self.markers_print, self.correspondence, self.report
+            )
+        given = self.source.data.shape_keys.key_blocks
+        for name, world in zip(self.names, self.moved):
+            block = mesh_arrays.store_key(self.target, name, mesh_arrays.to_object(self.target, world))
+            block.slider_min, block.slider_max = given[name].slider_min, given[name].slider_max
+        # A key relative to another key stays relative to that key's copy.
+        blocks = self.target.data.shape_keys.key_blocks
+        for name in self.names:
+            relative = given[name].relative_key.name
+            if relative != self.source.data.shape_keys.reference_key.name and relative in blocks:
+                blocks[name].relative_key = blocks[relative]
+        return self.report, self.reused
 
 
 def transfer(meshmorph, source, target, names, markers, refit=False, progress=None):
     """Adds to `target` one shape key per name of `source`'s `names`, with
-    the same names. `markers()` gives the markers when a fit is needed.
-    Returns (the fit report, whether a kept correspondence was reused)."""
-    fs, ft = mesh_arrays.triangles(source), mesh_arrays.triangles(target)
-    if len(fs) == 0 or len(ft) == 0:
-        empty = source if len(fs) == 0 else target
-        raise Refusal("{} has no faces: select meshes with faces".format(empty.name))
-    vs = mesh_arrays.to_world(source, mesh_arrays.rest(source))
-    vt = mesh_arrays.to_world(target, mesh_arrays.rest(target))
-    print_ = kept_correspondence.fingerprint(fs, len(vs), ft, len(vt))
-    found = None if refit else kept_correspondence.kept(meshmorph, target, source.name, print_)
-    step = (lambda d, t: progress("fit", d, t)) if progress else None
-    try:
-        if found is None:
-            correspondence = meshmorph.correspond(vs, fs, vt, ft, markers(), progress=step)
-            report = fit_report(correspondence)
-            kept_correspondence.keep(target, source.name, print_, correspondence, report)
-        else:
-            correspondence, report = found
-        poses = np.stack([mesh_arrays.to_world(source, mesh_arrays.key_positions(source, n)) for n in names])
-        transfer = meshmorph.Transfer(vs, fs, vt, ft, correspondence)
-        # In batches of one pose a core (each batch in parallel), so that
-        # progress is shown from Blender's main thread between them: the
-        # package calls a progress callback from its worker threads, where
-        # Blender's API must not be touched.
-        batch = max(2, os.cpu_count() or 2)
-        moved = np.empty((len(names), len(vt), 3))
-        for start in range(0, len(names), batch):
-            transfer.apply_all(poses[start : start + batch], out=moved[start : start + batch])
-            if progress:
-                progress("keys", min(start + batch, len(names)), len(names))
-    except meshmorph.MeshmorphError as e:
-        raise Refusal(str(e)) from e
-    for name, world in zip(names, moved):
-        block = mesh_arrays.store_key(target, name, mesh_arrays.to_object(target, world))
-        given = source.data.shape_keys.key_blocks[name]
-        block.slider_min, block.slider_max = given.slider_min, given.slider_max
-    return report, found is not None
+    the same names. `markers()` gives the markers (or refuses when there are
+    none: a kept fit then serves). Returns (the fit report, whether a kept
+    correspondence was reused)."""
+    work = Work(meshmorph, source, target, names, markers, refit)
+    work.run(progress)
+    return work.store()

@@ -25,26 +25,35 @@ def bundled():
 
 
 def _unpack(names):
-    """Unpacks `names` into a fresh folder, then puts it in place, so that a
-    failure leaves no half-unpacked site-packages behind."""
-    partial = SITE + ".partial"
-    if os.path.isdir(partial):
-        _remove(partial)
-    os.makedirs(partial)
-    for name in names:
-        with zipfile.ZipFile(os.path.join(WHEELS, name)) as wheel:
-            wheel.extractall(partial)
-    with open(os.path.join(partial, "UNPACKED"), "w") as marker:
-        marker.write("\n".join(names) + "\n")
-    if os.path.isdir(SITE):
-        _remove(SITE)
-    os.replace(partial, SITE)
+    """Unpacks `names` into a fresh folder of its own, then puts it in place,
+    so that a failure leaves no half-unpacked site-packages behind; when
+    another Blender started at the same time got there first, its folder
+    serves."""
+    import tempfile
+
+    partial = tempfile.mkdtemp(prefix="site-packages.", dir=HERE)
+    try:
+        for name in names:
+            with zipfile.ZipFile(os.path.join(WHEELS, name)) as wheel:
+                wheel.extractall(partial)
+        with open(os.path.join(partial, "UNPACKED"), "w") as marker:
+            marker.write("\n".join(names) + "\n")
+        if os.path.isdir(SITE) and _unpacked() != names:
+            _remove(SITE)
+        if not os.path.isdir(SITE):
+            os.replace(partial, SITE)
+    except OSError:
+        if _unpacked() != names:
+            raise
+    finally:
+        if os.path.isdir(partial):
+            _remove(partial)
 
 
 def _remove(folder):
     import shutil
 
-    shutil.rmtree(folder)
+    shutil.rmtree(folder, ignore_errors=True)
 
 
 def _unpacked():
@@ -67,7 +76,13 @@ def load():
         pass
     names = bundled()
     if names and _unpacked() != names:
-        _unpack(names)
+        try:
+            _unpack(names)
+        except (OSError, zipfile.BadZipFile) as e:
+            raise ImportError(
+                "the wheels bundled with the add-on could not be unpacked beside it ({}); "
+                "reinstall the add-on from its release zip".format(e)
+            ) from e
     if names and SITE not in sys.path:
         # After Blender's own folders: a numpy that Blender ships is kept,
         # the bundled one serves where there is none.

@@ -86,10 +86,13 @@ def local(obj, positions):
 
 
 def triangles(obj):
+    """Blender's triangles, turned over for an object mirrored by its
+    transform, so that they face outwards in world space."""
     obj.data.calc_loop_triangles()
     t = np.empty(3 * len(obj.data.loop_triangles), dtype=np.int64)
     obj.data.loop_triangles.foreach_get("vertices", t)
-    return t.reshape(-1, 3)
+    t = t.reshape(-1, 3)
+    return t[:, ::-1].copy() if np.linalg.det(np.array(obj.matrix_world)[:3, :3]) < 0 else t
 
 
 def add_key(obj, name, positions):
@@ -300,6 +303,52 @@ def test_the_pick_button_runs_meshmorph_pick_and_reads_the_saved_markers_back():
     assert [(p[0]["vertex"], p[1]["vertex"]) for p in markers.pairs] == [(vertex_of_group(source, n), vertex_of_group(target, n)) for n in MARKED]
 
 
+def test_a_changed_mesh_or_changed_markers_fit_anew_and_a_mirrored_target_works():
+    source, target = bpy.data.objects["Source"], bpy.data.objects["Target"]
+    s = bpy.context.scene.meshmorph
+    s.marker_source, s.keys, s.refit = "GROUPS", "bend", False
+    select(source, target, active=target)
+    assert bpy.ops.meshmorph.transfer_shape_keys() == {"FINISHED"}
+    kept = dict(target["meshmorph_correspondence"])
+    # The same markers and meshes: the kept fit serves.
+    assert bpy.ops.meshmorph.transfer_shape_keys() == {"FINISHED"}
+    assert dict(target["meshmorph_correspondence"]) == kept
+    # Another marker: a new fit.
+    g = source.vertex_groups.new(name="marker.extra")
+    g.add([30], 1.0, "REPLACE")
+    t = target.vertex_groups.new(name="marker.extra")
+    t.add([60], 1.0, "REPLACE")
+    assert bpy.ops.meshmorph.transfer_shape_keys() == {"FINISHED"}
+    assert target["meshmorph_correspondence"]["markers"] != kept["markers"]
+    source.vertex_groups.remove(g)
+    target.vertex_groups.remove(t)
+    # A re-sculpted target basis: a new fit.
+    basis = target.data.shape_keys.reference_key
+    basis.data[5].co.z += 0.05
+    target.data.vertices[5].co.z += 0.05
+    assert bpy.ops.meshmorph.transfer_shape_keys() == {"FINISHED"}
+    assert target["meshmorph_correspondence"]["meshes"] != kept["meshes"]
+    # A target mirrored by its transform: its triangles are turned over, and
+    # the keys are the package's transfer onto the mirrored surface.
+    target.scale = (-1.0, 0.8, 1.2)
+    bpy.context.view_layer.update()
+    assert bpy.ops.meshmorph.transfer_shape_keys() == {"FINISHED"}
+    d = diagonal(key(target, "Basis"))
+    assert np.abs(key(target, "bend") - expected(source, target, ["bend"])[0]).max() <= 1e-9 * d
+    target.scale = (1.0, 0.8, 1.2)
+    bpy.context.view_layer.update()
+    s.keys = ""
+
+
+def test_pick_never_saves_over_a_file():
+    pick = __import__(ADDON + ".pick", fromlist=["pick"])
+    folder = bpy.app.tempdir
+    first = pick.unused_path(folder, "a-to-b.markers", ".txt")
+    open(first, "w").close()
+    second = pick.unused_path(folder, "a-to-b.markers", ".txt")
+    assert second != first and second.endswith("a-to-b.markers-2.txt") and not os.path.exists(second)
+
+
 def rigid_residual(a, b):
     """How far `b` is from a rigid motion of `a` (largest distance after the
     best rotation and translation), and the rotation's angle."""
@@ -344,6 +393,14 @@ def test_a_rigidly_turned_key_gives_rigid_inbetweens_and_a_rigid_baked_animation
         assert residual < 1e-6 * d and abs(angle - 30 * i) < 1e-3, (b, residual, angle)
         curve = obj.data.shape_keys.animation_data.action.fcurves.find('key_blocks["{}"].value'.format(b))
         assert curve.evaluate(10 + i) == 1.0 and curve.evaluate(11 + i) == 0.0 and curve.evaluate(9 + i) == 0.0
+    # Baked again, with fewer frames: the earlier bake is replaced, not added to.
+    settings.frames_per_key = 2
+    assert bpy.ops.meshmorph.bake_animation() == {"FINISHED"}
+    assert sorted(b.name for b in obj.data.shape_keys.key_blocks if b.name.startswith("ARAP ")) == ["ARAP 0000", "ARAP 0001", "ARAP 0002"]
+    curves = [c.data_path for c in obj.data.shape_keys.animation_data.action.fcurves]
+    assert len(curves) == 3, curves
+    settings.frames_per_key = 4
+    assert bpy.ops.meshmorph.bake_animation() == {"FINISHED"}
 
     # glTF exports the baked keys as morph targets with animated weights.
     addon_utils.enable("io_scene_gltf2", default_set=True)
@@ -376,7 +433,19 @@ def test_bad_selections_give_a_sentence_not_a_traceback():
         select(*chosen, active=active)
         said = error_of(operator)
         assert said is not None and sentence in said and "Traceback" not in said, said
+    twin = bpy.data.objects.new("Twin", source.data)
+    bpy.context.scene.collection.objects.link(twin)
+    select(source, twin, active=twin)
+    assert "Source and Twin share one mesh" in error_of(bpy.ops.meshmorph.transfer_shape_keys)
     settings = bpy.context.scene.meshmorph
+    select(source, plain, active=plain)
+    plain.data.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [(0, 1, 2)])
+    source.data.shape_keys.key_blocks["bulge"].name = "Basis.001"
+    settings.keys = "Basis.001"
+    plain.shape_key_add(name="Basis.001")
+    said = error_of(bpy.ops.meshmorph.transfer_shape_keys)
+    assert "has the name of Plain's basis" in said, said
+    source.data.shape_keys.key_blocks["Basis.001"].name = "bulge"
     select(source, target, active=target)
     settings.keys, settings.refit = "smile", False
     assert "Source has no shape key \"smile\"" in error_of(bpy.ops.meshmorph.transfer_shape_keys)
@@ -391,7 +460,7 @@ def test_bad_selections_give_a_sentence_not_a_traceback():
     assert "Turning has no shape key \"nothing\"" in error_of(bpy.ops.meshmorph.add_inbetweens)
     settings.inbetween_to = "turned"
     bpy.ops.object.mode_set(mode="EDIT")
-    assert "Leave Edit Mode (Tab) on Turning first" in error_of(bpy.ops.meshmorph.add_inbetweens)
+    assert "Go back to Object Mode on Turning first" in error_of(bpy.ops.meshmorph.add_inbetweens)
     bpy.ops.object.mode_set(mode="OBJECT")
     select(source, target, active=target)
     settings.marker_source, settings.refit = "GROUPS", False
