@@ -6,7 +6,8 @@ one task a target, on a local cluster or on a real one.
     python dask_batch.py batch.toml --scheduler tcp://host:8786   # a running cluster
     python dask_batch.py batch.toml --in-process             # no Dask: the same work in this process
 
-The batch file (TOML or JSON; paths relative to it):
+The batch file (TOML or JSON; paths relative to it), as `meshmorph transfer --batch` reads it
+(without its `gltf`):
 
     source = "horse-reference.obj"
     poses = ["horse-01.obj", "horse-02.obj"]
@@ -45,16 +46,22 @@ def read_batch(path):
     here = os.path.dirname(os.path.abspath(path))
     at = lambda p: os.path.normpath(os.path.join(here, p))
     jobs = []
+    known = {"reference", "markers", "correspondence", "save_correspondence", "output"}
     for k, t in enumerate(batch.get("targets", [])):
         if not ("markers" in t) ^ ("correspondence" in t):
             raise ValueError("{}: target {} needs markers or a correspondence (one of them)".format(path, k))
+        if set(t) - known:
+            raise ValueError("{}: target {}: this example does not handle {}".format(path, k, ", ".join(sorted(set(t) - known))))
+        markers = t.get("markers")
+        markers = [markers] if isinstance(markers, str) else markers
         jobs.append(
             {
                 "source": at(batch["source"]),
                 "poses": [at(p) for p in batch["poses"]],
                 "reference": at(t["reference"]),
-                "markers": at(t["markers"]) if "markers" in t else None,
+                "markers": [at(m) for m in markers] if markers else None,
                 "correspondence": at(t["correspondence"]) if "correspondence" in t else None,
+                "save_correspondence": at(t["save_correspondence"]) if "save_correspondence" in t else None,
                 "output": at(t["output"]),
             }
         )
@@ -79,8 +86,10 @@ def transfer_target(job):
             c = meshmorph.Correspondence.load(job["correspondence"])
         else:
             c = meshmorph.correspond(
-                source.vertices, source.faces, target.vertices, target.faces, meshmorph.read_markers(job["markers"])
+                source.vertices, source.faces, target.vertices, target.faces, meshmorph.read_markers(*job["markers"])
             )
+            if job["save_correspondence"]:
+                c.save(job["save_correspondence"])
         report["correspondence_s"] = time.perf_counter() - fit
         import numpy as np
 
