@@ -384,9 +384,11 @@ where
             || "interpolation".to_string(),
             |f| crate::gltf::mesh_name(f.file.path()),
         );
-        let options = GltfOptions::default()
-            .with_fps(args.pictures.draw.fps)
-            .with_name(name);
+        let options = args.gltf.options(
+            GltfOptions::default()
+                .with_fps(args.pictures.draw.fps)
+                .with_name(name),
+        );
         let base = look.base(base, morph.triangles());
         staging.write(output, |path| {
             let counted = crate::progress::Counted::new(&recomputed, "glTF");

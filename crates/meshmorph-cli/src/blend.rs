@@ -395,9 +395,11 @@ where
     }
     if let (Some(output), Some(path)) = (outputs.gltf, &args.gltf.gltf) {
         let names: Vec<String> = (0..STEPS).map(|k| format!("blend_{k:02}")).collect();
-        let options = GltfOptions::default()
-            .with_fps(draw.fps)
-            .with_name(crate::gltf::mesh_name(&args.base));
+        let options = args.gltf.options(
+            GltfOptions::default()
+                .with_fps(draw.fps)
+                .with_name(crate::gltf::mesh_name(&args.base)),
+        );
         let look = Appearance::of_file(&file.file, image_budget)?;
         warnings.extend(look.warnings.iter().cloned());
         let gltf_base = look.base(base.positions(), triangles);

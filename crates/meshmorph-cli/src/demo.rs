@@ -71,6 +71,8 @@ fn spiral(args: &Args) -> Result<()> {
         gltf: GltfArgs {
             gltf: Some(args.output.join("spiral.glb")),
             max_gltf_mb: 256.0,
+            gltf_quantize: false,
+            gltf_dense: false,
         },
     };
     let keys = [bar.to_3d(), spiral.to_3d()];
@@ -108,6 +110,8 @@ fn coil(args: &Args) -> Result<()> {
         gltf: GltfArgs {
             gltf: Some(args.output.join("coil.glb")),
             max_gltf_mb: 256.0,
+            gltf_quantize: false,
+            gltf_dense: false,
         },
     };
     animate_demo(
@@ -263,6 +267,8 @@ fn transfer(args: &Args) -> Result<()> {
         gltf: GltfArgs {
             gltf: Some(dir.join("transfer.glb")),
             max_gltf_mb: 256.0,
+            gltf_quantize: false,
+            gltf_dense: false,
         },
         gltf_shapes: false,
         pictures: PictureArgs {

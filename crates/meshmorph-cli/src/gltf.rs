@@ -28,6 +28,16 @@ pub struct GltfArgs {
     /// Refuse to write a GLB heavier than this many megabytes (10^6 bytes).
     #[arg(long, default_value_t = 256.0, value_name = "MB", value_parser = positive_number)]
     pub max_gltf_mb: f64,
+    /// With --gltf: store positions and their deltas as 16-bit integers
+    /// (KHR_mesh_quantization), a third smaller, each coordinate within
+    /// 1/32767 of the mesh's half-size plus its largest move.
+    #[arg(long, requires = "gltf")]
+    pub gltf_quantize: bool,
+    /// With --gltf: store every morph target densely, for tools that do
+    /// not read glTF's sparse accessors (by default a target is stored
+    /// sparsely, only the vertices it moves, when that is smaller).
+    #[arg(long, requires = "gltf")]
+    pub gltf_dense: bool,
 }
 
 impl GltfArgs {
@@ -83,6 +93,13 @@ impl GltfArgs {
         Ok(self.max_bytes().saturating_sub(bytes))
     }
 
+    /// `options` with the storage asked for (--gltf-quantize, --gltf-dense).
+    pub fn options(&self, options: GltfOptions) -> GltfOptions {
+        options
+            .with_quantize(self.gltf_quantize)
+            .with_sparse(!self.gltf_dense)
+    }
+
     /// `--max-gltf-mb` in bytes.
     fn max_bytes(&self) -> u64 {
         (self.max_gltf_mb * 1e6) as u64
@@ -99,7 +116,7 @@ impl GltfArgs {
         let Some(path) = &self.gltf else {
             return Ok(None);
         };
-        write_glb(path, base, frames, names, options)
+        write_glb(path, base, frames, names, &self.options(options.clone()))
             .with_context(|| format!("writing the glTF `{}`", path.display()))?;
         Ok(Some(path.clone()))
     }

@@ -19,6 +19,8 @@ pub enum Needs {
     Chromium,
     /// Those, Chromium and a folder of ../shared/data.
     ChromiumAndSharedData(&'static str),
+    /// Those and Blender (Debian's `blender`), run in the background.
+    Blender,
 }
 
 /// A check: its name, its body and what it needs.
@@ -76,8 +78,11 @@ pub fn trials(checks: Vec<Check>) -> Vec<Trial> {
                     missing.push(what);
                 }
             }
-            if needs != Needs::Node && !browser {
+            if matches!(needs, Needs::Chromium | Needs::ChromiumAndSharedData(_)) && !browser {
                 missing.push("chromium");
+            }
+            if needs == Needs::Blender && !runs("blender") {
+                missing.push("blender");
             }
             let found = if missing.is_empty() {
                 match needs {
@@ -88,7 +93,7 @@ pub fn trials(checks: Vec<Check>) -> Vec<Trial> {
                 }
             } else {
                 Err(format!(
-                    "missing {}: apt-get install nodejs chromium, npm ci in tools/browser-checks",
+                    "missing {}: apt-get install nodejs chromium blender, npm ci in tools/browser-checks",
                     missing.join(", ")
                 ))
             };

@@ -10,6 +10,7 @@ use std::process::Command;
 
 use std::fs;
 
+use meshmorph::io::gltf::{write_glb, GltfBase, GltfOptions};
 use meshmorph::io::read_mesh;
 use meshmorph::Mesh3;
 
@@ -28,7 +29,99 @@ pub fn checks() -> Vec<Check> {
             three_js_in_chromium_draws_the_animation_moving,
             Needs::Chromium,
         ),
+        (
+            "gltf_clients::blenders_importer_reads_every_glb",
+            blenders_importer_reads_every_glb,
+            Needs::Blender,
+        ),
     ]
+}
+
+/// Blender's own glTF importer, in the background: every GLB gives a mesh
+/// with one shape key per morph target, named as the targets, and the
+/// sparse file's keys move only where its frames do.
+fn blenders_importer_reads_every_glb() {
+    let dir = out_dir("gltf-blender");
+    let glbs = write_glbs(&dir);
+    let script = r#"
+import json, sys
+import bpy, addon_utils
+import numpy
+# Debian's Blender 3.4 importer still says numpy.bool, which Debian's numpy
+# 1.24 no longer has (Blender's own builds ship an older numpy).
+if not hasattr(numpy, "bool"):
+    numpy.bool = bool
+addon_utils.enable("io_scene_gltf2", default_set=True)
+for path in sys.argv[sys.argv.index("--") + 1:]:
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.ops.import_scene.gltf(filepath=path)
+    meshes = [o for o in bpy.data.objects if o.type == "MESH"]
+    keys = meshes[0].data.shape_keys
+    blocks = keys.key_blocks if keys else []
+    basis = [v.co.copy() for v in blocks[0].data] if blocks else []
+    moved = [max(((a - b).length for a, b in zip((v.co for v in k.data), basis)), default=0.0) for k in list(blocks)[1:]]
+    print("IMPORTED " + json.dumps({"path": path, "meshes": len(meshes), "vertices": len(meshes[0].data.vertices), "keys": [k.name for k in list(blocks)[1:]], "moved": moved}))
+"#;
+    let script_path = dir.join("import.py");
+    fs::write(&script_path, script).unwrap();
+    let out = Command::new("blender")
+        .args([
+            "-b",
+            "--factory-startup",
+            "--python-exit-code",
+            "1",
+            "--python",
+        ])
+        .arg(&script_path)
+        .arg("--")
+        .args(&glbs)
+        .output()
+        .expect("blender runs");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "blender failed:\n{text}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let imported: Vec<serde_json::Value> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("IMPORTED "))
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(imported.len(), glbs.len(), "{text}");
+    for (glb, got) in glbs.iter().zip(&imported) {
+        // The names as the file gives them (read as JSON: the gltf crate
+        // refuses files that require KHR_mesh_quantization).
+        let bytes = fs::read(glb).unwrap();
+        let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+        let doc: serde_json::Value = serde_json::from_slice(&bytes[20..20 + length]).unwrap();
+        let names = &doc["meshes"][0]["extras"]["targetNames"];
+        let moved: Vec<f64> = got["moved"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|m| m.as_f64().unwrap())
+            .collect();
+        println!(
+            "{}: {} shape keys, largest moves {:.3?}",
+            glb.display(),
+            moved.len(),
+            &moved[..moved.len().min(4)]
+        );
+        assert_eq!(got["meshes"], 1, "{}", glb.display());
+        assert_eq!(&got["keys"], names, "{}", glb.display());
+        assert!(
+            moved.iter().any(|&m| m > 0.01),
+            "{}: no key moves",
+            glb.display()
+        );
+    }
+    // The sparse file's first frame is the rest itself.
+    let sparse = &imported[glbs
+        .iter()
+        .position(|g| g.ends_with("bent-sparse.glb"))
+        .unwrap()];
+    assert_eq!(sparse["moved"][0].as_f64().unwrap(), 0.0);
 }
 
 fn meshmorph(args: &[&str]) {
@@ -102,11 +195,56 @@ fn write_glbs(dir: &Path) -> Vec<PathBuf> {
         .collect();
     assert!(uvs.len() > thick.num_vertices(), "the seam splits vertices");
 
+    // The demo's transfer again, quantised (KHR_mesh_quantization).
+    let quantised = dir.join("transfer-quantised.glb");
+    args[8] = dir.join("quantised").to_str().unwrap().into();
+    args[10] = quantised.to_str().unwrap().into();
+    args[4] = input.join("thick-tube.obj").to_str().unwrap().into();
+    args.push("--gltf-quantize".into());
+    meshmorph(&args.iter().map(String::as_str).collect::<Vec<_>>());
+
+    // Frames that leave most vertices where they are: sparse targets, as
+    // they are and quantised.
+    let (sparse, sparse_quantised) = (
+        dir.join("bent-sparse.glb"),
+        dir.join("bent-sparse-quantised.glb"),
+    );
+    let rest = meshmorph::shapes::tube(4.0, 0.5, 17, 12);
+    let frames: Vec<Vec<[f64; 3]>> = [0.0f64, 0.5, 1.0]
+        .iter()
+        .map(|&angle| {
+            rest.positions()
+                .iter()
+                .map(|&[x, y, z]| {
+                    let a = angle * (x - 2.5);
+                    if x <= 2.5 {
+                        [x, y, z]
+                    } else {
+                        [
+                            2.5 + (x - 2.5) * a.cos() - z * a.sin(),
+                            y,
+                            (x - 2.5) * a.sin() + z * a.cos(),
+                        ]
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let base = GltfBase::new(rest.positions(), rest.triangles());
+    let names: Vec<String> = (0..frames.len()).map(|k| format!("bend-{k}")).collect();
+    for (path, quantise) in [(&sparse, false), (&sparse_quantised, true)] {
+        let options = GltfOptions::default().with_fps(2.0).with_quantize(quantise);
+        write_glb(path, &base, &frames, &names, &options).unwrap();
+    }
+
     vec![
         demo.join("spiral.glb"),
         demo.join("transfer/transfer.glb"),
         shapes,
         uv_glb,
+        quantised,
+        sparse,
+        sparse_quantised,
     ]
 }
 
@@ -168,8 +306,12 @@ fn three_js_in_chromium_draws_the_animation_moving() {
     let dir = out_dir("gltf-chromium");
     let glbs = write_glbs(&dir);
     let shots = dir.join("screenshots");
-    // The planar interpolation and the transfer, both animated.
-    for glb in &glbs[..2] {
+    // The planar interpolation and the transfer, both animated, and the
+    // quantised and sparse variants.
+    for glb in glbs
+        .iter()
+        .filter(|g| !g.ends_with("transfer-shapes.glb") && !g.ends_with("transfer-uvs.glb"))
+    {
         let out = Command::new("node")
             .arg(tools().join("render.mjs"))
             .arg(glb)

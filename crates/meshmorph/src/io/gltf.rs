@@ -58,6 +58,7 @@ use json::validation::{Checked::Valid, USize64};
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
+use crate::io::morph_storage::{normals_changed, Deltas, Quantization, Storage};
 use crate::io::{write_atomic, xyz};
 use crate::linalg::vector::{angle_weighted_normals, angle_weighted_vertex_normals};
 use crate::mesh::check_finite;
@@ -76,6 +77,19 @@ pub struct GltfOptions {
     pub name: String,
     /// Linear RGB base colour of the material. Default a light sand.
     pub color: [f32; 3],
+    /// Store positions and their deltas as normalised 16-bit integers
+    /// (KHR_mesh_quantization; the node's translation and scale decode
+    /// them): a third smaller, each coordinate of a frame within
+    /// `scale / 32767` of its own (the node's scale: the largest distance
+    /// of a base coordinate from the centre of the base's bounding box,
+    /// plus the largest delta). Default `false`: `f32`, exact to `f32`
+    /// precision.
+    pub quantize: bool,
+    /// Store a morph target sparsely (glTF's sparse accessors: only the
+    /// vertices it moves) when that is smaller. Default `true`; `false`
+    /// writes every target densely, for tools that do not read sparse
+    /// accessors.
+    pub sparse: bool,
 }
 
 impl Default for GltfOptions {
@@ -85,6 +99,8 @@ impl Default for GltfOptions {
             animation: true,
             name: "meshmorph".to_string(),
             color: [0.8, 0.62, 0.4],
+            quantize: false,
+            sparse: true,
         }
     }
 }
@@ -111,6 +127,18 @@ impl GltfOptions {
     /// Sets [`color`](Self::color).
     pub fn with_color(mut self, color: [f32; 3]) -> Self {
         self.color = color;
+        self
+    }
+
+    /// Sets [`sparse`](Self::sparse).
+    pub fn with_sparse(mut self, sparse: bool) -> Self {
+        self.sparse = sparse;
+        self
+    }
+
+    /// Sets [`quantize`](Self::quantize).
+    pub fn with_quantize(mut self, quantize: bool) -> Self {
+        self.quantize = quantize;
         self
     }
 }
@@ -373,6 +401,10 @@ struct Layout<'a, const D: usize> {
     groups: Option<(Vec<[u32; 3]>, Vec<u32>)>,
     base_positions: Vec<[f32; 3]>,
     base_normals: Vec<[f32; 3]>,
+    /// Per frame, how its deltas are stored.
+    targets: Vec<TargetPlan>,
+    /// Positions as normalised `i16` ([`GltfOptions::quantize`]).
+    quantization: Option<Quantization>,
     fps: f64,
     animation: bool,
     json: Vec<u8>,
@@ -424,9 +456,10 @@ impl<'a, const D: usize> Layout<'a, D> {
             .collect();
         let base_normals = gltf_normals::<D>(base.positions, base.triangles, &original, &groups);
 
-        // Each frame checked, and its position deltas' bounds, which the
-        // JSON needs before any data.
-        let bounds: Vec<([f32; 3], [f32; 3])> = (0..count)
+        // Each frame checked, with what the JSON needs before any data: its
+        // position deltas' bounds and how many of its position and normal
+        // deltas are not zero.
+        let firsts: Vec<(([f32; 3], [f32; 3]), usize, usize)> = (0..count)
             .into_par_iter()
             .map(|k| {
                 map_frame(frames, k, |f| {
@@ -439,10 +472,51 @@ impl<'a, const D: usize> Layout<'a, D> {
                         )));
                     }
                     check_finite(f, &format!("frame {k} (`{}`)", names[k]))?;
-                    Ok(delta_bounds(f, base.positions, &original))
+                    let deltas = Deltas::positions(f, base.positions, &original, None);
+                    let normals = if D == 3 {
+                        normals_changed(f, base.positions, base.triangles, &original).len()
+                    } else {
+                        0
+                    };
+                    Ok((deltas.bounds(), deltas.moved().len(), normals))
                 })
             })
             .collect::<Result<_>>()?;
+        let quantization = options.quantize.then(|| {
+            let (lo, hi) = bounds_of(&base_positions);
+            let center: [f64; 3] =
+                std::array::from_fn(|k| (f64::from(lo[k]) + f64::from(hi[k])) / 2.0);
+            let base_extent = original
+                .iter()
+                .map(|&v| {
+                    let p = xyz(&base.positions[v as usize]);
+                    (0..3).map(|k| (p[k] - center[k]).abs()).fold(0.0, f64::max)
+                })
+                .fold(0.0, f64::max);
+            let delta_extent = firsts
+                .iter()
+                .flat_map(|((lo, hi), _, _)| lo.iter().chain(hi).map(|x| f64::from(x.abs())))
+                .fold(0.0, f64::max);
+            Quantization::new(center, base_extent + delta_extent)
+        });
+        let n = original.len();
+        // Dense: as many entries as vertices, never smaller.
+        let entries = |moved: usize| if options.sparse { moved } else { n };
+        let targets = firsts
+            .iter()
+            .map(|&((lo, hi), moved, normals)| TargetPlan {
+                bounds: match &quantization {
+                    None => (lo, hi),
+                    Some(q) => (q.delta_bound(lo), q.delta_bound(hi)),
+                },
+                positions: Storage::choose(
+                    n,
+                    entries(moved),
+                    if quantization.is_some() { 6 } else { 12 },
+                ),
+                normals: (D == 3).then(|| Storage::choose(n, entries(normals), 12)),
+            })
+            .collect();
 
         let mut layout = Layout {
             base: base.positions,
@@ -456,12 +530,14 @@ impl<'a, const D: usize> Layout<'a, D> {
             groups,
             base_positions,
             base_normals,
+            targets,
+            quantization,
             fps: options.fps,
             animation: options.animation,
             json: Vec::new(),
             bin_length: 0,
         };
-        let (root, bin_length) = layout.root(&bounds, names, options);
+        let (root, bin_length) = layout.root(names, options);
         layout.bin_length = bin_length;
         let mut json = root
             .to_vec()
@@ -490,12 +566,7 @@ impl<'a, const D: usize> Layout<'a, D> {
     }
 
     /// The glTF document and the length of the binary chunk.
-    fn root(
-        &self,
-        bounds: &[([f32; 3], [f32; 3])],
-        names: &[String],
-        options: &GltfOptions,
-    ) -> (json::Root, u64) {
+    fn root(&self, names: &[String], options: &GltfOptions) -> (json::Root, u64) {
         let n = self.vertex_count() as u64;
         let mut root = json::Root::default();
         let mut offset = 0u64;
@@ -549,12 +620,35 @@ impl<'a, const D: usize> Layout<'a, D> {
                 root.push(a)
             })
             .collect();
-        let position_view = view(&mut root, 12 * n, Some(ArrayBuffer));
-        let positions = vec3(
-            &mut root,
-            position_view,
-            Some(bounds_of(&self.base_positions)),
-        );
+        let positions = match &self.quantization {
+            None => {
+                let position_view = view(&mut root, 12 * n, Some(ArrayBuffer));
+                vec3(
+                    &mut root,
+                    position_view,
+                    Some(bounds_of(&self.base_positions)),
+                )
+            }
+            Some(q) => {
+                let position_view = view(&mut root, 8 * n, Some(ArrayBuffer));
+                root.buffer_views[position_view.value()].byte_stride =
+                    Some(json::buffer::Stride(8));
+                let ints: Vec<[f32; 3]> = self
+                    .original
+                    .iter()
+                    .map(|&v| q.position(xyz(&self.base[v as usize])).map(f32::from))
+                    .collect();
+                let mut a = accessor(
+                    position_view,
+                    n,
+                    json::accessor::ComponentType::I16,
+                    json::accessor::Type::Vec3,
+                    Some(bounds_of(&ints)).map(|(lo, hi)| (lo.to_vec(), hi.to_vec())),
+                );
+                a.normalized = true;
+                root.push(a)
+            }
+        };
         let normal_view = view(&mut root, 12 * n, Some(ArrayBuffer));
         let normals = vec3(&mut root, normal_view, None);
         let mut attributes = std::collections::BTreeMap::new();
@@ -586,17 +680,75 @@ impl<'a, const D: usize> Layout<'a, D> {
             let v = view(&mut root, 12 * n, Some(ArrayBuffer));
             Some(vec3(&mut root, v, None))
         };
-        let targets: Vec<json::mesh::MorphTarget> = bounds
-            .iter()
-            .map(|&b| {
-                let pv = view(&mut root, 12 * n, Some(ArrayBuffer));
-                let positions = vec3(&mut root, pv, Some(b));
-                let normals = match shared_zero_normals {
-                    Some(a) => a,
-                    None => {
-                        let nv = view(&mut root, 12 * n, Some(ArrayBuffer));
-                        vec3(&mut root, nv, None)
+        // A target attribute, dense (a view of every vertex) or sparse (two
+        // views: the indices and the values of the vertices that move).
+        let mut stored = |root: &mut json::Root,
+                          storage: Storage,
+                          quantized: bool,
+                          bounds: Option<([f32; 3], [f32; 3])>| {
+            let component = if quantized {
+                json::accessor::ComponentType::I16
+            } else {
+                json::accessor::ComponentType::F32
+            };
+            let views = storage.views();
+            let mut a = match storage.entries {
+                None => {
+                    let v = view(root, views[0] as u64, Some(ArrayBuffer));
+                    if quantized {
+                        root.buffer_views[v.value()].byte_stride =
+                            Some(json::buffer::Stride(storage.stride()));
                     }
+                    accessor(v, n, component, json::accessor::Type::Vec3, None)
+                }
+                Some(k) => {
+                    let indices = view(root, views[0] as u64, None);
+                    let values = view(root, views[1] as u64, None);
+                    let index_type = if storage.index_bytes() == 2 {
+                        json::accessor::ComponentType::U16
+                    } else {
+                        json::accessor::ComponentType::U32
+                    };
+                    let mut a = accessor(indices, n, component, json::accessor::Type::Vec3, None);
+                    a.buffer_view = None;
+                    a.sparse = Some(json::accessor::sparse::Sparse {
+                        count: USize64(k as u64),
+                        indices: json::accessor::sparse::Indices {
+                            buffer_view: indices,
+                            byte_offset: USize64(0),
+                            component_type: Valid(json::accessor::IndexComponentType(index_type)),
+                            extensions: None,
+                            extras: Default::default(),
+                        },
+                        values: json::accessor::sparse::Values {
+                            buffer_view: values,
+                            byte_offset: USize64(0),
+                            extensions: None,
+                            extras: Default::default(),
+                        },
+                        extensions: None,
+                        extras: Default::default(),
+                    });
+                    a
+                }
+            };
+            a.normalized = quantized;
+            if let Some((lo, hi)) = bounds {
+                a.min = Some(json::Value::from(lo.to_vec()));
+                a.max = Some(json::Value::from(hi.to_vec()));
+            }
+            root.push(a)
+        };
+        let quantized = self.quantization.is_some();
+        let targets: Vec<json::mesh::MorphTarget> = self
+            .targets
+            .iter()
+            .map(|plan| {
+                let positions = stored(&mut root, plan.positions, quantized, Some(plan.bounds));
+                let normals = match (shared_zero_normals, plan.normals) {
+                    (Some(a), _) => a,
+                    (None, Some(storage)) => stored(&mut root, storage, false, None),
+                    (None, None) => unreachable!("frames in space have their normals' storage"),
                 };
                 json::mesh::MorphTarget {
                     positions: Some(positions),
@@ -605,7 +757,7 @@ impl<'a, const D: usize> Layout<'a, D> {
                 }
             })
             .collect();
-        let frames = bounds.len() as u64;
+        let frames = self.targets.len() as u64;
 
         let materials = self.materials_json(&mut root, options);
         let target_names = json::Value::from(names.to_vec());
@@ -637,8 +789,16 @@ impl<'a, const D: usize> Layout<'a, D> {
         let node = root.push(json::Node {
             mesh: Some(mesh),
             name: Some(options.name.clone()),
+            // The quantised positions' decoding.
+            translation: self.quantization.map(|q| q.center.map(|c| c as f32)),
+            scale: self.quantization.map(|q| [q.scale as f32; 3]),
             ..Default::default()
         });
+        if self.quantization.is_some() {
+            root.extensions_used.push("KHR_mesh_quantization".into());
+            root.extensions_required
+                .push("KHR_mesh_quantization".into());
+        }
         let scene = root.push(json::Scene {
             extensions: None,
             extras: None,
@@ -805,7 +965,24 @@ impl<'a, const D: usize> Layout<'a, D> {
             buf.extend_from_slice(&i.to_le_bytes());
         }
         w.write_all(&buf)?;
-        write_f32s(w, self.base_positions.iter().flatten().copied())?;
+        match &self.quantization {
+            None => write_f32s(w, self.base_positions.iter().flatten().copied())?,
+            Some(q) => {
+                let ints = Deltas::I16(
+                    self.original
+                        .iter()
+                        .map(|&v| q.position(xyz(&self.base[v as usize])))
+                        .collect(),
+                );
+                let mut bytes = Vec::with_capacity(8 * self.vertex_count());
+                Storage::choose(self.vertex_count(), self.vertex_count(), 6).write(
+                    &mut bytes,
+                    &ints,
+                    &[],
+                );
+                w.write_all(&bytes)?;
+            }
+        }
         write_f32s(w, self.base_normals.iter().flatten().copied())?;
         if let Some(uvs) = &self.uvs {
             write_f32s(w, uvs.iter().flatten().copied())?;
@@ -821,7 +998,7 @@ impl<'a, const D: usize> Layout<'a, D> {
         for first in (0..count).step_by(batch) {
             let blocks: Vec<Vec<u8>> = (first..(first + batch).min(count))
                 .into_par_iter()
-                .map(|k| map_frame(frames, k, |f| self.frame_bytes(f)))
+                .map(|k| map_frame(frames, k, |f| self.frame_bytes(&self.targets[k], f)))
                 .collect();
             for b in blocks {
                 w.write_all(&b)?;
@@ -846,25 +1023,40 @@ impl<'a, const D: usize> Layout<'a, D> {
     }
 
     /// A frame's position deltas, then (for meshes in space) its normal
-    /// deltas, as little-endian `f32`.
-    fn frame_bytes(&self, frame: &[[f64; D]]) -> Vec<u8> {
-        let n = self.vertex_count();
-        let mut out = Vec::with_capacity(24 * n);
-        for &v in &self.original {
-            for x in delta(frame[v as usize], self.base[v as usize]) {
-                out.extend_from_slice(&x.to_le_bytes());
-            }
-        }
-        if self.frame_normals() {
+    /// deltas, little-endian, stored as `plan` says.
+    fn frame_bytes(&self, plan: &TargetPlan, frame: &[[f64; D]]) -> Vec<u8> {
+        let mut out =
+            Vec::with_capacity(plan.positions.bytes() + plan.normals.map_or(0, |s| s.bytes()));
+        let exact = Deltas::positions(frame, self.base, &self.original, None);
+        let moved = exact.moved();
+        let deltas = match &self.quantization {
+            None => exact,
+            Some(q) => Deltas::positions(frame, self.base, &self.original, Some(q)),
+        };
+        plan.positions.write(&mut out, &deltas, &moved);
+        if let Some(storage) = plan.normals {
             let normals = gltf_normals::<D>(frame, self.triangles, &self.original, &self.groups);
-            for (a, b) in normals.iter().zip(&self.base_normals) {
-                for k in 0..3 {
-                    out.extend_from_slice(&(a[k] - b[k]).to_le_bytes());
-                }
-            }
+            let deltas = Deltas::F32(
+                normals
+                    .iter()
+                    .zip(&self.base_normals)
+                    .map(|(a, b)| std::array::from_fn(|k| a[k] - b[k]))
+                    .collect(),
+            );
+            let changed = normals_changed(frame, self.base, self.triangles, &self.original);
+            storage.write(&mut out, &deltas, &changed);
         }
         out
     }
+}
+
+/// How one frame's morph target is stored.
+struct TargetPlan {
+    /// Its position deltas' bounds, as stored (integers when quantised).
+    bounds: ([f32; 3], [f32; 3]),
+    positions: Storage,
+    /// `None` for planar meshes, whose frames share zero normal deltas.
+    normals: Option<Storage>,
 }
 
 /// A double-sided material (OBJ files do not say which side shows), blended
@@ -969,24 +1161,6 @@ fn by_material(
     Ok((sorted, primitives))
 }
 
-/// Bounds of a frame's position deltas from `base` over the glTF vertices.
-fn delta_bounds<const D: usize>(
-    frame: &[[f64; D]],
-    base: &[[f64; D]],
-    original: &[u32],
-) -> ([f32; 3], [f32; 3]) {
-    let mut lo = [f32::INFINITY; 3];
-    let mut hi = [f32::NEG_INFINITY; 3];
-    for &v in original {
-        let d = delta(frame[v as usize], base[v as usize]);
-        for k in 0..3 {
-            lo[k] = lo[k].min(d[k]);
-            hi[k] = hi[k].max(d[k]);
-        }
-    }
-    (lo, hi)
-}
-
 /// Writes `f32`s little-endian through a buffer.
 fn write_f32s(w: &mut dyn Write, values: impl Iterator<Item = f32>) -> std::io::Result<()> {
     let mut buf = Vec::with_capacity(1 << 16);
@@ -998,13 +1172,6 @@ fn write_f32s(w: &mut dyn Write, values: impl Iterator<Item = f32>) -> std::io::
         }
     }
     w.write_all(&buf)
-}
-
-/// `frame - base` in `f32`, padded to three coordinates.
-#[inline]
-fn delta<const D: usize>(frame: [f64; D], base: [f64; D]) -> [f32; 3] {
-    let (f, b) = (xyz(&frame), xyz(&base));
-    std::array::from_fn(|k| (f[k] - b[k]) as f32)
 }
 
 /// Per-coordinate minimum and maximum of `f32` vectors.

@@ -79,6 +79,7 @@ pub(crate) mod marker_file;
 pub(crate) mod marker_points;
 mod material_paths;
 mod mesh_file;
+mod morph_storage;
 pub mod mtl;
 mod normal_groups;
 mod obj;

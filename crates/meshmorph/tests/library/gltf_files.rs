@@ -777,3 +777,186 @@ fn one_vn_per_corner_with_equal_values_stays_smooth() {
     );
     assert_eq!(back.positions.len(), 4);
 }
+
+/// Every frame's positions as a viewer decodes the GLB, per glTF vertex:
+/// base plus delta, through dense or sparse accessors, `f32` or normalised
+/// `i16` (KHR_mesh_quantization), then the node's scale and translation.
+/// Also the document and the size of the binary chunk.
+fn decode_frames(bytes: &[u8]) -> (Vec<Vec<[f64; 3]>>, serde_json::Value) {
+    let u32_at = |o: usize| u32::from_le_bytes(bytes[o..o + 4].try_into().unwrap()) as usize;
+    let json_length = u32_at(12);
+    let doc: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_length]).unwrap();
+    let bin = &bytes[28 + json_length..];
+    let number = |v: &serde_json::Value, key: &str| v[key].as_u64().map(|x| x as usize);
+    let component = |ty: usize, normalized: bool, at: &[u8]| -> f64 {
+        match ty {
+            5126 => f64::from(f32::from_le_bytes(at[..4].try_into().unwrap())),
+            5122 => {
+                let x = f64::from(i16::from_le_bytes(at[..2].try_into().unwrap()));
+                if normalized {
+                    (x / 32767.0).max(-1.0)
+                } else {
+                    x
+                }
+            }
+            other => panic!("component type {other}"),
+        }
+    };
+    let accessor = |index: usize| -> Vec<[f64; 3]> {
+        let a = &doc["accessors"][index];
+        let (n, ty) = (
+            number(a, "count").unwrap(),
+            number(a, "componentType").unwrap(),
+        );
+        let normalized = a["normalized"].as_bool().unwrap_or(false);
+        let size = if ty == 5126 { 4 } else { 2 };
+        let read =
+            |view: usize, offset: usize, stride: Option<usize>, count: usize| -> Vec<[f64; 3]> {
+                let v = &doc["bufferViews"][view];
+                let start = number(v, "byteOffset").unwrap_or(0) + offset;
+                let stride = stride.or(number(v, "byteStride")).unwrap_or(3 * size);
+                (0..count)
+                    .map(|i| {
+                        std::array::from_fn(|k| {
+                            component(ty, normalized, &bin[start + i * stride + k * size..])
+                        })
+                    })
+                    .collect()
+            };
+        let mut values = match number(a, "bufferView") {
+            Some(view) => read(view, number(a, "byteOffset").unwrap_or(0), None, n),
+            None => vec![[0.0; 3]; n],
+        };
+        if let Some(sparse) = a.get("sparse") {
+            let k = number(sparse, "count").unwrap();
+            let iv = &doc["bufferViews"][number(&sparse["indices"], "bufferView").unwrap()];
+            let index_type = number(&sparse["indices"], "componentType").unwrap();
+            let start = number(iv, "byteOffset").unwrap_or(0);
+            let given = read(
+                number(&sparse["values"], "bufferView").unwrap(),
+                0,
+                Some(3 * size),
+                k,
+            );
+            for (j, value) in given.into_iter().enumerate() {
+                let i = match index_type {
+                    5123 => u16::from_le_bytes(
+                        bin[start + 2 * j..start + 2 * j + 2].try_into().unwrap(),
+                    ) as usize,
+                    5125 => u32_at(28 + json_length + start + 4 * j),
+                    other => panic!("index type {other}"),
+                };
+                values[i] = value;
+            }
+        }
+        values
+    };
+    let node = &doc["nodes"][0];
+    let get3 = |key: &str, default: f64| -> [f64; 3] {
+        node.get(key)
+            .map(|v| std::array::from_fn(|k| v[k].as_f64().unwrap()))
+            .unwrap_or([default; 3])
+    };
+    let (t, s) = (get3("translation", 0.0), get3("scale", 1.0));
+    let primitive = &doc["meshes"][0]["primitives"][0];
+    let base = accessor(number(&primitive["attributes"], "POSITION").unwrap());
+    let frames = primitive["targets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|target| {
+            let delta = accessor(number(target, "POSITION").unwrap());
+            base.iter()
+                .zip(&delta)
+                .map(|(b, d)| std::array::from_fn(|k| t[k] + s[k] * (b[k] + d[k])))
+                .collect()
+        })
+        .collect();
+    (frames, doc)
+}
+
+#[test]
+fn sparse_dense_and_quantised_glbs_decode_to_the_same_frames() {
+    // A tube whose far end bends while the rest stays put: frame 0 is the
+    // rest itself, the others move the vertices past x = 2.5 only.
+    let rest = tube(4.0, 0.5, 17, 12);
+    let bent: Vec<Vec<[f64; 3]>> = [0.0, 0.4, 0.9]
+        .iter()
+        .map(|&angle: &f64| {
+            rest.positions()
+                .iter()
+                .map(|&[x, y, z]| {
+                    if x <= 2.5 {
+                        [x, y, z]
+                    } else {
+                        let a = angle * (x - 2.5);
+                        [
+                            2.5 + (x - 2.5) * a.cos() - z * a.sin(),
+                            y,
+                            (x - 2.5) * a.sin() + z * a.cos(),
+                        ]
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let base = GltfBase::new(rest.positions(), rest.triangles());
+    let names = names(bent.len());
+    let write = |options: GltfOptions| glb(&base, &bent, &names, &options).unwrap();
+    let dense = write(GltfOptions::default().with_sparse(false));
+    let sparse = write(GltfOptions::default());
+    let quantised = write(GltfOptions::default().with_quantize(true));
+    let quantised_dense = write(
+        GltfOptions::default()
+            .with_quantize(true)
+            .with_sparse(false),
+    );
+    assert!(
+        sparse.len() < dense.len() * 3 / 4,
+        "{} against {}",
+        sparse.len(),
+        dense.len()
+    );
+    assert!(quantised.len() < sparse.len() && quantised_dense.len() < dense.len());
+
+    let (from_dense, doc) = decode_frames(&dense);
+    assert!(doc["accessors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|a| a.get("sparse").is_none()));
+    let (from_sparse, doc) = decode_frames(&sparse);
+    assert!(doc["accessors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|a| a.get("sparse").is_some()));
+    assert_eq!(doc["meshes"][0]["extras"]["targetNames"][2], "frame_0002");
+    // Sparse storage is lossless: the same numbers as dense.
+    assert_eq!(from_sparse, from_dense);
+    // And dense is each frame to f32 precision.
+    for (decoded, frame) in from_dense.iter().zip(&bent) {
+        for (p, q) in decoded.iter().zip(frame) {
+            for k in 0..3 {
+                assert!((p[k] - q[k]).abs() <= 4.0 * f64::from(f32::EPSILON) * 4.0);
+            }
+        }
+    }
+    // Quantised: within the stated tolerance, scale / 32767 a coordinate.
+    for bytes in [&quantised, &quantised_dense] {
+        let (decoded, doc) = decode_frames(bytes);
+        assert_eq!(doc["extensionsRequired"][0], "KHR_mesh_quantization");
+        let scale = doc["nodes"][0]["scale"][0].as_f64().unwrap();
+        let tolerance = scale / 32767.0 * (1.0 + 1e-6) + 1e-6 * scale;
+        let mut worst: f64 = 0.0;
+        for (decoded, frame) in decoded.iter().zip(&bent) {
+            for (p, q) in decoded.iter().zip(frame) {
+                for k in 0..3 {
+                    worst = worst.max((p[k] - q[k]).abs());
+                }
+            }
+        }
+        assert!(worst <= tolerance, "{worst} against {tolerance}");
+        assert!(worst > 0.0);
+    }
+}
