@@ -459,7 +459,7 @@ impl<'a, const D: usize> Layout<'a, D> {
         // Each frame checked, with what the JSON needs before any data: its
         // position deltas' bounds and how many of its position and normal
         // deltas are not zero.
-        let firsts: Vec<(([f32; 3], [f32; 3]), usize, usize)> = (0..count)
+        let firsts: Vec<FrameSummary> = (0..count)
             .into_par_iter()
             .map(|k| {
                 map_frame(frames, k, |f| {
@@ -1049,6 +1049,10 @@ impl<'a, const D: usize> Layout<'a, D> {
         out
     }
 }
+
+/// A frame's position deltas' bounds, and how many of its position and
+/// normal deltas are not zero.
+type FrameSummary = (([f32; 3], [f32; 3]), usize, usize);
 
 /// How one frame's morph target is stored.
 struct TargetPlan {
