@@ -29,6 +29,24 @@ use serde::{Deserialize, Serialize};
 use super::{run_transfer, Done, References, TransferArgs};
 use crate::output;
 
+/// The batch file's form, at the end of `meshmorph transfer --help`.
+pub const FORMAT: &str = r#"A batch file (--batch), TOML or JSON, paths relative to it:
+
+  source = "horse-reference.obj"
+  poses = ["horse-01.obj", "horse-02.obj"]
+
+  [[targets]]
+  reference = "camel-reference.obj"
+  markers = "horse-camel.cons"          # or two point files: ["horse.pp", "camel.pp"]
+  save_correspondence = "horse-camel.corr"   # optional
+  gltf = "camel.glb"                    # optional
+  output = "camel/"
+
+  [[targets]]
+  reference = "llama-reference.obj"
+  correspondence = "horse-llama.corr"   # instead of markers
+  output = "llama/""#;
+
 /// A batch file as written.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -223,4 +241,22 @@ fn distinct_outputs(jobs: &[Job]) -> Result<()> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_form_in_the_help_is_a_batch_file() {
+        let text: String = FORMAT
+            .lines()
+            .skip(1)
+            .map(|l| format!("{}\n", l.trim_start()))
+            .collect();
+        let batch: BatchFile = toml::from_str(&text).unwrap();
+        assert_eq!(batch.poses.len(), 2);
+        assert_eq!(batch.targets.len(), 2);
+        assert!(batch.targets[0].markers.is_some() && batch.targets[1].correspondence.is_some());
+    }
 }

@@ -35,6 +35,7 @@ use report::TransferReport;
 /// Writes one mesh per pose: DIR/<the pose file's stem>.<ext>.
 #[derive(Debug, Clone, clap::Args)]
 #[command(
+    after_long_help = batch::FORMAT,
     mut_arg("one_based", |a| a.help("Vertex indices (markers and --pin) start at 1 instead of 0")),
     mut_arg("png", |a| a.help("Also write a still picture (PNG): source poses above, transferred poses below (the first, middle and last)")),
     mut_arg("gif", |a| a.help("Also write an animated GIF: every source pose above its transferred pose")),
@@ -45,8 +46,8 @@ pub struct TransferArgs {
     pub refs: Option<References>,
     /// A batch file (TOML or JSON): one source and its poses, and any number
     /// of targets, each with its markers or saved correspondence and its
-    /// output directory (see `meshmorph transfer --help`'s end, or the
-    /// README). One correspondence a target; each target written all or
+    /// output directory (its form is at the end of `--help`). One
+    /// correspondence a target; each target written all or
     /// nothing; a target that fails is reported and the others go on.
     /// Repeat it to run several batches together. The other options here
     /// apply to every target.
