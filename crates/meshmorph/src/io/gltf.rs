@@ -403,8 +403,9 @@ struct Layout<'a, const D: usize> {
     base_normals: Vec<[f32; 3]>,
     /// Per frame, how its deltas are stored.
     targets: Vec<TargetPlan>,
-    /// Positions as normalised `i16` ([`GltfOptions::quantize`]).
-    quantization: Option<Quantization>,
+    /// Positions as normalised `i16` ([`GltfOptions::quantize`]), and the
+    /// base's so stored.
+    quantization: Option<(Quantization, Deltas)>,
     fps: f64,
     animation: bool,
     json: Vec<u8>,
@@ -472,7 +473,7 @@ impl<'a, const D: usize> Layout<'a, D> {
                         )));
                     }
                     check_finite(f, &format!("frame {k} (`{}`)", names[k]))?;
-                    let deltas = Deltas::positions(f, base.positions, &original, None);
+                    let deltas = Deltas::positions(f, base.positions, &original);
                     let normals = if D == 3 {
                         normals_changed(f, base.positions, base.triangles, &original).len()
                     } else {
@@ -497,7 +498,12 @@ impl<'a, const D: usize> Layout<'a, D> {
                 .iter()
                 .flat_map(|((lo, hi), _, _)| lo.iter().chain(hi).map(|x| f64::from(x.abs())))
                 .fold(0.0, f64::max);
-            Quantization::new(center, base_extent + delta_extent)
+            let q = Quantization::new(center, base_extent + delta_extent);
+            let stored = original
+                .iter()
+                .map(|&v| q.position(xyz(&base.positions[v as usize])))
+                .collect();
+            (q, Deltas::I16(stored))
         });
         let n = original.len();
         // Dense: as many entries as vertices, never smaller.
@@ -507,7 +513,7 @@ impl<'a, const D: usize> Layout<'a, D> {
             .map(|&((lo, hi), moved, normals)| TargetPlan {
                 bounds: match &quantization {
                     None => (lo, hi),
-                    Some(q) => (q.delta_bound(lo), q.delta_bound(hi)),
+                    Some((q, _)) => (q.delta_bound(lo), q.delta_bound(hi)),
                 },
                 positions: Storage::choose(
                     n,
@@ -629,21 +635,17 @@ impl<'a, const D: usize> Layout<'a, D> {
                     Some(bounds_of(&self.base_positions)),
                 )
             }
-            Some(q) => {
+            Some((_, stored)) => {
                 let position_view = view(&mut root, 8 * n, Some(ArrayBuffer));
                 root.buffer_views[position_view.value()].byte_stride =
                     Some(json::buffer::Stride(8));
-                let ints: Vec<[f32; 3]> = self
-                    .original
-                    .iter()
-                    .map(|&v| q.position(xyz(&self.base[v as usize])).map(f32::from))
-                    .collect();
+                let (lo, hi) = stored.bounds();
                 let mut a = accessor(
                     position_view,
                     n,
                     json::accessor::ComponentType::I16,
                     json::accessor::Type::Vec3,
-                    Some(bounds_of(&ints)).map(|(lo, hi)| (lo.to_vec(), hi.to_vec())),
+                    Some((lo.to_vec(), hi.to_vec())),
                 );
                 a.normalized = true;
                 root.push(a)
@@ -790,8 +792,11 @@ impl<'a, const D: usize> Layout<'a, D> {
             mesh: Some(mesh),
             name: Some(options.name.clone()),
             // The quantised positions' decoding.
-            translation: self.quantization.map(|q| q.center.map(|c| c as f32)),
-            scale: self.quantization.map(|q| [q.scale as f32; 3]),
+            translation: self
+                .quantization
+                .as_ref()
+                .map(|(q, _)| q.center.map(|c| c as f32)),
+            scale: self.quantization.as_ref().map(|(q, _)| [q.scale as f32; 3]),
             ..Default::default()
         });
         if self.quantization.is_some() {
@@ -967,17 +972,11 @@ impl<'a, const D: usize> Layout<'a, D> {
         w.write_all(&buf)?;
         match &self.quantization {
             None => write_f32s(w, self.base_positions.iter().flatten().copied())?,
-            Some(q) => {
-                let ints = Deltas::I16(
-                    self.original
-                        .iter()
-                        .map(|&v| q.position(xyz(&self.base[v as usize])))
-                        .collect(),
-                );
+            Some((_, stored)) => {
                 let mut bytes = Vec::with_capacity(8 * self.vertex_count());
                 Storage::choose(self.vertex_count(), self.vertex_count(), 6).write(
                     &mut bytes,
-                    &ints,
+                    stored,
                     &[],
                 );
                 w.write_all(&bytes)?;
@@ -1027,11 +1026,11 @@ impl<'a, const D: usize> Layout<'a, D> {
     fn frame_bytes(&self, plan: &TargetPlan, frame: &[[f64; D]]) -> Vec<u8> {
         let mut out =
             Vec::with_capacity(plan.positions.bytes() + plan.normals.map_or(0, |s| s.bytes()));
-        let exact = Deltas::positions(frame, self.base, &self.original, None);
+        let exact = Deltas::positions(frame, self.base, &self.original);
         let moved = exact.moved();
         let deltas = match &self.quantization {
             None => exact,
-            Some(q) => Deltas::positions(frame, self.base, &self.original, Some(q)),
+            Some((q, _)) => exact.quantized(q),
         };
         plan.positions.write(&mut out, &deltas, &moved);
         if let Some(storage) = plan.normals {

@@ -75,32 +75,34 @@ pub(crate) enum Deltas {
 }
 
 impl Deltas {
-    /// The position deltas of `frame` from `base` at the glTF vertices.
+    /// The position deltas of `frame` from `base` at the glTF vertices, in
+    /// `f32`.
     pub fn positions<const D: usize>(
         frame: &[[f64; D]],
         base: &[[f64; D]],
         original: &[u32],
-        quantization: Option<&Quantization>,
     ) -> Deltas {
-        let delta = |v: u32| {
-            let (f, b) = (xyz(&frame[v as usize]), xyz(&base[v as usize]));
-            std::array::from_fn(|k| f[k] - b[k])
-        };
-        match quantization {
-            None => Deltas::F32(
-                original
-                    .iter()
-                    .map(|&v| delta(v).map(|x: f64| x as f32))
-                    .collect(),
-            ),
-            // From the `f32` deltas, so that the quantised bounds follow
-            // from the `f32` ones (rounding keeps the order).
-            Some(q) => Deltas::I16(
-                original
-                    .iter()
-                    .map(|&v| q.delta(delta(v).map(|x: f64| f64::from(x as f32))))
-                    .collect(),
-            ),
+        Deltas::F32(
+            original
+                .iter()
+                .map(|&v| {
+                    let (f, b) = (xyz(&frame[v as usize]), xyz(&base[v as usize]));
+                    std::array::from_fn(|k| (f[k] - b[k]) as f32)
+                })
+                .collect(),
+        )
+    }
+
+    /// These `f32` deltas quantised (from the `f32` values, so that the
+    /// quantised bounds follow from the `f32` ones: rounding keeps the
+    /// order).
+    ///
+    /// # Panics
+    /// If the deltas are quantised already.
+    pub fn quantized(&self, q: &Quantization) -> Deltas {
+        match self {
+            Deltas::F32(v) => Deltas::I16(v.iter().map(|d| q.delta(d.map(f64::from))).collect()),
+            Deltas::I16(_) => panic!("deltas quantised twice"),
         }
     }
 
