@@ -10,25 +10,30 @@ which is how ``meshmorph pick`` from the panel numbers them) and its
 positions are in world space.
 """
 
+import os
 import re
 
 import numpy as np
 
 from . import mesh_arrays
-from .refusal import Refusal
+from .refusal import Missing, Refusal
 
 DUPLICATE = re.compile(r"\.\d{3}$")
 
 
-def from_file(meshmorph, path, target_path=""):
-    """Markers read from `path` (meshmorph's marker file, or with
-    `target_path` the source's and the target's point files)."""
+def from_file(meshmorph, source, target, path, target_path=""):
+    """Markers for `source` and `target` read from `path` (meshmorph's
+    marker file, or with `target_path` the source's and the target's point
+    files)."""
     if not path:
-        raise Refusal("Choose a marker file in the meshmorph panel")
+        raise Missing("Choose a marker file in the meshmorph panel")
+    for given in (path, target_path):
+        if given and os.path.exists(given) and not os.path.isfile(given):
+            raise Refusal("The marker file {} for {} and {} is not a regular file: choose a file".format(given, source.name, target.name))
     try:
         return meshmorph.read_markers(path, target_path or None)
-    except (meshmorph.MeshmorphError, OSError) as e:
-        raise Refusal(str(e)) from e
+    except (meshmorph.MeshmorphError, OSError, ValueError) as e:
+        raise Refusal("The markers for {} and {} could not be read: {}".format(source.name, target.name, e)) from e
 
 
 def _group_centres(obj, prefix):
@@ -59,11 +64,7 @@ def from_vertex_groups(meshmorph, source, target, prefix):
 def _empties(obj):
     """{name without Blender's .001 suffix: world position} of the empties
     parented to `obj`."""
-    return {
-        DUPLICATE.sub("", child.name): np.array(child.matrix_world.translation, dtype=np.float64)
-        for child in obj.children
-        if child.type == "EMPTY"
-    }
+    return {DUPLICATE.sub("", child.name): mesh_arrays.location(child) for child in obj.children if child.type == "EMPTY"}
 
 
 def from_empties(meshmorph, source, target):
@@ -75,9 +76,10 @@ def from_empties(meshmorph, source, target):
 def _paired(meshmorph, s, t, what, source, target):
     names = [n for n in s if n in t]
     if not names:
-        raise Refusal(
-            "No markers: give {} and {} {} with the same names".format(source.name, target.name, what)
+        raise Missing("No markers: give {} and {} {} with the same names".format(source.name, target.name, what))
+    try:
+        return meshmorph.Markers.from_points(
+            np.array([s[n] for n in names]), np.array([t[n] for n in names]), names=names
         )
-    return meshmorph.Markers.from_points(
-        np.array([s[n] for n in names]), np.array([t[n] for n in names]), names=names
-    )
+    except (meshmorph.MeshmorphError, ValueError, TypeError) as e:
+        raise Refusal("The markers on {} and {} ({}) cannot be used: {}".format(source.name, target.name, what, e)) from e

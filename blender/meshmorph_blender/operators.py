@@ -2,15 +2,20 @@
 work in its module, and reports in Blender's report area and status bar
 (a sentence saying what to do, never a traceback). The work modules need
 numpy and meshmorph, so they are imported once those are loaded: an add-on
-whose wheels cannot load still registers and says why."""
+whose wheels cannot load still registers and says why.
+
+Every operator runs its work through `_guarded`: the selected meshes are
+recorded first, and any error (the add-on's own refusals, and as a last
+resort anything unexpected) puts them back as they were and ends in one
+sentence in the report, naming the object."""
 
 import os
 import threading
 
 import bpy
 
-from . import kept_correspondence, wheels
-from .refusal import Refusal
+from . import kept_correspondence, scene_snapshot, wheels
+from .refusal import Refusal, sentence
 
 
 def _meshmorph():
@@ -88,15 +93,51 @@ class _Progress:
             self.workspace.status_text_set(None)
 
 
+def _unexpected(operator, context, error):
+    """The sentence for an error the add-on did not foresee."""
+    obj = getattr(context, "active_object", None)
+    try:
+        on = " on {}".format(obj.name) if obj is not None else ""
+    except ReferenceError:
+        on = ""
+    return "{}{} stopped on an unexpected error ({}: {}); nothing was changed".format(
+        operator.bl_label, on, type(error).__name__, error
+    )
+
+
+def _guarded(operator, context, work, objects=None):
+    """Runs `work()` and returns its result. On any error the meshes it may
+    change (`objects`, else the selected and active ones) are put back as
+    they were, the error is reported as one sentence and the result is
+    CANCELLED: a traceback never reaches the user."""
+    try:
+        if objects is None:
+            objects = list(context.selected_objects) + [context.active_object]
+        snapshot = scene_snapshot.Snapshot(objects)
+    except Exception as e:
+        operator.report({"ERROR"}, sentence(_unexpected(operator, context, e)))
+        return {"CANCELLED"}
+    try:
+        return work()
+    except Refusal as e:
+        said = str(e)
+    except BaseException as e:  # the last resort: pyo3's PanicException is a BaseException
+        if isinstance(e, (SystemExit, GeneratorExit)):
+            raise
+        said = _unexpected(operator, context, e)
+    try:
+        snapshot.restore()
+    except Exception as e:
+        said = "{}; and the meshes could not all be put back ({}: {}), so undo".format(said, type(e).__name__, e)
+    operator.report({"ERROR"}, sentence(said))
+    return {"CANCELLED"}
+
+
 class _Refusing:
-    """execute() runs `work` and turns a Refusal into an error report."""
+    """execute() runs `work` guarded (see `_guarded`)."""
 
     def execute(self, context):
-        try:
-            return self.work(context)
-        except Refusal as e:
-            self.report({"ERROR"}, str(e))
-            return {"CANCELLED"}
+        return _guarded(self, context, lambda: self.work(context))
 
 
 class MESHMORPH_OT_transfer_shape_keys(_Refusing, bpy.types.Operator):
@@ -117,7 +158,7 @@ class MESHMORPH_OT_transfer_shape_keys(_Refusing, bpy.types.Operator):
 
         def markers():
             if s.marker_source == "FILE":
-                return marker_sources.from_file(meshmorph, bpy.path.abspath(s.marker_file), bpy.path.abspath(s.target_points_file))
+                return marker_sources.from_file(meshmorph, source, target, bpy.path.abspath(s.marker_file), bpy.path.abspath(s.target_points_file))
             if s.marker_source == "GROUPS":
                 return marker_sources.from_vertex_groups(meshmorph, source, target, s.group_prefix)
             return marker_sources.from_empties(meshmorph, source, target)
@@ -146,11 +187,10 @@ class MESHMORPH_OT_transfer_shape_keys(_Refusing, bpy.types.Operator):
         """From the panel: the fit and the solves on a thread of their own
         (meshmorph releases the GIL), Blender's status bar showing how far
         they are; the keys are written once they are done."""
-        try:
-            self._job = self._gather(context)
-        except Refusal as e:
-            self.report({"ERROR"}, str(e))
-            return {"CANCELLED"}
+        return _guarded(self, context, lambda: self._start(context))
+
+    def _start(self, context):
+        self._job = self._gather(context)
         state = self._state = {"stage": "fit", "done": 0, "total": 1, "error": None, "finished": False}
 
         def record(stage, done, total):
@@ -159,7 +199,7 @@ class MESHMORPH_OT_transfer_shape_keys(_Refusing, bpy.types.Operator):
         def run():
             try:
                 self._job.run(record)
-            except Exception as e:  # reported from the main thread
+            except BaseException as e:  # reported from the main thread
                 state["error"] = e
             finally:
                 state["finished"] = True
@@ -179,14 +219,12 @@ class MESHMORPH_OT_transfer_shape_keys(_Refusing, bpy.types.Operator):
             return {"RUNNING_MODAL"}
         context.window_manager.event_timer_remove(self._timer)
         self._progress.end()
-        if state["error"] is not None:
-            self.report({"ERROR"}, str(state["error"]))
+        error = state["error"]
+        if error is not None:
+            said = str(error) if isinstance(error, Refusal) else _unexpected(self, context, error)
+            self.report({"ERROR"}, sentence(said))
             return {"CANCELLED"}
-        try:
-            return self._finish(self._job)
-        except Refusal as e:
-            self.report({"ERROR"}, str(e))
-            return {"CANCELLED"}
+        return _guarded(self, context, lambda: self._finish(self._job), [self._job.target])
 
 
 class MESHMORPH_OT_add_inbetweens(_Refusing, bpy.types.Operator):
@@ -204,7 +242,7 @@ class MESHMORPH_OT_add_inbetweens(_Refusing, bpy.types.Operator):
         s = _settings(context)
         start = s.inbetween_from or obj.data.shape_keys.reference_key.name
         if not s.inbetween_to:
-            raise Refusal("Choose the key to go to in the meshmorph panel")
+            raise Refusal("Choose the key of {} to go to in the meshmorph panel".format(obj.name))
         names = inbetweens.add(meshmorph, obj, start, s.inbetween_to, s.inbetween_count)
         self.report({"INFO"}, "Added {}".format(", ".join(names)))
         return {"FINISHED"}
@@ -239,6 +277,9 @@ class MESHMORPH_OT_pick(bpy.types.Operator):
     _timer = None
 
     def invoke(self, context, event):
+        return _guarded(self, context, lambda: self._start(context), [])
+
+    def _start(self, context):
         s = _settings(context)
         try:
             source, target = _source_and_target(context)
@@ -255,9 +296,8 @@ class MESHMORPH_OT_pick(bpy.types.Operator):
             stem = "{}-to-{}.markers".format(bpy.path.clean_name(source.name), bpy.path.clean_name(target.name))
             path = pick.unused_path(folder, stem, ".txt")
             self._picking = pick.Picking(command, source, target, path, start)
-        except (Refusal, OSError) as e:
-            self.report({"ERROR"}, str(e))
-            return {"CANCELLED"}
+        except OSError as e:
+            raise Refusal("meshmorph pick could not be started: {}".format(e)) from e
         self._workspace = context.workspace
         self._timer = context.window_manager.event_timer_add(0.5, window=context.window)
         context.window_manager.modal_handler_add(self)
@@ -265,6 +305,14 @@ class MESHMORPH_OT_pick(bpy.types.Operator):
         return {"RUNNING_MODAL"}
 
     def modal(self, context, event):
+        try:
+            return self._watch(context, event)
+        except Exception as e:
+            self._picking.stop()
+            self.report({"ERROR"}, sentence(_unexpected(self, context, e)))
+            return self._end(context, {"CANCELLED"})
+
+    def _watch(self, context, event):
         if event.type == "ESC":
             self._picking.stop()
             return self._end(context, {"CANCELLED"})
@@ -282,7 +330,7 @@ class MESHMORPH_OT_pick(bpy.types.Operator):
             return {"PASS_THROUGH"}
         status, said = ended
         if status != 0:
-            self.report({"ERROR"}, "meshmorph pick stopped: {}".format(said.splitlines()[-1] if said else status))
+            self.report({"ERROR"}, sentence("meshmorph pick stopped: {}".format(said.splitlines()[-1] if said else status)))
             return self._end(context, {"CANCELLED"})
         return self._end(context, {"FINISHED"})
 
@@ -298,18 +346,17 @@ class MESHMORPH_OT_pick(bpy.types.Operator):
         return result
 
 
-class MESHMORPH_OT_forget_correspondence(bpy.types.Operator):
-    """Forget the correspondence kept on the active object, so that the next transfer fits anew"""
+class MESHMORPH_OT_forget_correspondence(_Refusing, bpy.types.Operator):
+    """Forget the correspondence kept on the active object (or whatever it keeps under that name), so that the next transfer fits anew"""
 
     bl_idname = "meshmorph.forget_correspondence"
     bl_label = "Forget Kept Correspondence"
     bl_options = {"REGISTER", "UNDO"}
 
-    def execute(self, context):
+    def work(self, context):
         obj = context.active_object
         if obj is None or kept_correspondence.PROPERTY not in obj:
-            self.report({"ERROR"}, "Select a target that keeps a correspondence")
-            return {"CANCELLED"}
+            raise Refusal("Select a target that keeps a correspondence")
         del obj[kept_correspondence.PROPERTY]
         return {"FINISHED"}
 

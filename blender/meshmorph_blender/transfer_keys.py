@@ -7,7 +7,7 @@ import os
 import numpy as np
 
 from . import kept_correspondence, mesh_arrays
-from .refusal import Refusal
+from .refusal import Missing, Refusal
 
 
 def fit_report(c):
@@ -66,9 +66,12 @@ class Work:
         try:
             self.markers = markers()
             self.markers_print = kept_correspondence.markers_print(self.markers)
-        except Refusal as missing:
+        except Missing as missing:
             self.markers, self.markers_print, self.missing = None, None, missing
-        found = None if refit else kept_correspondence.kept(meshmorph, target, source.name, self.meshes, self.markers_print)
+        # Read (and so checked) even for a new fit, which would replace it.
+        found = kept_correspondence.kept(meshmorph, target, source.name, self.meshes, self.markers_print)
+        if refit:
+            found = None
         if found is None and self.markers is None:
             raise self.missing
         self.correspondence, self.report = found if found is not None else (None, None)
@@ -94,18 +97,20 @@ class Work:
                 if progress:
                     progress("keys", min(start + batch, n), n)
         except meshmorph.MeshmorphError as e:
-            raise Refusal(str(e)) from e
+            raise Refusal("{} to {}: {}".format(self.source.name, self.target.name, e)) from e
 
     def store(self):
         """The keys written to the target, the fit kept; returns (the fit
-        report, whether a kept correspondence served)."""
+        report, whether a kept correspondence served). Every key is checked
+        before the first is written."""
+        local = [mesh_arrays.storable(self.target, name, world) for name, world in zip(self.names, self.moved)]
         if not self.reused:
             kept_correspondence.keep(
                 self.target, self.source.name, self.meshes, self.markers_print, self.correspondence, self.report
             )
         given = self.source.data.shape_keys.key_blocks
-        for name, world in zip(self.names, self.moved):
-            block = mesh_arrays.store_key(self.target, name, mesh_arrays.to_object(self.target, world))
+        for name, positions in zip(self.names, local):
+            block = mesh_arrays.store_key(self.target, name, positions)
             block.slider_min, block.slider_max = given[name].slider_min, given[name].slider_max
         # A key relative to another key stays relative to that key's copy.
         blocks = self.target.data.shape_keys.key_blocks
@@ -114,13 +119,3 @@ class Work:
             if relative != self.source.data.shape_keys.reference_key.name and relative in blocks:
                 blocks[name].relative_key = blocks[relative]
         return self.report, self.reused
-
-
-def transfer(meshmorph, source, target, names, markers, refit=False, progress=None):
-    """Adds to `target` one shape key per name of `source`'s `names`, with
-    the same names. `markers()` gives the markers (or refuses when there are
-    none: a kept fit then serves). Returns (the fit report, whether a kept
-    correspondence was reused)."""
-    work = Work(meshmorph, source, target, names, markers, refit)
-    work.run(progress)
-    return work.store()

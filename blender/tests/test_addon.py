@@ -13,7 +13,10 @@ source to a target of other topology (with an n-gon) equal the Python
 package's transfer of the same arrays; a key added later is carried with
 the kept correspondence; a rigidly turned key gives rigid in-betweens and a
 baked animation; bad selections give their sentence, not a traceback; the
-target's polygons, UVs and materials are untouched."""
+target's polygons, UVs and materials are untouched; hostile scenes (NaN and
+infinite positions and transforms, a damaged kept correspondence, bad
+marker files, an error the add-on did not foresee) give one sentence naming
+the object and leave the scene as it was."""
 
 import http.client
 import json
@@ -303,12 +306,19 @@ def test_the_pick_button_runs_meshmorph_pick_and_reads_the_saved_markers_back():
     assert [(p[0]["vertex"], p[1]["vertex"]) for p in markers.pairs] == [(vertex_of_group(source, n), vertex_of_group(target, n)) for n in MARKED]
 
 
-def test_a_changed_mesh_or_changed_markers_fit_anew_and_a_mirrored_target_works():
+def transferred(keys):
+    """Source and Target selected, their marker groups as markers, and
+    `keys` transferred (with the kept fit where it serves)."""
     source, target = bpy.data.objects["Source"], bpy.data.objects["Target"]
     s = bpy.context.scene.meshmorph
-    s.marker_source, s.keys, s.refit = "GROUPS", "bend", False
+    s.marker_source, s.keys, s.refit = "GROUPS", keys, False
     select(source, target, active=target)
     assert bpy.ops.meshmorph.transfer_shape_keys() == {"FINISHED"}
+    return source, target, s
+
+
+def test_a_changed_mesh_or_changed_markers_fit_anew_and_a_mirrored_target_works():
+    source, target, s = transferred("bend")
     kept = dict(target["meshmorph_correspondence"])
     # The same markers and meshes: the kept fit serves.
     assert bpy.ops.meshmorph.transfer_shape_keys() == {"FINISHED"}
@@ -469,6 +479,308 @@ def test_bad_selections_give_a_sentence_not_a_traceback():
     bpy.context.view_layer.update()
     assert "Target is scaled to nothing along an axis" in error_of(bpy.ops.meshmorph.transfer_shape_keys)
     target.scale = scale
+
+
+# ------------------------------------------------------------------ hostile scenes
+
+def addon_module(name):
+    return __import__(ADDON + "." + name, fromlist=[name])
+
+
+def scene_state(*objects):
+    """What the operators could change on `objects`: shape keys (names,
+    points, values, ranges, relative keys), their F-curves, the kept
+    correspondence, the mesh's vertices."""
+    out = []
+    for o in objects:
+        keys = o.data.shape_keys
+        blocks = None
+        curves = None
+        if keys is not None:
+            blocks = [
+                (b.name, key(o, b.name).tobytes(), b.value, b.slider_min, b.slider_max, b.relative_key.name, b.mute)
+                for b in keys.key_blocks
+            ]
+            action = keys.animation_data.action if keys.animation_data is not None else None
+            if action is not None:
+                curves = sorted(
+                    (c.data_path, c.array_index, tuple((tuple(p.co), p.interpolation) for p in c.keyframe_points))
+                    for c in action.fcurves
+                )
+        kept = o.get("meshmorph_correspondence")
+        kept = kept.to_dict() if hasattr(kept, "to_dict") else kept.to_list() if hasattr(kept, "to_list") else kept
+        vertices = coordinates(o.data.vertices, len(o.data.vertices)).tobytes()
+        out.append((o.name, blocks, curves, kept, vertices))
+    return out, len(bpy.data.actions)
+
+
+def refused(operator, watched, *words):
+    """Runs `operator` and checks that it refuses in one sentence (no
+    traceback, one line) containing `words` (the object's name among them),
+    and that `watched` objects are as they were."""
+    before = scene_state(*watched)
+    said = error_of(operator)
+    assert said is not None, "no refusal: wanted {}".format(words)
+    text = said.strip()
+    if text.startswith("Error: "):
+        text = text[len("Error: ") :]
+    assert "Traceback" not in said and "\n" not in text and text, said
+    for w in words:
+        assert w in text, (w, said)
+    assert scene_state(*watched) == before, "the scene changed: " + said
+    return text
+
+
+def set_points(items, positions):
+    items.foreach_set("co", np.asarray(positions, dtype=np.float32).ravel())
+
+
+def test_non_finite_positions_and_transforms_are_refused_naming_the_object():
+    source, target = bpy.data.objects["Source"], bpy.data.objects["Target"]
+    s = bpy.context.scene.meshmorph
+    s.marker_source, s.group_prefix, s.keys, s.refit = "GROUPS", "marker.", "", True
+    select(source, target, active=target)
+    both = (source, target)
+    nan, inf = float("nan"), float("inf")
+
+    # NaN at a marker vertex group's vertex (in the basis and the mesh).
+    i = vertex_of_group(source, "mid")
+    basis = source.data.shape_keys.reference_key
+    rest = key(source, basis.name)
+    bad = rest.copy()
+    bad[i] = (nan, 0.0, 0.0)
+    set_points(basis.data, bad)
+    refused(bpy.ops.meshmorph.transfer_shape_keys, both, "Source", "not a finite number", "vertex {}".format(i))
+    set_points(basis.data, rest)
+    # NaN and infinite in a source key, and in the target's basis.
+    bent = key(source, "bend")
+    bad = bent.copy()
+    bad[3, 2] = inf
+    set_points(source.data.shape_keys.key_blocks["bend"].data, bad)
+    refused(bpy.ops.meshmorph.transfer_shape_keys, both, "Source", 'shape key "bend"', "vertex 3")
+    set_points(source.data.shape_keys.key_blocks["bend"].data, bent)
+    target_rest = key(target, "Basis")
+    bad = target_rest.copy()
+    bad[vertex_of_group(target, "c2"), 1] = nan
+    set_points(target.data.shape_keys.reference_key.data, bad)
+    refused(bpy.ops.meshmorph.transfer_shape_keys, both, "Target", 'basis "Basis"', "not a finite number")
+    set_points(target.data.shape_keys.reference_key.data, target_rest)
+    # A mesh without shape keys: its vertices are read.
+    bare = grid("Bare", 3, 3, 1.0, 0.0)
+    bare.data.vertices[1].co = (0.0, nan, 0.0)
+    select(source, bare, active=bare)
+    refused(bpy.ops.meshmorph.transfer_shape_keys, (source, bare), "Bare's mesh", "vertex 1")
+    bpy.data.objects.remove(bare)
+
+    # A scale, location or rotation of NaN or infinity, on the object or a parent.
+    select(source, target, active=target)
+    for obj in both:
+        for attribute, value, words in (
+            ("scale", (nan, 1.0, 1.0), (obj.name + "'s transform is not a finite number",)),
+            ("location", (0.0, nan, 0.0), (obj.name + "'s transform is not a finite number",)),
+            ("rotation_euler", (0.0, 0.0, nan), (obj.name + "'s transform is not a finite number",)),
+            ("location", (0.0, inf, 0.0), (obj.name,)),  # Blender keeps it as the largest float32
+        ):
+            kept = tuple(getattr(obj, attribute))
+            setattr(obj, attribute, value)
+            bpy.context.view_layer.update()
+            refused(bpy.ops.meshmorph.transfer_shape_keys, both, *words)
+            setattr(obj, attribute, kept)
+            bpy.context.view_layer.update()
+    holder = bpy.data.objects.new("Holder", None)
+    bpy.context.scene.collection.objects.link(holder)
+    placed = [tuple(getattr(target, a)) for a in ("location", "rotation_euler", "scale")]
+    target.parent = holder
+    holder.scale = (1.0, nan, 1.0)
+    bpy.context.view_layer.update()
+    refused(bpy.ops.meshmorph.transfer_shape_keys, both, "Target's transform is not a finite number")
+    target.parent = None
+    target.location, target.rotation_euler, target.scale = placed
+    bpy.data.objects.remove(holder)
+    bpy.context.view_layer.update()
+
+    # In-betweens and a bake: a NaN scale, and an infinite key.
+    turning = bpy.data.objects["Turning"]
+    select(turning, active=turning)
+    s.inbetween_from, s.inbetween_to, s.inbetween_count, s.bake_keys = "", "turned", 3, "Basis, turned"
+    turning.scale = (2.0, 2.0, nan)
+    bpy.context.view_layer.update()
+    for operator in (bpy.ops.meshmorph.add_inbetweens, bpy.ops.meshmorph.bake_animation):
+        refused(operator, (turning,), "Turning's transform is not a finite number")
+    turning.scale = (2.0, 2.0, 2.0)
+    bpy.context.view_layer.update()
+    turned = key(turning, "turned")
+    bad = turned.copy()
+    bad[7, 0] = -inf
+    set_points(turning.data.shape_keys.key_blocks["turned"].data, bad)
+    for operator in (bpy.ops.meshmorph.add_inbetweens, bpy.ops.meshmorph.bake_animation):
+        refused(operator, (turning,), "Turning", 'shape key "turned"', "vertex 7")
+    set_points(turning.data.shape_keys.key_blocks["turned"].data, turned)
+
+    # Empties at a NaN location.
+    select(source, target, active=target)
+    for obj, suffix in ((source, ""), (target, ".001")):
+        for name in MARKED:
+            empty = bpy.data.objects.new(name + suffix, None)
+            bpy.context.scene.collection.objects.link(empty)
+            empty.parent = obj
+    source.children[0].location = (nan, 0.0, 0.0)
+    bpy.context.view_layer.update()
+    s.marker_source = "EMPTIES"
+    said = refused(bpy.ops.meshmorph.transfer_shape_keys, both, "parented to Source", "not at a finite location")
+    assert source.children[0].name in said, said
+    # Not even a kept fit serves when the markers given are damaged.
+    s.refit = False
+    refused(bpy.ops.meshmorph.transfer_shape_keys, both, "parented to Source", "not at a finite location")
+    for obj in both:
+        for child in list(obj.children):
+            bpy.data.objects.remove(child)
+
+    # A result that Blender's 32-bit floats cannot hold is refused before it is written.
+    mesh_arrays = addon_module("mesh_arrays")
+    try:
+        mesh_arrays.storable(target, "huge", np.full((len(target.data.vertices), 3), 1e300))
+        raise AssertionError("a result beyond float32 was not refused")
+    except addon_module("refusal").Refusal as e:
+        assert "Target's shape key \"huge\" would not be a finite number" in str(e), e
+    transferred("")  # all put back: it works again
+
+
+def test_a_damaged_kept_correspondence_is_refused_naming_the_object():
+    source, target, s = transferred("bend")
+    good = target["meshmorph_correspondence"].to_dict()
+    import base64
+
+    damaged = [
+        "a string from another tool",
+        42,
+        2.5,
+        [1, 2, 3],
+        b"bytes",
+        {"unrelated": 1},
+        dict(good, source=5),
+        dict(good, meshes=[1, 2]),
+        dict(good, report={"a": 1}),
+        dict(good, data="!!! not base64 !!!"),
+        dict(good, data=""),
+        dict(good, data=base64.b64encode(b"not a correspondence file").decode("ascii")),
+        dict(good, data=good["data"][: len(good["data"]) // 2 // 4 * 4]),
+        dict(good, data=base64.b64encode(b"\x00" * 64).decode("ascii")),
+    ]
+    describe = addon_module("kept_correspondence").describe
+    for value in damaged:
+        target["meshmorph_correspondence"] = value
+        for refit in (False, True):
+            s.refit = refit
+            refused(bpy.ops.meshmorph.transfer_shape_keys, (source, target), "Target's custom property meshmorph_correspondence", "Forget")
+        assert describe(target).startswith("Kept: "), value  # the panel draws, whatever is kept
+    # Forgetting it lets the transfer run again.
+    select(source, target, active=target)
+    assert bpy.ops.meshmorph.forget_correspondence() == {"FINISHED"}
+    assert "meshmorph_correspondence" not in target and describe(target) is None
+    s.refit = False
+    assert bpy.ops.meshmorph.transfer_shape_keys() == {"FINISHED"}
+    assert target["meshmorph_correspondence"].to_dict()["source"] == "Source"
+    s.keys = ""
+
+
+def test_bad_marker_files_are_refused_in_a_sentence():
+    source, target = bpy.data.objects["Source"], bpy.data.objects["Target"]
+    s = bpy.context.scene.meshmorph
+    select(source, target, active=target)
+    s.marker_source, s.refit, s.target_points_file = "FILE", True, ""
+    folder = bpy.app.tempdir
+    n = len(target.data.vertices)
+    contents = {
+        "garbage.txt": "\x00\xff this is not a marker file\n",
+        "out-of-range.cons": "1\n0, {}\n".format(n + 5),
+        "negative.cons": "1\n-3, 0\n",
+        "nan.txt": "# meshmorph markers\nnose source 0 nan 0 0 target 0 nan 0 0\n",
+    }
+    for name, text in contents.items():
+        path = os.path.join(folder, name)
+        with open(path, "w", encoding="latin-1") as f:
+            f.write(text)
+        s.marker_file = path
+        refused(bpy.ops.meshmorph.transfer_shape_keys, (source, target), "Target")
+    s.marker_file = folder  # a folder, not a file
+    refused(bpy.ops.meshmorph.transfer_shape_keys, (source, target), "is not a regular file", "Source and Target")
+    s.marker_source, s.marker_file, s.refit = "GROUPS", "", False
+
+
+def test_settings_from_elsewhere_are_refused_naming_the_object():
+    turning = bpy.data.objects["Turning"]
+    select(turning, active=turning)
+    s = bpy.context.scene.meshmorph
+    s.inbetween_from, s.inbetween_to, s.bake_keys = "", "turned", "Basis, turned"
+    stored = bpy.context.scene["meshmorph"]
+    # Blender keeps what a .blend holds, below the settings' minimum too.
+    for field, value, operator, words in (
+        ("inbetween_count", -5, bpy.ops.meshmorph.add_inbetweens, ("at least one in-between on Turning",)),
+        ("inbetween_count", 2**31 - 1, bpy.ops.meshmorph.add_inbetweens, ("Turning would get 2147483647 new shape keys",)),
+        ("frames_per_key", 0, bpy.ops.meshmorph.bake_animation, ("Turning's bake at least one frame",)),
+        ("frames_per_key", 2**31 - 1, bpy.ops.meshmorph.bake_animation, ("Turning would get", "new shape keys")),
+    ):
+        kept = stored[field]
+        stored[field] = value
+        refused(operator, (turning,), *words)
+        stored[field] = kept
+    # A settings property of another type altogether reads as the defaults.
+    saved = stored.to_dict()
+    bpy.context.scene["meshmorph"] = "from another add-on"
+    assert bpy.context.scene.meshmorph.inbetween_count == 3
+    refused(bpy.ops.meshmorph.add_inbetweens, (turning,), "Choose the key of Turning to go to")
+    bpy.context.scene["meshmorph"] = saved
+    assert bpy.context.scene.meshmorph.inbetween_to == "turned"
+
+
+def test_an_unexpected_error_is_one_sentence_and_the_scene_is_put_back():
+    source, target = bpy.data.objects["Source"], bpy.data.objects["Target"]
+    turning = bpy.data.objects["Turning"]
+    mesh_arrays = addon_module("mesh_arrays")
+    store_key = mesh_arrays.store_key
+    calls = []
+
+    def failing(obj, name, local):
+        calls.append(name)
+        if len(calls) == 2:
+            raise ZeroDivisionError("a fault in the middle of writing")
+        return store_key(obj, name, local)
+
+    s = bpy.context.scene.meshmorph
+    s.marker_source, s.keys, s.refit = "GROUPS", "", True  # a new fit: the kept one is replaced, then put back
+    v = coordinates(source.data.vertices, len(source.data.vertices))
+    add_key(source, "fresh", twist(v, 0.4))  # new on the target: removed again
+    target["meshmorph_correspondence"] = dict(target["meshmorph_correspondence"].to_dict(), report="as kept")
+    mesh_arrays.store_key = failing
+    try:
+        select(source, target, active=target)
+        refused(
+            bpy.ops.meshmorph.transfer_shape_keys,
+            (source, target),
+            "Transfer Shape Keys on Target stopped on an unexpected error (ZeroDivisionError",
+            "nothing was changed",
+        )
+        # A bake over an earlier bake: keys, values and curves come back.
+        calls.clear()
+        select(turning, active=turning)
+        s.bake_keys, s.frames_per_key = "Basis, turned", 3
+        refused(bpy.ops.meshmorph.bake_animation, (turning,), "Bake ARAP Animation on Turning stopped on an unexpected error")
+        calls.clear()
+        s.inbetween_from, s.inbetween_to, s.inbetween_count = "", "turned", 2
+        refused(bpy.ops.meshmorph.add_inbetweens, (turning,), "Add In-betweens on Turning stopped on an unexpected error")
+        # On a mesh without shape keys, none are left behind.
+        plain = grid("Keyless", 3, 3, 1.0, 0.0)
+        mark(plain, 3, 3)
+        calls.clear()
+        select(source, plain, active=plain)
+        s.refit = False
+        refused(bpy.ops.meshmorph.transfer_shape_keys, (source, plain), "on Keyless stopped on an unexpected error")
+        assert plain.data.shape_keys is None and "meshmorph_correspondence" not in plain
+    finally:
+        mesh_arrays.store_key = store_key
+    source.shape_key_remove(source.data.shape_keys.key_blocks["fresh"])
+    s.frames_per_key, s.refit = 4, False
 
 
 failed = 0
