@@ -686,8 +686,8 @@ impl<'a, const D: usize> Layout<'a, D> {
         // views: the indices and the values of the vertices that move).
         let mut stored = |root: &mut json::Root,
                           storage: Storage,
-                          quantized: bool,
                           bounds: Option<([f32; 3], [f32; 3])>| {
+            let quantized = storage.quantized();
             let component = if quantized {
                 json::accessor::ComponentType::I16
             } else {
@@ -741,15 +741,14 @@ impl<'a, const D: usize> Layout<'a, D> {
             }
             root.push(a)
         };
-        let quantized = self.quantization.is_some();
         let targets: Vec<json::mesh::MorphTarget> = self
             .targets
             .iter()
             .map(|plan| {
-                let positions = stored(&mut root, plan.positions, quantized, Some(plan.bounds));
+                let positions = stored(&mut root, plan.positions, Some(plan.bounds));
                 let normals = match (shared_zero_normals, plan.normals) {
                     (Some(a), _) => a,
-                    (None, Some(storage)) => stored(&mut root, storage, false, None),
+                    (None, Some(storage)) => stored(&mut root, storage, None),
                     (None, None) => unreachable!("frames in space have their normals' storage"),
                 };
                 json::mesh::MorphTarget {

@@ -228,6 +228,11 @@ impl Storage {
         }
     }
 
+    /// Whether the values are normalised `i16` (else `f32`).
+    pub fn quantized(&self) -> bool {
+        self.value_bytes == 6
+    }
+
     /// Bytes a dense vertex takes: attributes start every 4 bytes.
     pub fn stride(&self) -> usize {
         self.value_bytes.next_multiple_of(4)
