@@ -2,10 +2,12 @@
 //! stops with a message giving the estimate, instead of being killed (or
 //! aborting) half way. And one allocator heap shared by every thread.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Result};
-use meshmorph::limits::{FRAMES_IN_FLIGHT_PER_THREAD, MEMORY_PER_FILE_BYTE};
+use meshmorph::limits::{
+    FRAMES_IN_FLIGHT_PER_THREAD, MAX_MARKERS, MEMORY_PER_FILE_BYTE, MEMORY_PER_MARKER,
+};
 
 /// Makes every thread allocate from one heap (glibc's `M_ARENA_MAX` of 1).
 /// By default each thread that allocates gets an arena of its own, and
@@ -64,6 +66,23 @@ pub fn check_reading(paths: &[&Path]) -> Result<()> {
         bytes.saturating_mul(MEMORY_PER_FILE_BYTE),
         "reading the meshes",
     )
+}
+
+/// Reading marker files: each file's text, and [`MEMORY_PER_MARKER`] bytes
+/// for each marker it can hold (a line takes at least 4 bytes, `0 1` and its
+/// end; at most [`MAX_MARKERS`] are read).
+pub fn check_markers(paths: &[PathBuf]) -> Result<()> {
+    let bytes: u64 = paths
+        .iter()
+        .filter_map(|p| std::fs::metadata(p).ok())
+        .filter(std::fs::Metadata::is_file)
+        .map(|m| {
+            let markers = (m.len() / 4).min(MAX_MARKERS as u64);
+            m.len()
+                .saturating_add(markers.saturating_mul(MEMORY_PER_MARKER))
+        })
+        .fold(0, u64::saturating_add);
+    check(bytes, "reading the markers")
 }
 
 /// Bytes per triangle of a solver setup (interpolation or transfer),

@@ -67,6 +67,6 @@ mod stale;
 mod surplus;
 
 pub use interrupt::{abandon, interrupted_as_json};
-pub use plan::{Output, Plan};
+pub use plan::{check_runs, Output, Plan};
 pub use staging::Staging;
 pub use surplus::frame_path;

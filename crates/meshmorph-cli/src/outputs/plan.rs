@@ -68,8 +68,9 @@ impl Plan {
 
     /// Checks the plan and gets ready to write: refuses an output that is
     /// an input or another output (by resolved path and by device and
-    /// inode), an output slot holding a folder, and an output folder that
-    /// is a file; then creates the missing folders, arms the interrupt
+    /// inode), an output slot holding a folder or anything else that is not
+    /// a regular file (a device, a FIFO, a socket, links followed), and an
+    /// output folder that is a file; then creates the missing folders, arms the interrupt
     /// clean-up and refuses a folder that does not take new files.
     ///
     /// # Errors
@@ -102,6 +103,113 @@ impl Plan {
         check_distinct(&self.outputs, &outputs)?;
         Staging::new(self, inputs, outputs)
     }
+}
+
+/// The plans of several runs made as one (a batch's targets), checked
+/// together before any of them starts: an output of any run that is an
+/// input of any run (or one of `shared`, such as the batch files), or an
+/// output of another run, or that cannot take a file, is refused naming
+/// both runs (`runs[k].0` names run `k`). A run whose inputs and outputs are
+/// all those of an earlier run (the same target reached twice) is that run:
+/// the indices of such repeats are returned, to be left out.
+///
+/// # Errors
+/// The first clash, naming both runs and both paths.
+pub fn check_runs(
+    runs: &[(String, &Plan)],
+    shared: &[(PathBuf, String)],
+) -> Result<HashSet<usize>> {
+    let mut resolver = Resolver::default();
+    let resolve_all = |resolver: &mut Resolver, files: &[Named]| -> Vec<Resolved> {
+        files.iter().map(|f| resolver.resolve(&f.path)).collect()
+    };
+    let resolved: Vec<(Vec<Resolved>, Vec<Resolved>)> = runs
+        .iter()
+        .map(|(_, plan)| {
+            (
+                resolve_all(&mut resolver, &plan.inputs),
+                resolve_all(&mut resolver, &plan.outputs),
+            )
+        })
+        .collect();
+    // The same run twice: the same files read and written.
+    let mut seen: HashMap<(Vec<PathBuf>, Vec<PathBuf>), usize> = HashMap::new();
+    let mut repeats = HashSet::new();
+    for (k, (inputs, outputs)) in resolved.iter().enumerate() {
+        let sorted = |files: &[Resolved]| {
+            let mut paths: Vec<PathBuf> = files.iter().map(|f| f.path.clone()).collect();
+            paths.sort();
+            paths
+        };
+        if seen.insert((sorted(inputs), sorted(outputs)), k).is_some() {
+            repeats.insert(k);
+        }
+    }
+    // Every input of every run, then the shared ones (owner `None`).
+    let mut owners: Vec<(Option<usize>, &Path, &str)> = Vec::new();
+    let mut read = Inputs::default();
+    for (k, (_, plan)) in runs.iter().enumerate() {
+        if repeats.contains(&k) {
+            continue;
+        }
+        for (named, r) in plan.inputs.iter().zip(&resolved[k].0) {
+            read.insert(r, owners.len());
+            owners.push((Some(k), &named.path, &named.role));
+        }
+    }
+    for (path, role) in shared {
+        read.insert(&resolver.resolve(path), owners.len());
+        owners.push((None, path, role));
+    }
+    let mut written: HashMap<PathBuf, (usize, usize)> = HashMap::new();
+    let mut written_ids: HashMap<(u64, u64), (usize, usize)> = HashMap::new();
+    let mut checked = HashSet::new();
+    for (k, (name, plan)) in runs.iter().enumerate() {
+        if repeats.contains(&k) {
+            continue;
+        }
+        for (j, out) in plan.outputs.iter().enumerate() {
+            let r = check_slot(out, &mut resolver, &mut checked)
+                .map_err(|e| anyhow::anyhow!("{name}: {e:#}"))?;
+            if let Some(i) = read.find(&r) {
+                let (owner, input, role) = owners[i];
+                let whose = match owner {
+                    Some(o) if o != k => format!(" of {}", runs[o].0),
+                    _ => String::new(),
+                };
+                bail!(
+                    "{name}: the {} `{}` would overwrite the {role} `{}`{whose}: meshmorph never writes over its inputs; choose another output path",
+                    out.role,
+                    out.path.display(),
+                    input.display()
+                );
+            }
+            let earlier = written
+                .get(&r.path)
+                .or_else(|| r.id.and_then(|id| written_ids.get(&id)))
+                .copied();
+            if let Some((o, i)) = earlier {
+                let other = &runs[o].1.outputs[i];
+                let whose = if o == k {
+                    String::new()
+                } else {
+                    format!(" of {}", runs[o].0)
+                };
+                bail!(
+                    "{name}: the {} `{}` and the {} `{}`{whose} are one file: give each output its own path",
+                    out.role,
+                    out.path.display(),
+                    other.role,
+                    other.path.display()
+                );
+            }
+            written.insert(r.path.clone(), (k, j));
+            if let Some(id) = r.id {
+                written_ids.insert(id, (k, j));
+            }
+        }
+    }
+    Ok(repeats)
 }
 
 /// The message refusing an output that is an input.
@@ -160,13 +268,19 @@ fn check_slot(
         bail!("the {} `{}` is not a file name", out.role, path.display());
     }
     let resolved = resolver.resolve(path);
-    // An existing file or link (with an id): is it, or does it lead to, a folder?
-    if resolved.id.is_some() && std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
-        bail!(
-            "the {} `{}` is a folder: meshmorph writes a file there; move the folder or choose another output",
-            out.role,
-            path.display()
-        );
+    // An existing file or link (with an id): is it, or does it lead to, a
+    // folder, a device, a FIFO or a socket? A rename would replace it.
+    if resolved.id.is_some() {
+        if std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
+            bail!(
+                "the {} `{}` is a folder: meshmorph writes a file there; move the folder or choose another output",
+                out.role,
+                path.display()
+            );
+        }
+        if let Err(e) = meshmorph::io::refuse_unless_replaceable(path) {
+            bail!("the {} {e}", out.role);
+        }
     }
     let parent = path.parent().unwrap_or(Path::new(""));
     if !checked.contains(parent) {

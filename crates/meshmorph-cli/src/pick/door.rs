@@ -13,18 +13,26 @@
 //!   rebinding), cannot read or write through the door.
 //! - Requests are bounded: the request line and headers to
 //!   [`MAX_HEAD`], a body to [`MAX_BODY`] (413 past it, announced by
-//!   `Content-Length`; chunked bodies are refused with 411), a slow client to
-//!   [`IDLE`] per read, and [`MAX_CONNECTIONS`] at once (503 past them).
+//!   `Content-Length`; chunked bodies are refused with 411).
+//! - Every connection has a total deadline, however its bytes trickle in:
+//!   [`Limits::head`] from its acceptance to the end of its headers, then
+//!   [`Limits::body`] for its body (408 past either).
+//! - Connections that have not yet shown the token cannot starve one that
+//!   has: they wait apart, at most [`Limits::pending`] of them (past that
+//!   the longest waiting is closed to make room), while connections whose
+//!   request line carries the token are served, [`Limits::served`] at
+//!   once (503 past them). So a flood of silent or trickling connections
+//!   delays nobody who has the page's address.
 //! - Anything malformed gets a 4xx with a one-line reason; the server goes
 //!   on. Every response closes its connection.
 //!
 //! What a request may do is the caller's [`Handler`]; the door hands it only
 //! requests that passed every check, with the token stripped from the path.
 
-use std::io::{BufRead, BufReader, Read, Write};
-use std::net::{Ipv4Addr, Ipv6Addr, SocketAddr, TcpListener, TcpStream};
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Arc;
+use std::collections::VecDeque;
+use std::io::{Read, Write};
+use std::net::{Ipv4Addr, Ipv6Addr, Shutdown, SocketAddr, TcpListener, TcpStream};
+use std::sync::{Arc, Condvar, Mutex};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
@@ -34,10 +42,32 @@ pub const MAX_HEAD: usize = 16 * 1024;
 /// The largest request body (a marker list of [`super::session::MAX_MARKERS`]
 /// pairs fits with room to spare).
 pub const MAX_BODY: usize = 4 * 1024 * 1024;
-/// The longest wait for a client's next bytes.
-pub const IDLE: Duration = Duration::from_secs(10);
-/// The most connections served at once.
-pub const MAX_CONNECTIONS: usize = 32;
+
+/// The door's deadlines and caps.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    /// From a connection's acceptance to the end of its headers: 10 s.
+    pub head: Duration,
+    /// From the end of the headers to the end of the body: 30 s (a body
+    /// of [`MAX_BODY`] takes milliseconds on the loopback).
+    pub body: Duration,
+    /// Connections held at once that have not yet shown the token: 256
+    /// (past them, the one waiting longest is closed).
+    pub pending: usize,
+    /// Connections served at once that have shown it: 32 (503 past them).
+    pub served: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self {
+            head: Duration::from_secs(10),
+            body: Duration::from_secs(30),
+            pending: 256,
+            served: 32,
+        }
+    }
+}
 
 /// A request that passed the door.
 #[derive(Debug)]
@@ -94,11 +124,12 @@ pub trait Handler: Send + Sync + 'static {
     fn ended(&self);
 }
 
-/// The listening door: its address and token.
+/// The listening door: its address, token and limits.
 pub struct Door {
     listeners: Vec<TcpListener>,
     port: u16,
     token: String,
+    limits: Limits,
 }
 
 impl Door {
@@ -124,7 +155,15 @@ impl Door {
             listeners,
             port,
             token,
+            limits: Limits::default(),
         })
+    }
+
+    /// The same door with other deadlines and caps.
+    #[cfg(test)]
+    fn with_limits(mut self, limits: Limits) -> Self {
+        self.limits = limits;
+        self
     }
 
     /// The page's address, token included.
@@ -133,33 +172,61 @@ impl Door {
     }
 
     /// Serves `handler` on every listener, each connection on a thread of
-    /// its own; returns at once (the listeners run until the process ends).
-    pub fn serve(self, handler: Arc<dyn Handler>) {
-        let checks = Arc::new(Checks {
-            port: self.port,
-            token: self.token,
+    /// its own; returns at once (the listeners run until the process
+    /// ends), with what [`Served::settle`] waits on.
+    pub fn serve(self, handler: Arc<dyn Handler>) -> Served {
+        let shared = Arc::new(Shared {
+            checks: Checks {
+                port: self.port,
+                token: self.token,
+            },
+            limits: self.limits,
+            pending: Arc::new(Pending::default()),
+            served: Arc::new(Count::default()),
+            handler,
         });
-        let open = Arc::new(AtomicUsize::new(0));
         for listener in self.listeners {
-            let (checks, handler, open) = (checks.clone(), handler.clone(), open.clone());
+            let shared = shared.clone();
             let spawned = std::thread::Builder::new()
                 .name("pick-door".into())
-                .spawn(move || accept(listener, checks, handler, open));
+                .spawn(move || accept(listener, shared));
             if let Err(e) = spawned {
                 eprintln!("warning: cannot listen on one address: {e}");
             }
         }
+        Served {
+            count: shared.served.clone(),
+            longest: self.limits.body,
+        }
     }
 }
 
-/// One of the [`MAX_CONNECTIONS`] connections served at once, given back
-/// when dropped (also when a handler panics).
-struct Slot(Arc<AtomicUsize>);
+/// The connections that have shown the token, being read or answered.
+pub struct Served {
+    count: Arc<Count>,
+    longest: Duration,
+}
 
-impl Drop for Slot {
-    fn drop(&mut self) {
-        self.0.fetch_sub(1, Ordering::SeqCst);
+impl Served {
+    /// Waits until no request that has shown the token is being read or
+    /// answered (a save whose body was still arriving when "done" was
+    /// answered is answered too), at most a body's deadline.
+    pub fn settle(&self) {
+        let n = self.count.n.lock().unwrap_or_else(|e| e.into_inner());
+        let _ = self
+            .count
+            .zero
+            .wait_timeout_while(n, self.longest, |n| *n > 0);
     }
+}
+
+/// What every connection's thread shares.
+struct Shared {
+    checks: Checks,
+    limits: Limits,
+    pending: Arc<Pending>,
+    served: Arc<Count>,
+    handler: Arc<dyn Handler>,
 }
 
 /// What every request is checked against.
@@ -168,89 +235,221 @@ struct Checks {
     token: String,
 }
 
-fn accept(
-    listener: TcpListener,
-    checks: Arc<Checks>,
-    handler: Arc<dyn Handler>,
-    open: Arc<AtomicUsize>,
-) {
-    for stream in listener.incoming() {
-        let Ok(mut stream) = stream else { continue };
-        if open.fetch_add(1, Ordering::SeqCst) >= MAX_CONNECTIONS {
-            open.fetch_sub(1, Ordering::SeqCst);
-            let _ = respond(&mut stream, &Response::error(503, "too many connections"));
-            continue;
-        }
-        let slot = Slot(open.clone());
-        let (checks, handler) = (checks.clone(), handler.clone());
-        // A thread that cannot start drops its slot with the closure.
-        let _ = std::thread::Builder::new()
-            .name("pick-request".into())
-            .spawn(move || {
-                let _slot = slot;
-                let _ = stream.set_write_timeout(Some(IDLE));
-                let response = match read_request(&mut stream, &checks) {
-                    Ok(request) => std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                        handler.handle(request)
-                    }))
-                    .unwrap_or_else(|_| {
-                        Response::error(500, "the request failed inside meshmorph")
-                    }),
-                    Err(refusal) => refusal,
-                };
-                let _ = respond(&mut stream, &response);
-                if response.last {
-                    handler.ended();
-                }
-            });
+/// A count of connections, and a signal when it falls to zero.
+#[derive(Default)]
+struct Count {
+    n: Mutex<usize>,
+    zero: Condvar,
+}
+
+/// One of the served connections, given back when dropped (also when a
+/// handler panics).
+struct Slot(Arc<Count>);
+
+impl Count {
+    /// A slot, unless `cap` are taken.
+    fn take(self: &Arc<Self>, cap: usize) -> Option<Slot> {
+        let mut n = self.n.lock().unwrap_or_else(|e| e.into_inner());
+        (*n < cap).then(|| {
+            *n += 1;
+            Slot(self.clone())
+        })
     }
 }
 
-/// Reads one request and checks it; a refusal is the response to send.
-/// The whole request must arrive within [`IDLE`]; the token is checked as
-/// soon as the request line has.
-fn read_request(stream: &mut TcpStream, checks: &Checks) -> std::result::Result<Request, Response> {
-    let bad = |m: &str| Response::error(400, m);
-    let deadline = Instant::now() + IDLE;
-    let in_time = |s: &TcpStream| -> std::result::Result<(), Response> {
-        let left = deadline.saturating_duration_since(Instant::now());
-        if left.is_zero() {
-            return Err(Response::error(408, "the request was not sent in time"));
+impl Drop for Slot {
+    fn drop(&mut self) {
+        let mut n = self.0.n.lock().unwrap_or_else(|e| e.into_inner());
+        *n -= 1;
+        if *n == 0 {
+            self.0.zero.notify_all();
         }
-        s.set_read_timeout(Some(left))
-            .map_err(|_| Response::error(500, "cannot wait for the request"))
-    };
-    let mut reader = BufReader::new(stream.take(MAX_HEAD as u64));
-    let mut lines: Vec<String> = Vec::new();
-    let mut rest = None;
-    loop {
-        in_time(reader.get_ref().get_ref())?;
-        let mut line = Vec::new();
-        match reader.read_until(b'\n', &mut line) {
-            Ok(0) => return Err(bad("the request ended before its headers did")),
-            Ok(_) if !line.ends_with(b"\n") => {
-                return Err(Response::error(431, "the request's headers are too long"))
-            }
-            Ok(_) => {}
-            Err(_) => return Err(Response::error(408, "the request was not sent in time")),
-        }
-        let text = String::from_utf8(line).map_err(|_| bad("the headers are not UTF-8"))?;
-        let text = text.trim_end_matches(['\r', '\n']).to_string();
-        if text.is_empty() {
-            break;
-        }
-        if lines.is_empty() {
-            rest = Some(request_line(&text, checks)?);
-        } else if text.starts_with([' ', '\t']) {
-            return Err(bad("folded header lines are not taken"));
-        }
-        lines.push(text);
     }
-    let (method, rest) = rest.ok_or_else(|| bad("no request line"))?;
+}
+
+/// The connections that have not yet shown the token, oldest first, each
+/// with a handle to close it by.
+#[derive(Default)]
+struct Pending {
+    list: Mutex<(u64, VecDeque<(u64, TcpStream)>)>,
+}
+
+/// A connection's place among the pending ones, left when dropped.
+struct Ticket {
+    id: u64,
+    pending: Arc<Pending>,
+}
+
+impl Pending {
+    /// Adds `stream` (closing the oldest pending connection when `cap` are
+    /// held); `None` when it cannot be held at all.
+    fn admit(self: &Arc<Self>, stream: &TcpStream, cap: usize) -> Option<Ticket> {
+        let handle = stream.try_clone().ok()?;
+        let mut list = self.list.lock().unwrap_or_else(|e| e.into_inner());
+        while list.1.len() >= cap.max(1) {
+            if let Some((_, oldest)) = list.1.pop_front() {
+                let _ = oldest.shutdown(Shutdown::Both);
+            }
+        }
+        list.0 += 1;
+        let id = list.0;
+        list.1.push_back((id, handle));
+        Some(Ticket {
+            id,
+            pending: self.clone(),
+        })
+    }
+}
+
+impl Drop for Ticket {
+    fn drop(&mut self) {
+        let mut list = self.pending.list.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(k) = list.1.iter().position(|(id, _)| *id == self.id) {
+            list.1.remove(k);
+        }
+    }
+}
+
+fn accept(listener: TcpListener, shared: Arc<Shared>) {
+    for stream in listener.incoming() {
+        let Ok(stream) = stream else {
+            // Out of file descriptors, say: a moment for others to close.
+            std::thread::sleep(Duration::from_millis(10));
+            continue;
+        };
+        let accepted = Instant::now();
+        // Admitted here, in the order connections arrive.
+        let Some(ticket) = shared.pending.admit(&stream, shared.limits.pending) else {
+            continue;
+        };
+        let shared = shared.clone();
+        // A thread that cannot start drops the connection with the closure.
+        let _ = std::thread::Builder::new()
+            .name("pick-request".into())
+            .spawn(move || serve_one(stream, accepted, ticket, &shared));
+    }
+}
+
+/// Reads, checks and answers one connection's request.
+fn serve_one(mut stream: TcpStream, accepted: Instant, ticket: Ticket, shared: &Shared) {
+    let _ = stream.set_write_timeout(Some(shared.limits.head));
+    let mut ticket = Some(ticket);
+    let mut slot = None;
+    // The token shown: no longer pending, served if a slot is free.
+    let mut shown = || {
+        ticket = None;
+        slot = shared.served.take(shared.limits.served);
+        match slot {
+            Some(_) => Ok(()),
+            None => Err(Response::error(503, "too many connections")),
+        }
+    };
+    let read = read_request(&mut stream, shared, accepted, &mut shown);
+    let response = match read {
+        Ok(request) => std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            shared.handler.handle(request)
+        }))
+        .unwrap_or_else(|_| Response::error(500, "the request failed inside meshmorph")),
+        Err(refusal) => refusal,
+    };
+    let _ = respond(&mut stream, &response);
+    if response.last {
+        shared.handler.ended();
+    }
+    drop(slot);
+}
+
+/// Reads up to `buf.len()` bytes before `deadline`; `late` says what was
+/// not sent in time.
+fn read_by(
+    stream: &mut TcpStream,
+    deadline: Instant,
+    buf: &mut [u8],
+    late: &str,
+) -> std::result::Result<usize, Response> {
+    let left = deadline.saturating_duration_since(Instant::now());
+    if left.is_zero() {
+        return Err(Response::error(408, late));
+    }
+    stream
+        .set_read_timeout(Some(left))
+        .map_err(|_| Response::error(500, "cannot wait for the request"))?;
+    stream.read(buf).map_err(|_| Response::error(408, late))
+}
+
+/// Where the headers end in `head` (just past the empty line), looking
+/// from `from` on.
+fn head_end(head: &[u8], from: usize) -> Option<usize> {
+    let from = from.min(head.len());
+    head[from..]
+        .windows(2)
+        .position(|w| w == b"\n\n")
+        .map(|k| from + k + 2)
+        .into_iter()
+        .chain(
+            head[from..]
+                .windows(3)
+                .position(|w| w == b"\n\r\n")
+                .map(|k| from + k + 3),
+        )
+        .min()
+}
+
+/// Reads one request and checks it; a refusal is the response to send.
+/// The request line and headers must arrive within [`Limits::head`] of
+/// the connection's acceptance, the body within [`Limits::body`] after
+/// them; `shown` is called once the request line has shown the token.
+fn read_request(
+    stream: &mut TcpStream,
+    shared: &Shared,
+    accepted: Instant,
+    shown: &mut dyn FnMut() -> std::result::Result<(), Response>,
+) -> std::result::Result<Request, Response> {
+    let checks = &shared.checks;
+    let bad = |m: &str| Response::error(400, m);
+    let late = "the request was not sent in time";
+    let deadline = accepted + shared.limits.head;
+    let mut head: Vec<u8> = Vec::with_capacity(2048);
+    let mut buf = [0u8; 8192];
+    let mut first = None;
+    let end = loop {
+        let n = read_by(stream, deadline, &mut buf, late)?;
+        if n == 0 {
+            return Err(bad("the request ended before its headers did"));
+        }
+        let from = head.len().saturating_sub(2);
+        head.extend_from_slice(&buf[..n]);
+        if first.is_none() {
+            if let Some(eol) = head.iter().position(|&b| b == b'\n') {
+                let line = std::str::from_utf8(&head[..eol])
+                    .map_err(|_| bad("the headers are not UTF-8"))?;
+                first = Some(request_line(line.trim_end_matches('\r'), checks)?);
+                shown()?;
+            }
+        }
+        if let Some(end) = head_end(&head, from) {
+            break end;
+        }
+        if head.len() > MAX_HEAD {
+            return Err(Response::error(431, "the request's headers are too long"));
+        }
+    };
+    if end > MAX_HEAD {
+        return Err(Response::error(431, "the request's headers are too long"));
+    }
+    let (method, rest) = first.ok_or_else(|| bad("no request line"))?;
+    let text = std::str::from_utf8(&head[..end]).map_err(|_| bad("the headers are not UTF-8"))?;
     let mut host = None;
     let mut origin = None;
     let mut length = None;
-    for line in &lines[1..] {
+    for line in text.split('\n').skip(1) {
+        let line = line.trim_end_matches('\r');
+        if line.is_empty() {
+            break;
+        }
+        if line.starts_with([' ', '\t']) {
+            return Err(bad("folded header lines are not taken"));
+        }
         let (name, value) = line
             .split_once(':')
             .ok_or_else(|| bad("malformed header"))?;
@@ -306,23 +505,22 @@ fn read_request(stream: &mut TcpStream, checks: &Checks) -> std::result::Result<
     if length > MAX_BODY {
         return Err(Response::error(413, "the body is too large"));
     }
-    // The headers' reader may hold the first bytes of the body.
+    // What was read past the headers is the body's first bytes.
     let mut body = Vec::with_capacity(length);
-    let buffered = reader.buffer().len().min(length);
-    body.extend_from_slice(&reader.buffer()[..buffered]);
-    let stream = reader.into_inner().into_inner();
-    let mut left = length - buffered;
-    let mut chunk = [0u8; 64 * 1024];
-    while left > 0 {
-        in_time(stream)?;
-        let n = stream
-            .read(&mut chunk[..left.min(64 * 1024)])
-            .map_err(|_| Response::error(408, "the body was not sent in time"))?;
+    body.extend_from_slice(&head[end..(end + length).min(head.len())]);
+    let deadline = Instant::now() + shared.limits.body;
+    while body.len() < length {
+        let want = (length - body.len()).min(buf.len());
+        let n = read_by(
+            stream,
+            deadline,
+            &mut buf[..want],
+            "the body was not sent in time",
+        )?;
         if n == 0 {
             return Err(bad("the body is shorter than its Content-Length"));
         }
-        body.extend_from_slice(&chunk[..n]);
-        left -= n;
+        body.extend_from_slice(&buf[..n]);
     }
     Ok(Request {
         method,
@@ -411,4 +609,207 @@ fn respond(stream: &mut TcpStream, r: &Response) -> std::io::Result<()> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Answers every request with its path; "done" ends the session.
+    struct Echo;
+
+    impl Handler for Echo {
+        fn handle(&self, request: Request) -> Response {
+            let mut r = Response::ok("text/plain", request.path.into_bytes());
+            r.last = false;
+            r
+        }
+        fn ended(&self) {}
+    }
+
+    fn start(limits: Limits) -> (u16, String) {
+        let door = Door::open(0).unwrap().with_limits(limits);
+        let (port, token) = (door.port, door.token.clone());
+        let _ = door.serve(Arc::new(Echo));
+        (port, token)
+    }
+
+    fn connect(port: u16) -> TcpStream {
+        let s = TcpStream::connect(("127.0.0.1", port)).unwrap();
+        // A guard against a hang, far above any answer's time.
+        s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+        s
+    }
+
+    /// The status of the response to `request`, read to its end.
+    fn ask(port: u16, request: &str) -> (u16, String) {
+        let mut s = connect(port);
+        s.write_all(request.as_bytes()).unwrap();
+        let mut answer = String::new();
+        let _ = s.read_to_string(&mut answer);
+        let status = answer
+            .split(' ')
+            .nth(1)
+            .and_then(|c| c.parse().ok())
+            .unwrap_or(0);
+        (status, answer)
+    }
+
+    fn get(port: u16, token: &str, path: &str) -> String {
+        format!("GET /{token}{path} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\n\r\n")
+    }
+
+    /// Whether the server has neither answered nor closed `s`.
+    fn still_held(s: &TcpStream) -> bool {
+        s.set_nonblocking(true).unwrap();
+        let mut byte = [0u8; 1];
+        let held =
+            matches!(s.peek(&mut byte), Err(e) if e.kind() == std::io::ErrorKind::WouldBlock);
+        s.set_nonblocking(false).unwrap();
+        held
+    }
+
+    #[test]
+    fn a_request_that_trickles_in_is_cut_off_at_its_deadline() {
+        let head = Duration::from_millis(600);
+        let (port, token) = start(Limits {
+            head,
+            ..Limits::default()
+        });
+        let request = get(port, &token, "/x");
+        let mut s = connect(port);
+        let begin = Instant::now();
+        // A byte every 50 ms: each read is quick, the whole never ends.
+        let mut sent = 0;
+        for b in request.as_bytes()[..request.len() - 2].iter() {
+            if s.write_all(&[*b]).is_err() {
+                break;
+            }
+            sent += 1;
+            std::thread::sleep(Duration::from_millis(50));
+            if begin.elapsed() > head * 4 {
+                break;
+            }
+        }
+        let mut answer = String::new();
+        let _ = s.read_to_string(&mut answer);
+        assert!(answer.starts_with("HTTP/1.1 408"), "{answer:?}");
+        // Cut off before the whole request was sent: the deadline counts
+        // from the connection, not from each byte.
+        assert!(
+            sent < request.len() - 2,
+            "{sent} of {} bytes",
+            request.len()
+        );
+    }
+
+    #[test]
+    fn a_body_that_trickles_in_is_cut_off_at_its_deadline() {
+        let (port, token) = start(Limits {
+            body: Duration::from_millis(500),
+            ..Limits::default()
+        });
+        let mut s = connect(port);
+        let head = format!(
+            "POST /{token}/x HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nContent-Length: 1000\r\n\r\n"
+        );
+        s.write_all(head.as_bytes()).unwrap();
+        let mut sent = 0;
+        while sent < 1000 && s.write_all(b"x").is_ok() {
+            sent += 1;
+            std::thread::sleep(Duration::from_millis(20));
+            if !still_held(&s) {
+                break;
+            }
+        }
+        let mut answer = String::new();
+        let _ = s.read_to_string(&mut answer);
+        assert!(answer.starts_with("HTTP/1.1 408"), "{answer:?}");
+        assert!(sent < 1000, "the whole body was taken");
+    }
+
+    #[test]
+    fn a_client_with_the_token_is_answered_while_two_hundred_slow_ones_are_held() {
+        let (port, token) = start(Limits::default());
+        let mut held = Vec::new();
+        for k in 0..200 {
+            let mut s = connect(port);
+            // Half send nothing, half the start of a request line (no token yet).
+            if k % 2 == 1 {
+                s.write_all(b"GET /").unwrap();
+            }
+            held.push(s);
+        }
+        // Some trickle on while the real client asks.
+        for s in held.iter_mut().skip(1).step_by(2).take(20) {
+            s.write_all(b"a").unwrap();
+        }
+        for k in 0..5 {
+            let (status, answer) = ask(port, &get(port, &token, &format!("/page{k}")));
+            assert_eq!(status, 200, "{answer}");
+            assert!(answer.ends_with(&format!("/page{k}")), "{answer}");
+        }
+        // Answered while every slow connection was still held, not because
+        // a deadline freed room.
+        assert!(held.iter().all(still_held));
+    }
+
+    #[test]
+    fn past_the_pending_cap_the_longest_waiting_connection_makes_room() {
+        let (port, token) = start(Limits {
+            pending: 8,
+            ..Limits::default()
+        });
+        let held: Vec<TcpStream> = (0..20).map(|_| connect(port)).collect();
+        let (status, answer) = ask(port, &get(port, &token, "/y"));
+        assert_eq!(status, 200, "{answer}");
+        // The first ones were closed (without an answer), the last ones wait.
+        let mut byte = [0u8; 1];
+        let first = (&held[0]).read(&mut byte);
+        assert!(matches!(first, Ok(0)) || first.is_err(), "{first:?}");
+        assert!(still_held(&held[19]));
+    }
+
+    #[test]
+    fn connections_with_the_token_past_the_served_cap_get_503() {
+        let (port, token) = start(Limits {
+            served: 2,
+            ..Limits::default()
+        });
+        let slow_one = || {
+            let mut s = connect(port);
+            s.write_all(format!("GET /{token}/z HTTP/1.1\r\n").as_bytes())
+                .unwrap();
+            s
+        };
+        let mut slow = vec![slow_one(), slow_one()];
+        // Once the two have been read (the token seen), a third is refused.
+        // (A third read before one of them takes its slot, and that one is
+        // refused instead: it is replaced and the third asks again.)
+        let mut status = 0;
+        for _ in 0..200 {
+            status = ask(port, &get(port, &token, "/w")).0;
+            if status == 503 {
+                break;
+            }
+            for s in &mut slow {
+                if !still_held(s) {
+                    *s = slow_one();
+                }
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        assert_eq!(status, 503);
+        drop(slow);
+        // Their slots come back once they are closed.
+        let mut status = 0;
+        for _ in 0..100 {
+            status = ask(port, &get(port, &token, "/w")).0;
+            if status == 200 {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        assert_eq!(status, 200);
+    }
 }

@@ -128,14 +128,18 @@ pub fn run(args: &Args) -> Result<()> {
         planes: [planes.0, planes.1],
         fitting: Mutex::new(()),
         done: Mutex::new(done),
+        ended: Mutex::new(false),
     };
-    door.serve(Arc::new(session));
+    let served = door.serve(Arc::new(session));
     say!("pick: open {url} in a browser (Ctrl-C or \"done\" on the page stops)");
     if args.open {
         open_browser(&url);
     }
     // Until the page says done; Ctrl-C ends the process from its handler.
     let _ = finished.recv();
+    // Requests that showed the token before "done" are answered (a save
+    // among them is refused: the session has ended) before the process ends.
+    served.settle();
     say!("pick: done");
     Ok(())
 }

@@ -41,6 +41,9 @@ pub struct Session {
     pub fitting: Mutex<()>,
     /// Told when the page's "done" has been answered.
     pub done: Mutex<Sender<()>>,
+    /// Held by a save for its whole length, and by "done" (which sets it):
+    /// "done" waits for a save under way, and no save starts after it.
+    pub ended: Mutex<bool>,
 }
 
 /// Where "save" writes, and every file the run reads: each save (and the
@@ -109,6 +112,8 @@ impl Handler for Session {
             ("POST", "/api/mirror") => self.markers(&body).and_then(|m| self.mirror(&m)),
             ("POST", "/api/save") => self.markers(&body).and_then(|m| self.save(&m)),
             ("POST", "/api/done") => {
+                // A save under way finishes first (its file whole at `-o`).
+                *self.ended.lock().unwrap_or_else(|e| e.into_inner()) = true;
                 let mut answer = Response::json(&json!({ "done": true }));
                 answer.last = true;
                 Ok(answer)
@@ -346,8 +351,12 @@ impl Session {
     }
 
     /// Writes `markers` to `-o` through the output rules (never over an
-    /// input, staged and moved into place).
+    /// input, staged and moved into place). One save at a time; none once the page has said done.
     fn save(&self, markers: &Markers) -> Result<Response> {
+        let ended = self.ended.lock().unwrap_or_else(|e| e.into_inner());
+        if *ended {
+            bail!("the session has ended (\"done\"): nothing more is saved");
+        }
         let (staging, out) = self.save.prepare()?;
         staging.write(out, |path| Ok(markers.save(path)?))?;
         staging.commit()?;

@@ -19,15 +19,18 @@
 //! output = "camel/"
 //! ```
 
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
 
-use super::{run_transfer, Done, References, TransferArgs};
+use super::{plan_transfer, run_transfer, Done, References, TransferArgs};
 use crate::output;
+use crate::outputs::check_runs;
+
+/// The most bytes a batch file may hold: 16 MiB, some 80,000 targets.
+const MAX_BATCH_FILE_BYTES: u64 = 16 << 20;
 
 /// The batch file's form, at the end of `meshmorph transfer --help`.
 pub const FORMAT: &str = r#"A batch file (--batch), TOML or JSON, paths relative to it:
@@ -107,7 +110,7 @@ pub fn run(args: &TransferArgs) -> Result<()> {
     for file in &args.batch {
         jobs.extend(read(file, args)?);
     }
-    distinct_outputs(&jobs)?;
+    let jobs = plan(jobs, args)?;
     let mut done = Done::default();
     let mut failed = Vec::new();
     for (k, job) in jobs.iter().enumerate() {
@@ -166,7 +169,7 @@ pub fn run(args: &TransferArgs) -> Result<()> {
 
 /// The jobs of one batch file: its paths taken relative to its folder.
 fn read(file: &Path, args: &TransferArgs) -> Result<Vec<Job>> {
-    let text = std::fs::read_to_string(file)
+    let text = meshmorph::io::read_text(file, MAX_BATCH_FILE_BYTES, "a batch file")
         .with_context(|| format!("cannot read the batch file `{}`", file.display()))?;
     let is_json = file
         .extension()
@@ -226,21 +229,41 @@ fn read(file: &Path, args: &TransferArgs) -> Result<Vec<Job>> {
         .collect()
 }
 
-/// Refuses two targets writing to the same place.
-fn distinct_outputs(jobs: &[Job]) -> Result<()> {
-    let mut seen: HashMap<PathBuf, &str> = HashMap::new();
-    for job in jobs {
-        let out = job.args.output.as_deref().unwrap_or(Path::new(""));
-        let key = std::path::absolute(out).unwrap_or_else(|_| out.to_path_buf());
-        if let Some(other) = seen.insert(key, &job.named) {
-            bail!(
-                "{} and {other} both write to `{}`: give each target its own output",
-                job.named,
-                out.display()
-            );
+/// The batch as one run, planned before any work: every output of every
+/// target against every input of every target and the batch files (paths
+/// resolved, links followed), and against every other target's outputs. A
+/// clash is refused naming both targets; a target reached twice (the same
+/// batch file given twice, by any path) runs once.
+fn plan(jobs: Vec<Job>, args: &TransferArgs) -> Result<Vec<Job>> {
+    let plans = jobs
+        .iter()
+        .map(|job| plan_transfer(&job.args).with_context(|| job.named.clone()))
+        .collect::<Result<Vec<_>>>()?;
+    let runs: Vec<(String, &crate::outputs::Plan)> = jobs
+        .iter()
+        .zip(&plans)
+        .map(|(job, planned)| (job.named.clone(), &planned.plan))
+        .collect();
+    let shared: Vec<(PathBuf, String)> = args
+        .batch
+        .iter()
+        .map(|b| (b.clone(), "batch file".to_string()))
+        .collect();
+    let repeats = check_runs(&runs, &shared)?;
+    let mut kept = Vec::with_capacity(jobs.len() - repeats.len());
+    for (k, job) in jobs.into_iter().enumerate() {
+        if repeats.contains(&k) {
+            if !args.json {
+                say!(
+                    "note: {} reads and writes the same files as a target before it: run once",
+                    job.named
+                );
+            }
+        } else {
+            kept.push(job);
         }
     }
-    Ok(())
+    Ok(kept)
 }
 
 #[cfg(test)]

@@ -134,6 +134,7 @@ impl CorrespondArgs {
         target_ref: &Reference,
     ) -> Result<Markers> {
         let numbering = numbering(self.one_based);
+        crate::memory::check_markers(self.marker_files()?)?;
         let markers = match self.marker_files()? {
             [] => Ok(Markers::new(Vec::new())),
             [one] => Markers::read(one, numbering),

@@ -146,32 +146,17 @@ pub fn run_transfer(args: &TransferArgs) -> Result<Done> {
     let start = Instant::now();
     let refs = args.references()?;
     let output_dir = args.output_dir()?;
-    let format = output::format_or_like(args.format, &refs.target_ref)?;
     // Every output is checked against every input (by resolved path) before
     // anything is read or computed.
-    let outputs = output_paths(&args.poses, output_dir, format.extension())?;
-    let mut plan = Plan::new();
-    for pose in &args.poses {
-        plan.input(pose, "source pose");
-    }
-    plan.input(&refs.source_ref, "source reference");
-    plan.input(&refs.target_ref, "target reference");
-    for m in &args.correspond.markers {
-        plan.input(m, "marker file");
-    }
-    if let Some(c) = &args.correspondence {
-        plan.input(c, "correspondence");
-    }
-    let pose_outputs: Vec<Output> = outputs
-        .iter()
-        .map(|p| plan.file(p, "transferred pose"))
-        .collect();
-    let save = args
-        .save_correspondence
-        .as_deref()
-        .map(|p| plan.file(p, "correspondence to save"));
-    let gltf_output = args.gltf.gltf.as_deref().map(|p| plan.file(p, "glTF file"));
-    let pictures = PictureOutputs::plan(&mut plan, &args.pictures);
+    let Planned {
+        plan,
+        format,
+        outputs,
+        pose_outputs,
+        save,
+        gltf_output,
+        pictures,
+    } = plan_transfer(args)?;
     let staging = plan.prepare()?;
     let mut read: Vec<&Path> = args.poses.iter().map(PathBuf::as_path).collect();
     read.extend([refs.source_ref.as_path(), refs.target_ref.as_path()]);
@@ -381,6 +366,59 @@ pub fn run_transfer(args: &TransferArgs) -> Result<Done> {
     }
     .print(args.json);
     Ok(done)
+}
+
+/// Every file a transfer reads and writes, planned before any work.
+pub(crate) struct Planned {
+    pub plan: Plan,
+    format: meshmorph::io::Format,
+    /// The transferred poses' paths, one a pose.
+    outputs: Vec<PathBuf>,
+    pose_outputs: Vec<Output>,
+    save: Option<Output>,
+    gltf_output: Option<Output>,
+    pictures: PictureOutputs,
+}
+
+/// The plan of one transfer: the poses, references, markers and
+/// correspondence it reads; the poses, correspondence, GLB and pictures it
+/// writes.
+pub(crate) fn plan_transfer(args: &TransferArgs) -> Result<Planned> {
+    let refs = args.references()?;
+    let output_dir = args.output_dir()?;
+    let format = output::format_or_like(args.format, &refs.target_ref)?;
+    let outputs = output_paths(&args.poses, output_dir, format.extension())?;
+    let mut plan = Plan::new();
+    for pose in &args.poses {
+        plan.input(pose, "source pose");
+    }
+    plan.input(&refs.source_ref, "source reference");
+    plan.input(&refs.target_ref, "target reference");
+    for m in &args.correspond.markers {
+        plan.input(m, "marker file");
+    }
+    if let Some(c) = &args.correspondence {
+        plan.input(c, "correspondence");
+    }
+    let pose_outputs: Vec<Output> = outputs
+        .iter()
+        .map(|p| plan.file(p, "transferred pose"))
+        .collect();
+    let save = args
+        .save_correspondence
+        .as_deref()
+        .map(|p| plan.file(p, "correspondence to save"));
+    let gltf_output = args.gltf.gltf.as_deref().map(|p| plan.file(p, "glTF file"));
+    let pictures = PictureOutputs::plan(&mut plan, &args.pictures);
+    Ok(Planned {
+        plan,
+        format,
+        outputs,
+        pose_outputs,
+        save,
+        gltf_output,
+        pictures,
+    })
 }
 
 /// What one transfer did, for a batch's totals.

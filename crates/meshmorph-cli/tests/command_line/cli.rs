@@ -1333,8 +1333,19 @@ fn os(s: &str) -> &OsStr {
 }
 
 /// A batch file in the rig's folder: the rig's source and poses, and a
-/// target per entry of `targets` (TOML lines of its table).
+/// target per entry of `targets` (TOML lines of its table), each with the
+/// rig's target reference.
 fn batch_file(rig: &Rig, name: &str, targets: &[String]) -> PathBuf {
+    let entries: Vec<String> = targets
+        .iter()
+        .map(|t| format!("reference = {:?}\n{t}", rig.target_ref.to_str().unwrap()))
+        .collect();
+    batch_file_of(rig, name, &entries)
+}
+
+/// A batch file in the rig's folder: the rig's source and poses, and a
+/// target per entry of `targets` (the whole TOML of its table).
+fn batch_file_of(rig: &Rig, name: &str, targets: &[String]) -> PathBuf {
     let quoted = |p: &Path| format!("{:?}", p.to_str().unwrap());
     let mut text = format!(
         "source = {}\nposes = [{}]\n",
@@ -1346,10 +1357,7 @@ fn batch_file(rig: &Rig, name: &str, targets: &[String]) -> PathBuf {
             .join(", ")
     );
     for t in targets {
-        text += &format!(
-            "\n[[targets]]\nreference = {}\n{t}\n",
-            quoted(&rig.target_ref)
-        );
+        text += &format!("\n[[targets]]\n{t}\n");
     }
     let path = rig.path(name);
     fs::write(&path, text).unwrap();
@@ -1441,6 +1449,216 @@ fn a_batch_reusing_its_saved_correspondence_writes_the_same_bytes() {
     assert_eq!(rig.outputs(&rig.path("reused")), fitted);
 }
 
+/// Runs a batch that must be refused before any work: the message names
+/// `parts`, and nothing in the rig's folder changed.
+fn batch_refused(rig: &Rig, batches: &[&Path], parts: &[&str]) {
+    let before = tree(rig.dir.path());
+    let mut args = vec![os("transfer")];
+    for b in batches {
+        args.extend([os("--batch"), b.as_os_str()]);
+    }
+    let err = fails(&run(args));
+    assert_mentions(&err, parts);
+    assert_eq!(tree(rig.dir.path()), before, "{err}");
+}
+
+/// Every file under `dir` with its bytes (links as their targets).
+fn tree(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    for entry in fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let meta = fs::symlink_metadata(&path).unwrap();
+        if meta.file_type().is_symlink() {
+            out.push((
+                path.clone(),
+                fs::read_link(&path)
+                    .unwrap()
+                    .into_os_string()
+                    .into_encoded_bytes(),
+            ));
+        } else if meta.is_dir() {
+            out.push((path.clone(), Vec::new()));
+            out.extend(tree(&path));
+        } else {
+            out.push((path.clone(), fs::read(&path).unwrap()));
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn a_batchs_targets_never_write_over_each_other_or_each_others_inputs() {
+    let rig = Rig::new();
+    let m = rig.markers.to_str().unwrap();
+    // Target 0 keeps its own reference, named like a pose output, in `t0/`.
+    fs::create_dir(rig.path("t0")).unwrap();
+    let own_ref = rig.path("t0/bend-1.obj");
+    fs::copy(&rig.target_ref, &own_ref).unwrap();
+    let corr = rig.path("t0/kept.corr");
+    succeeds(&rig.correspond(&corr, &[]));
+    fs::create_dir(rig.path("x")).unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(rig.path("real"), rig.path("linked")).unwrap();
+    fs::create_dir(rig.path("real")).unwrap();
+    let theirs = |rest: &str| format!("reference = {:?}\n{rest}", rig.target_ref.to_str().unwrap());
+    let own = |rest: &str| format!("reference = {:?}\n{rest}", own_ref.to_str().unwrap());
+    let t0 = own(&format!(
+        "correspondence = {:?}\noutput = \"out0\"",
+        corr.to_str().unwrap()
+    ));
+    let other = batch_file_of(&rig, "other.toml", std::slice::from_ref(&t0));
+    // (file name, its targets, what the refusal names), each refused
+    // before any work; `other.toml` is given as a batch too.
+    let cases: Vec<(&str, Vec<String>, Vec<&str>)> = vec![
+        // Target 1's poses into target 0's folder: over its reference.
+        (
+            "into-reference.toml",
+            vec![
+                t0.clone(),
+                theirs(&format!("markers = {m:?}\noutput = \"t0\"")),
+            ],
+            vec![
+                "target 1 of",
+                "target 0 of",
+                "would overwrite",
+                "bend-1.obj",
+            ],
+        ),
+        // Target 1 saving its correspondence over target 0's.
+        (
+            "over-correspondence.toml",
+            vec![
+                t0.clone(),
+                theirs(&format!(
+                    "markers = {m:?}\nsave_correspondence = \"t0/kept.corr\"\noutput = \"out1\""
+                )),
+            ],
+            vec!["target 1 of", "target 0 of", "kept.corr"],
+        ),
+        // Two targets, one output folder by two spellings; one GLB.
+        (
+            "one-folder.toml",
+            vec![
+                theirs(&format!("markers = {m:?}\noutput = \"out\"")),
+                own(&format!("markers = {m:?}\noutput = \"x/../out\"")),
+            ],
+            vec!["target 0 of", "target 1 of", "are one file"],
+        ),
+        (
+            "one-glb.toml",
+            vec![
+                theirs(&format!(
+                    "markers = {m:?}\ngltf = \"same.glb\"\noutput = \"g0\""
+                )),
+                own(&format!(
+                    "markers = {m:?}\ngltf = \"same.glb\"\noutput = \"g1\""
+                )),
+            ],
+            vec!["target 0 of", "target 1 of", "same.glb"],
+        ),
+        // An output over the batch file itself, or over another batch's.
+        (
+            "self.toml",
+            vec![theirs(&format!(
+                "markers = {m:?}\ngltf = \"self.toml\"\noutput = \"s\""
+            ))],
+            vec!["would overwrite", "batch file", "self.toml"],
+        ),
+        (
+            "over-other.toml",
+            vec![theirs(&format!(
+                "markers = {m:?}\ngltf = \"other.toml\"\noutput = \"s\""
+            ))],
+            vec!["would overwrite", "batch file", "other.toml"],
+        ),
+    ];
+    #[cfg(unix)]
+    let cases = {
+        let mut cases = cases;
+        // One output folder through a link.
+        cases.push((
+            "linked.toml",
+            vec![
+                theirs(&format!("markers = {m:?}\noutput = \"real\"")),
+                own(&format!("markers = {m:?}\noutput = \"linked\"")),
+            ],
+            vec!["target 0 of", "target 1 of", "are one file"],
+        ));
+        cases
+    };
+    for (name, targets, parts) in cases {
+        let b = batch_file_of(&rig, name, &targets);
+        batch_refused(&rig, &[&other, &b], &parts);
+    }
+    // One batch file given twice, by two spellings: each target runs once.
+    fs::create_dir(rig.path("sub")).unwrap();
+    let again = rig.path("sub/../other.toml");
+    let out = run([
+        os("transfer"),
+        os("--batch"),
+        other.as_os_str(),
+        os("--batch"),
+        again.as_os_str(),
+    ]);
+    succeeds(&out);
+    assert_mentions(&stdout(&out), &["run once", "1 of 1 targets written"]);
+    assert_eq!(names(&rig.path("out0")).len(), 3);
+    assert_eq!(
+        fs::read(&own_ref).unwrap(),
+        fs::read(&rig.target_ref).unwrap()
+    );
+}
+
+#[test]
+fn batch_files_are_read_as_regular_files_within_bounds_with_or_without_a_byte_order_mark() {
+    let rig = Rig::new();
+    #[cfg(unix)]
+    {
+        let fifo = rig.path("batch.toml");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if made.is_ok_and(|s| s.success()) {
+            let err = fails(&run([os("transfer"), os("--batch"), fifo.as_os_str()]));
+            assert_mentions(&err, &["batch.toml", "FIFO"]);
+        }
+        let err = fails(&run([os("transfer"), os("--batch"), os("/dev/zero")]));
+        assert_mentions(&err, &["/dev/zero", "character device"]);
+    }
+    // A sparse file far beyond any batch: refused by its size, unread.
+    let huge = rig.path("huge.toml");
+    let f = fs::File::create(&huge).unwrap();
+    f.set_len(8 << 30).unwrap();
+    let err = fails(&run([os("transfer"), os("--batch"), huge.as_os_str()]));
+    assert_mentions(&err, &["huge.toml", "a batch file may hold"]);
+    // JSON and TOML with a byte-order mark, as some editors write them.
+    let quoted = |p: &Path| serde_json::Value::from(p.to_str().unwrap());
+    let json_text = serde_json::json!({
+        "source": quoted(&rig.source_ref),
+        "poses": rig.poses.iter().map(|p| quoted(p)).collect::<Vec<_>>(),
+        "targets": [{"reference": quoted(&rig.target_ref), "markers": quoted(&rig.markers), "output": "from-json"}],
+    })
+    .to_string();
+    let bom = rig.path("bom.json");
+    fs::write(&bom, format!("\u{feff}{json_text}")).unwrap();
+    succeeds(&run([os("transfer"), os("--batch"), bom.as_os_str()]));
+    assert_eq!(names(&rig.path("from-json")).len(), 3);
+    let toml_bom = batch_file(
+        &rig,
+        "bom.toml",
+        &[format!(
+            "markers = {:?}\noutput = \"from-toml\"",
+            rig.markers.to_str().unwrap()
+        )],
+    );
+    let text = fs::read_to_string(&toml_bom).unwrap();
+    fs::write(&toml_bom, format!("\u{feff}{text}")).unwrap();
+    succeeds(&run([os("transfer"), os("--batch"), toml_bom.as_os_str()]));
+    assert_eq!(
+        rig.outputs(&rig.path("from-toml")),
+        rig.outputs(&rig.path("from-json"))
+    );
+}
+
 #[test]
 fn a_batch_file_that_does_not_parse_is_named_before_anything_is_written() {
     let rig = Rig::new();
@@ -1462,9 +1680,14 @@ fn a_batch_file_that_does_not_parse_is_named_before_anything_is_written() {
             ),
         ],
     );
-    let err = fails(&run([os("transfer"), os("--batch"), twice.as_os_str()]));
-    assert_mentions(&err, &["both write to", "same"]);
-    assert!(!rig.path("same").exists());
+    // The same target twice: run once.
+    let out = run([os("transfer"), os("--batch"), twice.as_os_str()]);
+    succeeds(&out);
+    assert_mentions(
+        &stdout(&out),
+        &["target 1 of", "run once", "1 of 1 targets written"],
+    );
+    assert_eq!(names(&rig.path("same")).len(), 3);
     // A usage error (status 2), as clap gives them.
     let mixed = run([
         os("transfer"),

@@ -249,15 +249,115 @@ fn pick_saves_named_surface_points_fits_and_stops_when_done() {
 }
 
 #[test]
-fn pick_never_saves_over_an_input() {
-    let dir = TempDir::new().unwrap();
-    let source = dir.path().join("source.obj");
+fn done_during_a_large_save_leaves_the_output_whole_or_absent_and_answers_the_save() {
+    // 10,000 pairs: a body of about 1 MB, and a save that takes a while.
+    let pairs: Vec<String> = (0..10_000)
+        .map(|k| {
+            // Twenty points on each source triangle, none twice.
+            let a = 0.05 + 0.04 * (k / 512) as f64;
+            format!(
+                r#"{{"name": "m{k}", "source": {{"triangle": {}, "barycentric": [{a}, 0.1, {}]}}, "target": {{"triangle": {}, "barycentric": [0.6, 0.2, 0.2]}}}}"#,
+                k % 512,
+                0.9 - a,
+                k % 1152
+            )
+        })
+        .collect();
+    let body = format!(r#"{{"pairs": [{}]}}"#, pairs.join(", "));
+    assert!(body.len() > 1_000_000);
+    for delay_ms in [0, 2, 5, 20, 60] {
+        let dir = TempDir::new().unwrap();
+        let mut pick = Pick::start(dir.path(), &[]);
+        let (save, done) = std::thread::scope(|s| {
+            let save = s.spawn(|| pick.page("POST", "/api/save", &body));
+            std::thread::sleep(std::time::Duration::from_millis(delay_ms));
+            let done = s.spawn(|| pick.page("POST", "/api/done", "{}"));
+            (save.join().unwrap(), done.join().unwrap())
+        });
+        assert_eq!(done.0, 200, "{}", done.1);
+        // The save was answered: written whole, or refused once done.
+        match save.0 {
+            200 => {
+                let saved = Markers::read(&pick.output, VertexNumbering::FromZero).unwrap();
+                assert_eq!(saved.pairs().len(), 10_000);
+            }
+            422 => {
+                assert!(save.1.contains("ended"), "{}", save.1);
+                assert!(!pick.output.exists());
+            }
+            other => panic!("save after {delay_ms} ms: {other} {}", save.1),
+        }
+        assert!(pick.wait().success());
+        // Nothing but the two meshes and, maybe, the markers.
+        let mut names: Vec<String> = fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.retain(|n| n != "markers.txt");
+        names.sort();
+        assert_eq!(names, ["source.obj", "target.obj"], "after {delay_ms} ms");
+    }
+}
+
+/// A small sheet written to `dir/source.obj`.
+fn small_sheet(dir: &std::path::Path) -> std::path::PathBuf {
+    let source = dir.join("source.obj");
     meshmorph::io::write_mesh(
         &source,
         &super::pick_session::sheet(4, 1.0),
         meshmorph::io::Format::Obj,
     )
     .unwrap();
+    source
+}
+
+#[cfg(unix)]
+#[test]
+fn pick_refuses_an_output_that_is_a_device_or_a_fifo() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = TempDir::new().unwrap();
+    let source = small_sheet(dir.path());
+    let null = dir.path().join("null.txt");
+    std::os::unix::fs::symlink("/dev/null", &null).unwrap();
+    let fifo = dir.path().join("fifo.txt");
+    let mut outputs = vec![(null.clone(), "character device")];
+    if std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success())
+    {
+        outputs.push((fifo, "FIFO"));
+    }
+    for (output, what) in outputs {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_meshmorph"))
+            .arg("pick")
+            .args([&source, &source])
+            .arg("-o")
+            .arg(&output)
+            .output()
+            .unwrap();
+        assert!(!out.status.success());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains(what) && err.contains("not a regular file"),
+            "{err}"
+        );
+        assert!(err.contains(&*output.to_string_lossy()), "{err}");
+    }
+    assert!(fs::symlink_metadata(&null)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert!(fs::metadata("/dev/null")
+        .unwrap()
+        .file_type()
+        .is_char_device());
+}
+
+#[test]
+fn pick_never_saves_over_an_input() {
+    let dir = TempDir::new().unwrap();
+    let source = small_sheet(dir.path());
     let before = fs::read(&source).unwrap();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_meshmorph"))
         .arg("pick")

@@ -22,8 +22,13 @@ use crate::error::{Error, Result};
 /// The mesh writers and the other modules' outputs (SVG, GIF, JSON) all go
 /// through this function.
 ///
+/// An existing `path` that is not a regular file (a device, a FIFO, a
+/// socket, a folder, or a link to one) is refused before anything is
+/// written ([`refuse_unless_replaceable`]).
+///
 /// # Errors
-/// [`Error::Io`] naming `path` with the operating system's (or `f`'s) error.
+/// [`Error::Io`] naming `path` with the operating system's (or `f`'s)
+/// error; [`Error::FileRefused`] for a path that is not a regular file.
 ///
 /// # Example
 /// ```no_run
@@ -49,12 +54,34 @@ pub(crate) fn write_atomic_with<T, E: From<Error>>(
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
+    refuse_unless_replaceable(path)?;
     let temp = Temporary::create(dir).map_err(|e| Error::io(path, e))?;
     // From here on, dropping `temp` (on any early return) removes the file.
     let value = temp.fill(path, f)?;
     std::fs::rename(&temp.path, path).map_err(|e| Error::io(path, e))?;
     temp.kept();
     Ok(value)
+}
+
+/// Refuses an output path that exists and is not a regular file (links
+/// followed): a rename would replace a device such as `/dev/null`, a FIFO
+/// or a socket with a regular file, and a folder cannot be replaced.
+///
+/// # Errors
+/// [`Error::FileRefused`] naming the path and what it is.
+pub fn refuse_unless_replaceable(path: &Path) -> Result<()> {
+    match std::fs::metadata(path) {
+        Ok(meta) => match super::read::not_a_file(&meta) {
+            None => Ok(()),
+            Some(what) => Err(Error::FileRefused {
+                path: path.to_path_buf(),
+                message: format!(
+                    "{what}, not a regular file: meshmorph writes only to a new path or over a regular file; choose another output"
+                ),
+            }),
+        },
+        Err(_) => Ok(()),
+    }
 }
 
 /// Writes a new file at `path` itself, without a temporary name: `path`
@@ -213,6 +240,49 @@ pub fn random_name(len: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[cfg(unix)]
+    #[test]
+    fn an_output_that_is_a_device_a_fifo_or_a_folder_is_refused_and_left_alone() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = tempfile::tempdir().unwrap();
+        let null = dir.path().join("null");
+        std::os::unix::fs::symlink("/dev/null", &null).unwrap();
+        let fifo = dir.path().join("fifo");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        let folder = dir.path().join("folder");
+        std::fs::create_dir(&folder).unwrap();
+        let mut paths = vec![(null.clone(), "character device"), (folder, "folder")];
+        if made.is_ok_and(|s| s.success()) {
+            paths.push((fifo, "FIFO"));
+        }
+        for (path, what) in paths {
+            let e = write_atomic(&path, |w| w.write_all(b"x"))
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(what) && e.contains("not a regular file"), "{e}");
+            assert!(e.contains(&*path.to_string_lossy()), "{e}");
+        }
+        assert!(std::fs::symlink_metadata(&null)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert!(std::fs::metadata("/dev/null")
+            .unwrap()
+            .file_type()
+            .is_char_device());
+        // Nothing staged is left beside them.
+        for entry in std::fs::read_dir(dir.path()).unwrap() {
+            let name = entry.unwrap().file_name();
+            assert!(
+                !name.to_string_lossy().starts_with(".meshmorph"),
+                "{name:?}"
+            );
+        }
+        let file = dir.path().join("file.txt");
+        write_atomic(&file, |w| w.write_all(b"x")).unwrap();
+        assert_eq!(std::fs::read(&file).unwrap(), b"x");
+    }
 
     #[test]
     fn a_failure_names_the_file_asked_for_not_the_temporary_one() {

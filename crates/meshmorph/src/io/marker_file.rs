@@ -32,6 +32,18 @@ use crate::error::{Error, Result};
 use crate::mesh::surface_point::SurfacePoint;
 use crate::transfer::markers::{Markers, Origin, Pending, Side, VertexNumbering};
 
+/// The most markers a marker file may hold: a million, a hundred times
+/// more than any use of markers needs (a fit takes a few dozen to a few
+/// thousand). A file past it is refused at its first marker too many, so
+/// reading a marker file takes at most [`MEMORY_PER_MARKER`] bytes times
+/// this, besides its text.
+pub const MAX_MARKERS: usize = 1_000_000;
+
+/// Bytes of memory a marker takes at the peak of reading and checking a
+/// marker file (the pair, its name and lines, the checks' tables), measured
+/// at about 370 with six million short lines; with a margin.
+pub const MEMORY_PER_MARKER: u64 = 512;
+
 /// The first line [`Markers::write`] writes.
 const HEADER: &str = "# meshmorph markers: [name] SOURCE TARGET, each a vertex `v I`, a triangle's point `t T b0 b1 b2` or a position `p x y z`; indices from 0";
 
@@ -78,7 +90,6 @@ impl Markers {
     /// # Errors
     /// [`Error::Parse`] naming the line of the first entry that does not parse.
     pub fn parse(text: &str, path: &Path, numbering: VertexNumbering) -> Result<Self> {
-        let lines = parse_lines(text, path, numbering, 2)?;
         let mut markers = Markers {
             origin: Origin {
                 files: [Some(path.to_path_buf()), Some(path.to_path_buf())],
@@ -87,14 +98,16 @@ impl Markers {
             },
             ..Markers::default()
         };
-        for (order, line) in lines.into_iter().enumerate() {
+        let mut order = 0;
+        parse_lines(text, path, numbering, 2, |line| {
             markers.push(
                 order,
                 [line.sides[0], line.sides[1]],
                 line.name,
                 [line.number; 2],
             );
-        }
+            order += 1;
+        })?;
         Ok(markers)
     }
 
@@ -252,16 +265,19 @@ fn is_tag(f: &Field) -> bool {
 }
 
 /// Reads the marker lines of `text`, each with `per_line` sides (2 for a
-/// file of pairs, 1 for a file of one mesh's points).
+/// file of pairs, 1 for a file of one mesh's points), handing each to
+/// `each` as it is read (nothing of a line is kept here but its name, to
+/// refuse it twice): the memory a marker file takes is what `each` keeps.
 pub(crate) fn parse_lines(
     text: &str,
     path: &Path,
     numbering: VertexNumbering,
     per_line: usize,
-) -> Result<Vec<Line>> {
+    mut each: impl FnMut(Line),
+) -> Result<()> {
     // A byte-order mark, as some editors write, is not part of the text.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut lines = Vec::new();
+    let mut lines = 0usize;
     let mut count: Option<(usize, usize)> = None;
     let mut first = true;
     let mut names: HashMap<String, usize> = HashMap::new();
@@ -302,22 +318,28 @@ pub(crate) fn parse_lines(
                 )));
             }
         }
-        lines.push(Line {
+        lines += 1;
+        if lines > MAX_MARKERS {
+            return Err(bad(format!(
+                "more than {MAX_MARKERS} markers: a marker file holds at most that many (a fit needs a few dozen to a few thousand)"
+            )));
+        }
+        each(Line {
             number,
             name,
             sides,
         });
     }
     if let Some((n, line)) = count {
-        if n != lines.len() {
+        if n != lines {
             return Err(Error::parse(
                 path,
                 Some(line),
-                format!("the count line says {n} pairs but {} follow", lines.len()),
+                format!("the count line says {n} pairs but {lines} follow"),
             ));
         }
     }
-    Ok(lines)
+    Ok(())
 }
 
 /// The `per_line` sides in `fields`, or what is wrong with them.
@@ -385,10 +407,7 @@ fn sides(
                             number(&f[3], "barycentric coordinate")?,
                         ],
                     };
-                    if let Some(problem) = point.barycentric_problem() {
-                        return Err(problem);
-                    }
-                    Side::On(point)
+                    Side::On(point.normalized()?)
                 }
                 _ => Side::At([
                     number(&f[0], "coordinate")?,
@@ -536,6 +555,26 @@ mod tests {
         assert!(e.contains("out of range"), "{e}");
         let e = bad("a v 1 t 2 0.5 0.6 0.1\n", VertexNumbering::FromZero);
         assert!(e.contains("line 1") && e.contains("sum to"), "{e}");
+        // Rounded to 9 decimals (summing to 1.000000001): taken, made exact;
+        // 1e-5 off: refused, naming the line.
+        let m = Markers::parse(
+            "v 1 t 2 0.333333334 0.333333334 0.333333333\n",
+            p,
+            VertexNumbering::FromZero,
+        )
+        .unwrap();
+        let SurfacePoint::Triangle { barycentric: b, .. } = m.pairs()[0][1] else {
+            panic!("{:?}", m.pairs()[0])
+        };
+        assert!((b.iter().sum::<f64>() - 1.0).abs() <= 2.0 * f64::EPSILON);
+        let e = bad(
+            "x 0 0\nv 1 t 2 0.5 0.5 0.00001\n",
+            VertexNumbering::FromZero,
+        );
+        assert!(
+            e.contains("m.txt") && e.contains("line 2") && e.contains("sum to"),
+            "{e}"
+        );
         let e = bad("a 1 2\nb 3 4\na 5 6\n", VertexNumbering::FromZero);
         assert!(
             e.contains("line 3") && e.contains("`a` is given twice (line 1"),
@@ -547,6 +586,25 @@ mod tests {
         assert!(e.contains("`t` needs 4 numbers"), "{e}");
         let e = bad("v 1\n", VertexNumbering::FromZero);
         assert!(e.contains("found 1 side"), "{e}");
+    }
+
+    #[test]
+    fn a_file_past_the_most_markers_is_refused_at_the_first_one_too_many() {
+        let p = Path::new("m.txt");
+        let text = "0 1\n".repeat(MAX_MARKERS + 1);
+        let e = Markers::parse(&text, p, VertexNumbering::FromZero)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&format!("line {}", MAX_MARKERS + 1)) && e.contains("more than"),
+            "{e}"
+        );
+        let points = "7\n".repeat(MAX_MARKERS + 1);
+        let e = crate::io::marker_points::parse_points(&points, p, VertexNumbering::FromZero)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("more than"), "{e}");
     }
 
     #[test]

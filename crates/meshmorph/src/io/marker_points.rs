@@ -118,21 +118,35 @@ pub(crate) fn parse_points(
     let list = match format(path, text) {
         Format::PickedPoints => crate::io::picked_points::parse(text, path)?,
         Format::Wrap => crate::io::wrap_points::parse(text, path)?,
-        Format::Lines => PointList {
-            path: path.to_path_buf(),
-            unit: "line",
-            first_index: u32::from(numbering == VertexNumbering::FromOne),
-            entries: crate::io::marker_file::parse_lines(text, path, numbering, 1)?
-                .into_iter()
-                .map(|line| Entry {
+        Format::Lines => {
+            let mut entries = Vec::new();
+            crate::io::marker_file::parse_lines(text, path, numbering, 1, |line| {
+                entries.push(Entry {
                     name: line.name,
                     side: line.sides[0],
                     place: line.number,
                     active: true,
-                })
-                .collect(),
-        },
+                });
+            })?;
+            PointList {
+                path: path.to_path_buf(),
+                unit: "line",
+                first_index: u32::from(numbering == VertexNumbering::FromOne),
+                entries,
+            }
+        }
     };
+    if list.entries.len() > crate::io::marker_file::MAX_MARKERS {
+        return Err(Error::parse(
+            path,
+            None,
+            format!(
+                "{} points: a point file holds at most {} (a fit needs a few dozen to a few thousand)",
+                list.entries.len(),
+                crate::io::marker_file::MAX_MARKERS
+            ),
+        ));
+    }
     list.check_names()?;
     Ok(list)
 }

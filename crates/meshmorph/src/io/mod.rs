@@ -94,8 +94,9 @@ mod vertex_attributes;
 mod wrap_points;
 
 pub use appearance::Appearance;
-pub use atomic::{random_name, write_atomic, write_new};
+pub use atomic::{random_name, refuse_unless_replaceable, write_atomic, write_new};
 pub use mesh_file::MeshFile;
+pub use read::read_text;
 pub use surface_issues::SurfaceIssues;
 use vertex_attributes::VertexAttributes;
 

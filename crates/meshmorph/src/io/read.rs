@@ -127,6 +127,27 @@ pub(crate) fn utf8(bytes: Vec<u8>, path: &Path) -> Result<String> {
     })
 }
 
+/// Reads a small text file whole: a regular file only (links followed),
+/// refused past `max_bytes` (`what` says what it is: "a batch file"),
+/// UTF-8, a leading byte-order mark dropped. For front ends' own files
+/// (batch files, settings): bounded as every read of the library is.
+///
+/// # Errors
+/// [`Error::Io`] when it cannot be read; [`Error::FileRefused`] when it is
+/// not a regular file or is too large; [`Error::Parse`] naming the line of
+/// a byte that is not UTF-8.
+pub fn read_text(path: &Path, max_bytes: u64, what: &str) -> Result<String> {
+    let limit = Limit {
+        bytes: max_bytes,
+        why: format!("the {} that {what} may hold", human_bytes(max_bytes)),
+    };
+    let text = utf8(read_file(path, &limit)?, path)?;
+    Ok(match text.strip_prefix('\u{feff}') {
+        Some(rest) => rest.to_string(),
+        None => text,
+    })
+}
+
 /// Opens for reading without waiting for a writer, should `path` have
 /// become a FIFO since it was looked at.
 #[cfg(unix)]

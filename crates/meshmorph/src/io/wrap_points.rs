@@ -95,9 +95,9 @@ pub(crate) fn parse(text: &str, path: &Path) -> Result<PointList> {
             triangle: t as u32,
             barycentric: [u, v, 1.0 - u - v],
         };
-        if let Some(problem) = point.barycentric_problem() {
-            return Err(bad(format!("u {u} and v {v}: {problem}")));
-        }
+        let point = point
+            .normalized()
+            .map_err(|problem| bad(format!("u {u} and v {v}: {problem}")))?;
         entries.push(Entry {
             name,
             side: Side::On(point),

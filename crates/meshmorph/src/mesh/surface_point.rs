@@ -7,9 +7,10 @@ use crate::mesh::closest::{closest_region, Region, SurfaceIndex};
 use crate::mesh::Mesh3;
 
 /// How far from 1 the barycentric coordinates of a point may sum, and how
-/// far below 0 or above 1 each may lie: coordinates written with 12
-/// significant digits pass.
-pub const BARYCENTRIC_TOLERANCE: f64 = 1e-9;
+/// far below 0 or above 1 each may lie: coordinates written with 7 or more
+/// decimals pass (three numbers rounded to 9 decimals may sum to
+/// 1.000000001), and are then renormalised ([`SurfacePoint::normalized`]).
+pub const BARYCENTRIC_TOLERANCE: f64 = 1e-6;
 
 /// A point of a mesh's surface.
 ///
@@ -76,6 +77,32 @@ impl SurfacePoint {
             (Some((v, w)), None) => (w == 1.0).then_some(v),
             _ => None,
         }
+    }
+
+    /// The point with its barycentric coordinates made exact: each clamped to
+    /// `[0, 1]`, then divided by their sum; or why they are no point of the
+    /// triangle ([`SurfacePoint::barycentric_problem`]). A vertex is itself.
+    ///
+    /// # Errors
+    /// The sentence of [`SurfacePoint::barycentric_problem`].
+    pub fn normalized(self) -> std::result::Result<Self, String> {
+        if let Some(problem) = self.barycentric_problem() {
+            return Err(problem);
+        }
+        Ok(match self {
+            SurfacePoint::Triangle {
+                triangle,
+                barycentric,
+            } => {
+                let b = barycentric.map(|x| x.clamp(0.0, 1.0));
+                let sum: f64 = b.iter().sum();
+                SurfacePoint::Triangle {
+                    triangle,
+                    barycentric: b.map(|x| x / sum),
+                }
+            }
+            vertex => vertex,
+        })
     }
 
     /// Why the barycentric coordinates of a triangle point are no point of
@@ -171,6 +198,50 @@ mod tests {
             .unwrap()
             .contains("outside its triangle"));
         assert!(p.barycentric_problem().is_none());
+    }
+
+    #[test]
+    fn coordinates_rounded_to_nine_decimals_are_taken_and_made_exact() {
+        for (b, sum) in [
+            ([0.333333334, 0.333333334, 0.333333333], 1.000000001),
+            ([0.1, 0.2, 0.7000009], 1.0000009),
+            ([1.0000005, -0.0000005, 0.0], 1.0),
+            ([0.25, 0.25, 0.4999991], 0.9999991),
+        ] {
+            let p = SurfacePoint::Triangle {
+                triangle: 3,
+                barycentric: b,
+            };
+            assert!((b.iter().sum::<f64>() - sum).abs() < 1e-12);
+            let SurfacePoint::Triangle {
+                triangle,
+                barycentric: n,
+            } = p.normalized().unwrap()
+            else {
+                panic!()
+            };
+            assert_eq!(triangle, 3);
+            assert!(
+                (n.iter().sum::<f64>() - 1.0).abs() <= 2.0 * f64::EPSILON,
+                "{n:?}"
+            );
+            assert!(n.iter().all(|x| (0.0..=1.0).contains(x)), "{n:?}");
+        }
+        for b in [
+            [0.5, 0.5, 0.000002],
+            [0.4, 0.4, 0.199998],
+            [1.00001, 0.0, -0.00001],
+        ] {
+            let p = SurfacePoint::Triangle {
+                triangle: 0,
+                barycentric: b,
+            };
+            assert!(p.normalized().is_err(), "{b:?}");
+        }
+        assert_eq!(
+            SurfacePoint::Vertex(4).normalized(),
+            Ok(SurfacePoint::Vertex(4))
+        );
     }
 
     #[test]

@@ -115,7 +115,16 @@ impl Markers {
     }
 
     /// Markers from pairs of surface points `[source point, target point]`.
+    /// Barycentric coordinates within [`BARYCENTRIC_TOLERANCE`] of a point
+    /// are made exact ([`SurfacePoint::normalized`]); others are kept as
+    /// given, for [`Markers::validate`] to refuse.
+    ///
+    /// [`BARYCENTRIC_TOLERANCE`]: crate::mesh::surface_point::BARYCENTRIC_TOLERANCE
     pub fn on_surfaces(pairs: Vec<[SurfacePoint; 2]>) -> Self {
+        let pairs = pairs
+            .into_iter()
+            .map(|pair| pair.map(|p| p.normalized().unwrap_or(p)))
+            .collect::<Vec<_>>();
         Self {
             names: vec![None; pairs.len()],
             lines: vec![[0; 2]; pairs.len()],
