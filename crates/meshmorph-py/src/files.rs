@@ -11,7 +11,7 @@ use numpy::PyArrayMethods;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyModule};
 
-use crate::{arrays, bad, error};
+use crate::{args, arrays, bad, error, work};
 
 /// A mesh file as read: `.vertices` `(n, 3)`, `.faces` `(m, 3)` (polygons
 /// split into triangles), and everything else of the file, kept for
@@ -63,21 +63,25 @@ impl PyMesh {
 
 /// Reads a mesh file (OBJ, OFF, PLY, STL, glTF/GLB).
 #[pyfunction]
-fn read_mesh(py: Python<'_>, path: PathBuf) -> PyResult<PyMesh> {
-    let file = py.detach(|| MeshFile::read(&path)).map_err(error)?;
+fn read_mesh(py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<PyMesh> {
+    let path = args::path("path", path)?;
+    let file = work::run(py, || MeshFile::read(&path))?.map_err(error)?;
     Ok(PyMesh { file })
 }
 
 /// Writes `mesh` with new `vertices` `(n, 3)` to `path`, in the format its
 /// extension names: in the file's own format everything but the positions
-/// is kept; never over the file `mesh` was read from; atomically.
+/// is kept; never over the file `mesh` was read from, nor over anything
+/// but a regular file; atomically.
 #[pyfunction]
 fn write_mesh(
     py: Python<'_>,
-    path: PathBuf,
-    mesh: &PyMesh,
+    path: &Bound<'_, PyAny>,
+    mesh: &Bound<'_, PyAny>,
     vertices: &Bound<'_, PyAny>,
 ) -> PyResult<Vec<String>> {
+    let path = args::output_path("path", path)?;
+    let mesh = args::object::<PyMesh>("mesh", mesh, "a Mesh (read_mesh)")?.get();
     let positions = arrays::points_of::<3>("vertices", vertices)?;
     let n = mesh.file.mesh().num_vertices();
     if positions.len() != n {
@@ -97,8 +101,7 @@ fn write_mesh(
         return Err(bad("path", format!("{} is the file the mesh was read from: meshmorph never writes over its inputs; choose another path", path.display())));
     }
     let format = meshmorph::io::Format::from_path(&path).map_err(error)?;
-    py.detach(|| mesh.file.write(&path, &positions, format))
-        .map_err(error)
+    work::run(py, || mesh.file.write(&path, &positions, format))?.map_err(error)
 }
 
 /// Marker pairs on two surfaces, with names.
@@ -107,17 +110,90 @@ pub struct PyMarkers {
     pub markers: Markers,
 }
 
-fn point(py: Python<'_>, p: &SurfacePoint) -> PyResult<Py<PyAny>> {
+/// One side of a marker as [`Markers::write`] writes it: a vertex, a
+/// triangle's point, or a position not yet put on the surface.
+enum Side {
+    On(SurfacePoint),
+    At([f64; 3]),
+}
+
+/// Every marker, in the order given, with its name: read back from
+/// [`Markers::write`], the one account of all of them (those given as
+/// positions, waiting for `correspond` to put them on the surfaces,
+/// included), written so that it reads back the same.
+fn entries(markers: &Markers) -> PyResult<Vec<(Option<String>, [Side; 2])>> {
+    let mut text = Vec::new();
+    markers.write(&mut text).map_err(|e| bad("markers", e))?;
+    let broken = || bad("markers", "their description could not be read back");
+    let text = String::from_utf8(text).map_err(|_| broken())?;
+    let mut out = Vec::with_capacity(markers.len());
+    for line in text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.is_empty())
+    {
+        let (name, rest) = match line.strip_prefix('"') {
+            Some(quoted) => {
+                let (name, rest) = unquote(quoted).ok_or_else(broken)?;
+                (Some(name), rest)
+            }
+            None => (None, line),
+        };
+        let mut words = rest.split_whitespace();
+        let sides = [
+            side(&mut words).ok_or_else(broken)?,
+            side(&mut words).ok_or_else(broken)?,
+        ];
+        out.push((name, sides));
+    }
+    Ok(out)
+}
+
+/// The side that `words` begin with: `v I`, `t T b0 b1 b2` or `p x y z`.
+fn side<'a>(words: &mut impl Iterator<Item = &'a str>) -> Option<Side> {
+    let kind = words.next()?;
+    let mut number = || words.next()?.parse::<f64>().ok();
+    Some(match kind {
+        "v" => Side::On(SurfacePoint::Vertex(number()? as u32)),
+        "t" => Side::On(SurfacePoint::Triangle {
+            triangle: number()? as u32,
+            barycentric: [number()?, number()?, number()?],
+        }),
+        "p" => Side::At([number()?, number()?, number()?]),
+        _ => return None,
+    })
+}
+
+/// The name at the start of `s` (after its opening quote), unescaped, and
+/// what follows its closing quote.
+fn unquote(s: &str) -> Option<(String, &str)> {
+    let mut name = String::new();
+    let mut chars = s.char_indices();
+    while let Some((i, c)) = chars.next() {
+        match c {
+            '"' => return Some((name, &s[i + 1..])),
+            '\\' => name.push(match chars.next()?.1 {
+                'n' => '\n',
+                'r' => '\r',
+                c => c,
+            }),
+            c => name.push(c),
+        }
+    }
+    None
+}
+
+fn point(py: Python<'_>, p: &Side) -> PyResult<Py<PyAny>> {
     let d = PyDict::new(py);
     match *p {
-        SurfacePoint::Vertex(v) => d.set_item("vertex", v)?,
-        SurfacePoint::Triangle {
+        Side::On(SurfacePoint::Vertex(v)) => d.set_item("vertex", v)?,
+        Side::On(SurfacePoint::Triangle {
             triangle,
             barycentric,
-        } => {
+        }) => {
             d.set_item("triangle", triangle)?;
             d.set_item("barycentric", barycentric.to_vec())?;
         }
+        Side::At(position) => d.set_item("position", position.to_vec())?,
     }
     Ok(d.into_any().unbind())
 }
@@ -128,26 +204,26 @@ impl PyMarkers {
         self.markers.len()
     }
 
-    /// The pairs, each `(source, target)`: `{"vertex": v}` or
-    /// `{"triangle": t, "barycentric": [b0, b1, b2]}` (points given as
-    /// positions are put on the surfaces by `correspond`).
+    /// The pairs, each `(source, target)`, in the order given:
+    /// `{"vertex": v}`, `{"triangle": t, "barycentric": [b0, b1, b2]}`, or
+    /// `{"position": [x, y, z]}` for a point given as a position (put on
+    /// the surface, the nearest point of it, by `correspond`).
     #[getter]
     fn pairs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        let items = self
-            .markers
-            .pairs()
+        let items = entries(&self.markers)?
             .iter()
-            .map(|[s, t]| Ok((point(py, s)?, point(py, t)?)))
+            .map(|(_, [s, t])| Ok((point(py, s)?, point(py, t)?)))
             .collect::<PyResult<Vec<_>>>()?;
         PyList::new(py, items)
     }
 
     /// Each pair's name, or None.
     #[getter]
-    fn names(&self) -> Vec<Option<String>> {
-        (0..self.markers.pairs().len())
-            .map(|k| self.markers.name(k).map(String::from))
-            .collect()
+    fn names(&self) -> PyResult<Vec<Option<String>>> {
+        Ok(entries(&self.markers)?
+            .into_iter()
+            .map(|(name, _)| name)
+            .collect())
     }
 
     /// Markers from positions: row `k` of `source` `(k, 3)` paired with
@@ -158,7 +234,7 @@ impl PyMarkers {
     fn from_points(
         source: &Bound<'_, PyAny>,
         target: &Bound<'_, PyAny>,
-        names: Option<Vec<Option<String>>>,
+        names: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let s = arrays::points_of::<3>("source", source)?;
         let t = arrays::points_of::<3>("target", target)?;
@@ -168,6 +244,24 @@ impl PyMarkers {
                 format!("{} points for the source's {}", t.len(), s.len()),
             ));
         }
+        let names = names
+            .filter(|n| !n.is_none())
+            .map(|n| {
+                arrays::items(
+                    "names",
+                    n,
+                    ("a list of names (str or None)", 0),
+                    |name, x| {
+                        x.extract::<Option<String>>().map_err(|_| {
+                            bad(
+                                name,
+                                format!("expected a str or None, got {}", args::describe(x)),
+                            )
+                        })
+                    },
+                )
+            })
+            .transpose()?;
         let markers = Markers::from_points(s.into_iter().zip(t).map(|(a, b)| [a, b]).collect());
         let markers = match names {
             None => markers,
@@ -183,7 +277,8 @@ impl PyMarkers {
     }
 
     /// Writes meshmorph's marker file (names and surface points).
-    fn save(&self, path: PathBuf) -> PyResult<()> {
+    fn save(&self, path: &Bound<'_, PyAny>) -> PyResult<()> {
+        let path = args::output_path("path", path)?;
         self.markers.save(&path).map_err(error)
     }
 }
@@ -192,13 +287,16 @@ impl PyMarkers {
 /// `target_path` two files of points paired by name or order (MeshLab's
 /// `.pp`, Wrap's `.json`, one point a line).
 #[pyfunction]
-#[pyo3(signature = (path, target_path = None, *, one_based = false))]
+#[pyo3(signature = (path, target_path = None, *, one_based = None))]
+#[pyo3(text_signature = "(path, target_path=None, *, one_based=False)")]
 fn read_markers(
-    path: PathBuf,
-    target_path: Option<PathBuf>,
-    one_based: bool,
+    path: &Bound<'_, PyAny>,
+    target_path: Option<&Bound<'_, PyAny>>,
+    one_based: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyMarkers> {
-    let numbering = if one_based {
+    let path = args::path("path", path)?;
+    let target_path = args::optional_path("target_path", target_path)?;
+    let numbering = if args::flag("one_based", one_based, false)? {
         VertexNumbering::FromOne
     } else {
         VertexNumbering::FromZero

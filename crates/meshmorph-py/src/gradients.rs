@@ -5,12 +5,12 @@
 
 use meshmorph::{FactorKind, Mat, RestSystem, Space, TriangleMaps};
 use numpy::ndarray::Array3;
-use numpy::{PyArray3, PyArrayMethods, PyUntypedArrayMethods, ToPyArray};
+use numpy::{IntoPyArray, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyModule;
 
 use crate::arrays::{self, Points};
-use crate::{bad, error};
+use crate::{bad, error, work};
 
 /// The rest mesh's system, of either dimension.
 enum System {
@@ -24,7 +24,10 @@ fn maps<const D: usize>(arg: &str, a: &Bound<'_, PyAny>, m: usize) -> PyResult<V
     let wrong = || {
         bad(
             arg,
-            format!("expected a ({m}, {D}, {D}) float64 or float32 numpy array"),
+            format!(
+                "expected a ({m}, {D}, {D}) float64 or float32 numpy array, got {}",
+                arrays::describe(a)
+            ),
         )
     };
     let read =
@@ -35,18 +38,18 @@ fn maps<const D: usize>(arg: &str, a: &Bound<'_, PyAny>, m: usize) -> PyResult<V
                     format!("expected the shape ({m}, {D}, {D}), got {shape:?}"),
                 ));
             }
-            (0..m)
-                .map(|t| {
-                    let j: Mat<D> = std::array::from_fn(|r| std::array::from_fn(|c| at(t, r, c)));
-                    if j.iter().flatten().any(|x| !x.is_finite()) {
-                        return Err(bad(
-                            arg,
-                            format!("the map of triangle {t} has an entry that is not finite"),
-                        ));
-                    }
-                    Ok(j)
-                })
-                .collect()
+            let mut out = arrays::room(arg, "the copy of the maps", m)?;
+            for t in 0..m {
+                let j: Mat<D> = std::array::from_fn(|r| std::array::from_fn(|c| at(t, r, c)));
+                if j.iter().flatten().any(|x| !x.is_finite()) {
+                    return Err(bad(
+                        arg,
+                        format!("the map of triangle {t} has an entry that is not finite"),
+                    ));
+                }
+                out.push(j);
+            }
+            Ok(out)
         };
     if let Ok(array) = a.cast::<PyArray3<f64>>() {
         let array = array.readonly();
@@ -77,19 +80,18 @@ impl PyGradientSolver {
     fn new(py: Python<'_>, v_rest: &Bound<'_, PyAny>, f: &Bound<'_, PyAny>) -> PyResult<Self> {
         let faces = arrays::faces("f", f)?;
         let triangles = faces.len();
+        arrays::setup("f", triangles)?;
         let system = match arrays::points("v_rest", v_rest)? {
             Points::Plane(p) => {
-                let mesh = arrays::mesh(("v_rest", "f"), p, faces)?;
+                let mesh = arrays::mesh(py, ("v_rest", "f"), p, faces)?;
                 System::Plane(
-                    py.detach(|| RestSystem::new(&mesh, FactorKind::Auto))
-                        .map_err(error)?,
+                    work::run(py, || RestSystem::new(&mesh, FactorKind::Auto))?.map_err(error)?,
                 )
             }
             Points::Space(p) => {
-                let mesh = arrays::mesh(("v_rest", "f"), p, faces)?;
+                let mesh = arrays::mesh(py, ("v_rest", "f"), p, faces)?;
                 System::Space(
-                    py.detach(|| RestSystem::new(&mesh, FactorKind::Auto))
-                        .map_err(error)?,
+                    work::run(py, || RestSystem::new(&mesh, FactorKind::Auto))?.map_err(error)?,
                 )
             }
         };
@@ -155,6 +157,7 @@ fn positions_from_gradients<'py>(
 /// The linear map of every triangle of `rest` (with `faces`) to `v`,
 /// `(m, D, D)`.
 fn linear_maps<const D: usize>(
+    py: Python<'_>,
     rest: Vec<[f64; D]>,
     faces: Vec<[u32; 3]>,
     v: &Bound<'_, PyAny>,
@@ -162,7 +165,12 @@ fn linear_maps<const D: usize>(
 where
     Space<D>: TriangleMaps<D>,
 {
-    let rest = arrays::mesh(("v_rest", "f"), rest, faces)?;
+    arrays::need(
+        "f",
+        &format!("the maps of its {} triangles", faces.len()),
+        arrays::bytes_of::<[[f64; D]; D]>(&[faces.len()]),
+    )?;
+    let rest = arrays::mesh(py, ("v_rest", "f"), rest, faces)?;
     let posed = arrays::points_of::<D>("v", v)?;
     if posed.len() != rest.num_vertices() {
         return Err(bad(
@@ -201,10 +209,10 @@ fn deformation_gradients<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let faces = arrays::faces("f", f)?;
     let out = match arrays::points("v_rest", v_rest)? {
-        Points::Plane(p) => linear_maps(p, faces, v)?,
-        Points::Space(p) => linear_maps(p, faces, v)?,
+        Points::Plane(p) => linear_maps(py, p, faces, v)?,
+        Points::Space(p) => linear_maps(py, p, faces, v)?,
     };
-    Ok(out.to_pyarray(py).into_any())
+    Ok(out.into_pyarray(py).into_any())
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -7,12 +7,27 @@ use pyo3::prelude::*;
 use pyo3::types::PyModule;
 
 use crate::arrays::{self, Points};
-use crate::{bad, error};
+use crate::{args, bad, error, work};
 
 /// A value of either dimension.
 enum Either<A, B> {
     Plane(A),
     Space(B),
+}
+
+impl<A, B> Either<A, B> {
+    /// The bytes of a new frame of `n` vertices, or none when written
+    /// into `out`.
+    fn frame_bytes(&self, n: usize, out: &Option<Bound<'_, PyAny>>) -> u128 {
+        let d = match self {
+            Either::Plane(_) => 2,
+            Either::Space(_) => 3,
+        };
+        match out {
+            None => arrays::bytes_of::<f64>(&[n, d]),
+            Some(_) => 0,
+        }
+    }
 }
 
 /// Runs `$body` with `$x` bound to the plane's or the space's value.
@@ -25,26 +40,26 @@ macro_rules! each {
     };
 }
 
-fn options(consistency: bool, turns: i32, stretch: &str) -> PyResult<InterpolatorOptions> {
-    let stretch = match stretch {
-        "linear" => StretchMode::Linear,
+/// The options as given (None for each one's default).
+fn options(
+    consistency: Option<&Bound<'_, PyAny>>,
+    turns: Option<&Bound<'_, PyAny>>,
+    stretch: Option<&Bound<'_, PyAny>>,
+) -> PyResult<InterpolatorOptions> {
+    let stretch = match args::choice("stretch", stretch, &["linear", "log"], "linear")? {
         "log" => StretchMode::Log,
-        other => {
-            return Err(bad(
-                "stretch",
-                format!("{other:?} is neither \"linear\" nor \"log\""),
-            ))
-        }
+        _ => StretchMode::Linear,
     };
     Ok(InterpolatorOptions::default()
-        .with_consistency(consistency)
-        .with_turns(turns)
+        .with_consistency(args::flag("consistency", consistency, true)?)
+        .with_turns(args::whole("turns", turns, 0)?)
         .with_stretch(stretch))
 }
 
 /// Keys of one dimension (checked by [`dimension`]) with the faces
 /// `triangles`, each checked, named in messages as given.
 fn keys<const D: usize>(
+    py: Python<'_>,
     named: Vec<(String, Points)>,
     triangles: &[[u32; 3]],
 ) -> PyResult<Vec<Mesh<D>>> {
@@ -52,26 +67,28 @@ fn keys<const D: usize>(
         .into_iter()
         .map(|(name, p)| {
             let rows = p.into_dimension::<D>(&name)?;
-            arrays::mesh((&name, "f"), rows, triangles.to_vec())
+            arrays::mesh(py, (&name, "f"), rows, triangles.to_vec())
         })
         .collect()
 }
 
-/// The keys `named` with the faces `f`, checked (one dimension, one
-/// vertex count), made into the plane's or the space's `$make` (with `$k`
-/// the keys), the GIL released.
+/// The keys `named` with the faces `triangles` (of the argument `f`),
+/// checked (one dimension, one vertex count, the memory the setup needs),
+/// made into the plane's or the space's `$make` (with `$k` the keys) in
+/// the pool, the GIL released.
 macro_rules! build {
-    ($py:expr, $named:expr, $f:expr, |$k:ident| $make:expr) => {{
-        let named = $named;
-        let triangles = arrays::faces("f", $f)?;
-        match dimension(&named)? {
+    ($py:expr, $named:expr, $triangles:expr, |$k:ident| $make:expr) => {{
+        let (named, triangles) = ($named, $triangles);
+        let d = dimension(&named)?;
+        arrays::setup("f", triangles.len())?;
+        match d {
             2 => {
-                let $k = keys::<2>(named, &triangles)?;
-                Either::Plane($py.detach(|| $make).map_err(error)?)
+                let $k = keys::<2>($py, named, &triangles)?;
+                Either::Plane(work::run($py, || $make)?.map_err(error)?)
             }
             _ => {
-                let $k = keys::<3>(named, &triangles)?;
-                Either::Space($py.detach(|| $make).map_err(error)?)
+                let $k = keys::<3>($py, named, &triangles)?;
+                Either::Space(work::run($py, || $make)?.map_err(error)?)
             }
         }
     }};
@@ -99,13 +116,6 @@ fn dimension(named: &[(String, Points)]) -> PyResult<usize> {
     Ok(d)
 }
 
-fn times(arg: &str, ts: Vec<f64>) -> PyResult<Vec<f64>> {
-    ts.into_iter()
-        .enumerate()
-        .map(|(k, t)| arrays::finite(&format!("{arg}[{k}]"), t))
-        .collect()
-}
-
 /// As-rigid-as-possible interpolation from `v0` to `v1` (Alexa, Cohen-Or and
 /// Levin 2000; rotations made consistent across the mesh, Baxter, Barla and
 /// Anjyo 2008). Vertices `(n, 2)` or `(n, 3)`, faces `(m, 3)`. Factored once;
@@ -116,22 +126,26 @@ pub struct PyInterpolator(Either<Interpolator<2>, Interpolator<3>>);
 #[pymethods]
 impl PyInterpolator {
     #[new]
-    #[pyo3(signature = (v0, v1, f, *, consistency = true, turns = 0, stretch = "linear"))]
+    #[pyo3(signature = (v0, v1, f, *, consistency = None, turns = None, stretch = None))]
+    #[pyo3(text_signature = "(v0, v1, f, *, consistency=True, turns=0, stretch='linear')")]
     fn new(
         py: Python<'_>,
         v0: &Bound<'_, PyAny>,
         v1: &Bound<'_, PyAny>,
         f: &Bound<'_, PyAny>,
-        consistency: bool,
-        turns: i32,
-        stretch: &str,
+        consistency: Option<&Bound<'_, PyAny>>,
+        turns: Option<&Bound<'_, PyAny>>,
+        stretch: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let options = options(consistency, turns, stretch)?;
         let named = vec![
             ("v0".to_string(), arrays::points("v0", v0)?),
             ("v1".to_string(), arrays::points("v1", v1)?),
         ];
-        let inner = build!(py, named, f, |k| Interpolator::new(&k[0], &k[1], &options));
+        let triangles = arrays::faces("f", f)?;
+        let inner = build!(py, named, triangles, |k| Interpolator::new(
+            &k[0], &k[1], &options
+        ));
         Ok(Self(inner))
     }
 
@@ -141,10 +155,10 @@ impl PyInterpolator {
     fn at<'py>(
         &self,
         py: Python<'py>,
-        t: f64,
+        t: &Bound<'py, PyAny>,
         out: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let t = arrays::finite("t", t)?;
+        let t = args::number("t", t)?;
         each!(&self.0, i => { let frame = py.detach(|| i.at(t)); arrays::give(py, &frame, out) })
     }
 
@@ -154,11 +168,14 @@ impl PyInterpolator {
     fn frames<'py>(
         &self,
         py: Python<'py>,
-        ts: Vec<f64>,
+        ts: &Bound<'py, PyAny>,
         out: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let ts = times("ts", ts)?;
-        each!(&self.0, i => arrays::frames_in_place(py, (ts.len(), i.num_vertices()), out, || i.workspace(), |ws, fs, outs| i.sequence().frames_into(&ts[fs], outs, ws)))
+        let each = self
+            .0
+            .frame_bytes(each!(&self.0, i => i.num_vertices()), &out);
+        let ts = arrays::numbers("ts", ts, each)?;
+        each!(&self.0, i => arrays::frames_in_place(py, ("ts", ts.len(), i.num_vertices()), out, || i.workspace(), |ws, fs, outs| i.sequence().frames_into(&ts[fs], outs, ws)))
     }
 
     /// The number of vertices.
@@ -173,48 +190,40 @@ impl PyInterpolator {
 #[pyclass(name = "Sequence", module = "meshmorph", frozen)]
 pub struct PySequence(Either<Sequence<2>, Sequence<3>>);
 
-/// The keys of a stack `(k, n, d)`, each named `arg[j]`.
-fn stacked(arg: &str, a: &Bound<'_, PyAny>) -> PyResult<Vec<(String, Points)>> {
-    let named = |frames: Vec<Points>| -> Vec<(String, Points)> {
-        frames
-            .into_iter()
-            .enumerate()
-            .map(|(j, p)| (format!("{arg}[{j}]"), p))
-            .collect()
-    };
-    if let Ok(s) = arrays::stack::<3>(arg, a) {
-        return Ok(named(s.into_iter().map(Points::Space).collect()));
-    }
-    match arrays::stack::<2>(arg, a) {
-        Ok(s) => Ok(named(s.into_iter().map(Points::Plane).collect())),
-        Err(_) => Err(bad(
-            arg,
-            "expected a (k, n, 2) or (k, n, 3) float64 or float32 numpy array",
-        )),
-    }
+/// The keys of a stack `(k, n, d)` with `triangles` faces, each named
+/// `arg[j]`, their memory checked with what each key's setup needs.
+fn stacked(arg: &str, a: &Bound<'_, PyAny>, triangles: usize) -> PyResult<Vec<(String, Points)>> {
+    let each = (triangles as u128).saturating_mul(arrays::KEY_BYTES_PER_TRIANGLE);
+    Ok(arrays::stack_points(arg, a, each)?
+        .into_iter()
+        .enumerate()
+        .map(|(j, p)| (format!("{arg}[{j}]"), p))
+        .collect())
 }
 
 #[pymethods]
 impl PySequence {
     #[new]
-    #[pyo3(signature = (keys, f, *, consistency = true, turns = 0, stretch = "linear"))]
+    #[pyo3(signature = (keys, f, *, consistency = None, turns = None, stretch = None))]
+    #[pyo3(text_signature = "(keys, f, *, consistency=True, turns=0, stretch='linear')")]
     fn new(
         py: Python<'_>,
         keys: &Bound<'_, PyAny>,
         f: &Bound<'_, PyAny>,
-        consistency: bool,
-        turns: i32,
-        stretch: &str,
+        consistency: Option<&Bound<'_, PyAny>>,
+        turns: Option<&Bound<'_, PyAny>>,
+        stretch: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let options = options(consistency, turns, stretch)?;
-        let named = stacked("keys", keys)?;
+        let triangles = arrays::faces("f", f)?;
+        let named = stacked("keys", keys, triangles.len())?;
         if named.len() < 2 {
             return Err(bad(
                 "keys",
                 format!("{} keys: a sequence needs two or more", named.len()),
             ));
         }
-        let inner = build!(py, named, f, |k| Sequence::new(&k, &options));
+        let inner = build!(py, named, triangles, |k| Sequence::new(&k, &options));
         Ok(Self(inner))
     }
 
@@ -223,10 +232,10 @@ impl PySequence {
     fn at<'py>(
         &self,
         py: Python<'py>,
-        s: f64,
+        s: &Bound<'py, PyAny>,
         out: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let s = arrays::finite("s", s)?;
+        let s = args::number("s", s)?;
         each!(&self.0, q => { let frame = py.detach(|| q.at(s)); arrays::give(py, &frame, out) })
     }
 
@@ -236,11 +245,14 @@ impl PySequence {
     fn frames<'py>(
         &self,
         py: Python<'py>,
-        ss: Vec<f64>,
+        ss: &Bound<'py, PyAny>,
         out: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let ss = times("ss", ss)?;
-        each!(&self.0, q => arrays::frames_in_place(py, (ss.len(), q.num_vertices()), out, || q.workspace(), |ws, fs, outs| q.frames_into(&ss[fs], outs, ws)))
+        let each = self
+            .0
+            .frame_bytes(each!(&self.0, q => q.num_vertices()), &out);
+        let ss = arrays::numbers("ss", ss, each)?;
+        each!(&self.0, q => arrays::frames_in_place(py, ("ss", ss.len(), q.num_vertices()), out, || q.workspace(), |ws, fs, outs| q.frames_into(&ss[fs], outs, ws)))
     }
 }
 
@@ -252,21 +264,27 @@ pub struct PyBlend(Either<Blend<2>, Blend<3>>, usize);
 #[pymethods]
 impl PyBlend {
     #[new]
-    #[pyo3(signature = (base, shapes, f, *, consistency = true, turns = 0, stretch = "linear"))]
+    #[pyo3(signature = (base, shapes, f, *, consistency = None, turns = None, stretch = None))]
+    #[pyo3(text_signature = "(base, shapes, f, *, consistency=True, turns=0, stretch='linear')")]
     fn new(
         py: Python<'_>,
         base: &Bound<'_, PyAny>,
         shapes: &Bound<'_, PyAny>,
         f: &Bound<'_, PyAny>,
-        consistency: bool,
-        turns: i32,
-        stretch: &str,
+        consistency: Option<&Bound<'_, PyAny>>,
+        turns: Option<&Bound<'_, PyAny>>,
+        stretch: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let options = options(consistency, turns, stretch)?;
         let mut named = vec![("base".to_string(), arrays::points("base", base)?)];
-        named.extend(stacked("shapes", shapes)?);
+        let triangles = arrays::faces("f", f)?;
+        named.extend(stacked("shapes", shapes, triangles.len())?);
         let count = named.len() - 1;
-        let inner = build!(py, named, f, |k| Blend::new(&k[0], &k[1..], &options));
+        let inner = build!(py, named, triangles, |k| Blend::new(
+            &k[0],
+            &k[1..],
+            &options
+        ));
         Ok(Self(inner, count))
     }
 
@@ -275,16 +293,16 @@ impl PyBlend {
     fn at<'py>(
         &self,
         py: Python<'py>,
-        weights: Vec<f64>,
+        weights: &Bound<'py, PyAny>,
         out: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let weights = arrays::numbers("weights", weights, 0)?;
         if weights.len() != self.1 {
             return Err(bad(
                 "weights",
                 format!("{} weights for {} shapes", weights.len(), self.1),
             ));
         }
-        let weights = times("weights", weights)?;
         each!(&self.0, b => { let frame = py.detach(|| b.at(&weights)); arrays::give(py, &frame, out) })
     }
 }

@@ -1,14 +1,18 @@
 //! meshmorph for Python: as-rigid-as-possible shape interpolation and
 //! deformation transfer on numpy arrays, factored once, the GIL released
 //! while the work runs. A thin layer over the Rust library: arrays in
-//! (`arrays.rs`), the library's objects held, arrays out.
+//! (`arrays.rs`, their sizes checked before any copy) and other arguments
+//! (`args.rs`), the library's objects held, the work run on the module's
+//! own threads and stopped by Ctrl-C (`work.rs`), arrays out.
 
+mod args;
 mod arrays;
 mod files;
 mod gradients;
 mod interpolation;
 mod progress;
 mod transfer;
+mod work;
 
 use pyo3::create_exception;
 use pyo3::exceptions::PyValueError;

@@ -14,14 +14,18 @@ use pyo3::types::{PyDict, PyList, PyModule};
 
 use crate::files::PyMarkers;
 use crate::progress::Progress;
-use crate::{arrays, bad, error};
+use crate::{args, arrays, bad, error, work};
 
-fn mesh3(names: (&str, &str), v: &Bound<'_, PyAny>, f: &Bound<'_, PyAny>) -> PyResult<Mesh3> {
-    arrays::mesh(
-        names,
-        arrays::points_of::<3>(names.0, v)?,
-        arrays::faces(names.1, f)?,
-    )
+fn mesh3(
+    py: Python<'_>,
+    names: (&str, &str),
+    v: &Bound<'_, PyAny>,
+    f: &Bound<'_, PyAny>,
+) -> PyResult<Mesh3> {
+    let positions = arrays::points_of::<3>(names.0, v)?;
+    let faces = arrays::faces(names.1, f)?;
+    arrays::setup(names.1, faces.len())?;
+    arrays::mesh(py, names, positions, faces)
 }
 
 /// The markers given to `correspond`: a `Markers`, vertex pairs `(k, 2)`
@@ -33,11 +37,20 @@ fn markers(m: Option<&Bound<'_, PyAny>>) -> PyResult<Markers> {
     if let Ok(given) = m.cast::<PyMarkers>() {
         return Ok(given.get().markers.clone());
     }
-    let pairs: Vec<[i64; 2]> = if let Ok(f) = arrays::index_rows::<2>("markers", m) {
-        f
+    const EXPECTED: &str = "a Markers (read_markers), a (k, 2) array of source and target vertex indices, a list of such pairs, or None";
+    let pairs: Vec<[i64; 2]> = if m.getattr("shape").is_ok() {
+        arrays::index_rows::<2>("markers", m)?
     } else {
-        m.extract::<Vec<[i64; 2]>>().map_err(|_| {
-            bad("markers", "expected a Markers (read_markers), a (k, 2) array of source and target vertex indices, a list of such pairs, or None")
+        arrays::items("markers", m, (EXPECTED, 0), |name, pair| {
+            pair.extract::<[i64; 2]>().map_err(|_| {
+                bad(
+                    name,
+                    format!(
+                        "expected a pair of vertex indices (source, target), got {}",
+                        args::describe(pair)
+                    ),
+                )
+            })
         })?
     };
     let pairs = pairs
@@ -139,13 +152,15 @@ impl PyCorrespondence {
     }
 
     /// Saves the correspondence (atomically).
-    fn save(&self, path: PathBuf) -> PyResult<()> {
+    fn save(&self, path: &Bound<'_, PyAny>) -> PyResult<()> {
+        let path = args::output_path("path", path)?;
         self.inner.save(&path).map_err(error)
     }
 
     /// Loads a saved correspondence (its fit figures are None).
     #[staticmethod]
-    fn load(path: PathBuf) -> PyResult<Self> {
+    fn load(path: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let path: PathBuf = args::path("path", path)?;
         Ok(Self {
             inner: Correspondence::load(&path).map_err(error)?,
             fit: None,
@@ -158,7 +173,10 @@ impl PyCorrespondence {
 /// (target) through `markers` (Sumner and Popović 2004, section 5), with
 /// its fit report. `progress(done, total)` is called as it goes.
 #[pyfunction]
-#[pyo3(signature = (vs, fs, vt, ft, markers = None, *, align = true, identity_weight = None, match_threshold = None, progress = None))]
+#[pyo3(signature = (vs, fs, vt, ft, markers = None, *, align = None, identity_weight = None, match_threshold = None, progress = None))]
+#[pyo3(
+    text_signature = "(vs, fs, vt, ft, markers=None, *, align=True, identity_weight=None, match_threshold=None, progress=None)"
+)]
 #[allow(clippy::too_many_arguments)]
 fn correspond(
     py: Python<'_>,
@@ -167,35 +185,35 @@ fn correspond(
     vt: &Bound<'_, PyAny>,
     ft: &Bound<'_, PyAny>,
     markers: Option<&Bound<'_, PyAny>>,
-    align: bool,
-    identity_weight: Option<f64>,
-    match_threshold: Option<f64>,
-    progress: Option<Py<PyAny>>,
+    align: Option<&Bound<'_, PyAny>>,
+    identity_weight: Option<&Bound<'_, PyAny>>,
+    match_threshold: Option<&Bound<'_, PyAny>>,
+    progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyCorrespondence> {
-    let source = mesh3(("vs", "fs"), vs, fs)?;
-    let target = mesh3(("vt", "ft"), vt, ft)?;
-    let markers = self::markers(markers)?;
-    let markers = if markers.has_points() {
-        markers.snap(&source, &target).map_err(error)?.0
-    } else {
-        markers
-    };
-    markers.validate(&source, &target).map_err(error)?;
-    let mut options = CorrespondOptions::default().with_align(align);
-    if let Some(w) = identity_weight {
+    let mut options = CorrespondOptions::default().with_align(args::flag("align", align, true)?);
+    if let Some(w) = args::optional_number("identity_weight", identity_weight)? {
         let smoothness = options.smoothness_weight;
-        options = options.with_weights(smoothness, arrays::finite("identity_weight", w)?);
+        options = options.with_weights(smoothness, w);
     }
-    if let Some(m) = match_threshold {
-        options = options.with_match_threshold(arrays::finite("match_threshold", m)?);
+    if let Some(m) = args::optional_number("match_threshold", match_threshold)? {
+        options = options.with_match_threshold(m);
     }
+    let progress = Progress::new(args::callback("progress", progress)?);
+    let source = mesh3(py, ("vs", "fs"), vs, fs)?;
+    let target = mesh3(py, ("vt", "ft"), vt, ft)?;
+    let markers = self::markers(markers)?;
     let total = options.steps();
-    let progress = Progress::new(progress);
-    let result = py.detach(|| {
+    let result = work::run(py, || {
+        let markers = if markers.has_points() {
+            markers.snap(&source, &target)?.0
+        } else {
+            markers
+        };
+        markers.validate(&source, &target)?;
         correspond_with_progress(&source, &target, &markers, &options, &mut |done| {
             progress.report(done, total)
         })
-    });
+    })?;
     progress.finish()?;
     let result = result.map_err(error)?;
     Ok(PyCorrespondence {
@@ -223,20 +241,25 @@ impl PyTransfer {
         fs: &Bound<'_, PyAny>,
         vt: &Bound<'_, PyAny>,
         ft: &Bound<'_, PyAny>,
-        correspondence: &PyCorrespondence,
+        correspondence: &Bound<'_, PyAny>,
     ) -> PyResult<Self> {
-        let source = mesh3(("vs", "fs"), vs, fs)?;
-        let target = mesh3(("vt", "ft"), vt, ft)?;
-        let inner = py
-            .detach(|| {
-                Transfer::new(
-                    &source,
-                    &target,
-                    &correspondence.inner,
-                    &TransferOptions::default(),
-                )
-            })
-            .map_err(error)?;
+        let correspondence = args::object::<PyCorrespondence>(
+            "correspondence",
+            correspondence,
+            "a Correspondence (correspond or Correspondence.load)",
+        )?
+        .get();
+        let source = mesh3(py, ("vs", "fs"), vs, fs)?;
+        let target = mesh3(py, ("vt", "ft"), vt, ft)?;
+        let inner = work::run(py, || {
+            Transfer::new(
+                &source,
+                &target,
+                &correspondence.inner,
+                &TransferOptions::default(),
+            )
+        })?
+        .map_err(error)?;
         Ok(Self {
             inner,
             source_vertices: source.num_vertices(),
@@ -280,9 +303,15 @@ impl PyTransfer {
         py: Python<'py>,
         poses: &Bound<'py, PyAny>,
         out: Option<Bound<'py, PyAny>>,
-        progress: Option<Py<PyAny>>,
+        progress: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let poses = arrays::stack::<3>("poses", poses)?;
+        let progress = Progress::new(args::callback("progress", progress)?);
+        // Each pose's result, unless written into `out`.
+        let each = match out {
+            None => arrays::bytes_of::<[f64; 3]>(&[self.target_vertices()]),
+            Some(_) => 0,
+        };
+        let poses = arrays::stack::<3>("poses", poses, each)?;
         if let Some(k) = poses.iter().position(|p| p.len() != self.source_vertices) {
             return Err(bad(
                 "poses",
@@ -295,10 +324,9 @@ impl PyTransfer {
         }
         let total = poses.len();
         let done = std::sync::atomic::AtomicUsize::new(0);
-        let progress = Progress::new(progress);
         let results = arrays::frames_in_place(
             py,
-            (total, self.target_vertices()),
+            ("poses", total, self.target_vertices()),
             out,
             || self.inner.workspace(),
             |ws, ks, outs| {

@@ -1,12 +1,11 @@
 """The Python package against the library (through the command line's
 outputs, written with every digit), on procedural meshes and on the shared
-pairs; every accepted dtype, every refusal naming its argument; the GIL
-released; no memory growth over many calls."""
+pairs; every accepted dtype, every refusal naming its argument; no memory growth
+over many calls (the GIL released: test_hostile.py; the time two threads
+take: bench/threads.py)."""
 
 import os
 import subprocess
-import threading
-import time
 from pathlib import Path
 
 import numpy as np
@@ -312,37 +311,6 @@ def test_a_trimesh_round_trip(tmp_path):
 
 
 # ---------------------------------------------------------------- threads and memory
-
-def test_two_threads_each_transferring_finish_in_about_the_time_of_one():
-    if (os.cpu_count() or 1) < 2:
-        pytest.skip("needs two cores")
-    vs, fs = sheet(90)
-    vt, ft = sheet(110, 1.5)
-    corner = lambda n: [0, n, n * (n + 1), (n + 1) ** 2 - 1]
-    c = meshmorph.correspond(vs, fs, vt, ft, np.array(list(zip(corner(90), corner(110)))))
-    t = meshmorph.Transfer(vs, fs, vt, ft, c)
-    pose = bent(vs, 1.0)
-    work = lambda: [t.apply(pose) for _ in range(24)]
-
-    def one():
-        begin = time.perf_counter()
-        work()
-        return time.perf_counter() - begin
-
-    def two():
-        threads = [threading.Thread(target=work) for _ in range(2)]
-        begin = time.perf_counter()
-        for th in threads:
-            th.start()
-        for th in threads:
-            th.join()
-        return time.perf_counter() - begin
-
-    work()
-    ratio = min(two() for _ in range(3)) / min(one() for _ in range(3))
-    # Holding the GIL would make it 2.
-    assert ratio < 1.6, ratio
-
 
 def rss():
     with open("/proc/self/statm") as f:
