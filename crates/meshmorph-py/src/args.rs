@@ -130,41 +130,8 @@ pub fn optional_path(arg: &str, v: Option<&Bound<'_, PyAny>>) -> PyResult<Option
 /// replaced by a regular file, or wait for a reader.
 pub fn output_path(arg: &str, v: &Bound<'_, PyAny>) -> PyResult<PathBuf> {
     let path = path(arg, v)?;
-    if let Ok(meta) = std::fs::metadata(&path) {
-        if !meta.is_file() {
-            return Err(bad(
-                arg,
-                format!(
-                    "{} is {}, not a regular file: meshmorph writes only regular files (writing would replace it); choose another path",
-                    path.display(),
-                    kind(&meta.file_type())
-                ),
-            ));
-        }
-    }
+    meshmorph::io::refuse_unless_replaceable(&path).map_err(|e| bad(arg, e))?;
     Ok(path)
-}
-
-/// What a file that is not a regular file is, for messages.
-fn kind(t: &std::fs::FileType) -> &'static str {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if t.is_char_device() {
-            return "a character device";
-        } else if t.is_block_device() {
-            return "a block device";
-        } else if t.is_fifo() {
-            return "a FIFO (named pipe)";
-        } else if t.is_socket() {
-            return "a socket";
-        }
-    }
-    if t.is_dir() {
-        "a folder"
-    } else {
-        "something else"
-    }
 }
 
 /// A callable `progress(done, total)`, or None.

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use meshmorph::io::MeshFile;
-use meshmorph::{Markers, SurfacePoint, VertexNumbering};
+use meshmorph::{MarkerSide, Markers, SurfacePoint, VertexNumbering};
 use numpy::PyArray1;
 use numpy::PyArrayMethods;
 use pyo3::prelude::*;
@@ -110,90 +110,18 @@ pub struct PyMarkers {
     pub markers: Markers,
 }
 
-/// One side of a marker as [`Markers::write`] writes it: a vertex, a
-/// triangle's point, or a position not yet put on the surface.
-enum Side {
-    On(SurfacePoint),
-    At([f64; 3]),
-}
-
-/// Every marker, in the order given, with its name: read back from
-/// [`Markers::write`], the one account of all of them (those given as
-/// positions, waiting for `correspond` to put them on the surfaces,
-/// included), written so that it reads back the same.
-fn entries(markers: &Markers) -> PyResult<Vec<(Option<String>, [Side; 2])>> {
-    let mut text = Vec::new();
-    markers.write(&mut text).map_err(|e| bad("markers", e))?;
-    let broken = || bad("markers", "their description could not be read back");
-    let text = String::from_utf8(text).map_err(|_| broken())?;
-    let mut out = Vec::with_capacity(markers.len());
-    for line in text
-        .lines()
-        .filter(|l| !l.starts_with('#') && !l.is_empty())
-    {
-        let (name, rest) = match line.strip_prefix('"') {
-            Some(quoted) => {
-                let (name, rest) = unquote(quoted).ok_or_else(broken)?;
-                (Some(name), rest)
-            }
-            None => (None, line),
-        };
-        let mut words = rest.split_whitespace();
-        let sides = [
-            side(&mut words).ok_or_else(broken)?,
-            side(&mut words).ok_or_else(broken)?,
-        ];
-        out.push((name, sides));
-    }
-    Ok(out)
-}
-
-/// The side that `words` begin with: `v I`, `t T b0 b1 b2` or `p x y z`.
-fn side<'a>(words: &mut impl Iterator<Item = &'a str>) -> Option<Side> {
-    let kind = words.next()?;
-    let mut number = || words.next()?.parse::<f64>().ok();
-    Some(match kind {
-        "v" => Side::On(SurfacePoint::Vertex(number()? as u32)),
-        "t" => Side::On(SurfacePoint::Triangle {
-            triangle: number()? as u32,
-            barycentric: [number()?, number()?, number()?],
-        }),
-        "p" => Side::At([number()?, number()?, number()?]),
-        _ => return None,
-    })
-}
-
-/// The name at the start of `s` (after its opening quote), unescaped, and
-/// what follows its closing quote.
-fn unquote(s: &str) -> Option<(String, &str)> {
-    let mut name = String::new();
-    let mut chars = s.char_indices();
-    while let Some((i, c)) = chars.next() {
-        match c {
-            '"' => return Some((name, &s[i + 1..])),
-            '\\' => name.push(match chars.next()?.1 {
-                'n' => '\n',
-                'r' => '\r',
-                c => c,
-            }),
-            c => name.push(c),
-        }
-    }
-    None
-}
-
-fn point(py: Python<'_>, p: &Side) -> PyResult<Py<PyAny>> {
+fn point(py: Python<'_>, p: &MarkerSide) -> PyResult<Py<PyAny>> {
     let d = PyDict::new(py);
     match *p {
-        Side::On(SurfacePoint::Vertex(v)) => d.set_item("vertex", v)?,
-        Side::On(SurfacePoint::Triangle {
+        MarkerSide::On(SurfacePoint::Vertex(v)) => d.set_item("vertex", v)?,
+        MarkerSide::On(SurfacePoint::Triangle {
             triangle,
             barycentric,
         }) => {
             d.set_item("triangle", triangle)?;
             d.set_item("barycentric", barycentric.to_vec())?;
         }
-        Side::At(position) => d.set_item("position", position.to_vec())?,
+        MarkerSide::At(position) => d.set_item("position", position.to_vec())?,
     }
     Ok(d.into_any().unbind())
 }
@@ -210,7 +138,9 @@ impl PyMarkers {
     /// the surface, the nearest point of it, by `correspond`).
     #[getter]
     fn pairs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        let items = entries(&self.markers)?
+        let items = self
+            .markers
+            .entries()
             .iter()
             .map(|(_, [s, t])| Ok((point(py, s)?, point(py, t)?)))
             .collect::<PyResult<Vec<_>>>()?;
@@ -219,11 +149,12 @@ impl PyMarkers {
 
     /// Each pair's name, or None.
     #[getter]
-    fn names(&self) -> PyResult<Vec<Option<String>>> {
-        Ok(entries(&self.markers)?
+    fn names(&self) -> Vec<Option<String>> {
+        self.markers
+            .entries()
             .into_iter()
-            .map(|(name, _)| name)
-            .collect())
+            .map(|(name, _)| name.map(str::to_string))
+            .collect()
     }
 
     /// Markers from positions: row `k` of `source` `(k, 3)` paired with

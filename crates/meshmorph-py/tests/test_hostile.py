@@ -313,7 +313,7 @@ def test_writing_over_what_is_not_a_regular_file_is_refused_naming_the_path(tmp_
             with pytest.raises(meshmorph.MeshmorphError) as caught:
                 write(path)
             message = str(caught.value)
-            assert message.startswith(f"path: {path} is ") and "not a regular file" in message, (what, name, message)
+            assert message.startswith(f"path: `{path}`: ") and "not a regular file" in message, (what, name, message)
             assert kind(os.stat(path).st_mode), (what, name)
     # A link to a regular file is written through.
     os.symlink(tmp_path / "out.obj", tmp_path / "to-out.obj")

@@ -110,7 +110,7 @@ pub use transfer::correspondence::Correspondence;
 pub use transfer::fit_report::{
     FitReport, PoorRegion, FIT_DISTANCE_LIMIT, MIN_POOR_REGION, NEAREST_MARKERS,
 };
-pub use transfer::markers::{Markers, Snap, VertexNumbering, SNAP_LIMIT};
+pub use transfer::markers::{Markers, Side as MarkerSide, Snap, VertexNumbering, SNAP_LIMIT};
 pub use transfer::matching::{
     correspond, correspond_with_progress, CorrespondOptions, CorrespondResult, MIN_MARKERS,
 };

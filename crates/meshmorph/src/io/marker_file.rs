@@ -144,25 +144,33 @@ impl Markers {
     /// What `w` returns.
     pub fn write(&self, w: &mut dyn Write) -> std::io::Result<()> {
         writeln!(w, "{HEADER}")?;
-        let mut located = 0..self.pairs.len();
-        let mut pending = self.points.iter().peekable();
-        for order in 0..self.len() {
-            let (sides, name) = match pending.peek() {
-                Some(p) if p.order == order => {
-                    let p = pending.next().expect("peeked");
-                    (p.sides, p.name.as_deref())
-                }
-                _ => {
-                    let k = located.next().expect("counted");
-                    (self.pairs[k].map(Side::On), self.names[k].as_deref())
-                }
-            };
+        for (name, sides) in self.entries() {
             if let Some(name) = name {
                 write!(w, "{} ", quoted(name))?;
             }
             writeln!(w, "{} {}", side_text(&sides[0]), side_text(&sides[1]))?;
         }
         Ok(())
+    }
+
+    /// Every marker in the order given, with its name and its two sides
+    /// (source, target) as given: points of the surfaces, and positions
+    /// not yet snapped onto them.
+    pub fn entries(&self) -> Vec<(Option<&str>, [Side; 2])> {
+        let mut located = 0..self.pairs.len();
+        let mut pending = self.points.iter().peekable();
+        (0..self.len())
+            .map(|order| match pending.peek() {
+                Some(p) if p.order == order => {
+                    let p = pending.next().expect("peeked");
+                    (p.name.as_deref(), p.sides)
+                }
+                _ => {
+                    let k = located.next().expect("counted");
+                    (self.names[k].as_deref(), self.pairs[k].map(Side::On))
+                }
+            })
+            .collect()
     }
 
     /// [`Markers::write`] into the file `path`, atomically.

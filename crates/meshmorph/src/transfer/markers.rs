@@ -25,11 +25,13 @@ pub enum VertexNumbering {
     FromOne,
 }
 
-/// One side of a marker as given: a point of the surface, or a position in
-/// space to be snapped onto it.
+/// One side of a marker as given ([`Markers::entries`]): a point of the
+/// surface, or a position in space to be snapped onto it ([`Markers::snap`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Side {
+pub enum Side {
+    /// A point of the surface: a vertex, or a triangle's point.
     On(SurfacePoint),
+    /// A position in space, not yet put on the surface.
     At([f64; 3]),
 }
 
