@@ -32,7 +32,7 @@
 use std::collections::VecDeque;
 use std::io::{Read, Write};
 use std::net::{Ipv4Addr, Ipv6Addr, Shutdown, SocketAddr, TcpListener, TcpStream};
-use std::sync::{Arc, Condvar, Mutex};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
@@ -196,27 +196,41 @@ impl Door {
         }
         Served {
             count: shared.served.clone(),
+            pending: shared.pending.clone(),
             longest: self.limits.body,
         }
     }
 }
 
-/// The connections that have shown the token, being read or answered.
+/// How long the end of a session waits for connections that arrived but
+/// have not yet shown the token (they are answered too, if they do).
+const GRACE: Duration = Duration::from_secs(1);
+
+/// The connections being read or answered, for the end of a session.
 pub struct Served {
     count: Arc<Count>,
+    pending: Arc<Pending>,
     longest: Duration,
 }
 
 impl Served {
-    /// Waits until no request that has shown the token is being read or
+    /// Waits until every request that has shown the token has been
     /// answered (a save whose body was still arriving when "done" was
-    /// answered is answered too), at most a body's deadline.
+    /// answered is answered too: refused, the session having ended), at
+    /// most a body's deadline, and, for at most [`GRACE`], until the
+    /// connections already accepted have shown theirs or gone.
     pub fn settle(&self) {
-        let n = self.count.n.lock().unwrap_or_else(|e| e.into_inner());
-        let _ = self
-            .count
-            .zero
-            .wait_timeout_while(n, self.longest, |n| *n > 0);
+        let begin = Instant::now();
+        loop {
+            let served = *self.count.n.lock().unwrap_or_else(|e| e.into_inner());
+            let waited = begin.elapsed();
+            if (served == 0 && (self.pending.is_empty() || waited >= GRACE))
+                || waited >= self.longest
+            {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
     }
 }
 
@@ -235,11 +249,10 @@ struct Checks {
     token: String,
 }
 
-/// A count of connections, and a signal when it falls to zero.
+/// A count of connections.
 #[derive(Default)]
 struct Count {
     n: Mutex<usize>,
-    zero: Condvar,
 }
 
 /// One of the served connections, given back when dropped (also when a
@@ -259,11 +272,7 @@ impl Count {
 
 impl Drop for Slot {
     fn drop(&mut self) {
-        let mut n = self.0.n.lock().unwrap_or_else(|e| e.into_inner());
-        *n -= 1;
-        if *n == 0 {
-            self.0.zero.notify_all();
-        }
+        *self.0.n.lock().unwrap_or_else(|e| e.into_inner()) -= 1;
     }
 }
 
@@ -281,6 +290,11 @@ struct Ticket {
 }
 
 impl Pending {
+    fn is_empty(&self) -> bool {
+        let list = self.list.lock().unwrap_or_else(|e| e.into_inner());
+        list.1.is_empty()
+    }
+
     /// Adds `stream` (closing the oldest pending connection when `cap` are
     /// held); `None` when it cannot be held at all.
     fn admit(self: &Arc<Self>, stream: &TcpStream, cap: usize) -> Option<Ticket> {

@@ -268,8 +268,12 @@ fn done_during_a_large_save_leaves_the_output_whole_or_absent_and_answers_the_sa
     for delay_ms in [0, 2, 5, 20, 60] {
         let dir = TempDir::new().unwrap();
         let mut pick = Pick::start(dir.path(), &[]);
+        // The save under way: connected and its first bytes sent, the rest
+        // of its body still coming when "done" is sent.
+        let (started, go) = std::sync::mpsc::channel();
         let (save, done) = std::thread::scope(|s| {
-            let save = s.spawn(|| pick.page("POST", "/api/save", &body));
+            let save = s.spawn(|| pick.page_in_parts("POST", "/api/save", &body, started));
+            go.recv().unwrap();
             std::thread::sleep(std::time::Duration::from_millis(delay_ms));
             let done = s.spawn(|| pick.page("POST", "/api/done", "{}"));
             (save.join().unwrap(), done.join().unwrap())

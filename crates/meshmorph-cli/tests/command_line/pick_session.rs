@@ -101,6 +101,11 @@ impl Pick {
             .set_read_timeout(Some(Duration::from_secs(60)))
             .unwrap();
         let _ = stream.write_all(raw);
+        Self::answer(stream)
+    }
+
+    /// The status and body of the response on `stream`.
+    fn answer(mut stream: TcpStream) -> (u16, String) {
         let mut answer = Vec::new();
         let _ = stream.read_to_end(&mut answer);
         let text = String::from_utf8_lossy(&answer).into_owned();
@@ -118,15 +123,43 @@ impl Pick {
 
     /// A request from the page itself: the right Host, Origin and token.
     pub fn page(&self, method: &str, path: &str, body: &str) -> (u16, String) {
+        self.send(self.request(method, path, body).as_bytes())
+    }
+
+    /// The whole of a request from the page.
+    fn request(&self, method: &str, path: &str, body: &str) -> String {
         let host = format!("127.0.0.1:{}", self.port);
-        self.send(
-            format!(
-                "{method} /{}{path} HTTP/1.1\r\nHost: {host}\r\nOrigin: http://{host}\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
-                self.token,
-                body.len()
-            )
-            .as_bytes(),
+        format!(
+            "{method} /{}{path} HTTP/1.1\r\nHost: {host}\r\nOrigin: http://{host}\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
+            self.token,
+            body.len()
         )
+    }
+
+    /// [`Pick::page`] sent in parts of 64 KiB, telling `started` once the
+    /// first part is sent.
+    pub fn page_in_parts(
+        &self,
+        method: &str,
+        path: &str,
+        body: &str,
+        started: std::sync::mpsc::Sender<()>,
+    ) -> (u16, String) {
+        let raw = self.request(method, path, body);
+        let mut stream = TcpStream::connect(("127.0.0.1", self.port)).unwrap();
+        stream
+            .set_read_timeout(Some(Duration::from_secs(60)))
+            .unwrap();
+        for (k, part) in raw.as_bytes().chunks(64 * 1024).enumerate() {
+            if stream.write_all(part).is_err() {
+                break;
+            }
+            if k == 0 {
+                let _ = started.send(());
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        Self::answer(stream)
     }
 
     /// Waits for the process to end (after "done"), at most a minute.
