@@ -158,6 +158,22 @@ pub enum Error {
     #[error("{0}")]
     PoorFit(String),
 
+    /// A drawing (a region given as an outer loop and holes) that cannot be
+    /// used: a loop with fewer than 3 distinct points, a coordinate that is
+    /// not finite, loops that cross or touch, a hole outside the outer loop.
+    #[error("{message}")]
+    InvalidDrawing {
+        /// The loop, 0-based in the order given (0 is the outer loop).
+        loop_index: usize,
+        /// What was wrong, naming the loop and its points, and what to do.
+        message: String,
+    },
+
+    /// Two drawings that cannot be made compatible as given (different
+    /// numbers of loops, anchors off the outlines or out of order).
+    #[error("{0}")]
+    IncompatibleDrawings(String),
+
     /// The linear solver could not factor its matrix (it was not positive
     /// definite: usually a sign of a disconnected or degenerate input).
     #[error("linear solver: {0}")]

@@ -37,6 +37,11 @@
 //!   Popović, SIGGRAPH 2004): a triangle correspondence from a few marker
 //!   pairs of surface points ([`Markers`], [`SurfacePoint`]), then any number of source poses carried
 //!   over to a target, one back-substitution each.
+//! - [`outline::compatible_meshes`]: two drawings (planar regions given
+//!   as loops of points, with holes) to two meshes with the same
+//!   triangles, for [`Interpolator`]: the outlines matched automatically,
+//!   the triangles from the overlay of Aronov, Seidel and Souvaine (1993),
+//!   improved by compatible flips and smoothing.
 //! - [`io`]: OBJ, OFF, PLY and STL read and written back whole
 //!   ([`io::MeshFile`]), animations and shape keys as binary glTF
 //!   ([`io::gltf`]), marker and correspondence files.
@@ -64,7 +69,8 @@
 //! before it: `linalg/` (small dense algebra: vectors, 2×2 and 3×3
 //! matrices, polar decompositions, quaternions, similarity fits), `mesh/`
 //! (the mesh and its queries: topology, seams, bounding volumes, closest
-//! points, procedural shapes), `gradient/` (the least-squares core shared
+//! points, procedural shapes), `outline/` (drawings to compatible meshes:
+//! boundary correspondence, compatible triangulation), `gradient/` (the least-squares core shared
 //! by interpolation, transfer and the correspondence: per-triangle gradient
 //! operators, area weights, pins, placement, and `solve/`, the sparse
 //! Cholesky factorization with pinned unknowns eliminated),
@@ -86,6 +92,7 @@ pub mod io;
 pub mod limits;
 mod linalg;
 mod mesh;
+pub mod outline;
 #[cfg(feature = "render")]
 pub mod render;
 mod transfer;

@@ -1,0 +1,490 @@
+//! Boundary correspondence: which point of one loop goes where on the
+//! other, and both loops given the same points in matched order.
+//!
+//! Each loop is measured by arc length as a fraction of its length and
+//! sampled evenly; a sample's signature is its turning angle at two
+//! scales, which no translation, rotation or scale changes. Dynamic time
+//! warping (Sakoe and Chiba 1978, with a band around the diagonal) aligns
+//! the two signatures for every cyclic start on the second loop, first
+//! coarsely over all starts, then finely around the best few, the start
+//! refined to a fraction of a sample by golden-section search. The warp
+//! is a monotone map between the two loops' arc-length fractions. Every
+//! point of each loop is carried to the other by it; a point that lands
+//! within 0.3 of the local spacing of a point of the other loop is merged
+//! with it (so a shape and a turned, restarted copy match point for
+//! point), and the union of the rest is the matched boundary.
+
+use super::geometry::{diagonal, dist, ArcLoop};
+use crate::error::{Error, Result};
+
+/// A point of the matched boundary: where it is on each drawing, and
+/// which given point of each it is, if any.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct MatchedPoint {
+    pub(crate) a: [f64; 2],
+    pub(crate) b: [f64; 2],
+    /// The loop point of the first drawing it is, else a point on one of
+    /// its edges.
+    pub(crate) from_a: Option<usize>,
+    /// The loop point of the second drawing it is.
+    pub(crate) from_b: Option<usize>,
+}
+
+/// A pair of points kept matched, as arc-length fractions on each loop
+/// with their positions.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct LoopAnchor {
+    pub(crate) ta: f64,
+    pub(crate) tb: f64,
+    pub(crate) a: [f64; 2],
+    pub(crate) b: [f64; 2],
+}
+
+/// A monotone map from the first loop's arc-length fraction to the
+/// second's: knots `(ta, tb)` increasing in both, spanning one turn.
+struct Warp {
+    knots: Vec<(f64, f64)>,
+}
+
+impl Warp {
+    fn eval(knots: &[(f64, f64)], t: f64, forward: bool) -> f64 {
+        let key = |k: &(f64, f64)| if forward { k.0 } else { k.1 };
+        let val = |k: &(f64, f64)| if forward { k.1 } else { k.0 };
+        let start = key(&knots[0]);
+        let t = start + (t - start).rem_euclid(1.0);
+        let i = knots
+            .partition_point(|k| key(k) <= t)
+            .saturating_sub(1)
+            .min(knots.len() - 2);
+        let (k0, k1) = (&knots[i], &knots[i + 1]);
+        let span = key(k1) - key(k0);
+        let f = if span > 0.0 {
+            (t - key(k0)) / span
+        } else {
+            0.0
+        };
+        (val(k0) + f * (val(k1) - val(k0))).rem_euclid(1.0)
+    }
+    fn forward(&self, ta: f64) -> f64 {
+        Self::eval(&self.knots, ta, true)
+    }
+    fn inverse(&self, tb: f64) -> f64 {
+        Self::eval(&self.knots, tb, false)
+    }
+}
+
+/// Turning angles of `n` samples of `arc` from fraction `start` on, at
+/// scales of 1 and 4 samples.
+fn signature(arc: &ArcLoop, start: f64, n: usize) -> Vec<[f64; 2]> {
+    let pts: Vec<[f64; 2]> = (0..n)
+        .map(|k| arc.at(start + k as f64 / n as f64))
+        .collect();
+    let turn = |k: usize, h: usize| {
+        let (p, q, r) = (pts[(k + n - h) % n], pts[k], pts[(k + h) % n]);
+        let (u, v) = ([q[0] - p[0], q[1] - p[1]], [r[0] - q[0], r[1] - q[1]]);
+        (u[0] * v[1] - u[1] * v[0]).atan2(u[0] * v[0] + u[1] * v[1])
+    };
+    (0..n).map(|k| [turn(k, 1), 0.5 * turn(k, 4)]).collect()
+}
+
+/// Dynamic time warping of two equally long signatures within a band of
+/// half-width `band`; a step off the diagonal costs `skip` more. Returns
+/// the cost and, when asked, for each row the middle of the columns the
+/// path visits.
+fn warp(fa: &[[f64; 2]], fb: &[[f64; 2]], band: usize, skip: f64, path: bool) -> (f64, Vec<f64>) {
+    let n = fa.len();
+    let width = 2 * band + 1;
+    let mut cost = vec![f64::INFINITY; n * width];
+    // Cell (i, j) is stored at i * width + (j + band - i).
+    let at = |i: usize, j: usize| i * width + (j + band - i);
+    let inb = |i: usize, j: usize| j + band >= i && j <= i + band;
+    for i in 0..n {
+        let lo = i.saturating_sub(band);
+        let hi = (i + band).min(n - 1);
+        for j in lo..=hi {
+            let d0 = fa[i][0] - fb[j][0];
+            let d1 = fa[i][1] - fb[j][1];
+            let c = d0 * d0 + d1 * d1;
+            let best = if i == 0 && j == 0 {
+                0.0
+            } else {
+                let mut b = f64::INFINITY;
+                if i > 0 && j > 0 && inb(i - 1, j - 1) {
+                    b = b.min(cost[at(i - 1, j - 1)]);
+                }
+                if i > 0 && inb(i - 1, j) {
+                    b = b.min(cost[at(i - 1, j)] + skip);
+                }
+                if j > lo {
+                    b = b.min(cost[at(i, j - 1)] + skip);
+                }
+                b
+            };
+            cost[at(i, j)] = best + c;
+        }
+    }
+    let total = cost[at(n - 1, n - 1)];
+    if !path {
+        return (total, Vec::new());
+    }
+    let mut lo = vec![usize::MAX; n];
+    let mut hi = vec![0usize; n];
+    let (mut i, mut j) = (n - 1, n - 1);
+    loop {
+        lo[i] = lo[i].min(j);
+        hi[i] = hi[i].max(j);
+        if i == 0 && j == 0 {
+            break;
+        }
+        let diag = if i > 0 && j > 0 && inb(i - 1, j - 1) {
+            cost[at(i - 1, j - 1)]
+        } else {
+            f64::INFINITY
+        };
+        let up = if i > 0 && inb(i - 1, j) {
+            cost[at(i - 1, j)] + skip
+        } else {
+            f64::INFINITY
+        };
+        let left = if j > 0 && inb(i, j - 1) {
+            cost[at(i, j - 1)] + skip
+        } else {
+            f64::INFINITY
+        };
+        if diag <= up && diag <= left {
+            i -= 1;
+            j -= 1;
+        } else if up <= left {
+            i -= 1;
+        } else {
+            j -= 1;
+        }
+    }
+    let mid = (0..n).map(|i| 0.5 * (lo[i] + hi[i]) as f64).collect();
+    (total, mid)
+}
+
+/// The warp found by aligning the signatures over every start.
+fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize) -> Warp {
+    let coarse = 64.min(samples);
+    let fa = signature(a, 0.0, coarse);
+    let skip = 0.02;
+    let mut scored: Vec<(f64, f64)> = (0..coarse)
+        .map(|o| {
+            let start = o as f64 / coarse as f64;
+            let fb = signature(b, start, coarse);
+            (warp(&fa, &fb, coarse / 6, skip, false).0, start)
+        })
+        .collect();
+    scored.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let n = samples;
+    let band = n / 6;
+    let fa = signature(a, 0.0, n);
+    let score = |start: f64| warp(&fa, &signature(b, start, n), band, skip, false).0;
+    let mut best = (f64::INFINITY, 0.0);
+    let step = 1.0 / n as f64;
+    let reach = (n / coarse) as i64;
+    for &(_, start) in scored.iter().take(3) {
+        for d in -reach..=reach {
+            let s = start + d as f64 * step;
+            let c = score(s);
+            if c < best.0 {
+                best = (c, s);
+            }
+        }
+    }
+    // Golden-section search for the start within a sample either side.
+    let (mut lo, mut hi) = (best.1 - step, best.1 + step);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+    let (mut c1, mut c2) = (score(x1), score(x2));
+    for _ in 0..16 {
+        if c1 < c2 {
+            hi = x2;
+            x2 = x1;
+            c2 = c1;
+            x1 = hi - g * (hi - lo);
+            c1 = score(x1);
+        } else {
+            lo = x1;
+            x1 = x2;
+            c1 = c2;
+            x2 = lo + g * (hi - lo);
+            c2 = score(x2);
+        }
+    }
+    let start = if c1.min(c2) < best.0 {
+        if c1 < c2 {
+            x1
+        } else {
+            x2
+        }
+    } else {
+        best.1
+    };
+    let (_, mid) = warp(&fa, &signature(b, start, n), band, skip, true);
+    let mut knots = Vec::with_capacity(n + 1);
+    for i in 0..=n {
+        let g = match i {
+            0 => 0.0,
+            i if i == n => n as f64,
+            i => mid[i],
+        };
+        // A blend with the diagonal keeps the map strictly increasing.
+        let g = 0.8 * g + 0.2 * i as f64;
+        knots.push((i as f64 / n as f64, start + g / n as f64));
+    }
+    for k in 1..knots.len() {
+        if knots[k].1 < knots[k - 1].1 {
+            knots[k].1 = knots[k - 1].1;
+        }
+    }
+    Warp { knots }
+}
+
+/// The warp through the anchors, by arc length between them.
+fn anchored_warp(anchors: &[LoopAnchor]) -> Result<Warp> {
+    let mut sorted: Vec<LoopAnchor> = anchors.to_vec();
+    sorted.sort_by(|x, y| x.ta.total_cmp(&y.ta));
+    let (a0, b0) = (sorted[0].ta, sorted[0].tb);
+    let mut knots = Vec::with_capacity(sorted.len() + 1);
+    let mut last = b0;
+    for (k, s) in sorted.iter().enumerate() {
+        let tb = b0 + (s.tb - b0).rem_euclid(1.0);
+        if k > 0 && tb <= last {
+            return Err(Error::IncompatibleDrawings(
+                "anchors on a pair of loops come in different orders along the two outlines: \
+                 give them so that going round both loops meets them in the same order"
+                    .into(),
+            ));
+        }
+        last = tb;
+        knots.push((s.ta, tb));
+    }
+    knots.push((a0 + 1.0, b0 + 1.0));
+    Ok(Warp { knots })
+}
+
+struct Event {
+    ta: f64,
+    tb: f64,
+    a: Option<[f64; 2]>,
+    b: Option<[f64; 2]>,
+    from_a: Option<usize>,
+    from_b: Option<usize>,
+    /// Spacing of the given points about this one, as fractions.
+    gap_a: f64,
+    gap_b: f64,
+}
+
+/// Matches two loops (both in the same orientation): the same number of
+/// points on each, in matched order, with every point of each loop among
+/// them. `anchors` are kept matched exactly; with none the warp comes
+/// from the signatures' alignment at `samples` samples.
+pub(crate) fn match_loops(
+    a: &[[f64; 2]],
+    b: &[[f64; 2]],
+    anchors: &[LoopAnchor],
+    samples: usize,
+) -> Result<Vec<MatchedPoint>> {
+    let (arc_a, arc_b) = (ArcLoop::new(a), ArcLoop::new(b));
+    let map = if anchors.is_empty() {
+        aligned_warp(&arc_a, &arc_b, samples.max(16))
+    } else {
+        anchored_warp(anchors)?
+    };
+    let gaps = |arc: &ArcLoop, i: usize| {
+        let n = arc.points.len();
+        let next = arc.cumulative[i + 1] - arc.cumulative[i];
+        let prev = arc.cumulative[(i + n - 1) % n + 1] - arc.cumulative[(i + n - 1) % n];
+        next.min(prev) / arc.length()
+    };
+    let mut events: Vec<Event> = Vec::with_capacity(a.len() + b.len() + anchors.len());
+    for i in 0..a.len() {
+        let ta = arc_a.param(i);
+        events.push(Event {
+            ta,
+            tb: map.forward(ta),
+            a: Some(a[i]),
+            b: None,
+            from_a: Some(i),
+            from_b: None,
+            gap_a: gaps(&arc_a, i),
+            gap_b: f64::INFINITY,
+        });
+    }
+    for j in 0..b.len() {
+        let tb = arc_b.param(j);
+        events.push(Event {
+            ta: map.inverse(tb),
+            tb,
+            a: None,
+            b: Some(b[j]),
+            from_a: None,
+            from_b: Some(j),
+            gap_a: f64::INFINITY,
+            gap_b: gaps(&arc_b, j),
+        });
+    }
+    for s in anchors {
+        events.push(Event {
+            ta: s.ta,
+            tb: s.tb,
+            a: Some(s.a),
+            b: Some(s.b),
+            from_a: None,
+            from_b: None,
+            gap_a: f64::INFINITY,
+            gap_b: f64::INFINITY,
+        });
+    }
+    events.sort_by(|x, y| x.ta.total_cmp(&y.ta));
+    let cyc = |x: f64, y: f64| {
+        let d = (x - y).rem_euclid(1.0);
+        d.min(1.0 - d)
+    };
+    // Merge neighbours that are the same point, closest first, a few rounds.
+    for _ in 0..3 {
+        let n = events.len();
+        if n < 2 {
+            break;
+        }
+        let mut pairs: Vec<(f64, usize)> = (0..n)
+            .filter_map(|i| {
+                let (e, f) = (&events[i], &events[(i + 1) % n]);
+                let clash = (e.from_a.is_some() && f.from_a.is_some())
+                    || (e.from_b.is_some() && f.from_b.is_some())
+                    || (e.a.is_some() && f.a.is_some() && e.from_a.is_none() && f.from_a.is_none())
+                    || (e.b.is_some() && f.b.is_some() && e.from_b.is_none() && f.from_b.is_none());
+                let da = cyc(e.ta, f.ta);
+                let db = cyc(e.tb, f.tb);
+                let ok =
+                    !clash && da < 0.3 * e.gap_a.min(f.gap_a) && db < 0.3 * e.gap_b.min(f.gap_b);
+                ok.then_some((da + db, i))
+            })
+            .collect();
+        if pairs.is_empty() {
+            break;
+        }
+        pairs.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let mut taken = vec![false; n];
+        let mut remove = vec![false; n];
+        for &(_, i) in &pairs {
+            let j = (i + 1) % n;
+            if taken[i] || taken[j] {
+                continue;
+            }
+            taken[i] = true;
+            taken[j] = true;
+            let f = std::mem::replace(
+                &mut events[j],
+                Event {
+                    ta: 0.0,
+                    tb: 0.0,
+                    a: None,
+                    b: None,
+                    from_a: None,
+                    from_b: None,
+                    gap_a: 0.0,
+                    gap_b: 0.0,
+                },
+            );
+            let e = &mut events[i];
+            if f.from_a.is_some() || (e.from_a.is_none() && f.a.is_some()) {
+                e.a = f.a;
+                e.ta = f.ta;
+                e.from_a = f.from_a.or(e.from_a);
+            }
+            if f.from_b.is_some() || (e.from_b.is_none() && f.b.is_some()) {
+                e.b = f.b;
+                e.tb = f.tb;
+                e.from_b = f.from_b.or(e.from_b);
+            }
+            e.gap_a = e.gap_a.min(f.gap_a);
+            e.gap_b = e.gap_b.min(f.gap_b);
+            remove[j] = true;
+        }
+        let mut k = 0;
+        events.retain(|_| {
+            k += 1;
+            !remove[k - 1]
+        });
+    }
+    let out: Vec<MatchedPoint> = events
+        .iter()
+        .map(|e| MatchedPoint {
+            a: e.a.unwrap_or_else(|| arc_a.at(e.ta)),
+            b: e.b.unwrap_or_else(|| arc_b.at(e.tb)),
+            from_a: e.from_a,
+            from_b: e.from_b,
+        })
+        .collect();
+    let tol_a = 1e-12 * diagonal(a.iter());
+    let tol_b = 1e-12 * diagonal(b.iter());
+    let n = out.len();
+    for i in 0..n {
+        let (p, q) = (&out[i], &out[(i + 1) % n]);
+        if dist(p.a, q.a) <= tol_a || dist(p.b, q.b) <= tol_b {
+            return Err(Error::IncompatibleDrawings(format!(
+                "the outlines' correspondence put two points at one place (near {:?} on the first drawing, {:?} on the second): anchors closer than the outlines' point spacing cause this; move them apart",
+                p.a, p.b
+            )));
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn blob(n: usize, turn: f64, start: usize) -> Vec<[f64; 2]> {
+        let mut pts: Vec<[f64; 2]> = (0..n)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / n as f64;
+                let r = 1.0 + 0.3 * (3.0 * t).cos() + 0.1 * (5.0 * t).sin();
+                let (x, y) = (r * t.cos(), r * t.sin());
+                let (s, c) = turn.sin_cos();
+                [2.0 * (c * x - s * y) + 5.0, 2.0 * (s * x + c * y) - 1.0]
+            })
+            .collect();
+        pts.rotate_left(start);
+        pts
+    }
+
+    #[test]
+    fn a_turned_restarted_copy_matches_point_for_point() {
+        let a = blob(61, 0.0, 0);
+        let b = blob(61, 2.0 * std::f64::consts::PI / 3.0, 17);
+        let m = match_loops(&a, &b, &[], 256).unwrap();
+        assert_eq!(m.len(), 61);
+        for p in &m {
+            let (i, j) = (p.from_a.unwrap(), p.from_b.unwrap());
+            assert_eq!((i + 61 - 17) % 61, j, "{i} {j}");
+        }
+    }
+
+    #[test]
+    fn different_counts_keep_every_point() {
+        let a = blob(37, 0.3, 0);
+        let b = blob(211, -1.0, 50);
+        let m = match_loops(&a, &b, &[], 256).unwrap();
+        let mut seen_a: Vec<usize> = m.iter().filter_map(|p| p.from_a).collect();
+        let mut seen_b: Vec<usize> = m.iter().filter_map(|p| p.from_b).collect();
+        seen_a.sort_unstable();
+        seen_b.sort_unstable();
+        assert_eq!(seen_a, (0..37).collect::<Vec<_>>());
+        assert_eq!(seen_b, (0..211).collect::<Vec<_>>());
+        // Matched order: each side goes round once, in its own order.
+        let ia: Vec<usize> = m.iter().filter_map(|p| p.from_a).collect();
+        let descents = (0..ia.len())
+            .filter(|&k| ia[(k + 1) % ia.len()] < ia[k])
+            .count();
+        assert_eq!(descents, 1);
+        let ib: Vec<usize> = m.iter().filter_map(|p| p.from_b).collect();
+        let descents = (0..ib.len())
+            .filter(|&k| ib[(k + 1) % ib.len()] < ib[k])
+            .count();
+        assert_eq!(descents, 1);
+    }
+}

@@ -1,0 +1,159 @@
+//! Small planar predicates and measures shared by the outline wing:
+//! orientation, segment distances, polygon areas and containment, points
+//! at an arc length along a loop or a polyline.
+
+/// Twice the signed area of the triangle `a b c`: positive when the
+/// corners turn counter-clockwise.
+#[inline]
+pub(crate) fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+}
+
+#[inline]
+pub(crate) fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+#[inline]
+pub(crate) fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+#[inline]
+pub(crate) fn lerp(a: [f64; 2], b: [f64; 2], s: f64) -> [f64; 2] {
+    [a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s]
+}
+
+/// Distance from `p` to the segment `a b`.
+pub(crate) fn point_segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let d = sub(b, a);
+    let len2 = d[0] * d[0] + d[1] * d[1];
+    let s = if len2 > 0.0 {
+        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    dist(p, lerp(a, b, s))
+}
+
+/// Whether the segments `a b` and `c d` cross at a point inside both.
+pub(crate) fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+    let (o1, o2) = (orient(a, b, c), orient(a, b, d));
+    let (o3, o4) = (orient(c, d, a), orient(c, d, b));
+    ((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0))
+        && ((o3 > 0.0 && o4 < 0.0) || (o3 < 0.0 && o4 > 0.0))
+}
+
+/// Whether the segments `a b` and `c d` cross or come closer than `tol`.
+pub(crate) fn segments_meet(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2], tol: f64) -> bool {
+    segments_cross(a, b, c, d)
+        || point_segment_distance(a, c, d) <= tol
+        || point_segment_distance(b, c, d) <= tol
+        || point_segment_distance(c, a, b) <= tol
+        || point_segment_distance(d, a, b) <= tol
+}
+
+/// Twice the signed area of a closed loop (shoelace formula): positive
+/// when it turns counter-clockwise.
+pub(crate) fn signed_area2(points: &[[f64; 2]]) -> f64 {
+    let n = points.len();
+    (0..n)
+        .map(|i| {
+            let (p, q) = (points[i], points[(i + 1) % n]);
+            p[0] * q[1] - q[0] * p[1]
+        })
+        .sum()
+}
+
+/// Whether `p` lies inside the closed loop (even-odd rule).
+pub(crate) fn inside_loop(p: [f64; 2], points: &[[f64; 2]]) -> bool {
+    let n = points.len();
+    let mut inside = false;
+    for i in 0..n {
+        let (a, b) = (points[i], points[(i + 1) % n]);
+        if (a[1] > p[1]) != (b[1] > p[1]) {
+            let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+            if x > p[0] {
+                inside = !inside;
+            }
+        }
+    }
+    inside
+}
+
+/// Length of the diagonal of the bounding box of `points`.
+pub(crate) fn diagonal<'a>(points: impl IntoIterator<Item = &'a [f64; 2]>) -> f64 {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    if lo[0] > hi[0] {
+        return 0.0;
+    }
+    dist(lo, hi)
+}
+
+/// The smallest angle of the triangle `a b c`, in radians (0 for a
+/// degenerate one).
+pub(crate) fn min_angle(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    let corner = |p: [f64; 2], q: [f64; 2], r: [f64; 2]| {
+        let (u, v) = (sub(q, p), sub(r, p));
+        (u[0] * v[1] - u[1] * v[0])
+            .abs()
+            .atan2(u[0] * v[0] + u[1] * v[1])
+    };
+    corner(a, b, c).min(corner(b, c, a)).min(corner(c, a, b))
+}
+
+/// A closed loop measured by arc length: the point at any fraction of
+/// its length.
+pub(crate) struct ArcLoop<'a> {
+    pub(crate) points: &'a [[f64; 2]],
+    /// `cumulative[i]`: length from point 0 to point `i`, then the whole
+    /// length as a last entry.
+    pub(crate) cumulative: Vec<f64>,
+}
+
+impl<'a> ArcLoop<'a> {
+    pub(crate) fn new(points: &'a [[f64; 2]]) -> Self {
+        let n = points.len();
+        let mut cumulative = Vec::with_capacity(n + 1);
+        let mut total = 0.0;
+        cumulative.push(0.0);
+        for i in 0..n {
+            total += dist(points[i], points[(i + 1) % n]);
+            cumulative.push(total);
+        }
+        Self { points, cumulative }
+    }
+
+    pub(crate) fn length(&self) -> f64 {
+        self.cumulative[self.points.len()]
+    }
+
+    /// The fraction of the length at which point `i` stands, in `[0, 1)`.
+    pub(crate) fn param(&self, i: usize) -> f64 {
+        self.cumulative[i] / self.length()
+    }
+
+    /// The point at fraction `t` of the length (taken modulo 1).
+    pub(crate) fn at(&self, t: f64) -> [f64; 2] {
+        let n = self.points.len();
+        let s = t.rem_euclid(1.0) * self.length();
+        let i = match self.cumulative.partition_point(|&c| c <= s) {
+            0 => 0,
+            k => (k - 1).min(n - 1),
+        };
+        let len = self.cumulative[i + 1] - self.cumulative[i];
+        let f = if len > 0.0 {
+            ((s - self.cumulative[i]) / len).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        lerp(self.points[i], self.points[(i + 1) % n], f)
+    }
+}

@@ -1,0 +1,102 @@
+//! Which hole of the second drawing goes with which hole of the first:
+//! the second drawing is laid over the first by the least-squares
+//! similarity of their matched outer loops, and the holes are paired so
+//! that their centroids are as close as they can be (every pairing tried
+//! for up to 7 holes, the closest pairs first beyond).
+
+use super::boundary::MatchedPoint;
+use super::geometry::signed_area2;
+
+/// Area centroid of a loop.
+fn centroid(points: &[[f64; 2]]) -> [f64; 2] {
+    let n = points.len();
+    let (mut cx, mut cy) = (0.0, 0.0);
+    for i in 0..n {
+        let (p, q) = (points[i], points[(i + 1) % n]);
+        let w = p[0] * q[1] - q[0] * p[1];
+        cx += (p[0] + q[0]) * w;
+        cy += (p[1] + q[1]) * w;
+    }
+    let a = 3.0 * signed_area2(points);
+    [cx / a, cy / a]
+}
+
+/// For each hole of the first drawing (0-based among the holes), the hole
+/// of the second it pairs with.
+pub(crate) fn pair_holes(
+    holes_a: &[Vec<[f64; 2]>],
+    holes_b: &[Vec<[f64; 2]>],
+    outer: &[MatchedPoint],
+) -> Vec<usize> {
+    let h = holes_a.len();
+    if h <= 1 {
+        return (0..h).collect();
+    }
+    // Similarity z_a = s z_b + t in complex numbers, by least squares.
+    let n = outer.len() as f64;
+    let ma = outer
+        .iter()
+        .fold([0.0, 0.0], |m, p| [m[0] + p.a[0] / n, m[1] + p.a[1] / n]);
+    let mb = outer
+        .iter()
+        .fold([0.0, 0.0], |m, p| [m[0] + p.b[0] / n, m[1] + p.b[1] / n]);
+    let (mut re, mut im, mut norm) = (0.0, 0.0, 0.0);
+    for p in outer {
+        let (a, b) = (
+            [p.a[0] - ma[0], p.a[1] - ma[1]],
+            [p.b[0] - mb[0], p.b[1] - mb[1]],
+        );
+        re += b[0] * a[0] + b[1] * a[1];
+        im += b[0] * a[1] - b[1] * a[0];
+        norm += b[0] * b[0] + b[1] * b[1];
+    }
+    let (sr, si) = if norm > 0.0 {
+        (re / norm, im / norm)
+    } else {
+        (1.0, 0.0)
+    };
+    let map = |p: [f64; 2]| {
+        let d = [p[0] - mb[0], p[1] - mb[1]];
+        [sr * d[0] - si * d[1] + ma[0], si * d[0] + sr * d[1] + ma[1]]
+    };
+    let ca: Vec<[f64; 2]> = holes_a.iter().map(|l| centroid(l)).collect();
+    let cb: Vec<[f64; 2]> = holes_b.iter().map(|l| map(centroid(l))).collect();
+    let cost = |i: usize, j: usize| (ca[i][0] - cb[j][0]).hypot(ca[i][1] - cb[j][1]);
+    if h <= 7 {
+        let mut perm: Vec<usize> = (0..h).collect();
+        let mut best = (f64::INFINITY, perm.clone());
+        permutations(&mut perm, 0, &mut |p| {
+            let c: f64 = p.iter().enumerate().map(|(i, &j)| cost(i, j)).sum();
+            if c < best.0 {
+                best = (c, p.to_vec());
+            }
+        });
+        return best.1;
+    }
+    let mut pairs: Vec<(f64, usize, usize)> = (0..h)
+        .flat_map(|i| (0..h).map(move |j| (i, j)))
+        .map(|(i, j)| (cost(i, j), i, j))
+        .collect();
+    pairs.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let mut out = vec![usize::MAX; h];
+    let mut used = vec![false; h];
+    for (_, i, j) in pairs {
+        if out[i] == usize::MAX && !used[j] {
+            out[i] = j;
+            used[j] = true;
+        }
+    }
+    out
+}
+
+fn permutations(p: &mut [usize], k: usize, f: &mut impl FnMut(&[usize])) {
+    if k == p.len() {
+        f(p);
+        return;
+    }
+    for i in k..p.len() {
+        p.swap(k, i);
+        permutations(p, k + 1, f);
+        p.swap(k, i);
+    }
+}

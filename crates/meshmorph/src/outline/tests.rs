@@ -1,0 +1,429 @@
+//! Invariants of [`compatible_meshes`] over families of procedurally made
+//! pairs: star-shaped and other polygons, spirals, combs, a C and a G, a
+//! bent and a straight bar, rings and shapes with two holes, different
+//! point counts, turned, reversed and restarted copies, noise.
+
+use super::geometry::orient;
+use super::*;
+use crate::{Interpolator, InterpolatorOptions};
+use std::f64::consts::{PI, TAU};
+
+/// A small seeded generator (xorshift), uniform in [0, 1).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+type Loops = Vec<Vec<[f64; 2]>>;
+
+/// Turns, scales, moves, restarts and optionally reverses every loop,
+/// with noise of `noise` times the loop's spacing.
+fn pose(
+    loops: &Loops,
+    turn: f64,
+    scale: f64,
+    start: usize,
+    reverse: bool,
+    noise: f64,
+    seed: u64,
+) -> Loops {
+    let mut rng = Rng(seed | 1);
+    let (s, c) = turn.sin_cos();
+    loops
+        .iter()
+        .map(|l| {
+            let spacing = ArcLoop::new(l).length() / l.len() as f64;
+            let mut out: Vec<[f64; 2]> = l
+                .iter()
+                .map(|p| {
+                    let q = [
+                        p[0] + noise * spacing * (rng.next() - 0.5),
+                        p[1] + noise * spacing * (rng.next() - 0.5),
+                    ];
+                    [
+                        scale * (c * q[0] - s * q[1]) + 3.0,
+                        scale * (s * q[0] + c * q[1]) - 7.0,
+                    ]
+                })
+                .collect();
+            out.rotate_left(start % l.len());
+            if reverse {
+                out.reverse();
+            }
+            out
+        })
+        .collect()
+}
+
+/// A closed curve sampled at `n` points, `f` from [0, 1) to the plane.
+fn curve(n: usize, f: impl Fn(f64) -> [f64; 2]) -> Vec<[f64; 2]> {
+    (0..n).map(|k| f(k as f64 / n as f64)).collect()
+}
+
+fn star(n: usize, seed: u64) -> Vec<[f64; 2]> {
+    let mut rng = Rng(seed);
+    let h: Vec<(f64, f64)> = (0..5)
+        .map(|_| (rng.next() * 0.12, rng.next() * TAU))
+        .collect();
+    curve(n, |t| {
+        let a = TAU * t;
+        let r = 1.0
+            + h.iter()
+                .enumerate()
+                .map(|(k, &(m, p))| m * ((k + 2) as f64 * a + p).cos())
+                .sum::<f64>();
+        [r * a.cos(), r * a.sin()]
+    })
+}
+
+fn circle(n: usize, c: [f64; 2], r: f64) -> Vec<[f64; 2]> {
+    curve(n, |t| {
+        [c[0] + r * (TAU * t).cos(), c[1] + r * (TAU * t).sin()]
+    })
+}
+
+/// A thick band along a centre line `f` on [0, 1], `n` points round.
+fn band(n: usize, width: f64, f: impl Fn(f64) -> [f64; 2]) -> Vec<[f64; 2]> {
+    let half = n / 2;
+    let side = |t: f64, sign: f64| {
+        let (p, q) = (f((t - 1e-4).max(0.0)), f((t + 1e-4).min(1.0)));
+        let d = [q[0] - p[0], q[1] - p[1]];
+        let l = d[0].hypot(d[1]);
+        let c = f(t);
+        [
+            c[0] - sign * width * d[1] / l,
+            c[1] + sign * width * d[0] / l,
+        ]
+    };
+    let mut out: Vec<[f64; 2]> = (0..half)
+        .map(|k| side(k as f64 / (half - 1) as f64, -1.0))
+        .collect();
+    out.extend((0..n - half).map(|k| side(1.0 - k as f64 / (n - half - 1) as f64, 1.0)));
+    out
+}
+
+fn spiral(n: usize) -> Vec<[f64; 2]> {
+    band(n, 0.12, |t| {
+        let a = 0.5 + 3.2 * PI * t;
+        let r = 0.3 + 0.25 * a;
+        [r * a.cos(), r * a.sin()]
+    })
+}
+
+fn comb(teeth: usize) -> Vec<[f64; 2]> {
+    let w = (2 * teeth - 1) as f64;
+    let mut pts = vec![[0.0, 0.0], [w, 0.0]];
+    for k in (0..teeth).rev() {
+        let x = 2.0 * k as f64;
+        pts.push([x + 1.0, 3.0]);
+        pts.push([x, 3.0]);
+        if k > 0 {
+            pts.push([x, 1.0]);
+            pts.push([x - 1.0, 1.0]);
+        }
+    }
+    pts
+}
+
+/// A C (`curl` false) or a G-like curl: a thick arc whose end turns in.
+fn c_shape(n: usize, curl: bool) -> Vec<[f64; 2]> {
+    if curl {
+        band(n, 0.15, |t| {
+            let a = 0.5 + (TAU + 0.7) * t;
+            let r = 1.0 - 0.45 * t;
+            [r * a.cos(), r * a.sin()]
+        })
+    } else {
+        band(n, 0.2, |t| {
+            let a = 0.7 + (TAU - 1.4) * t;
+            [a.cos(), a.sin()]
+        })
+    }
+}
+
+fn rect(n_side: usize, w: f64, h: f64) -> Vec<[f64; 2]> {
+    let corners = [[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]];
+    let mut out = Vec::new();
+    for c in 0..4 {
+        let (p, q) = (corners[c], corners[(c + 1) % 4]);
+        for k in 0..n_side {
+            out.push(lerp(p, q, k as f64 / n_side as f64));
+        }
+    }
+    out
+}
+
+struct Outcome {
+    meshes: CompatibleMeshes,
+}
+
+/// Checks every invariant on a pair and returns what was made.
+fn check(a_loops: &Loops, b_loops: &Loops) -> Outcome {
+    let a = Drawing::new(a_loops.clone()).unwrap();
+    let b = Drawing::new(b_loops.clone()).unwrap();
+    let m = compatible_meshes(&a, &b, &[], &OutlineOptions::default()).unwrap();
+    check_meshes(a_loops, b_loops, &m);
+    Outcome { meshes: m }
+}
+
+fn check_meshes(a_loops: &Loops, b_loops: &Loops, m: &CompatibleMeshes) {
+    assert_eq!(m.a.triangles(), m.b.triangles());
+    for mesh in [&m.a, &m.b] {
+        for t in 0..mesh.num_triangles() {
+            let [x, y, z] = mesh.corners(t);
+            assert!(orient(x, y, z) > 0.0, "triangle {t} not positive");
+        }
+    }
+    // Every given point is a vertex at exactly its place.
+    for (given, loops, mesh) in [(&m.given_a, a_loops, &m.a), (&m.given_b, b_loops, &m.b)] {
+        for (l, pts) in loops.iter().enumerate() {
+            for (i, p) in pts.iter().enumerate() {
+                assert_eq!(
+                    mesh.positions()[given[l][i] as usize],
+                    *p,
+                    "loop {l} point {i}"
+                );
+            }
+        }
+    }
+    // The boundary is exactly the loops, and lies on the drawings.
+    let mut count = std::collections::HashMap::new();
+    for t in m.a.triangles() {
+        for i in 0..3 {
+            let (u, v) = (t[i], t[(i + 1) % 3]);
+            *count.entry((u.min(v), u.max(v))).or_insert(0) += 1;
+            assert!(!count.contains_key(&(u, v)) || u > v || count[&(u, v)] <= 2);
+        }
+    }
+    let mut boundary: Vec<(u32, u32)> = count
+        .iter()
+        .filter(|(_, &c)| c == 1)
+        .map(|(&e, _)| e)
+        .collect();
+    boundary.sort_unstable();
+    let mut expected: Vec<(u32, u32)> = m
+        .loops
+        .iter()
+        .flat_map(|l| {
+            (0..l.len()).map(move |i| {
+                (
+                    l[i].min(l[(i + 1) % l.len()]),
+                    l[i].max(l[(i + 1) % l.len()]),
+                )
+            })
+        })
+        .collect();
+    expected.sort_unstable();
+    assert_eq!(boundary, expected);
+    assert!(count.values().all(|&c| c <= 2));
+    for (mesh, loops) in [(&m.a, a_loops), (&m.b, b_loops)] {
+        let size = diagonal(loops.iter().flatten());
+        for &v in m.loops.iter().flatten() {
+            let p = mesh.positions()[v as usize];
+            let d = loops
+                .iter()
+                .flat_map(|l| {
+                    (0..l.len()).map(move |i| point_segment_distance(p, l[i], l[(i + 1) % l.len()]))
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                d <= 1e-12 * size,
+                "boundary vertex {v} off its drawing by {d}"
+            );
+        }
+    }
+    // The ends of the interpolation are the two meshes.
+    let morph = Interpolator::new(&m.a, &m.b, &InterpolatorOptions::default()).unwrap();
+    for (t, mesh) in [(0.0, &m.a), (1.0, &m.b)] {
+        let frame = morph.at(t);
+        let size = mesh.bounding_box_diagonal();
+        for (p, q) in frame.iter().zip(mesh.positions()) {
+            assert!(dist(*p, *q) <= 1e-9 * size, "frame at {t}: {p:?} vs {q:?}");
+        }
+    }
+}
+
+#[test]
+fn a_shape_and_its_turned_reversed_restarted_copy_match_point_for_point() {
+    for (seed, n) in [(3u64, 40usize), (11, 97), (29, 250)] {
+        let a = vec![star(n, seed)];
+        let b = pose(&a, 2.0 * PI / 3.0, 1.7, n / 3, true, 0.0, 1);
+        let out = check(&a, &b);
+        let m = &out.meshes;
+        assert_eq!(m.report.boundary_points, n, "seed {seed}: {:?}", m.report);
+        assert_eq!(m.report.steiner_points, 0);
+        // Point i of A goes to B's copy of point i.
+        for i in 0..n {
+            let j = (n - 1) - ((i + n - n / 3) % n);
+            let _ = j;
+            let v = m.given_a[0][i];
+            let (pa, pb) = (m.a.positions()[v as usize], m.b.positions()[v as usize]);
+            let back = pose(&vec![vec![pa]], 2.0 * PI / 3.0, 1.7, 0, false, 0.0, 1)[0][0];
+            assert!(dist(back, pb) < 1e-9, "seed {seed} point {i}");
+        }
+    }
+}
+
+#[test]
+fn families_of_pairs_keep_every_invariant() {
+    let pairs: Vec<(&str, Loops, Loops)> = vec![
+        (
+            "stars 37 vs 211",
+            vec![star(37, 5)],
+            pose(&vec![star(211, 8)], 0.4, 2.0, 17, false, 0.0, 2),
+        ),
+        (
+            "star vs noisy turned copy",
+            vec![star(120, 9)],
+            pose(&vec![star(120, 9)], 2.5, 0.5, 40, true, 0.3, 3),
+        ),
+        ("spiral vs star", vec![spiral(160)], vec![star(90, 4)]),
+        ("comb vs rectangle", vec![comb(5)], vec![rect(12, 9.0, 3.0)]),
+        ("C vs G", vec![c_shape(120, false)], vec![c_shape(90, true)]),
+        (
+            "bent bar vs straight bar",
+            vec![band(100, 0.05, |t| [(PI * t).cos(), (PI * t).sin()])],
+            vec![band(60, 0.05, |t| [3.0 * t, 0.0])],
+        ),
+        (
+            "ring vs ring",
+            vec![circle(80, [0.0, 0.0], 1.0), circle(40, [0.2, 0.0], 0.5)],
+            pose(
+                &vec![circle(50, [0.0, 0.0], 1.0), circle(70, [-0.1, 0.1], 0.3)],
+                2.0,
+                1.0,
+                7,
+                true,
+                0.0,
+                4,
+            ),
+        ),
+        (
+            "two holes vs two holes",
+            vec![
+                rect(10, 4.0, 2.0),
+                circle(24, [1.0, 1.0], 0.5),
+                circle(30, [3.0, 1.0], 0.4),
+            ],
+            vec![
+                star(150, 12).iter().map(|p| [2.0 * p[0], p[1]]).collect(),
+                circle(20, [-0.8, 0.0], 0.3),
+                circle(16, [0.9, 0.1], 0.35),
+            ],
+        ),
+    ];
+    for (name, a, b) in &pairs {
+        let out = check(a, b);
+        let r = &out.meshes.report;
+        eprintln!(
+            "{name}: {} boundary points, {} Steiner, {} triangles, min angle {:.2}/{:.2} deg (overlay {:.2}/{:.2}), {:.1} ms",
+            r.boundary_points,
+            r.steiner_points,
+            r.triangles,
+            r.min_angle_degrees[0],
+            r.min_angle_degrees[1],
+            r.overlay_min_angle_degrees[0],
+            r.overlay_min_angle_degrees[1],
+            r.seconds * 1e3
+        );
+    }
+}
+
+#[test]
+fn random_stars_in_every_pose() {
+    let mut rng = Rng(77);
+    for k in 0..12u64 {
+        let n = 20 + (rng.next() * 150.0) as usize;
+        let m = 20 + (rng.next() * 150.0) as usize;
+        let a = vec![star(n, 100 + k)];
+        let b = pose(
+            &vec![star(m, 200 + k)],
+            rng.next() * TAU,
+            0.1 + rng.next() * 5.0,
+            k as usize,
+            k % 2 == 0,
+            0.2,
+            k,
+        );
+        check(&a, &b);
+    }
+}
+
+#[test]
+fn loop_counts_that_differ_are_refused_naming_both() {
+    let a = Drawing::new(vec![
+        circle(20, [0.0, 0.0], 1.0),
+        circle(10, [0.0, 0.0], 0.3),
+    ])
+    .unwrap();
+    let b = Drawing::new(vec![circle(20, [0.0, 0.0], 1.0)]).unwrap();
+    let e = compatible_meshes(&a, &b, &[], &OutlineOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("2 loops (1 hole)") && e.contains("1 (no hole)"),
+        "{e}"
+    );
+}
+
+#[test]
+fn anchors_are_kept() {
+    let a = vec![star(60, 1)];
+    let b = vec![star(80, 2)];
+    let anchors = [
+        Anchor {
+            a: a[0][0],
+            b: b[0][40],
+        },
+        Anchor {
+            a: a[0][20],
+            b: b[0][60],
+        },
+        Anchor {
+            a: lerp(a[0][40], a[0][41], 0.5),
+            b: b[0][5],
+        },
+    ];
+    let (da, db) = (
+        Drawing::new(a.clone()).unwrap(),
+        Drawing::new(b.clone()).unwrap(),
+    );
+    let m = compatible_meshes(&da, &db, &anchors, &OutlineOptions::default()).unwrap();
+    check_meshes(&a, &b, &m);
+    for anchor in &anchors {
+        let found = m.loops[0].iter().any(|&v| {
+            dist(m.a.positions()[v as usize], anchor.a) < 1e-9
+                && dist(m.b.positions()[v as usize], anchor.b) < 1e-9
+        });
+        assert!(found, "anchor {anchor:?} not kept");
+    }
+    let bad = [Anchor {
+        a: [0.0, 0.0],
+        b: b[0][0],
+    }];
+    let e = compatible_meshes(&da, &db, &bad, &OutlineOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("anchor 0"), "{e}");
+    let crossed = [anchors[0], anchors[2], anchors[1]].map(|x| x);
+    let swapped = [
+        crossed[0],
+        Anchor {
+            a: crossed[1].a,
+            b: crossed[2].b,
+        },
+        Anchor {
+            a: crossed[2].a,
+            b: crossed[1].b,
+        },
+    ];
+    let e = compatible_meshes(&da, &db, &swapped, &OutlineOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("different orders"), "{e}");
+}
