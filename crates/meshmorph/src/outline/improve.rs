@@ -11,10 +11,10 @@ use super::geometry::{min_angle, orient};
 /// The two meshes being improved: shared triangles, positions in each,
 /// and which vertices are fixed (the outline points).
 pub(crate) struct Pair<'a> {
-    pub(crate) a: &'a mut [[f64; 2]],
-    pub(crate) b: &'a mut [[f64; 2]],
+    pub(crate) a: &'a mut Vec<[f64; 2]>,
+    pub(crate) b: &'a mut Vec<[f64; 2]>,
     pub(crate) triangles: &'a mut Vec<[u32; 3]>,
-    pub(crate) fixed: &'a [bool],
+    pub(crate) fixed: &'a mut Vec<bool>,
 }
 
 /// Smallest angle of triangle `t` in both meshes; `-1` when it is not
@@ -159,11 +159,96 @@ fn smooth_round(pair: &mut Pair) -> usize {
     moves
 }
 
-/// Alternates flips and smoothing for up to `rounds` rounds, stopping
-/// early when nothing changes.
-pub(crate) fn improve(pair: &mut Pair, rounds: usize) {
+/// Splits at its midpoint, in both meshes, the longest inside edge of each
+/// triangle whose smallest angle is below `target` (radians), at most
+/// one edge a triangle a round and no more than `budget` splits. A
+/// midpoint splits both triangles of its edge into two positive ones in
+/// each mesh, so the meshes stay valid; smoothing then moves the new
+/// point to where it helps. Returns how many edges were split.
+fn split_round(pair: &mut Pair, target: f64, budget: usize) -> usize {
+    let tris = &mut *pair.triangles;
+    let mut edge_of: HashMap<(u32, u32), usize> = HashMap::with_capacity(tris.len() * 3);
+    for (t, tri) in tris.iter().enumerate() {
+        for i in 0..3 {
+            edge_of.insert((tri[i], tri[(i + 1) % 3]), t);
+        }
+    }
+    let mut touched = vec![false; tris.len()];
+    let mut splits = 0;
+    let count = tris.len();
+    for t in 0..count {
+        if splits >= budget || touched[t] || quality(pair.a, pair.b, tris[t]) >= target {
+            continue;
+        }
+        let tri = tris[t];
+        let len = |u: u32, v: u32| {
+            let (a, b) = (&*pair.a, &*pair.b);
+            let d = |p: &[[f64; 2]]| {
+                let (x, y) = (p[u as usize], p[v as usize]);
+                (x[0] - y[0]).hypot(x[1] - y[1])
+            };
+            d(a).max(d(b) * 1.0)
+        };
+        let mut best: Option<(f64, u32, u32, usize)> = None;
+        for i in 0..3 {
+            let (u, v) = (tri[i], tri[(i + 1) % 3]);
+            if let Some(&s) = edge_of.get(&(v, u)) {
+                if !touched[s] {
+                    let l = len(u, v);
+                    if best.is_none_or(|b| l > b.0) {
+                        best = Some((l, u, v, s));
+                    }
+                }
+            }
+        }
+        let Some((_, u, v, s)) = best else { continue };
+        let x = tri.into_iter().find(|&w| w != u && w != v).unwrap_or(u);
+        let y = tris[s].into_iter().find(|&w| w != u && w != v).unwrap_or(u);
+        let w = pair.a.len() as u32;
+        let mid = |p: &[[f64; 2]]| {
+            let (m, n) = (p[u as usize], p[v as usize]);
+            [(m[0] + n[0]) * 0.5, (m[1] + n[1]) * 0.5]
+        };
+        let (ma, mb) = (mid(pair.a), mid(pair.b));
+        pair.a.push(ma);
+        pair.b.push(mb);
+        pair.fixed.push(false);
+        tris[t] = [u, w, x];
+        tris[s] = [v, w, y];
+        tris.push([w, v, x]);
+        tris.push([w, u, y]);
+        touched[t] = true;
+        touched[s] = true;
+        splits += 1;
+    }
+    splits
+}
+
+/// Alternates splits of poor triangles' edges, flips and smoothing for up
+/// to `rounds` rounds, stopping early when nothing changes. Splits stop
+/// once `extra` vertices have been added. When the smallest angle comes
+/// out lower than it went in, the meshes are put back as they were.
+pub(crate) fn improve(pair: &mut Pair, rounds: usize, target: f64, extra: usize) {
+    let before = smallest_angles(pair);
+    let saved = (
+        pair.a.clone(),
+        pair.b.clone(),
+        pair.triangles.clone(),
+        pair.fixed.clone(),
+    );
+    improve_rounds(pair, rounds, target, extra);
+    let after = smallest_angles(pair);
+    if after[0].min(after[1]) < before[0].min(before[1]) {
+        (*pair.a, *pair.b, *pair.triangles, *pair.fixed) = saved;
+    }
+}
+
+fn improve_rounds(pair: &mut Pair, rounds: usize, target: f64, extra: usize) {
+    let limit = pair.a.len() + extra;
     for _ in 0..rounds {
         let mut changed = 0;
+        let budget = limit.saturating_sub(pair.a.len());
+        changed += split_round(pair, target, budget);
         for _ in 0..8 {
             let f = flip_round(pair);
             changed += f;

@@ -67,6 +67,10 @@ pub struct OutlineOptions {
     /// Rounds of compatible flips and smoothing after the overlay (0: the
     /// overlay as it is). Default 12.
     pub improvement_rounds: usize,
+    /// Triangles whose smallest angle (in either mesh) is below this many
+    /// degrees have their longest inside edge split during the
+    /// improvement. Default 20.
+    pub target_angle_degrees: f64,
 }
 
 impl Default for OutlineOptions {
@@ -74,6 +78,7 @@ impl Default for OutlineOptions {
         Self {
             samples: 256,
             improvement_rounds: 12,
+            target_angle_degrees: 20.0,
         }
     }
 }
@@ -97,6 +102,25 @@ pub struct OutlineReport {
     pub overlay_min_angle_degrees: [f64; 2],
     /// Wall-clock seconds for the whole call.
     pub seconds: f64,
+}
+
+impl std::fmt::Display for OutlineReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} + {} points, {} on the matched boundary, {} Steiner, {} triangles; smallest angle {:.2}/{:.2} degrees (overlay {:.2}/{:.2}); {:.1} ms",
+            self.drawing_points[0],
+            self.drawing_points[1],
+            self.boundary_points,
+            self.steiner_points,
+            self.triangles,
+            self.min_angle_degrees[0],
+            self.min_angle_degrees[1],
+            self.overlay_min_angle_degrees[0],
+            self.overlay_min_angle_degrees[1],
+            self.seconds * 1e3
+        )
+    }
 }
 
 /// Two meshes with the same triangles, one inside each drawing.
@@ -278,15 +302,20 @@ pub fn compatible_meshes(
         .iter()
         .map(|t| t.map(|v| vertex_of[v as usize]))
         .collect();
-    let fixed: Vec<bool> = (0..pos_a.len()).map(|v| v < num_points).collect();
+    let mut fixed: Vec<bool> = (0..pos_a.len()).map(|v| v < num_points).collect();
     let mut pair = improve::Pair {
         a: &mut pos_a,
         b: &mut pos_b,
         triangles: &mut triangles,
-        fixed: &fixed,
+        fixed: &mut fixed,
     };
     let overlay_angles = improve::smallest_angles(&pair);
-    improve::improve(&mut pair, options.improvement_rounds);
+    improve::improve(
+        &mut pair,
+        options.improvement_rounds,
+        options.target_angle_degrees.to_radians(),
+        2 * num_points,
+    );
     let angles = improve::smallest_angles(&pair);
     let mut loops = Vec::with_capacity(matched.len());
     let mut first = 0u32;

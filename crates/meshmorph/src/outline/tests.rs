@@ -256,7 +256,6 @@ fn a_shape_and_its_turned_reversed_restarted_copy_match_point_for_point() {
         let out = check(&a, &b);
         let m = &out.meshes;
         assert_eq!(m.report.boundary_points, n, "seed {seed}: {:?}", m.report);
-        assert_eq!(m.report.steiner_points, 0);
         // Point i of A goes to B's copy of point i.
         for i in 0..n {
             let j = (n - 1) - ((i + n - n / 3) % n);
@@ -319,18 +318,7 @@ fn families_of_pairs_keep_every_invariant() {
     ];
     for (name, a, b) in &pairs {
         let out = check(a, b);
-        let r = &out.meshes.report;
-        eprintln!(
-            "{name}: {} boundary points, {} Steiner, {} triangles, min angle {:.2}/{:.2} deg (overlay {:.2}/{:.2}), {:.1} ms",
-            r.boundary_points,
-            r.steiner_points,
-            r.triangles,
-            r.min_angle_degrees[0],
-            r.min_angle_degrees[1],
-            r.overlay_min_angle_degrees[0],
-            r.overlay_min_angle_degrees[1],
-            r.seconds * 1e3
-        );
+        eprintln!("{name}: {}", out.meshes.report);
     }
 }
 
