@@ -14,6 +14,16 @@ macro_rules! say {
     };
 }
 
+/// `eprintln!` that never panics: with stderr closed (`2>&1 | head -1`)
+/// the message is lost, and the run (or the thread saying it, such as the
+/// one that stops the run on Ctrl-C) goes on.
+macro_rules! tell {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 mod allocator;
 mod animation;
 mod blend;
@@ -124,7 +134,7 @@ fn main() -> ExitCode {
     let status = match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            tell!("error: {e:#}");
             if json {
                 output::print_json_error(&format!("{e:#}"), 1);
             }
@@ -134,7 +144,7 @@ fn main() -> ExitCode {
     // The run succeeded and its outputs are in place; only its report (or
     // the printed page) did not get through.
     if let Err(e) = output::finish_stdout() {
-        eprintln!("error: printing on stdout failed ({e}); every file the run writes was written");
+        tell!("error: printing on stdout failed ({e}); every file the run writes was written");
         return ExitCode::FAILURE;
     }
     status

@@ -516,7 +516,7 @@ pub fn print_json(report: &impl serde::Serialize) {
         Ok(line) => print_line(format_args!("{line}")),
         // Reports hold numbers, strings and paths written lossily
         // ([`lossy`]): nothing in them fails to serialise.
-        Err(e) => eprintln!("error: the report cannot be written as JSON: {e}"),
+        Err(e) => tell!("error: the report cannot be written as JSON: {e}"),
     }
 }
 
@@ -614,7 +614,7 @@ pub fn gif_rate_warning(gif: bool, fps: f64) -> Option<String> {
 /// Prints each warning on stderr.
 pub fn print_warnings(warnings: &[String]) {
     for w in warnings {
-        eprintln!("warning: {w}");
+        tell!("warning: {w}");
     }
 }
 

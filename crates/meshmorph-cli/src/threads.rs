@@ -23,7 +23,7 @@ pub fn start_pool() {
             .use_current_thread()
     };
     if let Err(e) = builder.build_global() {
-        eprintln!("warning: cannot start the thread pool ({e})");
+        tell!("warning: cannot start the thread pool ({e})");
     }
 }
 

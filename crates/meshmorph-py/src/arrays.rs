@@ -408,6 +408,13 @@ pub fn items<T>(
     need_each::<T>(arg, n, each)?;
     let mut out = room(arg, "items", n)?;
     for (k, x) in a.try_iter().map_err(|_| wrong())?.enumerate() {
+        // The memory was checked for `len()` items: no more are taken.
+        if k == n {
+            return Err(bad(
+                arg,
+                format!("its len() says {n} items, but iterating it gives more"),
+            ));
+        }
         out.push(item(&format!("{arg}[{k}]"), &x?)?);
     }
     Ok(out)

@@ -100,8 +100,12 @@ fn write_mesh(
     if same {
         return Err(bad("path", format!("{} is the file the mesh was read from: meshmorph never writes over its inputs; choose another path", path.display())));
     }
-    let format = meshmorph::io::Format::from_path(&path).map_err(error)?;
-    work::run(py, || mesh.file.write(&path, &positions, format))?.map_err(error)
+    let format = meshmorph::io::Format::from_path(&path).map_err(|e| bad("path", e))?;
+    work::run(py, || mesh.file.write(&path, &positions, format))?.map_err(|e| match e {
+        // What the system says of the path (a missing folder, no room).
+        meshmorph::Error::Io { .. } => bad("path", e),
+        e => error(e),
+    })
 }
 
 /// Marker pairs on two surfaces, with names.

@@ -85,6 +85,29 @@ def test_a_sequence_that_claims_a_huge_length_is_refused(small):
         meshmorph.Markers.from_points(v[:1], v[:1], names=Claims())
 
 
+def test_a_sequence_that_understates_its_length_is_refused(small):
+    """Sized by len(), then iterated: the items past it are not taken (an
+    endless iterator behind a small len() once grew until memory ran out)."""
+    v, f, i = small
+
+    class Understates:
+        def __len__(self):
+            return 1
+
+        def __getitem__(self, k):  # endless, as iter() uses it
+            return 0.5
+
+    with pytest.raises(meshmorph.MeshmorphError, match="^ts: its len\\(\\) says 1 items, but iterating it gives more"):
+        i.frames(Understates())
+
+    class Names(Understates):
+        def __getitem__(self, k):
+            return "n"
+
+    with pytest.raises(meshmorph.MeshmorphError, match="^names: its len"):
+        meshmorph.Markers.from_points(v[:1], v[:1], names=Names())
+
+
 # ---------------------------------------------------------------- Ctrl-C
 
 def test_ctrl_c_stops_a_long_frames_call_between_frames():

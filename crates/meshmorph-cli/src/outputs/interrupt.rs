@@ -55,7 +55,7 @@ pub fn install() {
         // Without a handler (it cannot be installed) the default action
         // still stops the run; staged files would then remain, so say so.
         if let Err(e) = listen() {
-            eprintln!("warning: cannot catch Ctrl-C ({e}): an interrupted run may leave its hidden unfinished files behind, which the next run into the folder removes");
+            tell!("warning: cannot catch Ctrl-C ({e}): an interrupted run may leave its hidden unfinished files behind, which the next run into the folder removes");
         }
     });
 }
@@ -131,7 +131,7 @@ fn undo(pending: Option<Cleanup>) -> &'static str {
 
 /// Says `message` (also as JSON with `--json`) and exits with `status`.
 fn stop(message: &str, status: i32) -> ! {
-    eprintln!("{message}");
+    tell!("{message}");
     if AS_JSON.load(Ordering::SeqCst) {
         crate::output::print_json_error(message, status);
     }

@@ -132,16 +132,24 @@ pub fn check_runs(
             )
         })
         .collect();
-    // The same run twice: the same files read and written.
-    let mut seen: HashMap<(Vec<PathBuf>, Vec<PathBuf>), usize> = HashMap::new();
+    // The same run twice: the same files read and written, each in the
+    // same role and place (a source and a target swapped are two runs).
+    type Signature = Vec<(String, PathBuf)>;
+    let mut seen: HashMap<(Signature, Signature), usize> = HashMap::new();
     let mut repeats = HashSet::new();
-    for (k, (inputs, outputs)) in resolved.iter().enumerate() {
-        let sorted = |files: &[Resolved]| {
-            let mut paths: Vec<PathBuf> = files.iter().map(|f| f.path.clone()).collect();
-            paths.sort();
-            paths
+    for (k, ((_, plan), (inputs, outputs))) in runs.iter().zip(&resolved).enumerate() {
+        let signature = |named: &[Named], files: &[Resolved]| -> Signature {
+            named
+                .iter()
+                .zip(files)
+                .map(|(n, f)| (n.role.clone(), f.path.clone()))
+                .collect()
         };
-        if seen.insert((sorted(inputs), sorted(outputs)), k).is_some() {
+        let key = (
+            signature(&plan.inputs, inputs),
+            signature(&plan.outputs, outputs),
+        );
+        if seen.insert(key, k).is_some() {
             repeats.insert(k);
         }
     }
@@ -207,6 +215,26 @@ pub fn check_runs(
             if let Some(id) = r.id {
                 written_ids.insert(id, (k, j));
             }
+        }
+    }
+    // A folder one run writes into that is a file another run writes.
+    for (k, (name, plan)) in runs.iter().enumerate() {
+        if repeats.contains(&k) {
+            continue;
+        }
+        for (out, r) in plan.outputs.iter().zip(&resolved[k].1) {
+            let Some((o, i)) = r.path.ancestors().skip(1).find_map(|a| written.get(a)) else {
+                continue;
+            };
+            let other = &runs[*o].1.outputs[*i];
+            bail!(
+                "{name}: the {} `{}` would be written inside the {} `{}` of {}, a file: give each output its own path",
+                out.role,
+                out.path.display(),
+                other.role,
+                other.path.display(),
+                runs[*o].0
+            );
         }
     }
     Ok(repeats)
@@ -286,6 +314,17 @@ fn check_slot(
     if !checked.contains(parent) {
         let mut ancestor = Some(parent);
         while let Some(dir) = ancestor {
+            if std::fs::metadata(dir).is_err() {
+                if let Ok(target) = std::fs::read_link(dir) {
+                    bail!(
+                        "cannot write the {} `{}`: `{}` is a link to `{}`, which does not exist; create the folder or choose another output",
+                        out.role,
+                        path.display(),
+                        dir.display(),
+                        target.display()
+                    );
+                }
+            }
             if let Ok(m) = std::fs::metadata(dir) {
                 if !m.is_dir() {
                     bail!(

@@ -30,7 +30,9 @@ impl Resolved {
 }
 
 /// `path` made absolute with every existing part canonical: symbolic
-/// links and `..` resolved as the system would, the missing rest appended.
+/// links and `..` resolved as the system would, links that lead nowhere
+/// yet (to a folder a run will create) followed too, the missing rest
+/// appended.
 pub fn canonical(path: &Path) -> PathBuf {
     if let Ok(p) = path.canonicalize() {
         return p;
@@ -41,20 +43,38 @@ pub fn canonical(path: &Path) -> PathBuf {
         let cwd = std::env::current_dir().unwrap_or_else(|_| PathBuf::from("."));
         cwd.canonicalize().unwrap_or(cwd)
     };
-    // `out` stays canonical while it exists, so `..` may drop its last part.
-    for part in path.components() {
-        match part {
-            Component::CurDir => {}
-            Component::ParentDir => {
+    // The parts still to walk, the next last; a link's target is pushed in
+    // its place. `out` stays canonical while it exists, so `..` may drop
+    // its last part.
+    let mut parts: Vec<std::ffi::OsString> = Vec::new();
+    let push = |parts: &mut Vec<std::ffi::OsString>, p: &Path| {
+        let before = parts.len();
+        for part in p.components() {
+            parts.insert(before, part.as_os_str().to_os_string());
+        }
+    };
+    push(&mut parts, path);
+    // As the system does, give up following links after 40.
+    let mut links = 0;
+    while let Some(part) = parts.pop() {
+        match Path::new(&part).components().next() {
+            Some(Component::CurDir) | None => {}
+            Some(Component::ParentDir) => {
                 out.pop();
             }
-            Component::Normal(name) => {
+            Some(Component::Normal(name)) => {
                 out.push(name);
                 if let Ok(c) = out.canonicalize() {
                     out = c;
+                } else if let Ok(target) = std::fs::read_link(&out) {
+                    links += 1;
+                    if links <= 40 {
+                        out.pop();
+                        push(&mut parts, &target);
+                    }
                 }
             }
-            other => out.push(other),
+            Some(other) => out.push(other),
         }
     }
     out

@@ -191,13 +191,13 @@ impl Door {
                 .name("pick-door".into())
                 .spawn(move || accept(listener, shared));
             if let Err(e) = spawned {
-                eprintln!("warning: cannot listen on one address: {e}");
+                tell!("warning: cannot listen on one address: {e}");
             }
         }
         Served {
             count: shared.served.clone(),
             pending: shared.pending.clone(),
-            longest: self.limits.body,
+            longest: self.limits.head + self.limits.body,
         }
     }
 }
@@ -217,7 +217,7 @@ impl Served {
     /// Waits until every request that has shown the token has been
     /// answered (a save whose body was still arriving when "done" was
     /// answered is answered too: refused, the session having ended), at
-    /// most a body's deadline, and, for at most [`GRACE`], until the
+    /// most a request's two deadlines, and, for at most [`GRACE`], until the
     /// connections already accepted have shown theirs or gone.
     pub fn settle(&self) {
         let begin = Instant::now();
@@ -612,15 +612,15 @@ fn respond(stream: &mut TcpStream, r: &Response) -> std::io::Result<()> {
     stream.flush()?;
     let _ = stream.shutdown(std::net::Shutdown::Write);
     // What the client sent beyond what was read (a refused body) is read
-    // away, a little and briefly, so that closing does not reset the
-    // connection before the client has read the response.
-    let _ = stream.set_read_timeout(Some(Duration::from_millis(200)));
+    // away, a little and for 200 ms at most in all, so that closing does
+    // not reset the connection before the client has read the response.
+    let until = Instant::now() + Duration::from_millis(200);
     let mut sink = [0u8; 16 * 1024];
     for _ in 0..64 {
-        match stream.read(&mut sink) {
-            Ok(n) if n > 0 => {}
-            _ => break,
+        if read_by(stream, until, &mut sink, "").is_ok_and(|n| n > 0) {
+            continue;
         }
+        break;
     }
     Ok(())
 }
@@ -782,6 +782,39 @@ mod tests {
         let first = (&held[0]).read(&mut byte);
         assert!(matches!(first, Ok(0)) || first.is_err(), "{first:?}");
         assert!(still_held(&held[19]));
+    }
+
+    #[test]
+    fn a_slot_comes_back_when_its_deadline_passes_however_the_client_goes_on() {
+        let (port, token) = start(Limits {
+            head: Duration::from_millis(500),
+            served: 1,
+            ..Limits::default()
+        });
+        let mut slow = connect(port);
+        slow.write_all(format!("GET /{token}/z HTTP/1.1\r\n").as_bytes())
+            .unwrap();
+        let mut writer = slow.try_clone().unwrap();
+        // It goes on sending, past its 408, for longer than a test waits.
+        std::thread::spawn(move || {
+            for _ in 0..200 {
+                let _ = writer.write_all(b"x");
+                std::thread::sleep(Duration::from_millis(20));
+            }
+        });
+        let mut answer = [0u8; 12];
+        slow.read_exact(&mut answer).unwrap();
+        assert_eq!(&answer, b"HTTP/1.1 408");
+        // Its slot is free once the answer's short drain is over.
+        let mut status = 0;
+        for _ in 0..20 {
+            status = ask(port, &get(port, &token, "/w")).0;
+            if status == 200 {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        assert_eq!(status, 200);
     }
 
     #[test]

@@ -132,9 +132,8 @@ pub fn run(args: &Args) -> Result<()> {
     };
     let served = door.serve(Arc::new(session));
     say!("pick: open {url} in a browser (Ctrl-C or \"done\" on the page stops)");
-    if args.open {
-        open_browser(&url);
-    }
+    // Kept until the session ends: the browser may read it late.
+    let _opened = args.open.then(|| open_browser(&url)).flatten();
     // Until the page says done; Ctrl-C ends the process from its handler.
     let _ = finished.recv();
     // Requests that showed the token before "done" are answered (a save
@@ -144,18 +143,49 @@ pub fn run(args: &Args) -> Result<()> {
     Ok(())
 }
 
-/// Opens `url` in the default browser, or says how to.
-fn open_browser(url: &str) {
+/// Opens `url` in the default browser, or says how to. The browser is
+/// given a file that only this user can read (in a new private folder,
+/// returned so that it stays until the session ends) which sends it on to
+/// `url`: the token never appears on a command line, which every user of
+/// the machine can read (`/proc/PID/cmdline`).
+fn open_browser(url: &str) -> Option<tempfile::TempDir> {
+    let page = || -> std::io::Result<(tempfile::TempDir, PathBuf)> {
+        let dir = tempfile::Builder::new()
+            .prefix("meshmorph-pick-")
+            .tempdir()?;
+        let path = dir.path().join("open.html");
+        let mut options = std::fs::OpenOptions::new();
+        options.write(true).create_new(true);
+        #[cfg(unix)]
+        std::os::unix::fs::OpenOptionsExt::mode(&mut options, 0o600);
+        std::io::Write::write_all(
+            &mut options.open(&path)?,
+            format!(
+                "<!doctype html><meta charset=\"utf-8\"><meta http-equiv=\"refresh\" content=\"0;url={url}\"><title>meshmorph pick</title><a href=\"{url}\">meshmorph pick</a>\n"
+            )
+            .as_bytes(),
+        )?;
+        Ok((dir, path))
+    };
+    let (dir, path) = match page() {
+        Ok(made) => made,
+        Err(e) => {
+            tell!("warning: cannot open a browser ({e}): open the address above by hand");
+            return None;
+        }
+    };
     let opener = if cfg!(target_os = "macos") {
-        std::process::Command::new("open").arg(url).spawn()
+        std::process::Command::new("open").arg(&path).spawn()
     } else if cfg!(windows) {
         std::process::Command::new("cmd")
-            .args(["/C", "start", "", url])
+            .args(["/C", "start", ""])
+            .arg(&path)
             .spawn()
     } else {
-        std::process::Command::new("xdg-open").arg(url).spawn()
+        std::process::Command::new("xdg-open").arg(&path).spawn()
     };
     if let Err(e) = opener {
-        eprintln!("warning: cannot open a browser ({e}): open the address above by hand");
+        tell!("warning: cannot open a browser ({e}): open the address above by hand");
     }
+    Some(dir)
 }

@@ -125,7 +125,7 @@ pub fn run(args: &TransferArgs) -> Result<()> {
             }
             Err(e) => {
                 let message = format!("{}: {e:#}", job.named);
-                eprintln!("error: {message}");
+                tell!("error: {message}");
                 if args.json {
                     output::print_json_error(&message, 1);
                 }

@@ -1500,6 +1500,8 @@ fn a_batchs_targets_never_write_over_each_other_or_each_others_inputs() {
     fs::create_dir(rig.path("x")).unwrap();
     #[cfg(unix)]
     std::os::unix::fs::symlink(rig.path("real"), rig.path("linked")).unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(rig.path("later"), rig.path("ahead")).unwrap();
     fs::create_dir(rig.path("real")).unwrap();
     let theirs = |rest: &str| format!("reference = {:?}\n{rest}", rig.target_ref.to_str().unwrap());
     let own = |rest: &str| format!("reference = {:?}\n{rest}", own_ref.to_str().unwrap());
@@ -1508,6 +1510,10 @@ fn a_batchs_targets_never_write_over_each_other_or_each_others_inputs() {
         corr.to_str().unwrap()
     ));
     let other = batch_file_of(&rig, "other.toml", std::slice::from_ref(&t0));
+    let (ps, pt) = (rig.path("ps.txt"), rig.path("pt.txt"));
+    fs::write(&ps, "0\n1\n2\n").unwrap();
+    fs::write(&pt, "0\n1\n2\n").unwrap();
+    let (ps, pt) = (ps.to_str().unwrap(), pt.to_str().unwrap());
     // (file name, its targets, what the refusal names), each refused
     // before any work; `other.toml` is given as a batch too.
     let cases: Vec<(&str, Vec<String>, Vec<&str>)> = vec![
@@ -1572,10 +1578,37 @@ fn a_batchs_targets_never_write_over_each_other_or_each_others_inputs() {
             ))],
             vec!["would overwrite", "batch file", "other.toml"],
         ),
+        // The same files in other roles: two transfers, one folder.
+        (
+            "swapped.toml",
+            vec![
+                theirs(&format!("markers = [{ps:?}, {pt:?}]\noutput = \"sw\"")),
+                theirs(&format!("markers = [{pt:?}, {ps:?}]\noutput = \"sw\"")),
+            ],
+            vec!["target 0 of", "target 1 of", "are one file"],
+        ),
+        // A target's output folder inside another's pose file.
+        (
+            "inside.toml",
+            vec![
+                theirs(&format!("markers = {m:?}\noutput = \"in0\"")),
+                own(&format!("markers = {m:?}\noutput = \"in0/bend-0.obj\"")),
+            ],
+            vec!["target 1 of", "target 0 of", "inside", "bend-0.obj"],
+        ),
     ];
     #[cfg(unix)]
     let cases = {
         let mut cases = cases;
+        // A link to a folder no run has made yet.
+        cases.push((
+            "ahead.toml",
+            vec![
+                theirs(&format!("markers = {m:?}\noutput = \"later\"")),
+                own(&format!("markers = {m:?}\noutput = \"ahead\"")),
+            ],
+            vec!["target 1 of", "ahead", "does not exist"],
+        ));
         // One output folder through a link.
         cases.push((
             "linked.toml",

@@ -358,6 +358,63 @@ fn pick_refuses_an_output_that_is_a_device_or_a_fifo() {
         .is_char_device());
 }
 
+#[cfg(unix)]
+#[test]
+fn open_gives_the_browser_a_private_file_not_the_token() {
+    use std::io::BufRead;
+    use std::os::unix::fs::PermissionsExt;
+    let dir = TempDir::new().unwrap();
+    let source = small_sheet(dir.path());
+    // A browser opener that notes what it was given and what it read.
+    let bin = dir.path().join("bin");
+    fs::create_dir(&bin).unwrap();
+    let log = dir.path().join("opened.txt");
+    let opener = bin.join("xdg-open");
+    fs::write(
+        &opener,
+        format!(
+            "#!/bin/sh\necho \"$@\" > {0}.tmp\nstat -c %a \"$1\" >> {0}.tmp\ncat \"$1\" >> {0}.tmp\nmv {0}.tmp {0}\n",
+            log.display()
+        ),
+    )
+    .unwrap();
+    fs::set_permissions(&opener, fs::Permissions::from_mode(0o755)).unwrap();
+    let path = format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_meshmorph"))
+        .args(["pick", "--open", "-o"])
+        .arg(dir.path().join("m.txt"))
+        .args([&source, &source])
+        .env("PATH", path)
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    std::io::BufReader::new(child.stdout.as_mut().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let token = line.split('/').nth(3).unwrap().to_string();
+    assert_eq!(token.len(), 32, "{line}");
+    for _ in 0..600 {
+        if log.exists() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    let opened = fs::read_to_string(&log).unwrap();
+    let mut lines = opened.lines();
+    let argument = lines.next().unwrap();
+    assert!(!argument.contains(&token), "{opened}");
+    assert!(argument.ends_with("open.html"), "{opened}");
+    assert_eq!(lines.next(), Some("600"), "{opened}");
+    assert!(opened.contains(&format!("/{token}/")), "{opened}");
+}
+
 #[test]
 fn pick_never_saves_over_an_input() {
     let dir = TempDir::new().unwrap();
@@ -404,16 +461,22 @@ fn pick_mirrors_a_pair_across_both_planes_of_symmetry() {
 #[cfg(unix)]
 #[test]
 fn pick_stops_on_ctrl_c_leaving_nothing() {
-    let dir = TempDir::new().unwrap();
-    let mut pick = Pick::start(dir.path(), &[]);
-    still_answers(&pick);
-    let killed = std::process::Command::new("kill")
-        .args(["-INT", &pick.child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(killed.success());
-    let status = pick.wait();
-    assert_eq!(status.code(), Some(130), "{status:?}");
-    assert!(!pick.output.exists());
-    assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 2);
+    for (signal, status, stderr_closed) in [("-INT", 130, false), ("-TERM", 143, true)] {
+        let dir = TempDir::new().unwrap();
+        let mut pick = Pick::start(dir.path(), &[]);
+        if stderr_closed {
+            // `pick ... 2>&1 | head -1`: saying why it stops must not keep it running.
+            drop(pick.child.stderr.take());
+        }
+        still_answers(&pick);
+        let killed = std::process::Command::new("kill")
+            .args([signal, &pick.child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(killed.success());
+        let stopped = pick.wait();
+        assert_eq!(stopped.code(), Some(status), "{signal}: {stopped:?}");
+        assert!(!pick.output.exists());
+        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 2);
+    }
 }

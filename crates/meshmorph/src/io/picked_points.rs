@@ -48,11 +48,26 @@ pub(crate) fn parse(text: &str, path: &Path) -> Result<PointList> {
         ));
     }
     let mut entries = Vec::new();
+    // Lines counted as the points come, in order: linear in the file
+    // (`text_pos_at` for each point would count from the start each time).
+    let (mut counted, mut line) = (0, 1);
     for node in root
         .children()
         .filter(|n| n.is_element() && n.tag_name().name() == "point")
     {
-        let line = doc.text_pos_at(node.range().start).row as usize;
+        let at = node.range().start;
+        line += memchr::memchr_iter(b'\n', &text.as_bytes()[counted..at]).count();
+        counted = at;
+        if entries.len() == crate::io::marker_file::MAX_MARKERS {
+            return Err(Error::parse(
+                path,
+                Some(line),
+                format!(
+                    "more than {} points: a point file holds at most that many (a fit needs a few dozen to a few thousand)",
+                    crate::io::marker_file::MAX_MARKERS
+                ),
+            ));
+        }
         let bad = |msg: String| Error::parse(path, Some(line), msg);
         let mut p = [0.0; 3];
         for (c, axis) in p.iter_mut().zip(["x", "y", "z"]) {
