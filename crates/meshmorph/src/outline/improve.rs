@@ -5,8 +5,39 @@
 //! spirit of Surazhsky and Gotsman 2004 (without their remeshing).
 
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// A multiplicative hash for edge keys (two vertex indices): the maps of
+/// edges are rebuilt every round, where the standard library's keyed
+/// hash cost more than the flips themselves.
+#[derive(Default)]
+struct EdgeHasher(u64);
+
+impl Hasher for EdgeHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+    fn write_u32(&mut self, x: u32) {
+        self.write_u64(u64::from(x));
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+}
+
+type EdgeMap<V> = HashMap<(u32, u32), V, BuildHasherDefault<EdgeHasher>>;
 
 use super::geometry::{min_angle, orient};
+
+/// Sine of an angle up to 90 degrees, for comparisons with [`quality`].
+fn sine(angle: f64) -> f64 {
+    angle.clamp(0.0, std::f64::consts::FRAC_PI_2).sin()
+}
 
 /// The two meshes being improved: shared triangles, positions in each,
 /// and which vertices are fixed (the outline points).
@@ -17,23 +48,28 @@ pub(crate) struct Pair<'a> {
     pub(crate) fixed: &'a mut Vec<bool>,
 }
 
-/// Smallest angle of triangle `t` in both meshes; `-1` when it is not
-/// positively oriented in either (below `tiny` times its longest edge
-/// squared).
+/// The sine of the smallest angle of triangle `t` in both meshes (the
+/// smallest angle is at most 60 degrees, where the sine grows with the
+/// angle, so it orders triangles as the angle does, without a
+/// trigonometric call); `-1` when it is not positively oriented in
+/// either (below `tiny` times its longest edge squared).
+#[inline]
 fn quality(a: &[[f64; 2]], b: &[[f64; 2]], t: [u32; 3]) -> f64 {
     let mut q = f64::INFINITY;
     for p in [a, b] {
         let [x, y, z] = t.map(|v| p[v as usize]);
         let area = orient(x, y, z);
-        let scale = [x, y, z]
-            .iter()
-            .zip([y, z, x].iter())
-            .map(|(u, v)| (u[0] - v[0]).powi(2) + (u[1] - v[1]).powi(2))
-            .fold(0.0, f64::max);
-        if area.is_nan() || area <= 1e-14 * scale {
+        let l = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).powi(2) + (u[1] - v[1]).powi(2);
+        let (e0, e1, e2) = (l(x, y), l(y, z), l(z, x));
+        let longest = e0.max(e1).max(e2);
+        if area.is_nan() || area <= 1e-14 * longest {
             return -1.0;
         }
-        q = q.min(min_angle(x, y, z));
+        // The smallest angle faces the shortest edge: its sine is twice
+        // the area over the two longer edges.
+        let shortest = e0.min(e1).min(e2);
+        let middle = e0 + e1 + e2 - longest - shortest;
+        q = q.min(area / (longest * middle).sqrt());
     }
     q
 }
@@ -55,13 +91,15 @@ pub(crate) fn smallest_angles(pair: &Pair) -> [f64; 2] {
 /// Returns how many edges were flipped.
 fn flip_round(pair: &mut Pair) -> usize {
     let tris = &mut *pair.triangles;
-    let mut edge_of: HashMap<(u32, u32), (usize, usize)> = HashMap::with_capacity(tris.len() * 3);
+    let mut edge_of: EdgeMap<(usize, usize)> =
+        EdgeMap::with_capacity_and_hasher(tris.len() * 3, Default::default());
     for (t, tri) in tris.iter().enumerate() {
         for i in 0..3 {
             edge_of.insert((tri[i], tri[(i + 1) % 3]), (t, i));
         }
     }
     let mut touched = vec![false; tris.len()];
+    let mut cached: Vec<f64> = tris.iter().map(|&t| quality(pair.a, pair.b, t)).collect();
     let mut flips = 0;
     let mut keys: Vec<(u32, u32)> = edge_of.keys().copied().filter(|&(u, v)| u < v).collect();
     keys.sort_unstable();
@@ -78,12 +116,14 @@ fn flip_round(pair: &mut Pair) -> usize {
         if x == y {
             continue;
         }
-        let old = quality(pair.a, pair.b, tris[t]).min(quality(pair.a, pair.b, tris[s]));
+        let old = cached[t].min(cached[s]);
         let (n1, n2) = ([x, y, v], [y, x, u]);
-        let new = quality(pair.a, pair.b, n1).min(quality(pair.a, pair.b, n2));
-        if new > old + 1e-9 {
+        let (q1, q2) = (quality(pair.a, pair.b, n1), quality(pair.a, pair.b, n2));
+        if q1.min(q2) > old + 1e-9 {
             tris[t] = n1;
             tris[s] = n2;
+            cached[t] = q1;
+            cached[s] = q2;
             touched[t] = true;
             touched[s] = true;
             flips += 1;
@@ -167,17 +207,19 @@ fn smooth_round(pair: &mut Pair) -> usize {
 /// point to where it helps. Returns how many edges were split.
 fn split_round(pair: &mut Pair, target: f64, budget: usize) -> usize {
     let tris = &mut *pair.triangles;
-    let mut edge_of: HashMap<(u32, u32), usize> = HashMap::with_capacity(tris.len() * 3);
+    let mut edge_of: EdgeMap<usize> =
+        EdgeMap::with_capacity_and_hasher(tris.len() * 3, Default::default());
     for (t, tri) in tris.iter().enumerate() {
         for i in 0..3 {
             edge_of.insert((tri[i], tri[(i + 1) % 3]), t);
         }
     }
+    let target_sine = sine(target);
     let mut touched = vec![false; tris.len()];
     let mut splits = 0;
     let count = tris.len();
     for t in 0..count {
-        if splits >= budget || touched[t] || quality(pair.a, pair.b, tris[t]) >= target {
+        if splits >= budget || touched[t] || quality(pair.a, pair.b, tris[t]) >= target_sine {
             continue;
         }
         let tri = tris[t];

@@ -29,6 +29,7 @@ mod drawing;
 mod geometry;
 mod holes;
 mod improve;
+mod mapped;
 mod overlay;
 #[cfg(test)]
 mod tests;
@@ -71,6 +72,28 @@ pub struct OutlineOptions {
     /// degrees have their longest inside edge split during the
     /// improvement. Default 20.
     pub target_angle_degrees: f64,
+    /// Try the fast way first: the first drawing meshed with good angles
+    /// and mapped into the second (untangled so that every triangle is
+    /// positive), the overlay kept as the fallback. Default true.
+    pub mapped_first: bool,
+    /// The smallest angle the first drawing's mesh is refined towards on
+    /// the fast way, degrees. Default 25.
+    pub mapped_angle_degrees: f64,
+    /// The fast way's meshes are kept without making the overlay when
+    /// every triangle is positive in both and their smallest angle is at
+    /// least this many degrees; below it the overlay is made too and the
+    /// better of the two kept. Default 10.
+    pub accept_angle_degrees: f64,
+}
+
+/// Which way the compatible meshes were made.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutlinePath {
+    /// The first drawing's refined mesh mapped into the second and
+    /// untangled.
+    Mapped,
+    /// The overlay of both drawings' triangulations, then improved.
+    Overlay,
 }
 
 impl Default for OutlineOptions {
@@ -79,6 +102,9 @@ impl Default for OutlineOptions {
             samples: 256,
             improvement_rounds: 12,
             target_angle_degrees: 20.0,
+            mapped_first: true,
+            mapped_angle_degrees: 25.0,
+            accept_angle_degrees: 10.0,
         }
     }
 }
@@ -98,8 +124,11 @@ pub struct OutlineReport {
     /// Smallest angle of any triangle in each mesh, degrees, after the
     /// improvement.
     pub min_angle_degrees: [f64; 2],
-    /// The same straight after the overlay, before the improvement.
-    pub overlay_min_angle_degrees: [f64; 2],
+    /// The same straight after the overlay, before the improvement, when
+    /// the overlay was made.
+    pub overlay_min_angle_degrees: Option<[f64; 2]>,
+    /// Which way the meshes were made.
+    pub path: OutlinePath,
     /// Wall-clock seconds for the whole call.
     pub seconds: f64,
 }
@@ -108,7 +137,7 @@ impl std::fmt::Display for OutlineReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} + {} points, {} on the matched boundary, {} Steiner, {} triangles; smallest angle {:.2}/{:.2} degrees (overlay {:.2}/{:.2}); {:.1} ms",
+            "{} + {} points, {} on the matched boundary, {} Steiner, {} triangles; smallest angle {:.2}/{:.2} degrees by the {}",
             self.drawing_points[0],
             self.drawing_points[1],
             self.boundary_points,
@@ -116,10 +145,15 @@ impl std::fmt::Display for OutlineReport {
             self.triangles,
             self.min_angle_degrees[0],
             self.min_angle_degrees[1],
-            self.overlay_min_angle_degrees[0],
-            self.overlay_min_angle_degrees[1],
-            self.seconds * 1e3
-        )
+            match self.path {
+                OutlinePath::Mapped => "mapped mesh",
+                OutlinePath::Overlay => "overlay",
+            },
+        )?;
+        if let Some(o) = self.overlay_min_angle_degrees {
+            write!(f, " (overlay before improvement {:.2}/{:.2})", o[0], o[1])?;
+        }
+        write!(f, "; {:.1} ms", self.seconds * 1e3)
     }
 }
 
@@ -164,6 +198,97 @@ fn snap(loops: &[Vec<[f64; 2]>], p: [f64; 2]) -> (usize, f64, [f64; 2], f64) {
         }
     }
     best
+}
+
+/// The guaranteed way: the overlay of both drawings' triangulations in a
+/// common convex domain, then the compatible improvement. Returns the
+/// meshes, the overlay's smallest angles and the improved ones (radians).
+#[allow(clippy::type_complexity)]
+fn overlay_pair(
+    matched: &[Vec<MatchedPoint>],
+    points_a: &[[f64; 2]],
+    points_b: &[[f64; 2]],
+    options: &OutlineOptions,
+) -> Result<(
+    Vec<[f64; 2]>,
+    Vec<[f64; 2]>,
+    Vec<[u32; 3]>,
+    [f64; 2],
+    [f64; 2],
+)> {
+    let cuts = cuts::find_cuts(&matched[0], &matched[1..])?;
+    let lengths: Vec<usize> = matched.iter().map(Vec::len).collect();
+    let disk = disk::Disk::new(&lengths, &cuts);
+    let tri_a = disk.triangulate(points_a, &[], "first drawing")?;
+    let cut_points: Vec<[usize; 2]> = cuts
+        .iter()
+        .enumerate()
+        .map(|(h, c)| [c.outer, disk.loop_start[h + 1] + c.hole])
+        .collect();
+    let shared = disk::shared_chords(&disk, &tri_a, points_b, &cut_points);
+    let tri_b = match disk.triangulate(points_b, &shared, "second drawing") {
+        Ok(t) => t,
+        Err(_) => disk.triangulate(points_b, &[], "second drawing")?,
+    };
+    let over = overlay::overlay(disk.copies.len(), &tri_a, &tri_b);
+    // Vertices: the boundary points, then the crossings.
+    let num_points = points_a.len();
+    let mut pos_a = points_a.to_vec();
+    let mut pos_b = points_b.to_vec();
+    let mut vertex_of = Vec::with_capacity(over.vertices.len());
+    for v in &over.vertices {
+        match *v {
+            OverlayVertex::Copy(c) => vertex_of.push(disk.copies[c] as u32),
+            OverlayVertex::Crossing { a, s, b, r } => {
+                let p = |c: usize| disk.copies[c];
+                vertex_of.push(pos_a.len() as u32);
+                pos_a.push(lerp(points_a[p(a.0)], points_a[p(a.1)], s));
+                pos_b.push(lerp(points_b[p(b.0)], points_b[p(b.1)], r));
+            }
+        }
+    }
+    let mut triangles: Vec<[u32; 3]> = over
+        .triangles
+        .iter()
+        .map(|t| t.map(|v| vertex_of[v as usize]))
+        .collect();
+    let (overlay_angles, angles) = improve_pair(
+        &mut pos_a,
+        &mut pos_b,
+        &mut triangles,
+        num_points,
+        2 * num_points,
+        options,
+    );
+    Ok((pos_a, pos_b, triangles, overlay_angles, angles))
+}
+
+/// The compatible improvement of two meshes whose first `num_points`
+/// vertices (the outline points) stay where they are, adding at most
+/// `extra` vertices: the smallest angles (radians) before and after.
+fn improve_pair(
+    pos_a: &mut Vec<[f64; 2]>,
+    pos_b: &mut Vec<[f64; 2]>,
+    triangles: &mut Vec<[u32; 3]>,
+    num_points: usize,
+    extra: usize,
+    options: &OutlineOptions,
+) -> ([f64; 2], [f64; 2]) {
+    let mut fixed: Vec<bool> = (0..pos_a.len()).map(|v| v < num_points).collect();
+    let mut pair = improve::Pair {
+        a: pos_a,
+        b: pos_b,
+        triangles,
+        fixed: &mut fixed,
+    };
+    let before = improve::smallest_angles(&pair);
+    improve::improve(
+        &mut pair,
+        options.improvement_rounds,
+        options.target_angle_degrees.to_radians(),
+        extra,
+    );
+    (before, improve::smallest_angles(&pair))
 }
 
 /// Two compatible meshes, one inside each drawing: the same triangles,
@@ -264,59 +389,55 @@ pub fn compatible_meshes(
             options.samples,
         )?);
     }
-    let cuts = cuts::find_cuts(&matched[0], &matched[1..])?;
-    let lengths: Vec<usize> = matched.iter().map(Vec::len).collect();
-    let disk = disk::Disk::new(&lengths, &cuts);
     let points_a: Vec<[f64; 2]> = matched.iter().flatten().map(|p| p.a).collect();
     let points_b: Vec<[f64; 2]> = matched.iter().flatten().map(|p| p.b).collect();
-    let tri_a = disk.triangulate(&points_a, &[], "first drawing")?;
-    let cut_points: Vec<[usize; 2]> = cuts
-        .iter()
-        .enumerate()
-        .map(|(h, c)| [c.outer, disk.loop_start[h + 1] + c.hole])
-        .collect();
-    let shared = disk::shared_chords(&disk, &tri_a, &points_b, &cut_points);
-    let tri_b = match disk.triangulate(&points_b, &shared, "second drawing") {
-        Ok(t) => t,
-        Err(_) => disk.triangulate(&points_b, &[], "second drawing")?,
-    };
-    let over = overlay::overlay(disk.copies.len(), &tri_a, &tri_b);
-    // Vertices: the boundary points, then the crossings.
     let num_points = points_a.len();
-    let mut pos_a = points_a.clone();
-    let mut pos_b = points_b.clone();
-    let mut vertex_of = Vec::with_capacity(over.vertices.len());
-    for v in &over.vertices {
-        match *v {
-            OverlayVertex::Copy(c) => vertex_of.push(disk.copies[c] as u32),
-            OverlayVertex::Crossing { a, s, b, r } => {
-                let p = |c: usize| disk.copies[c];
-                vertex_of.push(pos_a.len() as u32);
-                pos_a.push(lerp(points_a[p(a.0)], points_a[p(a.1)], s));
-                pos_b.push(lerp(points_b[p(b.0)], points_b[p(b.1)], r));
-            }
-        }
+    let mut loop_start = vec![0usize];
+    for l in &matched {
+        loop_start.push(loop_start[loop_start.len() - 1] + l.len());
     }
-    let mut triangles: Vec<[u32; 3]> = over
-        .triangles
-        .iter()
-        .map(|t| t.map(|v| vertex_of[v as usize]))
-        .collect();
-    let mut fixed: Vec<bool> = (0..pos_a.len()).map(|v| v < num_points).collect();
-    let mut pair = improve::Pair {
-        a: &mut pos_a,
-        b: &mut pos_b,
-        triangles: &mut triangles,
-        fixed: &mut fixed,
+    let worst = |angles: [f64; 2]| angles[0].min(angles[1]);
+    // The fast first try: the first drawing's refined mesh mapped into
+    // the second, kept when every triangle is positive in both.
+    let mapped = if options.mapped_first {
+        mapped::compatible(
+            &points_a,
+            &points_b,
+            &loop_start,
+            options.mapped_angle_degrees,
+        )
+        .map(|(mut pos_a, mut pos_b, mut triangles)| {
+            let (_, angles) = improve_pair(
+                &mut pos_a,
+                &mut pos_b,
+                &mut triangles,
+                num_points,
+                num_points,
+                options,
+            );
+            (pos_a, pos_b, triangles, angles)
+        })
+    } else {
+        None
     };
-    let overlay_angles = improve::smallest_angles(&pair);
-    improve::improve(
-        &mut pair,
-        options.improvement_rounds,
-        options.target_angle_degrees.to_radians(),
-        2 * num_points,
-    );
-    let angles = improve::smallest_angles(&pair);
+    let mapped_angles = mapped.as_ref().map(|m| m.3);
+    let accept_fast =
+        mapped_angles.is_some_and(|a| worst(a) >= options.accept_angle_degrees.to_radians());
+    let (path, pos_a, pos_b, triangles, angles, overlay_angles) = match mapped {
+        Some((pa, pb, t, angles)) if accept_fast => (OutlinePath::Mapped, pa, pb, t, angles, None),
+        mapped => match overlay_pair(&matched, &points_a, &points_b, options) {
+            Ok((pa, pb, t, over, angles)) => match mapped {
+                Some((ma, mb, mt, m_angles)) if worst(m_angles) > worst(angles) => {
+                    (OutlinePath::Mapped, ma, mb, mt, m_angles, Some(over))
+                }
+                _ => (OutlinePath::Overlay, pa, pb, t, angles, Some(over)),
+            },
+            Err(e) => match mapped {
+                Some((ma, mb, mt, m_angles)) => (OutlinePath::Mapped, ma, mb, mt, m_angles, None),
+                None => return Err(e),
+            },
+        },
+    };
     let mut loops = Vec::with_capacity(matched.len());
     let mut first = 0u32;
     for l in &matched {
@@ -366,7 +487,8 @@ pub fn compatible_meshes(
             steiner_points,
             triangles: num_triangles,
             min_angle_degrees: angles.map(f64::to_degrees),
-            overlay_min_angle_degrees: overlay_angles.map(f64::to_degrees),
+            overlay_min_angle_degrees: overlay_angles.map(|o| o.map(f64::to_degrees)),
+            path,
             seconds: start.elapsed().as_secs_f64(),
         },
     })

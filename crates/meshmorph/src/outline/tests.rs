@@ -164,9 +164,14 @@ struct Outcome {
 
 /// Checks every invariant on a pair and returns what was made.
 fn check(a_loops: &Loops, b_loops: &Loops) -> Outcome {
+    check_with(a_loops, b_loops, &OutlineOptions::default())
+}
+
+/// [`check`] with the options given.
+fn check_with(a_loops: &Loops, b_loops: &Loops, options: &OutlineOptions) -> Outcome {
     let a = Drawing::new(a_loops.clone()).unwrap();
     let b = Drawing::new(b_loops.clone()).unwrap();
-    let m = compatible_meshes(&a, &b, &[], &OutlineOptions::default()).unwrap();
+    let m = compatible_meshes(&a, &b, &[], options).unwrap();
     check_meshes(a_loops, b_loops, &m);
     Outcome { meshes: m }
 }
@@ -256,6 +261,12 @@ fn a_shape_and_its_turned_reversed_restarted_copy_match_point_for_point() {
         let out = check(&a, &b);
         let m = &out.meshes;
         assert_eq!(m.report.boundary_points, n, "seed {seed}: {:?}", m.report);
+        assert_eq!(
+            m.report.path,
+            OutlinePath::Mapped,
+            "seed {seed}: {}",
+            m.report
+        );
         // Point i of A goes to B's copy of point i.
         for i in 0..n {
             let j = (n - 1) - ((i + n - n / 3) % n);
@@ -316,9 +327,45 @@ fn families_of_pairs_keep_every_invariant() {
             ],
         ),
     ];
+    let overlay_only = OutlineOptions {
+        mapped_first: false,
+        ..OutlineOptions::default()
+    };
     for (name, a, b) in &pairs {
         let out = check(a, b);
         eprintln!("{name}: {}", out.meshes.report);
+        let out = check_with(a, b, &overlay_only);
+        assert_eq!(out.meshes.report.path, OutlinePath::Overlay);
+        eprintln!("{name}, overlay only: {}", out.meshes.report);
+    }
+}
+
+#[test]
+fn like_shapes_take_the_mapped_path_with_good_angles() {
+    let pairs: Vec<(&str, Loops, Loops)> = vec![
+        (
+            "star turned 120 degrees",
+            vec![star(97, 11)],
+            pose(&vec![star(97, 11)], 2.0 * PI / 3.0, 1.7, 30, true, 0.0, 1),
+        ),
+        (
+            "stars 60 vs 140",
+            vec![star(60, 5)],
+            pose(&vec![star(140, 8)], 0.4, 2.0, 17, false, 0.0, 2),
+        ),
+        (
+            "ring vs moved ring",
+            vec![circle(60, [0.0, 0.0], 1.0), circle(30, [0.2, 0.0], 0.4)],
+            vec![circle(50, [0.0, 0.0], 1.0), circle(36, [-0.1, 0.1], 0.3)],
+        ),
+    ];
+    for (name, a, b) in &pairs {
+        let out = check(a, b);
+        let r = &out.meshes.report;
+        eprintln!("{name}: {r}");
+        assert_eq!(r.path, OutlinePath::Mapped, "{name}: {r}");
+        let worst = r.min_angle_degrees[0].min(r.min_angle_degrees[1]);
+        assert!(worst >= 5.0, "{name}: {r}");
     }
 }
 

@@ -1,0 +1,571 @@
+//! The fast first try: the first drawing triangulated with good angles
+//! (constrained Delaunay refinement, `spade`, the matched boundary kept
+//! as it is), then that mesh mapped into the second drawing with its
+//! boundary fixed at the matched points: the inside placed by mean-value
+//! (convex-combination) weights, then untangled and smoothed by the
+//! foldover-free energy of Garanzha, Kaporin, Kudryavtseva, Protais, Ray
+//! and Sokolov (2021, "Foldover-free maps in 50 lines of code"),
+//! minimised by L-BFGS with a decreasing regularisation.
+//!
+//! Nothing here is guaranteed: the caller checks that every triangle is
+//! positive in both meshes and falls back to the overlay otherwise.
+
+use std::collections::HashSet;
+
+use spade::handles::FixedVertexHandle;
+use spade::{
+    AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
+};
+
+use super::geometry::{diagonal, orient};
+
+/// A mesh of the first drawing: the matched boundary points first (in
+/// their order), then the inside points, with counter-clockwise
+/// triangles.
+pub(crate) struct Refined {
+    pub(crate) positions: Vec<[f64; 2]>,
+    pub(crate) triangles: Vec<[u32; 3]>,
+}
+
+/// Constrained Delaunay refinement of the region bounded by the loops
+/// (`loop_start`: first point of each loop, then the total) with the
+/// smallest angle aimed at `angle_degrees`, no boundary edge split, and
+/// no inside edge joining two boundary points (such an edge would be
+/// fixed in the second drawing, where it may well lie outside): those
+/// are split by a point at their middle and the refinement run again.
+/// `None` when the points do not triangulate as the loops say.
+pub(crate) fn refine(
+    points: &[[f64; 2]],
+    loop_start: &[usize],
+    angle_degrees: f64,
+) -> Option<Refined> {
+    let n = points.len();
+    let mut edges: Vec<[usize; 2]> = Vec::with_capacity(n);
+    let mut loop_edge = HashSet::with_capacity(2 * n);
+    for w in loop_start.windows(2) {
+        for i in w[0]..w[1] {
+            let j = if i + 1 == w[1] { w[0] } else { i + 1 };
+            edges.push([i, j]);
+            loop_edge.insert((i.min(j), i.max(j)));
+        }
+    }
+    let num_edges = edges.len();
+    let vertices: Vec<Point2<f64>> = points.iter().map(|p| Point2::new(p[0], p[1])).collect();
+    let mut conflicts = 0usize;
+    let mut cdt =
+        ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(vertices, edges, |_| {
+            conflicts += 1
+        })
+        .ok()?;
+    if cdt.num_vertices() != n || conflicts > 0 || cdt.num_constraints() != num_edges {
+        return None;
+    }
+    let params = RefinementParameters::<f64>::new()
+        .with_angle_limit(AngleLimit::from_deg(angle_degrees))
+        .keep_constraint_edges()
+        .exclude_outer_faces(true)
+        .with_max_additional_vertices(20 * n + 1000);
+    for round in 0..6 {
+        let result = cdt.refine(params.clone());
+        let excluded: HashSet<_> = result.excluded_faces.iter().copied().collect();
+        let faces: Vec<[usize; 3]> = cdt
+            .inner_faces()
+            .filter(|f| !excluded.contains(&f.fix()))
+            .map(|f| f.vertices().map(|h| h.fix().index()))
+            .collect();
+        let mut chords: Vec<(usize, usize)> = faces
+            .iter()
+            .flat_map(|t| (0..3).map(move |i| (t[i], t[(i + 1) % 3])))
+            .filter(|&(u, v)| u < n && v < n && !loop_edge.contains(&(u.min(v), u.max(v))))
+            .map(|(u, v)| (u.min(v), u.max(v)))
+            .collect();
+        if chords.is_empty() {
+            return finish(&cdt, n, &faces);
+        }
+        if round == 5 {
+            return None;
+        }
+        chords.sort_unstable();
+        chords.dedup();
+        for (u, v) in chords {
+            let (p, q) = (points[u], points[v]);
+            let mid = Point2::new(0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]));
+            cdt.insert(mid).ok()?;
+        }
+    }
+    None
+}
+
+/// The faces kept, their vertices renumbered: the boundary points first.
+fn finish(
+    cdt: &ConstrainedDelaunayTriangulation<Point2<f64>>,
+    n: usize,
+    faces: &[[usize; 3]],
+) -> Option<Refined> {
+    let mut new_index = vec![u32::MAX; cdt.num_vertices()];
+    let mut positions: Vec<[f64; 2]> = Vec::with_capacity(cdt.num_vertices());
+    for (v, slot) in new_index.iter_mut().enumerate().take(n) {
+        *slot = v as u32;
+        let p = cdt.vertex(FixedVertexHandle::from_index(v)).position();
+        positions.push([p.x, p.y]);
+    }
+    let mut triangles = Vec::with_capacity(faces.len());
+    for f in faces {
+        let mut t = [0u32; 3];
+        for k in 0..3 {
+            let v = f[k];
+            if new_index[v] == u32::MAX {
+                new_index[v] = positions.len() as u32;
+                let p = cdt.vertex(FixedVertexHandle::from_index(v)).position();
+                positions.push([p.x, p.y]);
+            }
+            t[k] = new_index[v];
+        }
+        triangles.push(t);
+    }
+    // Every boundary point must be used.
+    let mut used = vec![false; n];
+    for t in &triangles {
+        for &v in t {
+            if (v as usize) < n {
+                used[v as usize] = true;
+            }
+        }
+    }
+    used.iter().all(|&u| u).then_some(Refined {
+        positions,
+        triangles,
+    })
+}
+
+/// Mean-value weights of each inside vertex's neighbours (Floater 2003),
+/// from the mesh's positions in the first drawing: `(neighbour, weight)`
+/// lists, the boundary vertices' lists empty.
+fn mean_value_weights(
+    a: &[[f64; 2]],
+    triangles: &[[u32; 3]],
+    fixed: usize,
+) -> Vec<Vec<(u32, f64)>> {
+    let mut w: Vec<Vec<(u32, f64)>> = vec![Vec::new(); a.len()];
+    for t in triangles {
+        for k in 0..3 {
+            let (i, j, l) = (t[k] as usize, t[(k + 1) % 3], t[(k + 2) % 3]);
+            if i < fixed {
+                continue;
+            }
+            let (pj, pl) = (a[j as usize], a[l as usize]);
+            let u = [pj[0] - a[i][0], pj[1] - a[i][1]];
+            let v = [pl[0] - a[i][0], pl[1] - a[i][1]];
+            let (lu, lv) = (u[0].hypot(u[1]), v[0].hypot(v[1]));
+            let angle = (u[0] * v[1] - u[1] * v[0])
+                .abs()
+                .atan2(u[0] * v[0] + u[1] * v[1]);
+            let half = (0.5 * angle).tan();
+            w[i].push((j, half / lu));
+            w[i].push((l, half / lv));
+        }
+    }
+    for list in &mut w {
+        list.sort_unstable_by_key(|e| e.0);
+        let mut merged: Vec<(u32, f64)> = Vec::with_capacity(list.len() / 2 + 1);
+        for &(j, x) in list.iter() {
+            match merged.last_mut() {
+                Some(last) if last.0 == j => last.1 += x,
+                _ => merged.push((j, x)),
+            }
+        }
+        let total: f64 = merged.iter().map(|e| e.1).sum();
+        for e in &mut merged {
+            e.1 /= total;
+        }
+        *list = merged;
+    }
+    w
+}
+
+/// The inside vertices placed in the second drawing: started from the
+/// first drawing's mesh moved by the similarity that best lays its
+/// boundary onto the second's, then convex combinations of their
+/// neighbours by mean-value weights (successive over-relaxation), which
+/// reproduce a similarity exactly.
+fn place_inside(a: &[[f64; 2]], b_boundary: &[[f64; 2]], triangles: &[[u32; 3]]) -> Vec<[f64; 2]> {
+    let n = b_boundary.len();
+    // Least-squares similarity z -> s z + t in complex numbers.
+    let mean = |p: &[[f64; 2]]| {
+        let s = p.iter().fold([0.0, 0.0], |m, q| [m[0] + q[0], m[1] + q[1]]);
+        [s[0] / p.len() as f64, s[1] / p.len() as f64]
+    };
+    let (ca, cb) = (mean(&a[..n]), mean(b_boundary));
+    let (mut re, mut im, mut norm) = (0.0, 0.0, 0.0);
+    for (p, q) in a[..n].iter().zip(b_boundary) {
+        let (x, y) = ([p[0] - ca[0], p[1] - ca[1]], [q[0] - cb[0], q[1] - cb[1]]);
+        // conj(x) * y
+        re += x[0] * y[0] + x[1] * y[1];
+        im += x[0] * y[1] - x[1] * y[0];
+        norm += x[0] * x[0] + x[1] * x[1];
+    }
+    let (re, im) = (re / norm, im / norm);
+    let mut b: Vec<[f64; 2]> = a
+        .iter()
+        .map(|p| {
+            let x = [p[0] - ca[0], p[1] - ca[1]];
+            [re * x[0] - im * x[1] + cb[0], im * x[0] + re * x[1] + cb[1]]
+        })
+        .collect();
+    b[..n].copy_from_slice(b_boundary);
+    let weights = mean_value_weights(a, triangles, n);
+    let tol = 1e-13 * diagonal(b_boundary.iter());
+    let omega = 1.7;
+    for _ in 0..4000 {
+        let mut change: f64 = 0.0;
+        for i in n..b.len() {
+            let mut s = [0.0, 0.0];
+            for &(j, w) in &weights[i] {
+                let q = b[j as usize];
+                s[0] += w * q[0];
+                s[1] += w * q[1];
+            }
+            let p = b[i];
+            let d = [s[0] - p[0], s[1] - p[1]];
+            change = change.max(d[0].abs()).max(d[1].abs());
+            b[i] = [p[0] + omega * d[0], p[1] + omega * d[1]];
+        }
+        if change <= tol {
+            break;
+        }
+    }
+    b
+}
+
+/// The foldover-free energy: for each triangle the first drawing's
+/// shape (scaled to the second's area) as reference, the inverse of its
+/// edge matrix and its share of the area.
+struct Energy<'a> {
+    triangles: &'a [[u32; 3]],
+    inverse: Vec<[f64; 4]>,
+    weight: Vec<f64>,
+    fixed: usize,
+    theta: f64,
+}
+
+#[inline]
+fn chi(d: f64, eps: f64) -> f64 {
+    0.5 * (d + (eps * eps + d * d).sqrt())
+}
+
+impl Energy<'_> {
+    /// Jacobian of triangle `t` (row-major 2x2).
+    #[inline]
+    fn jacobian(&self, b: &[[f64; 2]], t: usize) -> [f64; 4] {
+        let [i, j, k] = self.triangles[t].map(|v| b[v as usize]);
+        let d = [j[0] - i[0], k[0] - i[0], j[1] - i[1], k[1] - i[1]];
+        let r = &self.inverse[t];
+        [
+            d[0] * r[0] + d[1] * r[2],
+            d[0] * r[1] + d[1] * r[3],
+            d[2] * r[0] + d[3] * r[2],
+            d[2] * r[1] + d[3] * r[3],
+        ]
+    }
+
+    fn min_det(&self, b: &[[f64; 2]]) -> f64 {
+        (0..self.triangles.len())
+            .map(|t| {
+                let j = self.jacobian(b, t);
+                j[0] * j[3] - j[1] * j[2]
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The energy at `b` and, when `grad` is given, its gradient with
+    /// respect to every vertex (the fixed ones' left at zero).
+    fn eval(&self, b: &[[f64; 2]], eps: f64, mut grad: Option<&mut [[f64; 2]]>) -> f64 {
+        if let Some(g) = grad.as_deref_mut() {
+            g.fill([0.0, 0.0]);
+        }
+        let theta = self.theta;
+        let mut total = 0.0;
+        for t in 0..self.triangles.len() {
+            let j = self.jacobian(b, t);
+            let det = j[0] * j[3] - j[1] * j[2];
+            let tr = j[0] * j[0] + j[1] * j[1] + j[2] * j[2] + j[3] * j[3];
+            let root = (eps * eps + det * det).sqrt();
+            let c = 0.5 * (det + root);
+            let w = self.weight[t];
+            let num = (1.0 - theta) * tr + theta * (1.0 + det * det);
+            total += w * num / c;
+            let Some(g) = grad.as_deref_mut() else {
+                continue;
+            };
+            let dc = c / root;
+            let a = w * 2.0 * (1.0 - theta) / c;
+            let q = w * (2.0 * theta * det / c - num * dc / (c * c));
+            // dE/dJ = a J + q cof(J), cof(J) = [j3, -j2; -j1, j0].
+            let gj = [
+                a * j[0] + q * j[3],
+                a * j[1] - q * j[2],
+                a * j[2] - q * j[1],
+                a * j[3] + q * j[0],
+            ];
+            // dE/dD = dE/dJ R^T.
+            let r = &self.inverse[t];
+            let gd = [
+                gj[0] * r[0] + gj[1] * r[1],
+                gj[0] * r[2] + gj[1] * r[3],
+                gj[2] * r[0] + gj[3] * r[1],
+                gj[2] * r[2] + gj[3] * r[3],
+            ];
+            let [vi, vj, vk] = self.triangles[t].map(|v| v as usize);
+            let fixed = self.fixed;
+            if vj >= fixed {
+                g[vj][0] += gd[0];
+                g[vj][1] += gd[2];
+            }
+            if vk >= fixed {
+                g[vk][0] += gd[1];
+                g[vk][1] += gd[3];
+            }
+            if vi >= fixed {
+                g[vi][0] -= gd[0] + gd[1];
+                g[vi][1] -= gd[2] + gd[3];
+            }
+        }
+        total
+    }
+}
+
+/// Limited-memory BFGS (Nocedal 1980) with a backtracking line search on
+/// the free coordinates `x`, at most `iterations` steps.
+fn lbfgs(x: &mut [f64], iterations: usize, mut f: impl FnMut(&[f64], &mut [f64]) -> f64) -> f64 {
+    const MEMORY: usize = 8;
+    let len = x.len();
+    let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+    let mut g = vec![0.0; len];
+    let mut fx = f(x, &mut g);
+    let mut s_hist: Vec<Vec<f64>> = Vec::with_capacity(MEMORY);
+    let mut y_hist: Vec<Vec<f64>> = Vec::with_capacity(MEMORY);
+    let mut rho: Vec<f64> = Vec::with_capacity(MEMORY);
+    let mut d = vec![0.0; len];
+    let mut x_new = vec![0.0; len];
+    let mut g_new = vec![0.0; len];
+    let mut alpha_hist = [0.0; MEMORY];
+    for it in 0..iterations {
+        let gnorm = dot(&g, &g).sqrt();
+        if gnorm == 0.0 || !gnorm.is_finite() {
+            break;
+        }
+        // Two-loop recursion.
+        d.copy_from_slice(&g);
+        for k in (0..s_hist.len()).rev() {
+            let a = rho[k] * dot(&s_hist[k], &d);
+            alpha_hist[k] = a;
+            for (di, yi) in d.iter_mut().zip(&y_hist[k]) {
+                *di -= a * yi;
+            }
+        }
+        let gamma = match s_hist.len() {
+            0 => 1.0 / gnorm,
+            k => dot(&s_hist[k - 1], &y_hist[k - 1]) / dot(&y_hist[k - 1], &y_hist[k - 1]),
+        };
+        for di in d.iter_mut() {
+            *di *= gamma;
+        }
+        for k in 0..s_hist.len() {
+            let beta = rho[k] * dot(&y_hist[k], &d);
+            for (di, si) in d.iter_mut().zip(&s_hist[k]) {
+                *di += (alpha_hist[k] - beta) * si;
+            }
+        }
+        for di in d.iter_mut() {
+            *di = -*di;
+        }
+        let mut slope = dot(&g, &d);
+        if slope >= 0.0 {
+            // Not a descent direction: restart along the gradient.
+            s_hist.clear();
+            y_hist.clear();
+            rho.clear();
+            for (di, gi) in d.iter_mut().zip(&g) {
+                *di = -gi / gnorm;
+            }
+            slope = -gnorm;
+        }
+        let mut step = 1.0;
+        let mut accepted = false;
+        for _ in 0..30 {
+            for ((xn, xi), di) in x_new.iter_mut().zip(x.iter()).zip(&d) {
+                *xn = xi + step * di;
+            }
+            let fn_ = f(&x_new, &mut g_new);
+            if fn_.is_finite() && fn_ <= fx + 1e-4 * step * slope {
+                accepted = true;
+                let s: Vec<f64> = x_new.iter().zip(x.iter()).map(|(a, b)| a - b).collect();
+                let y: Vec<f64> = g_new.iter().zip(&g).map(|(a, b)| a - b).collect();
+                let sy = dot(&s, &y);
+                if sy > 1e-12 * dot(&s, &s).sqrt() * dot(&y, &y).sqrt() {
+                    if s_hist.len() == MEMORY {
+                        s_hist.remove(0);
+                        y_hist.remove(0);
+                        rho.remove(0);
+                    }
+                    s_hist.push(s);
+                    y_hist.push(y);
+                    rho.push(1.0 / sy);
+                }
+                let decrease = fx - fn_;
+                x.copy_from_slice(&x_new);
+                g.copy_from_slice(&g_new);
+                fx = fn_;
+                if decrease <= 1e-12 * fx.abs().max(1e-300) && it > 0 {
+                    return fx;
+                }
+                break;
+            }
+            step *= 0.5;
+        }
+        if !accepted {
+            break;
+        }
+    }
+    fx
+}
+
+/// Maps the first drawing's mesh `a` (boundary points first, `n` of
+/// them) into the second drawing, whose boundary points are
+/// `b_boundary`: positions for every vertex, the boundary exactly
+/// `b_boundary`. The result may still hold turned-over triangles; the
+/// caller checks.
+pub(crate) fn map_into(
+    a: &[[f64; 2]],
+    triangles: &[[u32; 3]],
+    b_boundary: &[[f64; 2]],
+) -> Vec<[f64; 2]> {
+    let n = b_boundary.len();
+    let mut b = place_inside(a, b_boundary, triangles);
+    if b.len() == n {
+        return b;
+    }
+    let area = |p: &[[f64; 2]]| -> f64 {
+        triangles
+            .iter()
+            .map(|t| {
+                let [x, y, z] = t.map(|v| p[v as usize]);
+                0.5 * orient(x, y, z)
+            })
+            .sum()
+    };
+    let (area_a, area_b) = (area(a), area_from_boundary(b_boundary, triangles, n));
+    let scale = (area_b / area_a).abs().sqrt();
+    let mut inverse = Vec::with_capacity(triangles.len());
+    let mut weight = Vec::with_capacity(triangles.len());
+    for t in triangles {
+        let [i, j, k] = t.map(|v| a[v as usize]);
+        let d = [
+            scale * (j[0] - i[0]),
+            scale * (k[0] - i[0]),
+            scale * (j[1] - i[1]),
+            scale * (k[1] - i[1]),
+        ];
+        let det = d[0] * d[3] - d[1] * d[2];
+        inverse.push([d[3] / det, -d[1] / det, -d[2] / det, d[0] / det]);
+        weight.push(0.5 * det / area_b.abs());
+    }
+    let energy = Energy {
+        triangles,
+        inverse,
+        weight,
+        fixed: n,
+        theta: 1.0 / 128.0,
+    };
+    let free = b.len() - n;
+    let mut x: Vec<f64> = b[n..].iter().flat_map(|p| [p[0], p[1]]).collect();
+    let mut grad = vec![[0.0; 2]; b.len()];
+    let mut mindet = energy.min_det(&b);
+    let mut eps = (1e-12 + 0.04 * mindet.min(0.0).powi(2)).sqrt();
+    let mut e_prev = energy.eval(&b, eps, None);
+    for _ in 0..30 {
+        let e = {
+            let b = &mut b;
+            let grad = &mut grad;
+            lbfgs(&mut x, 150, |x, g| {
+                for k in 0..free {
+                    b[n + k] = [x[2 * k], x[2 * k + 1]];
+                }
+                let e = energy.eval(b, eps, Some(grad));
+                for k in 0..free {
+                    g[2 * k] = grad[n + k][0];
+                    g[2 * k + 1] = grad[n + k][1];
+                }
+                e
+            })
+        };
+        for k in 0..free {
+            b[n + k] = [x[2 * k], x[2 * k + 1]];
+        }
+        mindet = energy.min_det(&b);
+        let sigma = (1.0 - e / e_prev).max(0.1);
+        let mu = (1.0 - sigma) * chi(mindet, eps);
+        eps = if mindet < mu {
+            2.0 * (mu * (mu - mindet)).sqrt()
+        } else {
+            1e-13
+        };
+        if mindet > 0.0 && (e_prev - e).abs() <= 1e-4 * e {
+            break;
+        }
+        e_prev = e;
+    }
+    b
+}
+
+/// The second drawing's area, from its boundary loops (signed, as the
+/// triangles' boundary edges run).
+fn area_from_boundary(b: &[[f64; 2]], triangles: &[[u32; 3]], n: usize) -> f64 {
+    // Boundary edges are the directed edges whose reverse is absent, both
+    // ends on the boundary.
+    let mut edges: HashSet<(u32, u32)> = HashSet::with_capacity(triangles.len() * 3);
+    for t in triangles {
+        for k in 0..3 {
+            edges.insert((t[k], t[(k + 1) % 3]));
+        }
+    }
+    let mut twice = 0.0;
+    for t in triangles {
+        for k in 0..3 {
+            let (u, v) = (t[k], t[(k + 1) % 3]);
+            if (u as usize) < n && (v as usize) < n && !edges.contains(&(v, u)) {
+                let (p, q) = (b[u as usize], b[v as usize]);
+                twice += p[0] * q[1] - q[0] * p[1];
+            }
+        }
+    }
+    0.5 * twice
+}
+
+/// Whether every triangle is positive in `positions`, by more than a
+/// relative `1e-12` of its longest edge squared.
+pub(crate) fn all_positive(positions: &[[f64; 2]], triangles: &[[u32; 3]]) -> bool {
+    triangles.iter().all(|t| {
+        let [x, y, z] = t.map(|v| positions[v as usize]);
+        let l = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).powi(2) + (u[1] - v[1]).powi(2);
+        let longest = l(x, y).max(l(y, z)).max(l(z, x));
+        let area = orient(x, y, z);
+        area.is_finite() && area > 1e-12 * longest
+    })
+}
+
+/// The fast way whole: the first drawing refined, mapped into the
+/// second, both checked. `None` when any triangle is not positive in
+/// either.
+#[allow(clippy::type_complexity)]
+pub(crate) fn compatible(
+    points_a: &[[f64; 2]],
+    points_b: &[[f64; 2]],
+    loop_start: &[usize],
+    angle_degrees: f64,
+) -> Option<(Vec<[f64; 2]>, Vec<[f64; 2]>, Vec<[u32; 3]>)> {
+    let refined = refine(points_a, loop_start, angle_degrees)?;
+    let b = map_into(&refined.positions, &refined.triangles, points_b);
+    (all_positive(&refined.positions, &refined.triangles) && all_positive(&b, &refined.triangles))
+        .then_some((refined.positions, b, refined.triangles))
+}
