@@ -399,27 +399,43 @@ pub fn compatible_meshes(
     let worst = |angles: [f64; 2]| angles[0].min(angles[1]);
     // The fast first try: the first drawing's refined mesh mapped into
     // the second, kept when every triangle is positive in both.
-    let mapped = if options.mapped_first {
-        mapped::compatible(
-            &points_a,
-            &points_b,
-            &loop_start,
-            options.mapped_angle_degrees,
+    let try_mapped = |from: &[[f64; 2]], to: &[[f64; 2]], swap: bool| {
+        mapped::compatible(from, to, &loop_start, options.mapped_angle_degrees).map(
+            |(pos_from, pos_to, mut triangles)| {
+                let (mut pos_a, mut pos_b) = if swap {
+                    (pos_to, pos_from)
+                } else {
+                    (pos_from, pos_to)
+                };
+                let (_, angles) = improve_pair(
+                    &mut pos_a,
+                    &mut pos_b,
+                    &mut triangles,
+                    num_points,
+                    num_points,
+                    options,
+                );
+                (pos_a, pos_b, triangles, angles)
+            },
         )
-        .map(|(mut pos_a, mut pos_b, mut triangles)| {
-            let (_, angles) = improve_pair(
-                &mut pos_a,
-                &mut pos_b,
-                &mut triangles,
-                num_points,
-                num_points,
-                options,
-            );
-            (pos_a, pos_b, triangles, angles)
-        })
-    } else {
-        None
     };
+    // The first drawing's mesh mapped into the second, else (or when its
+    // angles fall short) the second's mapped into the first: the better.
+    let mut mapped = None;
+    if options.mapped_first {
+        mapped = try_mapped(&points_a, &points_b, false);
+        let short = |m: &Option<(_, _, _, [f64; 2])>| {
+            m.as_ref()
+                .is_none_or(|m| worst(m.3) < options.accept_angle_degrees.to_radians())
+        };
+        if short(&mapped) {
+            if let Some(other) = try_mapped(&points_b, &points_a, true) {
+                if mapped.as_ref().is_none_or(|m| worst(other.3) > worst(m.3)) {
+                    mapped = Some(other);
+                }
+            }
+        }
+    }
     let mapped_angles = mapped.as_ref().map(|m| m.3);
     let accept_fast =
         mapped_angles.is_some_and(|a| worst(a) >= options.accept_angle_degrees.to_radians());
