@@ -277,6 +277,16 @@ impl Energy<'_> {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// How many triangles are not positive at `b`.
+    fn inverted(&self, b: &[[f64; 2]]) -> usize {
+        (0..self.triangles.len())
+            .filter(|&t| {
+                let j = self.jacobian(b, t);
+                j[0] * j[3] - j[1] * j[2] <= 0.0
+            })
+            .count()
+    }
+
     /// The energy at `b` and, when `grad` is given, its gradient with
     /// respect to every vertex (the fixed ones' left at zero).
     fn eval(&self, b: &[[f64; 2]], eps: f64, mut grad: Option<&mut [[f64; 2]]>) -> f64 {
@@ -483,6 +493,7 @@ pub(crate) fn map_into(
     let mut mindet = energy.min_det(&b);
     let mut eps = (1e-12 + 0.04 * mindet.min(0.0).powi(2)).sqrt();
     let mut e_prev = energy.eval(&b, eps, None);
+    let (mut fewest, mut stalled) = (usize::MAX, 0);
     for _ in 0..30 {
         let e = {
             let b = &mut b;
@@ -503,6 +514,18 @@ pub(crate) fn map_into(
             b[n + k] = [x[2 * k], x[2 * k + 1]];
         }
         mindet = energy.min_det(&b);
+        // Give up when the turned-over triangles stop getting fewer: the
+        // overlay will do.
+        let inverted = energy.inverted(&b);
+        if inverted < fewest {
+            fewest = inverted;
+            stalled = 0;
+        } else {
+            stalled += 1;
+            if stalled >= 6 {
+                break;
+            }
+        }
         let sigma = (1.0 - e / e_prev).max(0.1);
         let mu = (1.0 - sigma) * chi(mindet, eps);
         eps = if mindet < mu {
