@@ -56,32 +56,32 @@ pub fn check(bytes: u64, what: &str) -> Result<()> {
 /// `paths` (the library refuses the others when it reads them, and bounds
 /// each read by the same figure).
 pub fn check_reading(paths: &[&Path]) -> Result<()> {
-    let bytes: u64 = paths
-        .iter()
-        .filter_map(|p| std::fs::metadata(p).ok())
-        .filter(std::fs::Metadata::is_file)
-        .map(|m| m.len())
-        .fold(0, u64::saturating_add);
+    let bytes = sum_of_regular_files(paths, |len| len);
     check(
         bytes.saturating_mul(MEMORY_PER_FILE_BYTE),
         "reading the meshes",
     )
 }
 
+/// The sum of `cost(size)` over the regular files among `paths` (the
+/// library refuses the others when it reads them).
+fn sum_of_regular_files(paths: &[impl AsRef<Path>], cost: impl Fn(u64) -> u64) -> u64 {
+    paths
+        .iter()
+        .filter_map(|p| std::fs::metadata(p).ok())
+        .filter(std::fs::Metadata::is_file)
+        .map(|m| cost(m.len()))
+        .fold(0, u64::saturating_add)
+}
+
 /// Reading marker files: each file's text, and [`MEMORY_PER_MARKER`] bytes
 /// for each marker it can hold (a line takes at least 4 bytes, `0 1` and its
 /// end; at most [`MAX_MARKERS`] are read).
 pub fn check_markers(paths: &[PathBuf]) -> Result<()> {
-    let bytes: u64 = paths
-        .iter()
-        .filter_map(|p| std::fs::metadata(p).ok())
-        .filter(std::fs::Metadata::is_file)
-        .map(|m| {
-            let markers = (m.len() / 4).min(MAX_MARKERS as u64);
-            m.len()
-                .saturating_add(markers.saturating_mul(MEMORY_PER_MARKER))
-        })
-        .fold(0, u64::saturating_add);
+    let bytes = sum_of_regular_files(paths, |len| {
+        let markers = (len / 4).min(MAX_MARKERS as u64);
+        len.saturating_add(markers.saturating_mul(MEMORY_PER_MARKER))
+    });
     check(bytes, "reading the markers")
 }
 

@@ -673,6 +673,20 @@ mod tests {
         format!("GET /{token}{path} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\n\r\n")
     }
 
+    /// Asks for `path` up to `tries` times, `pause` apart, until the answer
+    /// has `status`; the last status.
+    fn ask_until(port: u16, token: &str, status: u16, tries: usize, pause: u64) -> u16 {
+        let mut last = 0;
+        for _ in 0..tries {
+            last = ask(port, &get(port, token, "/w")).0;
+            if last == status {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(pause));
+        }
+        last
+    }
+
     /// Whether the server has neither answered nor closed `s`.
     fn still_held(s: &TcpStream) -> bool {
         s.set_nonblocking(true).unwrap();
@@ -806,15 +820,7 @@ mod tests {
         slow.read_exact(&mut answer).unwrap();
         assert_eq!(&answer, b"HTTP/1.1 408");
         // Its slot is free once the answer's short drain is over.
-        let mut status = 0;
-        for _ in 0..20 {
-            status = ask(port, &get(port, &token, "/w")).0;
-            if status == 200 {
-                break;
-            }
-            std::thread::sleep(Duration::from_millis(50));
-        }
-        assert_eq!(status, 200);
+        assert_eq!(ask_until(port, &token, 200, 20, 50), 200);
     }
 
     #[test]
@@ -849,14 +855,6 @@ mod tests {
         assert_eq!(status, 503);
         drop(slow);
         // Their slots come back once they are closed.
-        let mut status = 0;
-        for _ in 0..100 {
-            status = ask(port, &get(port, &token, "/w")).0;
-            if status == 200 {
-                break;
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        }
-        assert_eq!(status, 200);
+        assert_eq!(ask_until(port, &token, 200, 100, 20), 200);
     }
 }

@@ -134,8 +134,9 @@ impl CorrespondArgs {
         target_ref: &Reference,
     ) -> Result<Markers> {
         let numbering = numbering(self.one_based);
-        crate::memory::check_markers(self.marker_files()?)?;
-        let markers = match self.marker_files()? {
+        let files = self.marker_files()?;
+        crate::memory::check_markers(files)?;
+        let markers = match files {
             [] => Ok(Markers::new(Vec::new())),
             [one] => Markers::read(one, numbering),
             [s, t] => {
