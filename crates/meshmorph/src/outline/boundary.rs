@@ -21,6 +21,9 @@ use crate::error::{Error, Result};
 /// which given point of each it is, if any.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct MatchedPoint {
+    /// Where it is on the first loop, as a fraction of its length from
+    /// its first point, in [0, 1).
+    pub(crate) ta: f64,
     pub(crate) a: [f64; 2],
     pub(crate) b: [f64; 2],
     /// The loop point of the first drawing it is, else a point on one of
@@ -413,6 +416,7 @@ pub(crate) fn match_loops(
     let out: Vec<MatchedPoint> = events
         .iter()
         .map(|e| MatchedPoint {
+            ta: e.ta.rem_euclid(1.0),
             a: e.a.unwrap_or_else(|| arc_a.at(e.ta)),
             b: e.b.unwrap_or_else(|| arc_b.at(e.tb)),
             from_a: e.from_a,

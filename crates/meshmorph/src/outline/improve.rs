@@ -39,24 +39,24 @@ fn sine(angle: f64) -> f64 {
     angle.clamp(0.0, std::f64::consts::FRAC_PI_2).sin()
 }
 
-/// The two meshes being improved: shared triangles, positions in each,
-/// and which vertices are fixed (the outline points).
+/// The meshes being improved (two or more): shared triangles, positions
+/// in each, and which vertices are fixed (the outline points and
+/// anchors).
 pub(crate) struct Pair<'a> {
-    pub(crate) a: &'a mut Vec<[f64; 2]>,
-    pub(crate) b: &'a mut Vec<[f64; 2]>,
+    pub(crate) meshes: &'a mut [Vec<[f64; 2]>],
     pub(crate) triangles: &'a mut Vec<[u32; 3]>,
     pub(crate) fixed: &'a mut Vec<bool>,
 }
 
-/// The sine of the smallest angle of triangle `t` in both meshes (the
+/// The sine of the smallest angle of triangle `t` in every mesh (the
 /// smallest angle is at most 60 degrees, where the sine grows with the
 /// angle, so it orders triangles as the angle does, without a
 /// trigonometric call); `-1` when it is not positively oriented in
-/// either (below `tiny` times its longest edge squared).
+/// any (below `tiny` times its longest edge squared).
 #[inline]
-fn quality(a: &[[f64; 2]], b: &[[f64; 2]], t: [u32; 3]) -> f64 {
+fn quality(meshes: &[Vec<[f64; 2]>], t: [u32; 3]) -> f64 {
     let mut q = f64::INFINITY;
-    for p in [a, b] {
+    for p in meshes {
         let [x, y, z] = t.map(|v| p[v as usize]);
         let area = orient(x, y, z);
         let l = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).powi(2) + (u[1] - v[1]).powi(2);
@@ -74,11 +74,11 @@ fn quality(a: &[[f64; 2]], b: &[[f64; 2]], t: [u32; 3]) -> f64 {
     q
 }
 
-/// The smallest angle over both meshes, radians.
-pub(crate) fn smallest_angles(pair: &Pair) -> [f64; 2] {
-    let mut out = [f64::INFINITY; 2];
+/// The smallest angle of each mesh, radians.
+pub(crate) fn smallest_angles(pair: &Pair) -> Vec<f64> {
+    let mut out = vec![f64::INFINITY; pair.meshes.len()];
     for t in pair.triangles.iter() {
-        for (k, p) in [&*pair.a, &*pair.b].into_iter().enumerate() {
+        for (k, p) in pair.meshes.iter().enumerate() {
             let [x, y, z] = t.map(|v| p[v as usize]);
             out[k] = out[k].min(min_angle(x, y, z));
         }
@@ -99,7 +99,7 @@ fn flip_round(pair: &mut Pair) -> usize {
         }
     }
     let mut touched = vec![false; tris.len()];
-    let mut cached: Vec<f64> = tris.iter().map(|&t| quality(pair.a, pair.b, t)).collect();
+    let mut cached: Vec<f64> = tris.iter().map(|&t| quality(pair.meshes, t)).collect();
     let mut flips = 0;
     let mut keys: Vec<(u32, u32)> = edge_of.keys().copied().filter(|&(u, v)| u < v).collect();
     keys.sort_unstable();
@@ -118,7 +118,7 @@ fn flip_round(pair: &mut Pair) -> usize {
         }
         let old = cached[t].min(cached[s]);
         let (n1, n2) = ([x, y, v], [y, x, u]);
-        let (q1, q2) = (quality(pair.a, pair.b, n1), quality(pair.a, pair.b, n2));
+        let (q1, q2) = (quality(pair.meshes, n1), quality(pair.meshes, n2));
         if q1.min(q2) > old + 1e-9 {
             tris[t] = n1;
             tris[s] = n2;
@@ -136,7 +136,7 @@ fn flip_round(pair: &mut Pair) -> usize {
 /// toward the mean of its neighbours when that raises the smallest
 /// quality of its triangles. Returns how many moves were taken.
 fn smooth_round(pair: &mut Pair) -> usize {
-    let n = pair.a.len();
+    let n = pair.meshes[0].len();
     let mut around: Vec<Vec<u32>> = vec![Vec::new(); n];
     for (t, tri) in pair.triangles.iter().enumerate() {
         for &v in tri {
@@ -148,17 +148,13 @@ fn smooth_round(pair: &mut Pair) -> usize {
         if pair.fixed[v] || around[v].is_empty() {
             continue;
         }
-        for side in 0..2 {
+        for side in 0..pair.meshes.len() {
             let mut mean = [0.0, 0.0];
             let mut count = 0.0;
             for &t in &around[v] {
                 for &w in &pair.triangles[t as usize] {
                     if w as usize != v {
-                        let p = if side == 0 {
-                            pair.a[w as usize]
-                        } else {
-                            pair.b[w as usize]
-                        };
+                        let p = pair.meshes[side][w as usize];
                         mean[0] += p[0];
                         mean[1] += p[1];
                         count += 1.0;
@@ -169,30 +165,22 @@ fn smooth_round(pair: &mut Pair) -> usize {
             let score = |pair: &Pair| {
                 around[v]
                     .iter()
-                    .map(|&t| quality(pair.a, pair.b, pair.triangles[t as usize]))
+                    .map(|&t| quality(pair.meshes, pair.triangles[t as usize]))
                     .fold(f64::INFINITY, f64::min)
             };
             let before = score(pair);
-            let old = if side == 0 { pair.a[v] } else { pair.b[v] };
+            let old = pair.meshes[side][v];
             for step in [1.0, 0.5, 0.25] {
                 let p = [
                     old[0] + step * (mean[0] - old[0]),
                     old[1] + step * (mean[1] - old[1]),
                 ];
-                if side == 0 {
-                    pair.a[v] = p;
-                } else {
-                    pair.b[v] = p;
-                }
+                pair.meshes[side][v] = p;
                 if score(pair) > before + 1e-12 {
                     moves += 1;
                     break;
                 }
-                if side == 0 {
-                    pair.a[v] = old;
-                } else {
-                    pair.b[v] = old;
-                }
+                pair.meshes[side][v] = old;
             }
         }
     }
@@ -219,17 +207,18 @@ fn split_round(pair: &mut Pair, target: f64, budget: usize) -> usize {
     let mut splits = 0;
     let count = tris.len();
     for t in 0..count {
-        if splits >= budget || touched[t] || quality(pair.a, pair.b, tris[t]) >= target_sine {
+        if splits >= budget || touched[t] || quality(pair.meshes, tris[t]) >= target_sine {
             continue;
         }
         let tri = tris[t];
         let len = |u: u32, v: u32| {
-            let (a, b) = (&*pair.a, &*pair.b);
-            let d = |p: &[[f64; 2]]| {
-                let (x, y) = (p[u as usize], p[v as usize]);
-                (x[0] - y[0]).hypot(x[1] - y[1])
-            };
-            d(a).max(d(b) * 1.0)
+            pair.meshes
+                .iter()
+                .map(|p| {
+                    let (x, y) = (p[u as usize], p[v as usize]);
+                    (x[0] - y[0]).hypot(x[1] - y[1])
+                })
+                .fold(0.0, f64::max)
         };
         let mut best: Option<(f64, u32, u32, usize)> = None;
         for i in 0..3 {
@@ -246,14 +235,11 @@ fn split_round(pair: &mut Pair, target: f64, budget: usize) -> usize {
         let Some((_, u, v, s)) = best else { continue };
         let x = tri.into_iter().find(|&w| w != u && w != v).unwrap_or(u);
         let y = tris[s].into_iter().find(|&w| w != u && w != v).unwrap_or(u);
-        let w = pair.a.len() as u32;
-        let mid = |p: &[[f64; 2]]| {
+        let w = pair.meshes[0].len() as u32;
+        for p in pair.meshes.iter_mut() {
             let (m, n) = (p[u as usize], p[v as usize]);
-            [(m[0] + n[0]) * 0.5, (m[1] + n[1]) * 0.5]
-        };
-        let (ma, mb) = (mid(pair.a), mid(pair.b));
-        pair.a.push(ma);
-        pair.b.push(mb);
+            p.push([(m[0] + n[0]) * 0.5, (m[1] + n[1]) * 0.5]);
+        }
         pair.fixed.push(false);
         tris[t] = [u, w, x];
         tris[s] = [v, w, y];
@@ -273,23 +259,23 @@ fn split_round(pair: &mut Pair, target: f64, budget: usize) -> usize {
 pub(crate) fn improve(pair: &mut Pair, rounds: usize, target: f64, extra: usize) {
     let before = smallest_angles(pair);
     let saved = (
-        pair.a.clone(),
-        pair.b.clone(),
+        pair.meshes.to_vec(),
         pair.triangles.clone(),
         pair.fixed.clone(),
     );
     improve_rounds(pair, rounds, target, extra);
-    let after = smallest_angles(pair);
-    if after[0].min(after[1]) < before[0].min(before[1]) {
-        (*pair.a, *pair.b, *pair.triangles, *pair.fixed) = saved;
+    let worst = |angles: &[f64]| angles.iter().copied().fold(f64::INFINITY, f64::min);
+    if worst(&smallest_angles(pair)) < worst(&before) {
+        pair.meshes.clone_from_slice(&saved.0);
+        (*pair.triangles, *pair.fixed) = (saved.1, saved.2);
     }
 }
 
 fn improve_rounds(pair: &mut Pair, rounds: usize, target: f64, extra: usize) {
-    let limit = pair.a.len() + extra;
+    let limit = pair.meshes[0].len() + extra;
     for _ in 0..rounds {
         let mut changed = 0;
-        let budget = limit.saturating_sub(pair.a.len());
+        let budget = limit.saturating_sub(pair.meshes[0].len());
         changed += split_round(pair, target, budget);
         for _ in 0..8 {
             let f = flip_round(pair);

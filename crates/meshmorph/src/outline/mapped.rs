@@ -39,6 +39,7 @@ pub(crate) fn refine(
     loop_start: &[usize],
     angle_degrees: f64,
 ) -> Option<Refined> {
+    // The loops' points, then fixed points inside (anchors).
     let n = points.len();
     let mut edges: Vec<[usize; 2]> = Vec::with_capacity(n);
     let mut loop_edge = HashSet::with_capacity(2 * n);
@@ -450,8 +451,20 @@ pub(crate) fn map_into(
     triangles: &[[u32; 3]],
     b_boundary: &[[f64; 2]],
 ) -> Vec<[f64; 2]> {
-    let n = b_boundary.len();
-    let mut b = place_inside(a, b_boundary, triangles);
+    let b = place_inside(a, b_boundary, triangles);
+    untangle(a, triangles, b, b_boundary.len())
+}
+
+/// Moves the vertices from `n` on of `b` (the first `n` stay where they
+/// are) so that every triangle is positive, each as close to its shape
+/// in `a` as the foldover-free energy makes it. The result may still hold
+/// turned-over triangles; the caller checks.
+pub(crate) fn untangle(
+    a: &[[f64; 2]],
+    triangles: &[[u32; 3]],
+    mut b: Vec<[f64; 2]>,
+    n: usize,
+) -> Vec<[f64; 2]> {
     if b.len() == n {
         return b;
     }
@@ -464,7 +477,7 @@ pub(crate) fn map_into(
             })
             .sum()
     };
-    let (area_a, area_b) = (area(a), area_from_boundary(b_boundary, triangles, n));
+    let (area_a, area_b) = (area(a), area_from_boundary(&b, triangles, n));
     let scale = (area_b / area_a).abs().sqrt();
     let mut inverse = Vec::with_capacity(triangles.len());
     let mut weight = Vec::with_capacity(triangles.len());
@@ -577,18 +590,32 @@ pub(crate) fn all_positive(positions: &[[f64; 2]], triangles: &[[u32; 3]]) -> bo
     })
 }
 
-/// The fast way whole: the first drawing refined, mapped into the
-/// second, both checked. `None` when any triangle is not positive in
-/// either.
-#[allow(clippy::type_complexity)]
+/// The fast way whole: drawing `source` refined (its fixed points
+/// `fixed[source]`: the loops' points, then any anchors inside), mapped
+/// into every other drawing with its own fixed points, all checked: the
+/// positions in every drawing and the triangles. `None` when any triangle
+/// is not positive in any.
 pub(crate) fn compatible(
-    points_a: &[[f64; 2]],
-    points_b: &[[f64; 2]],
+    fixed: &[Vec<[f64; 2]>],
+    source: usize,
     loop_start: &[usize],
     angle_degrees: f64,
-) -> Option<(Vec<[f64; 2]>, Vec<[f64; 2]>, Vec<[u32; 3]>)> {
-    let refined = refine(points_a, loop_start, angle_degrees)?;
-    let b = map_into(&refined.positions, &refined.triangles, points_b);
-    (all_positive(&refined.positions, &refined.triangles) && all_positive(&b, &refined.triangles))
-        .then_some((refined.positions, b, refined.triangles))
+) -> Option<(Vec<Vec<[f64; 2]>>, Vec<[u32; 3]>)> {
+    let refined = refine(&fixed[source], loop_start, angle_degrees)?;
+    if !all_positive(&refined.positions, &refined.triangles) {
+        return None;
+    }
+    let mut meshes = Vec::with_capacity(fixed.len());
+    for (k, points) in fixed.iter().enumerate() {
+        if k == source {
+            meshes.push(refined.positions.clone());
+            continue;
+        }
+        let b = map_into(&refined.positions, &refined.triangles, points);
+        if !all_positive(&b, &refined.triangles) {
+            return None;
+        }
+        meshes.push(b);
+    }
+    Some((meshes, refined.triangles))
 }

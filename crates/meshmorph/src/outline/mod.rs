@@ -28,7 +28,9 @@
 //! 2021); it is kept when every triangle is positive in both meshes and
 //! its smallest angle is good enough or beats the overlay's.
 
+mod anchors;
 mod boundary;
+mod common;
 mod cuts;
 mod disk;
 mod drawing;
@@ -36,6 +38,7 @@ mod geometry;
 mod holes;
 mod improve;
 mod mapped;
+mod merge;
 mod overlay;
 #[cfg(test)]
 mod tests;
@@ -44,18 +47,17 @@ use std::time::Instant;
 
 pub use drawing::Drawing;
 
-use self::boundary::{match_loops, LoopAnchor, MatchedPoint};
-use self::geometry::{diagonal, dist, lerp, point_segment_distance, ArcLoop};
+use self::boundary::{match_loops, MatchedPoint};
+use self::geometry::{dist, lerp, point_segment_distance, ArcLoop};
 use self::overlay::OverlayVertex;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh2;
 
-/// A pair of points kept matched: `a` on the first drawing's outline, `b`
-/// on the second's, each on a loop (the outer loop or a hole; the two
-/// loops must pair). Points within 1 % of the drawing's size from its
-/// outline are moved onto it.
-///
-/// Anchors inside the shapes are not supported yet.
+/// A pair of points kept matched: `a` on the first drawing, `b` on the
+/// second's. Either both on the outlines, on loops that pair (the outer
+/// loop or a hole; points within 1 % of the drawing's size from its
+/// outline are moved onto it), or both inside the shapes, where each is
+/// a vertex of its mesh at exactly that point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Anchor {
     /// The point on the first drawing.
@@ -119,20 +121,22 @@ impl Default for OutlineOptions {
 #[derive(Clone, Debug)]
 pub struct OutlineReport {
     /// Points of each drawing as stored (repeats removed).
-    pub drawing_points: [usize; 2],
+    pub drawing_points: Vec<usize>,
     /// Points of the matched boundary (every loop), the same on both
     /// meshes: each drawing's own points and the other's carried over.
     pub boundary_points: usize,
-    /// Mesh vertices not on the boundary (Steiner points).
+    /// Anchors inside the shapes (vertices of every mesh).
+    pub inside_anchors: usize,
+    /// Mesh vertices neither on the boundary nor anchors (Steiner points).
     pub steiner_points: usize,
     /// Triangles of each mesh.
     pub triangles: usize,
     /// Smallest angle of any triangle in each mesh, degrees, after the
     /// improvement.
-    pub min_angle_degrees: [f64; 2],
+    pub min_angle_degrees: Vec<f64>,
     /// The same straight after the overlay, before the improvement, when
     /// the overlay was made.
-    pub overlay_min_angle_degrees: Option<[f64; 2]>,
+    pub overlay_min_angle_degrees: Option<Vec<f64>>,
     /// Which way the meshes were made.
     pub path: OutlinePath,
     /// Wall-clock seconds for the whole call.
@@ -141,23 +145,31 @@ pub struct OutlineReport {
 
 impl std::fmt::Display for OutlineReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let join = |v: &[f64]| {
+            v.iter()
+                .map(|x| format!("{x:.2}"))
+                .collect::<Vec<_>>()
+                .join("/")
+        };
+        let points: Vec<String> = self.drawing_points.iter().map(|p| p.to_string()).collect();
         write!(
             f,
-            "{} + {} points, {} on the matched boundary, {} Steiner, {} triangles; smallest angle {:.2}/{:.2} degrees by the {}",
-            self.drawing_points[0],
-            self.drawing_points[1],
+            "{} points, {} on the matched boundary, {} Steiner, {} triangles; smallest angle {} degrees by the {}",
+            points.join(" + "),
             self.boundary_points,
             self.steiner_points,
             self.triangles,
-            self.min_angle_degrees[0],
-            self.min_angle_degrees[1],
+            join(&self.min_angle_degrees),
             match self.path {
                 OutlinePath::Mapped => "mapped mesh",
                 OutlinePath::Overlay => "overlay",
             },
         )?;
-        if let Some(o) = self.overlay_min_angle_degrees {
-            write!(f, " (overlay before improvement {:.2}/{:.2})", o[0], o[1])?;
+        if self.inside_anchors > 0 {
+            write!(f, "; {} anchors inside", self.inside_anchors)?;
+        }
+        if let Some(o) = &self.overlay_min_angle_degrees {
+            write!(f, " (overlay before improvement {})", join(o))?;
         }
         write!(f, "; {:.1} ms", self.seconds * 1e3)
     }
@@ -186,7 +198,7 @@ pub struct CompatibleMeshes {
 
 /// Snaps `p` onto the closest loop of `loops`: (loop, arc-length
 /// fraction, point on the loop, distance).
-fn snap(loops: &[Vec<[f64; 2]>], p: [f64; 2]) -> (usize, f64, [f64; 2], f64) {
+pub(crate) fn snap(loops: &[Vec<[f64; 2]>], p: [f64; 2]) -> (usize, f64, [f64; 2], f64) {
     let mut best = (0, 0.0, p, f64::INFINITY);
     for (l, pts) in loops.iter().enumerate() {
         let arc = ArcLoop::new(pts);
@@ -206,22 +218,14 @@ fn snap(loops: &[Vec<[f64; 2]>], p: [f64; 2]) -> (usize, f64, [f64; 2], f64) {
     best
 }
 
-/// The guaranteed way: the overlay of both drawings' triangulations in a
-/// common convex domain, then the compatible improvement. Returns the
-/// meshes, the overlay's smallest angles and the improved ones (radians).
-#[allow(clippy::type_complexity)]
+/// The guaranteed way for two drawings: the overlay of both drawings'
+/// triangulations in a common convex domain: the positions in each and
+/// the triangles.
 fn overlay_pair(
     matched: &[Vec<MatchedPoint>],
     points_a: &[[f64; 2]],
     points_b: &[[f64; 2]],
-    options: &OutlineOptions,
-) -> Result<(
-    Vec<[f64; 2]>,
-    Vec<[f64; 2]>,
-    Vec<[u32; 3]>,
-    [f64; 2],
-    [f64; 2],
-)> {
+) -> Result<(Vec<Vec<[f64; 2]>>, Vec<[u32; 3]>)> {
     let cuts = cuts::find_cuts(&matched[0], &matched[1..])?;
     let lengths: Vec<usize> = matched.iter().map(Vec::len).collect();
     let disk = disk::Disk::new(&lengths, &cuts);
@@ -238,7 +242,6 @@ fn overlay_pair(
     };
     let over = overlay::overlay(disk.copies.len(), &tri_a, &tri_b);
     // Vertices: the boundary points, then the crossings.
-    let num_points = points_a.len();
     let mut pos_a = points_a.to_vec();
     let mut pos_b = points_b.to_vec();
     let mut vertex_of = Vec::with_capacity(over.vertices.len());
@@ -253,37 +256,28 @@ fn overlay_pair(
             }
         }
     }
-    let mut triangles: Vec<[u32; 3]> = over
+    let triangles: Vec<[u32; 3]> = over
         .triangles
         .iter()
         .map(|t| t.map(|v| vertex_of[v as usize]))
         .collect();
-    let (overlay_angles, angles) = improve_pair(
-        &mut pos_a,
-        &mut pos_b,
-        &mut triangles,
-        num_points,
-        2 * num_points,
-        options,
-    );
-    Ok((pos_a, pos_b, triangles, overlay_angles, angles))
+    Ok((vec![pos_a, pos_b], triangles))
 }
 
-/// The compatible improvement of two meshes whose first `num_points`
-/// vertices (the outline points) stay where they are, adding at most
-/// `extra` vertices: the smallest angles (radians) before and after.
-fn improve_pair(
-    pos_a: &mut Vec<[f64; 2]>,
-    pos_b: &mut Vec<[f64; 2]>,
+/// The compatible improvement of meshes whose first `num_fixed` vertices
+/// (the outline points, then the anchors inside) stay where they are,
+/// adding at most `extra` vertices: the smallest angles (radians) before
+/// and after.
+fn improve_set(
+    meshes: &mut [Vec<[f64; 2]>],
     triangles: &mut Vec<[u32; 3]>,
-    num_points: usize,
+    num_fixed: usize,
     extra: usize,
     options: &OutlineOptions,
-) -> ([f64; 2], [f64; 2]) {
-    let mut fixed: Vec<bool> = (0..pos_a.len()).map(|v| v < num_points).collect();
+) -> (Vec<f64>, Vec<f64>) {
+    let mut fixed: Vec<bool> = (0..meshes[0].len()).map(|v| v < num_fixed).collect();
     let mut pair = improve::Pair {
-        a: pos_a,
-        b: pos_b,
+        meshes,
         triangles,
         fixed: &mut fixed,
     };
@@ -297,227 +291,372 @@ fn improve_pair(
     (before, improve::smallest_angles(&pair))
 }
 
+/// The smallest of several angles.
+fn worst(angles: &[f64]) -> f64 {
+    angles.iter().copied().fold(f64::INFINITY, f64::min)
+}
+
+/// Compatible meshes being chosen: positions in each drawing, the
+/// triangles, the smallest angles (radians) and the way taken.
+struct Candidate {
+    meshes: Vec<Vec<[f64; 2]>>,
+    triangles: Vec<[u32; 3]>,
+    angles: Vec<f64>,
+    path: OutlinePath,
+    overlay_angles: Option<Vec<f64>>,
+}
+
 /// Two compatible meshes, one inside each drawing: the same triangles,
 /// every one positively oriented in both, every given outline point a
 /// vertex at exactly its position, each mesh's boundary its drawing's
 /// loops. The boundary correspondence is found automatically
 /// (invariant to where each loop starts, its direction, and the drawings'
-/// position, scale and rotation); `anchors` are kept matched exactly.
+/// position, scale and rotation); `anchors` are kept matched exactly,
+/// on the outlines or inside the shapes.
 ///
-/// The triangles come first from a refined mesh of one drawing mapped
-/// into the other and untangled ([`OutlinePath::Mapped`]), kept when every
-/// triangle is positive in both and the smallest angle reaches
-/// [`OutlineOptions::accept_angle_degrees`]; otherwise from the overlay of
-/// Aronov, Seidel and Souvaine (1993) ([`OutlinePath::Overlay`]), which
-/// cannot fail on drawings that pass [`Drawing::new`] and whose holes can
-/// be cut straight to the outer loop at matched points in both, the
-/// better of the two kept. Compatible flips and smoothing then raise the
-/// smallest angle (reported in [`OutlineReport::min_angle_degrees`], the
-/// way taken in [`OutlineReport::path`]).
+/// [`compatible_set`] for two drawings; see it for the way, the errors and
+/// the cost.
 ///
 /// # Errors
-/// [`Error::IncompatibleDrawings`] when the drawings have different
-/// numbers of loops, an anchor is off the outlines, on loops that do not
-/// pair, or anchors come in different orders on the two outlines, or a
-/// hole cannot be cut straight to the outer loop in both drawings.
-///
-/// # Performance
-/// Two like 500-point outlines take tens of milliseconds on the mapped
-/// way; the overlay grows with how differently the two shapes'
-/// triangulations run (up to quadratically in the points: seconds for
-/// two unlike 500-point outlines).
+/// As [`compatible_set`].
 pub fn compatible_meshes(
     a: &Drawing,
     b: &Drawing,
     anchors: &[Anchor],
     options: &OutlineOptions,
 ) -> Result<CompatibleMeshes> {
-    let start = Instant::now();
-    if a.num_loops() != b.num_loops() {
-        let holes = |d: &Drawing| match d.num_loops() - 1 {
-            0 => "no hole".to_string(),
-            1 => "1 hole".to_string(),
-            h => format!("{h} holes"),
-        };
-        return Err(Error::IncompatibleDrawings(format!(
-            "the first drawing has {} loop{} ({}) but the second has {} ({}): both need the same number of holes",
-            a.num_loops(),
-            if a.num_loops() == 1 { "" } else { "s" },
-            holes(a),
-            b.num_loops(),
-            holes(b)
-        )));
-    }
-    let (la, lb) = (a.loops(), b.loops());
-    // Anchors snapped onto the loops, sorted by loop of the first drawing.
-    let (size_a, size_b) = (diagonal(la.iter().flatten()), diagonal(lb.iter().flatten()));
-    let mut snapped: Vec<(usize, usize, LoopAnchor)> = Vec::with_capacity(anchors.len());
-    for (k, anchor) in anchors.iter().enumerate() {
-        let (l, ta, pa, da) = snap(la, anchor.a);
-        let (m, tb, pb, db) = snap(lb, anchor.b);
-        for (d, size, which, p) in [
-            (da, size_a, "first", anchor.a),
-            (db, size_b, "second", anchor.b),
-        ] {
-            if d.is_nan() || d > 0.01 * size {
-                return Err(Error::IncompatibleDrawings(format!(
-                    "anchor {k} is {d:.4} from the {which} drawing's outline at {p:?}, more than 1 % of its size: put it on the outline (anchors inside the shapes are not supported yet)"
-                )));
-            }
-        }
-        snapped.push((
-            l,
-            m,
-            LoopAnchor {
-                ta,
-                tb,
-                a: pa,
-                b: pb,
-            },
-        ));
-    }
-    let for_loop = |l: usize, m: usize| -> Result<Vec<LoopAnchor>> {
-        let mut out = Vec::new();
-        for (k, &(x, y, s)) in snapped.iter().enumerate() {
-            if (x == l) != (y == m) {
-                return Err(Error::IncompatibleDrawings(format!(
-                    "anchor {k} is on loop {x} of the first drawing and loop {y} of the second, which do not pair (loop {l} pairs with loop {m}): put both ends on loops that pair, outer with outer"
-                )));
-            }
-            if x == l {
-                out.push(s);
-            }
-        }
-        Ok(out)
+    let anchors: Vec<Vec<[f64; 2]>> = anchors.iter().map(|x| vec![x.a, x.b]).collect();
+    let set = compatible_set(&[a.clone(), b.clone()], &anchors, options)?;
+    let mut meshes = set.meshes.into_iter();
+    let mut given = set.given.into_iter();
+    let (Some(mesh_a), Some(mesh_b), Some(given_a), Some(given_b)) =
+        (meshes.next(), meshes.next(), given.next(), given.next())
+    else {
+        unreachable!("compatible_set returns one mesh per drawing")
     };
-    let outer = match_loops(&la[0], &lb[0], &for_loop(0, 0)?, options.samples)?;
-    let pairing = holes::pair_holes(&la[1..], &lb[1..], &outer);
-    let mut matched: Vec<Vec<MatchedPoint>> = vec![outer];
-    for (h, &g) in pairing.iter().enumerate() {
-        matched.push(match_loops(
-            &la[h + 1],
-            &lb[g + 1],
-            &for_loop(h + 1, g + 1)?,
-            options.samples,
-        )?);
-    }
-    let points_a: Vec<[f64; 2]> = matched.iter().flatten().map(|p| p.a).collect();
-    let points_b: Vec<[f64; 2]> = matched.iter().flatten().map(|p| p.b).collect();
-    let num_points = points_a.len();
-    let mut loop_start = vec![0usize];
-    for l in &matched {
-        loop_start.push(loop_start[loop_start.len() - 1] + l.len());
-    }
-    let worst = |angles: [f64; 2]| angles[0].min(angles[1]);
-    // The fast first try: the first drawing's refined mesh mapped into
-    // the second, kept when every triangle is positive in both.
-    let try_mapped = |from: &[[f64; 2]], to: &[[f64; 2]], swap: bool| {
-        mapped::compatible(from, to, &loop_start, options.mapped_angle_degrees).map(
-            |(pos_from, pos_to, mut triangles)| {
-                let (mut pos_a, mut pos_b) = if swap {
-                    (pos_to, pos_from)
-                } else {
-                    (pos_from, pos_to)
-                };
-                let (_, angles) = improve_pair(
-                    &mut pos_a,
-                    &mut pos_b,
-                    &mut triangles,
-                    num_points,
-                    num_points,
-                    options,
-                );
-                (pos_a, pos_b, triangles, angles)
-            },
-        )
-    };
-    // The first drawing's mesh mapped into the second, else (or when its
-    // angles fall short) the second's mapped into the first: the better.
-    let mut mapped = None;
-    if options.mapped_first {
-        mapped = try_mapped(&points_a, &points_b, false);
-        let short = |m: &Option<(_, _, _, [f64; 2])>| {
-            m.as_ref()
-                .is_none_or(|m| worst(m.3) < options.accept_angle_degrees.to_radians())
-        };
-        if short(&mapped) {
-            if let Some(other) = try_mapped(&points_b, &points_a, true) {
-                if mapped.as_ref().is_none_or(|m| worst(other.3) > worst(m.3)) {
-                    mapped = Some(other);
-                }
-            }
-        }
-    }
-    let mapped_angles = mapped.as_ref().map(|m| m.3);
-    let accept_fast =
-        mapped_angles.is_some_and(|a| worst(a) >= options.accept_angle_degrees.to_radians());
-    let (path, pos_a, pos_b, triangles, angles, overlay_angles) = match mapped {
-        Some((pa, pb, t, angles)) if accept_fast => (OutlinePath::Mapped, pa, pb, t, angles, None),
-        mapped => match overlay_pair(&matched, &points_a, &points_b, options) {
-            Ok((pa, pb, t, over, angles)) => match mapped {
-                Some((ma, mb, mt, m_angles)) if worst(m_angles) > worst(angles) => {
-                    (OutlinePath::Mapped, ma, mb, mt, m_angles, Some(over))
-                }
-                _ => (OutlinePath::Overlay, pa, pb, t, angles, Some(over)),
-            },
-            Err(e) => match mapped {
-                Some((ma, mb, mt, m_angles)) => (OutlinePath::Mapped, ma, mb, mt, m_angles, None),
-                None => return Err(e),
-            },
-        },
-    };
-    let mut loops = Vec::with_capacity(matched.len());
-    let mut first = 0u32;
-    for l in &matched {
-        loops.push((first..first + l.len() as u32).collect());
-        first += l.len() as u32;
-    }
-    // Given points to vertices.
-    let given = |d: &Drawing, side: usize| -> Vec<Vec<u32>> {
-        let stored = d.stored_of_given();
-        let mut vertex_at: Vec<Vec<u32>> = d.loops().iter().map(|l| vec![0; l.len()]).collect();
-        let mut offset = 0u32;
-        for (k, l) in matched.iter().enumerate() {
-            let loop_index = if side == 0 || k == 0 {
-                k
-            } else {
-                pairing[k - 1] + 1
-            };
-            for (i, p) in l.iter().enumerate() {
-                let from = if side == 0 { p.from_a } else { p.from_b };
-                if let Some(f) = from {
-                    vertex_at[loop_index][f] = offset + i as u32;
-                }
-            }
-            offset += l.len() as u32;
-        }
-        stored
-            .iter()
-            .enumerate()
-            .map(|(l, s)| s.iter().map(|&i| vertex_at[l][i]).collect())
-            .collect()
-    };
-    let given_a = given(a, 0);
-    let given_b = given(b, 1);
-    let steiner_points = pos_a.len() - num_points;
-    let num_triangles = triangles.len();
-    let mesh_a = Mesh2::new(pos_a, triangles.clone())?;
-    let mesh_b = Mesh2::new(pos_b, triangles)?;
     Ok(CompatibleMeshes {
         a: mesh_a,
         b: mesh_b,
-        loops,
+        loops: set.loops,
         given_a,
         given_b,
+        report: set.report,
+    })
+}
+
+/// Meshes with the same triangles, one inside each of two or more
+/// drawings, for a keyframe sequence through them all.
+#[derive(Clone, Debug)]
+pub struct CompatibleSet {
+    /// The mesh inside each drawing, in the drawings' order (the same
+    /// triangles in all).
+    pub meshes: Vec<Mesh2>,
+    /// The matched boundary loops as vertex indices, the same in every
+    /// mesh: the outer loop first (counter-clockwise), then the holes in
+    /// the first drawing's order (clockwise).
+    pub loops: Vec<Vec<u32>>,
+    /// For each drawing, each of its loops as given and each of their
+    /// given points, the vertex at that point.
+    pub given: Vec<Vec<Vec<u32>>>,
+    /// The vertex of each anchor (for one on an outline, the boundary
+    /// vertex at it).
+    pub anchors: Vec<u32>,
+    /// How it went.
+    pub report: OutlineReport,
+}
+
+/// Meshes with the same triangles inside two or more drawings: every
+/// triangle positively oriented in every mesh, every given outline point a
+/// vertex at exactly its position, each mesh's boundary its drawing's
+/// loops. Each drawing's outlines are matched to the first's
+/// automatically (invariant to where each loop starts, its direction, and
+/// the drawings' position, scale and rotation), and the matched points of
+/// every pair put on every drawing. `anchors` hold one point per drawing
+/// each and are kept matched exactly: on the outlines (all of its points
+/// within 1 % of the drawing's size from an outline, on loops that pair)
+/// or inside the shapes (all of them), where each becomes a vertex at
+/// exactly that point in every mesh.
+///
+/// The triangles come first from a refined mesh of one drawing mapped
+/// into the others and untangled ([`OutlinePath::Mapped`]), kept when
+/// every triangle is positive in every mesh and the smallest angle reaches
+/// [`OutlineOptions::accept_angle_degrees`]; otherwise from the overlay
+/// of Aronov, Seidel and Souvaine (1993) of the first drawing with each
+/// other ([`OutlinePath::Overlay`]), which cannot fail on drawings that
+/// pass [`Drawing::new`] and whose holes can be cut straight to the outer
+/// loop at matched points in both; with three or more drawings the pairs'
+/// meshes are laid over each other in the first drawing, and anchors
+/// inside are put into the overlay and moved to their places in the other
+/// drawings by the untangling. Compatible flips, splits and smoothing then
+/// raise the smallest angle (reported in
+/// [`OutlineReport::min_angle_degrees`], the way taken in
+/// [`OutlineReport::path`]).
+///
+/// # Errors
+/// [`Error::IncompatibleDrawings`] when fewer than two drawings are given,
+/// the drawings have different numbers of loops, an anchor has not one
+/// point per drawing, is on the outline in one drawing and inside (or
+/// outside) in another, its outline points lie on loops that do not pair,
+/// anchors come in different orders on two outlines, a hole cannot be cut
+/// straight to the outer loop, or anchors inside cannot be reached without
+/// turning a triangle over.
+///
+/// # Performance
+/// Two like 500-point outlines take tens of milliseconds on the mapped
+/// way; the overlay grows with how differently the two shapes'
+/// triangulations run (up to quadratically in the points: seconds for
+/// two unlike 500-point outlines).
+pub fn compatible_set(
+    drawings: &[Drawing],
+    anchors: &[Vec<[f64; 2]>],
+    options: &OutlineOptions,
+) -> Result<CompatibleSet> {
+    let start = Instant::now();
+    let count = drawings.len();
+    if count < 2 {
+        return Err(Error::IncompatibleDrawings(format!(
+            "{count} drawing given: compatible meshes need two or more"
+        )));
+    }
+    let first = &drawings[0];
+    for (k, d) in drawings.iter().enumerate().skip(1) {
+        if d.num_loops() != first.num_loops() {
+            let holes = |d: &Drawing| match d.num_loops() - 1 {
+                0 => "no hole".to_string(),
+                1 => "1 hole".to_string(),
+                h => format!("{h} holes"),
+            };
+            return Err(Error::IncompatibleDrawings(format!(
+                "the first drawing has {} loop{} ({}) but drawing {} has {} ({}): every drawing needs the same number of holes",
+                first.num_loops(),
+                if first.num_loops() == 1 { "" } else { "s" },
+                holes(first),
+                k + 1,
+                d.num_loops(),
+                holes(d)
+            )));
+        }
+    }
+    let placed = anchors::place(drawings, anchors)?;
+    // Each drawing after the first matched to the first.
+    let mut matched_pairs: Vec<Vec<Vec<MatchedPoint>>> = Vec::with_capacity(count - 1);
+    let mut pairings: Vec<Vec<usize>> = vec![(0..first.num_loops()).collect()];
+    for (k, d) in drawings.iter().enumerate().skip(1) {
+        let on_loops = |l: usize, m: usize| placed.on_loops(k, l, m);
+        let outer = match_loops(
+            &first.loops()[0],
+            &d.loops()[0],
+            &on_loops(0, 0)?,
+            options.samples,
+        )?;
+        let pairing = holes::pair_holes(&first.loops()[1..], &d.loops()[1..], &outer);
+        let mut matched = vec![outer];
+        for (h, &g) in pairing.iter().enumerate() {
+            matched.push(match_loops(
+                &first.loops()[h + 1],
+                &d.loops()[g + 1],
+                &on_loops(h + 1, g + 1)?,
+                options.samples,
+            )?);
+        }
+        pairings.push(
+            std::iter::once(0)
+                .chain(pairing.iter().map(|g| g + 1))
+                .collect(),
+        );
+        matched_pairs.push(matched);
+    }
+    let boundary = common::common_boundary(first.loops(), &matched_pairs);
+    let n = boundary.loop_start[boundary.loop_start.len() - 1];
+    let inside = placed.inside.len();
+    // Every drawing's fixed points: the boundary, then the anchors inside.
+    let fixed: Vec<Vec<[f64; 2]>> = (0..count)
+        .map(|d| {
+            let mut p = boundary.points[d].clone();
+            p.extend(placed.inside.iter().map(|a| a[d]));
+            p
+        })
+        .collect();
+    let accept = options.accept_angle_degrees.to_radians();
+    let mut best: Option<Candidate> = None;
+    if options.mapped_first {
+        for source in 0..count {
+            if let Some((mut meshes, mut triangles)) = mapped::compatible(
+                &fixed,
+                source,
+                &boundary.loop_start,
+                options.mapped_angle_degrees,
+            ) {
+                let (_, angles) = improve_set(&mut meshes, &mut triangles, n + inside, n, options);
+                if best
+                    .as_ref()
+                    .is_none_or(|b| worst(&angles) > worst(&b.angles))
+                {
+                    best = Some(Candidate {
+                        meshes,
+                        triangles,
+                        angles,
+                        path: OutlinePath::Mapped,
+                        overlay_angles: None,
+                    });
+                }
+            }
+            if best.as_ref().is_some_and(|b| worst(&b.angles) >= accept) {
+                break;
+            }
+        }
+    }
+    if best.as_ref().is_none_or(|b| worst(&b.angles) < accept) {
+        match overlay_set(&boundary, &fixed, n, options) {
+            Ok(c) => {
+                if best
+                    .as_ref()
+                    .is_none_or(|b| worst(&c.angles) >= worst(&b.angles))
+                {
+                    best = Some(c);
+                }
+            }
+            Err(e) => {
+                if best.is_none() {
+                    return Err(e);
+                }
+            }
+        }
+    }
+    let Some(chosen) = best else {
+        unreachable!("the overlay either succeeds or returns its error")
+    };
+    let loops: Vec<Vec<u32>> = boundary
+        .loop_start
+        .windows(2)
+        .map(|w| (w[0] as u32..w[1] as u32).collect())
+        .collect();
+    // Given points to vertices, drawing by drawing.
+    let given: Vec<Vec<Vec<u32>>> = drawings
+        .iter()
+        .enumerate()
+        .map(|(d, drawing)| {
+            let mut vertex_at: Vec<Vec<u32>> =
+                drawing.loops().iter().map(|l| vec![0; l.len()]).collect();
+            for (l, w) in boundary.loop_start.windows(2).enumerate() {
+                let own = pairings[d][l];
+                for v in w[0]..w[1] {
+                    if let Some(f) = boundary.from[d][v] {
+                        vertex_at[own][f] = v as u32;
+                    }
+                }
+            }
+            drawing
+                .stored_of_given()
+                .iter()
+                .enumerate()
+                .map(|(l, s)| s.iter().map(|&i| vertex_at[l][i]).collect())
+                .collect()
+        })
+        .collect();
+    let anchor_vertices = placed.vertices(&boundary, n);
+    let steiner_points = chosen.meshes[0].len() - n - inside;
+    let num_triangles = chosen.triangles.len();
+    let mut meshes = Vec::with_capacity(count);
+    for positions in chosen.meshes {
+        meshes.push(Mesh2::new(positions, chosen.triangles.clone())?);
+    }
+    Ok(CompatibleSet {
+        meshes,
+        loops,
+        given,
+        anchors: anchor_vertices,
         report: OutlineReport {
-            drawing_points: [a.num_points(), b.num_points()],
-            boundary_points: num_points,
+            drawing_points: drawings.iter().map(Drawing::num_points).collect(),
+            boundary_points: n,
+            inside_anchors: inside,
             steiner_points,
             triangles: num_triangles,
-            min_angle_degrees: angles.map(f64::to_degrees),
-            overlay_min_angle_degrees: overlay_angles.map(|o| o.map(f64::to_degrees)),
-            path,
+            min_angle_degrees: chosen.angles.iter().map(|a| a.to_degrees()).collect(),
+            overlay_min_angle_degrees: chosen
+                .overlay_angles
+                .map(|o| o.iter().map(|a| a.to_degrees()).collect()),
+            path: chosen.path,
             seconds: start.elapsed().as_secs_f64(),
         },
+    })
+}
+
+/// The guaranteed way: the first drawing overlaid with each other one,
+/// the pairs laid over each other when there are more than two drawings,
+/// the anchors inside put in and moved into place, then improved.
+fn overlay_set(
+    boundary: &common::CommonBoundary,
+    fixed: &[Vec<[f64; 2]>],
+    n: usize,
+    options: &OutlineOptions,
+) -> Result<Candidate> {
+    let count = fixed.len();
+    let inside = fixed[0].len() - n;
+    let matched_with = |k: usize| -> Vec<Vec<MatchedPoint>> {
+        boundary
+            .loop_start
+            .windows(2)
+            .map(|w| {
+                (w[0]..w[1])
+                    .map(|v| MatchedPoint {
+                        ta: 0.0,
+                        a: boundary.points[0][v],
+                        b: boundary.points[k][v],
+                        from_a: None,
+                        from_b: None,
+                    })
+                    .collect()
+            })
+            .collect()
+    };
+    let (mut meshes, mut triangles) = if count == 2 {
+        overlay_pair(&matched_with(1), &boundary.points[0], &boundary.points[1])?
+    } else {
+        let mut pairs = Vec::with_capacity(count - 1);
+        for k in 1..count {
+            let two = [boundary.points[0].clone(), boundary.points[k].clone()];
+            let (mut m, mut t) = match mapped::compatible(
+                &two,
+                0,
+                &boundary.loop_start,
+                options.mapped_angle_degrees,
+            ) {
+                Some(found) => found,
+                None => overlay_pair(&matched_with(k), &two[0], &two[1])?,
+            };
+            improve_set(&mut m, &mut t, n, n, options);
+            let other = m.pop().unwrap_or_default();
+            let first = m.pop().unwrap_or_default();
+            pairs.push(merge::PairMesh {
+                first,
+                other,
+                triangles: t,
+            });
+        }
+        merge::merge(&pairs, n)?
+    };
+    let overlay_angles = improve::smallest_angles(&improve::Pair {
+        meshes: &mut meshes,
+        triangles: &mut triangles,
+        fixed: &mut Vec::new(),
+    });
+    if inside > 0 {
+        anchors::insert_inside(&mut meshes, &mut triangles, fixed, n)?;
+    }
+    let (_, angles) = improve_set(&mut meshes, &mut triangles, n + inside, 2 * n, options);
+    if !meshes.iter().all(|m| mapped::all_positive(m, &triangles)) {
+        return Err(Error::IncompatibleDrawings(
+            "the overlaid meshes came out with a triangle turned over in one drawing; \
+             simplify the drawings (fewer, less detailed points) or add anchors on the outlines"
+                .into(),
+        ));
+    }
+    Ok(Candidate {
+        meshes,
+        triangles,
+        angles,
+        path: OutlinePath::Overlay,
+        overlay_angles: Some(overlay_angles),
     })
 }

@@ -3,6 +3,7 @@
 //! bent and a straight bar, rings and shapes with two holes, different
 //! point counts, turned, reversed and restarted copies, noise.
 
+use super::geometry::diagonal;
 use super::geometry::orient;
 use super::*;
 use crate::{Interpolator, InterpolatorOptions};

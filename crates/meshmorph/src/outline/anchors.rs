@@ -1,0 +1,255 @@
+//! Anchors: points kept matched across the drawings, one point per
+//! drawing each. An anchor is on the outlines when every one of its points
+//! lies within 1 % of its drawing's size from an outline (it is moved onto
+//! it and steers the boundary correspondence), or inside the shapes when
+//! none does (it becomes a vertex of every mesh, at exactly its point).
+
+use super::boundary::LoopAnchor;
+use super::common::CommonBoundary;
+use super::geometry::{diagonal, dist, inside_loop};
+use super::mapped::{all_positive, untangle};
+use super::{snap, Drawing};
+use crate::error::{Error, Result};
+
+/// An anchor's point on an outline: its loop, where along it (a fraction
+/// of the loop's length) and the point.
+#[derive(Clone, Copy, Debug)]
+struct OnLoop {
+    l: usize,
+    t: f64,
+    p: [f64; 2],
+}
+
+/// The anchors, sorted into those on the outlines and those inside.
+pub(crate) struct Placed {
+    /// For each anchor on the outlines, its point on each drawing.
+    on_outline: Vec<Vec<OnLoop>>,
+    /// For each anchor inside, its point in each drawing.
+    pub(crate) inside: Vec<Vec<[f64; 2]>>,
+    /// For each anchor as given: `Ok(i)` the i-th on the outlines,
+    /// `Err(j)` the j-th inside.
+    order: Vec<std::result::Result<usize, usize>>,
+}
+
+/// Whether `p` lies inside the drawing's region (inside the outer loop
+/// and outside every hole).
+fn inside_region(d: &Drawing, p: [f64; 2]) -> bool {
+    let loops = d.loops();
+    inside_loop(p, &loops[0]) && loops[1..].iter().all(|h| !inside_loop(p, h))
+}
+
+/// Sorts the anchors, checking each has one finite point per drawing, all
+/// on the outlines or all inside.
+pub(crate) fn place(drawings: &[Drawing], anchors: &[Vec<[f64; 2]>]) -> Result<Placed> {
+    let sizes: Vec<f64> = drawings
+        .iter()
+        .map(|d| diagonal(d.loops().iter().flatten()))
+        .collect();
+    let mut placed = Placed {
+        on_outline: Vec::new(),
+        inside: Vec::new(),
+        order: Vec::with_capacity(anchors.len()),
+    };
+    for (k, anchor) in anchors.iter().enumerate() {
+        if anchor.len() != drawings.len() {
+            return Err(Error::IncompatibleDrawings(format!(
+                "anchor {k} has {} point{} but there are {} drawings: give one point per drawing",
+                anchor.len(),
+                if anchor.len() == 1 { "" } else { "s" },
+                drawings.len()
+            )));
+        }
+        let mut snapped = Vec::with_capacity(drawings.len());
+        for (d, (&p, drawing)) in anchor.iter().zip(drawings).enumerate() {
+            if !(p[0].is_finite() && p[1].is_finite()) {
+                return Err(Error::IncompatibleDrawings(format!(
+                    "anchor {k}'s point on drawing {} is not finite: {p:?}",
+                    d + 1
+                )));
+            }
+            let (l, t, q, distance) = snap(drawing.loops(), p);
+            let on = distance <= 0.01 * sizes[d];
+            if !on && !inside_region(drawing, p) {
+                return Err(Error::IncompatibleDrawings(format!(
+                    "anchor {k}'s point {p:?} lies outside drawing {}: put it on the outline or inside the shape",
+                    d + 1
+                )));
+            }
+            snapped.push(on.then_some(OnLoop { l, t, p: q }));
+        }
+        let on_count = snapped.iter().filter(|s| s.is_some()).count();
+        if on_count == drawings.len() {
+            placed.order.push(Ok(placed.on_outline.len()));
+            placed.on_outline.push(
+                snapped
+                    .into_iter()
+                    .map(|s| s.unwrap_or_else(|| unreachable!()))
+                    .collect(),
+            );
+        } else if on_count == 0 {
+            placed.order.push(Err(placed.inside.len()));
+            placed.inside.push(anchor.clone());
+        } else {
+            let which: Vec<String> = snapped
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| s.is_some())
+                .map(|(d, _)| (d + 1).to_string())
+                .collect();
+            return Err(Error::IncompatibleDrawings(format!(
+                "anchor {k} is on the outline of drawing {} but inside the shape in the others: \
+                 put all its points on the outlines (within 1 % of each drawing's size) or all inside",
+                which.join(", ")
+            )));
+        }
+    }
+    Ok(placed)
+}
+
+impl Placed {
+    /// The anchors on the outlines that lie on loop `l` of the first
+    /// drawing and loop `m` of drawing `k`, for matching those loops.
+    pub(crate) fn on_loops(&self, k: usize, l: usize, m: usize) -> Result<Vec<LoopAnchor>> {
+        let mut out = Vec::new();
+        for (i, points) in self.on_outline.iter().enumerate() {
+            let (x, y) = (points[0], points[k]);
+            if (x.l == l) != (y.l == m) {
+                return Err(Error::IncompatibleDrawings(format!(
+                    "anchor {} is on loop {} of the first drawing and loop {} of drawing {}, which do not pair (loop {l} pairs with loop {m}): put its points on loops that pair, outer with outer",
+                    self.given_index(Ok(i)),
+                    x.l,
+                    y.l,
+                    k + 1
+                )));
+            }
+            if x.l == l {
+                out.push(LoopAnchor {
+                    ta: x.t,
+                    tb: y.t,
+                    a: x.p,
+                    b: y.p,
+                });
+            }
+        }
+        Ok(out)
+    }
+
+    fn given_index(&self, which: std::result::Result<usize, usize>) -> usize {
+        self.order.iter().position(|&o| o == which).unwrap_or(0)
+    }
+
+    /// The vertex of each anchor as given: on the outlines, the boundary
+    /// vertex at its point in the first drawing; inside, `n` + its place
+    /// among those inside.
+    pub(crate) fn vertices(&self, boundary: &CommonBoundary, n: usize) -> Vec<u32> {
+        self.order
+            .iter()
+            .map(|o| match *o {
+                Ok(i) => {
+                    let p = self.on_outline[i][0].p;
+                    (0..n)
+                        .min_by(|&u, &v| {
+                            dist(boundary.points[0][u], p)
+                                .total_cmp(&dist(boundary.points[0][v], p))
+                        })
+                        .unwrap_or(0) as u32
+                }
+                Err(j) => (n + j) as u32,
+            })
+            .collect()
+    }
+}
+
+/// Puts the anchors inside into compatible meshes that have none: each
+/// added in the first drawing's triangle that holds it (inside it, where
+/// every mesh has it by the same barycentric coordinates), the vertices
+/// renumbered so that the anchors follow the `n` boundary points, then in
+/// every drawing moved to its point with the boundary and the other
+/// anchors fixed and the rest untangled. `fixed[d]` holds drawing `d`'s
+/// boundary points, then its anchors.
+///
+/// # Errors
+/// [`Error::IncompatibleDrawings`] when an anchor cannot be reached
+/// without turning a triangle over.
+pub(crate) fn insert_inside(
+    meshes: &mut [Vec<[f64; 2]>],
+    triangles: &mut Vec<[u32; 3]>,
+    fixed: &[Vec<[f64; 2]>],
+    n: usize,
+) -> Result<()> {
+    let m = fixed[0].len() - n;
+    let mut added = Vec::with_capacity(m);
+    for j in 0..m {
+        let q = fixed[0][n + j];
+        // The triangle of the first mesh holding q deepest.
+        let mut best: Option<(f64, usize, [f64; 3])> = None;
+        for (t, tri) in triangles.iter().enumerate() {
+            let [a, b, c] = tri.map(|v| meshes[0][v as usize]);
+            let det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+            let l1 = ((q[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (q[1] - a[1])) / det;
+            let l2 = ((b[0] - a[0]) * (q[1] - a[1]) - (q[0] - a[0]) * (b[1] - a[1])) / det;
+            let l = [1.0 - l1 - l2, l1, l2];
+            let depth = l[0].min(l[1]).min(l[2]);
+            if depth.is_finite() && best.is_none_or(|b| depth > b.0) {
+                best = Some((depth, t, l));
+            }
+        }
+        let Some((_, t, l)) = best else {
+            return Err(Error::IncompatibleDrawings(
+                "an anchor inside lies in no triangle of the first drawing's mesh".into(),
+            ));
+        };
+        // Strictly inside the triangle, so that every mesh stays valid.
+        let l = l.map(|x| x.max(0.02));
+        let sum = l[0] + l[1] + l[2];
+        let l = l.map(|x| x / sum);
+        let tri = triangles[t];
+        let w = meshes[0].len() as u32;
+        for mesh in meshes.iter_mut() {
+            let [a, b, c] = tri.map(|v| mesh[v as usize]);
+            mesh.push([
+                l[0] * a[0] + l[1] * b[0] + l[2] * c[0],
+                l[0] * a[1] + l[1] * b[1] + l[2] * c[1],
+            ]);
+        }
+        let [a, b, c] = tri;
+        triangles[t] = [a, b, w];
+        triangles.push([b, c, w]);
+        triangles.push([c, a, w]);
+        added.push(w);
+    }
+    // Renumbered: the boundary, the anchors, then the rest.
+    let total = meshes[0].len();
+    let mut order: Vec<u32> = (0..n as u32).collect();
+    order.extend(&added);
+    let mut is_anchor = vec![false; total];
+    for &w in &added {
+        is_anchor[w as usize] = true;
+    }
+    order.extend((n as u32..total as u32).filter(|&v| !is_anchor[v as usize]));
+    let mut new_index = vec![0u32; total];
+    for (i, &v) in order.iter().enumerate() {
+        new_index[v as usize] = i as u32;
+    }
+    for mesh in meshes.iter_mut() {
+        *mesh = order.iter().map(|&v| mesh[v as usize]).collect();
+    }
+    for tri in triangles.iter_mut() {
+        *tri = tri.map(|v| new_index[v as usize]);
+    }
+    for (d, mesh) in meshes.iter_mut().enumerate() {
+        let reference = mesh.clone();
+        let mut moved = mesh.clone();
+        moved[n..n + m].copy_from_slice(&fixed[d][n..]);
+        let moved = untangle(&reference, triangles, moved, n + m);
+        if !all_positive(&moved, triangles) {
+            return Err(Error::IncompatibleDrawings(format!(
+                "the anchors inside could not be put in place in drawing {} without turning a triangle over: \
+                 check that they are in the same order in every drawing, or add anchors on the outlines",
+                d + 1
+            )));
+        }
+        *mesh = moved;
+    }
+    Ok(())
+}
