@@ -15,6 +15,10 @@
 //!   groups, materials, other PLY properties and elements, colours) beside
 //!   the triangle mesh derived from it, and writes it back with new
 //!   positions: what deformation transfer writes for the target.
+//! - Drawings ([`read_drawing`]: SVG and polygons as text, a planar mesh's
+//!   boundary by [`drawing_of_mesh`]) and the frames of their morphs
+//!   ([`write_svg_frame`], [`write_animated_svg`], [`write_lottie`],
+//!   [`write_text_frame`]), in `drawing/`.
 //! - The files of deformation transfer (`marker_file.rs`, `marker_points.rs`,
 //!   `picked_points.rs`, `wrap_points.rs`, `correspondence_file.rs`):
 //!   marker pairs ([`Markers::read`](crate::Markers::read),
@@ -74,6 +78,7 @@
 mod appearance;
 mod atomic;
 mod correspondence_file;
+mod drawing;
 pub mod gltf;
 pub(crate) mod marker_file;
 pub(crate) mod marker_points;
@@ -95,6 +100,12 @@ mod wrap_points;
 
 pub use appearance::Appearance;
 pub use atomic::{random_name, refuse_unless_replaceable, write_atomic, write_new};
+pub use drawing::{
+    drawing_of_mesh, match_anchors, parse_svg_drawing, parse_text_drawing, read_anchor_file,
+    read_drawing, svg_path_data, write_animated_svg, write_lottie, write_svg_frame,
+    write_text_frame, AnchorRow, Animation, Canvas, DrawingFile, DrawingKind, DrawingOptions,
+    NamedPoint, Style,
+};
 pub use mesh_file::MeshFile;
 pub use read::read_text;
 pub use surface_issues::SurfaceIssues;

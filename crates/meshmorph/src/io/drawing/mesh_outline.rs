@@ -1,0 +1,153 @@
+//! A planar mesh's boundary as a drawing: its outer boundary loop and the
+//! loops around its holes.
+
+use std::collections::HashMap;
+
+use super::regions::signed_area2;
+use crate::error::{Error, Result};
+use crate::mesh::topology::connected_components;
+use crate::mesh::Mesh2;
+use crate::outline::Drawing;
+
+/// The drawing a planar mesh fills: its boundary loops (edges of one
+/// triangle only), the one of largest area as the outer loop and the
+/// others as holes. `name` says which mesh in messages ("the mesh
+/// `a.obj`").
+///
+/// # Errors
+/// [`Error::InvalidMesh`] when the mesh is in several parts, has no
+/// boundary (closed), or a vertex where the boundary meets itself (two
+/// boundary edges leaving it); the drawing's own checks
+/// ([`Drawing::new`]) as [`Error::InvalidDrawing`].
+pub fn drawing_of_mesh(mesh: &Mesh2, name: &str) -> Result<Drawing> {
+    let triangles = mesh.triangles();
+    let parts = connected_components(mesh.num_vertices(), triangles).count;
+    if parts > 1 {
+        return Err(Error::InvalidMesh(format!(
+            "{name} is in {parts} separate parts: a drawing is one region; give each part as a mesh of its own"
+        )));
+    }
+    let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
+    for t in triangles {
+        for k in 0..3 {
+            *directed.entry((t[k], t[(k + 1) % 3])).or_default() += 1;
+        }
+    }
+    let mut next: HashMap<u32, u32> = HashMap::new();
+    let mut order: Vec<u32> = Vec::new();
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            if directed.contains_key(&(b, a)) {
+                continue;
+            }
+            if next.insert(a, b).is_some() {
+                return Err(Error::InvalidMesh(format!(
+                    "{name}'s boundary passes twice through vertex {a} (numbered from 0): its outline touches itself there; separate the parts that meet at that vertex"
+                )));
+            }
+            order.push(a);
+        }
+    }
+    if next.is_empty() {
+        return Err(Error::InvalidMesh(format!(
+            "{name} has no boundary (it is closed): a drawing is a region with an outline"
+        )));
+    }
+    let mut seen = std::collections::HashSet::new();
+    let mut loops: Vec<Vec<[f64; 2]>> = Vec::new();
+    for &start in &order {
+        if seen.contains(&start) {
+            continue;
+        }
+        let mut points = Vec::new();
+        let mut v = start;
+        loop {
+            if !seen.insert(v) {
+                break;
+            }
+            points.push(mesh.positions()[v as usize]);
+            match next.get(&v) {
+                Some(&w) => v = w,
+                None => {
+                    return Err(Error::InvalidMesh(format!(
+                        "{name}'s boundary stops at vertex {v} (numbered from 0): triangles on either side of an edge list it the same way round; orient them alike"
+                    )))
+                }
+            }
+        }
+        loops.push(points);
+    }
+    let outer = (0..loops.len())
+        .max_by(|&a, &b| {
+            signed_area2(&loops[a])
+                .abs()
+                .total_cmp(&signed_area2(&loops[b]).abs())
+        })
+        .expect("a boundary was found");
+    loops.swap(0, outer);
+    Drawing::new(loops).map_err(|e| match e {
+        Error::InvalidDrawing {
+            loop_index,
+            message,
+        } => Error::InvalidDrawing {
+            loop_index,
+            message: format!("{name}'s boundary: {message}"),
+        },
+        e => e,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_ring_mesh_gives_an_outer_loop_and_a_hole() {
+        // A square with a square hole, as 8 triangles.
+        let p = vec![
+            [0.0, 0.0],
+            [3.0, 0.0],
+            [3.0, 3.0],
+            [0.0, 3.0],
+            [1.0, 1.0],
+            [2.0, 1.0],
+            [2.0, 2.0],
+            [1.0, 2.0],
+        ];
+        let t = vec![
+            [0, 1, 5],
+            [0, 5, 4],
+            [1, 2, 6],
+            [1, 6, 5],
+            [2, 3, 7],
+            [2, 7, 6],
+            [3, 0, 4],
+            [3, 4, 7],
+        ];
+        let mesh = Mesh2::new(p, t).unwrap();
+        let d = drawing_of_mesh(&mesh, "the ring").unwrap();
+        assert_eq!(d.num_loops(), 2);
+        assert_eq!(d.loops()[0].len(), 4);
+        assert!(signed_area2(&d.loops()[0]) > 8.0);
+        let two = Mesh2::new(
+            vec![
+                [0.0, 0.0],
+                [1.0, 0.0],
+                [0.0, 1.0],
+                [5.0, 5.0],
+                [6.0, 5.0],
+                [5.0, 6.0],
+            ],
+            vec![[0, 1, 2], [3, 4, 5]],
+        )
+        .unwrap();
+        let m = drawing_of_mesh(&two, "the mesh `two.obj`")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            m.contains("the mesh `two.obj` is in 2 separate parts"),
+            "{m}"
+        );
+    }
+}

@@ -1,0 +1,170 @@
+//! Filled regions from the loops of filled paths: which loops bound the
+//! fill from outside (outer loops), which from inside (holes), by each
+//! path's fill rule.
+
+/// How a path decides what is inside.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Rule {
+    /// Inside where the loops wind around a point a non-zero number of
+    /// times (SVG's default).
+    NonZero,
+    /// Inside where a ray from the point crosses the loops an odd number
+    /// of times.
+    EvenOdd,
+}
+
+/// A loop of a filled path.
+pub(super) struct FilledLoop {
+    /// The path it belongs to (an index into the caller's list).
+    pub element: usize,
+    pub points: Vec<[f64; 2]>,
+}
+
+/// One filled region: an outer loop and the holes just inside it, as
+/// indices into the loops given.
+#[derive(Debug, PartialEq)]
+pub(super) struct Region {
+    pub outer: usize,
+    pub holes: Vec<usize>,
+}
+
+/// Twice the signed area (positive when the loop turns from +x towards +y).
+pub(super) fn signed_area2(points: &[[f64; 2]]) -> f64 {
+    let n = points.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (points[i], points[(i + 1) % n]);
+            a[0] * b[1] - a[1] * b[0]
+        })
+        .sum()
+}
+
+/// How many times `points` winds around `p` (positive when it turns from
+/// +x towards +y).
+fn winding(points: &[[f64; 2]], p: [f64; 2]) -> i32 {
+    let n = points.len();
+    let mut w = 0;
+    for i in 0..n {
+        let (a, b) = (points[i], points[(i + 1) % n]);
+        let side = (b[0] - a[0]) * (p[1] - a[1]) - (p[0] - a[0]) * (b[1] - a[1]);
+        if a[1] <= p[1] {
+            if b[1] > p[1] && side > 0.0 {
+                w += 1;
+            }
+        } else if b[1] <= p[1] && side < 0.0 {
+            w -= 1;
+        }
+    }
+    w
+}
+
+/// Whether `p` is inside the loop `points`.
+pub(super) fn inside(points: &[[f64; 2]], p: [f64; 2]) -> bool {
+    winding(points, p) != 0
+}
+
+/// Sorts `loops` into regions: each loop is an outer loop when the fill is
+/// on its inside only, a hole when on its outside only (by its path's
+/// `rules[element]`, counting the other loops of the same path); a loop
+/// with fill on both sides (a loop drawn within the fill) bounds nothing
+/// and is left out. Each hole goes to the smallest outer loop around it.
+pub(super) fn regions(loops: &[FilledLoop], rules: &[Rule]) -> Vec<Region> {
+    let mut outers = Vec::new();
+    let mut holes = Vec::new();
+    for (i, l) in loops.iter().enumerate() {
+        let p = l.points[0];
+        let others: i32 = loops
+            .iter()
+            .enumerate()
+            .filter(|&(j, m)| j != i && m.element == l.element)
+            .map(|(_, m)| winding(&m.points, p))
+            .sum();
+        let own = if signed_area2(&l.points) > 0.0 { 1 } else { -1 };
+        let filled = |w: i32| match rules[l.element] {
+            Rule::NonZero => w != 0,
+            Rule::EvenOdd => w % 2 != 0,
+        };
+        // Crossing counts of even-odd are windings' parities.
+        match (filled(others), filled(others + own)) {
+            (false, true) => outers.push(i),
+            (true, false) => holes.push(i),
+            _ => {}
+        }
+    }
+    let area = |i: usize| signed_area2(&loops[i].points).abs();
+    let mut found: Vec<Region> = outers
+        .iter()
+        .map(|&o| Region {
+            outer: o,
+            holes: Vec::new(),
+        })
+        .collect();
+    for h in holes {
+        let p = loops[h].points[0];
+        let around = found
+            .iter_mut()
+            .filter(|r| inside(&loops[r.outer].points, p))
+            .min_by(|a, b| area(a.outer).total_cmp(&area(b.outer)));
+        if let Some(r) = around {
+            r.holes.push(h);
+        }
+    }
+    found
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square(x: f64, y: f64, s: f64, ccw: bool) -> Vec<[f64; 2]> {
+        let mut v = vec![[x, y], [x + s, y], [x + s, y + s], [x, y + s]];
+        if !ccw {
+            v.reverse();
+        }
+        v
+    }
+
+    fn filled(element: usize, points: Vec<[f64; 2]>) -> FilledLoop {
+        FilledLoop { element, points }
+    }
+
+    #[test]
+    fn fill_rules_tell_holes() {
+        // Two loops the same way round: a hole under even-odd, fill on both
+        // sides of the inner one under non-zero.
+        let same = [
+            filled(0, square(0.0, 0.0, 10.0, true)),
+            filled(0, square(2.0, 2.0, 2.0, true)),
+        ];
+        let one_hole = vec![Region {
+            outer: 0,
+            holes: vec![1],
+        }];
+        assert_eq!(regions(&same, &[Rule::EvenOdd]), one_hole);
+        assert_eq!(
+            regions(&same, &[Rule::NonZero]),
+            vec![Region {
+                outer: 0,
+                holes: vec![]
+            }]
+        );
+        let opposite = [
+            filled(0, square(0.0, 0.0, 10.0, true)),
+            filled(0, square(2.0, 2.0, 2.0, false)),
+        ];
+        assert_eq!(regions(&opposite, &[Rule::NonZero]), one_hole);
+        // An island in a hole is a second region.
+        let island = [
+            filled(0, square(0.0, 0.0, 10.0, true)),
+            filled(0, square(2.0, 2.0, 6.0, true)),
+            filled(0, square(4.0, 4.0, 2.0, true)),
+        ];
+        assert_eq!(regions(&island, &[Rule::EvenOdd]).len(), 2);
+        // Separate paths never make holes in each other.
+        let apart = [
+            filled(0, square(0.0, 0.0, 10.0, true)),
+            filled(1, square(2.0, 2.0, 2.0, true)),
+        ];
+        assert_eq!(regions(&apart, &[Rule::EvenOdd, Rule::EvenOdd]).len(), 2);
+    }
+}

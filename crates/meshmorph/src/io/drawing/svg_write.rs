@@ -1,0 +1,105 @@
+//! A frame of a morph as an SVG file: one `<path>` with the drawing's
+//! loops.
+
+use std::io::Write;
+
+use super::{Canvas, Style};
+
+/// Appends a number as the shortest text that reads back to it.
+pub(super) fn push_number(out: &mut Vec<u8>, x: f64) {
+    super::super::push_f64(out, if x == 0.0 { 0.0 } else { x });
+}
+
+/// The `d` of a path through the loops: `loops[l]` lists vertex indices
+/// into `positions`; each loop is `M x y L x y ... Z`, the outer loop
+/// first, in the order given, mapped by `canvas` (y flipped for drawings
+/// with y up).
+pub fn svg_path_data(positions: &[[f64; 2]], loops: &[Vec<u32>], canvas: &Canvas) -> String {
+    let mut out = Vec::with_capacity(loops.iter().map(Vec::len).sum::<usize>() * 20);
+    for (l, indices) in loops.iter().enumerate() {
+        if l > 0 {
+            out.push(b' ');
+        }
+        for (i, &v) in indices.iter().enumerate() {
+            out.extend_from_slice(match i {
+                0 => b"M",
+                1 => b"L",
+                _ => b" ",
+            });
+            let p = canvas.map(positions[v as usize]);
+            push_number(&mut out, p[0]);
+            out.push(b' ');
+            push_number(&mut out, p[1]);
+        }
+        out.push(b'Z');
+    }
+    String::from_utf8(out).expect("numbers are ASCII")
+}
+
+/// `#rrggbb`.
+pub(super) fn hex(c: [u8; 3]) -> String {
+    format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
+}
+
+/// The opening `<svg>` tag of `canvas`.
+pub(super) fn svg_open(canvas: &Canvas) -> String {
+    let n = |x: f64| {
+        let mut b = Vec::new();
+        push_number(&mut b, x);
+        String::from_utf8(b).expect("ASCII")
+    };
+    let v = canvas.view_box;
+    format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" viewBox=\"{} {} {} {}\">\n",
+        n(canvas.size[0]),
+        n(canvas.size[1]),
+        n(v[0]),
+        n(v[1]),
+        n(v[2]),
+        n(v[3])
+    )
+}
+
+/// The paint attributes of a path drawn in `style`, even-odd filled.
+pub(super) fn paint_attributes(style: &Style) -> String {
+    let mut a = format!(
+        "fill=\"{}\" fill-rule=\"evenodd\"",
+        hex(style.fill.unwrap_or([0, 0, 0]))
+    );
+    if style.fill_opacity < 1.0 {
+        a += &format!(" fill-opacity=\"{}\"", style.fill_opacity);
+    }
+    if let Some(s) = style.stroke.filter(|_| style.stroke_width > 0.0) {
+        a += &format!(
+            " stroke=\"{}\" stroke-width=\"{}\" stroke-linejoin=\"round\"",
+            hex(s),
+            style.stroke_width
+        );
+        if style.stroke_opacity < 1.0 {
+            a += &format!(" stroke-opacity=\"{}\"", style.stroke_opacity);
+        }
+    }
+    a
+}
+
+/// Writes one frame as an SVG document: `canvas`'s viewBox and size, one
+/// `<path>` (even-odd filled, in `style`) through `loops` (vertex indices
+/// into `positions`, outer loop first), every point exactly as computed.
+///
+/// # Errors
+/// The writer's.
+pub fn write_svg_frame(
+    w: &mut dyn Write,
+    positions: &[[f64; 2]],
+    loops: &[Vec<u32>],
+    style: &Style,
+    canvas: &Canvas,
+) -> std::io::Result<()> {
+    w.write_all(svg_open(canvas).as_bytes())?;
+    writeln!(
+        w,
+        "  <path {} d=\"{}\"/>\n</svg>",
+        paint_attributes(style),
+        svg_path_data(positions, loops, canvas)
+    )
+}
