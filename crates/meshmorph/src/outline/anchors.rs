@@ -237,11 +237,21 @@ pub(crate) fn insert_inside(
     for tri in triangles.iter_mut() {
         *tri = tri.map(|v| new_index[v as usize]);
     }
-    for (d, mesh) in meshes.iter_mut().enumerate() {
-        let reference = mesh.clone();
-        let mut moved = mesh.clone();
-        moved[n..n + m].copy_from_slice(&fixed[d][n..]);
-        let moved = untangle(&reference, triangles, moved, n + m);
+    // Each drawing's anchors moved to their points in steps, the rest
+    // untangled after each, shaped like the first drawing's mesh.
+    const STEPS: usize = 8;
+    for d in 0..meshes.len() {
+        let reference = meshes[0].clone();
+        let start: Vec<[f64; 2]> = meshes[d][n..n + m].to_vec();
+        let mut moved = meshes[d].clone();
+        for step in 1..=STEPS {
+            let s = step as f64 / STEPS as f64;
+            for j in 0..m {
+                let (p, q) = (start[j], fixed[d][n + j]);
+                moved[n + j] = [p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1])];
+            }
+            moved = untangle(&reference, triangles, moved, n + m);
+        }
         if !all_positive(&moved, triangles) {
             return Err(Error::IncompatibleDrawings(format!(
                 "the anchors inside could not be put in place in drawing {} without turning a triangle over: \
@@ -249,7 +259,7 @@ pub(crate) fn insert_inside(
                 d + 1
             )));
         }
-        *mesh = moved;
+        meshes[d] = moved;
     }
     Ok(())
 }

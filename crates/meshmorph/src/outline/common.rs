@@ -63,7 +63,9 @@ pub(crate) fn common_boundary(
             }
         }
         entries.sort_by(|x, y| x.t.total_cmp(&y.t));
-        let entries = merge(entries, &arc);
+        // The same given point first, then near points.
+        let entries = merge(entries, &arc, false);
+        let entries = merge(entries, &arc, true);
         let count = entries.len();
         points[0].extend(entries.iter().map(|e| e.a));
         from[0].extend(entries.iter().map(|e| e.from_a));
@@ -107,9 +109,9 @@ pub(crate) fn common_boundary(
 }
 
 /// Merges neighbours that are one point: the same given point of the
-/// first drawing, or points of different pairs (no drawing placed by
-/// both) closer than 0.3 of the first drawing's edge they lie on.
-fn merge(entries: Vec<Entry>, arc: &ArcLoop) -> Vec<Entry> {
+/// first drawing, or (`near`) points of different pairs (no drawing placed
+/// by both) closer than 0.3 of the first drawing's edge they lie on.
+fn merge(entries: Vec<Entry>, arc: &ArcLoop, near: bool) -> Vec<Entry> {
     let length = arc.length();
     // The fraction of the loop taken by the edge at fraction t.
     let edge_at = |t: f64| {
@@ -130,7 +132,8 @@ fn merge(entries: Vec<Entry>, arc: &ArcLoop) -> Vec<Entry> {
                 .zip(&e.others)
                 .all(|(x, y)| x.is_none() || y.is_none());
             let same_given = last.from_a.is_some() && last.from_a == e.from_a;
-            let close = (e.t - last.t).abs() < 0.3 * edge_at(0.5 * (e.t + last.t))
+            let close = near
+                && (e.t - last.t).abs() < 0.3 * edge_at(0.5 * (e.t + last.t))
                 && !(last.from_a.is_some() && e.from_a.is_some());
             if disjoint && (same_given || close) {
                 if e.from_a.is_some() {
@@ -158,7 +161,8 @@ fn merge(entries: Vec<Entry>, arc: &ArcLoop) -> Vec<Entry> {
             .all(|(x, y)| x.is_none() || y.is_none());
         let gap = first.t + 1.0 - last.t;
         let same_given = first.from_a.is_some() && first.from_a == last.from_a;
-        let close = gap < 0.3 * edge_at(last.t + 0.5 * gap)
+        let close = near
+            && gap < 0.3 * edge_at(last.t + 0.5 * gap)
             && !(first.from_a.is_some() && last.from_a.is_some());
         if disjoint && (same_given || close) {
             let last = out.pop().unwrap_or_else(|| unreachable!());

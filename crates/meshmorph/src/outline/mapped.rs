@@ -600,7 +600,7 @@ pub(crate) fn compatible(
     source: usize,
     loop_start: &[usize],
     angle_degrees: f64,
-) -> Option<(Vec<Vec<[f64; 2]>>, Vec<[u32; 3]>)> {
+) -> Option<super::Positioned> {
     let refined = refine(&fixed[source], loop_start, angle_degrees)?;
     if !all_positive(&refined.positions, &refined.triangles) {
         return None;

@@ -1,16 +1,20 @@
-//! From two drawings to two compatible meshes: outlines in, the same
-//! triangles out, every one positively oriented in both meshes, ready for
-//! [`Interpolator`](crate::Interpolator).
+//! From two or more drawings to compatible meshes: outlines in, the same
+//! triangles out, every one positively oriented in every mesh, ready for
+//! [`Interpolator`](crate::Interpolator) and
+//! [`Sequence`](crate::Sequence).
 //!
 //! The way, one file a step:
 //!
 //! 1. `drawing`: each drawing checked (loops simple, apart, holes inside)
-//!    and oriented (outer loop counter-clockwise, holes clockwise).
-//! 2. `boundary`: the outer loops matched by aligning their turning-angle
-//!    signatures (dynamic time warping over every start), the union of
-//!    both loops' points put on each; `holes` pairs the holes by where
-//!    they sit once the outer loops are laid over each other, and each
-//!    pair is matched the same way.
+//!    and oriented (outer loop counter-clockwise, holes clockwise);
+//!    `anchors`: matched points sorted into those on the outlines and
+//!    those inside.
+//! 2. `boundary`: each drawing's outer loop matched to the first's by
+//!    aligning their turning-angle signatures (dynamic time warping over
+//!    every start), the union of both loops' points put on each; `holes`
+//!    pairs the holes by where they sit once the outer loops are laid over
+//!    each other, and each pair is matched the same way; `common` puts
+//!    every pair's matched points on every drawing.
 //! 3. `cuts`: each hole opened to the outer loop by a straight cut at the
 //!    same matched points in both drawings, so both become disks with the
 //!    same boundary.
@@ -19,17 +23,22 @@
 //!    each other as chords of one convex polygon (Aronov, Seidel and
 //!    Souvaine 1993), which gives triangles valid in both drawings
 //!    whatever the shapes.
-//! 5. `improve`: compatible edge flips and smoothing that raise the
-//!    smallest angle and keep every triangle positive in both meshes.
+//! 5. `improve`: compatible edge flips, splits and smoothing that raise
+//!    the smallest angle and keep every triangle positive in every mesh.
 //!
 //! Before steps 3 and 4, `mapped` tries the fast way: one drawing meshed
 //! with good angles (constrained Delaunay refinement), mapped into the
-//! other with the matched boundary fixed and untangled (Garanzha et al.
-//! 2021); it is kept when every triangle is positive in both meshes and
-//! its smallest angle is good enough or beats the overlay's.
+//! others with the matched boundary and the anchors fixed and untangled
+//! (Garanzha et al. 2021); it is kept when every triangle is positive in
+//! every mesh and its smallest angle is good enough or beats the
+//! overlay's. With three or more drawings the overlay is made for the
+//! first two, and its mesh mapped into each further drawing (through the
+//! first drawing's own pair with it, `carry`, where mapping alone turns a
+//! triangle over).
 
 mod anchors;
 mod boundary;
+mod carry;
 mod common;
 mod cuts;
 mod disk;
@@ -38,7 +47,6 @@ mod geometry;
 mod holes;
 mod improve;
 mod mapped;
-mod merge;
 mod overlay;
 #[cfg(test)]
 mod tests;
@@ -225,7 +233,7 @@ fn overlay_pair(
     matched: &[Vec<MatchedPoint>],
     points_a: &[[f64; 2]],
     points_b: &[[f64; 2]],
-) -> Result<(Vec<Vec<[f64; 2]>>, Vec<[u32; 3]>)> {
+) -> Result<Positioned> {
     let cuts = cuts::find_cuts(&matched[0], &matched[1..])?;
     let lengths: Vec<usize> = matched.iter().map(Vec::len).collect();
     let disk = disk::Disk::new(&lengths, &cuts);
@@ -290,6 +298,10 @@ fn improve_set(
     );
     (before, improve::smallest_angles(&pair))
 }
+
+/// Compatible meshes as they are made: the positions in each drawing and
+/// the shared triangles.
+pub(crate) type Positioned = (Vec<Vec<[f64; 2]>>, Vec<[u32; 3]>);
 
 /// The smallest of several angles.
 fn worst(angles: &[f64]) -> f64 {
@@ -610,38 +622,57 @@ fn overlay_set(
             })
             .collect()
     };
-    let (mut meshes, mut triangles) = if count == 2 {
-        overlay_pair(&matched_with(1), &boundary.points[0], &boundary.points[1])?
-    } else {
-        let mut pairs = Vec::with_capacity(count - 1);
-        for k in 1..count {
-            let two = [boundary.points[0].clone(), boundary.points[k].clone()];
-            let (mut m, mut t) = match mapped::compatible(
-                &two,
-                0,
-                &boundary.loop_start,
-                options.mapped_angle_degrees,
-            ) {
-                Some(found) => found,
-                None => overlay_pair(&matched_with(k), &two[0], &two[1])?,
-            };
+    // The first drawing with drawing k: mapped, else overlaid; improved.
+    let pair_with = |k: usize| -> Result<Positioned> {
+        let two = [boundary.points[0].clone(), boundary.points[k].clone()];
+        let (mut m, mut t) = match (count > 2)
+            .then(|| {
+                mapped::compatible(&two, 0, &boundary.loop_start, options.mapped_angle_degrees)
+            })
+            .flatten()
+        {
+            Some(found) => found,
+            None => overlay_pair(&matched_with(k), &two[0], &two[1])?,
+        };
+        if count > 2 {
             improve_set(&mut m, &mut t, n, n, options);
-            let other = m.pop().unwrap_or_default();
-            let first = m.pop().unwrap_or_default();
-            pairs.push(merge::PairMesh {
-                first,
-                other,
-                triangles: t,
-            });
         }
-        merge::merge(&pairs, n)?
+        Ok((m, t))
     };
+    let (mut meshes, mut triangles) = pair_with(1)?;
+    // More drawings: the first pair's mesh mapped into each, and where
+    // that turns a triangle over, carried through the first drawing's own
+    // pair with that drawing and untangled.
+    for k in 2..count {
+        let mut b = mapped::map_into(&meshes[0], &triangles, &boundary.points[k]);
+        if !mapped::all_positive(&b, &triangles) {
+            let (mut m, t) = pair_with(k)?;
+            let pair = carry::PairMesh {
+                other: m.pop().unwrap_or_default(),
+                first: m.pop().unwrap_or_default(),
+                triangles: t,
+            };
+            let start = carry::carry_all(&pair, &meshes[0]);
+            b = mapped::untangle(&meshes[0], &triangles, start, n);
+            if !mapped::all_positive(&b, &triangles) {
+                return Err(Error::IncompatibleDrawings(format!(
+                    "drawing {} could not be given the mesh of the first two without turning a triangle over: \
+                     morph the drawings two at a time, or add anchors on the outlines",
+                    k + 1
+                )));
+            }
+        }
+        meshes.push(b);
+    }
     let overlay_angles = improve::smallest_angles(&improve::Pair {
         meshes: &mut meshes,
         triangles: &mut triangles,
         fixed: &mut Vec::new(),
     });
     if inside > 0 {
+        // Better shapes first: the untangling that moves the anchors keeps
+        // the triangles close to the first drawing's.
+        improve_set(&mut meshes, &mut triangles, n, n, options);
         anchors::insert_inside(&mut meshes, &mut triangles, fixed, n)?;
     }
     let (_, angles) = improve_set(&mut meshes, &mut triangles, n + inside, 2 * n, options);

@@ -159,6 +159,24 @@ fn rect(n_side: usize, w: f64, h: f64) -> Vec<[f64; 2]> {
     out
 }
 
+/// Asserts that every vertex of `boundary` lies on the drawing's loops.
+fn assert_on_drawing(mesh: &Mesh2, loops: &Loops, boundary: &[Vec<u32>]) {
+    let size = diagonal(loops.iter().flatten());
+    for &v in boundary.iter().flatten() {
+        let p = mesh.positions()[v as usize];
+        let d = loops
+            .iter()
+            .flat_map(|l| {
+                (0..l.len()).map(move |i| point_segment_distance(p, l[i], l[(i + 1) % l.len()]))
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            d <= 1e-12 * size,
+            "boundary vertex {v} off its drawing by {d}"
+        );
+    }
+}
+
 struct Outcome {
     meshes: CompatibleMeshes,
 }
@@ -228,20 +246,7 @@ fn check_meshes(a_loops: &Loops, b_loops: &Loops, m: &CompatibleMeshes) {
     assert_eq!(boundary, expected);
     assert!(count.values().all(|&c| c <= 2));
     for (mesh, loops) in [(&m.a, a_loops), (&m.b, b_loops)] {
-        let size = diagonal(loops.iter().flatten());
-        for &v in m.loops.iter().flatten() {
-            let p = mesh.positions()[v as usize];
-            let d = loops
-                .iter()
-                .flat_map(|l| {
-                    (0..l.len()).map(move |i| point_segment_distance(p, l[i], l[(i + 1) % l.len()]))
-                })
-                .fold(f64::INFINITY, f64::min);
-            assert!(
-                d <= 1e-12 * size,
-                "boundary vertex {v} off its drawing by {d}"
-            );
-        }
+        assert_on_drawing(mesh, loops, &m.loops);
     }
     // The ends of the interpolation are the two meshes.
     let morph = Interpolator::new(&m.a, &m.b, &InterpolatorOptions::default()).unwrap();
@@ -462,4 +467,164 @@ fn anchors_are_kept() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("different orders"), "{e}");
+}
+
+/// Checks a set of compatible meshes: the same triangles, all positive in
+/// every mesh, every given point a vertex at its place, the boundary on
+/// each drawing, and a keyframe sequence through them that passes through
+/// every mesh.
+fn check_set(drawings: &[Loops], set: &CompatibleSet) {
+    assert_eq!(set.meshes.len(), drawings.len());
+    for (d, (mesh, loops)) in set.meshes.iter().zip(drawings).enumerate() {
+        assert_eq!(mesh.triangles(), set.meshes[0].triangles());
+        for t in 0..mesh.num_triangles() {
+            let [x, y, z] = mesh.corners(t);
+            assert!(
+                orient(x, y, z) > 0.0,
+                "drawing {d}: triangle {t} not positive"
+            );
+        }
+        for (l, pts) in loops.iter().enumerate() {
+            for (i, p) in pts.iter().enumerate() {
+                assert_eq!(mesh.positions()[set.given[d][l][i] as usize], *p);
+            }
+        }
+        assert_on_drawing(mesh, loops, &set.loops);
+    }
+    let sequence = crate::Sequence::new(&set.meshes, &InterpolatorOptions::default()).unwrap();
+    for (k, mesh) in set.meshes.iter().enumerate() {
+        let frame = sequence.at(k as f64);
+        let size = mesh.bounding_box_diagonal();
+        for (p, q) in frame.iter().zip(mesh.positions()) {
+            assert!(dist(*p, *q) <= 1e-8 * size, "key {k}: {p:?} vs {q:?}");
+        }
+    }
+}
+
+#[test]
+fn three_drawings_share_one_mesh_by_either_way() {
+    let sets: Vec<(&str, Vec<Loops>)> = vec![
+        (
+            "stars",
+            vec![
+                vec![star(60, 5)],
+                pose(&vec![star(90, 6)], 2.0, 1.5, 11, true, 0.0, 3),
+                pose(&vec![star(45, 7)], -1.0, 0.5, 4, false, 0.1, 4),
+            ],
+        ),
+        (
+            "rings",
+            vec![
+                vec![circle(40, [0.0, 0.0], 1.0), circle(20, [0.3, 0.0], 0.4)],
+                vec![circle(60, [0.0, 0.0], 1.0), circle(24, [-0.2, 0.1], 0.3)],
+                vec![circle(45, [0.0, 0.0], 1.0), circle(28, [0.1, -0.2], 0.35)],
+            ],
+        ),
+        (
+            "a star, a C and a bar",
+            vec![
+                vec![star(50, 8)],
+                vec![c_shape(80, false)],
+                vec![band(40, 0.1, |t| [2.0 * t, 0.2 * (PI * t).sin()])],
+            ],
+        ),
+    ];
+    let overlay_only = OutlineOptions {
+        mapped_first: false,
+        ..OutlineOptions::default()
+    };
+    for (name, loops) in &sets {
+        let drawings: Vec<Drawing> = loops
+            .iter()
+            .map(|l| Drawing::new(l.clone()).unwrap())
+            .collect();
+        for options in [OutlineOptions::default(), overlay_only.clone()] {
+            let set = compatible_set(&drawings, &[], &options).unwrap();
+            eprintln!("{name}: {}", set.report);
+            assert_eq!(set.report.min_angle_degrees.len(), 3);
+            check_set(loops, &set);
+        }
+    }
+}
+
+#[test]
+fn anchors_inside_are_vertices_at_their_points_in_every_mesh() {
+    let loops = [
+        vec![star(70, 3)],
+        pose(&vec![star(50, 4)], 0.7, 1.3, 9, true, 0.0, 2),
+        pose(&vec![star(90, 5)], -2.0, 0.8, 30, false, 0.0, 6),
+    ];
+    let drawings: Vec<Drawing> = loops
+        .iter()
+        .map(|l| Drawing::new(l.clone()).unwrap())
+        .collect();
+    // Two points inside each drawing: near each drawing's centre of
+    // mass, on either side.
+    let inside = |d: &Drawing, side: f64| {
+        let outer = &d.loops()[0];
+        let mut best = outer[0];
+        let mut best_depth = 0.0;
+        let c = outer
+            .iter()
+            .fold([0.0, 0.0], |s, p| [s[0] + p[0], s[1] + p[1]]);
+        let c = [c[0] / outer.len() as f64, c[1] / outer.len() as f64];
+        for k in 0..400 {
+            let t = k as f64 / 400.0;
+            let p = lerp(c, outer[(k * 7) % outer.len()], t * 0.9);
+            let depth = outer
+                .iter()
+                .zip(outer.iter().cycle().skip(1))
+                .map(|(a, b)| point_segment_distance(p, *a, *b))
+                .fold(f64::INFINITY, f64::min);
+            if geometry::inside_loop(p, outer) && (p[0] - c[0]) * side > 0.0 && depth > best_depth {
+                best = p;
+                best_depth = depth;
+            }
+        }
+        best
+    };
+    let for_pair = |ds: &[Drawing]| -> Vec<Vec<[f64; 2]>> {
+        [1.0, -1.0]
+            .iter()
+            .map(|&s| ds.iter().map(|d| inside(d, s)).collect())
+            .collect()
+    };
+    let overlay_only = OutlineOptions {
+        mapped_first: false,
+        ..OutlineOptions::default()
+    };
+    for count in [2, 3] {
+        let ds = &drawings[..count];
+        let anchors = for_pair(ds);
+        for options in [OutlineOptions::default(), overlay_only.clone()] {
+            let set = compatible_set(ds, &anchors, &options).unwrap();
+            eprintln!("{count} drawings: {}", set.report);
+            assert_eq!(set.report.inside_anchors, 2);
+            check_set(&loops[..count], &set);
+            for (k, anchor) in anchors.iter().enumerate() {
+                let v = set.anchors[k] as usize;
+                for (d, mesh) in set.meshes.iter().enumerate() {
+                    assert_eq!(mesh.positions()[v], anchor[d], "anchor {k} in drawing {d}");
+                }
+            }
+        }
+    }
+    // An anchor inside one drawing and on the outline of another, or
+    // outside, is refused naming it.
+    let mixed = vec![vec![inside(&drawings[0], 1.0), loops[1][0][3]]];
+    let e = compatible_set(&drawings[..2], &mixed, &OutlineOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("anchor 0") && e.contains("outline of drawing 2"),
+        "{e}"
+    );
+    let outside = vec![vec![[100.0, 100.0], inside(&drawings[1], 1.0)]];
+    let e = compatible_set(&drawings[..2], &outside, &OutlineOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("anchor 0") && e.contains("outside drawing 1"),
+        "{e}"
+    );
 }
