@@ -238,6 +238,68 @@ pub fn nearest_vertex_pairs(
         .collect()
 }
 
+/// The outline of a stroke drawn along a turtle's path, for drawings made
+/// in code: counter-clockwise, one loop, points about `spacing` apart.
+///
+/// The path starts at `start` heading `heading` (radians,
+/// counter-clockwise from +x); each step is `(length, turn)`, the turn
+/// (radians, positive to the left) spread evenly over its length, so each
+/// step is a straight piece or an arc. `half_width(s)` is the stroke's
+/// half-width at the fraction `s` (0 to 1) of the path's length; both ends
+/// are capped by half circles. The outline is simple when every arc's
+/// radius exceeds the half-width there and the path stays more than a
+/// width away from itself.
+///
+/// # Panics
+/// If `spacing` is not positive or there are no steps.
+pub fn stroke_outline(
+    start: [f64; 2],
+    heading: f64,
+    steps: &[(f64, f64)],
+    half_width: &dyn Fn(f64) -> f64,
+    spacing: f64,
+) -> Vec<[f64; 2]> {
+    use std::f64::consts::PI;
+    assert!(spacing > 0.0 && !steps.is_empty(), "empty stroke");
+    let total: f64 = steps.iter().map(|s| s.0).sum();
+    // The centre line: (point, heading, arc length) every `spacing` or so.
+    let mut centre = vec![(start, heading, 0.0)];
+    let (mut p, mut h, mut s) = (start, heading, 0.0);
+    for &(length, turn) in steps {
+        let n = ((length / spacing).ceil() as usize).max(1);
+        let (ds, dh) = (length / n as f64, turn / n as f64);
+        for _ in 0..n {
+            // Exact on an arc: the chord follows the mean heading.
+            let chord = if dh.abs() < 1e-12 {
+                ds
+            } else {
+                2.0 * ds / dh * (0.5 * dh).sin()
+            };
+            let mid = h + 0.5 * dh;
+            p = [p[0] + chord * mid.cos(), p[1] + chord * mid.sin()];
+            h += dh;
+            s += ds;
+            centre.push((p, h, s));
+        }
+    }
+    let at = |(p, h, s): ([f64; 2], f64, f64), side: f64, angle: f64| {
+        let w = half_width((s / total).clamp(0.0, 1.0));
+        let a = h + side * angle;
+        [p[0] + w * a.cos(), p[1] + w * a.sin()]
+    };
+    let cap = |c: ([f64; 2], f64, f64)| {
+        ((PI * half_width((c.2 / total).clamp(0.0, 1.0)) / spacing).ceil() as usize).max(2)
+    };
+    let last = centre[centre.len() - 1];
+    let mut out: Vec<[f64; 2]> = centre.iter().map(|&c| at(c, -1.0, PI / 2.0)).collect();
+    let n = cap(last);
+    out.extend((1..n).map(|k| at(last, 1.0, -PI / 2.0 + PI * k as f64 / n as f64)));
+    out.extend(centre.iter().rev().map(|&c| at(c, 1.0, PI / 2.0)));
+    let n = cap(centre[0]);
+    out.extend((1..n).map(|k| at(centre[0], 1.0, PI / 2.0 + PI * k as f64 / n as f64)));
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -273,5 +335,43 @@ mod tests {
         assert!(e.iter().all(|e| e.triangles.len() == 2));
         let b = bend(&t, 4.0, std::f64::consts::FRAC_PI_2);
         assert_eq!(b.num_vertices(), t.num_vertices());
+    }
+
+    #[test]
+    fn stroke_outline_is_counter_clockwise_with_the_stroke_area() {
+        use std::f64::consts::PI;
+        let area = |p: &[[f64; 2]]| {
+            (0..p.len())
+                .map(|i| {
+                    let (a, b) = (p[i], p[(i + 1) % p.len()]);
+                    a[0] * b[1] - a[1] * b[0]
+                })
+                .sum::<f64>()
+                / 2.0
+        };
+        // A straight stroke: a rectangle and two half discs.
+        let straight = stroke_outline([1.0, 2.0], 0.7, &[(4.0, 0.0)], &|_| 0.5, 0.01);
+        let expected = 4.0 * 1.0 + PI * 0.25;
+        assert!((area(&straight) - expected).abs() < 1e-3 * expected);
+        // Bent by a quarter turn on an arc of radius 2: the same area.
+        let bent = stroke_outline(
+            [0.0, 0.0],
+            0.0,
+            &[(1.0, 0.0), (PI, PI / 2.0), (1.0, 0.0)],
+            &|_| 0.5,
+            0.01,
+        );
+        let expected = (2.0 + PI) * 1.0 + PI * 0.25;
+        assert!((area(&bent) - expected).abs() < 1e-3 * expected);
+        // Tapered: every point is finite up to the tip.
+        let tapered = stroke_outline(
+            [0.0, 0.0],
+            0.0,
+            &[(3.0, 2.0)],
+            &|s| 0.3 * (1.0 - s).max(0.0).sqrt() + 0.05,
+            0.05,
+        );
+        assert!(tapered.iter().flatten().all(|x| x.is_finite()));
+        assert!(area(&tapered) > 0.0);
     }
 }
