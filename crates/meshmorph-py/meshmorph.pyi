@@ -1,4 +1,5 @@
-"""As-rigid-as-possible shape interpolation and deformation transfer on triangle meshes.
+"""As-rigid-as-possible shape interpolation and deformation transfer on triangle meshes, and
+drawings (outlines with holes) made into meshes with the same triangles for it.
 
 Vertices are ``(n, 2)`` or ``(n, 3)`` float64 or float32 arrays, faces ``(m, 3)`` int32,
 int64 or uint32 arrays (0-based); results are new float64 arrays, or written into ``out``.
@@ -107,3 +108,31 @@ class GradientSolver:
 
 def positions_from_gradients(v_rest: Vertices, f: Faces, j: npt.NDArray[Union[np.float64, np.float32]]) -> npt.NDArray[np.float64]: ...
 def deformation_gradients(v_rest: Vertices, f: Faces, v: Vertices) -> npt.NDArray[np.float64]: ...
+
+# A drawing: its loops, the outer loop first, then the holes; each (n, 2) float64 or float32.
+Loops = Seq[npt.NDArray[Union[np.float64, np.float32]]]
+
+class CompatibleMeshes:
+    """Meshes with the same triangles inside two or more drawings (``compatible_meshes``)."""
+    # One (v, 2) float64 array a drawing, in the drawings' order.
+    @property
+    def vertices(self) -> list[npt.NDArray[np.float64]]: ...
+    # (m, 3), counter-clockwise and positive in every mesh.
+    @property
+    def triangles(self) -> npt.NDArray[np.int64]: ...
+    # The outline as vertex indices: the outer loop (counter-clockwise), then the holes (clockwise).
+    @property
+    def loops(self) -> list[npt.NDArray[np.int64]]: ...
+    # given[d][l][i]: the vertex at point i of loop l of drawing d, as given.
+    @property
+    def given(self) -> list[list[npt.NDArray[np.int64]]]: ...
+    # The vertex of each anchor.
+    @property
+    def anchors(self) -> npt.NDArray[np.int64]: ...
+    # drawing_points, boundary_points, inside_anchors, steiner_points, triangles,
+    # min_angle_degrees, overlay_min_angle_degrees, path ("mapped" or "overlay"), seconds, text.
+    @property
+    def report(self) -> dict: ...
+    def __len__(self) -> int: ...
+
+def compatible_meshes(drawings: Seq[Loops], anchors: Optional[npt.NDArray[Union[np.float64, np.float32]]] = None) -> CompatibleMeshes: ...

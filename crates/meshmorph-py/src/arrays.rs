@@ -250,6 +250,25 @@ pub fn index_rows<const W: usize>(arg: &str, a: &Bound<'_, PyAny>) -> PyResult<V
     Err(wrong())
 }
 
+/// A 3-D float64 or float32 array read by `read(shape, at)`, where
+/// `at(i, j, k)` is an entry as a float64; `None` when `a` is neither.
+pub fn read_3d<T>(
+    a: &Bound<'_, PyAny>,
+    read: impl FnOnce(&[usize], &dyn Fn(usize, usize, usize) -> f64) -> PyResult<T>,
+) -> Option<PyResult<T>> {
+    if let Ok(array) = a.cast::<PyArray3<f64>>() {
+        let array = array.readonly();
+        let view = array.as_array();
+        return Some(read(array.shape(), &|i, j, k| view[[i, j, k]]));
+    }
+    if let Ok(array) = a.cast::<PyArray3<f32>>() {
+        let array = array.readonly();
+        let view = array.as_array();
+        return Some(read(array.shape(), &|i, j, k| f64::from(view[[i, j, k]])));
+    }
+    None
+}
+
 /// Faces `(m, 3)`, int32, int64 or uint32, 0-based.
 pub fn faces(arg: &str, a: &Bound<'_, PyAny>) -> PyResult<Vec<[u32; 3]>> {
     if let Some(shape) = shape_of(a, 2) {

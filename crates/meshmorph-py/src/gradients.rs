@@ -5,7 +5,7 @@
 
 use meshmorph::{FactorKind, Mat, RestSystem, Space, TriangleMaps};
 use numpy::ndarray::Array3;
-use numpy::{IntoPyArray, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyModule;
 
@@ -51,17 +51,7 @@ fn maps<const D: usize>(arg: &str, a: &Bound<'_, PyAny>, m: usize) -> PyResult<V
             }
             Ok(out)
         };
-    if let Ok(array) = a.cast::<PyArray3<f64>>() {
-        let array = array.readonly();
-        let view = array.as_array();
-        return read(array.shape(), &|t, r, c| view[[t, r, c]]);
-    }
-    if let Ok(array) = a.cast::<PyArray3<f32>>() {
-        let array = array.readonly();
-        let view = array.as_array();
-        return read(array.shape(), &|t, r, c| f64::from(view[[t, r, c]]));
-    }
-    Err(wrong())
+    arrays::read_3d(a, read).unwrap_or_else(|| Err(wrong()))
 }
 
 /// Positions from per-triangle linear maps on a rest mesh `(n, d)`, faces

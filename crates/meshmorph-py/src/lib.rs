@@ -1,6 +1,6 @@
 //! meshmorph for Python: as-rigid-as-possible shape interpolation and
 //! deformation transfer on numpy arrays, factored once, the GIL released
-//! while the work runs. A thin layer over the Rust library: arrays in
+//! while the work runs, and drawings made into compatible meshes for it. A thin layer over the Rust library: arrays in
 //! (`arrays.rs`, their sizes checked before any copy) and other arguments
 //! (`args.rs`), the library's objects held, the work run on the module's
 //! own threads and stopped by Ctrl-C (`work.rs`), arrays out.
@@ -10,6 +10,7 @@ mod arrays;
 mod files;
 mod gradients;
 mod interpolation;
+mod outline;
 mod progress;
 mod transfer;
 mod work;
@@ -45,5 +46,6 @@ fn meshmorph_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     transfer::register(m)?;
     files::register(m)?;
     gradients::register(m)?;
+    outline::register(m)?;
     Ok(())
 }
