@@ -26,6 +26,9 @@ pub struct FrameOutputs {
     dir: PathBuf,
     count: usize,
     format: Format,
+    /// The frame files' extension: the mesh format's, or a drawing's
+    /// (`svg`, `txt`).
+    ext: &'static str,
     meshes: Vec<Output>,
     svgs: Vec<Output>,
     gif: Option<Output>,
@@ -43,11 +46,26 @@ impl FrameOutputs {
         count: usize,
         format: Format,
     ) -> Self {
+        Self::plan_as(plan, args, dir, count, format, format.extension())
+    }
+
+    /// [`FrameOutputs::plan`] for frames written as `ext` files (a
+    /// drawing's outline, by [`Run::outline`]); `format` for the GLB's and
+    /// pictures' sake only.
+    pub fn plan_as(
+        plan: &mut Plan,
+        args: &FrameArgs,
+        dir: &Path,
+        count: usize,
+        format: Format,
+        ext: &'static str,
+    ) -> Self {
         Self {
             dir: dir.to_path_buf(),
             count,
             format,
-            meshes: plan.frames(dir, count, format.extension()),
+            ext,
+            meshes: plan.frames(dir, count, ext),
             svgs: if args.svg {
                 plan.frames(dir, count, "svg")
             } else {
@@ -67,9 +85,14 @@ impl FrameOutputs {
         }
     }
 
+    /// The frame files' extension.
+    pub fn ext(&self) -> &'static str {
+        self.ext
+    }
+
     /// Where frame `k`'s mesh goes.
     fn mesh_path(&self, k: usize) -> PathBuf {
-        crate::outputs::frame_path(&self.dir, k, self.count, self.format.extension())
+        crate::outputs::frame_path(&self.dir, k, self.count, self.ext)
     }
 }
 
@@ -159,6 +182,10 @@ pub struct Report {
     /// around them and turn with it between keys, rather than moving their
     /// centroids on straight lines.
     pub parts_following_host: usize,
+    /// When the keys were drawings: how they were read and made
+    /// compatible, and the files written from them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drawings: Option<crate::drawings::DrawingsReport>,
 }
 
 impl Report {
@@ -236,6 +263,9 @@ impl Report {
         if let Some(line) = crate::output::following_line(self.parts_following_host) {
             say!("parts:    {line}");
         }
+        if let Some(d) = &self.drawings {
+            d.print();
+        }
         if self.surplus_frames_removed > 0 {
             say!(
                 "removed {} of an earlier run",
@@ -263,6 +293,15 @@ pub struct Run<'a> {
     pub image_budget: u64,
     /// The keys' names (their files' stems), for the captions of the PNG.
     pub key_names: &'a [String],
+    /// Writes each planar frame itself (a drawing's outline) instead of
+    /// as a mesh.
+    pub outline: Option<&'a dyn WriteFrame>,
+}
+
+/// A frame written otherwise than as a mesh: a drawing's outline.
+pub trait WriteFrame: Sync {
+    /// Writes the frame whose vertices are at `positions` into `w`.
+    fn write(&self, w: &mut dyn std::io::Write, positions: &[[f64; 2]]) -> std::io::Result<()>;
 }
 
 /// Writes every frame of `morph` at the run's times (and the pictures
@@ -287,6 +326,7 @@ where
         read_warnings,
         image_budget,
         key_names: _,
+        outline,
     } = *run;
     crate::memory::check_frames_in_flight(
         morph.num_vertices(),
@@ -303,15 +343,19 @@ where
         let mut dropped = Vec::new();
         staging.write_to(outputs.meshes[k], |path, w| {
             check_finite(positions, k, t, morph.num_keys() - 1)?;
-            match file {
-                Some(file) => {
+            match (outline, file) {
+                (Some(outline), _) => {
+                    let planar: Vec<[f64; 2]> = positions.iter().map(|p| [p[0], p[1]]).collect();
+                    outline.write(w, &planar)?;
+                }
+                (None, Some(file)) => {
                     let lifted: Vec<[f64; 3]> = positions
                         .iter()
                         .map(|p| std::array::from_fn(|i| if i < D { p[i] } else { 0.0 }))
                         .collect();
                     dropped = file.write_to(w, path, &lifted, outputs.format)?;
                 }
-                None => meshmorph::io::write_positions_to(
+                (None, None) => meshmorph::io::write_positions_to(
                     w,
                     path,
                     positions,
@@ -441,6 +485,7 @@ where
         unused_vertices: setup.unused_vertices,
         welded_vertices: setup.welded_vertices,
         parts_following_host: setup.parts_following_host,
+        drawings: None,
     })
 }
 
@@ -482,12 +527,12 @@ fn compact(t: f64) -> String {
 /// The frames of an interpolation at `times`, recomputed (one
 /// back-substitution each) whenever a writer of pictures or of the GLB
 /// asks: memory for frames stays that of the few being drawn or written.
-struct Recomputed<'a, const D: usize>
+pub struct Recomputed<'a, const D: usize>
 where
     Space<D>: Dimension<D>,
 {
-    morph: &'a Sequence<D>,
-    times: &'a [f64],
+    pub morph: &'a Sequence<D>,
+    pub times: &'a [f64],
 }
 
 impl<const D: usize> FrameSource<D> for Recomputed<'_, D>

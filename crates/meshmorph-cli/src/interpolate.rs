@@ -18,7 +18,7 @@ use crate::outputs::{Plan, Staging};
 use crate::pictures::PictureArgs;
 
 /// Interpolate through two or more meshes with the same triangles (keys),
-/// planar or surfaces in space.
+/// planar or surfaces in space, or through drawings.
 ///
 /// Writes DIR/frame_0000.obj, frame_0001.obj, ... and prints a report. Key
 /// i is at time t = i; the frames pass through every key in order, with one
@@ -30,8 +30,16 @@ use crate::pictures::PictureArgs;
 /// temporary name and moved into place only when the whole run has
 /// succeeded; a failed or interrupted (Ctrl-C) run leaves the output folder
 /// as it was. After a successful run, files of an earlier run in DIR named
-/// exactly like frames (frame_ + digits + .obj/.off/.ply/.stl/.svg) that this
-/// run did not write are removed; no other file is touched.
+/// exactly like frames (frame_ + digits + .obj/.off/.ply/.stl/.svg/.txt)
+/// that this run did not write are removed; no other file is touched.
+///
+/// Drawings: SVG files (.svg), polygons as text (.txt), or planar meshes
+/// whose triangles differ. Each is one filled region (an outer loop and
+/// any holes); their outlines are matched and made into meshes with the
+/// same triangles, which are then interpolated. Frames are written in the
+/// first drawing's format (SVG: frame_0000.svg, ... in its coordinates and
+/// page, one path a frame, each point the same point of the drawing in
+/// every frame; text: frame_0000.txt, ...; meshes: meshes).
 #[derive(Debug, clap::Args)]
 #[command(
     mut_arg("png", |a| a.help("Also write a still picture (PNG) of the first, middle and last frames side by side, each captioned with its time (and its key's name at a key)")),
@@ -40,7 +48,8 @@ use crate::pictures::PictureArgs;
 pub struct Args {
     /// The keys, in order (OBJ, OFF, PLY or STL): the first at t = 0, the
     /// others at t = 1, 2, ...; every key has the first's vertices and
-    /// triangles.
+    /// triangles. Or drawings: SVG (.svg), polygons as text (.txt) or
+    /// planar meshes with other triangles.
     #[arg(num_args = 2.., required = true, value_name = "KEY")]
     pub keys: Vec<PathBuf>,
     /// Planar (2) or in space (3) [default: 2 when every z of every key is 0].
@@ -63,6 +72,8 @@ pub struct Args {
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub drawing: crate::drawings::DrawingArgs,
 }
 
 /// Options shared by `interpolate` and `demo`.
@@ -180,6 +191,20 @@ impl FrameArgs {
 }
 
 pub fn run(args: &Args) -> Result<()> {
+    if crate::drawings::named_as_drawings(&args.keys) {
+        return crate::drawings::run(args, None);
+    }
+    match run_meshes(args) {
+        // Planar meshes whose triangles differ are drawings.
+        Err(e) if crate::drawings::is_mismatch(&e) && args.dim != Some(3) => {
+            crate::drawings::run(args, Some(e))
+        }
+        done => done,
+    }
+}
+
+/// `interpolate` on meshes with the same triangles.
+fn run_meshes(args: &Args) -> Result<()> {
     let start = Instant::now();
     let last = args.keys.len() - 1;
     let times = args.frames.times(last)?;
@@ -199,6 +224,7 @@ pub fn run(args: &Args) -> Result<()> {
     let reading: Vec<&str> = key_words.iter().map(String::as_str).collect();
     let mut warnings = staging.warnings();
     let (first_file, keys) = output::read_poses(&paths, &reading, !args.no_weld, &mut warnings)?;
+    args.drawing.check_meshes()?;
     output::protect_side_files(&staging, &first_file.file, &roles[0])?;
     let key_refs: Vec<&Mesh3> = keys.iter().collect();
     let planar = output::is_planar(args.dim, &key_refs, |k| {
@@ -349,6 +375,7 @@ pub fn animate(
         read_warnings,
         image_budget,
         key_names,
+        outline: None,
     };
     let begin = Instant::now();
     let unused_vertices = first.num_unused_vertices();

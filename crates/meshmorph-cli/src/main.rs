@@ -29,6 +29,7 @@ mod animation;
 mod blend;
 mod correspond;
 mod demo;
+mod drawings;
 mod gltf;
 mod interpolate;
 mod manual;

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 /// Extensions of the frame files meshmorph writes.
-const FRAME_EXTENSIONS: [&str; 5] = ["obj", "off", "ply", "stl", "svg"];
+const FRAME_EXTENSIONS: [&str; 6] = ["obj", "off", "ply", "stl", "svg", "txt"];
 
 /// `dir/frame_0007.ext`, with enough digits for `count` frames (at least 4).
 pub fn frame_path(dir: &Path, index: usize, count: usize, ext: &str) -> PathBuf {

@@ -562,19 +562,20 @@ fn interpolate_nan_coordinate() {
 }
 
 #[test]
-fn interpolate_different_vertex_counts() {
+fn interpolate_planar_keys_with_other_vertices_are_drawings() {
+    // Planar meshes whose vertices and triangles differ: their outlines
+    // are made compatible, and the frames are meshes.
     let bar = strip(4.0, 1.0, 8, 2);
     let other = curl(&strip(4.0, 1.0, 9, 2), PI);
     let p = Pair::new(&bar, &other);
-    let err = p.interpolate_fails(&[]);
+    let out = succeeds(&p.interpolate(&["--frames", "3"]));
     assert_mentions(
-        &err,
-        &[
-            &shown(&p.src),
-            &shown(&p.tgt),
-            &format!("{} vertices", other.num_vertices()),
-            &format!("has {}", bar.num_vertices()),
-        ],
+        &out,
+        &["wrote 3 frames", "drawings:", "mesh, mesh", "compatible:"],
+    );
+    assert_eq!(
+        names(&p.out),
+        ["frame_0000.obj", "frame_0001.obj", "frame_0002.obj"]
     );
 }
 

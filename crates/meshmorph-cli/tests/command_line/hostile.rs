@@ -467,7 +467,8 @@ fn catalogue() -> Vec<Case> {
         case("--stretch cubic", &[I, "src.obj", "dst.obj", "-o", "out", "--stretch", "cubic"], 2, &["cubic"]),
         // interpolate: bad files
         case("missing source", &[I, "nosuch.obj", "dst.obj", "-o", "out"], 1, &["nosuch.obj"]),
-        case("unknown extension", &[I, "markers.txt", "dst.obj", "-o", "out"], 1, &["markers.txt", "unknown mesh format"]),
+        case("a marker file is no drawing", &[I, "markers.txt", "dst.obj", "-o", "out"], 1, &["reading the source drawing `markers.txt`"]),
+        case("unknown extension", &[I, "markers.cons", "dst.obj", "-o", "out"], 1, &["markers.cons", "unknown mesh format"]),
         with_setup(case("malformed OBJ line", &[I, "bad.obj", "dst.obj", "-o", "out"], 1, &["bad.obj", "line 2"]),
             |d| obj_with(d, "bad.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n")),
         with_setup(case("OBJ with a byte-order mark", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "2"], 0, &["wrote 2 frames"]),

@@ -5,6 +5,7 @@
 //! `external`.)
 
 mod cli;
+mod drawings;
 mod hostile;
 mod hostile_meshes;
 mod hostile_outputs;
