@@ -5,8 +5,10 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Result;
-use meshmorph::io::Format;
-use meshmorph::{shapes, Mesh3};
+use meshmorph::io::{write_animated_svg, write_svg_frame, Animation, Canvas, Format, Style};
+use meshmorph::outline::{compatible_set, Drawing, OutlineOptions};
+use meshmorph::render::{write_gif_2d, Edges, GifOptions, Style2d};
+use meshmorph::{shapes, Interpolator, InterpolatorOptions, Mesh3};
 
 use crate::animation::FrameOutputs;
 use crate::gltf::GltfArgs;
@@ -28,6 +30,12 @@ use crate::transfer::{run_transfer, CorrespondArgs, References, TransferArgs};
 ///   coil.gif, coil.png, coil.glb,    a tube bending through 540 degrees while
 ///   coil/frame_*.obj                 twisting by 90, through three keys
 ///                                    (coil-key0.obj, coil-key1.obj, coil-key2.obj);
+///   drawing/stem-straight.svg,       two drawings made in code (a tapered stem,
+///   drawing/stem-curled.svg          straight, then curled by 400 degrees at its
+///                                    tip), made into compatible meshes;
+///   drawing/frame_*.svg,             the morph: an SVG a frame, one animated
+///   drawing/drawing.svg,             SVG, and a GIF of the straight blend of the
+///   drawing/drawing.gif              same meshes (left) beside it (right);
 ///   transfer.gif, transfer.png,      a thin tube's bending poses carried over
 ///   transfer.glb, transfer/target/*  to a thicker, differently tessellated tube
 ///   (the inputs are in transfer/input/, to rerun with `meshmorph transfer`).
@@ -47,6 +55,7 @@ pub struct Args {
 pub fn run(args: &Args) -> Result<()> {
     spiral(args)?;
     coil(args)?;
+    drawing(args)?;
     transfer(args)
 }
 
@@ -123,6 +132,178 @@ fn coil(args: &Args) -> Result<()> {
         "\n== interpolation in space: a tube bending through 540 degrees while twisting by 90, through 3 keys ==",
         start,
     )
+}
+
+/// Frames of the drawing morph.
+const DRAWING_FRAMES: usize = 48;
+
+/// The outline of a tapered stem 10 long, up from the origin, whose path
+/// turns by `curl` radians in all, more and more towards its tip; points
+/// about `spacing` apart.
+fn stem(curl: f64, spacing: f64) -> Vec<[f64; 2]> {
+    const LENGTH: f64 = 10.0;
+    const STEPS: usize = 24;
+    let steps: Vec<(f64, f64)> = (0..STEPS)
+        .map(|k| {
+            let s = (k as f64 + 0.5) / STEPS as f64;
+            // The turn grows as s^2 towards the tip (the weights sum to about 1).
+            (LENGTH / STEPS as f64, curl * 3.0 * s * s / STEPS as f64)
+        })
+        .collect();
+    let width = |s: f64| 0.16 + 0.5 * (1.0 - s).powf(1.5);
+    shapes::stroke_outline([0.0, 0.0], PI / 2.0, &steps, &width, spacing)
+}
+
+/// Two drawings made in code, a tapered stem straight and curled at its
+/// tip by 400 degrees, made into compatible meshes and morphed as rigidly
+/// as possible: SVG frames, an animated SVG and a GIF that shows the
+/// straight blend of the same meshes beside it (its tip shrinking and
+/// folding through itself; turned-over triangles would be red).
+fn drawing(args: &Args) -> Result<()> {
+    let start = Instant::now();
+    let dir = args.output.join("drawing");
+    let (straight, curled) = (stem(-0.25, 0.12), stem(400f64.to_radians(), 0.12));
+    // Drawn alike, point i of one is point i of the other: six of them
+    // kept matched as anchors, as a user marks a few matching points.
+    let anchors: Vec<Vec<[f64; 2]>> = (0..6)
+        .map(|k| k * straight.len() / 6)
+        .map(|i| vec![straight[i], curled[i]])
+        .collect();
+    let drawings = [Drawing::new(vec![straight])?, Drawing::new(vec![curled])?];
+    let set = compatible_set(&drawings, &anchors, &OutlineOptions::default())?;
+    let morph = Interpolator::new(
+        &set.meshes[0],
+        &set.meshes[1],
+        &InterpolatorOptions::default(),
+    )?;
+    let setup = start.elapsed();
+    let (a, b) = (set.meshes[0].positions(), set.meshes[1].positions());
+    let times: Vec<f64> = (0..DRAWING_FRAMES)
+        .map(|k| k as f64 / (DRAWING_FRAMES - 1) as f64)
+        .collect();
+    let frames: Vec<Vec<[f64; 2]>> = times.iter().map(|&t| morph.at(t)).collect();
+    let computed = start.elapsed() - setup;
+    // The straight blend of the same meshes, to the left of the morph.
+    let shift = 1.15
+        * (0..DRAWING_FRAMES)
+            .map(|k| extent(&frames[k]))
+            .fold(0.0, f64::max);
+    let n = a.len() as u32;
+    let both: Vec<Vec<[f64; 2]>> = times
+        .iter()
+        .zip(&frames)
+        .map(|(&t, frame)| {
+            let blend = a.iter().zip(b).map(|(p, q)| {
+                [
+                    (1.0 - t) * p[0] + t * q[0] - shift,
+                    (1.0 - t) * p[1] + t * q[1],
+                ]
+            });
+            blend.chain(frame.iter().copied()).collect()
+        })
+        .collect();
+    let triangles = set.meshes[0].triangles();
+    let both_triangles: Vec<[u32; 3]> = triangles
+        .iter()
+        .copied()
+        .chain(triangles.iter().map(|t| t.map(|v| v + n)))
+        .collect();
+    let page = Canvas::for_frames(None, &frames, &set.loops, 0.0);
+    let ends = [a, b];
+    let style = Style {
+        fill: Some([0x3b, 0x6e, 0xa8]),
+        stroke: Some([0x1d, 0x2b, 0x45]),
+        stroke_width: 0.04,
+        ..Style::default()
+    };
+
+    let mut plan = Plan::new();
+    let inputs = [
+        plan.file(&dir.join("stem-straight.svg"), "demo drawing"),
+        plan.file(&dir.join("stem-curled.svg"), "demo drawing"),
+    ];
+    let frame_outputs = plan.frames(&dir, DRAWING_FRAMES, "svg");
+    let animated = plan.file(&dir.join("drawing.svg"), "animated SVG");
+    let gif_path = dir.join("drawing.gif");
+    let gif = plan.file(&gif_path, "GIF");
+    let staging = plan.prepare()?;
+    output::print_warnings(&staging.warnings());
+    for (output, positions) in inputs.into_iter().zip(ends) {
+        staging.write_to(output, |_, w| {
+            Ok(write_svg_frame(w, positions, &set.loops, &style, &page)?)
+        })?;
+    }
+    for (output, frame) in frame_outputs.into_iter().zip(&frames) {
+        staging.write_to(output, |_, w| {
+            Ok(write_svg_frame(w, frame, &set.loops, &style, &page)?)
+        })?;
+    }
+    staging.write_to(animated, |_, w| {
+        Ok(write_animated_svg(
+            w,
+            &Animation {
+                frames: &frames,
+                loops: &set.loops,
+                style: &style,
+                canvas: &page,
+                fps: args.draw.fps,
+                boomerang: !args.draw.no_boomerang,
+            },
+        )?)
+    })?;
+    let options = GifOptions {
+        longest_side: Some(args.draw.size),
+        fps: args.draw.fps,
+        boomerang: !args.draw.no_boomerang,
+        ..GifOptions::default()
+    };
+    let look = Style2d {
+        edges: Edges::Boundary,
+        ..Style2d::default()
+    };
+    staging.write(gif, |path| {
+        Ok(write_gif_2d(path, &both, &both_triangles, &options, &look)?)
+    })?;
+    staging.commit()?;
+    let report = &set.report;
+    if args.json {
+        say!(
+            "{}",
+            serde_json::json!({
+                "job": "drawing",
+                "frames": DRAWING_FRAMES,
+                "vertices": a.len(),
+                "triangles": report.triangles,
+                "min_angle_degrees": report.min_angle_degrees,
+                "setup_seconds": setup.as_secs_f64(),
+                "seconds_per_frame": computed.as_secs_f64() / DRAWING_FRAMES as f64,
+                "total_seconds": start.elapsed().as_secs_f64(),
+                "files_written": DRAWING_FRAMES + 4,
+            })
+        );
+    } else {
+        say!(
+            "\n== a drawing morph: a stem curling by 400 degrees at its tip, from two outlines =="
+        );
+        say!("compatible meshes: {report}");
+        say!(
+            "wrote {DRAWING_FRAMES} SVG frames, drawing.svg (animated) and drawing.gif (the straight blend beside it) to {}",
+            dir.display()
+        );
+        say!(
+            "setup {:.1} ms (meshes and interpolator), {:.1} µs a frame, total {:.2} s",
+            setup.as_secs_f64() * 1e3,
+            computed.as_secs_f64() * 1e6 / DRAWING_FRAMES as f64,
+            start.elapsed().as_secs_f64()
+        );
+    }
+    Ok(())
+}
+
+/// The larger side of the bounding box of `points`.
+fn extent(points: &[[f64; 2]]) -> f64 {
+    let b = meshmorph::render::View2d::bounds(std::iter::once(points));
+    (b[1][0] - b[0][0]).max(b[1][1] - b[0][1])
 }
 
 /// Writes the demo's `keys` (as the files named beside them in the demo
