@@ -59,7 +59,7 @@ fn runs(program: &str) -> bool {
 }
 
 fn node_packages() -> bool {
-    ["gltf-validator", "three", "puppeteer-core"]
+    ["gltf-validator", "three", "puppeteer-core", "lottie-web"]
         .iter()
         .all(|p| tools().join("node_modules").join(p).is_dir())
 }
