@@ -172,9 +172,15 @@ fn holes_by_fill_rule_a_ring_and_a_letter() {
     assert!(close(area(&ring).abs(), exact, 0.005 * exact));
     // The same with non-zero and the hole drawn the other way round.
     let ring2 = read(
+        r#"<path d="M60 50 A40 40 0 1 1 140 50 A40 40 0 1 1 60 50 Z M80 50 A20 20 0 1 0 120 50 A20 20 0 1 0 80 50 Z"/>"#,
+    );
+    assert_eq!(ring2.drawing.num_loops(), 2);
+    assert!(close(area(&ring2).abs(), exact, 0.005 * exact));
+    // Non-zero with the inner loop the same way round: no hole, one disc.
+    let disc = read(
         r#"<path d="M60 50 A40 40 0 1 1 140 50 A40 40 0 1 1 60 50 Z M80 50 A20 20 0 1 1 120 50 A20 20 0 1 1 80 50 Z"/>"#,
     );
-    let _ = ring2;
+    assert_eq!(disc.drawing.num_loops(), 1);
     // A letter B-like shape: one outline and two holes, non-zero with the
     // holes reversed.
     let b = read(
