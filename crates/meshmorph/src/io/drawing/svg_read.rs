@@ -108,12 +108,15 @@ fn element_name(id: &str, index: usize) -> String {
     }
 }
 
-/// The name an anchor's id gives (the id less `anchor` and one `-`, `_`,
-/// `:` or `.` after it), if the id marks an anchor.
+/// The name an anchor's id gives, if the id marks an anchor: `anchor`
+/// alone (unnamed), or `anchor` and one of `-`, `_`, `:`, `.` before the
+/// name (`anchor-eye`); an id such as `anchorage` is no anchor.
 fn anchor_name(id: &str) -> Option<String> {
     let rest = id.strip_prefix("anchor")?;
-    let rest = rest.strip_prefix(['-', '_', ':', '.']).unwrap_or(rest);
-    Some(rest.to_string())
+    if rest.is_empty() {
+        return Some(String::new());
+    }
+    rest.strip_prefix(['-', '_', ':', '.']).map(str::to_string)
 }
 
 fn colour(paint: &usvg::Paint) -> Option<[u8; 3]> {
@@ -130,10 +133,8 @@ fn walk(group: &usvg::Group, to_user: &Affine, opacity: f64, found: &mut Found) 
                 walk(g, to_user, opacity * f64::from(g.opacity().get()), found);
             }
             usvg::Node::Path(p) => {
-                if !p.is_visible() {
-                    continue;
-                }
                 let m = compose(to_user, &of_usvg(p.abs_transform()));
+                // Anchors count hidden too (`visibility="hidden"`).
                 if let Some(name) = anchor_name(p.id()) {
                     let b = p.data().bounds();
                     let centre = [
@@ -144,6 +145,9 @@ fn walk(group: &usvg::Group, to_user: &Affine, opacity: f64, found: &mut Found) 
                         name,
                         point: apply(&m, centre),
                     });
+                    continue;
+                }
+                if !p.is_visible() {
                     continue;
                 }
                 let Some(fill) = p.fill() else {
@@ -202,12 +206,13 @@ fn walk(group: &usvg::Group, to_user: &Affine, opacity: f64, found: &mut Found) 
 /// must be one region, an outer loop and its holes. The coordinates are
 /// the document's own user units (inside its `viewBox`, y down).
 ///
-/// Elements whose `id` starts with `anchor` (`<circle id="anchor-eye" cx=
-/// ... />`) are anchors, not part of the drawing: one point at the centre
-/// of the element's bounding box, named by the rest of the id (`eye`; an
-/// id of just `anchor` is unnamed). Like any SVG element, they need a fill
-/// or a stroke to be kept (an element with neither draws nothing and is
-/// dropped).
+/// Elements whose `id` is `anchor` or starts with `anchor-` (or `anchor_`,
+/// `anchor:`, `anchor.`), such as `<circle id="anchor-eye" cx=... />`, are
+/// anchors, not part of the drawing: one point at the centre of the
+/// element's bounding box, named by the rest of the id (`eye`; an id of
+/// just `anchor` is unnamed). They may be hidden (`visibility="hidden"`);
+/// like any SVG shape they need a fill or a stroke to be kept, and
+/// `display="none"` drops them.
 ///
 /// The style kept is the first filled element's; the canvas is the
 /// document's `viewBox` and size.

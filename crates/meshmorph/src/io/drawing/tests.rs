@@ -196,7 +196,7 @@ fn holes_by_fill_rule_a_ring_and_a_letter() {
 #[test]
 fn marked_anchors_are_points_not_shapes() {
     let d = read(
-        r#"<rect x="0" y="0" width="100" height="50"/><g transform="translate(10 5)"><circle id="anchor-eye" cx="20" cy="10" r="2" fill="red"/></g><rect id="anchor" x="98" y="48" width="4" height="4" fill="blue"/>"#,
+        r#"<rect x="0" y="0" width="100" height="50"/><g transform="translate(10 5)"><circle id="anchor-eye" cx="20" cy="10" r="2" fill="red" visibility="hidden"/></g><rect id="anchor" x="98" y="48" width="4" height="4" fill="blue"/>"#,
     );
     assert_eq!(d.drawing.num_points(), 4);
     assert_eq!(d.anchors.len(), 2);
@@ -204,6 +204,11 @@ fn marked_anchors_are_points_not_shapes() {
     assert!(close(d.anchors[0].point[0], 30.0, 1e-4) && close(d.anchors[0].point[1], 15.0, 1e-4));
     assert_eq!(d.anchors[1].name, "");
     assert!(close(d.anchors[1].point[0], 100.0, 1e-4));
+    // `anchorage` is a shape, not an anchor: here a second region.
+    let m = refusal(
+        r#"<rect x="0" y="0" width="100" height="50"/><rect id="anchorage" x="150" y="10" width="4" height="4"/>"#,
+    );
+    assert!(m.contains("2 separate filled regions"), "{m}");
 }
 
 #[test]
