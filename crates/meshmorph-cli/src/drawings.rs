@@ -30,7 +30,7 @@ pub struct DrawingArgs {
     /// name then `x y` on each drawing in order (`eye 120 80 300 95`), `#`
     /// comments. Anchors marked in SVG files (elements whose id starts
     /// with `anchor`, such as `<circle id="anchor-eye" .../>`) are matched
-    /// by name and used too.
+    /// by name and used too (ids `anchor-NAME`).
     #[arg(long, value_name = "FILE")]
     pub anchors: Option<PathBuf>,
     /// How far SVG curves may stray from the chords that replace them, as
