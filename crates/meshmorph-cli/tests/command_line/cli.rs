@@ -2415,6 +2415,31 @@ fn demo_writes_everything_and_json_lines() {
         && r["keys"].as_u64() == Some(3)
         && r["max_flipped_triangles"].as_u64() == Some(0)));
     assert!(out.join("spiral").join("frame_0000.obj").is_file());
+    // The drawing morph: its two drawings, 48 SVG frames, the animated SVG
+    // and the GIF, and its report.
+    let drawing = out.join("drawing");
+    for file in [
+        "stem-straight.svg",
+        "stem-curled.svg",
+        "drawing.svg",
+        "drawing.gif",
+    ] {
+        assert!(drawing.join(file).is_file(), "{file}");
+    }
+    let frames: Vec<String> = names(&drawing)
+        .into_iter()
+        .filter(|n| n.starts_with("frame_"))
+        .collect();
+    assert_eq!(frames.len(), 48);
+    assert!(frames.iter().all(|n| n.ends_with(".svg")));
+    let first = fs::read_to_string(drawing.join("frame_0000.svg")).unwrap();
+    assert!(
+        first.contains("<path") && first.contains("evenodd"),
+        "{first}"
+    );
+    assert!(reports
+        .iter()
+        .any(|r| r["job"] == "drawing" && r["triangles"].as_u64() > Some(0)));
     let transfer = out.join("transfer");
     let gif = fs::read(transfer.join("transfer.gif")).unwrap();
     assert!(gif.starts_with(b"GIF89a"));
@@ -2430,6 +2455,7 @@ fn demo_writes_everything_and_json_lines() {
     for d in [
         out.clone(),
         out.join("spiral"),
+        drawing.clone(),
         transfer.clone(),
         transfer.join("target"),
     ] {
