@@ -15,6 +15,7 @@
 //! point), and the union of the rest is the matched boundary.
 
 use super::geometry::{diagonal, dist, ArcLoop};
+use super::holes::Similarity;
 use crate::error::{Error, Result};
 
 /// A point of the matched boundary: where it is on each drawing, and
@@ -167,8 +168,13 @@ fn warp(fa: &[[f64; 2]], fb: &[[f64; 2]], band: usize, skip: f64, path: bool) ->
     (total, mid)
 }
 
-/// The warp found by aligning the signatures over every start.
-fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize) -> Warp {
+/// The warp found by aligning the signatures over every start. With a
+/// `frame` (a hole's: where the second drawing's points sit in the
+/// first's, from the outer loops), the starts whose signature scores are
+/// near the best are told apart by where they put the points: the one
+/// that moves them least in that frame is taken, so that a loop with
+/// few features of its own (a round hole) turns with its drawing.
+fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, frame: Option<&Similarity>) -> Warp {
     let coarse = 64.min(samples);
     let fa = signature(a, 0.0, coarse);
     let skip = 0.02;
@@ -180,6 +186,30 @@ fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize) -> Warp {
         })
         .collect();
     scored.sort_by(|x, y| x.0.total_cmp(&y.0));
+    if let Some(frame) = frame {
+        // Near the best: within a quarter of the way to the median score.
+        let (best, median) = (scored[0].0, scored[scored.len() / 2].0);
+        let near = best + 0.25 * (median - best);
+        let moved = |start: f64| -> f64 {
+            (0..coarse)
+                .map(|k| {
+                    let t = k as f64 / coarse as f64;
+                    let (p, q) = (a.at(t), frame.apply(b.at(start + t)));
+                    (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)
+                })
+                .sum()
+        };
+        let mut chosen = scored[0];
+        let mut least = f64::INFINITY;
+        for &(score, start) in scored.iter().take_while(|x| x.0 <= near) {
+            let m = moved(start);
+            if m < least {
+                least = m;
+                chosen = (score, start);
+            }
+        }
+        scored = vec![chosen];
+    }
     let n = samples;
     let band = n / 6;
     let fa = signature(a, 0.0, n);
@@ -289,10 +319,11 @@ pub(crate) fn match_loops(
     b: &[[f64; 2]],
     anchors: &[LoopAnchor],
     samples: usize,
+    frame: Option<&Similarity>,
 ) -> Result<Vec<MatchedPoint>> {
     let (arc_a, arc_b) = (ArcLoop::new(a), ArcLoop::new(b));
     let map = if anchors.is_empty() {
-        aligned_warp(&arc_a, &arc_b, samples.max(16))
+        aligned_warp(&arc_a, &arc_b, samples.max(16), frame)
     } else {
         anchored_warp(anchors)?
     };
@@ -460,7 +491,7 @@ mod tests {
     fn a_turned_restarted_copy_matches_point_for_point() {
         let a = blob(61, 0.0, 0);
         let b = blob(61, 2.0 * std::f64::consts::PI / 3.0, 17);
-        let m = match_loops(&a, &b, &[], 256).unwrap();
+        let m = match_loops(&a, &b, &[], 256, None).unwrap();
         assert_eq!(m.len(), 61);
         for p in &m {
             let (i, j) = (p.from_a.unwrap(), p.from_b.unwrap());
@@ -472,7 +503,7 @@ mod tests {
     fn different_counts_keep_every_point() {
         let a = blob(37, 0.3, 0);
         let b = blob(211, -1.0, 50);
-        let m = match_loops(&a, &b, &[], 256).unwrap();
+        let m = match_loops(&a, &b, &[], 256, None).unwrap();
         let mut seen_a: Vec<usize> = m.iter().filter_map(|p| p.from_a).collect();
         let mut seen_b: Vec<usize> = m.iter().filter_map(|p| p.from_b).collect();
         seen_a.sort_unstable();

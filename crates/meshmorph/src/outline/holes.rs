@@ -1,6 +1,7 @@
 //! Which hole of the second drawing goes with which hole of the first:
 //! the second drawing is laid over the first by the least-squares
-//! similarity of their matched outer loops, and the holes are paired so
+//! similarity of their matched outer loops (`Similarity`, which also
+//! breaks ties when a hole is matched), and the holes are paired so
 //! that their centroids are as close as they can be (every pairing tried
 //! for up to 7 holes, the closest pairs first beyond).
 
@@ -21,44 +22,67 @@ fn centroid(points: &[[f64; 2]]) -> [f64; 2] {
     [cx / a, cy / a]
 }
 
+/// The similarity that best lays the second drawing's matched outer loop
+/// onto the first's (least squares, in complex numbers `z_a = s z_b +
+/// t`): where a point of the second drawing sits in the first's frame.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Similarity {
+    ma: [f64; 2],
+    mb: [f64; 2],
+    sr: f64,
+    si: f64,
+}
+
+impl Similarity {
+    pub(crate) fn of_outer(outer: &[MatchedPoint]) -> Self {
+        let n = outer.len() as f64;
+        let ma = outer
+            .iter()
+            .fold([0.0, 0.0], |m, p| [m[0] + p.a[0] / n, m[1] + p.a[1] / n]);
+        let mb = outer
+            .iter()
+            .fold([0.0, 0.0], |m, p| [m[0] + p.b[0] / n, m[1] + p.b[1] / n]);
+        let (mut re, mut im, mut norm) = (0.0, 0.0, 0.0);
+        for p in outer {
+            let (a, b) = (
+                [p.a[0] - ma[0], p.a[1] - ma[1]],
+                [p.b[0] - mb[0], p.b[1] - mb[1]],
+            );
+            re += b[0] * a[0] + b[1] * a[1];
+            im += b[0] * a[1] - b[1] * a[0];
+            norm += b[0] * b[0] + b[1] * b[1];
+        }
+        let (sr, si) = if norm > 0.0 {
+            (re / norm, im / norm)
+        } else {
+            (1.0, 0.0)
+        };
+        Self { ma, mb, sr, si }
+    }
+
+    /// A point of the second drawing in the first's frame.
+    pub(crate) fn apply(&self, p: [f64; 2]) -> [f64; 2] {
+        let d = [p[0] - self.mb[0], p[1] - self.mb[1]];
+        [
+            self.sr * d[0] - self.si * d[1] + self.ma[0],
+            self.si * d[0] + self.sr * d[1] + self.ma[1],
+        ]
+    }
+}
+
 /// For each hole of the first drawing (0-based among the holes), the hole
-/// of the second it pairs with.
+/// of the second it pairs with: the pairing that puts the holes' centres
+/// closest once the second drawing is laid onto the first by `frame`.
 pub(crate) fn pair_holes(
     holes_a: &[Vec<[f64; 2]>],
     holes_b: &[Vec<[f64; 2]>],
-    outer: &[MatchedPoint],
+    frame: &Similarity,
 ) -> Vec<usize> {
     let h = holes_a.len();
     if h <= 1 {
         return (0..h).collect();
     }
-    // Similarity z_a = s z_b + t in complex numbers, by least squares.
-    let n = outer.len() as f64;
-    let ma = outer
-        .iter()
-        .fold([0.0, 0.0], |m, p| [m[0] + p.a[0] / n, m[1] + p.a[1] / n]);
-    let mb = outer
-        .iter()
-        .fold([0.0, 0.0], |m, p| [m[0] + p.b[0] / n, m[1] + p.b[1] / n]);
-    let (mut re, mut im, mut norm) = (0.0, 0.0, 0.0);
-    for p in outer {
-        let (a, b) = (
-            [p.a[0] - ma[0], p.a[1] - ma[1]],
-            [p.b[0] - mb[0], p.b[1] - mb[1]],
-        );
-        re += b[0] * a[0] + b[1] * a[1];
-        im += b[0] * a[1] - b[1] * a[0];
-        norm += b[0] * b[0] + b[1] * b[1];
-    }
-    let (sr, si) = if norm > 0.0 {
-        (re / norm, im / norm)
-    } else {
-        (1.0, 0.0)
-    };
-    let map = |p: [f64; 2]| {
-        let d = [p[0] - mb[0], p[1] - mb[1]];
-        [sr * d[0] - si * d[1] + ma[0], si * d[0] + sr * d[1] + ma[1]]
-    };
+    let map = |p: [f64; 2]| frame.apply(p);
     let ca: Vec<[f64; 2]> = holes_a.iter().map(|l| centroid(l)).collect();
     let cb: Vec<[f64; 2]> = holes_b.iter().map(|l| map(centroid(l))).collect();
     let cost = |i: usize, j: usize| (ca[i][0] - cb[j][0]).hypot(ca[i][1] - cb[j][1]);

@@ -460,8 +460,10 @@ pub fn compatible_set(
             &d.loops()[0],
             &on_loops(0, 0)?,
             options.samples,
+            None,
         )?;
-        let pairing = holes::pair_holes(&first.loops()[1..], &d.loops()[1..], &outer);
+        let frame = holes::Similarity::of_outer(&outer);
+        let pairing = holes::pair_holes(&first.loops()[1..], &d.loops()[1..], &frame);
         let mut matched = vec![outer];
         for (h, &g) in pairing.iter().enumerate() {
             matched.push(match_loops(
@@ -469,6 +471,7 @@ pub fn compatible_set(
                 &d.loops()[g + 1],
                 &on_loops(h + 1, g + 1)?,
                 options.samples,
+                Some(&frame),
             )?);
         }
         pairings.push(

@@ -347,7 +347,7 @@ fn families_of_pairs_keep_every_invariant() {
 }
 
 #[test]
-fn like_shapes_take_the_mapped_path_with_good_angles() {
+fn like_shapes_get_good_angles() {
     let pairs: Vec<(&str, Loops, Loops)> = vec![
         (
             "star turned 120 degrees",
@@ -369,9 +369,8 @@ fn like_shapes_take_the_mapped_path_with_good_angles() {
         let out = check(a, b);
         let r = &out.meshes.report;
         eprintln!("{name}: {r}");
-        assert_eq!(r.path, OutlinePath::Mapped, "{name}: {r}");
         let worst = r.min_angle_degrees[0].min(r.min_angle_degrees[1]);
-        assert!(worst >= 5.0, "{name}: {r}");
+        assert!(worst >= 8.0, "{name}: {r}");
     }
 }
 
@@ -688,4 +687,61 @@ fn rotations_up_to_half_a_turn_fold_no_frame_and_keep_the_area() {
             }
         }
     }
+}
+
+/// A superellipse `|x|^e + |y|^e = r^e` about `c`, `n` points.
+fn squircle(n: usize, c: [f64; 2], r: f64, e: f64) -> Vec<[f64; 2]> {
+    curve(n, |t| {
+        let (s, co) = (TAU * t).sin_cos();
+        let f = |x: f64| x.signum() * x.abs().powf(2.0 / e);
+        [c[0] + r * f(co), c[1] + r * f(s)]
+    })
+}
+
+#[test]
+fn round_holes_turn_with_their_drawing() {
+    // Round and squarish loops have few features of their own: the hole's
+    // start follows the outer loops' alignment, so the ring is not
+    // twisted, and the fast way (or a straight cut) always exists.
+    let ring = vec![circle(72, [0.0, 0.0], 1.0), circle(40, [0.25, 0.0], 0.45)];
+    for degrees in [0.0f64, 90.0, 150.0] {
+        let squarer = pose(
+            &vec![
+                squircle(80, [0.0, 0.0], 1.0, 4.0),
+                squircle(48, [0.2, 0.1], 0.4, 3.0),
+            ],
+            degrees.to_radians(),
+            1.3,
+            7,
+            false,
+            0.0,
+            5,
+        );
+        let out = check(&ring, &squarer);
+        eprintln!(
+            "ring to squarer ring turned {degrees}°: {}",
+            out.meshes.report
+        );
+        let worst = out
+            .meshes
+            .report
+            .min_angle_degrees
+            .iter()
+            .copied()
+            .fold(90.0, f64::min);
+        assert!(worst >= 8.0, "{degrees}°: {}", out.meshes.report);
+    }
+    let turned = pose(&ring, 2.5, 0.8, 11, true, 0.0, 3);
+    let loops = vec![
+        ring.clone(),
+        turned,
+        vec![circle(50, [0.0, 0.0], 1.0), circle(36, [-0.2, 0.1], 0.3)],
+    ];
+    let drawings: Vec<Drawing> = loops
+        .iter()
+        .map(|l| Drawing::new(l.clone()).unwrap())
+        .collect();
+    let set = compatible_set(&drawings, &[], &OutlineOptions::default()).unwrap();
+    eprintln!("three rings: {}", set.report);
+    check_set(&loops, &set);
 }
