@@ -20,7 +20,8 @@ impl Rng {
     }
 }
 
-type Loops = Vec<Vec<[f64; 2]>>;
+type Loop = Vec<[f64; 2]>;
+type Loops = Vec<Loop>;
 
 /// Turns, scales, moves, restarts and optionally reverses every loop,
 /// with noise of `noise` times the loop's spacing.
@@ -633,7 +634,7 @@ fn rotations_up_to_half_a_turn_fold_no_frame_and_keep_the_area() {
     // An uneven star and a bent bar, each against itself turned by up to
     // 180 degrees (restarted and with other point counts): every frame's
     // triangles positive, its area within 3 % of the ends'.
-    let shapes: Vec<(&str, Vec<[f64; 2]>, Vec<[f64; 2]>)> = vec![
+    let shapes: Vec<(&str, Loop, Loop)> = vec![
         ("star", star(80, 21), star(120, 21)),
         (
             "bent bar",
