@@ -31,8 +31,9 @@ use crate::transfer::{run_transfer, CorrespondArgs, References, TransferArgs};
 ///   coil/frame_*.obj                 twisting by 90, through three keys
 ///                                    (coil-key0.obj, coil-key1.obj, coil-key2.obj);
 ///   drawing/stem-straight.svg,       two drawings made in code (a tapered stem,
-///   drawing/stem-curled.svg          straight, then curled by 400 degrees at its
-///                                    tip), made into compatible meshes;
+///   drawing/stem-curled.svg,         straight, then curled by 400 degrees at its
+///   drawing/anchors.txt              tip) and six points matched on them, made
+///                                    into compatible meshes;
 ///   drawing/frame_*.svg,             the morph: an SVG a frame, one animated
 ///   drawing/drawing.svg,             SVG, and a GIF of the straight blend of the
 ///   drawing/drawing.gif              same meshes (left) beside it (right);
@@ -218,10 +219,13 @@ fn drawing(args: &Args) -> Result<()> {
     };
 
     let mut plan = Plan::new();
+    let input_paths = [dir.join("stem-straight.svg"), dir.join("stem-curled.svg")];
     let inputs = [
-        plan.file(&dir.join("stem-straight.svg"), "demo drawing"),
-        plan.file(&dir.join("stem-curled.svg"), "demo drawing"),
+        plan.file(&input_paths[0], "demo drawing"),
+        plan.file(&input_paths[1], "demo drawing"),
     ];
+    let anchors_path = dir.join("anchors.txt");
+    let anchors_output = plan.file(&anchors_path, "demo anchors");
     let frame_outputs = plan.frames(&dir, DRAWING_FRAMES, "svg");
     let animated = plan.file(&dir.join("drawing.svg"), "animated SVG");
     let gif_path = dir.join("drawing.gif");
@@ -233,6 +237,19 @@ fn drawing(args: &Args) -> Result<()> {
             Ok(write_svg_frame(w, positions, &set.loops, &style, &page)?)
         })?;
     }
+    // The anchors as `meshmorph interpolate --anchors` reads them: in the
+    // written files' coordinates (y down).
+    staging.write_to(anchors_output, |_, w| {
+        writeln!(
+            w,
+            "# name, then x y on stem-straight.svg and on stem-curled.svg"
+        )?;
+        for (k, pair) in anchors.iter().enumerate() {
+            let (p, q) = (page.map(pair[0]), page.map(pair[1]));
+            writeln!(w, "a{k} {} {} {} {}", p[0], p[1], q[0], q[1])?;
+        }
+        Ok(())
+    })?;
     for (output, frame) in frame_outputs.into_iter().zip(&frames) {
         staging.write_to(output, |_, w| {
             Ok(write_svg_frame(w, frame, &set.loops, &style, &page)?)
@@ -278,7 +295,7 @@ fn drawing(args: &Args) -> Result<()> {
                 "setup_seconds": setup.as_secs_f64(),
                 "seconds_per_frame": computed.as_secs_f64() / DRAWING_FRAMES as f64,
                 "total_seconds": start.elapsed().as_secs_f64(),
-                "files_written": DRAWING_FRAMES + 4,
+                "files_written": DRAWING_FRAMES + 5,
             })
         );
     } else {
@@ -295,6 +312,14 @@ fn drawing(args: &Args) -> Result<()> {
             setup.as_secs_f64() * 1e3,
             computed.as_secs_f64() * 1e6 / DRAWING_FRAMES as f64,
             start.elapsed().as_secs_f64()
+        );
+        say!(
+            "rerun: meshmorph interpolate {} {} --anchors {} -o {} --frames {DRAWING_FRAMES} --gif {}",
+            input_paths[0].display(),
+            input_paths[1].display(),
+            anchors_path.display(),
+            dir.join("frames").display(),
+            dir.join("morph.gif").display()
         );
     }
     Ok(())

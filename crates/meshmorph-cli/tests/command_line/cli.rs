@@ -2415,12 +2415,13 @@ fn demo_writes_everything_and_json_lines() {
         && r["keys"].as_u64() == Some(3)
         && r["max_flipped_triangles"].as_u64() == Some(0)));
     assert!(out.join("spiral").join("frame_0000.obj").is_file());
-    // The drawing morph: its two drawings, 48 SVG frames, the animated SVG
-    // and the GIF, and its report.
+    // The drawing morph: its two drawings and their anchors, 48 SVG frames,
+    // the animated SVG and the GIF, and its report.
     let drawing = out.join("drawing");
     for file in [
         "stem-straight.svg",
         "stem-curled.svg",
+        "anchors.txt",
         "drawing.svg",
         "drawing.gif",
     ] {
