@@ -554,6 +554,50 @@ pub(crate) fn untangle(
     b
 }
 
+/// Moves the vertices from `n` on of a valid mesh (the first `n` stay) to
+/// lower the sum over its triangles of their conformal distortion from an
+/// equilateral triangle (the MIPS energy of Hormann and Greiner 2000,
+/// `|J|² / det J`, the shape part of the foldover-free energy): angles
+/// evened out, and a barrier that keeps every triangle positive, so the
+/// result is valid when the start is. At most `iterations` L-BFGS steps.
+pub(crate) fn relax(b: &mut [[f64; 2]], triangles: &[[u32; 3]], n: usize, iterations: usize) {
+    if b.len() <= n || triangles.is_empty() {
+        return;
+    }
+    let height = 0.75f64.sqrt();
+    let energy = Energy {
+        triangles,
+        inverse: vec![[1.0, -0.5 / height, 0.0, 1.0 / height]; triangles.len()],
+        weight: vec![1.0 / triangles.len() as f64; triangles.len()],
+        fixed: n,
+        theta: 0.0,
+    };
+    if energy.min_det(b) <= 0.0 {
+        return;
+    }
+    let free = b.len() - n;
+    let mut x: Vec<f64> = b[n..].iter().flat_map(|p| [p[0], p[1]]).collect();
+    let mut work = b.to_vec();
+    let mut grad = vec![[0.0; 2]; b.len()];
+    lbfgs(&mut x, iterations, |x, g| {
+        for k in 0..free {
+            work[n + k] = [x[2 * k], x[2 * k + 1]];
+        }
+        if energy.min_det(&work) <= 0.0 {
+            return f64::INFINITY;
+        }
+        let e = energy.eval(&work, 0.0, Some(&mut grad));
+        for k in 0..free {
+            g[2 * k] = grad[n + k][0];
+            g[2 * k + 1] = grad[n + k][1];
+        }
+        e
+    });
+    for k in 0..free {
+        b[n + k] = [x[2 * k], x[2 * k + 1]];
+    }
+}
+
 /// The second drawing's area, from its boundary loops (signed, as the
 /// triangles' boundary edges run).
 fn area_from_boundary(b: &[[f64; 2]], triangles: &[[u32; 3]], n: usize) -> f64 {

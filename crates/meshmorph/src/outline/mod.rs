@@ -92,6 +92,10 @@ pub struct OutlineOptions {
     /// and mapped into the second (untangled so that every triangle is
     /// positive), the overlay kept as the fallback. Default true.
     pub mapped_first: bool,
+    /// L-BFGS steps of each mesh's relaxation after the compatible flips
+    /// and splits (its inside points moved to even out its angles, every
+    /// triangle kept positive; 0: none). Default 200.
+    pub relaxation_steps: usize,
     /// The smallest angle the first drawing's mesh is refined towards on
     /// the fast way, degrees. Default 25.
     pub mapped_angle_degrees: f64,
@@ -118,6 +122,7 @@ impl Default for OutlineOptions {
             samples: 256,
             improvement_rounds: 12,
             target_angle_degrees: 20.0,
+            relaxation_steps: 200,
             mapped_first: true,
             mapped_angle_degrees: 25.0,
             accept_angle_degrees: 10.0,
@@ -296,6 +301,30 @@ fn improve_set(
         options.target_angle_degrees.to_radians(),
         extra,
     );
+    // Each mesh's inside points relaxed on their own (the meshes share
+    // only their triangles), then flipped and split again; kept when the
+    // smallest angle rises.
+    let improved = improve::smallest_angles(&pair);
+    if options.relaxation_steps > 0 {
+        let saved = (
+            pair.meshes.to_vec(),
+            pair.triangles.clone(),
+            pair.fixed.clone(),
+        );
+        for mesh in pair.meshes.iter_mut() {
+            mapped::relax(mesh, pair.triangles, num_fixed, options.relaxation_steps);
+        }
+        improve::improve(
+            &mut pair,
+            options.improvement_rounds,
+            options.target_angle_degrees.to_radians(),
+            extra / 2,
+        );
+        if worst(&improve::smallest_angles(&pair)) <= worst(&improved) {
+            pair.meshes.clone_from_slice(&saved.0);
+            (*pair.triangles, *pair.fixed) = (saved.1, saved.2);
+        }
+    }
     (before, improve::smallest_angles(&pair))
 }
 
