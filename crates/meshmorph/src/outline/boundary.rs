@@ -15,7 +15,7 @@
 //! point), and the union of the rest is the matched boundary.
 
 use super::geometry::{diagonal, dist, ArcLoop};
-use super::holes::Similarity;
+use super::holes::{holes_misplaced, Similarity};
 use crate::error::{Error, Result};
 
 /// A point of the matched boundary: where it is on each drawing, and
@@ -168,13 +168,23 @@ fn warp(fa: &[[f64; 2]], fb: &[[f64; 2]], band: usize, skip: f64, path: bool) ->
     (total, mid)
 }
 
+/// How a loop's near-best starts are told apart: by where they put the
+/// points in a frame the drawings already share (a hole, once the outer
+/// loops are matched), or by how well they lay the other loops (the
+/// holes) over each other (an outer loop with holes).
+pub(crate) enum TieBreak<'a> {
+    /// The second drawing's points in the first's frame.
+    Frame(&'a Similarity),
+    /// The first and second drawings' holes, laid over each other by the
+    /// similarity of the outer loops as matched from a start.
+    Holes(&'a [Vec<[f64; 2]>], &'a [Vec<[f64; 2]>]),
+}
+
 /// The warp found by aligning the signatures over every start. With a
-/// `frame` (a hole's: where the second drawing's points sit in the
-/// first's, from the outer loops), the starts whose signature scores are
-/// near the best are told apart by where they put the points: the one
-/// that moves them least in that frame is taken, so that a loop with
-/// few features of its own (a round hole) turns with its drawing.
-fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, frame: Option<&Similarity>) -> Warp {
+/// `tie`, the starts whose signature scores are near the best are told
+/// apart by it, so that a loop with few features of its own (a round
+/// outline or hole) follows the rest of its drawing.
+fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, tie: Option<&TieBreak>) -> Warp {
     let coarse = 64.min(samples);
     let fa = signature(a, 0.0, coarse);
     let skip = 0.02;
@@ -186,18 +196,30 @@ fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, frame: Option<&Similar
         })
         .collect();
     scored.sort_by(|x, y| x.0.total_cmp(&y.0));
-    if let Some(frame) = frame {
+    if let Some(tie) = tie {
         // Near the best: within a quarter of the way to the median score.
         let (best, median) = (scored[0].0, scored[scored.len() / 2].0);
         let near = best + 0.25 * (median - best);
         let moved = |start: f64| -> f64 {
-            (0..coarse)
-                .map(|k| {
-                    let t = k as f64 / coarse as f64;
-                    let (p, q) = (a.at(t), frame.apply(b.at(start + t)));
-                    (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)
-                })
-                .sum()
+            match tie {
+                TieBreak::Frame(frame) => (0..coarse)
+                    .map(|k| {
+                        let t = k as f64 / coarse as f64;
+                        let (p, q) = (a.at(t), frame.apply(b.at(start + t)));
+                        (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)
+                    })
+                    .sum(),
+                TieBreak::Holes(holes_a, holes_b) => {
+                    let (pa, pb): (Vec<[f64; 2]>, Vec<[f64; 2]>) = (0..coarse)
+                        .map(|k| {
+                            let t = k as f64 / coarse as f64;
+                            (a.at(t), b.at(start + t))
+                        })
+                        .unzip();
+                    let frame = Similarity::of_points(&pa, &pb);
+                    holes_misplaced(holes_a, holes_b, &frame)
+                }
+            }
         };
         let mut chosen = scored[0];
         let mut least = f64::INFINITY;
@@ -319,11 +341,11 @@ pub(crate) fn match_loops(
     b: &[[f64; 2]],
     anchors: &[LoopAnchor],
     samples: usize,
-    frame: Option<&Similarity>,
+    tie: Option<&TieBreak>,
 ) -> Result<Vec<MatchedPoint>> {
     let (arc_a, arc_b) = (ArcLoop::new(a), ArcLoop::new(b));
     let map = if anchors.is_empty() {
-        aligned_warp(&arc_a, &arc_b, samples.max(16), frame)
+        aligned_warp(&arc_a, &arc_b, samples.max(16), tie)
     } else {
         anchored_warp(anchors)?
     };

@@ -35,19 +35,22 @@ pub(crate) struct Similarity {
 
 impl Similarity {
     pub(crate) fn of_outer(outer: &[MatchedPoint]) -> Self {
-        let n = outer.len() as f64;
-        let ma = outer
+        let (a, b): (Vec<[f64; 2]>, Vec<[f64; 2]>) = outer.iter().map(|p| (p.a, p.b)).unzip();
+        Self::of_points(&a, &b)
+    }
+
+    /// The similarity that best lays points `b` onto points `a`.
+    pub(crate) fn of_points(pa: &[[f64; 2]], pb: &[[f64; 2]]) -> Self {
+        let n = pa.len() as f64;
+        let ma = pa
             .iter()
-            .fold([0.0, 0.0], |m, p| [m[0] + p.a[0] / n, m[1] + p.a[1] / n]);
-        let mb = outer
+            .fold([0.0, 0.0], |m, p| [m[0] + p[0] / n, m[1] + p[1] / n]);
+        let mb = pb
             .iter()
-            .fold([0.0, 0.0], |m, p| [m[0] + p.b[0] / n, m[1] + p.b[1] / n]);
+            .fold([0.0, 0.0], |m, p| [m[0] + p[0] / n, m[1] + p[1] / n]);
         let (mut re, mut im, mut norm) = (0.0, 0.0, 0.0);
-        for p in outer {
-            let (a, b) = (
-                [p.a[0] - ma[0], p.a[1] - ma[1]],
-                [p.b[0] - mb[0], p.b[1] - mb[1]],
-            );
+        for (p, q) in pa.iter().zip(pb) {
+            let (a, b) = ([p[0] - ma[0], p[1] - ma[1]], [q[0] - mb[0], q[1] - mb[1]]);
             re += b[0] * a[0] + b[1] * a[1];
             im += b[0] * a[1] - b[1] * a[0];
             norm += b[0] * b[0] + b[1] * b[1];
@@ -70,6 +73,39 @@ impl Similarity {
     }
 }
 
+/// Distances between the first drawing's hole centroids and the second's,
+/// laid onto the first by `frame`: `[i][j]` for hole `i` of the first and
+/// `j` of the second.
+fn hole_distances(
+    holes_a: &[Vec<[f64; 2]>],
+    holes_b: &[Vec<[f64; 2]>],
+    frame: &Similarity,
+) -> Vec<Vec<f64>> {
+    let ca: Vec<[f64; 2]> = holes_a.iter().map(|l| centroid(l)).collect();
+    let cb: Vec<[f64; 2]> = holes_b.iter().map(|l| frame.apply(centroid(l))).collect();
+    ca.iter()
+        .map(|p| {
+            cb.iter()
+                .map(|q| (p[0] - q[0]).hypot(p[1] - q[1]))
+                .collect()
+        })
+        .collect()
+}
+
+/// How far the holes land from each other when the second drawing is laid
+/// onto the first by `frame`: for each hole of the first, the distance to
+/// the closest hole of the second, summed.
+pub(crate) fn holes_misplaced(
+    holes_a: &[Vec<[f64; 2]>],
+    holes_b: &[Vec<[f64; 2]>],
+    frame: &Similarity,
+) -> f64 {
+    hole_distances(holes_a, holes_b, frame)
+        .iter()
+        .map(|row| row.iter().copied().fold(f64::INFINITY, f64::min))
+        .sum()
+}
+
 /// For each hole of the first drawing (0-based among the holes), the hole
 /// of the second it pairs with: the pairing that puts the holes' centres
 /// closest once the second drawing is laid onto the first by `frame`.
@@ -82,10 +118,8 @@ pub(crate) fn pair_holes(
     if h <= 1 {
         return (0..h).collect();
     }
-    let map = |p: [f64; 2]| frame.apply(p);
-    let ca: Vec<[f64; 2]> = holes_a.iter().map(|l| centroid(l)).collect();
-    let cb: Vec<[f64; 2]> = holes_b.iter().map(|l| map(centroid(l))).collect();
-    let cost = |i: usize, j: usize| (ca[i][0] - cb[j][0]).hypot(ca[i][1] - cb[j][1]);
+    let cost = hole_distances(holes_a, holes_b, frame);
+    let cost = |i: usize, j: usize| cost[i][j];
     if h <= 7 {
         let mut perm: Vec<usize> = (0..h).collect();
         let mut best = (f64::INFINITY, perm.clone());

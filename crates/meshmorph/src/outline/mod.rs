@@ -55,7 +55,7 @@ use std::time::Instant;
 
 pub use drawing::Drawing;
 
-use self::boundary::{match_loops, MatchedPoint};
+use self::boundary::{match_loops, MatchedPoint, TieBreak};
 use self::geometry::{dist, lerp, point_segment_distance, ArcLoop};
 use self::overlay::OverlayVertex;
 use crate::error::{Error, Result};
@@ -93,8 +93,9 @@ pub struct OutlineOptions {
     /// positive), the overlay kept as the fallback. Default true.
     pub mapped_first: bool,
     /// L-BFGS steps of each mesh's relaxation after the compatible flips
-    /// and splits (its inside points moved to even out its angles, every
-    /// triangle kept positive; 0: none). Default 200.
+    /// and splits, when the smallest angle is still below
+    /// `target_angle_degrees` (its inside points moved to even out its
+    /// angles, every triangle kept positive; 0: none). Default 200.
     pub relaxation_steps: usize,
     /// The smallest angle the first drawing's mesh is refined towards on
     /// the fast way, degrees. Default 25.
@@ -305,7 +306,8 @@ fn improve_set(
     // only their triangles), then flipped and split again; kept when the
     // smallest angle rises.
     let improved = improve::smallest_angles(&pair);
-    if options.relaxation_steps > 0 {
+    if options.relaxation_steps > 0 && worst(&improved) < options.target_angle_degrees.to_radians()
+    {
         let saved = (
             pair.meshes.to_vec(),
             pair.triangles.clone(),
@@ -489,7 +491,8 @@ pub fn compatible_set(
             &d.loops()[0],
             &on_loops(0, 0)?,
             options.samples,
-            None,
+            (first.num_loops() > 1)
+                .then_some(&TieBreak::Holes(&first.loops()[1..], &d.loops()[1..])),
         )?;
         let frame = holes::Similarity::of_outer(&outer);
         let pairing = holes::pair_holes(&first.loops()[1..], &d.loops()[1..], &frame);
@@ -500,7 +503,7 @@ pub fn compatible_set(
                 &d.loops()[g + 1],
                 &on_loops(h + 1, g + 1)?,
                 options.samples,
-                Some(&frame),
+                Some(&TieBreak::Frame(&frame)),
             )?);
         }
         pairings.push(

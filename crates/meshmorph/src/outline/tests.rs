@@ -746,3 +746,32 @@ fn round_holes_turn_with_their_drawing() {
     eprintln!("three rings: {}", set.report);
     check_set(&loops, &set);
 }
+
+#[test]
+fn a_round_ring_with_its_hole_off_centre_turns_rigidly() {
+    // The outer circle says nothing about the turn; the hole does.
+    let ring = vec![circle(90, [0.0, 0.0], 1.0), circle(60, [0.35, 0.1], 0.4)];
+    for degrees in [60.0f64, 150.0] {
+        let turned = pose(&ring, degrees.to_radians(), 1.0, 17, false, 0.0, 1);
+        let m = check(&ring, &turned).meshes;
+        let morph = Interpolator::new(&m.a, &m.b, &InterpolatorOptions::default()).unwrap();
+        let area = |p: &[[f64; 2]]| -> f64 {
+            m.a.triangles()
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(|v| p[v as usize]);
+                    0.5 * orient(a, b, c)
+                })
+                .sum()
+        };
+        let whole = area(m.a.positions());
+        for k in 0..=10 {
+            let ratio = area(&morph.at(k as f64 / 10.0)) / whole;
+            assert!(
+                (0.99..=1.01).contains(&ratio),
+                "{degrees}°: area {ratio:.4} at frame {k}: {}",
+                m.report
+            );
+        }
+    }
+}
