@@ -196,31 +196,35 @@ fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, tie: Option<&TieBreak>
         })
         .collect();
     scored.sort_by(|x, y| x.0.total_cmp(&y.0));
-    if let Some(tie) = tie {
-        // Near the best: within a quarter of the way to the median score.
-        let (best, median) = (scored[0].0, scored[scored.len() / 2].0);
-        let near = best + 0.25 * (median - best);
-        let moved = |start: f64| -> f64 {
-            match tie {
-                TieBreak::Frame(frame) => (0..coarse)
+    // Where a tie-break is given: among the starts scored near the best
+    // (within a quarter of the way to the median score, or half the best
+    // score again, whichever is more: a loop with no features scores
+    // every start alike), the one it prefers.
+    let moved = |start: f64| -> f64 {
+        match tie {
+            Some(TieBreak::Frame(frame)) => (0..coarse)
+                .map(|k| {
+                    let t = k as f64 / coarse as f64;
+                    let (p, q) = (a.at(t), frame.apply(b.at(start + t)));
+                    (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)
+                })
+                .sum(),
+            Some(TieBreak::Holes(holes_a, holes_b)) => {
+                let (pa, pb): (Vec<[f64; 2]>, Vec<[f64; 2]>) = (0..coarse)
                     .map(|k| {
                         let t = k as f64 / coarse as f64;
-                        let (p, q) = (a.at(t), frame.apply(b.at(start + t)));
-                        (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)
+                        (a.at(t), b.at(start + t))
                     })
-                    .sum(),
-                TieBreak::Holes(holes_a, holes_b) => {
-                    let (pa, pb): (Vec<[f64; 2]>, Vec<[f64; 2]>) = (0..coarse)
-                        .map(|k| {
-                            let t = k as f64 / coarse as f64;
-                            (a.at(t), b.at(start + t))
-                        })
-                        .unzip();
-                    let frame = Similarity::of_points(&pa, &pb);
-                    holes_misplaced(holes_a, holes_b, &frame)
-                }
+                    .unzip();
+                holes_misplaced(holes_a, holes_b, &Similarity::of_points(&pa, &pb))
             }
-        };
+            None => 0.0,
+        }
+    };
+    let pick = |scored: &mut Vec<(f64, f64)>| -> (f64, f64) {
+        scored.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let (best, median) = (scored[0].0, scored[scored.len() / 2].0);
+        let near = best + (0.25 * (median - best)).max(0.5 * best);
         let mut chosen = scored[0];
         let mut least = f64::INFINITY;
         for &(score, start) in scored.iter().take_while(|x| x.0 <= near) {
@@ -230,7 +234,10 @@ fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, tie: Option<&TieBreak>
                 chosen = (score, start);
             }
         }
-        scored = vec![chosen];
+        chosen
+    };
+    if tie.is_some() {
+        scored = vec![pick(&mut scored)];
     }
     let n = samples;
     let band = n / 6;
@@ -239,17 +246,26 @@ fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, tie: Option<&TieBreak>
     let mut best = (f64::INFINITY, 0.0);
     let step = 1.0 / n as f64;
     let reach = (n / coarse) as i64;
+    let mut fine = Vec::new();
     for &(_, start) in scored.iter().take(3) {
         for d in -reach..=reach {
             let s = start + d as f64 * step;
             let c = score(s);
+            fine.push((c, s));
             if c < best.0 {
                 best = (c, s);
             }
         }
     }
-    // Golden-section search for the start within a sample either side.
-    let (mut lo, mut hi) = (best.1 - step, best.1 + step);
+    // Golden-section search for the start within a sample either side
+    // (half a sample about the tie-break's choice, which a loop without
+    // features would otherwise drift from).
+    let mut window = step;
+    if tie.is_some() {
+        best = pick(&mut fine);
+        window = 0.5 * step;
+    }
+    let (mut lo, mut hi) = (best.1 - window, best.1 + window);
     let g = 0.5 * (5f64.sqrt() - 1.0);
     let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
     let (mut c1, mut c2) = (score(x1), score(x2));
@@ -277,7 +293,12 @@ fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, tie: Option<&TieBreak>
     } else {
         best.1
     };
-    let (_, mid) = warp(&fa, &signature(b, start, n), band, skip, true);
+    warp_from(&fa, b, start, n, band, skip)
+}
+
+/// The warp of signature `fa` onto loop `b` read from `start`.
+fn warp_from(fa: &[[f64; 2]], b: &ArcLoop, start: f64, n: usize, band: usize, skip: f64) -> Warp {
+    let (_, mid) = warp(fa, &signature(b, start, n), band, skip, true);
     let mut knots = Vec::with_capacity(n + 1);
     for i in 0..=n {
         let g = match i {
