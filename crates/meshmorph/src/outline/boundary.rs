@@ -199,7 +199,8 @@ fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, tie: Option<&TieBreak>
     // Where a tie-break is given: among the starts scored near the best
     // (within a quarter of the way to the median score, or half the best
     // score again, whichever is more: a loop with no features scores
-    // every start alike), the one it prefers.
+    // every start alike, up to where the samples fall), the one it
+    // prefers.
     let moved = |start: f64| -> f64 {
         match tie {
             Some(TieBreak::Frame(frame)) => (0..coarse)
@@ -224,7 +225,11 @@ fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, tie: Option<&TieBreak>
     let pick = |scored: &mut Vec<(f64, f64)>| -> (f64, f64) {
         scored.sort_by(|x, y| x.0.total_cmp(&y.0));
         let (best, median) = (scored[0].0, scored[scored.len() / 2].0);
-        let near = best + (0.25 * (median - best)).max(0.5 * best);
+        // (Turning angles in radians summed over the samples: differences
+        // under 1 % of a loop's whole turn are how the samples happen to
+        // fall between a round loop's points, not features.)
+        let floor = 0.01 * std::f64::consts::TAU;
+        let near = best + (0.25 * (median - best)).max(0.5 * best).max(floor);
         let mut chosen = scored[0];
         let mut least = f64::INFINITY;
         for &(score, start) in scored.iter().take_while(|x| x.0 <= near) {
