@@ -37,11 +37,14 @@
 //!   Popović, SIGGRAPH 2004): a triangle correspondence from a few marker
 //!   pairs of surface points ([`Markers`], [`SurfacePoint`]), then any number of source poses carried
 //!   over to a target, one back-substitution each.
-//! - [`outline::compatible_meshes`]: two drawings (planar regions given
-//!   as loops of points, with holes) to two meshes with the same
-//!   triangles, for [`Interpolator`]: the outlines matched automatically,
-//!   the triangles from the overlay of Aronov, Seidel and Souvaine (1993),
-//!   improved by compatible flips and smoothing.
+//! - [`outline::compatible_set`] (and [`outline::compatible_meshes`] for
+//!   two): drawings (planar regions given as loops of points, with holes)
+//!   to meshes with the same triangles, for [`Interpolator`] and
+//!   [`Sequence`]: the outlines matched automatically, anchors kept on
+//!   the outlines or inside, the triangles from one drawing's refined mesh
+//!   mapped into the others and untangled, else from the overlay of
+//!   Aronov, Seidel and Souvaine (1993), improved by compatible flips,
+//!   splits, smoothing and relaxation.
 //! - [`io`]: OBJ, OFF, PLY and STL read and written back whole
 //!   ([`io::MeshFile`]), animations and shape keys as binary glTF
 //!   ([`io::gltf`]), marker and correspondence files.
