@@ -13,7 +13,6 @@ pub(crate) mod topology;
 mod triangle_mesh;
 
 pub use surface_point::SurfacePoint;
-#[cfg(all(test, feature = "render"))]
 pub(crate) use triangle_mesh::signed_areas;
 pub(crate) use triangle_mesh::{
     bounding_box_diagonal, check_areas, check_finite, check_overflow, used_vertices,

@@ -18,6 +18,7 @@ use spade::{
 };
 
 use super::geometry::{diagonal, orient};
+use crate::mesh::signed_areas;
 
 /// A mesh of the first drawing: the matched boundary points first (in
 /// their order), then the inside points, with counter-clockwise
@@ -468,16 +469,8 @@ pub(crate) fn untangle(
     if b.len() == n {
         return b;
     }
-    let area = |p: &[[f64; 2]]| -> f64 {
-        triangles
-            .iter()
-            .map(|t| {
-                let [x, y, z] = t.map(|v| p[v as usize]);
-                0.5 * orient(x, y, z)
-            })
-            .sum()
-    };
-    let (area_a, area_b) = (area(a), area_from_boundary(&b, triangles, n));
+    let area_a: f64 = signed_areas(a, triangles).iter().sum();
+    let area_b = area_from_boundary(&b, triangles, n);
     let scale = (area_b / area_a).abs().sqrt();
     let mut inverse = Vec::with_capacity(triangles.len());
     let mut weight = Vec::with_capacity(triangles.len());

@@ -643,13 +643,7 @@ fn rotations_up_to_half_a_turn_fold_no_frame_and_keep_the_area() {
         ),
     ];
     let area = |positions: &[[f64; 2]], triangles: &[[u32; 3]]| -> f64 {
-        triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|v| positions[v as usize]);
-                0.5 * orient(a, b, c)
-            })
-            .sum()
+        crate::mesh::signed_areas(positions, triangles).iter().sum()
     };
     for (name, a, b) in &shapes {
         for degrees in [30.0f64, 90.0, 135.0, 180.0] {
@@ -755,15 +749,8 @@ fn a_round_ring_with_its_hole_off_centre_turns_rigidly() {
         let turned = pose(&ring, degrees.to_radians(), 1.0, 17, false, 0.0, 1);
         let m = check(&ring, &turned).meshes;
         let morph = Interpolator::new(&m.a, &m.b, &InterpolatorOptions::default()).unwrap();
-        let area = |p: &[[f64; 2]]| -> f64 {
-            m.a.triangles()
-                .iter()
-                .map(|t| {
-                    let [a, b, c] = t.map(|v| p[v as usize]);
-                    0.5 * orient(a, b, c)
-                })
-                .sum()
-        };
+        let area =
+            |p: &[[f64; 2]]| -> f64 { crate::mesh::signed_areas(p, m.a.triangles()).iter().sum() };
         let whole = area(m.a.positions());
         for k in 0..=10 {
             let ratio = area(&morph.at(k as f64 / 10.0)) / whole;
