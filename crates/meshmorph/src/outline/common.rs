@@ -123,29 +123,24 @@ fn merge(entries: Vec<Entry>, arc: &ArcLoop, near: bool) -> Vec<Entry> {
             .min(arc.points.len() - 1);
         (arc.cumulative[i + 1] - arc.cumulative[i]) / length
     };
+    // Whether `e`, `gap` after `last` along the loop, is the same point.
+    let joins = |last: &Entry, e: &Entry, gap: f64| {
+        let disjoint = last
+            .others
+            .iter()
+            .zip(&e.others)
+            .all(|(x, y)| x.is_none() || y.is_none());
+        let same_given = last.from_a.is_some() && last.from_a == e.from_a;
+        let close = near
+            && gap.abs() < 0.3 * edge_at(last.t + 0.5 * gap)
+            && !(last.from_a.is_some() && e.from_a.is_some());
+        disjoint && (same_given || close)
+    };
     let mut out: Vec<Entry> = Vec::with_capacity(entries.len());
     for e in entries {
         if let Some(last) = out.last_mut() {
-            let disjoint = last
-                .others
-                .iter()
-                .zip(&e.others)
-                .all(|(x, y)| x.is_none() || y.is_none());
-            let same_given = last.from_a.is_some() && last.from_a == e.from_a;
-            let close = near
-                && (e.t - last.t).abs() < 0.3 * edge_at(0.5 * (e.t + last.t))
-                && !(last.from_a.is_some() && e.from_a.is_some());
-            if disjoint && (same_given || close) {
-                if e.from_a.is_some() {
-                    last.t = e.t;
-                    last.a = e.a;
-                    last.from_a = e.from_a;
-                }
-                for (x, y) in last.others.iter_mut().zip(e.others) {
-                    if y.is_some() {
-                        *x = y;
-                    }
-                }
+            if joins(last, &e, e.t - last.t) {
+                last.absorb(e, 0.0);
                 continue;
             }
         }
@@ -154,30 +149,28 @@ fn merge(entries: Vec<Entry>, arc: &ArcLoop, near: bool) -> Vec<Entry> {
     // The last and the first may be one point too (across t = 0).
     if out.len() > 1 {
         let (first, last) = (&out[0], &out[out.len() - 1]);
-        let disjoint = first
-            .others
-            .iter()
-            .zip(&last.others)
-            .all(|(x, y)| x.is_none() || y.is_none());
-        let gap = first.t + 1.0 - last.t;
-        let same_given = first.from_a.is_some() && first.from_a == last.from_a;
-        let close = near
-            && gap < 0.3 * edge_at(last.t + 0.5 * gap)
-            && !(first.from_a.is_some() && last.from_a.is_some());
-        if disjoint && (same_given || close) {
+        if joins(last, first, first.t + 1.0 - last.t) {
             let last = out.pop().unwrap_or_else(|| unreachable!());
-            let first = &mut out[0];
-            if first.from_a.is_none() && last.from_a.is_some() {
-                first.t = last.t - 1.0;
-                first.a = last.a;
-                first.from_a = last.from_a;
-            }
-            for (x, y) in first.others.iter_mut().zip(last.others) {
-                if y.is_some() {
-                    *x = y;
-                }
-            }
+            out[0].absorb(last, -1.0);
         }
     }
     out
+}
+
+impl Entry {
+    /// Takes in `other`, the same point: its given point of the first
+    /// drawing (its place shifted by `shift` turns) when this has none,
+    /// and every drawing's point it has.
+    fn absorb(&mut self, other: Entry, shift: f64) {
+        if self.from_a.is_none() && other.from_a.is_some() {
+            self.t = other.t + shift;
+            self.a = other.a;
+            self.from_a = other.from_a;
+        }
+        for (x, y) in self.others.iter_mut().zip(other.others) {
+            if y.is_some() {
+                *x = y;
+            }
+        }
+    }
 }
