@@ -615,19 +615,27 @@ fn pct(x: f64) -> String {
     }
 }
 
-fn table(peers_path: &str) {
-    let peers: Value = serde_json::from_str(
-        &std::fs::read_to_string(peers_path)
-            .expect("reading the peers' frames (run the node script first)"),
-    )
-    .expect("the peers' frames as JSON");
+fn table(peers_path: &str, only: Option<&str>) {
+    let peers: Value = match only {
+        Some(_) => json!({}),
+        None => serde_json::from_str(
+            &std::fs::read_to_string(peers_path)
+                .expect("reading the peers' frames (run the node script first)"),
+        )
+        .expect("the peers' frames as JSON"),
+    };
     let methods = peers["methods"].as_array().cloned().unwrap_or_default();
     println!(
         "| pair | method | points | ends (Hausdorff / diagonal) | frames crossed or touching (of {FRAMES}) | triangles turned over | area / blend of the ends, min to max | edge lengths against their blend (mean deviation) |"
     );
     println!("|---|---|---:|---:|---:|---:|---|---:|");
     let mut reports = Vec::new();
-    for pair in pairs() {
+    for pair in pairs().into_iter().chain(timed_pairs()) {
+        if only.is_some_and(|name| name != pair.name)
+            || (only.is_none() && pair.name.starts_with("500"))
+        {
+            continue;
+        }
         let row = |method: &str, m: &Measures, note: &str| {
             let target = if pair.rotation {
                 [0.97, 1.03]
@@ -687,6 +695,9 @@ fn table(peers_path: &str) {
     println!("\n| 60 frames as SVG path strings, one thread | method | setup | per frame |");
     println!("|---|---|---:|---:|");
     for pair in timed_pairs() {
+        if only.is_some() {
+            break;
+        }
         match time_ours(&pair) {
             Ok((setup, frame)) => println!(
                 "| {} | meshmorph | {:.1} ms | {:.1} µs |",
@@ -714,10 +725,11 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.iter().map(String::as_str).collect::<Vec<_>>()[..] {
         ["pairs", path] => write_pairs(path),
-        ["table", path] => table(path),
+        ["table", path] => table(path, None),
+        ["only", name] => table("", Some(name)),
         _ => {
             eprintln!(
-                "usage: outline_benchmark pairs FILE.json | table PEERS.json (tools/bench/outline-morph/run does both)"
+                "usage: outline_benchmark pairs FILE.json | table PEERS.json (tools/bench/outline-morph/run does both) | only PAIR (meshmorph alone on one pair, by name)"
             );
             std::process::exit(2);
         }

@@ -7,7 +7,7 @@
 use super::boundary::LoopAnchor;
 use super::common::CommonBoundary;
 use super::geometry::{diagonal, dist, inside_loop};
-use super::mapped::{all_positive, untangle};
+use super::mapped::{all_positive, untangle, Patience};
 use super::{snap, Drawing};
 use crate::error::{Error, Result};
 
@@ -250,7 +250,7 @@ pub(crate) fn insert_inside(
                 let (p, q) = (start[j], fixed[d][n + j]);
                 moved[n + j] = [p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1])];
             }
-            moved = untangle(&reference, triangles, moved, n + m);
+            moved = untangle(&reference, triangles, moved, n + m, Patience::LONG);
         }
         if !all_positive(&moved, triangles) {
             return Err(Error::IncompatibleDrawings(format!(

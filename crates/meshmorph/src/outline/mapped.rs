@@ -451,9 +451,34 @@ pub(crate) fn map_into(
     a: &[[f64; 2]],
     triangles: &[[u32; 3]],
     b_boundary: &[[f64; 2]],
+    patience: Patience,
 ) -> Vec<[f64; 2]> {
     let b = place_inside(a, b_boundary, triangles);
-    untangle(a, triangles, b, b_boundary.len())
+    untangle(a, triangles, b, b_boundary.len(), patience)
+}
+
+/// How long the untangling keeps going: at most `rounds` rounds of
+/// L-BFGS with one regularisation each, and it gives up once `stall`
+/// rounds in a row have not made the turned-over triangles fewer.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Patience {
+    pub(crate) rounds: usize,
+    pub(crate) stall: usize,
+}
+
+impl Patience {
+    /// Enough for like drawings, and a quick give-up on hard pairs.
+    pub(crate) const SHORT: Self = Self {
+        rounds: 30,
+        stall: 6,
+    };
+    /// For unlike drawings (a fat shape into a thin spiral band), whose
+    /// untangling goes on shrinking the turned-over triangles for
+    /// hundreds of rounds before the last one turns up.
+    pub(crate) const LONG: Self = Self {
+        rounds: 400,
+        stall: 40,
+    };
 }
 
 /// Moves the vertices from `n` on of `b` (the first `n` stay where they
@@ -465,6 +490,7 @@ pub(crate) fn untangle(
     triangles: &[[u32; 3]],
     mut b: Vec<[f64; 2]>,
     n: usize,
+    patience: Patience,
 ) -> Vec<[f64; 2]> {
     if b.len() == n {
         return b;
@@ -500,7 +526,7 @@ pub(crate) fn untangle(
     let mut eps = (1e-12 + 0.04 * mindet.min(0.0).powi(2)).sqrt();
     let mut e_prev = energy.eval(&b, eps, None);
     let (mut fewest, mut stalled) = (usize::MAX, 0);
-    for _ in 0..30 {
+    for _ in 0..patience.rounds {
         let e = {
             let b = &mut b;
             let grad = &mut grad;
@@ -528,7 +554,7 @@ pub(crate) fn untangle(
             stalled = 0;
         } else {
             stalled += 1;
-            if stalled >= 6 {
+            if stalled >= patience.stall {
                 break;
             }
         }
@@ -637,6 +663,7 @@ pub(crate) fn compatible(
     source: usize,
     loop_start: &[usize],
     angle_degrees: f64,
+    patience: Patience,
 ) -> Option<super::Positioned> {
     let refined = refine(&fixed[source], loop_start, angle_degrees)?;
     if !all_positive(&refined.positions, &refined.triangles) {
@@ -648,7 +675,7 @@ pub(crate) fn compatible(
             meshes.push(refined.positions.clone());
             continue;
         }
-        let b = map_into(&refined.positions, &refined.triangles, points);
+        let b = map_into(&refined.positions, &refined.triangles, points, patience);
         if !all_positive(&b, &refined.triangles) {
             return None;
         }

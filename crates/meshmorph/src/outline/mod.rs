@@ -26,12 +26,12 @@
 //! 5. `improve`: compatible edge flips, splits and smoothing that raise
 //!    the smallest angle and keep every triangle positive in every mesh.
 //!
-//! Before steps 3 and 4, `mapped` tries the fast way: one drawing meshed
+//! Before steps 3 and 4, `mapped` tries the first way: one drawing meshed
 //! with good angles (constrained Delaunay refinement), mapped into the
 //! others with the matched boundary and the anchors fixed and untangled
-//! (Garanzha et al. 2021); it is kept when every triangle is positive in
-//! every mesh and its smallest angle is good enough or beats the
-//! overlay's. With three or more drawings the overlay is made for the
+//! (Garanzha et al. 2021), the thinnest drawing's mesh first; it is kept
+//! when every triangle is positive in every mesh, and the overlay is made
+//! only when no drawing's mesh untangles. With three or more drawings the overlay is made for the
 //! first two, and its mesh mapped into each further drawing (through the
 //! first drawing's own pair with it, `carry`, where mapping alone turns a
 //! triangle over).
@@ -100,10 +100,10 @@ pub struct OutlineOptions {
     /// The smallest angle the first drawing's mesh is refined towards on
     /// the fast way, degrees. Default 25.
     pub mapped_angle_degrees: f64,
-    /// The fast way's meshes are kept without making the overlay when
-    /// every triangle is positive in both and their smallest angle is at
-    /// least this many degrees; below it the overlay is made too and the
-    /// better of the two kept. Default 10.
+    /// The mapped meshes from the first drawing tried are kept without
+    /// mapping from the others when every triangle is positive in all and
+    /// their smallest angle is at least this many degrees; below it every
+    /// drawing's mesh is tried as the source and the best kept. Default 10.
     pub accept_angle_degrees: f64,
 }
 
@@ -330,6 +330,21 @@ fn improve_set(
     (before, improve::smallest_angles(&pair))
 }
 
+/// How round a drawing is, from its matched boundary: its area over that
+/// of the circle with its outer loop's length (1 for a circle, near 0 for
+/// a thin band).
+fn roundness(points: &[[f64; 2]], loop_start: &[usize]) -> f64 {
+    let outer = &points[..loop_start[1]];
+    let length: f64 = (0..outer.len())
+        .map(|i| dist(outer[i], outer[(i + 1) % outer.len()]))
+        .sum();
+    let area: f64 = loop_start
+        .windows(2)
+        .map(|w| 0.5 * geometry::signed_area2(&points[w[0]..w[1]]))
+        .sum();
+    4.0 * std::f64::consts::PI * area.abs() / (length * length)
+}
+
 /// Compatible meshes as they are made: the positions in each drawing and
 /// the shared triangles.
 pub(crate) type Positioned = (Vec<Vec<[f64; 2]>>, Vec<[u32; 3]>);
@@ -421,9 +436,11 @@ pub struct CompatibleSet {
 /// exactly that point in every mesh.
 ///
 /// The triangles come first from a refined mesh of one drawing mapped
-/// into the others and untangled ([`OutlinePath::Mapped`]), kept when
-/// every triangle is positive in every mesh and the smallest angle reaches
-/// [`OutlineOptions::accept_angle_degrees`]; otherwise from the overlay
+/// into the others and untangled ([`OutlinePath::Mapped`]): the thinnest
+/// drawing's mesh first, then each other's while the smallest angle is
+/// below [`OutlineOptions::accept_angle_degrees`], and when no drawing's
+/// mesh untangles quickly, again with a patient untangling. Only when
+/// that fails too do they come from the overlay
 /// of Aronov, Seidel and Souvaine (1993) of the first drawing with each
 /// other ([`OutlinePath::Overlay`]), which cannot fail on drawings that
 /// pass [`Drawing::new`] and whose holes can be cut straight to the outer
@@ -446,9 +463,10 @@ pub struct CompatibleSet {
 ///
 /// # Performance
 /// Two like 500-point outlines take tens of milliseconds on the mapped
-/// way; the overlay grows with how differently the two shapes'
-/// triangulations run (up to quadratically in the points: seconds for
-/// two unlike 500-point outlines).
+/// way; unlike ones (a star and a thin spiral band) a second or so, spent
+/// in the patient untangling. The overlay grows with how differently the
+/// two shapes' triangulations run (up to quadratically in the points:
+/// seconds for two unlike 500-point outlines).
 pub fn compatible_set(
     drawings: &[Drawing],
     anchors: &[Vec<[f64; 2]>],
@@ -527,48 +545,56 @@ pub fn compatible_set(
     let accept = options.accept_angle_degrees.to_radians();
     let mut best: Option<Candidate> = None;
     if options.mapped_first {
-        for source in 0..count {
-            if let Some((mut meshes, mut triangles)) = mapped::compatible(
-                &fixed,
-                source,
-                &boundary.loop_start,
-                options.mapped_angle_degrees,
-            ) {
-                let (_, angles) = improve_set(&mut meshes, &mut triangles, n + inside, n, options);
-                if best
-                    .as_ref()
-                    .is_none_or(|b| worst(&angles) > worst(&b.angles))
-                {
-                    best = Some(Candidate {
-                        meshes,
-                        triangles,
-                        angles,
-                        path: OutlinePath::Mapped,
-                        overlay_angles: None,
-                    });
+        // The thinnest drawing first (smallest area for its outline's
+        // length): its mesh, mapped into a fatter drawing, has room to
+        // spread, where a fat drawing's mesh squeezed into a thin band
+        // often cannot be untangled. A quick try from every drawing, then,
+        // when none gave valid meshes, a patient one.
+        let mut sources: Vec<usize> = (0..count).collect();
+        sources.sort_by(|&x, &y| {
+            roundness(&fixed[x], &boundary.loop_start)
+                .total_cmp(&roundness(&fixed[y], &boundary.loop_start))
+        });
+        'passes: for patience in [mapped::Patience::SHORT, mapped::Patience::LONG] {
+            for &source in &sources {
+                if let Some((mut meshes, mut triangles)) = mapped::compatible(
+                    &fixed,
+                    source,
+                    &boundary.loop_start,
+                    options.mapped_angle_degrees,
+                    patience,
+                ) {
+                    let (_, angles) =
+                        improve_set(&mut meshes, &mut triangles, n + inside, n, options);
+                    if best
+                        .as_ref()
+                        .is_none_or(|b| worst(&angles) > worst(&b.angles))
+                    {
+                        best = Some(Candidate {
+                            meshes,
+                            triangles,
+                            angles,
+                            path: OutlinePath::Mapped,
+                            overlay_angles: None,
+                        });
+                    }
+                }
+                if best.as_ref().is_some_and(|b| {
+                    worst(&b.angles) >= accept || patience.rounds > mapped::Patience::SHORT.rounds
+                }) {
+                    break 'passes;
                 }
             }
-            if best.as_ref().is_some_and(|b| worst(&b.angles) >= accept) {
+            if best.is_some() {
                 break;
             }
         }
     }
-    if best.as_ref().is_none_or(|b| worst(&b.angles) < accept) {
-        match overlay_set(&boundary, &fixed, n, options) {
-            Ok(c) => {
-                if best
-                    .as_ref()
-                    .is_none_or(|b| worst(&c.angles) >= worst(&b.angles))
-                {
-                    best = Some(c);
-                }
-            }
-            Err(e) => {
-                if best.is_none() {
-                    return Err(e);
-                }
-            }
-        }
+    // The overlay only where no mapping gave valid meshes: on unlike
+    // drawings its angles are far below a mapped mesh's, and it grows with
+    // the square of the points.
+    if best.is_none() {
+        best = Some(overlay_set(&boundary, &fixed, n, options)?);
     }
     let Some(chosen) = best else {
         unreachable!("the overlay either succeeds or returns its error")
@@ -662,7 +688,13 @@ fn overlay_set(
         let two = [boundary.points[0].clone(), boundary.points[k].clone()];
         let (mut m, mut t) = match (count > 2)
             .then(|| {
-                mapped::compatible(&two, 0, &boundary.loop_start, options.mapped_angle_degrees)
+                mapped::compatible(
+                    &two,
+                    0,
+                    &boundary.loop_start,
+                    options.mapped_angle_degrees,
+                    mapped::Patience::SHORT,
+                )
             })
             .flatten()
         {
@@ -679,7 +711,12 @@ fn overlay_set(
     // that turns a triangle over, carried through the first drawing's own
     // pair with that drawing and untangled.
     for k in 2..count {
-        let mut b = mapped::map_into(&meshes[0], &triangles, &boundary.points[k]);
+        let mut b = mapped::map_into(
+            &meshes[0],
+            &triangles,
+            &boundary.points[k],
+            mapped::Patience::SHORT,
+        );
         if !mapped::all_positive(&b, &triangles) {
             let (mut m, t) = pair_with(k)?;
             let pair = carry::PairMesh {
@@ -688,7 +725,7 @@ fn overlay_set(
                 triangles: t,
             };
             let start = carry::carry_all(&pair, &meshes[0]);
-            b = mapped::untangle(&meshes[0], &triangles, start, n);
+            b = mapped::untangle(&meshes[0], &triangles, start, n, mapped::Patience::LONG);
             if !mapped::all_positive(&b, &triangles) {
                 return Err(Error::IncompatibleDrawings(format!(
                     "drawing {} could not be given the mesh of the first two without turning a triangle over: \

@@ -762,3 +762,89 @@ fn a_round_ring_with_its_hole_off_centre_turns_rigidly() {
         }
     }
 }
+
+/// A thick curl: a band of half-width 0.15 along a spiral turning 400°
+/// inwards (the benchmark's unlike shape).
+fn thick_curl(n: usize) -> Vec<[f64; 2]> {
+    band(n, 0.15, |t| {
+        let a = 0.5 + (TAU + 0.7) * t;
+        let r = 1.0 - 0.45 * t;
+        [r * a.cos(), r * a.sin()]
+    })
+}
+
+/// A random simple polygon from `seed`: star-shaped about the origin,
+/// each of its `n` points at a random radius between 0.3 and 1.
+fn random_polygon(n: usize, seed: u64) -> Vec<[f64; 2]> {
+    let mut rng = Rng(seed);
+    let radii: Vec<f64> = (0..n).map(|_| 0.3 + 0.7 * rng.next()).collect();
+    curve(n, |t| {
+        let r = radii[((t * n as f64).round() as usize).min(n - 1)];
+        [r * (TAU * t).cos(), r * (TAU * t).sin()]
+    })
+}
+
+/// The smallest angle the unlike pairs below reach in both meshes.
+const UNLIKE_MIN_ANGLE_DEGREES: f64 = 1.0;
+
+/// Unlike pairs (fat shapes and thin spiral bands, a C and a G, random
+/// simple polygons against a spiral, unlike shapes with a hole) are meshed
+/// by mapping one drawing's mesh into the other: every triangle positive
+/// in both meshes and the ends exact (`check`), no overlay, and the
+/// smallest angle above [`UNLIKE_MIN_ANGLE_DEGREES`].
+#[test]
+fn unlike_pairs_are_mapped_with_no_sliver() {
+    let mut pairs: Vec<(String, Loops, Loops)> = vec![
+        (
+            "star vs thick curl".into(),
+            vec![star(100, 3)],
+            vec![thick_curl(120)],
+        ),
+        (
+            "spiral vs star".into(),
+            vec![spiral(160)],
+            vec![star(90, 4)],
+        ),
+        (
+            "C vs G".into(),
+            vec![c_shape(120, false)],
+            vec![c_shape(90, true)],
+        ),
+        (
+            "ring vs star with a hole by its edge".into(),
+            vec![circle(80, [0.0, 0.0], 1.0), circle(40, [0.0, 0.0], 0.5)],
+            vec![
+                star(120, 7)
+                    .iter()
+                    .map(|p| [1.6 * p[0], 0.6 * p[1]])
+                    .collect(),
+                circle(24, [1.0, 0.0], 0.2),
+            ],
+        ),
+    ];
+    for seed in 1..=3u64 {
+        pairs.push((
+            format!("random polygon {seed} vs thick curl"),
+            vec![random_polygon(40 + 10 * seed as usize, seed)],
+            pose(
+                &vec![thick_curl(90)],
+                seed as f64,
+                1.5,
+                11,
+                seed == 2,
+                0.0,
+                5,
+            ),
+        ));
+    }
+    for (name, a, b) in &pairs {
+        let out = check(a, b);
+        let report = &out.meshes.report;
+        eprintln!("{name}: {report}");
+        assert_eq!(report.path, OutlinePath::Mapped, "{name}: {report}");
+        assert!(
+            worst(&report.min_angle_degrees) >= UNLIKE_MIN_ANGLE_DEGREES,
+            "{name}: {report}"
+        );
+    }
+}
