@@ -8,6 +8,8 @@
 mod common;
 mod fit;
 mod gltf_files;
+mod gltf_read;
+mod gltf_shape_keys;
 mod interpolate;
 mod io;
 mod markers;
