@@ -24,7 +24,9 @@ Left and right are the head's own (as in ARKit's `eyeBlinkLeft`). The
 FaceKit's eyelashes, lacrimal fluid and eye blend and occlusion meshes are
 left out. Targets are sparse accessors of KHR_mesh_quantization: a vertex's
 delta is stored as normalised 16-bit integers (1 m / 32767, about 31 µm, a
-step of 0.007 % of the head's diagonal) and only where it is not zero.
+step of 0.007 % of the head's diagonal) and only where it is not zero:
+deltas shorter than 0.1 mm (0.02 % of the diagonal), the noise of the
+FaceKit's scans that moves every vertex a little in every shape, are zero.
 """
 
 import json
@@ -70,7 +72,8 @@ LANDMARKS = [
 EXTRA_SHAPES = ["cheekRaiser_L", "cheekRaiser_R", "PupilDilate_L", "PupilDilate_R"]
 
 METRES_PER_UNIT = 0.01  # the FaceKit models in centimetres
-STEPS = 32767.0  # normalised 16-bit: 1 m per 32767 steps
+STEPS = 32767.0
+NOISE = 0.01  # 0.1 mm, in the FaceKit's centimetres  # normalised 16-bit: 1 m per 32767 steps
 
 GENERATOR = "meshmorph tools/arkit-template/build.py"
 COPYRIGHT = (
@@ -194,7 +197,12 @@ def main():
         v, _ = read_obj(os.path.join(model, name + ".obj"))
         if v.shape != neutral.shape:
             sys.exit(f"{name}.obj: {len(v)} vertices, the neutral head has {len(neutral)}")
-        d = np.rint((v - neutral) * METRES_PER_UNIT * STEPS)
+        d = v - neutral
+        # The FaceKit's shapes move every vertex a little (its scans'
+        # noise: up to 0.08 mm on the far side of the face in eyeBlink_L);
+        # what moves less than NOISE stays exactly still.
+        d[np.linalg.norm(d, axis=1) < NOISE] = 0.0
+        d = np.rint(d * METRES_PER_UNIT * STEPS)
         if np.abs(d).max() > STEPS:
             sys.exit(f"{name}.obj: a delta of more than 1 m")
         deltas.append(d.astype(np.int16))
