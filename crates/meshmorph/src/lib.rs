@@ -89,6 +89,7 @@
 #![allow(clippy::needless_range_loop)]
 
 mod error;
+mod expressions;
 mod gradient;
 mod interpolate;
 pub mod io;
@@ -101,6 +102,17 @@ pub mod render;
 mod transfer;
 
 pub use error::{Error, Result};
+pub use expressions::arkit_names::{arkit_recipes, ShapeRecipe, ARKIT_NAMES};
+pub use expressions::carry::{
+    expressions, CarryMethod, ExpressionOptions, FoundPart, HeadExpressions, ShapeReport,
+    LOOKUP_ANGLE,
+};
+pub use expressions::landmark_file::read_landmarks;
+pub use expressions::landmarks::{
+    check_landmarks, landmark_name, landmark_number, ALIASES as LANDMARK_ALIASES, MIN_LANDMARKS,
+    RECOMMENDED as RECOMMENDED_LANDMARKS,
+};
+pub use expressions::template::{ExpressionTemplate, TemplatePart, ARKIT_TEMPLATE_GLB};
 pub use gradient::solve::FactorKind;
 pub use gradient::TriangleMaps;
 pub use interpolate::rotation::{RotationLog3, Rotations};

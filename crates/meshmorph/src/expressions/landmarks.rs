@@ -1,0 +1,195 @@
+//! The template's landmark names: the 68 points of the Multi-PIE / iBUG
+//! 300-W scheme by number (`"1"` to `"68"`, or `"ibug37"`), and readable
+//! aliases for the points people place by hand (`eyeOuterRight`,
+//! `noseTip`, `mouthCornerLeft`, `chin`, ...). Left and right are the
+//! head's own, as in ARKit's `eyeBlinkLeft`: iBUG's point 37, on the left
+//! of a photograph, is the outer corner of the right eye.
+//!
+//! A user's point file names points on their head by these names; any
+//! [`MIN_LANDMARKS`] or more suffice when they are spread over the face
+//! ([`check_landmarks`] refuses fewer, naming the recommended ones that are
+//! missing, and warns about a region none of them holds).
+
+use crate::error::{Error, Result};
+
+/// The fewest landmarks [`check_landmarks`] accepts.
+pub const MIN_LANDMARKS: usize = 12;
+
+/// Readable names of iBUG points, `(alias, number)`.
+pub const ALIASES: &[(&str, u8)] = &[
+    ("jawRight", 1),
+    ("jawAngleRight", 4),
+    ("chin", 9),
+    ("jawAngleLeft", 14),
+    ("jawLeft", 17),
+    ("browOuterRight", 18),
+    ("browMiddleRight", 20),
+    ("browInnerRight", 22),
+    ("browInnerLeft", 23),
+    ("browMiddleLeft", 25),
+    ("browOuterLeft", 27),
+    ("noseBridge", 28),
+    ("noseTip", 31),
+    ("nostrilRight", 32),
+    ("noseBase", 34),
+    ("nostrilLeft", 36),
+    ("eyeOuterRight", 37),
+    ("eyeUpperRight", 38),
+    ("eyeInnerRight", 40),
+    ("eyeLowerRight", 42),
+    ("eyeInnerLeft", 43),
+    ("eyeUpperLeft", 45),
+    ("eyeOuterLeft", 46),
+    ("eyeLowerLeft", 47),
+    ("mouthCornerRight", 49),
+    ("upperLipTop", 52),
+    ("mouthCornerLeft", 55),
+    ("lowerLipBottom", 58),
+    ("upperLipInner", 63),
+    ("lowerLipInner", 67),
+];
+
+/// The 17 landmarks the README recommends: the jaw's ends and the chin, the
+/// brows' ends, the eyes' corners, the bridge and tip of the nose, the
+/// mouth's corners and the middle of each lip, each lid's middle.
+pub const RECOMMENDED: [u8; 17] = [
+    1, 9, 17, 18, 22, 23, 27, 28, 31, 37, 40, 43, 46, 49, 52, 55, 58,
+];
+
+/// The regions of the face a fit needs a landmark in, with the iBUG points
+/// that hold each.
+pub const REGIONS: &[(&str, std::ops::RangeInclusive<u8>)] = &[
+    ("the jaw and chin", 1..=17),
+    ("the right brow", 18..=22),
+    ("the left brow", 23..=27),
+    ("the nose", 28..=36),
+    ("the right eye", 37..=42),
+    ("the left eye", 43..=48),
+    ("the mouth", 49..=68),
+];
+
+/// The iBUG number (1 to 68) of a landmark name: a number, `ibug` and a
+/// number, or an alias (case does not matter).
+pub fn landmark_number(name: &str) -> Option<u8> {
+    let name = name.trim();
+    let digits = name
+        .strip_prefix("ibug")
+        .or_else(|| name.strip_prefix("iBUG"))
+        .unwrap_or(name);
+    if let Ok(n) = digits.parse::<u8>() {
+        return (1..=68).contains(&n).then_some(n);
+    }
+    ALIASES
+        .iter()
+        .find(|(alias, _)| alias.eq_ignore_ascii_case(name))
+        .map(|&(_, n)| n)
+}
+
+/// The readable name of iBUG point `number` (its alias, else its number).
+pub fn landmark_name(number: u8) -> String {
+    ALIASES
+        .iter()
+        .find(|&&(_, n)| n == number)
+        .map_or_else(|| number.to_string(), |(alias, _)| alias.to_string())
+}
+
+/// Checks a set of landmark numbers: refuses duplicates and fewer than
+/// [`MIN_LANDMARKS`] (naming the recommended ones that are missing), and
+/// returns a warning for each region of [`REGIONS`] without a landmark.
+///
+/// # Errors
+/// [`Error::InvalidArgument`] saying what is missing or repeated.
+pub fn check_landmarks(numbers: &[u8]) -> Result<Vec<String>> {
+    let mut seen = [false; 69];
+    for &n in numbers {
+        if std::mem::replace(&mut seen[n as usize], true) {
+            return Err(Error::InvalidArgument(format!(
+                "landmark {} ({}) is given twice",
+                n,
+                landmark_name(n)
+            )));
+        }
+    }
+    if numbers.len() < MIN_LANDMARKS {
+        let missing: Vec<String> = RECOMMENDED
+            .iter()
+            .filter(|&&n| !seen[n as usize])
+            .map(|&n| landmark_name(n))
+            .collect();
+        return Err(Error::InvalidArgument(format!(
+            "{} landmarks given, at least {MIN_LANDMARKS} are needed, spread over the face; \
+             of the recommended set these are missing: {}",
+            numbers.len(),
+            missing.join(", ")
+        )));
+    }
+    Ok(REGIONS
+        .iter()
+        .filter(|(_, range)| !range.clone().any(|n| seen[n as usize]))
+        .map(|(region, range)| {
+            format!(
+                "no landmark on {region} (iBUG {}-{}): it is placed by the fit alone",
+                range.start(),
+                range.end()
+            )
+        })
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_numbers_and_aliases_resolve() {
+        assert_eq!(landmark_number("37"), Some(37));
+        assert_eq!(landmark_number("ibug37"), Some(37));
+        assert_eq!(landmark_number("eyeOuterRight"), Some(37));
+        assert_eq!(landmark_number("NOSETIP"), Some(31));
+        assert_eq!(landmark_number("69"), None);
+        assert_eq!(landmark_number("0"), None);
+        assert_eq!(landmark_number("elbow"), None);
+        for &(alias, n) in ALIASES {
+            assert_eq!(landmark_number(alias), Some(n));
+            assert_eq!(landmark_name(n), alias);
+        }
+        // Every alias names one point.
+        let mut numbers: Vec<u8> = ALIASES.iter().map(|a| a.1).collect();
+        numbers.sort_unstable();
+        numbers.dedup();
+        assert_eq!(numbers.len(), ALIASES.len());
+    }
+
+    #[test]
+    fn the_recommended_set_is_accepted_without_warnings() {
+        assert_eq!(check_landmarks(&RECOMMENDED).unwrap(), Vec::<String>::new());
+    }
+
+    #[test]
+    fn too_few_are_refused_naming_what_is_missing() {
+        let err = check_landmarks(&RECOMMENDED[..11]).unwrap_err().to_string();
+        assert!(err.contains("11 landmarks given"), "{err}");
+        for &n in &RECOMMENDED[11..] {
+            assert!(err.contains(&landmark_name(n)), "{err}");
+        }
+        assert!(!err.contains("chin"), "{err}");
+    }
+
+    #[test]
+    fn repeated_landmarks_are_refused() {
+        let mut n = RECOMMENDED.to_vec();
+        n.push(31);
+        assert!(check_landmarks(&n)
+            .unwrap_err()
+            .to_string()
+            .contains("noseTip"));
+    }
+
+    #[test]
+    fn a_region_without_landmarks_is_warned_about() {
+        let no_mouth: Vec<u8> = (1..=48).collect();
+        let warnings = check_landmarks(&no_mouth).unwrap();
+        assert_eq!(warnings.len(), 1);
+        assert!(warnings[0].contains("the mouth"), "{warnings:?}");
+    }
+}

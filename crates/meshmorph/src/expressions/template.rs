@@ -1,0 +1,241 @@
+//! An expression template: a neutral head with named shapes (deltas of its
+//! vertices), its separate parts (eyes, teeth, ...) with the same shapes,
+//! and named landmark vertices. [`ExpressionTemplate::arkit`] is the one
+//! meshmorph ships (`templates/arkit.glb`, built from ICT-FaceKit by
+//! `tools/arkit-template/build.py`; MIT licence, `templates/LICENSE-ICT-FaceKit`).
+
+use std::ops::Range;
+
+use crate::error::{Error, Result};
+use crate::expressions::template_file::read_template_glb;
+use crate::mesh::Mesh3;
+
+/// The template meshmorph ships: the ICT-FaceKit head in metres, its
+/// eyeballs, teeth and gums with tongue, 57 shapes and the 68 iBUG
+/// landmarks.
+pub const ARKIT_TEMPLATE_GLB: &[u8] = include_bytes!("../../templates/arkit.glb");
+
+/// A neutral head, its shapes, parts and landmarks.
+#[derive(Clone, Debug)]
+pub struct ExpressionTemplate {
+    /// The neutral head (one surface).
+    pub head: Mesh3,
+    /// The vertices of the face (the region whose error is measured),
+    /// all of the head's when the template does not say.
+    pub face: Range<usize>,
+    /// The shapes' names, in order.
+    pub shape_names: Vec<String>,
+    /// Each shape's delta of every head vertex.
+    pub head_deltas: Vec<Vec<[f64; 3]>>,
+    /// Landmark names with their head vertex.
+    pub landmarks: Vec<(String, u32)>,
+    /// The separate parts, each with a delta of every vertex in every shape.
+    pub parts: Vec<TemplatePart>,
+}
+
+/// A separate part of a template (an eyeball, the teeth, ...).
+#[derive(Clone, Debug)]
+pub struct TemplatePart {
+    /// Its name in the template (`eyeLeft`, `teethLower`, ...).
+    pub name: String,
+    /// Its neutral mesh.
+    pub mesh: Mesh3,
+    /// Each shape's delta of every vertex.
+    pub deltas: Vec<Vec<[f64; 3]>>,
+}
+
+impl ExpressionTemplate {
+    /// The template meshmorph ships ([`ARKIT_TEMPLATE_GLB`]).
+    pub fn arkit() -> Self {
+        read_template_glb(ARKIT_TEMPLATE_GLB, "the built-in template")
+            .expect("the built-in template reads")
+    }
+
+    /// A template from a GLB holding a mesh `head` with named morph targets
+    /// (`extras.targetNames`) and landmarks (`extras.landmarks`, a list of
+    /// `{"name", "vertex"}`), and other meshes with the same targets as its
+    /// parts (the layout of `templates/arkit.glb`).
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] naming `what` and the element that is
+    /// missing or malformed.
+    pub fn from_glb(bytes: &[u8], what: &str) -> Result<Self> {
+        read_template_glb(bytes, what)
+    }
+
+    /// The index of the shape named `name`.
+    pub fn shape(&self, name: &str) -> Option<usize> {
+        self.shape_names.iter().position(|n| n == name)
+    }
+
+    /// The head vertex of the landmark `name`.
+    pub fn landmark(&self, name: &str) -> Option<u32> {
+        self.landmarks
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|&(_, v)| v)
+    }
+
+    /// The head in shape `k` (its neutral positions plus the deltas).
+    pub fn posed_head(&self, k: usize) -> Vec<[f64; 3]> {
+        self.head
+            .positions()
+            .iter()
+            .zip(&self.head_deltas[k])
+            .map(|(p, d)| std::array::from_fn(|i| p[i] + d[i]))
+            .collect()
+    }
+
+    /// Checks that every shape has a delta for every vertex.
+    pub(crate) fn check(&self, what: &str) -> Result<()> {
+        let bad = |m: String| Err(Error::InvalidArgument(format!("{what}: {m}")));
+        if self.head_deltas.len() != self.shape_names.len() {
+            return bad(format!(
+                "{} shape names for {} shapes",
+                self.shape_names.len(),
+                self.head_deltas.len()
+            ));
+        }
+        if let Some(d) = self
+            .head_deltas
+            .iter()
+            .position(|d| d.len() != self.head.num_vertices())
+        {
+            return bad(format!(
+                "shape `{}` has {} deltas for a head of {} vertices",
+                self.shape_names[d],
+                self.head_deltas[d].len(),
+                self.head.num_vertices()
+            ));
+        }
+        if let Some((name, v)) = self
+            .landmarks
+            .iter()
+            .find(|(_, v)| *v as usize >= self.head.num_vertices())
+        {
+            return bad(format!(
+                "landmark `{name}` is vertex {v}, the head has {}",
+                self.head.num_vertices()
+            ));
+        }
+        for part in &self.parts {
+            if part.deltas.len() != self.shape_names.len()
+                || part
+                    .deltas
+                    .iter()
+                    .any(|d| d.len() != part.mesh.num_vertices())
+            {
+                return bad(format!(
+                    "part `{}` does not have every shape for every vertex",
+                    part.name
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `tools/arkit-template/build.py` run on the ICT-FaceKit copy that
+    /// `MESHMORPH_ICT_FACEKIT` names makes the shipped file byte for byte
+    /// (`PYTHON` names an interpreter with numpy; default `python3`).
+    #[test]
+    #[ignore = "needs MESHMORPH_ICT_FACEKIT (a copy of ICT-FaceKit) and Python with numpy"]
+    fn the_shipped_template_is_what_the_build_script_makes() {
+        let Some(facekit) = std::env::var_os("MESHMORPH_ICT_FACEKIT") else {
+            panic!("set MESHMORPH_ICT_FACEKIT to a copy of ICT-FaceKit (github.com/ICT-VGL/ICT-FaceKit) to run this check");
+        };
+        let python = std::env::var_os("PYTHON").unwrap_or_else(|| "python3".into());
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("arkit.glb");
+        let status = std::process::Command::new(&python)
+            .arg(root.join("../../tools/arkit-template/build.py"))
+            .arg(&facekit)
+            .arg(&out)
+            .status()
+            .expect("Python runs");
+        assert!(
+            status.success(),
+            "the build script failed (does {python:?} have numpy?)"
+        );
+        let built = std::fs::read(&out).unwrap();
+        assert!(
+            built == ARKIT_TEMPLATE_GLB,
+            "the shipped template differs from what the script makes: rebuild it"
+        );
+    }
+
+    #[test]
+    fn the_builtin_template_has_its_head_parts_shapes_and_landmarks() {
+        let t = ExpressionTemplate::arkit();
+        assert_eq!(t.shape_names.len(), 57);
+        assert_eq!(t.landmarks.len(), 68);
+        assert_eq!(t.face, 0..9409);
+        let names: Vec<&str> = t.parts.iter().map(|p| p.name.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "gumsTongue",
+                "teethUpper",
+                "teethLower",
+                "eyeLeft",
+                "eyeRight"
+            ]
+        );
+        // The head's left eye is on +x: eyeBlink_L moves it, not the right.
+        let blink = t.shape("eyeBlink_L").unwrap();
+        let moved: Vec<[f64; 3]> = (0..t.head.num_vertices())
+            .filter(|&v| t.head_deltas[blink][v] != [0.0; 3])
+            .map(|v| t.head.positions()[v])
+            .collect();
+        assert!(!moved.is_empty());
+        assert!(moved.iter().all(|p| p[0] > -0.01), "the left eye is on +x");
+    }
+
+    #[test]
+    fn the_back_of_the_head_is_exactly_still_in_the_eye_shapes() {
+        let t = ExpressionTemplate::arkit();
+        let back: Vec<usize> = (0..t.head.num_vertices())
+            .filter(|&v| t.head.positions()[v][2] < -0.02)
+            .collect();
+        assert!(back.len() > 100);
+        for name in ["eyeBlink_L", "eyeBlink_R", "browDown_L", "eyeLookUp_R"] {
+            let k = t.shape(name).unwrap();
+            assert!(
+                back.iter().all(|&v| t.head_deltas[k][v] == [0.0; 3]),
+                "{name}"
+            );
+        }
+    }
+
+    #[test]
+    fn upper_teeth_are_still_and_lower_teeth_rigid_in_jaw_open() {
+        let t = ExpressionTemplate::arkit();
+        let jaw = t.shape("jawOpen").unwrap();
+        let part = |n: &str| t.parts.iter().find(|p| p.name == n).unwrap();
+        assert!(part("teethUpper").deltas[jaw]
+            .iter()
+            .all(|d| *d == [0.0; 3]));
+        // Lower teeth: every edge keeps its length to the quantisation's step.
+        let lower = part("teethLower");
+        let posed: Vec<[f64; 3]> = lower
+            .mesh
+            .positions()
+            .iter()
+            .zip(&lower.deltas[jaw])
+            .map(|(p, d)| std::array::from_fn(|i| p[i] + d[i]))
+            .collect();
+        assert!(posed != lower.mesh.positions());
+        let len =
+            |a: [f64; 3], b: [f64; 3]| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt();
+        for tri in lower.mesh.triangles() {
+            let [a, b, _] = tri.map(|v| v as usize);
+            let rest = len(lower.mesh.positions()[a], lower.mesh.positions()[b]);
+            assert!((len(posed[a], posed[b]) - rest).abs() < 2e-4, "{rest}");
+        }
+    }
+}
