@@ -5,7 +5,7 @@
 or, for Blender 4.2 and later, with Blender as a Python module (pip's
 `bpy==4.2.0` on CPython 3.11) and the extension zip:
 
-    python blender/tests/test_addon.py -- target/blender/meshmorph-VERSION-extension.zip
+    python blender/tests/test_addon.py -- target/blender/meshmorph-VERSION-linux-x64-extension.zip
 
 It installs the add-on from its zip as a user would (into the user scripts
 folder given by BLENDER_USER_SCRIPTS), then: shape keys carried from a quad
