@@ -120,7 +120,7 @@ impl<'a> Texture<'a> {
     /// levels around it (trilinear).
     #[inline]
     pub fn sample(&self, p: [f64; 2], lod: f32) -> Premultiplied {
-        if !(lod > 0.0) || !p[0].is_finite() || !p[1].is_finite() {
+        if lod.is_nan() || lod <= 0.0 || !p[0].is_finite() || !p[1].is_finite() {
             if !p[0].is_finite() || !p[1].is_finite() {
                 return [0.0; 4];
             }

@@ -67,7 +67,7 @@ impl Affine {
     fn between(p: [[f64; 2]; 3], s: [[f64; 2]; 3]) -> Option<(Self, f32)> {
         let (e1, e2) = (sub(p[1], p[0]), sub(p[2], p[0]));
         let det = e1[0] * e2[1] - e1[1] * e2[0];
-        if !(det.abs() > 1e-12) {
+        if det.is_nan() || det.abs() <= 1e-12 {
             return None;
         }
         let (f1, f2) = (sub(s[1], s[0]), sub(s[2], s[0]));
@@ -308,7 +308,7 @@ impl<'a> PictureMorph<'a> {
     fn fringe_triangles(&self, positions: &[[f64; 2]]) -> Vec<([[f64; 2]; 3], u32)> {
         let f = self.fringe;
         let mut out = Vec::new();
-        if !(f > 0.0) {
+        if f.is_nan() || f <= 0.0 {
             return out;
         }
         let at = |v: u32| positions[v as usize];
@@ -321,7 +321,7 @@ impl<'a> PictureMorph<'a> {
                 .map(|&(u, v, t)| {
                     let d = sub(at(v), at(u));
                     let len = d[0].hypot(d[1]);
-                    if !(len > 1e-12) {
+                    if len.is_nan() || len <= 1e-12 {
                         return None;
                     }
                     let mut n = [d[1] / len, -d[0] / len];

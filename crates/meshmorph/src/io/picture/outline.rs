@@ -95,7 +95,9 @@ pub fn picture_drawing(
     let loops = trace_alpha(picture, 0.5);
     let area = |l: &[[f64; 2]]| crate::io::drawing::signed_area2(l) / 2.0;
     let mut specks = 0;
-    let mut outers: Vec<(Vec<[f64; 2]>, f64, Vec<Vec<[f64; 2]>>)> = Vec::new();
+    // Each outer loop, its area less its holes', and its holes.
+    type Region = (Vec<[f64; 2]>, f64, Vec<Vec<[f64; 2]>>);
+    let mut outers: Vec<Region> = Vec::new();
     let mut holes = Vec::new();
     for l in loops {
         let a = area(&l);
