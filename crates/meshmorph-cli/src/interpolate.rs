@@ -74,6 +74,8 @@ pub struct Args {
     pub json: bool,
     #[command(flatten)]
     pub drawing: crate::drawings::DrawingArgs,
+    #[command(flatten)]
+    pub picture: crate::picture_morph::PictureMorphArgs,
 }
 
 /// Options shared by `interpolate` and `demo`.
@@ -191,6 +193,9 @@ impl FrameArgs {
 }
 
 pub fn run(args: &Args) -> Result<()> {
+    if crate::picture_morph::named_as_pictures(&args.keys)? {
+        return crate::picture_morph::run(args);
+    }
     if crate::drawings::named_as_drawings(&args.keys) {
         return crate::drawings::run(args, None);
     }

@@ -37,6 +37,7 @@ mod memory;
 mod output;
 mod outputs;
 mod pick;
+mod picture_morph;
 mod pictures;
 mod progress;
 mod threads;

@@ -145,7 +145,7 @@ pub fn check_frames_in_flight(
 /// its timings and its line of the report.
 const FRAME_FILE_BYTES: u64 = 1024;
 
-fn human_bytes(b: u64) -> String {
+pub fn human_bytes(b: u64) -> String {
     let b = b as f64;
     if b >= 1e9 {
         format!("{:.1} GB", b / 1e9)

@@ -9,7 +9,7 @@ use std::process::{Command, Output};
 use meshmorph::io::{parse_svg_drawing, read_mesh, DrawingOptions};
 use serde_json::Value;
 
-fn run(args: &[&str], dir: &Path) -> Output {
+pub(super) fn run(args: &[&str], dir: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_meshmorph"))
         .args(args)
         .current_dir(dir)
@@ -17,7 +17,7 @@ fn run(args: &[&str], dir: &Path) -> Output {
         .expect("the meshmorph binary runs")
 }
 
-fn succeeds(out: &Output) -> String {
+pub(super) fn succeeds(out: &Output) -> String {
     let text = String::from_utf8_lossy(&out.stdout).into_owned();
     assert!(
         out.status.success(),
@@ -27,7 +27,7 @@ fn succeeds(out: &Output) -> String {
     text
 }
 
-fn fails(out: &Output) -> String {
+pub(super) fn fails(out: &Output) -> String {
     let err = String::from_utf8_lossy(&out.stderr).into_owned();
     assert_eq!(out.status.code(), Some(1), "stderr:\n{err}");
     assert!(
@@ -37,7 +37,7 @@ fn fails(out: &Output) -> String {
     err
 }
 
-fn mentions(text: &str, parts: &[&str]) {
+pub(super) fn mentions(text: &str, parts: &[&str]) {
     for p in parts {
         assert!(text.contains(p), "`{p}` missing from:\n{text}");
     }

@@ -13,3 +13,4 @@ mod hostile_reads;
 mod interrupt;
 mod pick_door;
 mod pick_session;
+mod pictures;

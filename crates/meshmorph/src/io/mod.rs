@@ -90,6 +90,7 @@ mod normal_groups;
 mod obj;
 mod off;
 mod picked_points;
+pub mod picture;
 mod ply;
 pub(crate) mod read;
 mod stl;

@@ -451,7 +451,7 @@ impl Store {
     }
 }
 
-fn gif_error(e: ::gif::EncodingError) -> io::Error {
+pub(super) fn gif_error(e: ::gif::EncodingError) -> io::Error {
     match e {
         ::gif::EncodingError::Io(e) => e,
         e => io::Error::other(e),

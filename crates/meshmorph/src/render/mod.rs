@@ -20,6 +20,11 @@
 //! is shown by [`draw_mesh_3d_coloured`] in the steps of [`Ramp::SCALE`],
 //! explained by a [`Legend`] drawn below the picture ([`with_legend`]).
 //!
+//! **Pictures morphed** (sprites and photos): [`PictureMorph`] draws a
+//! frame of two pictures carried by compatible meshes, textured, in full
+//! colour; [`write_picture_png`], [`write_apng`], [`write_picture_gif`]
+//! and [`sprite_sheet`] write such frames.
+//!
 //! **Files**: [`write_png`] for a canvas, [`write_gif`] for any sequence of
 //! canvases, [`write_gif_grid`] for animated grids of meshes in space.
 //!
@@ -49,12 +54,15 @@ mod grid;
 mod legend;
 mod mesh2d;
 mod palette;
+mod picture_files;
 mod png;
 mod raster;
 mod resample;
 mod shade3d;
 mod style;
 mod svg;
+mod texture;
+mod textured;
 mod view;
 
 pub use self::canvas::Canvas;
@@ -65,10 +73,12 @@ pub use self::grid::{render_grid_3d, GridLayout, GridOptions, GridRow};
 pub use self::legend::{with_legend, Legend};
 pub use self::mesh2d::draw_mesh_2d;
 pub use self::palette::{slot, Palette, Ramp, Rgb};
+pub use self::picture_files::{sprite_sheet, write_apng, write_picture_gif, write_picture_png};
 pub use self::png::write_png;
 pub use self::shade3d::{draw_mesh_3d, draw_mesh_3d_coloured, Camera3d, Style3d};
 pub use self::style::{Edges, Flipped, Style2d};
 pub use self::svg::svg_frame;
+pub use self::textured::PictureMorph;
 pub use self::view::View2d;
 
 /// A rectangle of pixels: columns `x..x + width`, rows `y..y + height`.

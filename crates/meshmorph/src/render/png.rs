@@ -40,7 +40,7 @@ pub fn write_png(path: &Path, canvas: &Canvas) -> Result<()> {
     })
 }
 
-fn png_error(e: ::png::EncodingError) -> io::Error {
+pub(super) fn png_error(e: ::png::EncodingError) -> io::Error {
     match e {
         ::png::EncodingError::IoError(e) => e,
         e => io::Error::other(e),

@@ -49,6 +49,8 @@ pub use svg_write::{svg_path_data, write_svg_frame};
 pub use text_read::parse_text_drawing;
 pub use text_write::write_text_frame;
 
+pub(crate) use regions::{inside, signed_area2};
+
 use std::path::Path;
 
 use crate::error::{Error, Result};

@@ -29,7 +29,7 @@ pub(super) struct Region {
 }
 
 /// Twice the signed area (positive when the loop turns from +x towards +y).
-pub(super) fn signed_area2(points: &[[f64; 2]]) -> f64 {
+pub(crate) fn signed_area2(points: &[[f64; 2]]) -> f64 {
     let n = points.len();
     (0..n)
         .map(|i| {
@@ -59,7 +59,7 @@ fn winding(points: &[[f64; 2]], p: [f64; 2]) -> i32 {
 }
 
 /// Whether `p` is inside the loop `points`.
-pub(super) fn inside(points: &[[f64; 2]], p: [f64; 2]) -> bool {
+pub(crate) fn inside(points: &[[f64; 2]], p: [f64; 2]) -> bool {
     winding(points, p) != 0
 }
 

@@ -1,0 +1,140 @@
+//! `meshmorph interpolate` on pictures: two sprites made in code, two
+//! photos with anchors, every output asked for, and the refusals.
+
+use std::fs;
+use std::path::Path;
+
+use meshmorph::io::picture::{read_picture, Picture};
+
+use super::drawings::{fails, mentions, run, succeeds};
+
+/// A disc of radius `r` at `c`, anti-aliased, textured.
+fn disc(size: u32, c: [f64; 2], r: f64) -> Picture {
+    Picture::from_fn(size, size, |x, y| {
+        let (px, py) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+        let d = r - (px - c[0]).hypot(py - c[1]);
+        let a = ((d + 0.5).clamp(0.0, 1.0) * 255.0).round() as u8;
+        [(x * 7 % 256) as u8, (y * 5 % 256) as u8, 128, a]
+    })
+}
+
+fn save(dir: &Path, name: &str, p: &Picture) {
+    let mut f = fs::File::create(dir.join(name)).unwrap();
+    meshmorph::render::write_picture_png(&mut f, p).unwrap();
+}
+
+#[test]
+fn sprites_morph_into_pngs_gif_apng_and_a_sprite_sheet() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let a = disc(48, [20.0, 24.0], 14.0);
+    save(d, "a.png", &a);
+    save(d, "b.png", &disc(64, [40.0, 30.0], 18.0));
+    let out = run(
+        &[
+            "interpolate",
+            "a.png",
+            "b.png",
+            "-o",
+            "frames",
+            "--frames",
+            "5",
+            "--gif",
+            "m.gif",
+            "--apng",
+            "m.apng.png",
+            "--sprite-sheet",
+            "sheet.png",
+        ],
+        d,
+    );
+    let text = succeeds(&out);
+    mentions(&text, &["sprites traced", "frames:"]);
+    for k in 0..5 {
+        let f = read_picture(&d.join(format!("frames/frame_{k:04}.png")), u64::MAX).unwrap();
+        assert_eq!((f.width, f.height), (48, 48));
+    }
+    let first = read_picture(&d.join("frames/frame_0000.png"), u64::MAX).unwrap();
+    let visible = |p: &Picture| -> Vec<u8> {
+        p.rgba
+            .chunks_exact(4)
+            .flat_map(|q| {
+                if q[3] == 0 {
+                    [0; 4]
+                } else {
+                    [q[0], q[1], q[2], q[3]]
+                }
+            })
+            .collect()
+    };
+    assert_eq!(visible(&first), visible(&a));
+    assert!(fs::read(d.join("m.gif")).unwrap().starts_with(b"GIF89a"));
+    assert!(fs::metadata(d.join("m.apng.png")).unwrap().len() > 0);
+    let sheet = read_picture(&d.join("sheet.png"), u64::MAX).unwrap();
+    assert_eq!((sheet.width, sheet.height), (3 * 48, 2 * 48));
+    let json: serde_json::Value =
+        serde_json::from_slice(&fs::read(d.join("sheet.json")).unwrap()).unwrap();
+    assert_eq!(json["frames"]["frame_0004.png"]["frame"]["x"], 48);
+    assert_eq!(json["meta"]["image"], "sheet.png");
+}
+
+#[test]
+fn photos_with_anchors_and_the_refusals() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let photo = |shift: u32| {
+        Picture::from_fn(40, 30, move |x, y| {
+            [((x + shift) * 6 % 256) as u8, (y * 8) as u8, 90, 255]
+        })
+    };
+    save(d, "p.png", &photo(0));
+    save(d, "q.png", &photo(5));
+    fs::write(d.join("faces.txt"), "eye 10 10 14 12\nmouth 20 20 22 19\n").unwrap();
+    let text = succeeds(&run(
+        &[
+            "interpolate",
+            "p.png",
+            "q.png",
+            "--anchors",
+            "faces.txt",
+            "-o",
+            "f",
+            "--frames",
+            "3",
+        ],
+        d,
+    ));
+    mentions(&text, &["photos", "2 kept matched"]);
+    // Anchors outside a picture.
+    fs::write(d.join("bad.txt"), "eye 10 10 44 12\n").unwrap();
+    let err = fails(&run(
+        &[
+            "interpolate",
+            "p.png",
+            "q.png",
+            "--anchors",
+            "bad.txt",
+            "-o",
+            "g",
+        ],
+        d,
+    ));
+    mentions(&err, &["outside the picture", "`q.png`"]);
+    assert!(!d.join("g").exists());
+    // Fully transparent.
+    save(d, "clear.png", &Picture::from_fn(8, 8, |_, _| [0, 0, 0, 0]));
+    save(d, "s.png", &disc(8, [4.0, 4.0], 3.0));
+    let err = fails(&run(&["interpolate", "clear.png", "s.png", "-o", "h"], d));
+    mentions(&err, &["`clear.png` is fully transparent"]);
+    // A sprite with a photo, pictures with drawings.
+    let err = fails(&run(&["interpolate", "s.png", "p.png", "-o", "h"], d));
+    mentions(&err, &["has transparency", "--frame-only"]);
+    fs::write(d.join("a.svg"), "<svg/>").unwrap();
+    let err = fails(&run(&["interpolate", "s.png", "a.svg", "-o", "h"], d));
+    mentions(&err, &["is a picture but", "`a.svg`"]);
+    // Not a picture inside.
+    fs::write(d.join("fake.png"), "hello").unwrap();
+    let err = fails(&run(&["interpolate", "fake.png", "p.png", "-o", "h"], d));
+    mentions(&err, &["neither a PNG nor a JPEG"]);
+    assert!(!d.join("h").exists());
+}

@@ -1,0 +1,360 @@
+//! Pictures made in code: traced, made compatible, drawn.
+
+use super::*;
+use crate::outline::OutlineOptions;
+
+/// Alpha of a pixel whose centre is `d` pixels inside an edge (negative:
+/// outside), anti-aliased over one pixel.
+fn edge_alpha(d: f64) -> u8 {
+    ((d + 0.5).clamp(0.0, 1.0) * 255.0).round() as u8
+}
+
+/// A textured colour at `(x, y)`: stripes and a gradient, so that a pixel
+/// taken from the wrong place shows.
+fn texture(x: f64, y: f64) -> [u8; 3] {
+    [
+        (128.0 + 100.0 * (x / 5.0).sin()) as u8,
+        (y * 3.0).rem_euclid(256.0) as u8,
+        (128.0 + 100.0 * ((x + y) / 9.0).cos()) as u8,
+    ]
+}
+
+/// A ring (outer radius `r`, inner `r / 2`) centred at `c`.
+fn ring(size: u32, c: [f64; 2], r: f64) -> Picture {
+    Picture::from_fn(size, size, |x, y| {
+        let (px, py) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+        let d = (px - c[0]).hypot(py - c[1]);
+        let a = edge_alpha((r - d).min(d - r / 2.0));
+        let [cr, cg, cb] = texture(px, py);
+        [cr, cg, cb, a]
+    })
+}
+
+/// A bar `length` long and `width` wide from `pivot` at `angle` radians,
+/// its far end round: an arm.
+fn arm(size: u32, pivot: [f64; 2], length: f64, width: f64, angle: f64) -> Picture {
+    let (c, s) = (angle.cos(), angle.sin());
+    Picture::from_fn(size, size, |x, y| {
+        let (px, py) = (f64::from(x) + 0.5 - pivot[0], f64::from(y) + 0.5 - pivot[1]);
+        // In the arm's own frame.
+        let (u, v) = (c * px + s * py, -s * px + c * py);
+        let along = u.clamp(0.0, length);
+        let d = if u < 0.0 {
+            (width / 2.0 - v.abs()).min(u + width / 2.0)
+        } else {
+            width / 2.0 - (u - along).hypot(v)
+        };
+        let [cr, cg, cb] = texture(u + 40.0, v + 40.0);
+        [cr, cg, cb, edge_alpha(d)]
+    })
+}
+
+fn alpha_area(p: &Picture) -> f64 {
+    p.rgba
+        .chunks_exact(4)
+        .map(|q| f64::from(q[3]) / 255.0)
+        .sum()
+}
+
+fn area(l: &[[f64; 2]]) -> f64 {
+    crate::io::drawing::signed_area2(l) / 2.0
+}
+
+#[test]
+fn tracing_finds_outer_loops_and_holes() {
+    for (size, r) in [(64, 25.0), (96, 40.0), (80, 21.5)] {
+        let c = [f64::from(size) / 2.0 + 0.3, f64::from(size) / 2.0 - 0.2];
+        let p = ring(size, c, r);
+        let loops = trace_alpha(&p, 0.5);
+        assert_eq!(loops.len(), 2, "ring of radius {r}");
+        let areas: Vec<f64> = loops.iter().map(|l| area(l)).collect();
+        let outer = areas.iter().copied().fold(f64::MIN, f64::max);
+        let hole = areas.iter().copied().fold(f64::MAX, f64::min);
+        let pi = std::f64::consts::PI;
+        assert!((outer / (pi * r * r) - 1.0).abs() < 0.02, "{outer}");
+        assert!(hole < 0.0);
+        assert!((-hole / (pi * r * r / 4.0) - 1.0).abs() < 0.04, "{hole}");
+        // Every traced point lies where alpha crosses a half: within half
+        // a pixel of the circles.
+        for l in &loops {
+            for q in l {
+                let d = (q[0] - c[0]).hypot(q[1] - c[1]);
+                assert!(
+                    (d - r).abs() < 0.75 || (d - r / 2.0).abs() < 0.75,
+                    "{q:?} at {d}"
+                );
+            }
+        }
+        let pd = picture_drawing(&p, false, 0.5, 16.0, "ring").unwrap();
+        assert_eq!(pd.shape, PictureShape::Sprite);
+        assert_eq!(pd.drawing.num_loops(), 2);
+        assert!(pd.drawing.num_points() < pd.traced_points);
+        // Simplified within its tolerance: the area moves by at most the
+        // tolerance times the perimeter.
+        let kept: f64 = pd.drawing.loops().iter().map(|l| area(l).abs()).sum();
+        let traced: f64 = areas.iter().map(|a| a.abs()).sum();
+        assert!(
+            (kept - traced).abs() < 0.5 * 2.0 * pi * 1.5 * r,
+            "{kept} {traced}"
+        );
+    }
+}
+
+#[test]
+fn the_largest_region_is_kept_and_the_others_named() {
+    let p = Picture::from_fn(80, 40, |x, y| {
+        let (px, py) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+        let big = 12.0 - (px - 20.0).hypot(py - 20.0);
+        let small = 6.0 - (px - 60.0).hypot(py - 20.0);
+        let speck = 0.9 - (px - 75.0).hypot(py - 5.0);
+        [200, 100, 50, edge_alpha(big.max(small).max(speck))]
+    });
+    let pd = picture_drawing(&p, false, 0.5, 16.0, "blobs").unwrap();
+    assert_eq!(pd.drawing.num_loops(), 1);
+    assert_eq!(pd.left_out.len(), 1);
+    assert_eq!(pd.specks, 1);
+    let b = pd.left_out[0].bounds;
+    assert!(b[0][0] > 50.0 && b[1][0] < 70.0, "{b:?}");
+    let kept = pd.drawing.loops()[0][0];
+    assert!(kept[0] < 40.0);
+}
+
+#[test]
+fn empty_and_transparent_pictures_are_refused() {
+    assert!(matches!(
+        Picture::new(0, 4, Vec::new()),
+        Err(Error::InvalidArgument(_))
+    ));
+    assert!(matches!(
+        Picture::new(2, 2, vec![0; 15]),
+        Err(Error::InvalidArgument(_))
+    ));
+    let clear = Picture::from_fn(10, 10, |_, _| [255, 0, 0, 0]);
+    let e = picture_drawing(&clear, false, 0.5, 16.0, "`clear.png`").unwrap_err();
+    assert!(
+        e.to_string().contains("`clear.png` is fully transparent"),
+        "{e}"
+    );
+    let dust = Picture::from_fn(10, 10, |x, y| {
+        [0, 0, 0, if (x, y) == (4, 4) { 255 } else { 0 }]
+    });
+    let e = picture_drawing(&dust, false, 0.5, 16.0, "`dust.png`").unwrap_err();
+    assert!(e.to_string().contains("no opaque region"), "{e}");
+    // Photo mode needs no opaque part.
+    assert!(picture_drawing(&clear, true, 0.5, 16.0, "clear").is_ok());
+}
+
+fn photo(w: u32, h: u32, shift: f64) -> Picture {
+    Picture::from_fn(w, h, |x, y| {
+        let [r, g, b] = texture(f64::from(x) + shift, f64::from(y));
+        [r, g, b, 255]
+    })
+}
+
+#[test]
+fn photo_anchors_are_exact_vertices_of_both_meshes() {
+    let (a, b) = (photo(60, 40, 0.0), photo(90, 60, 7.0));
+    let da = picture_drawing(&a, false, 0.5, 16.0, "a").unwrap();
+    let db = picture_drawing(&b, true, 0.5, 16.0, "b").unwrap();
+    assert_eq!(
+        (da.shape, db.shape),
+        (PictureShape::Photo, PictureShape::Photo)
+    );
+    let anchors = vec![
+        vec![[20.0, 15.0], [45.0, 30.0]],
+        vec![[40.0, 15.0], [40.0, 20.0]],
+        vec![[30.0, 30.0], [50.0, 45.0]],
+    ];
+    let m = picture_meshes(
+        &[&a, &b],
+        &[&da, &db],
+        &anchors,
+        (60, 40),
+        &OutlineOptions::default(),
+        &["a".into(), "b".into()],
+    )
+    .unwrap();
+    assert_eq!(m.set.anchors.len(), 3);
+    for (row, &v) in anchors.iter().zip(&m.set.anchors) {
+        for k in 0..2 {
+            let s = m.sources[k][v as usize];
+            assert!((s[0] - row[k][0]).abs() < 1e-9 && (s[1] - row[k][1]).abs() < 1e-9);
+        }
+        // B is scaled onto A's frame: two thirds.
+        let f = m.set.meshes[1].positions()[v as usize];
+        assert!((f[0] - row[1][0] * 2.0 / 3.0).abs() < 1e-9);
+    }
+    // Anchors outside a picture are refused, naming it.
+    let outside = vec![vec![[20.0, 15.0], [95.0, 30.0]]];
+    let e = picture_meshes(
+        &[&a, &b],
+        &[&da, &db],
+        &outside,
+        (60, 40),
+        &OutlineOptions::default(),
+        &["`a.jpg`".into(), "`b.jpg`".into()],
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string().contains("outside the picture") && e.to_string().contains("`b.jpg`"),
+        "{e}"
+    );
+}
+
+#[cfg(feature = "render")]
+mod frames {
+    use super::*;
+    use crate::render::PictureMorph;
+    use crate::{Interpolator, InterpolatorOptions};
+
+    fn visible(p: &Picture) -> Vec<[u8; 4]> {
+        p.rgba
+            .chunks_exact(4)
+            .map(|q| {
+                if q[3] == 0 {
+                    [0; 4]
+                } else {
+                    [q[0], q[1], q[2], q[3]]
+                }
+            })
+            .collect()
+    }
+
+    /// Compatible meshes of two sprites, their morph and its frames' setup.
+    fn morph<'a>(
+        a: &'a Picture,
+        b: &'a Picture,
+        anchors: &[Vec<[f64; 2]>],
+    ) -> (PictureMeshes, Interpolator<2>, PictureMorph<'a>) {
+        let da = picture_drawing(a, false, 0.5, 16.0, "a").unwrap();
+        let db = picture_drawing(b, false, 0.5, 16.0, "b").unwrap();
+        let m = picture_meshes(
+            &[a, b],
+            &[&da, &db],
+            anchors,
+            (a.width, a.height),
+            &OutlineOptions::default(),
+            &[],
+        )
+        .unwrap();
+        let i = Interpolator::new(
+            &m.set.meshes[0],
+            &m.set.meshes[1],
+            &InterpolatorOptions::default(),
+        )
+        .unwrap();
+        let r = PictureMorph::new(
+            [a, b],
+            &m.sources,
+            m.set.meshes[0].triangles(),
+            &m.set.loops,
+            (a.width, a.height),
+            2.0,
+        )
+        .unwrap();
+        (m, i, r)
+    }
+
+    #[test]
+    fn pictures_too_large_are_refused_before_decoding() {
+        let p = ring(40, [20.0, 20.0], 15.0);
+        let mut bytes = Vec::new();
+        crate::render::write_picture_png(&mut bytes, &p).unwrap();
+        let path = std::path::Path::new("big.png");
+        assert_eq!(decode_picture(&bytes, path, u64::MAX).unwrap(), p);
+        let e = decode_picture(&bytes, path, 1000).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("40 × 40 pixels is more than the 1000 pixels"),
+            "{e}"
+        );
+        let e = decode_picture(b"GIF89a", path, u64::MAX).unwrap_err();
+        assert!(e.to_string().contains("neither a PNG nor a JPEG"), "{e}");
+    }
+
+    #[test]
+    fn the_ends_are_the_pictures_pixel_for_pixel() {
+        for (a, b) in [
+            (ring(72, [36.0, 36.0], 28.0), ring(72, [30.5, 40.0], 22.0)),
+            (
+                arm(96, [30.0, 48.0], 50.0, 16.0, 0.2),
+                arm(96, [30.0, 48.0], 44.0, 20.0, 2.0),
+            ),
+        ] {
+            let (_, i, r) = morph(&a, &b, &[]);
+            let first = r.draw(&i.at(0.0), 0.0);
+            assert_eq!(visible(&first), visible(&a));
+            let last = r.draw(&i.at(1.0), 1.0);
+            assert_eq!(visible(&last), visible(&b));
+        }
+    }
+
+    #[test]
+    fn a_turning_arm_keeps_its_area_and_texture() {
+        let pivot = [72.0, 72.0];
+        let a = arm(144, pivot, 56.0, 18.0, 0.0);
+        let b = arm(144, pivot, 56.0, 18.0, 150f64.to_radians());
+        // The tip and the shoulder matched: without them the outlines'
+        // best match turns the arm end for end, by -30°.
+        let at = |d: f64, angle: f64| [pivot[0] + d * angle.cos(), pivot[1] + d * angle.sin()];
+        let turn = 150f64.to_radians();
+        let anchors = vec![
+            vec![at(65.0, 0.0), at(65.0, turn)],
+            vec![at(-9.0, 0.0), at(-9.0, turn)],
+        ];
+        let (m, i, r) = morph(&a, &b, &anchors);
+        let (area_a, area_b) = (alpha_area(&a), alpha_area(&b));
+        for t in [0.25, 0.5, 0.75] {
+            let f = r.draw(&i.at(t), t);
+            let ratio = alpha_area(&f) / ((1.0 - t) * area_a + t * area_b);
+            assert!((ratio - 1.0).abs() < 0.04, "t = {t}: area ratio {ratio}");
+            // The linear warp of the same meshes shrinks it.
+            let linear: Vec<[f64; 2]> = m.set.meshes[0]
+                .positions()
+                .iter()
+                .zip(m.set.meshes[1].positions())
+                .map(|(p, q)| [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])])
+                .collect();
+            if t == 0.5 {
+                let l = r.draw(&linear, t);
+                assert!(
+                    alpha_area(&l) / area_a < 0.8,
+                    "linear warp keeps {}",
+                    alpha_area(&l) / area_a
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn frames_of_another_size_and_transparent_outside() {
+        let a = ring(64, [32.0, 32.0], 26.0);
+        let b = ring(96, [48.0, 48.0], 30.0);
+        let da = picture_drawing(&a, false, 0.5, 16.0, "a").unwrap();
+        let db = picture_drawing(&b, false, 0.5, 16.0, "b").unwrap();
+        let m = picture_meshes(
+            &[&a, &b],
+            &[&da, &db],
+            &[],
+            (32, 32),
+            &OutlineOptions::default(),
+            &[],
+        )
+        .unwrap();
+        let r = PictureMorph::new(
+            [&a, &b],
+            &m.sources,
+            m.set.meshes[0].triangles(),
+            &m.set.loops,
+            (32, 32),
+            1.0,
+        )
+        .unwrap();
+        let f = r.draw(m.set.meshes[0].positions(), 0.0);
+        assert_eq!((f.width, f.height), (32, 32));
+        // Half the size: a quarter of the alpha area, the corners clear.
+        assert!((alpha_area(&f) / (alpha_area(&a) / 4.0) - 1.0).abs() < 0.05);
+        assert_eq!(f.pixel(0, 0)[3], 0);
+        assert_eq!(f.pixel(16, 16)[3], 0);
+    }
+}

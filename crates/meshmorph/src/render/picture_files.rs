@@ -1,0 +1,171 @@
+//! Full-colour pictures (straight RGBA) as files: a PNG still, an
+//! animated PNG, an animated GIF, and a sprite sheet with its JSON.
+
+use std::io::{self, Write};
+use std::time::Duration;
+
+use super::gif::gif_error;
+use super::png::png_error;
+use crate::io::picture::Picture;
+
+/// Writes `picture` as an 8-bit RGBA PNG.
+///
+/// # Errors
+/// The writer's errors.
+pub fn write_picture_png(w: &mut dyn Write, picture: &Picture) -> io::Result<()> {
+    let mut enc = ::png::Encoder::new(w, picture.width, picture.height);
+    enc.set_color(::png::ColorType::Rgba);
+    enc.set_depth(::png::BitDepth::Eight);
+    let mut writer = enc.write_header().map_err(png_error)?;
+    writer.write_image_data(&picture.rgba).map_err(png_error)?;
+    writer.finish().map_err(png_error)
+}
+
+/// Writes `count` frames of `width × height` pixels as an animated PNG
+/// (APNG: plays in every browser; viewers without APNG show the first
+/// frame), each shown for `delay`, played over and over. `frame(k)` gives
+/// frame `k`, asked for once each, in order.
+///
+/// # Errors
+/// The writer's errors; [`io::ErrorKind::InvalidInput`] for no frame or a
+/// frame of another size.
+pub fn write_apng(
+    w: &mut dyn Write,
+    (width, height): (u32, u32),
+    count: usize,
+    delay: Duration,
+    frame: &mut dyn FnMut(usize) -> Picture,
+) -> io::Result<()> {
+    if count == 0 {
+        return Err(io::Error::new(io::ErrorKind::InvalidInput, "no frame"));
+    }
+    let mut enc = ::png::Encoder::new(w, width, height);
+    enc.set_color(::png::ColorType::Rgba);
+    enc.set_depth(::png::BitDepth::Eight);
+    enc.set_animated(count as u32, 0).map_err(png_error)?;
+    let ms = delay.as_millis().clamp(1, u128::from(u16::MAX)) as u16;
+    enc.set_frame_delay(ms, 1000).map_err(png_error)?;
+    let mut writer = enc.write_header().map_err(png_error)?;
+    for k in 0..count {
+        let picture = frame(k);
+        check_size(&picture, width, height)?;
+        writer.write_image_data(&picture.rgba).map_err(png_error)?;
+    }
+    writer.finish().map_err(png_error)
+}
+
+/// Writes `count` frames as an animated GIF, each shown for `delay`,
+/// played over and over: each frame's own 255 colours (NeuQuant), pixels
+/// under half alpha transparent, every frame drawn on a cleared page.
+///
+/// # Errors
+/// As [`write_apng`].
+pub fn write_picture_gif(
+    w: &mut dyn Write,
+    (width, height): (u32, u32),
+    count: usize,
+    delay: Duration,
+    frame: &mut dyn FnMut(usize) -> Picture,
+) -> io::Result<()> {
+    let (gw, gh) = (
+        u16::try_from(width).map_err(|_| too_large(width))?,
+        u16::try_from(height).map_err(|_| too_large(height))?,
+    );
+    let mut enc = ::gif::Encoder::new(w, gw, gh, &[]).map_err(gif_error)?;
+    enc.set_repeat(::gif::Repeat::Infinite).map_err(gif_error)?;
+    let centis = (delay.as_millis() / 10).clamp(2, u128::from(u16::MAX)) as u16;
+    for k in 0..count {
+        let mut picture = frame(k);
+        check_size(&picture, width, height)?;
+        for p in picture.rgba.chunks_exact_mut(4) {
+            p[3] = if p[3] >= 128 { 255 } else { 0 };
+        }
+        let mut f = ::gif::Frame::from_rgba_speed(gw, gh, &mut picture.rgba, 10);
+        f.delay = centis;
+        f.dispose = ::gif::DisposalMethod::Background;
+        enc.write_frame(&f).map_err(gif_error)?;
+    }
+    Ok(())
+}
+
+/// Frames laid side by side in rows, `columns` a row, as one picture,
+/// with the JSON that game engines' sprite-sheet importers read (the
+/// "hash" layout of TexturePacker, read by Phaser, PixiJS, Cocos and
+/// Unity's importers): `frames` named `name(k)`, each with its rectangle,
+/// untrimmed and unrotated, and `duration` in milliseconds; `meta` with
+/// the sheet's file name `image` and size.
+pub fn sprite_sheet(
+    frames: &[Picture],
+    columns: usize,
+    duration: Duration,
+    image: &str,
+    name: &dyn Fn(usize) -> String,
+) -> (Picture, String) {
+    let columns = columns.clamp(1, frames.len().max(1));
+    let (fw, fh) = frames
+        .first()
+        .map_or((1, 1), |f| (f.width as usize, f.height as usize));
+    let rows = frames.len().div_ceil(columns).max(1);
+    let (sw, sh) = (fw * columns, fh * rows);
+    let mut rgba = vec![0u8; 4 * sw * sh];
+    let mut entries = serde_json::Map::new();
+    for (k, f) in frames.iter().enumerate() {
+        let (x0, y0) = ((k % columns) * fw, (k / columns) * fh);
+        for y in 0..fh.min(f.height as usize) {
+            let src = &f.rgba[4 * y * f.width as usize..][..4 * fw.min(f.width as usize)];
+            let at = 4 * ((y0 + y) * sw + x0);
+            rgba[at..at + src.len()].copy_from_slice(src);
+        }
+        entries.insert(
+            name(k),
+            serde_json::json!({
+                "frame": {"x": x0, "y": y0, "w": fw, "h": fh},
+                "rotated": false,
+                "trimmed": false,
+                "spriteSourceSize": {"x": 0, "y": 0, "w": fw, "h": fh},
+                "sourceSize": {"w": fw, "h": fh},
+                "duration": duration.as_millis() as u64,
+            }),
+        );
+    }
+    let json = serde_json::json!({
+        "frames": entries,
+        "meta": {
+            "app": "meshmorph",
+            "version": env!("CARGO_PKG_VERSION"),
+            "image": image,
+            "format": "RGBA8888",
+            "size": {"w": sw, "h": sh},
+            "scale": "1",
+        },
+    });
+    let sheet = Picture {
+        width: sw as u32,
+        height: sh as u32,
+        rgba,
+    };
+    (
+        sheet,
+        serde_json::to_string_pretty(&json).unwrap_or_default(),
+    )
+}
+
+fn check_size(p: &Picture, width: u32, height: u32) -> io::Result<()> {
+    if (p.width, p.height) != (width, height) {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!(
+                "a frame of {} × {} among frames of {width} × {height}",
+                p.width, p.height
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn too_large(side: u32) -> io::Error {
+    io::Error::new(
+        io::ErrorKind::InvalidInput,
+        format!("a GIF's sides are at most 65535 pixels, not {side}"),
+    )
+}

@@ -1,0 +1,166 @@
+//! A picture as a texture: sampled bilinearly in premultiplied alpha, with
+//! a mipmap for triangles drawn much smaller than they are in the picture.
+
+use crate::io::picture::Picture;
+
+/// A colour with premultiplied alpha, each channel from 0 to 1.
+pub(crate) type Premultiplied = [f32; 4];
+
+/// One level of the mipmap below the picture itself: premultiplied RGBA,
+/// 16 bits a channel (1 = 65535).
+struct Level {
+    width: usize,
+    height: usize,
+    texels: Vec<[u16; 4]>,
+}
+
+/// A picture and its mipmap: level k is the picture halved k times, each
+/// texel the average of the 2 × 2 texels above it (texels past the edge
+/// are transparent). Level 0 is the picture itself, premultiplied as it
+/// is sampled, so that a sample at a pixel's centre gives that pixel
+/// exactly.
+pub(crate) struct Texture<'a> {
+    picture: &'a Picture,
+    levels: Vec<Level>,
+}
+
+const U16: f32 = 65535.0;
+
+impl<'a> Texture<'a> {
+    /// The texture of `picture`, its mipmap made down to 1 × 1.
+    pub fn new(picture: &'a Picture) -> Self {
+        let mut levels: Vec<Level> = Vec::new();
+        let (mut w, mut h) = (picture.width as usize, picture.height as usize);
+        while w > 1 || h > 1 {
+            let (nw, nh) = (w.div_ceil(2), h.div_ceil(2));
+            let mut texels = vec![[0u16; 4]; nw * nh];
+            let above = levels.last();
+            for y in 0..nh {
+                for x in 0..nw {
+                    let mut sum = [0f32; 4];
+                    for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                        let (sx, sy) = (2 * x + dx, 2 * y + dy);
+                        if sx >= w || sy >= h {
+                            continue;
+                        }
+                        let t = match above {
+                            None => premultiply(picture, sx, sy),
+                            Some(l) => l.texels[sy * l.width + sx].map(|v| f32::from(v) / U16),
+                        };
+                        for c in 0..4 {
+                            sum[c] += t[c];
+                        }
+                    }
+                    texels[y * nw + x] = sum.map(|s| (s / 4.0 * U16).round() as u16);
+                }
+            }
+            levels.push(Level {
+                width: nw,
+                height: nh,
+                texels,
+            });
+            (w, h) = (nw, nh);
+        }
+        Self { picture, levels }
+    }
+
+    /// Bytes held besides the picture.
+    #[allow(dead_code)]
+    pub fn mipmap_bytes(&self) -> usize {
+        self.levels.iter().map(|l| 8 * l.texels.len()).sum()
+    }
+
+    /// The texel at `(x, y)` of level `level` (0: the picture),
+    /// transparent outside.
+    #[inline]
+    fn texel(&self, level: usize, x: i64, y: i64) -> Premultiplied {
+        if level == 0 {
+            let p = self.picture;
+            if x < 0 || y < 0 || x >= i64::from(p.width) || y >= i64::from(p.height) {
+                return [0.0; 4];
+            }
+            premultiply(p, x as usize, y as usize)
+        } else {
+            let l = &self.levels[level - 1];
+            if x < 0 || y < 0 || x >= l.width as i64 || y >= l.height as i64 {
+                return [0.0; 4];
+            }
+            l.texels[y as usize * l.width + x as usize].map(|v| f32::from(v) / U16)
+        }
+    }
+
+    /// The colour at `p` (pixels of the picture) on level `level`, by
+    /// bilinear interpolation between the four texel centres around it.
+    #[inline]
+    fn bilinear(&self, level: usize, p: [f64; 2]) -> Premultiplied {
+        let scale = 1.0 / f64::from(1u32 << level);
+        let (u, v) = (p[0] * scale - 0.5, p[1] * scale - 0.5);
+        let (x0, y0) = (u.floor(), v.floor());
+        let (fx, fy) = ((u - x0) as f32, (v - y0) as f32);
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        if fx == 0.0 && fy == 0.0 {
+            return self.texel(level, x0, y0);
+        }
+        let t00 = self.texel(level, x0, y0);
+        let t10 = self.texel(level, x0 + 1, y0);
+        let t01 = self.texel(level, x0, y0 + 1);
+        let t11 = self.texel(level, x0 + 1, y0 + 1);
+        let mut out = [0.0; 4];
+        for c in 0..4 {
+            let top = t00[c] + fx * (t10[c] - t00[c]);
+            let bottom = t01[c] + fx * (t11[c] - t01[c]);
+            out[c] = top + fy * (bottom - top);
+        }
+        out
+    }
+
+    /// The colour at `p` for a triangle drawn at `lod` (log2 of how many
+    /// times smaller it is drawn than it is in the picture; 0 or less: not
+    /// smaller): bilinear on level 0 when `lod` is 0, else between the two
+    /// levels around it (trilinear).
+    #[inline]
+    pub fn sample(&self, p: [f64; 2], lod: f32) -> Premultiplied {
+        if lod.is_nan() || lod <= 0.0 || !p[0].is_finite() || !p[1].is_finite() {
+            if !p[0].is_finite() || !p[1].is_finite() {
+                return [0.0; 4];
+            }
+            return self.bilinear(0, p);
+        }
+        let top = self.levels.len();
+        let l0 = (lod.floor() as usize).min(top);
+        let f = if l0 == top { 0.0 } else { lod - l0 as f32 };
+        let a = self.bilinear(l0, p);
+        if f == 0.0 {
+            return a;
+        }
+        let b = self.bilinear(l0 + 1, p);
+        [0, 1, 2, 3].map(|c| a[c] + f * (b[c] - a[c]))
+    }
+}
+
+/// Pixel `(x, y)` of `picture`, premultiplied, channels from 0 to 1.
+#[inline]
+fn premultiply(picture: &Picture, x: usize, y: usize) -> Premultiplied {
+    let i = 4 * (y * picture.width as usize + x);
+    let p = &picture.rgba[i..i + 4];
+    let a = f32::from(p[3]) / 255.0;
+    [
+        f32::from(p[0]) / 255.0 * a,
+        f32::from(p[1]) / 255.0 * a,
+        f32::from(p[2]) / 255.0 * a,
+        a,
+    ]
+}
+
+/// A premultiplied colour as straight 8-bit RGBA (transparent black where
+/// it rounds to no alpha).
+#[inline]
+pub(crate) fn to_straight(c: Premultiplied) -> [u8; 4] {
+    let a = (c[3] * 255.0).round();
+    if a < 1.0 {
+        return [0; 4];
+    }
+    let inv = 1.0 / c[3];
+    let ch = |v: f32| (v * inv * 255.0).round().clamp(0.0, 255.0) as u8;
+    [ch(c[0]), ch(c[1]), ch(c[2]), a.min(255.0) as u8]
+}
