@@ -449,6 +449,8 @@ fn transfer(args: &Args) -> Result<()> {
             source_ref: source_ref.clone(),
             target_ref: target_ref.clone(),
             no_weld: false,
+            source_mesh: None,
+            target_mesh: None,
         }),
         batch: Vec::new(),
         correspond: CorrespondArgs {
@@ -477,6 +479,9 @@ fn transfer(args: &Args) -> Result<()> {
             gltf_dense: false,
         },
         gltf_shapes: false,
+        shapes: Vec::new(),
+        replace_shapes: false,
+        vrm_expressions: false,
         pictures: PictureArgs {
             png: Some(dir.join("transfer.png")),
             gif: Some(dir.join("transfer.gif")),

@@ -10,9 +10,24 @@ use meshmorph::Mesh3;
 use crate::output::positive_number;
 use crate::pictures::file_named;
 
-/// A `.glb` path (a clap value parser).
+/// A `.glb` path, or `.vrm` and `.gltf` for a transfer into a glTF target
+/// of that kind (a clap value parser).
 fn glb_file(text: &str) -> Result<PathBuf, String> {
-    file_named(text, "glb", "binary glTF")
+    let path = PathBuf::from(text);
+    if is_gltf(&path) {
+        Ok(path)
+    } else {
+        file_named(text, "glb", "binary glTF")
+    }
+}
+
+/// Whether `path` names a glTF file (`.glb`, `.gltf` or `.vrm`).
+pub fn is_gltf(path: &Path) -> bool {
+    path.extension().is_some_and(|e| {
+        ["glb", "gltf", "vrm"]
+            .iter()
+            .any(|g| e.eq_ignore_ascii_case(g))
+    })
 }
 
 /// Options of the glTF output.

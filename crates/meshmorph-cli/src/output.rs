@@ -38,6 +38,8 @@ impl From<FormatArg> for Format {
 pub fn format_or_like(asked: Option<FormatArg>, like: &Path) -> Result<Format> {
     match asked {
         Some(f) => Ok(f.into()),
+        // A glTF reference's poses are written as OBJ.
+        None if crate::gltf::is_gltf(like) => Ok(Format::Obj),
         None => Format::from_path(like).map_err(Into::into),
     }
 }
@@ -50,7 +52,7 @@ pub fn read_mesh_file(path: &Path, role: &str) -> Result<meshmorph::io::MeshFile
 /// `e`, an error of reading `path` (called `role`), said as "reading
 /// {role} `path`" and the library's message, the file named once: the
 /// library's messages about a file begin with its name.
-fn reading_error(e: meshmorph::Error, role: &str, path: &Path) -> anyhow::Error {
+pub(crate) fn reading_error(e: meshmorph::Error, role: &str, path: &Path) -> anyhow::Error {
     let named = format!("`{}`", path.display());
     let text = e.to_string();
     match text.strip_prefix(&named) {

@@ -88,6 +88,8 @@ pub fn run(args: &Args) -> Result<()> {
         source_ref: args.source.clone(),
         target_ref: args.target.clone(),
         no_weld: args.no_weld,
+        source_mesh: None,
+        target_mesh: None,
     };
     let (source, target) = refs.read()?;
     let start = if marker_files.is_empty() {

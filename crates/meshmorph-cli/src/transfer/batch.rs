@@ -217,6 +217,8 @@ fn read(file: &Path, args: &TransferArgs) -> Result<Vec<Job>> {
                 source_ref: at(&batch.source),
                 target_ref: at(&t.reference),
                 no_weld: args.refs.as_ref().is_some_and(|r| r.no_weld),
+                source_mesh: None,
+                target_mesh: None,
             });
             job.correspond.markers = markers;
             job.correspondence = t.correspondence.as_deref().map(at);

@@ -427,18 +427,53 @@ pub struct References {
     /// the surface does not crack along them; the files keep their vertices.
     #[arg(long)]
     pub no_weld: bool,
+    /// With a glTF or VRM --source-ref: its mesh to read, by the mesh's or
+    /// its node's name [default: the only mesh, else the one with the most
+    /// vertices]
+    #[arg(long, value_name = "NAME")]
+    pub source_mesh: Option<String>,
+    /// With a glTF or VRM --target-ref: its mesh to read, by the mesh's or
+    /// its node's name [default: the only mesh, else the one with the most
+    /// vertices]
+    #[arg(long, value_name = "NAME")]
+    pub target_mesh: Option<String>,
 }
 
 impl References {
     /// Both files, kept whole, and their meshes welded at seams.
     pub(crate) fn read(&self) -> Result<(Reference, Reference)> {
-        let read = |path: &Path, role: &str| -> Result<Reference> {
+        let read = |path: &Path, role: &str, choice: Option<&str>| -> Result<Reference> {
+            if crate::gltf::is_gltf(path) {
+                let rig = Rig::read(path, role, choice)?;
+                let (file, mesh) = WeldedFile::new(rig.mesh_file(path, role)?, !self.no_weld);
+                return Ok(Reference {
+                    file,
+                    mesh,
+                    rig: Some(rig),
+                });
+            }
             let (file, mesh) = WeldedFile::new(output::read_mesh_file(path, role)?, !self.no_weld);
-            Ok(Reference { file, mesh })
+            Ok(Reference {
+                file,
+                mesh,
+                rig: None,
+            })
         };
         let (s, t) = rayon::join(
-            || read(&self.source_ref, "source reference"),
-            || read(&self.target_ref, "target reference"),
+            || {
+                read(
+                    &self.source_ref,
+                    "source reference",
+                    self.source_mesh.as_deref(),
+                )
+            },
+            || {
+                read(
+                    &self.target_ref,
+                    "target reference",
+                    self.target_mesh.as_deref(),
+                )
+            },
         );
         Ok((s?, t?))
     }
@@ -458,6 +493,54 @@ impl References {
 pub(crate) struct Reference {
     pub(crate) file: WeldedFile,
     pub(crate) mesh: Mesh3,
+    /// The glTF file and mesh, when the reference is one.
+    pub(crate) rig: Option<Rig>,
+}
+
+/// A glTF reference: the file kept whole, and the mesh read from it.
+pub(crate) struct Rig {
+    pub(crate) doc: meshmorph::io::gltf::GltfDocument,
+    pub(crate) mesh: meshmorph::io::gltf::GltfMesh,
+}
+
+impl Rig {
+    fn read(path: &Path, role: &str, choice: Option<&str>) -> Result<Self> {
+        let (doc, mesh) = meshmorph::io::gltf::read(path, choice)
+            .map_err(|e| output::reading_error(e, role, path))?;
+        Ok(Rig { doc, mesh })
+    }
+
+    /// The mesh placed in the scene (its node's matrix), as a mesh file
+    /// of its own: markers, correspondence and solve work on it.
+    fn mesh_file(&self, path: &Path, role: &str) -> Result<meshmorph::io::MeshFile> {
+        let surface = &self.mesh.surface;
+        let placed = self.mesh.placed(surface.positions());
+        let mut text = Vec::new();
+        meshmorph::io::write_positions_to(
+            &mut text,
+            path,
+            &placed,
+            surface.triangles(),
+            meshmorph::io::Format::Obj,
+        )?;
+        meshmorph::io::MeshFile::parse(text, meshmorph::io::Format::Obj, path)
+            .map_err(|e| output::reading_error(e, role, path))
+    }
+
+    /// Positions of the welded mesh taken back to the mesh's own space,
+    /// one per vertex of the file's mesh.
+    pub(crate) fn unplaced(
+        &self,
+        seams: &meshmorph::Seams,
+        welded: &[[f64; 3]],
+    ) -> Result<Vec<[f64; 3]>> {
+        self.mesh.unplaced(&seams.unweld(welded)).with_context(|| {
+            format!(
+                "mesh `{}`: its node's matrix cannot be inverted",
+                self.mesh.name
+            )
+        })
+    }
 }
 
 impl Reference {

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use meshmorph::io::gltf::GltfOptions;
+use meshmorph::io::gltf::{write_shape_keys, GltfOptions, NewShape, ShapeKeyOptions};
 use meshmorph::io::Appearance;
 use meshmorph::{Correspondence, Mesh3, Transfer, TransferOptions};
 use rayon::prelude::*;
@@ -22,9 +22,9 @@ mod fit;
 mod report;
 
 use correspondence::name_degenerate_faces;
-pub(crate) use correspondence::Reference;
 pub(crate) use correspondence::{print_welded, signed_for, MarkerReport};
 pub use correspondence::{CorrespondArgs, References};
+pub(crate) use correspondence::{Reference, Rig};
 pub use fit::FitSummary;
 pub(crate) use report::print_unmatched;
 use report::TransferReport;
@@ -78,8 +78,9 @@ pub struct TransferArgs {
         value_parser = vertex_index
     )]
     pub pin: Vec<u32>,
-    /// Directory for the transferred poses (created if missing).
-    #[arg(short, long, value_name = "DIR", required_unless_present = "batch")]
+    /// Directory for the transferred poses (created if missing); not
+    /// needed when --gltf takes them.
+    #[arg(short, long, value_name = "DIR", required_unless_present_any = ["batch", "gltf"])]
     pub output: Option<PathBuf>,
     /// Output mesh format [default: the target reference's].
     #[arg(long, value_enum)]
@@ -93,11 +94,24 @@ pub struct TransferArgs {
     /// 0), without the animation.
     #[arg(long, requires = "gltf")]
     pub gltf_shapes: bool,
+    /// With a glTF or VRM --source-ref and no pose files: the morph targets
+    /// to carry over (comma-separated names) [default: every one].
+    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    pub shapes: Vec<String>,
+    /// With a glTF or VRM --target-ref and --gltf: a pose whose name the
+    /// target mesh already has as a shape key replaces it (else refused).
+    #[arg(long, requires = "gltf")]
+    pub replace_shapes: bool,
+    /// With a VRM --target-ref and --gltf: also add each transferred shape
+    /// as a custom expression of the same name.
+    #[arg(long, requires = "gltf")]
+    pub vrm_expressions: bool,
     #[command(flatten)]
     pub pictures: PictureArgs,
     /// Source poses: new positions for the source reference's vertices, with
-    /// its faces (listed in any corner order or winding).
-    #[arg(required_unless_present = "batch", value_name = "POSE")]
+    /// its faces (listed in any corner order or winding). With a glTF or
+    /// VRM --source-ref and none given, its morph targets are the poses.
+    #[arg(value_name = "POSE")]
     pub poses: Vec<PathBuf>,
 }
 
@@ -109,12 +123,50 @@ impl TransferArgs {
             .context("--source-ref and --target-ref are needed (or --batch FILE)")
     }
 
-    /// The output directory (clap asks for it unless --batch is given).
-    fn output_dir(&self) -> Result<&Path> {
-        self.output
-            .as_deref()
-            .context("--output is needed (or --batch FILE)")
+    /// The output directory, when pose files are written (clap asks for
+    /// it unless --batch or --gltf is given).
+    fn output_dir(&self) -> Option<&Path> {
+        self.output.as_deref()
     }
+}
+
+/// The morph targets of a glTF source (those `shapes` names, else every
+/// one) as poses of its welded mesh, placed as the mesh is.
+fn rig_poses(rig: &Rig, source_ref: &Reference, shapes: &[String]) -> Result<Vec<(String, Mesh3)>> {
+    let targets = &rig.mesh.targets;
+    if targets.is_empty() {
+        bail!(
+            "the source reference's mesh `{}` has no morph targets to carry over: give pose files",
+            rig.mesh.name
+        );
+    }
+    let chosen: Vec<&meshmorph::io::gltf::MorphTarget> = if shapes.is_empty() {
+        targets.iter().collect()
+    } else {
+        shapes
+            .iter()
+            .map(|name| {
+                targets.iter().find(|t| &t.name == name).with_context(|| {
+                    format!(
+                        "--shapes {name}: mesh `{}` has no such morph target; it has {}",
+                        rig.mesh.name,
+                        rig.mesh.target_names().join(", ")
+                    )
+                })
+            })
+            .collect::<Result<_>>()?
+    };
+    let seams = &source_ref.file.seams;
+    chosen
+        .into_iter()
+        .map(|t| {
+            let placed = rig.mesh.placed(&t.positions);
+            let pose = source_ref
+                .mesh
+                .with_positions(seams.weld_positions(&placed))?;
+            Ok((t.name.clone(), pose))
+        })
+        .collect()
 }
 
 /// A vertex index (0 or more).
@@ -145,7 +197,18 @@ pub fn run(args: &TransferArgs) -> Result<()> {
 pub fn run_transfer(args: &TransferArgs) -> Result<Done> {
     let start = Instant::now();
     let refs = args.references()?;
-    let output_dir = args.output_dir()?;
+    let output_dir = args.output_dir();
+    let from_rig = args.poses.is_empty();
+    if from_rig {
+        if !crate::gltf::is_gltf(&refs.source_ref) {
+            bail!("no source poses: give pose files, or a glTF or VRM --source-ref whose morph targets are the poses");
+        }
+        if output_dir.is_some() {
+            bail!("--output writes pose files for pose files given; the morph targets of a glTF source go into --gltf");
+        }
+    } else if !args.shapes.is_empty() {
+        bail!("--shapes chooses morph targets of a glTF source; with pose files, list the files instead");
+    }
     // Every output is checked against every input (by resolved path) before
     // anything is read or computed.
     let Planned {
@@ -165,9 +228,24 @@ pub fn run_transfer(args: &TransferArgs) -> Result<Done> {
     output::protect_side_files(&staging, &source_ref.file.file, "source reference")?;
     output::protect_side_files(&staging, &target_ref.file.file, "target reference")?;
     let (source, target) = (&source_ref.mesh, &target_ref.mesh);
-    let image_budget =
+    let rig_poses = match (from_rig, &source_ref.rig) {
+        (true, Some(rig)) => rig_poses(rig, &source_ref, &args.shapes)?,
+        _ => Vec::new(),
+    };
+    let pose_names: Vec<String> = if from_rig {
+        rig_poses.iter().map(|(name, _)| name.clone()).collect()
+    } else {
+        args.poses
+            .iter()
+            .map(|p| crate::gltf::mesh_name(p))
+            .collect()
+    };
+    let image_budget = if target_ref.rig.is_some() {
+        0
+    } else {
         args.gltf
-            .check::<3>(Some(&target_ref.file.file), target, args.poses.len())?;
+            .check::<3>(Some(&target_ref.file.file), target, pose_names.len())?
+    };
     let pins = pin_positions(&args.pin, args.correspond.one_based, &target_ref)?;
 
     // Each pose is new positions for the reference's faces, split as the
@@ -178,6 +256,8 @@ pub fn run_transfer(args: &TransferArgs) -> Result<Done> {
     // anything is written.
     let (first, others) = args.poses.split_at(args.poses.len().min(1));
     let mut read = read_poses(first, &source_ref)?;
+    read.poses
+        .extend(rig_poses.into_iter().map(|(_, pose)| (pose, 0, 0.0)));
     let (others, prepared) = rayon::join(
         || read_poses(others, &source_ref),
         || prepare(args, refs, &source_ref, &target_ref, pins),
@@ -217,22 +297,24 @@ pub fn run_transfer(args: &TransferArgs) -> Result<Done> {
     let keep = args.gltf.gltf.is_some() || args.pictures.any();
     let solved: Vec<SolvedPose> = poses
         .par_iter()
-        .zip(&pose_outputs)
+        .enumerate()
         .map_init(
             || transfer.workspace(),
-            |ws, ((pose, _, read), &output)| {
+            |ws, (k, (pose, _, read))| {
                 let begin = Instant::now();
                 let mut out = vec![[0.0; 3]; target.num_vertices()];
                 transfer.apply_into(pose.positions(), &mut out, ws);
                 let solve = begin.elapsed().as_secs_f64();
                 let mut dropped = Vec::new();
-                staging.write_to(output, |path, w| {
-                    if let Some(v) = out.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
-                        bail!("vertex {v} overflows (its coordinates exceed the range of floating-point numbers); scale the meshes down");
-                    }
-                    dropped = target_ref.file.write_to(w, path, &out, format)?;
-                    Ok(())
-                })?;
+                if let Some(v) = out.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
+                    bail!("vertex {v} overflows (its coordinates exceed the range of floating-point numbers); scale the meshes down");
+                }
+                if let Some(&output) = pose_outputs.get(k) {
+                    staging.write_to(output, |path, w| {
+                        dropped = target_ref.file.write_to(w, path, &out, format)?;
+                        Ok(())
+                    })?;
+                }
                 bar.inc(1);
                 Ok((
                     solve,
@@ -244,9 +326,9 @@ pub fn run_transfer(args: &TransferArgs) -> Result<Done> {
         )
         .collect::<Result<_>>()?;
     bar.finish_and_clear();
-    if let Some((_, _, dropped, _)) = solved.first() {
+    if let (Some((_, _, dropped, _)), Some(dir)) = (solved.first(), output_dir) {
         // The same for every pose: said once, for the directory.
-        warnings.extend(output::dropped_for(output_dir, dropped));
+        warnings.extend(output::dropped_for(dir, dropped));
     }
     let mut timings = Vec::with_capacity(solved.len());
     let mut results = Vec::new();
@@ -256,19 +338,47 @@ pub fn run_transfer(args: &TransferArgs) -> Result<Done> {
     }
     let mut files_written: Vec<PathBuf> = args.save_correspondence.iter().cloned().collect();
     files_written.extend(outputs.iter().cloned());
-    let names: Vec<String> = outputs.iter().map(|p| crate::gltf::mesh_name(p)).collect();
+    let names = &pose_names;
     let options = GltfOptions::default()
         .with_fps(args.pictures.draw.fps)
         .with_animation(!args.gltf_shapes)
         .with_name(crate::gltf::mesh_name(&refs.target_ref));
     let mut gltf = None;
-    if let Some(output) = gltf_output {
+    if let (Some(output), Some(rig)) = (gltf_output, &target_ref.rig) {
+        let unplaced = results
+            .iter()
+            .map(|welded| rig.unplaced(&target_ref.file.seams, welded))
+            .collect::<Result<Vec<_>>>()?;
+        let shapes: Vec<NewShape<'_>> = names
+            .iter()
+            .zip(&unplaced)
+            .map(|(name, positions)| NewShape { name, positions })
+            .collect();
+        let options = ShapeKeyOptions::default()
+            .with_replace(args.replace_shapes)
+            .with_vrm_expressions(args.vrm_expressions)
+            .with_sparse(!args.gltf.gltf_dense);
+        staging.write(output, |path| {
+            write_shape_keys(path, &rig.doc, &rig.mesh, &shapes, &options).with_context(|| {
+                format!(
+                    "writing shape keys into a copy of `{}`",
+                    refs.target_ref.display()
+                )
+            })?;
+            Ok(())
+        })?;
+        gltf = args.gltf.gltf.clone();
+        files_written.extend(gltf.clone());
+    } else if let Some(output) = gltf_output {
+        if args.replace_shapes || args.vrm_expressions {
+            bail!("--replace-shapes and --vrm-expressions add to a glTF or VRM --target-ref's own file; `{}` is not one", refs.target_ref.display());
+        }
         let look = Appearance::of_file(&target_ref.file.file, image_budget)?;
         let base = look.base(target.positions(), target.triangles());
         staging.write(output, |path| {
             let mut staged = args.gltf.clone();
             staged.gltf = Some(path.to_path_buf());
-            staged.write(&base, &results, &names, &options)?;
+            staged.write(&base, &results, names, &options)?;
             Ok(())
         })?;
         gltf = args.gltf.gltf.clone();
@@ -278,11 +388,6 @@ pub fn run_transfer(args: &TransferArgs) -> Result<Done> {
     if args.pictures.any() {
         let source_poses: Vec<&[[f64; 3]]> = poses.iter().map(|(p, _, _)| p.positions()).collect();
         let target_poses: Vec<&[[f64; 3]]> = results.iter().map(Vec::as_slice).collect();
-        let pose_names: Vec<String> = args
-            .poses
-            .iter()
-            .map(|p| crate::gltf::mesh_name(p))
-            .collect();
         let target_name = crate::gltf::mesh_name(&refs.target_ref);
         files_written.extend(pictures.write(&staging, &args.pictures, |staged| {
             crate::pictures::write_transfer_pictures(
@@ -335,8 +440,13 @@ pub fn run_transfer(args: &TransferArgs) -> Result<Done> {
         correspondence_seconds,
         transfer_seconds: start.elapsed().as_secs_f64() - correspondence_seconds,
     };
+    for r in [&source_ref, &target_ref] {
+        if let Some(rig) = &r.rig {
+            warnings.extend(rig.mesh.notes.iter().cloned());
+        }
+    }
     TransferReport {
-        output: output_dir.to_path_buf(),
+        output: output_dir.map(Path::to_path_buf).unwrap_or_default(),
         poses_written: timings.len(),
         correspondence_seconds,
         correspondence_loaded: args.correspondence.is_some(),
@@ -385,9 +495,11 @@ pub(crate) struct Planned {
 /// writes.
 pub(crate) fn plan_transfer(args: &TransferArgs) -> Result<Planned> {
     let refs = args.references()?;
-    let output_dir = args.output_dir()?;
     let format = output::format_or_like(args.format, &refs.target_ref)?;
-    let outputs = output_paths(&args.poses, output_dir, format.extension())?;
+    let outputs = match args.output_dir() {
+        Some(dir) => output_paths(&args.poses, dir, format.extension())?,
+        None => Vec::new(),
+    };
     let mut plan = Plan::new();
     for pose in &args.poses {
         plan.input(pose, "source pose");

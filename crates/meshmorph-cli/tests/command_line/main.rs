@@ -6,6 +6,7 @@
 
 mod cli;
 mod drawings;
+mod gltf_rigs;
 mod hostile;
 mod hostile_meshes;
 mod hostile_outputs;
