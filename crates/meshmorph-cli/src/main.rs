@@ -113,10 +113,36 @@ impl Command {
     }
 }
 
+impl Command {
+    /// Refuses a `--gltf` named `.gltf` or `.vrm` where the file is made
+    /// from scratch as a binary glTF (interpolate, blend, a transfer into a
+    /// target that is not itself glTF): only a transfer into a glTF or VRM
+    /// target writes the target's own kind of file.
+    fn new_gltf_named_glb(&self) -> std::result::Result<(), String> {
+        let (gltf, into_gltf) = match self {
+            Command::Interpolate(a) => (&a.frames.gltf.gltf, false),
+            Command::Blend(a) => (&a.gltf.gltf, false),
+            Command::Transfer(a) => (&a.gltf.gltf, a.writes_into_gltf_target()),
+            _ => return Ok(()),
+        };
+        match gltf {
+            Some(path) if !into_gltf => {
+                pictures::file_named(&path.to_string_lossy(), "glb", "binary glTF").map(drop)
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
 fn main() -> ExitCode {
     memory::share_one_heap();
     allocator::reserve();
     let cli = Cli::parse();
+    if let Err(message) = cli.command.new_gltf_named_glb() {
+        Cli::command()
+            .error(clap::error::ErrorKind::ValueValidation, message)
+            .exit();
+    }
     threads::start_pool();
     let json = cli.command.json();
     outputs::interrupted_as_json(json);

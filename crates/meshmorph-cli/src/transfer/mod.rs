@@ -123,6 +123,14 @@ impl TransferArgs {
             .context("--source-ref and --target-ref are needed (or --batch FILE)")
     }
 
+    /// Whether --gltf writes into a copy of a glTF or VRM --target-ref
+    /// (else it is a binary glTF made from scratch, named `.glb`).
+    pub fn writes_into_gltf_target(&self) -> bool {
+        self.refs
+            .as_ref()
+            .is_some_and(|r| crate::gltf::is_gltf(&r.target_ref))
+    }
+
     /// The output directory, when pose files are written (clap asks for
     /// it unless --batch or --gltf is given).
     fn output_dir(&self) -> Option<&Path> {
