@@ -13,12 +13,19 @@ use crate::io::picture::Picture;
 /// # Errors
 /// The writer's errors.
 pub fn write_picture_png(w: &mut dyn Write, picture: &Picture) -> io::Result<()> {
-    let mut enc = ::png::Encoder::new(w, picture.width, picture.height);
-    enc.set_color(::png::ColorType::Rgba);
-    enc.set_depth(::png::BitDepth::Eight);
-    let mut writer = enc.write_header().map_err(png_error)?;
+    let mut writer = rgba_encoder(w, picture.width, picture.height)
+        .write_header()
+        .map_err(png_error)?;
     writer.write_image_data(&picture.rgba).map_err(png_error)?;
     writer.finish().map_err(png_error)
+}
+
+/// A PNG encoder of 8-bit RGBA pixels.
+fn rgba_encoder(w: &mut dyn Write, width: u32, height: u32) -> ::png::Encoder<'_, &mut dyn Write> {
+    let mut enc = ::png::Encoder::new(w, width, height);
+    enc.set_color(::png::ColorType::Rgba);
+    enc.set_depth(::png::BitDepth::Eight);
+    enc
 }
 
 /// Writes `count` frames of `width × height` pixels as an animated PNG
@@ -39,9 +46,7 @@ pub fn write_apng(
     if count == 0 {
         return Err(io::Error::new(io::ErrorKind::InvalidInput, "no frame"));
     }
-    let mut enc = ::png::Encoder::new(w, width, height);
-    enc.set_color(::png::ColorType::Rgba);
-    enc.set_depth(::png::BitDepth::Eight);
+    let mut enc = rgba_encoder(w, width, height);
     enc.set_animated(count as u32, 0).map_err(png_error)?;
     let ms = delay.as_millis().clamp(1, u128::from(u16::MAX)) as u16;
     enc.set_frame_delay(ms, 1000).map_err(png_error)?;

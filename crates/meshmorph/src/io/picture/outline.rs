@@ -147,35 +147,23 @@ pub fn picture_drawing(
     all.extend(holes);
     let traced_points = all.iter().map(Vec::len).sum();
     let mut tol = tolerance;
-    loop {
+    // Thinner where thinning makes the loops touch; the traced loops
+    // themselves where no tolerance keeps them apart (the thinned error
+    // reported where those fail too).
+    let (drawing, tolerance) = loop {
         let thinned: Vec<Vec<[f64; 2]>> = all.iter().map(|l| simplify_loop(l, tol)).collect();
         match Drawing::new(thinned) {
-            Ok(drawing) => {
-                return Ok(PictureDrawing {
-                    drawing,
-                    shape: PictureShape::Sprite,
-                    left_out,
-                    specks,
-                    traced_points,
-                    tolerance: tol,
-                })
-            }
+            Ok(drawing) => break (drawing, tol),
             Err(_) if tol > 1e-3 => tol /= 2.0,
-            Err(e) => {
-                return Err(match Drawing::new(all.clone()) {
-                    Ok(drawing) => {
-                        return Ok(PictureDrawing {
-                            drawing,
-                            shape: PictureShape::Sprite,
-                            left_out,
-                            specks,
-                            traced_points,
-                            tolerance: 0.0,
-                        })
-                    }
-                    Err(_) => e,
-                })
-            }
+            Err(e) => break (Drawing::new(all).map_err(|_| e)?, 0.0),
         }
-    }
+    };
+    Ok(PictureDrawing {
+        drawing,
+        shape: PictureShape::Sprite,
+        left_out,
+        specks,
+        traced_points,
+        tolerance,
+    })
 }
