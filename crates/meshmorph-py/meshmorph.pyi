@@ -14,7 +14,7 @@ are refused.
 """
 
 import os
-from typing import Callable, Optional, Sequence as Seq, Union
+from typing import Callable, Mapping, Optional, Sequence as Seq, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -136,3 +136,16 @@ class CompatibleMeshes:
     def __len__(self) -> int: ...
 
 def compatible_meshes(drawings: Seq[Loops], anchors: Optional[npt.NDArray[Union[np.float64, np.float32]]] = None) -> CompatibleMeshes: ...
+
+def expressions(
+    vertices: Vertices,
+    faces: Faces,
+    landmarks: Union[Mapping[str, Seq[float]], Seq[Tuple[str, Seq[float]]]],
+    *,
+    method: Optional[str] = None,
+    compare: Optional[bool] = None,
+    all_shapes: Optional[bool] = None,
+    template: Optional[PathLike] = None,
+) -> dict: ...
+
+def arkit_template() -> dict: ...

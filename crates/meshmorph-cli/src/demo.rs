@@ -39,7 +39,11 @@ use crate::transfer::{run_transfer, CorrespondArgs, References, TransferArgs};
 ///   drawing/drawing.gif              same meshes (left) beside it (right);
 ///   transfer.gif, transfer.png,      a thin tube's bending poses carried over
 ///   transfer.glb, transfer/target/*  to a thicker, differently tessellated tube
-///   (the inputs are in transfer/input/, to rerun with `meshmorph transfer`).
+///   (the inputs are in transfer/input/, to rerun with `meshmorph transfer`);
+///   expressions/head-arkit.glb,      the ARKit shapes put on a head made in code
+///   expressions/expressions.gif      (expressions/input/head.obj, the template's
+///                                    head given other proportions, and its 17
+///                                    landmarks, expressions/input/head.txt).
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Where to write everything (created if missing).
@@ -57,7 +61,8 @@ pub fn run(args: &Args) -> Result<()> {
     spiral(args)?;
     coil(args)?;
     drawing(args)?;
-    transfer(args)
+    transfer(args)?;
+    expressions(args)
 }
 
 /// As-rigid-as-possible interpolation of a bar into a spiral.
@@ -501,4 +506,113 @@ fn transfer(args: &Args) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The ARKit expressions put on a head made in code: the built-in
+/// template's head and its parts (eyeballs, teeth, tongue) given other
+/// proportions (a wider jaw, a longer and flatter face, fuller cheeks),
+/// with its 17 recommended landmarks placed where the template's went.
+fn expressions(args: &Args) -> Result<()> {
+    let dir = args.output.join("expressions");
+    let input = dir.join("input");
+    let template = meshmorph::ExpressionTemplate::arkit();
+    // The head with the template's eyeballs, teeth and tongue as separate
+    // pieces of the same mesh, as many heads are modelled.
+    let mut positions = template.head.positions().to_vec();
+    let mut triangles = template.head.triangles().to_vec();
+    for part in &template.parts {
+        let offset = positions.len() as u32;
+        positions.extend_from_slice(part.mesh.positions());
+        triangles.extend(part.mesh.triangles().iter().map(|t| t.map(|v| v + offset)));
+    }
+    let head = other_proportions(&Mesh3::new(positions, triangles)?);
+    let head_path = input.join("head.obj");
+    let landmarks_path = input.join("head.txt");
+    let mut plan = Plan::new();
+    let head_output = plan.file(&head_path, "demo head");
+    let landmarks_output = plan.file(&landmarks_path, "demo landmarks");
+    let staging = plan.prepare()?;
+    output::print_warnings(&staging.warnings());
+    staging.write(head_output, |path| {
+        Ok(meshmorph::io::write_mesh(path, &head, Format::Obj)?)
+    })?;
+    staging.write(landmarks_output, |path| {
+        Ok(meshmorph::io::write_atomic(path, |w| {
+            writeln!(w, "# landmark x y z (the iBUG 300-W scheme, by alias)")?;
+            for n in meshmorph::RECOMMENDED_LANDMARKS {
+                let v = template
+                    .landmark(&n.to_string())
+                    .expect("the template has every iBUG landmark");
+                let [x, y, z] = head.positions()[v as usize];
+                writeln!(w, "{} {x} {y} {z}", meshmorph::landmark_name(n))?;
+            }
+            Ok(())
+        })?)
+    })?;
+    staging.commit()?;
+    if !args.json {
+        say!("\n== the ARKit expressions on a head made in code, from 17 landmarks ==");
+    }
+    let glb = dir.join("head-arkit.glb");
+    let gif = dir.join("expressions.gif");
+    crate::expressions::run(&crate::expressions::Args {
+        head: head_path.clone(),
+        markers: landmarks_path.clone(),
+        one_based: false,
+        output: glb.clone(),
+        template: "arkit".to_string(),
+        mesh: None,
+        method: crate::expressions::MethodArg::Displacements,
+        compare: false,
+        all_shapes: false,
+        replace_shapes: false,
+        vrm_expressions: false,
+        gltf_dense: false,
+        format: None,
+        pictures: PictureArgs {
+            png: None,
+            gif: Some(gif.clone()),
+            draw: args.draw.clone(),
+        },
+        json: args.json,
+    })?;
+    if !args.json {
+        say!(
+            "rerun: meshmorph expressions {} --markers {} -o {} --gif {}",
+            head_path.display(),
+            landmarks_path.display(),
+            glb.display(),
+            gif.display()
+        );
+    }
+    Ok(())
+}
+
+/// `head` given other proportions by a smooth warp of its bounding box:
+/// wider at the jaw, a longer face, a flatter front and fuller cheeks.
+fn other_proportions(head: &Mesh3) -> Mesh3 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in head.positions() {
+        for i in 0..3 {
+            lo[i] = lo[i].min(p[i]);
+            hi[i] = hi[i].max(p[i]);
+        }
+    }
+    let centre: [f64; 3] = std::array::from_fn(|i| 0.5 * (lo[i] + hi[i]));
+    let half: [f64; 3] = std::array::from_fn(|i| 0.5 * (hi[i] - lo[i]));
+    let warped = head
+        .positions()
+        .iter()
+        .map(|p| {
+            let [x, y, z]: [f64; 3] = std::array::from_fn(|i| (p[i] - centre[i]) / half[i]);
+            let u = [
+                x * (1.08 - 0.1 * y),
+                1.1 * y + 0.04 * x * x,
+                0.9 * z + 0.05 * (1.0 - x * x).max(0.0) * (1.0 - y * y).max(0.0),
+            ];
+            std::array::from_fn(|i| centre[i] + half[i] * u[i])
+        })
+        .collect();
+    head.with_positions(warped)
+        .expect("the same number of positions")
 }

@@ -3,11 +3,15 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
-use meshmorph::io::gltf::{estimate_glb_bytes, vertex_count, write_glb, GltfBase, GltfOptions};
+use meshmorph::io::gltf::{
+    estimate_glb_bytes, vertex_count, write_glb, write_shape_keys, GltfBase, GltfDocument,
+    GltfMesh, GltfOptions, NewShape, ShapeKeyOptions,
+};
 use meshmorph::io::{Appearance, MeshFile};
 use meshmorph::Mesh3;
 
 use crate::output::positive_number;
+use crate::outputs::{Output, Staging};
 use crate::pictures::file_named;
 
 /// A `.glb` path, or `.vrm` and `.gltf` for a transfer into a glTF target
@@ -142,4 +146,36 @@ pub fn mesh_name(path: &Path) -> String {
     path.file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "meshmorph".to_string())
+}
+
+/// Writes to `output` a copy of the glTF file `source` (read as `doc`)
+/// with the shapes `names` added to `mesh` as morph targets: `placed`,
+/// one list of positions of the mesh's vertices a shape, in the scene (the
+/// node's matrix applied), as the solvers had them.
+pub fn write_shapes_into(
+    staging: &Staging,
+    output: Output,
+    (source, doc, mesh): (&Path, &GltfDocument, &GltfMesh),
+    names: &[String],
+    placed: &[Vec<[f64; 3]>],
+    options: &ShapeKeyOptions,
+) -> Result<()> {
+    let unplaced = placed
+        .iter()
+        .map(|p| {
+            mesh.unplaced(p).with_context(|| {
+                format!("mesh `{}`: its node's matrix cannot be inverted", mesh.name)
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let shapes: Vec<NewShape<'_>> = names
+        .iter()
+        .zip(&unplaced)
+        .map(|(name, positions)| NewShape { name, positions })
+        .collect();
+    staging.write(output, |path| {
+        write_shape_keys(path, doc, mesh, &shapes, options)
+            .with_context(|| format!("writing shape keys into a copy of `{}`", source.display()))?;
+        Ok(())
+    })
 }

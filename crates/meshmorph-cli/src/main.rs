@@ -30,6 +30,7 @@ mod blend;
 mod correspond;
 mod demo;
 mod drawings;
+mod expressions;
 mod gltf;
 mod interpolate;
 mod manual;
@@ -71,6 +72,8 @@ enum Command {
     Transfer(transfer::TransferArgs),
     /// Compute the triangle correspondence between two meshes and save it.
     Correspond(correspond::CorrespondCommand),
+    /// Put facial expressions (the 52 ARKit shapes) on a head from a few landmarks.
+    Expressions(expressions::Args),
     /// Pick marker pairs on two meshes in the browser and save them.
     Pick(pick::Args),
     /// Run on built-in procedural shapes and write frames and pictures.
@@ -96,6 +99,7 @@ impl Command {
             Command::Transfer(a) => Some(&a.pictures.draw),
             Command::Correspond(a) => Some(&a.pictures.draw),
             Command::Demo(a) => Some(&a.draw),
+            Command::Expressions(a) => Some(&a.pictures.draw),
             Command::Pick(_) | Command::Completions { .. } | Command::Man(_) => None,
         }
     }
@@ -108,6 +112,7 @@ impl Command {
             Command::Transfer(a) => a.json,
             Command::Correspond(a) => a.json,
             Command::Demo(a) => a.json,
+            Command::Expressions(a) => a.json,
             Command::Pick(_) | Command::Completions { .. } | Command::Man(_) => false,
         }
     }
@@ -151,6 +156,7 @@ fn main() -> ExitCode {
         Command::Blend(args) => blend::run(&args),
         Command::Transfer(args) => transfer::run(&args),
         Command::Correspond(args) => correspond::run_correspond(&args),
+        Command::Expressions(args) => expressions::run(&args),
         Command::Pick(args) => pick::run(&args),
         Command::Demo(args) => demo::run(&args),
         Command::Completions { shell } => {

@@ -7,6 +7,7 @@
 
 mod args;
 mod arrays;
+mod expressions;
 mod files;
 mod gradients;
 mod interpolation;
@@ -47,5 +48,6 @@ fn meshmorph_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     files::register(m)?;
     gradients::register(m)?;
     outline::register(m)?;
+    expressions::register(m)?;
     Ok(())
 }

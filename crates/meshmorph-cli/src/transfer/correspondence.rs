@@ -526,21 +526,6 @@ impl Rig {
         meshmorph::io::MeshFile::parse(text, meshmorph::io::Format::Obj, path)
             .map_err(|e| output::reading_error(e, role, path))
     }
-
-    /// Positions of the welded mesh taken back to the mesh's own space,
-    /// one per vertex of the file's mesh.
-    pub(crate) fn unplaced(
-        &self,
-        seams: &meshmorph::Seams,
-        welded: &[[f64; 3]],
-    ) -> Result<Vec<[f64; 3]>> {
-        self.mesh.unplaced(&seams.unweld(welded)).with_context(|| {
-            format!(
-                "mesh `{}`: its node's matrix cannot be inverted",
-                self.mesh.name
-            )
-        })
-    }
 }
 
 impl Reference {

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use meshmorph::io::gltf::{write_shape_keys, GltfOptions, NewShape, ShapeKeyOptions};
+use meshmorph::io::gltf::{GltfOptions, ShapeKeyOptions};
 use meshmorph::io::Appearance;
 use meshmorph::{Correspondence, Mesh3, Transfer, TransferOptions};
 use rayon::prelude::*;
@@ -22,7 +22,7 @@ mod fit;
 mod report;
 
 use correspondence::name_degenerate_faces;
-pub(crate) use correspondence::{print_welded, signed_for, MarkerReport};
+pub(crate) use correspondence::{numbering, print_welded, signed_for, MarkerReport};
 pub use correspondence::{CorrespondArgs, References};
 pub(crate) use correspondence::{Reference, Rig};
 pub use fit::FitSummary;
@@ -353,28 +353,22 @@ pub fn run_transfer(args: &TransferArgs) -> Result<Done> {
         .with_name(crate::gltf::mesh_name(&refs.target_ref));
     let mut gltf = None;
     if let (Some(output), Some(rig)) = (gltf_output, &target_ref.rig) {
-        let unplaced = results
+        let placed: Vec<Vec<[f64; 3]>> = results
             .iter()
-            .map(|welded| rig.unplaced(&target_ref.file.seams, welded))
-            .collect::<Result<Vec<_>>>()?;
-        let shapes: Vec<NewShape<'_>> = names
-            .iter()
-            .zip(&unplaced)
-            .map(|(name, positions)| NewShape { name, positions })
+            .map(|welded| target_ref.file.seams.unweld(welded))
             .collect();
         let options = ShapeKeyOptions::default()
             .with_replace(args.replace_shapes)
             .with_vrm_expressions(args.vrm_expressions)
             .with_sparse(!args.gltf.gltf_dense);
-        staging.write(output, |path| {
-            write_shape_keys(path, &rig.doc, &rig.mesh, &shapes, &options).with_context(|| {
-                format!(
-                    "writing shape keys into a copy of `{}`",
-                    refs.target_ref.display()
-                )
-            })?;
-            Ok(())
-        })?;
+        crate::gltf::write_shapes_into(
+            &staging,
+            output,
+            (&refs.target_ref, &rig.doc, &rig.mesh),
+            names,
+            &placed,
+            &options,
+        )?;
         gltf = args.gltf.gltf.clone();
         files_written.extend(gltf.clone());
     } else if let Some(output) = gltf_output {

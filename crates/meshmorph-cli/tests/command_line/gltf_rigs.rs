@@ -3,24 +3,11 @@
 //! clashes refused, inputs never written over, failed runs leave nothing.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
+
+use super::common::{run, text};
 
 use meshmorph::io::gltf::{read, SampleCharacter, SampleVrm};
-
-fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_meshmorph"))
-        .args(args)
-        .output()
-        .expect("the meshmorph binary runs")
-}
-
-fn text(out: &Output) -> String {
-    format!(
-        "{}\n{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    )
-}
 
 fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
     let path = dir.join(name);

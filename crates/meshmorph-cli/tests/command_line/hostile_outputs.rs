@@ -458,7 +458,7 @@ fn a_full_disk_while_writing_manual_pages_leaves_none() {
     clean(d, &out);
     let out = run(d, &["man", "--dir", "pages"]);
     assert!(out.status.success());
-    assert_eq!(fs::read_dir(d.join("pages")).unwrap().count(), 9);
+    assert_eq!(fs::read_dir(d.join("pages")).unwrap().count(), 10);
 }
 
 /// Frames of a run in `dir`, and which of two runs (by the last vertex's

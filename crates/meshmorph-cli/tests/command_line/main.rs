@@ -5,7 +5,9 @@
 //! `external`.)
 
 mod cli;
+mod common;
 mod drawings;
+mod expressions;
 mod gltf_rigs;
 mod hostile;
 mod hostile_meshes;
