@@ -36,7 +36,7 @@ def from_file(meshmorph, source, target, path, target_path=""):
         raise Refusal("The markers for {} and {} could not be read: {}".format(source.name, target.name, e)) from e
 
 
-def _group_centres(obj, prefix):
+def group_centres(obj, prefix):
     """{name without prefix: world position} of the object's vertex groups
     whose names start with `prefix` (each its vertices' weighted centre)."""
     groups = {g.index: g.name[len(prefix):] for g in obj.vertex_groups if g.name.startswith(prefix)}
@@ -56,12 +56,12 @@ def _group_centres(obj, prefix):
 def from_vertex_groups(meshmorph, source, target, prefix):
     """Markers from the vertex groups named `prefix` + a name on both
     objects, paired by that name."""
-    s = _group_centres(source, prefix)
-    t = _group_centres(target, prefix)
+    s = group_centres(source, prefix)
+    t = group_centres(target, prefix)
     return _paired(meshmorph, s, t, "vertex groups named \"{}…\" (with vertices in them)".format(prefix), source, target)
 
 
-def _empties(obj):
+def empties(obj):
     """{name without Blender's .001 suffix: world position} of the empties
     parented to `obj`."""
     return {DUPLICATE.sub("", child.name): mesh_arrays.location(child) for child in obj.children if child.type == "EMPTY"}
@@ -70,7 +70,7 @@ def _empties(obj):
 def from_empties(meshmorph, source, target):
     """Markers from empties parented to each object, paired by name (the
     target's copy of "nose" may be "nose.001")."""
-    return _paired(meshmorph, _empties(source), _empties(target), "empties parented to each object", source, target)
+    return _paired(meshmorph, empties(source), empties(target), "empties parented to each object", source, target)
 
 
 def _paired(meshmorph, s, t, what, source, target):

@@ -267,6 +267,35 @@ class MESHMORPH_OT_bake_animation(_Refusing, bpy.types.Operator):
         return {"FINISHED"}
 
 
+class MESHMORPH_OT_arkit_expressions(_Refusing, bpy.types.Operator):
+    """Put the ARKit expressions (eyeBlinkLeft, jawOpen, ...: the 52 face trackers drive, those the built-in ICT-FaceKit template has) on the active head as shape keys, from 12 or more named landmarks"""
+
+    bl_idname = "meshmorph.arkit_expressions"
+    bl_label = "Add ARKit Expressions"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def work(self, context):
+        obj = context.active_object
+        if obj is None or obj.type != "MESH" or not obj.select_get():
+            raise Refusal("Select the head (a mesh, made active)")
+        _in_object_mode(obj)
+        meshmorph = _meshmorph()
+        from . import expressions
+
+        s = _settings(context)
+        points = expressions.landmarks(
+            meshmorph, obj, s.landmark_source, bpy.path.abspath(s.landmark_file), s.group_prefix
+        )
+        names, missing, warnings = expressions.add(meshmorph, obj, points, s.replace_keys)
+        said = "{} shape keys added to {}".format(len(names), obj.name)
+        if missing:
+            said += "; the template has no {}".format(", ".join(missing))
+        for w in warnings:
+            self.report({"WARNING"}, sentence(w))
+        self.report({"INFO"}, sentence(said))
+        return {"FINISHED"}
+
+
 class MESHMORPH_OT_pick(bpy.types.Operator):
     """Pick marker pairs on the two selected meshes in the browser with meshmorph pick; the saved file becomes the panel's marker file"""
 
@@ -365,6 +394,7 @@ CLASSES = (
     MESHMORPH_OT_transfer_shape_keys,
     MESHMORPH_OT_add_inbetweens,
     MESHMORPH_OT_bake_animation,
+    MESHMORPH_OT_arkit_expressions,
     MESHMORPH_OT_pick,
     MESHMORPH_OT_forget_correspondence,
 )

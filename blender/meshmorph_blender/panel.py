@@ -28,6 +28,20 @@ class MeshmorphSettings(bpy.types.PropertyGroup):
     inbetween_count: bpy.props.IntProperty(name="In-betweens", default=3, min=1, soft_max=20)
     bake_keys: bpy.props.StringProperty(name="Through", description="The keys to animate through, comma-separated (the basis by its name)")
     frames_per_key: bpy.props.IntProperty(name="Frames per Key", default=12, min=1, soft_max=240)
+    landmark_source: bpy.props.EnumProperty(
+        name="Landmarks",
+        items=(
+            ("FILE", "Landmark File", "A point file (MeshLab .pp, Wrap .json, lines of name x y z or name VERTEX)"),
+            ("GROUPS", "Vertex Groups", "Vertex groups named the Group Prefix and a landmark (marker.chin, marker.31)"),
+            ("EMPTIES", "Empties", "Empties parented to the head, named by their landmark (chin, noseTip, 31)"),
+        ),
+        default="EMPTIES",
+        description="Where the head's landmarks are: each named by its iBUG 300-W number (1 to 68) or an alias",
+    )
+    landmark_file: bpy.props.StringProperty(name="Landmark File", subtype="FILE_PATH")
+    replace_keys: bpy.props.BoolProperty(
+        name="Replace Keys", description="Write over the head's shape keys that have an ARKit name"
+    )
 
 
 class MeshmorphPreferences(bpy.types.AddonPreferences):
@@ -83,6 +97,16 @@ class MESHMORPH_PT_panel(bpy.types.Panel):
         box.prop(s, "bake_keys")
         box.prop(s, "frames_per_key")
         box.operator("meshmorph.bake_animation")
+
+        box = layout.box()
+        box.label(text="ARKit expressions (the head active)")
+        box.prop(s, "landmark_source")
+        if s.landmark_source == "FILE":
+            box.prop(s, "landmark_file")
+        elif s.landmark_source == "GROUPS":
+            box.prop(s, "group_prefix")
+        box.prop(s, "replace_keys")
+        box.operator("meshmorph.arkit_expressions", icon="SHAPEKEY_DATA")
 
 
 CLASSES = (MeshmorphSettings, MeshmorphPreferences, MESHMORPH_PT_panel)

@@ -12,7 +12,9 @@ folder given by BLENDER_USER_SCRIPTS), then: shape keys carried from a quad
 source to a target of other topology (with an n-gon) equal the Python
 package's transfer of the same arrays; a key added later is carried with
 the kept correspondence; a rigidly turned key gives rigid in-betweens and a
-baked animation; bad selections give their sentence, not a traceback; the
+baked animation; the ARKit expressions put on a head from empties and from
+a landmark file equal the Python package's; bad selections give their
+sentence, not a traceback; the
 target's polygons, UVs and materials are untouched; hostile scenes (NaN and
 infinite positions and transforms, a damaged kept correspondence, bad
 marker files, an error the add-on did not foresee) give one sentence naming
@@ -782,6 +784,59 @@ def test_an_unexpected_error_is_one_sentence_and_the_scene_is_put_back():
     source.shape_key_remove(source.data.shape_keys.key_blocks["fresh"])
     s.frames_per_key, s.refit = 4, False
 
+
+
+RECOMMENDED = ("1", "9", "17", "18", "22", "23", "27", "28", "31", "37", "40", "43", "46", "49", "52", "55", "58")
+
+
+def test_arkit_expressions_from_empties_and_from_a_landmark_file_equal_the_python_packages():
+    import tempfile
+
+    t = meshmorph.arkit_template()
+    mesh = bpy.data.meshes.new("Head")
+    mesh.from_pydata(t["vertices"].tolist(), [], t["faces"].tolist())
+    head = bpy.data.objects.new("Head", mesh)
+    bpy.context.scene.collection.objects.link(head)
+    head.location, head.rotation_euler, head.scale = (1.0, -0.5, 0.2), (0.2, 0.0, 0.4), (10.0, 10.0, 10.0)
+    bpy.context.view_layer.update()
+    v = world(head, coordinates(head.data.vertices, len(head.data.vertices)))
+    points = {n: v[t["landmarks"][n]] for n in RECOMMENDED}
+    for n, p in points.items():
+        empty = bpy.data.objects.new("chin" if n == "9" else n, None)
+        bpy.context.scene.collection.objects.link(empty)
+        empty.parent = head
+        empty.matrix_world.translation = p
+    bpy.context.view_layer.update()
+    s = bpy.context.scene.meshmorph
+    s.landmark_source, s.replace_keys = "EMPTIES", False
+    select(head, active=head)
+    assert bpy.ops.meshmorph.arkit_expressions() == {"FINISHED"}
+    made = meshmorph.expressions(v, triangles(head), points)
+    names = made["names"]
+    assert [k.name for k in head.data.shape_keys.key_blocks][1:] == names
+    want = local(head, v + made["deltas"][names.index("jawOpen")]).astype(np.float32)
+    got = key(head, "jawOpen")
+    assert np.abs(got - want).max() <= 1e-6 * diagonal(want) + 1e-6, np.abs(got - want).max()
+    chin = t["landmarks"]["9"]
+    assert np.linalg.norm(world(head, got)[chin] - v[chin]) > 0.01 * diagonal(v)
+    # Again: the keys are there, refused naming them, the head as it was.
+    refused(bpy.ops.meshmorph.arkit_expressions, (head,), "Head", "eyeBlinkLeft", "Replace Keys")
+    # From a landmark file, by vertex, replacing the keys: the same keys.
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "head.txt")
+        with open(path, "w") as f:
+            f.writelines("ibug{} {}\n".format(n, t["landmarks"][n]) for n in RECOMMENDED)
+        s.landmark_source, s.landmark_file, s.replace_keys = "FILE", path, True
+        assert bpy.ops.meshmorph.arkit_expressions() == {"FINISHED"}
+        assert np.abs(key(head, "jawOpen") - want).max() <= 1e-6 * diagonal(want) + 1e-6
+        # Too few landmarks: one sentence naming the head, nothing changed.
+        with open(path, "w") as f:
+            f.writelines("ibug{} {}\n".format(n, t["landmarks"][n]) for n in RECOMMENDED[:5])
+        refused(bpy.ops.meshmorph.arkit_expressions, (head,), "Head", "12")
+    s.landmark_source, s.landmark_file, s.replace_keys = "EMPTIES", "", False
+    for child in list(head.children):
+        bpy.data.objects.remove(child)
+    bpy.data.objects.remove(head)
 
 failed = 0
 for name, test in list(globals().items()):

@@ -194,8 +194,39 @@ fn arkit_template(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     Ok(out)
 }
 
+/// Reads a file of named landmarks on a head (MeshLab's `.pp`, Wrap's
+/// `.json`, or lines of `name x y z` / `name VERTEX`): a list of `(name,
+/// (x, y, z))` in the file's order, as `expressions` takes them. Points
+/// given by vertex or triangle are placed on `vertices` and `faces`.
+#[pyfunction]
+#[pyo3(signature = (path, vertices, faces, *, one_based=None))]
+fn read_landmarks<'py>(
+    py: Python<'py>,
+    path: &Bound<'py, PyAny>,
+    vertices: &Bound<'py, PyAny>,
+    faces: &Bound<'py, PyAny>,
+    one_based: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyList>> {
+    let path = args::path("path", path)?;
+    let numbering = if args::flag("one_based", one_based, false)? {
+        meshmorph::VertexNumbering::FromOne
+    } else {
+        meshmorph::VertexNumbering::FromZero
+    };
+    let positions = arrays::points_of::<3>("vertices", vertices)?;
+    let triangles = arrays::faces("faces", faces)?;
+    let head = arrays::mesh::<3>(py, ("vertices", "faces"), positions, triangles)?;
+    let points = meshmorph::read_landmarks(&path, &head, numbering).map_err(error)?;
+    let out = PyList::empty(py);
+    for (name, p) in points {
+        out.append((name, (p[0], p[1], p[2])))?;
+    }
+    Ok(out)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(expressions, m)?)?;
+    m.add_function(wrap_pyfunction!(read_landmarks, m)?)?;
     m.add_function(wrap_pyfunction!(arkit_template, m)?)?;
     Ok(())
 }

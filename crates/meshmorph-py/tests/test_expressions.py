@@ -71,3 +71,26 @@ def test_bad_method_and_template_are_refused(tmp_path):
     bad.write_bytes(b"not a glb")
     with pytest.raises(meshmorph.MeshmorphError, match="rig.glb"):
         meshmorph.expressions(vertices, t["faces"], landmarks, template=bad)
+
+
+def test_a_landmark_file_by_position_and_by_vertex(tmp_path):
+    t, vertices, landmarks, _ = moved_head()
+    lines = ["# landmarks"]
+    for k, (n, p) in enumerate(landmarks.items()):
+        # In lines of text a number alone reads as a coordinate: ibug9, not 9.
+        if k % 2:
+            lines.append("ibug{} {} {} {}".format(n, *p))
+        else:
+            lines.append("ibug{} {}".format(n, t["landmarks"][n]))
+    path = tmp_path / "head.txt"
+    path.write_text("\n".join(lines) + "\n")
+    read = meshmorph.read_landmarks(path, vertices, t["faces"])
+    assert [n for n, _ in read] == ["ibug" + n for n in landmarks]
+    for (n, p) in read:
+        assert np.allclose(p, landmarks[n[len("ibug"):]])
+    a = meshmorph.expressions(vertices, t["faces"], read)["deltas"]
+    b = meshmorph.expressions(vertices, t["faces"], landmarks)["deltas"]
+    assert np.allclose(a, b)
+    path.write_text("chin 99999999\n")
+    with pytest.raises(meshmorph.MeshmorphError, match="head.txt"):
+        meshmorph.read_landmarks(path, vertices, t["faces"])
