@@ -10,6 +10,11 @@
 //              "mirror": k (then undone), "overlay": "overlay.png",
 //              "drag": { "pair": k, "side": "source", "to": [x, y, z] } (then undone),
 //              "save": true, "fit": true,
+//              "guided": { "points": { landmark: [x, y, z] on the head, ... },
+//                          "skip": landmark } (with `pick --template`: each
+//                          landmark the page asks for clicked on the head,
+//                          "skip" and those not given skipped, then the fit
+//                          after the last click awaited),
 //              "screenshot": "name.png", "size": [width, height] }
 // Every step is optional. Exits 0 when every step ran, 1 when one failed,
 // 2 on a usage or setup error.
@@ -56,6 +61,29 @@ try {
       await page.evaluate(() => new Promise((ok) => requestAnimationFrame(() => requestAnimationFrame(ok))));
       clicks.push({ side, at, wall_ms: Date.now() - before, ...(await page.evaluate(() => ({ work_ms: window.pick.timings.lastClickWork, frame_ms: window.pick.timings.lastClick }))) });
     }
+  }
+  if (plan.guided) {
+    // As the page asks: the lit landmark clicked on the head, or skipped.
+    const { points, skip } = plan.guided;
+    const asked = [];
+    for (let step = 0; step < 200; step++) {
+      const next = await page.evaluate(() => window.pick.next());
+      if (!next || asked.filter((n) => n === next.name).length > 1) break;
+      asked.push(next.name);
+      const point = points[next.name];
+      if (!point || (next.name === skip && asked.filter((n) => n === skip).length === 1)) {
+        await page.click('#skip');
+        continue;
+      }
+      const at = await project('target', point);
+      await page.mouse.click(at.x, at.y);
+      await page.evaluate(() => new Promise((ok) => requestAnimationFrame(() => requestAnimationFrame(ok))));
+    }
+    result.asked = asked;
+    result.guide_text = await page.evaluate(() => document.getElementById('guide').innerText);
+    // The fit after the last click (each click asks for one) with its preview.
+    await page.waitForFunction(() => document.body.dataset.fit === 'done' && window.pick.fit()?.pose, { timeout: 300000 });
+    result.fit = await page.evaluate(() => window.pick.fit());
   }
   result.clicks = clicks;
   result.after_clicks = await page.evaluate(() => window.pick.pairs().length);

@@ -8,6 +8,7 @@
 //! stops when the page says done, or on Ctrl-C.
 
 mod door;
+mod guide;
 mod page;
 mod session;
 
@@ -33,12 +34,24 @@ use crate::transfer::{CorrespondArgs, References};
     mut_arg("no_markers", |a| a.hide(true)),
 )]
 pub struct Args {
-    /// The source mesh at rest.
+    /// The source mesh at rest (with --template: the head).
     #[arg(value_name = "SOURCE")]
     pub source: PathBuf,
-    /// The target mesh at rest.
-    #[arg(value_name = "TARGET")]
-    pub target: PathBuf,
+    /// The target mesh at rest (not with --template).
+    #[arg(
+        value_name = "TARGET",
+        required_unless_present = "template",
+        conflicts_with = "template"
+    )]
+    pub target: Option<PathBuf>,
+    /// Place an expression template's landmarks on the head (SOURCE), one
+    /// by one: `arkit` (the built-in template) or a rig's GLB. The page
+    /// lights the next landmark on the template and names it, a click on
+    /// the head places it (skip and redo allowed), and each fit shows
+    /// jawOpen and eyeBlinkLeft on the head once 12 are placed; "save"
+    /// writes the landmark file `meshmorph expressions --markers` reads.
+    #[arg(long, value_name = "arkit|FILE.glb", conflicts_with_all = ["pose", "markers"])]
+    pub template: Option<String>,
     /// Where "save" writes the markers: meshmorph's marker file, with names
     /// and surface points. Never one of the inputs.
     #[arg(short, long, value_name = "MARKERS")]
@@ -71,10 +84,26 @@ pub fn run(args: &Args) -> Result<()> {
     } else {
         args.correspond.marker_files()?
     };
-    let mut inputs: Vec<(PathBuf, &'static str)> = vec![
-        (args.source.clone(), "source reference"),
-        (args.target.clone(), "target reference"),
-    ];
+    // With --template, the template's head is the source and the one mesh
+    // given, the head, the target.
+    let (source_path, target_path) = match (&args.template, &args.target) {
+        (Some(template), _) => (PathBuf::from(template), args.source.clone()),
+        (None, Some(target)) => (args.source.clone(), target.clone()),
+        (None, None) => {
+            anyhow::bail!("give the source and the target meshes (or --template and a head)")
+        }
+    };
+    let mut inputs: Vec<(PathBuf, &'static str)> = match &args.template {
+        Some(t) if t == "arkit" => vec![(target_path.clone(), "head")],
+        Some(_) => vec![
+            (source_path.clone(), "template"),
+            (target_path.clone(), "head"),
+        ],
+        None => vec![
+            (source_path.clone(), "source reference"),
+            (target_path.clone(), "target reference"),
+        ],
+    };
     inputs.extend(marker_files.iter().map(|p| (p.clone(), "marker file")));
     inputs.extend(args.pose.iter().map(|p| (p.clone(), "source pose")));
     // The output is checked before anything is read, as every save checks
@@ -85,13 +114,24 @@ pub fn run(args: &Args) -> Result<()> {
     };
     drop(save.prepare()?);
     let refs = References {
-        source_ref: args.source.clone(),
-        target_ref: args.target.clone(),
+        source_ref: source_path,
+        target_ref: target_path,
         no_weld: args.no_weld,
         source_mesh: None,
         target_mesh: None,
     };
-    let (source, target) = refs.read()?;
+    let guide = args
+        .template
+        .as_deref()
+        .map(guide::Guide::read)
+        .transpose()?;
+    let (source, target) = match &guide {
+        Some(guide) => (
+            guide.source()?,
+            crate::transfer::Reference::read(&refs.target_ref, "head", None, !args.no_weld)?,
+        ),
+        None => refs.read()?,
+    };
     let start = if marker_files.is_empty() {
         Markers::new(Vec::new())
     } else {
@@ -131,6 +171,7 @@ pub fn run(args: &Args) -> Result<()> {
         fitting: Mutex::new(()),
         done: Mutex::new(done),
         ended: Mutex::new(false),
+        guide,
     };
     let served = door.serve(Arc::new(session));
     say!("pick: open {url} in a browser (Ctrl-C or \"done\" on the page stops)");

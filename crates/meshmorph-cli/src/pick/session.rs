@@ -17,6 +17,7 @@ use serde::Deserialize;
 use serde_json::{json, Value};
 
 use super::door::{Handler, Request, Response};
+use super::guide::Guide;
 use super::page;
 use crate::outputs::{Output, Plan, Staging};
 use crate::transfer::{CorrespondArgs, Reference, References};
@@ -44,6 +45,9 @@ pub struct Session {
     /// Held by a save for its whole length, and by "done" (which sets it):
     /// "done" waits for a save under way, and no save starts after it.
     pub ended: Mutex<bool>,
+    /// With `--template`: the template whose landmarks are placed on the
+    /// head (the target); the source is its head.
+    pub guide: Option<Guide>,
 }
 
 /// Where "save" writes, and every file the run reads: each save (and the
@@ -160,6 +164,7 @@ impl Session {
             "pairs": pairs,
             "mirror_planes": [plane(&self.planes[0]), plane(&self.planes[1])],
             "max_markers": MAX_MARKERS,
+            "guide": self.guide.as_ref().map(Guide::describe),
         })
     }
 
@@ -247,8 +252,11 @@ impl Session {
                 distance[v as usize] = distance[v as usize].max(d);
             }
         }
-        let pose = match &self.pose {
-            Some((path, pose)) => {
+        let pose = match (&self.guide, &self.pose) {
+            (Some(guide), _) => guide
+                .preview(markers, target_file)
+                .context("the preview of the expressions")?,
+            (None, Some((path, pose))) => {
                 let transfer = Transfer::new(
                     &self.source.mesh,
                     &self.target.mesh,
@@ -259,7 +267,7 @@ impl Session {
                 let out = transfer.apply(pose)?;
                 Some(self.target.file.seams.unweld(&out))
             }
-            None => None,
+            (None, None) => None,
         };
         // The page's pairs nearest each poor region, found by their target
         // points (welding keeps every position).
@@ -358,7 +366,17 @@ impl Session {
             bail!("the session has ended (\"done\"): nothing more is saved");
         }
         let (staging, out) = self.save.prepare()?;
-        staging.write(out, |path| Ok(markers.save(path)?))?;
+        match &self.guide {
+            Some(guide) => {
+                let text = guide.landmark_file(markers)?;
+                staging.write(out, |path| {
+                    Ok(meshmorph::io::write_atomic(path, |w| {
+                        w.write_all(text.as_bytes())
+                    })?)
+                })?;
+            }
+            None => staging.write(out, |path| Ok(markers.save(path)?))?,
+        }
         staging.commit()?;
         Ok(Response::json(&json!({
             "saved": self.save.path.display().to_string(),

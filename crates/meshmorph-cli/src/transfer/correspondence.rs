@@ -442,22 +442,8 @@ pub struct References {
 impl References {
     /// Both files, kept whole, and their meshes welded at seams.
     pub(crate) fn read(&self) -> Result<(Reference, Reference)> {
-        let read = |path: &Path, role: &str, choice: Option<&str>| -> Result<Reference> {
-            if crate::gltf::is_gltf(path) {
-                let rig = Rig::read(path, role, choice)?;
-                let (file, mesh) = WeldedFile::new(rig.mesh_file(path, role)?, !self.no_weld);
-                return Ok(Reference {
-                    file,
-                    mesh,
-                    rig: Some(rig),
-                });
-            }
-            let (file, mesh) = WeldedFile::new(output::read_mesh_file(path, role)?, !self.no_weld);
-            Ok(Reference {
-                file,
-                mesh,
-                rig: None,
-            })
+        let read = |path: &Path, role: &str, choice: Option<&str>| {
+            Reference::read(path, role, choice, !self.no_weld)
         };
         let (s, t) = rayon::join(
             || {
@@ -529,6 +515,26 @@ impl Rig {
 }
 
 impl Reference {
+    /// The file at `path` (called `role`), kept whole, its mesh welded at
+    /// seams with `weld`; of a glTF or VRM file, the mesh `choice`.
+    pub(crate) fn read(path: &Path, role: &str, choice: Option<&str>, weld: bool) -> Result<Self> {
+        if crate::gltf::is_gltf(path) {
+            let rig = Rig::read(path, role, choice)?;
+            let (file, mesh) = WeldedFile::new(rig.mesh_file(path, role)?, weld);
+            return Ok(Reference {
+                file,
+                mesh,
+                rig: Some(rig),
+            });
+        }
+        let (file, mesh) = WeldedFile::new(output::read_mesh_file(path, role)?, weld);
+        Ok(Reference {
+            file,
+            mesh,
+            rig: None,
+        })
+    }
+
     /// The mesh as the file has it (marker and pin indices refer to it).
     pub(crate) fn file_mesh(&self) -> &Mesh3 {
         self.file.file.mesh()

@@ -480,3 +480,74 @@ fn pick_stops_on_ctrl_c_leaving_nothing() {
         assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 2);
     }
 }
+
+/// `pick --template arkit HEAD`: the session lists the template's
+/// landmarks (the recommended first); a save writes the head's points as a
+/// landmark file `expressions --markers` reads; pairs that are not the
+/// template's landmarks are refused, naming them; a fit with twelve
+/// landmarks previews the expressions.
+#[test]
+fn pick_with_a_template_saves_landmarks_and_refuses_pairs_that_are_not_its_landmarks() {
+    use meshmorph::{landmark_name, ExpressionTemplate, RECOMMENDED_LANDMARKS};
+    let dir = tempfile::TempDir::new().unwrap();
+    let t = ExpressionTemplate::arkit();
+    let head = dir.path().join("head.obj");
+    meshmorph::io::write_mesh(&head, &t.head, meshmorph::io::Format::Obj).unwrap();
+    let mut pick = Pick::start_guided(dir.path(), "arkit", &head);
+    let (status, body) = pick.page("GET", "/api/session", "");
+    assert_eq!(status, 200, "{body}");
+    let session: serde_json::Value = serde_json::from_str(&body).unwrap();
+    let guide = &session["guide"]["landmarks"];
+    assert_eq!(guide.as_array().unwrap().len(), 68);
+    assert_eq!(guide[0]["name"], "jawRight");
+    assert_eq!(guide[1]["name"], "chin");
+    let pair = |name: &str, source: u32, target: u32| {
+        format!(
+            r#"{{"name":"{name}","source":{{"vertex":{source}}},"target":{{"vertex":{target}}}}}"#
+        )
+    };
+    let landmarks: Vec<(String, u32)> = RECOMMENDED_LANDMARKS
+        .iter()
+        .map(|&n| (landmark_name(n), t.landmark(&n.to_string()).unwrap()))
+        .collect();
+    let body = |pairs: &[String]| format!(r#"{{"pairs":[{}]}}"#, pairs.join(","));
+    // Not a landmark, a wrong template point, no name: refused, naming it.
+    for (bad, words) in [
+        (pair("earlobe", 0, 0), "earlobe"),
+        (pair("chin", 5, 5), "chin"),
+        (
+            r#"{"source":{"vertex":966},"target":{"vertex":966}}"#.to_string(),
+            "name",
+        ),
+    ] {
+        let (status, answer) = pick.page("POST", "/api/save", &body(&[bad]));
+        assert_eq!(status, 422, "{answer}");
+        assert!(answer.contains(words), "{answer}");
+    }
+    assert!(!pick.output.exists());
+    // Twelve landmarks: the fit previews the expressions.
+    let twelve: Vec<String> = landmarks[..12]
+        .iter()
+        .map(|(n, v)| pair(n, *v, *v))
+        .collect();
+    let (status, fit) = pick.page("POST", "/api/fit", &body(&twelve));
+    assert_eq!(status, 200);
+    assert!(
+        fit.contains(r#""pose":true"#),
+        "{}",
+        &fit[..fit.len().min(400)]
+    );
+    let (status, answer) = pick.page("POST", "/api/save", &body(&twelve));
+    assert_eq!(status, 200, "{answer}");
+    let read =
+        meshmorph::read_landmarks(&pick.output, &t.head, meshmorph::VertexNumbering::FromZero)
+            .unwrap();
+    assert_eq!(read.len(), 12);
+    for ((name, p), (n, v)) in read.iter().zip(&landmarks) {
+        assert_eq!(name, n);
+        assert_eq!(*p, t.head.positions()[*v as usize]);
+    }
+    let (status, _) = pick.page("POST", "/api/done", "{}");
+    assert_eq!(status, 200);
+    assert!(pick.wait().success());
+}

@@ -62,9 +62,24 @@ impl Pick {
         meshmorph::io::write_mesh(&source, &sheet(16, 1.0), meshmorph::io::Format::Obj).unwrap();
         meshmorph::io::write_mesh(&target, &sheet(24, 1.5), meshmorph::io::Format::Obj).unwrap();
         let output = dir.join("markers.txt");
+        Self::spawn(&[&source, &target], output, extra)
+    }
+
+    /// `pick --template TEMPLATE HEAD -o dir/landmarks.txt`.
+    pub fn start_guided(dir: &Path, template: &str, head: &Path) -> Pick {
+        let output = dir.join("landmarks.txt");
+        Self::spawn(&[head], output, &["--template", template])
+    }
+
+    /// `pick MESHES -o OUTPUT EXTRA`, its address read from its first line.
+    fn spawn(meshes: &[&Path], output: PathBuf, extra: &[&str]) -> Pick {
+        let (source, target) = (
+            meshes[0].to_path_buf(),
+            meshes[meshes.len() - 1].to_path_buf(),
+        );
         let mut child = Command::new(env!("CARGO_BIN_EXE_meshmorph"))
             .arg("pick")
-            .args([&source, &target])
+            .args(meshes)
             .arg("-o")
             .arg(&output)
             .args(extra)

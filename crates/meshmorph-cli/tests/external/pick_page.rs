@@ -19,7 +19,7 @@ use pick_session::{height, Pick};
 
 use crate::browser::{chromium, tools, which, Check, Needs};
 
-/// The two checks (see `browser.rs`).
+/// The checks (see `browser.rs`).
 pub fn checks() -> Vec<Check> {
     vec![
         (
@@ -31,6 +31,11 @@ pub fn checks() -> Vec<Check> {
             "pick_page::horse_camel_fits_on_the_page_as_correspond_fits",
             horse_camel_fits_on_the_page_as_correspond_fits,
             Needs::ChromiumAndSharedData("dt/horse-camel"),
+        ),
+        (
+            "pick_page::guided_by_the_template_the_landmarks_are_placed_and_previewed",
+            guided_by_the_template_the_landmarks_are_placed_and_previewed,
+            Needs::Chromium,
         ),
         (
             "pick_page::the_page_carries_the_pinned_three_js",
@@ -157,6 +162,28 @@ fn the_page_makes_deletes_undoes_saves_and_fits_pairs() {
 
 /// Runs `pick.mjs` on the page at `url` with `plan`, keeping its
 /// screenshots in `target/pick-check/`; the page's report.
+/// `meshmorph pick ARGS`, and the page's address from its first line.
+fn spawn_pick(args: &[&std::ffi::OsStr]) -> (std::process::Child, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_meshmorph"))
+        .arg("pick")
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    std::io::BufRead::read_line(
+        &mut std::io::BufReader::new(child.stdout.as_mut().unwrap()),
+        &mut line,
+    )
+    .unwrap();
+    let url = line
+        .split_whitespace()
+        .find(|w| w.starts_with("http://"))
+        .unwrap()
+        .to_string();
+    (child, url)
+}
+
 fn drive(url: &str, plan: &Value, dir: &Path) -> Value {
     let artifacts = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/pick-check");
     let plan_path = dir.join("plan.json");
@@ -193,24 +220,17 @@ fn horse_camel_fits_on_the_page_as_correspond_fits() {
         data.join("horse-poses/horse-09.obj"),
     );
     let output = dir.path().join("picked.txt");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_meshmorph"))
-        .args(["pick".as_ref(), horse.as_os_str(), camel.as_os_str()])
-        .args(["-o".as_ref(), output.as_os_str()])
-        .args(["--markers".as_ref(), markers.as_os_str()])
-        .args(["--pose".as_ref(), pose.as_os_str()])
-        .stdout(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    std::io::BufRead::read_line(
-        &mut std::io::BufReader::new(child.stdout.as_mut().unwrap()),
-        &mut line,
-    )
-    .unwrap();
-    let url = line
-        .split_whitespace()
-        .find(|w| w.starts_with("http://"))
-        .unwrap();
+    let (mut child, url) = spawn_pick(&[
+        horse.as_os_str(),
+        camel.as_os_str(),
+        "-o".as_ref(),
+        output.as_os_str(),
+        "--markers".as_ref(),
+        markers.as_os_str(),
+        "--pose".as_ref(),
+        pose.as_os_str(),
+    ]);
+    let url = url.as_str();
     let plan = serde_json::json!({
         "fit": true, "pose": false, "save": true,
         "screenshot": "pick-horse-camel.png", "size": [1280, 720], "done": true,
@@ -266,5 +286,77 @@ fn the_page_carries_the_pinned_three_js() {
         let a = std::fs::read(vendored.join(ours)).unwrap();
         let b = std::fs::read(package.join(theirs)).unwrap();
         assert!(a == b, "{ours} differs from the pinned three's {theirs}: copy it again after changing the version");
+    }
+}
+
+/// `pick --template arkit` on the template's own head, scaled and moved:
+/// the page asks for the recommended landmarks first; each is clicked on
+/// the head where the template has it (one skipped at first, asked for
+/// again at the end), the fit after the last click previews the shapes,
+/// and the saved landmark file puts every landmark where it was clicked
+/// and is what `expressions --markers` reads.
+fn guided_by_the_template_the_landmarks_are_placed_and_previewed() {
+    use meshmorph::{landmark_name, ExpressionTemplate, RECOMMENDED_LANDMARKS};
+    let dir = tempfile::TempDir::new().unwrap();
+    let t = ExpressionTemplate::arkit();
+    let head_mesh = t
+        .head
+        .with_positions(
+            t.head
+                .positions()
+                .iter()
+                .map(|p| [10.0 * p[0] + 1.0, 10.0 * p[1], 10.0 * p[2] - 2.0])
+                .collect(),
+        )
+        .unwrap();
+    let head = dir.path().join("head.obj");
+    meshmorph::io::write_mesh(&head, &head_mesh, meshmorph::io::Format::Obj).unwrap();
+    let output = dir.path().join("head.txt");
+    let (mut child, url) = spawn_pick(&[
+        "--template".as_ref(),
+        "arkit".as_ref(),
+        head.as_os_str(),
+        "-o".as_ref(),
+        output.as_os_str(),
+    ]);
+    let url = url.as_str();
+    let wanted: Vec<(String, [f64; 3])> = RECOMMENDED_LANDMARKS
+        .iter()
+        .map(|&n| {
+            let v = t.landmark(&n.to_string()).unwrap() as usize;
+            (landmark_name(n), head_mesh.positions()[v])
+        })
+        .collect();
+    let points: serde_json::Map<String, Value> = wanted
+        .iter()
+        .map(|(n, p)| (n.clone(), serde_json::json!(p)))
+        .collect();
+    let plan = serde_json::json!({
+        "guided": { "points": points, "skip": "noseTip" },
+        "save": true,
+        "screenshot": "pick-guided.png", "size": [1280, 720], "done": true,
+    });
+    let page = drive(url, &plan, dir.path());
+    assert!(child.wait().unwrap().success());
+    let asked: Vec<&str> = page["asked"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| a.as_str().unwrap())
+        .collect();
+    // The recommended ones first, in order; noseTip again once the others
+    // are placed.
+    let names: Vec<&str> = wanted.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(asked[..names.len()], names[..], "{page}");
+    assert!(asked[names.len()..].contains(&"noseTip"), "{page}");
+    assert_eq!(page["fit"]["pose"], true, "{page}");
+    assert_eq!(page["saved"], "17", "{page}");
+    let placed = meshmorph::read_landmarks(&output, &head_mesh, VertexNumbering::FromZero).unwrap();
+    assert_eq!(placed.len(), 17);
+    let diagonal = head_mesh.bounding_box_diagonal();
+    for (name, p) in &placed {
+        let (_, q) = wanted.iter().find(|(n, _)| n == name).unwrap();
+        let off = (0..3).map(|i| (p[i] - q[i]).powi(2)).sum::<f64>().sqrt();
+        assert!(off < 0.01 * diagonal, "{name}: {p:?} against {q:?}");
     }
 }

@@ -85,12 +85,14 @@ pub fn landmark_number(name: &str) -> Option<u8> {
         .map(|&(_, n)| n)
 }
 
-/// The readable name of iBUG point `number` (its alias, else its number).
+/// The readable name of iBUG point `number`: its alias, else `ibug` and
+/// its number (a name that is not a number alone, so that a line of text
+/// `name x y z` reads it as a name).
 pub fn landmark_name(number: u8) -> String {
     ALIASES
         .iter()
         .find(|&&(_, n)| n == number)
-        .map_or_else(|| number.to_string(), |(alias, _)| alias.to_string())
+        .map_or_else(|| format!("ibug{number}"), |(alias, _)| alias.to_string())
 }
 
 /// Checks a set of landmark numbers: refuses duplicates and fewer than
@@ -153,6 +155,9 @@ mod tests {
             assert_eq!(landmark_number(alias), Some(n));
             assert_eq!(landmark_name(n), alias);
         }
+        // A point without an alias is named so that it reads back as one.
+        assert_eq!(landmark_name(5), "ibug5");
+        assert_eq!(landmark_number(&landmark_name(5)), Some(5));
         // Every alias names one point.
         let mut numbers: Vec<u8> = ALIASES.iter().map(|a| a.1).collect();
         numbers.sort_unstable();

@@ -300,6 +300,28 @@ pub fn stroke_outline(
     out
 }
 
+/// `mesh` with each triangle split in four at its edges' midpoints (the
+/// same surface with four times the triangles and about four times the
+/// vertices): a denser mesh of a shape, for benchmarks.
+pub fn subdivide(mesh: &Mesh3) -> Mesh3 {
+    use std::collections::HashMap;
+    let mut positions = mesh.positions().to_vec();
+    let mut midpoint: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut triangles = Vec::with_capacity(4 * mesh.num_triangles());
+    for &[a, b, c] in mesh.triangles() {
+        let mut mid = |u: u32, v: u32| {
+            *midpoint.entry((u.min(v), u.max(v))).or_insert_with(|| {
+                let (p, q) = (positions[u as usize], positions[v as usize]);
+                positions.push(scale(add(p, q), 0.5));
+                positions.len() as u32 - 1
+            })
+        };
+        let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
+        triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+    }
+    Mesh3::new(positions, triangles).expect("a subdivided mesh is a valid mesh")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -374,26 +396,4 @@ mod tests {
         assert!(tapered.iter().flatten().all(|x| x.is_finite()));
         assert!(area(&tapered) > 0.0);
     }
-}
-
-/// `mesh` with each triangle split in four at its edges' midpoints (the
-/// same surface with four times the triangles and about four times the
-/// vertices): a denser mesh of a shape, for benchmarks.
-pub fn subdivide(mesh: &Mesh3) -> Mesh3 {
-    use std::collections::HashMap;
-    let mut positions = mesh.positions().to_vec();
-    let mut midpoint: HashMap<(u32, u32), u32> = HashMap::new();
-    let mut triangles = Vec::with_capacity(4 * mesh.num_triangles());
-    for &[a, b, c] in mesh.triangles() {
-        let mut mid = |u: u32, v: u32| {
-            *midpoint.entry((u.min(v), u.max(v))).or_insert_with(|| {
-                let (p, q) = (positions[u as usize], positions[v as usize]);
-                positions.push(scale(add(p, q), 0.5));
-                positions.len() as u32 - 1
-            })
-        };
-        let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
-        triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
-    }
-    Mesh3::new(positions, triangles).expect("a subdivided mesh is a valid mesh")
 }

@@ -72,11 +72,14 @@ function pointPosition(mesh, p, out = new THREE.Vector3()) {
   return out;
 }
 
-/** The surface point a ray hit: a triangle's point, or its nearest corner. */
+/** The surface point a ray hit: a triangle's point, or its nearest corner.
+ * The triangle's corners are taken where the object hit draws them (a
+ * posed copy of the mesh gives the same point of the mesh). */
 function surfacePoint(mesh, hit, object, snap) {
   const local = object.worldToLocal(hit.point.clone());
   const t = hit.faceIndex;
-  const corners = [0, 1, 2].map((i) => new THREE.Vector3().fromArray(mesh.positions, 3 * mesh.index[3 * t + i]));
+  const drawn = object.geometry.attributes.position.array;
+  const corners = [0, 1, 2].map((i) => new THREE.Vector3().fromArray(drawn, 3 * mesh.index[3 * t + i]));
   const b = new THREE.Vector3();
   THREE.Triangle.getBarycoord(local, corners[0], corners[1], corners[2], b);
   let w = [b.x, b.y, b.z].map((x) => Math.min(1, Math.max(0, x)));
@@ -217,7 +220,9 @@ function changed(fit = true) {
   if (fit) state.nearPoor = new Set(); // the last fit's pairs are not these
   drawMarkers();
   listPairs();
-  if (fit && $('autofit').checked) scheduleFit();
+  showGuide();
+  // Guided, a fit needs three landmarks (the preview twelve).
+  if (fit && $('autofit').checked && (!guide.list.length || placed().size >= 3)) scheduleFit();
 }
 
 function undo() {
@@ -240,6 +245,7 @@ const completePairs = () => state.pairs.filter(complete).map((p) => ({ name: p.n
 /** A point picked on `side`: it completes the pair waiting for it, replaces
  * the waiting pair's point on the same side, or starts a new pair. */
 function addPoint(side, point) {
+  if (guide.list.length) return placeLandmark(side, point);
   const key = SIDES[side], other = SIDES[1 - side];
   change(() => {
     const waiting = state.pairs.findIndex((p) => !complete(p));
@@ -264,6 +270,82 @@ function deleteSelected() {
 function cancelPending() {
   const waiting = state.pairs.findIndex((p) => !complete(p));
   if (waiting >= 0) change(() => { state.pairs.splice(waiting, 1); state.selected = -1; }, { fit: false });
+}
+
+// ---------------------------------------------------------------- guided (pick --template)
+
+// The template's landmarks to place on the head (the target), in order:
+// each pair is named by its landmark, its source point the landmark's
+// vertex on the template.
+const guide = { list: [], current: -1, marker: null };
+
+function placed() {
+  return new Set(state.pairs.filter(complete).map((p) => p.name));
+}
+
+/** The first landmark not yet placed from `from` on (wrapping), or -1. */
+function nextToPlace(from) {
+  const done = placed();
+  for (let i = 0; i < guide.list.length; i++) {
+    const k = (from + i) % guide.list.length;
+    if (!done.has(guide.list[k].name)) return k;
+  }
+  return -1;
+}
+
+/** A click on the head places the landmark lit on the template (again,
+ * when it was placed); a click on the template only says what to do. */
+function placeLandmark(side, point) {
+  const g = guide.list[guide.current];
+  if (side === SOURCE || !g) {
+    status(g ? `the template's points are fixed: click ${g.name} on your head` : 'every landmark is placed: click one in the list to place it again', !g);
+    return;
+  }
+  change(() => {
+    const pair = { name: g.name, source: { vertex: g.vertex }, target: point };
+    const k = state.pairs.findIndex((p) => p.name === g.name);
+    if (k >= 0) state.pairs[k] = pair;
+    else state.pairs.push(pair);
+    state.selected = state.pairs.findIndex((p) => p.name === g.name);
+    guide.current = nextToPlace(guide.current + 1);
+  });
+}
+
+function skip() {
+  if (guide.current < 0) return;
+  guide.current = nextToPlace(guide.current + 1);
+  showGuide();
+}
+
+/** The next landmark named and lit on the template, and how many are placed. */
+function showGuide() {
+  if (!guide.list.length) return;
+  const g = guide.list[guide.current];
+  const n = placed().size, needed = state.session.guide.needed;
+  $('guide-next').textContent = g ? `Next: ${g.name} (${guide.current + 1} of ${guide.list.length}): lit on the template, click it on your head` : 'Every landmark is placed.';
+  $('guide-count').textContent = `${n} placed; ${n >= needed ? `each fit previews ${state.session.guide.preview.join(' and ')} on your head` : `the preview starts at ${needed}`}`;
+  guide.marker.visible = !!g;
+  if (g) {
+    pointPosition(state.meshes[SOURCE], { vertex: g.vertex }, guide.marker.position);
+    guide.marker.scale.setScalar(2 * MARKER_RADIUS * state.meshes[SOURCE].diagonal);
+  }
+  render();
+}
+
+function startGuide(session) {
+  guide.list = session.guide.landmarks;
+  guide.marker = new THREE.Mesh(sphere, new THREE.MeshBasicMaterial({ color: 0x40e0ff }));
+  state.views[SOURCE].root.add(guide.marker);
+  guide.current = nextToPlace(0);
+  $('guide').hidden = false;
+  $('skip').addEventListener('click', skip);
+  document.querySelector('#source-view .label').textContent = `template (${session.guide.template})`;
+  document.querySelector('#target-view .label').textContent = 'your head';
+  document.querySelector('#pose-toggle').lastChild.textContent = ` preview ${session.guide.preview.join(' + ')}`;
+  $('show-pose').checked = true;
+  $('autofit').checked = true;
+  $('mirror').hidden = true;
+  for (const hint of document.querySelectorAll('aside > .hint')) hint.hidden = true;
 }
 
 // ---------------------------------------------------------------- drawing
@@ -316,13 +398,19 @@ function listPairs() {
     const name = document.createElement('input');
     name.value = pair.name ?? '';
     name.placeholder = 'name';
+    name.readOnly = guide.list.length > 0;
     name.addEventListener('change', () => change(() => { state.pairs[k].name = name.value.trim(); }, { fit: false }));
     const remove = document.createElement('button');
     remove.textContent = '×';
     remove.title = 'delete this pair';
     remove.addEventListener('click', (e) => { e.stopPropagation(); state.selected = k; deleteSelected(); });
     li.append(number, name, remove);
-    li.addEventListener('click', () => { state.selected = k; changed(false); });
+    li.addEventListener('click', () => {
+      state.selected = k;
+      const g = guide.list.findIndex((l) => l.name === pair.name);
+      if (g >= 0) guide.current = g;
+      changed(false);
+    });
     li.addEventListener('mouseenter', () => hover(k));
     li.addEventListener('mouseleave', () => hover(-1));
     return li;
@@ -357,6 +445,8 @@ function under(view, event) {
   raycaster.setFromCamera(view.ndc(event), view.camera);
   const markerGroups = [[view.markers, view === state.views[SOURCE] ? SOURCE : TARGET]];
   const meshes = [[view.object, view === state.views[SOURCE] ? SOURCE : TARGET]];
+  // The target shown posed (a transferred pose, the expressions' preview).
+  if (view.poseObject) meshes.push([view.poseObject, TARGET]);
   if (view === state.views[TARGET] && state.ghost && state.ghost.root.visible) {
     markerGroups.push([state.ghost.markers, SOURCE]);
     meshes.push([state.ghost.object, SOURCE]);
@@ -522,6 +612,7 @@ function showFit({ report, deformed, distances, pose }) {
   view.material.needsUpdate = true;
   // The deformed source over it, and the poor regions.
   view.fitLayer?.removeFromParent();
+  view.poseObject = null;
   const layer = normalised(target);
   const g = new THREE.BufferGeometry();
   g.setAttribute('position', new THREE.BufferAttribute(deformed, 3));
@@ -631,7 +722,7 @@ async function save() {
   const waiting = state.pairs.length - pairs.length;
   try {
     const answer = await request('api/save', { pairs });
-    status(`saved ${answer.pairs} pairs to ${answer.saved}${waiting ? ` (${waiting} half-made left out)` : ''}`);
+    status(`saved ${answer.pairs} ${guide.list.length ? 'landmarks' : 'pairs'} to ${answer.saved}${waiting ? ` (${waiting} half-made left out)` : ''}`);
     document.body.dataset.saved = String(answer.pairs);
   } catch (e) {
     status(`save failed: ${e.message}`, true);
@@ -658,7 +749,8 @@ function keys(event) {
   else if (event.key === 'Delete' || event.key === 'Backspace') deleteSelected();
   else if (event.key === 'Escape') cancelPending();
   else if (plain && event.key === 'f') fit();
-  else if (plain && event.key === 'm') mirror();
+  else if (plain && event.key === 'm' && !guide.list.length) mirror();
+  else if (plain && event.key === 's' && guide.list.length) skip();
 }
 
 function overlay() {
@@ -697,6 +789,7 @@ async function start() {
   link(state.views[TARGET], state.views[SOURCE]);
   state.views.forEach(attachPointer);
   state.pairs = session.pairs.map((p) => ({ name: p.name ?? '', source: p.source, target: p.target }));
+  if (session.guide) startGuide(session);
   $('undo').addEventListener('click', undo);
   $('redo').addEventListener('click', redo);
   $('delete').addEventListener('click', deleteSelected);
@@ -710,6 +803,7 @@ async function start() {
   window.addEventListener('keydown', keys);
   drawMarkers();
   listPairs();
+  showGuide();
   status(`source ${source.positions.length / 3} vertices, target ${target.positions.length / 3} vertices`);
   await new Promise((ok) => requestAnimationFrame(() => requestAnimationFrame(ok)));
   timings.ready = performance.now();
@@ -722,6 +816,8 @@ window.pick = {
   pairs: () => JSON.parse(JSON.stringify(state.pairs)),
   fit: () => state.fit,
   timings,
+  /** With --template: the landmark to place next, or null. */
+  next: () => guide.list[guide.current] ?? null,
   /** Where a surface point (as the pairs hold them) lies on its mesh. */
   position(side, point) {
     return pointPosition(state.meshes[side === 'source' ? SOURCE : TARGET], point).toArray();
