@@ -71,6 +71,20 @@ LANDMARKS = [
 # the four the FaceKit ships beside them.
 EXTRA_SHAPES = ["cheekRaiser_L", "cheekRaiser_R", "PupilDilate_L", "PupilDilate_R"]
 
+# The FaceKit's eyeLook shapes move the lids and the skin around the eyes,
+# not the eyeballs (a rig turns those by bones). Here each eyeball also
+# turns about its centre (the centre of the sphere that best fits it) in
+# its own side's eyeLook shapes, by EYE_TURN degrees at full weight, its
+# front (+z) towards the look: up is +y, the head's left +x, so looking in
+# (to the nose) is -x for the left eye and +x for the right.
+EYE_TURN = 30.0
+EYE_LOOKS = {  # shape: (eyeball, direction of the look, before the turn)
+    "eyeLookUp_L": ("eyeLeft", (0, 1)), "eyeLookDown_L": ("eyeLeft", (0, -1)),
+    "eyeLookIn_L": ("eyeLeft", (-1, 0)), "eyeLookOut_L": ("eyeLeft", (1, 0)),
+    "eyeLookUp_R": ("eyeRight", (0, 1)), "eyeLookDown_R": ("eyeRight", (0, -1)),
+    "eyeLookIn_R": ("eyeRight", (1, 0)), "eyeLookOut_R": ("eyeRight", (-1, 0)),
+}
+
 METRES_PER_UNIT = 0.01  # the FaceKit models in centimetres
 STEPS = 32767.0
 NOISE = 0.01  # 0.1 mm, in the FaceKit's centimetres  # normalised 16-bit: 1 m per 32767 steps
@@ -180,6 +194,27 @@ def delta_accessor(glb, q):
     return glb.accessor(a)
 
 
+def sphere_centre(points):
+    """The centre of the sphere that best fits `points` (least squares on
+    |p|^2 = 2 c.p + (r^2 - |c|^2))."""
+    a = np.hstack([2 * points, np.ones((len(points), 1))])
+    b = (points ** 2).sum(axis=1)
+    solution = np.linalg.lstsq(a, b, rcond=None)[0]
+    return solution[:3]
+
+
+def eye_turn(points, look):
+    """The deltas of an eyeball's `points` turned about its centre by
+    EYE_TURN degrees, its front (+z) towards `look` (x, y)."""
+    centre = sphere_centre(points)
+    angle = np.radians(EYE_TURN)
+    axis = np.cross([0.0, 0.0, 1.0], [look[0], look[1], 0.0])
+    axis /= np.linalg.norm(axis)
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    turn = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * (k @ k)
+    return (points - centre) @ turn.T + centre - points
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__.split("\n\n")[1])
@@ -198,6 +233,10 @@ def main():
         if v.shape != neutral.shape:
             sys.exit(f"{name}.obj: {len(v)} vertices, the neutral head has {len(neutral)}")
         d = v - neutral
+        if name in EYE_LOOKS:
+            eye, look = EYE_LOOKS[name]
+            _, _, _, e0, e1 = next(p for p in PARTS if p[0] == eye)
+            d[e0:e1 + 1] = eye_turn(neutral[e0:e1 + 1], look)
         # The FaceKit's shapes move every vertex a little (its scans'
         # noise: up to 0.08 mm on the far side of the face in eyeBlink_L);
         # what moves less than NOISE stays exactly still.
