@@ -8,6 +8,7 @@
 mod args;
 mod arrays;
 mod files;
+mod gltf;
 mod gradients;
 mod interpolation;
 mod outline;
@@ -45,6 +46,7 @@ fn meshmorph_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     interpolation::register(m)?;
     transfer::register(m)?;
     files::register(m)?;
+    gltf::register(m)?;
     gradients::register(m)?;
     outline::register(m)?;
     Ok(())
