@@ -93,8 +93,7 @@ impl Appender<'_> {
         target: Option<u32>,
         bounds: bool,
     ) -> usize {
-        let bytes: Vec<u8> = values.iter().flat_map(|x| x.to_le_bytes()).collect();
-        let view = self.view(&bytes, target);
+        let view = self.view(&float_bytes(values), target);
         let mut accessor = json!({
             "bufferView": view,
             "componentType": FLOAT,
@@ -157,8 +156,8 @@ impl Appender<'_> {
         if moved.is_empty() {
             return self.zeros(deltas.len());
         }
-        let flat: Vec<f32> = deltas.iter().flatten().copied().collect();
-        let (min, max) = bounds_of(&flat, 3);
+        let flat = deltas.as_flattened();
+        let (min, max) = bounds_of(flat, 3);
         let index_type: u32 = match deltas.len() {
             0..=256 => 5121,
             257..=65536 => 5123,
@@ -170,14 +169,15 @@ impl Appender<'_> {
             _ => 4,
         };
         if !sparse || moved.len() * (index_bytes + 12) >= deltas.len() * 12 {
-            return self.floats(&flat, 3, Some(ARRAY_BUFFER), true);
+            return self.floats(flat, 3, Some(ARRAY_BUFFER), true);
         }
         let indices = self.view(&integer_bytes(&moved, index_type), None);
-        let values: Vec<u8> = moved
-            .iter()
-            .flat_map(|&v| deltas[v as usize])
-            .flat_map(f32::to_le_bytes)
-            .collect();
+        let mut values = Vec::with_capacity(12 * moved.len());
+        for &v in &moved {
+            for x in deltas[v as usize] {
+                values.extend_from_slice(&x.to_le_bytes());
+            }
+        }
         let values = self.view(&values, None);
         self.push(
             "accessors",
@@ -188,6 +188,15 @@ impl Appender<'_> {
                     "values": {"bufferView": values}}}),
         )
     }
+}
+
+/// Little-endian bytes of `values`.
+pub(crate) fn float_bytes(values: &[f32]) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(4 * values.len());
+    for x in values {
+        bytes.extend_from_slice(&x.to_le_bytes());
+    }
+    bytes
 }
 
 /// Little-endian bytes of `values` as `component_type` (5121, 5123 or

@@ -197,9 +197,13 @@ pub fn add_shape_keys(
         .flatten();
     let (buffer, mut bin) = match glb_buffer {
         Some(b) => {
-            let mut bin = doc.bin().expect("checked").to_vec();
             let length = json["buffers"][b]["byteLength"].as_u64().unwrap_or(0) as usize;
-            bin.truncate(length.min(bin.len()));
+            let old = doc.bin().expect("checked");
+            let old = &old[..length.min(old.len())];
+            // Room for every shape stored densely, so that appending
+            // copies nothing already there.
+            let mut bin = Vec::with_capacity(old.len() + 12 * n * shapes.len() + 64);
+            bin.extend_from_slice(old);
             (b, bin)
         }
         None => {
