@@ -92,9 +92,10 @@ fn blenders_importer_reads_every_glb() {
 
 /// What Blender's glTF importer makes of each file, read in the background
 /// (a factory scene for each): for every object its name, type and
-/// parent, and for a mesh its vertices, materials, shape keys (the basis
-/// left out) and how far each key moves a vertex at most, for an armature
-/// its bones.
+/// parent, and for a mesh its vertices, materials, their textures (name
+/// and size in pixels), shape keys (the basis left out), how far each key
+/// moves a vertex at most and its armature modifiers' objects, for an
+/// armature its bones.
 fn blender_import(dir: &Path, files: &[PathBuf]) -> Vec<serde_json::Value> {
     let script = r#"
 import json, sys
@@ -117,6 +118,7 @@ for path in sys.argv[sys.argv.index("--") + 1:]:
             basis = [v.co.copy() for v in blocks[0].data] if blocks else []
             got["vertices"] = len(o.data.vertices)
             got["materials"] = [m.name if m else None for m in o.data.materials]
+            got["textures"] = sorted(f"{n.image.name} {n.image.size[0]}x{n.image.size[1]}" for m in o.data.materials if m and m.use_nodes for n in m.node_tree.nodes if n.type == "TEX_IMAGE" and n.image)
             got["keys"] = [k.name for k in blocks[1:]]
             got["moved"] = [max(((a - b).length for a, b in zip((v.co for v in k.data), basis)), default=0.0) for k in blocks[1:]]
             got["armatures"] = [m.object.name for m in o.modifiers if m.type == "ARMATURE" and m.object]
@@ -554,7 +556,8 @@ fn written_back_files_pass_the_khronos_validator_as_their_inputs_do() {
 
 /// Blender's importer on every kind of written-back file and on its
 /// input: the same objects (names, types, parents), the same armature and
-/// bones, the same materials on every mesh and the same vertices; the
+/// bones, the same materials and textures (with their pixels) on every
+/// mesh and the same vertices; the
 /// body's shape keys are its own followed by the new ones, on the same
 /// object, and each new one moves it; every other mesh's keys as they
 /// were.
@@ -587,6 +590,7 @@ fn blender_finds_written_back_shape_keys_on_the_same_objects() {
                 "bones",
                 "vertices",
                 "materials",
+                "textures",
                 "armatures",
             ] {
                 assert_eq!(b[what], a[what], "{out}: `{what}` of {b} became {a}");
@@ -603,12 +607,20 @@ fn blender_finds_written_back_shape_keys_on_the_same_objects() {
                     .map(|n| serde_json::Value::from(n.as_str())),
             );
             assert_eq!(a["keys"], serde_json::Value::from(keys), "{out}");
-            for what in ["materials", "armatures"] {
+            for what in ["materials", "textures", "armatures"] {
                 assert!(
                     !a[what].as_array().unwrap().is_empty(),
                     "{out}: no {what}: {a}"
                 );
             }
+            // The texture's pixels were found (beside a .gltf, in a GLB).
+            assert!(
+                a["textures"].as_array().unwrap().iter().all(|t| {
+                    let size = t.as_str().unwrap().rsplit(' ').next().unwrap();
+                    size != "0x0"
+                }),
+                "{out}: a texture without pixels: {a}"
+            );
             let moved = moves(a);
             println!(
                 "{out}: `{}` has keys {}, moving at most {moved:.3?}",
