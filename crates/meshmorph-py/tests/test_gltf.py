@@ -45,10 +45,12 @@ def split(data):
     return doc, data[28 + length :]
 
 
-def character(path, vrm=False):
+def character(path, vrm=False, split=False):
     """A GLB of a sheet (mesh `Face`, a morph target `Up` lifting its
     middle) and a triangle (mesh `Eye`), with a material and the asset's
-    copyright; with `vrm`, a VRM 1.0's `VRMC_vrm` data."""
+    copyright; with `vrm`, a VRM 1.0's `VRMC_vrm` data; with `split`, the
+    sheet's left and right halves are two primitives, each with its own
+    vertices (the middle column in both)."""
     v, f = sheet()
     up = np.zeros_like(v)
     up[:, 2] = 0.2 * np.exp(-4 * (v[:, 0] ** 2 + v[:, 1] ** 2))
@@ -72,9 +74,17 @@ def character(path, vrm=False):
         accessors.append(accessor)
         return len(accessors) - 1
 
-    position = add(v.astype(np.float32), "VEC3", 34962)
-    indices = add(f.astype(np.uint32).ravel(), "SCALAR", 34963)
-    target = add(up.astype(np.float32), "VEC3", 34962)
+    primitives = []
+    halves = [f[v[f].mean(1)[:, 0] < 0], f[v[f].mean(1)[:, 0] > 0]] if split else [f]
+    for half in halves:
+        used = np.unique(half)
+        local = np.searchsorted(used, half)
+        primitives.append({
+            "attributes": {"POSITION": add(v[used].astype(np.float32), "VEC3", 34962)},
+            "indices": add(local.astype(np.uint32).ravel(), "SCALAR", 34963),
+            "material": 0,
+            "targets": [{"POSITION": add(up[used].astype(np.float32), "VEC3", 34962)}],
+        })
     eye_position = add(eye, "VEC3", 34962)
     doc = {
         "asset": {"version": "2.0", "copyright": "the test's own", "generator": "test_gltf.py"},
@@ -84,8 +94,7 @@ def character(path, vrm=False):
         "materials": [{"name": "Skin", "pbrMetallicRoughness": {"baseColorFactor": [1, 0.8, 0.7, 1]}}],
         "meshes": [
             {"name": "Face", "weights": [0.0], "extras": {"targetNames": ["Up"]},
-             "primitives": [{"attributes": {"POSITION": position}, "indices": indices, "material": 0,
-                             "targets": [{"POSITION": target}]}]},
+             "primitives": primitives},
             {"name": "Eye", "primitives": [{"attributes": {"POSITION": eye_position}}]},
         ],
         "accessors": accessors,
@@ -221,3 +230,22 @@ def test_the_readmes_flow_carries_a_rigs_targets_into_a_copy_of_the_character(tm
     # The same sheet: the shape comes back as it was, to a small fraction of its lift.
     moved = back.targets["Up_copy"] - back.vertices
     assert np.abs(moved - up).max() < 0.1 * np.abs(up).max()
+
+
+def test_two_primitives_are_one_surface_welded_where_their_vertices_coincide(tmp_path):
+    v, f, up, _ = character(tmp_path / "split.glb", split=True)
+    g = meshmorph.read_gltf(tmp_path / "split.glb")
+    # The middle column (7 vertices) is in both primitives.
+    assert g.vertices.shape == (49 + 7, 3) and g.faces.shape == f.shape
+    wv, wf, index = g.welded()
+    assert wv.shape == (49, 3) and wf.shape == f.shape
+    assert np.allclose(wv[index], g.vertices)
+    assert sorted(set(index.tolist())) == list(range(49))
+    # A shape given on the welded vertices, expanded by the index, goes into both primitives.
+    lifted = wv + [0, 0, 0.05]
+    meshmorph.write_gltf(tmp_path / "out.glb", g, {"Lift": lifted[index]})
+    back = meshmorph.read_gltf(tmp_path / "out.glb")
+    assert list(back.targets) == ["Up", "Lift"]
+    assert np.allclose(back.targets["Lift"] - back.vertices, [0, 0, 0.05], atol=1e-6)
+    doc, _ = split((tmp_path / "out.glb").read_bytes())
+    assert [len(p["targets"]) for p in doc["meshes"][0]["primitives"]] == [2, 2]
