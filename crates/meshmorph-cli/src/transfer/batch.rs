@@ -26,6 +26,7 @@
 //! `gltf` is a copy of that file with the shapes added (`replace_shapes`,
 //! `vrm_expressions` as the options of those names); then `output` may be
 //! left out.
+
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
