@@ -4,11 +4,11 @@
 //! users' own files with shape keys written back into them (a GLB
 //! character, a `.gltf` with its buffer and image beside it, a VRM 0.x and
 //! a VRM 1.0), in the validator (no error, no warning the input did not
-//! have) and in Blender (the new keys on the same object, all else as the
-//! input imports).
+//! have), in Blender (the new keys on the same object, all else as the
+//! input imports) and in three.js (drawn, moving, the new targets named).
 //!
-//! Both need `npm ci` in tools/browser-checks (and Debian's `chromium` for the
-//! second): see `browser.rs`.
+//! All need `npm ci` in tools/browser-checks, and Debian's `chromium` or
+//! `blender` for theirs: see `browser.rs`.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -48,6 +48,11 @@ pub fn checks() -> Vec<Check> {
             "gltf_clients::blender_finds_written_back_shape_keys_on_the_same_objects",
             blender_finds_written_back_shape_keys_on_the_same_objects,
             Needs::Blender,
+        ),
+        (
+            "gltf_clients::three_js_in_chromium_reads_written_back_glb_and_vrm",
+            three_js_in_chromium_reads_written_back_glb_and_vrm,
+            Needs::Chromium,
         ),
     ]
 }
@@ -408,7 +413,6 @@ fn validate(files: &[PathBuf]) -> Vec<Validated> {
 }
 
 fn three_js_in_chromium_draws_the_animation_moving() {
-    let chromium = chromium();
     let dir = out_dir("gltf-chromium");
     let glbs = write_glbs(&dir);
     let shots = dir.join("screenshots");
@@ -418,16 +422,47 @@ fn three_js_in_chromium_draws_the_animation_moving() {
         .iter()
         .filter(|g| !g.ends_with("transfer-shapes.glb") && !g.ends_with("transfer-uvs.glb"))
     {
-        let out = Command::new("node")
-            .arg(tools().join("render.mjs"))
-            .arg(glb)
-            .arg(&shots)
-            .env("CHROMIUM", which(&chromium))
-            .output()
-            .expect("node runs");
-        let report = String::from_utf8_lossy(&out.stdout);
-        println!("{report}{}", String::from_utf8_lossy(&out.stderr));
-        assert!(out.status.success(), "three.js check failed:\n{report}");
+        render(glb, &shots);
+    }
+    println!("screenshots in {}", shots.display());
+}
+
+/// `tools/browser-checks/render.mjs` on `glb`, screenshots into `shots`:
+/// three.js's GLTFLoader in headless Chromium draws it at the start, the
+/// middle and the end of its animation, and it moves. Its report.
+fn render(glb: &Path, shots: &Path) -> String {
+    let out = Command::new("node")
+        .arg(tools().join("render.mjs"))
+        .arg(glb)
+        .arg(shots)
+        .env("CHROMIUM", which(&chromium()))
+        .output()
+        .expect("node runs");
+    let report = String::from_utf8_lossy(&out.stdout).into_owned();
+    println!("{report}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "three.js check failed:\n{report}");
+    report
+}
+
+/// three.js in headless Chromium on the written-back GLB and VRMs (a
+/// `.gltf` needs its files served beside it, which render.mjs does not):
+/// drawn, its animation (the head nodding) moving it, and the body's
+/// morph targets its own followed by the new ones, by name.
+fn three_js_in_chromium_reads_written_back_glb_and_vrm() {
+    let dir = out_dir("gltf-written-back-chromium");
+    let (pairs, _) = write_backs(&dir);
+    let shots = dir.join("screenshots");
+    for pair in pairs
+        .iter()
+        .filter(|p| p.output.extension().is_some_and(|e| e != "gltf"))
+    {
+        let report = render(&pair.output, &shots);
+        let names = format!("3 morph targets (Smile, {})", pair.added.join(", "));
+        assert!(
+            report.contains(&names),
+            "{}: {report}",
+            pair.output.display()
+        );
     }
     println!("screenshots in {}", shots.display());
 }
