@@ -264,6 +264,9 @@ fn read(file: &Path, args: &TransferArgs) -> Result<Vec<Job>> {
             if t.output.is_none() && t.gltf.is_none() {
                 bail!("{named}: give `output` (a folder for the poses), `gltf` or both");
             }
+            if t.output.is_some() && batch.poses.is_empty() {
+                bail!("{named}: `output` is a folder for the poses listed in `poses`; a glTF source's morph targets go into `gltf`");
+            }
             let into_gltf = crate::gltf::is_gltf(&t.reference);
             if (t.replace_shapes || t.vrm_expressions) && !(into_gltf && t.gltf.is_some()) {
                 bail!("{named}: `replace_shapes` and `vrm_expressions` add to a glTF or VRM `reference`'s own file, written as `gltf`");

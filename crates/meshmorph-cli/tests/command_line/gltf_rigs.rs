@@ -265,6 +265,12 @@ fn a_batch_refuses_what_a_glb_rig_cannot_do_naming_the_file_and_target() {
         "source = \"rig.glb\"\n[[targets]]\nreference = \"char.glb\"\nmarkers = \"body.txt\"\n",
         &["target 0 of", "nothing.toml", "`output`"],
     );
+    // A folder of poses without pose files.
+    refused(
+        "folder.toml",
+        "source = \"rig.glb\"\n[[targets]]\nreference = \"char.glb\"\nmarkers = \"body.txt\"\ngltf = \"a.glb\"\noutput = \"poses/\"\n",
+        &["target 0 of", "folder.toml", "`output`", "`gltf`"],
+    );
     // A glTF made from scratch (an OBJ target) is a .glb.
     refused(
         "vrm-of-obj.toml",
