@@ -1,4 +1,5 @@
-// Validates GLB files with the Khronos glTF validator.
+// Validates glTF files (.glb, .vrm, and .gltf with the files its URIs name
+// beside it) with the Khronos glTF validator.
 //
 //   node validate.mjs FILE.glb...
 //
@@ -6,7 +7,7 @@
 // that is an error or a warning) and exits 1 when any file has an error or a
 // warning, 2 when a file cannot be read.
 import { readFile } from 'node:fs/promises';
-import { basename } from 'node:path';
+import { basename, dirname, resolve } from 'node:path';
 import validator from 'gltf-validator';
 
 const SEVERITY = ['error', 'warning', 'info', 'hint'];
@@ -27,7 +28,9 @@ for (const file of files) {
   const report = await validator.validateBytes(bytes, {
     uri: basename(file),
     maxIssues: 0,
-    externalResourceFunction: () => Promise.reject(new Error('a GLB needs no external resources')),
+    // A .gltf's buffers and images, read from its folder.
+    externalResourceFunction: async (uri) =>
+      new Uint8Array(await readFile(resolve(dirname(file), decodeURIComponent(uri)))),
   });
   const { numErrors, numWarnings, numInfos, numHints, messages } = report.issues;
   const info = report.info ?? {};

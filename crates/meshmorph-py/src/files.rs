@@ -90,22 +90,26 @@ fn write_mesh(
             format!("{} vertices, the mesh has {n}", positions.len()),
         ));
     }
-    let same = match (
-        std::fs::canonicalize(&path),
-        std::fs::canonicalize(mesh.file.path()),
-    ) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
-    };
-    if same {
-        return Err(bad("path", format!("{} is the file the mesh was read from: meshmorph never writes over its inputs; choose another path", path.display())));
-    }
+    not_the_input(&path, mesh.file.path())?;
     let format = meshmorph::io::Format::from_path(&path).map_err(|e| bad("path", e))?;
     work::run(py, || mesh.file.write(&path, &positions, format))?.map_err(|e| match e {
         // What the system says of the path (a missing folder, no room).
         meshmorph::Error::Io { .. } => bad("path", e),
         e => error(e),
     })
+}
+
+/// Refuses `path` (argument `path`) when it is the file `input`, from
+/// which the mesh was read: meshmorph never writes over its inputs.
+pub(crate) fn not_the_input(path: &std::path::Path, input: &std::path::Path) -> PyResult<()> {
+    let same = match (std::fs::canonicalize(path), std::fs::canonicalize(input)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if same {
+        return Err(bad("path", format!("{} is the file the mesh was read from: meshmorph never writes over its inputs; choose another path", path.display())));
+    }
+    Ok(())
 }
 
 /// Marker pairs on two surfaces, with names.

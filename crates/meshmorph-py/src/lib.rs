@@ -9,6 +9,7 @@ mod args;
 mod arrays;
 mod expressions;
 mod files;
+mod gltf;
 mod gradients;
 mod interpolation;
 mod outline;
@@ -46,6 +47,7 @@ fn meshmorph_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     interpolation::register(m)?;
     transfer::register(m)?;
     files::register(m)?;
+    gltf::register(m)?;
     gradients::register(m)?;
     outline::register(m)?;
     expressions::register(m)?;

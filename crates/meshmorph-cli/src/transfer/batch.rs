@@ -18,6 +18,14 @@
 //! # gltf = "camel.glb"
 //! output = "camel/"
 //! ```
+//!
+//! With glTF and VRM files, as `--source-ref`, `--target-ref` and `--gltf`
+//! take them: a glTF `source` needs no `poses` (its morph targets are the
+//! poses: `shapes` chooses some, `source_mesh` its mesh), a target's
+//! `mesh` chooses the target's mesh, and a glTF or VRM `reference`'s
+//! `gltf` is a copy of that file with the shapes added (`replace_shapes`,
+//! `vrm_expressions` as the options of those names); then `output` may be
+//! left out.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -48,14 +56,36 @@ pub const FORMAT: &str = r#"A batch file (--batch), TOML or JSON, paths relative
   [[targets]]
   reference = "llama-reference.obj"
   correspondence = "horse-llama.corr"   # instead of markers
-  output = "llama/""#;
+  output = "llama/"
+
+With a glTF or VRM source, its morph targets are the poses:
+
+  source = "rig.glb"
+  source_mesh = "Face"                  # optional: the mesh's or its node's name
+  shapes = ["jawOpen", "eyeBlinkLeft"]  # optional: default every one
+
+  [[targets]]
+  reference = "mychar.vrm"
+  mesh = "Body"                         # optional
+  markers = "rig-mychar.txt"
+  gltf = "mychar-shapes.vrm"            # a copy of mychar.vrm with the shapes added
+  replace_shapes = false                # optional: as --replace-shapes
+  vrm_expressions = true                # optional: as --vrm-expressions"#;
 
 /// A batch file as written.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct BatchFile {
     source: PathBuf,
+    /// A glTF source's mesh.
+    #[serde(default)]
+    source_mesh: Option<String>,
+    /// None: a glTF source's morph targets.
+    #[serde(default)]
     poses: Vec<PathBuf>,
+    /// A glTF source's morph targets to carry over (default every one).
+    #[serde(default)]
+    shapes: Vec<String>,
     targets: Vec<Target>,
 }
 
@@ -64,6 +94,9 @@ struct BatchFile {
 #[serde(deny_unknown_fields)]
 struct Target {
     reference: PathBuf,
+    /// A glTF reference's mesh.
+    #[serde(default)]
+    mesh: Option<String>,
     #[serde(default)]
     markers: Option<MarkerFiles>,
     #[serde(default)]
@@ -72,7 +105,13 @@ struct Target {
     save_correspondence: Option<PathBuf>,
     #[serde(default)]
     gltf: Option<PathBuf>,
-    output: PathBuf,
+    #[serde(default)]
+    replace_shapes: bool,
+    #[serde(default)]
+    vrm_expressions: bool,
+    /// Needed unless `gltf` is given.
+    #[serde(default)]
+    output: Option<PathBuf>,
 }
 
 /// One file of pairs, or the source's and the target's point files.
@@ -129,7 +168,8 @@ pub fn run(args: &TransferArgs) -> Result<()> {
                 if args.json {
                     output::print_json_error(&message, 1);
                 }
-                failed.push(job.args.output.clone().unwrap_or_default());
+                let written = job.args.output.as_ref().or(job.args.gltf.gltf.as_ref());
+                failed.push(written.cloned().unwrap_or_default());
             }
         }
     }
@@ -180,8 +220,18 @@ fn read(file: &Path, args: &TransferArgs) -> Result<Vec<Job>> {
         toml::from_str(&text).map_err(anyhow::Error::from)
     }
     .with_context(|| format!("the batch file `{}`", file.display()))?;
-    if batch.poses.is_empty() {
-        bail!("the batch file `{}` lists no poses", file.display());
+    if batch.poses.is_empty() && !crate::gltf::is_gltf(&batch.source) {
+        bail!(
+            "the batch file `{}` lists no poses (a glTF or VRM source's morph targets would be them; `{}` is not one)",
+            file.display(),
+            batch.source.display()
+        );
+    }
+    if !batch.poses.is_empty() && !batch.shapes.is_empty() {
+        bail!(
+            "the batch file `{}`: `shapes` chooses morph targets of a glTF source when no `poses` are listed; give one of them",
+            file.display()
+        );
     }
     if batch.targets.is_empty() {
         bail!("the batch file `{}` lists no targets", file.display());
@@ -211,21 +261,36 @@ fn read(file: &Path, args: &TransferArgs) -> Result<Vec<Job>> {
             if markers.is_empty() == t.correspondence.is_none() {
                 bail!("{named}: give `markers` or `correspondence` (one of them)");
             }
+            if t.output.is_none() && t.gltf.is_none() {
+                bail!("{named}: give `output` (a folder for the poses), `gltf` or both");
+            }
+            if t.output.is_some() && batch.poses.is_empty() {
+                bail!("{named}: `output` is a folder for the poses listed in `poses`; a glTF source's morph targets go into `gltf`");
+            }
+            let into_gltf = crate::gltf::is_gltf(&t.reference);
+            if (t.replace_shapes || t.vrm_expressions) && !(into_gltf && t.gltf.is_some()) {
+                bail!("{named}: `replace_shapes` and `vrm_expressions` add to a glTF or VRM `reference`'s own file, written as `gltf`");
+            }
             let mut job = args.clone();
             job.batch = Vec::new();
             job.refs = Some(References {
                 source_ref: at(&batch.source),
                 target_ref: at(&t.reference),
                 no_weld: args.refs.as_ref().is_some_and(|r| r.no_weld),
-                source_mesh: None,
-                target_mesh: None,
+                source_mesh: batch.source_mesh.clone(),
+                target_mesh: t.mesh.clone(),
             });
             job.correspond.markers = markers;
             job.correspondence = t.correspondence.as_deref().map(at);
             job.save_correspondence = t.save_correspondence.as_deref().map(at);
             job.gltf.gltf = t.gltf.as_deref().map(at);
-            job.output = Some(at(&t.output));
+            job.replace_shapes = t.replace_shapes;
+            job.vrm_expressions = t.vrm_expressions;
+            job.output = t.output.as_deref().map(at);
             job.poses = batch.poses.iter().map(|p| at(p)).collect();
+            if !batch.shapes.is_empty() {
+                job.shapes = batch.shapes.clone();
+            }
             Ok(Job { named, args: job })
         })
         .collect()
@@ -252,6 +317,16 @@ fn plan(jobs: Vec<Job>, args: &TransferArgs) -> Result<Vec<Job>> {
         .map(|b| (b.clone(), "batch file".to_string()))
         .collect();
     let repeats = check_runs(&runs, &shared)?;
+    // A glTF made from scratch (the target is not glTF) is a .glb, as
+    // --gltf's own check says on the command line.
+    for job in &jobs {
+        if let Some(g) = job.args.gltf.gltf.as_deref() {
+            if !job.args.writes_into_gltf_target() {
+                crate::pictures::file_named(&g.to_string_lossy(), "glb", "binary glTF")
+                    .map_err(|e| anyhow::anyhow!("{}: `gltf` {e}", job.named))?;
+            }
+        }
+    }
     let mut kept = Vec::with_capacity(jobs.len() - repeats.len());
     for (k, job) in jobs.into_iter().enumerate() {
         if repeats.contains(&k) {
@@ -273,15 +348,26 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_form_in_the_help_is_a_batch_file() {
-        let text: String = FORMAT
-            .lines()
-            .skip(1)
-            .map(|l| format!("{}\n", l.trim_start()))
-            .collect();
-        let batch: BatchFile = toml::from_str(&text).unwrap();
+    fn the_forms_in_the_help_are_batch_files() {
+        let (meshes, rigs) = FORMAT.split_once("\nWith a glTF").unwrap();
+        let toml_of = |form: &str| -> BatchFile {
+            let text: String = form
+                .lines()
+                .skip(1)
+                .map(|l| format!("{}\n", l.trim_start()))
+                .collect();
+            toml::from_str(&text).unwrap()
+        };
+        let batch = toml_of(meshes);
         assert_eq!(batch.poses.len(), 2);
         assert_eq!(batch.targets.len(), 2);
         assert!(batch.targets[0].markers.is_some() && batch.targets[1].correspondence.is_some());
+        let batch = toml_of(rigs);
+        assert!(batch.poses.is_empty());
+        assert_eq!(batch.shapes, ["jawOpen", "eyeBlinkLeft"]);
+        assert_eq!(batch.source_mesh.as_deref(), Some("Face"));
+        let target = &batch.targets[0];
+        assert_eq!(target.mesh.as_deref(), Some("Body"));
+        assert!(target.output.is_none() && target.gltf.is_some() && target.vrm_expressions);
     }
 }

@@ -87,11 +87,16 @@ impl TransferReport {
         if let Some(fit) = &self.fit {
             fit.print();
         }
-        say!(
-            "wrote {} to {}",
-            output::count(self.poses_written, "pose"),
-            self.output.display()
-        );
+        if self.output.as_os_str().is_empty() {
+            // Only --gltf takes them (its line is below).
+            say!("transferred {}", output::count(self.poses_written, "pose"));
+        } else {
+            say!(
+                "wrote {} to {}",
+                output::count(self.poses_written, "pose"),
+                self.output.display()
+            );
+        }
         say!(
             "correspondence: {} ({}){}",
             output::human_seconds(self.correspondence_seconds),

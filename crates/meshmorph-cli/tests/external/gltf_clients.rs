@@ -1,16 +1,21 @@
 //! The GLB files meshmorph writes, checked in real clients: the Khronos glTF
-//! validator (no error, no warning) and three.js's GLTFLoader in headless
-//! Chromium (the mesh is drawn and moves).
+//! validator (no error, no warning), three.js's GLTFLoader in headless
+//! Chromium (the mesh is drawn and moves) and Blender's importer; and the
+//! users' own files with shape keys written back into them (a GLB
+//! character, a `.gltf` with its buffer and image beside it, a VRM 0.x and
+//! a VRM 1.0), in the validator (no error, no warning the input did not
+//! have), in Blender (the new keys on the same object, all else as the
+//! input imports) and in three.js (drawn, moving, the new targets named).
 //!
-//! Both need `npm ci` in tools/browser-checks (and Debian's `chromium` for the
-//! second): see `browser.rs`.
+//! All need `npm ci` in tools/browser-checks, and Debian's `chromium` or
+//! `blender` for theirs: see `browser.rs`.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use std::fs;
 
-use meshmorph::io::gltf::{write_glb, GltfBase, GltfOptions};
+use meshmorph::io::gltf::{write_glb, GltfBase, GltfOptions, SampleCharacter, SampleVrm};
 use meshmorph::io::read_mesh;
 use meshmorph::Mesh3;
 
@@ -34,6 +39,21 @@ pub fn checks() -> Vec<Check> {
             blenders_importer_reads_every_glb,
             Needs::Blender,
         ),
+        (
+            "gltf_clients::written_back_files_pass_the_khronos_validator_as_their_inputs_do",
+            written_back_files_pass_the_khronos_validator_as_their_inputs_do,
+            Needs::Node,
+        ),
+        (
+            "gltf_clients::blender_finds_written_back_shape_keys_on_the_same_objects",
+            blender_finds_written_back_shape_keys_on_the_same_objects,
+            Needs::Blender,
+        ),
+        (
+            "gltf_clients::three_js_in_chromium_reads_written_back_glb_and_vrm",
+            three_js_in_chromium_reads_written_back_glb_and_vrm,
+            Needs::Chromium,
+        ),
     ]
 }
 
@@ -43,6 +63,45 @@ pub fn checks() -> Vec<Check> {
 fn blenders_importer_reads_every_glb() {
     let dir = out_dir("gltf-blender");
     let glbs = write_glbs(&dir);
+    let imported = blender_import(&dir, &glbs);
+    for (glb, got) in glbs.iter().zip(&imported) {
+        // The names as the file gives them (read as JSON: the gltf crate
+        // refuses files that require KHR_mesh_quantization).
+        let bytes = fs::read(glb).unwrap();
+        let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+        let doc: serde_json::Value = serde_json::from_slice(&bytes[20..20 + length]).unwrap();
+        let names = &doc["meshes"][0]["extras"]["targetNames"];
+        let meshes = mesh_objects(got);
+        assert_eq!(meshes.len(), 1, "{}", glb.display());
+        let moved = moves(meshes[0]);
+        println!(
+            "{}: {} shape keys, largest moves {:.3?}",
+            glb.display(),
+            moved.len(),
+            &moved[..moved.len().min(4)]
+        );
+        assert_eq!(&meshes[0]["keys"], names, "{}", glb.display());
+        assert!(
+            moved.iter().any(|&m| m > 0.01),
+            "{}: no key moves",
+            glb.display()
+        );
+    }
+    // The sparse file's first frame is the rest itself.
+    let sparse = &imported[glbs
+        .iter()
+        .position(|g| g.ends_with("bent-sparse.glb"))
+        .unwrap()];
+    assert_eq!(moves(mesh_objects(sparse)[0])[0], 0.0);
+}
+
+/// What Blender's glTF importer makes of each file, read in the background
+/// (a factory scene for each): for every object its name, type and
+/// parent, and for a mesh its vertices, materials, their textures (name
+/// and size in pixels), shape keys (the basis left out), how far each key
+/// moves a vertex at most and its armature modifiers' objects, for an
+/// armature its bones.
+fn blender_import(dir: &Path, files: &[PathBuf]) -> Vec<serde_json::Value> {
     let script = r#"
 import json, sys
 import bpy, addon_utils
@@ -55,12 +114,23 @@ addon_utils.enable("io_scene_gltf2", default_set=True)
 for path in sys.argv[sys.argv.index("--") + 1:]:
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.ops.import_scene.gltf(filepath=path)
-    meshes = [o for o in bpy.data.objects if o.type == "MESH"]
-    keys = meshes[0].data.shape_keys
-    blocks = keys.key_blocks if keys else []
-    basis = [v.co.copy() for v in blocks[0].data] if blocks else []
-    moved = [max(((a - b).length for a, b in zip((v.co for v in k.data), basis)), default=0.0) for k in list(blocks)[1:]]
-    print("IMPORTED " + json.dumps({"path": path, "meshes": len(meshes), "vertices": len(meshes[0].data.vertices), "keys": [k.name for k in list(blocks)[1:]], "moved": moved}))
+    objects = []
+    for o in sorted(bpy.data.objects, key=lambda o: o.name):
+        got = {"name": o.name, "type": o.type, "parent": o.parent.name if o.parent else None}
+        if o.type == "MESH":
+            keys = o.data.shape_keys
+            blocks = list(keys.key_blocks) if keys else []
+            basis = [v.co.copy() for v in blocks[0].data] if blocks else []
+            got["vertices"] = len(o.data.vertices)
+            got["materials"] = [m.name if m else None for m in o.data.materials]
+            got["textures"] = sorted(f"{n.image.name} {n.image.size[0]}x{n.image.size[1]}" for m in o.data.materials if m and m.use_nodes for n in m.node_tree.nodes if n.type == "TEX_IMAGE" and n.image)
+            got["keys"] = [k.name for k in blocks[1:]]
+            got["moved"] = [max(((a - b).length for a, b in zip((v.co for v in k.data), basis)), default=0.0) for k in blocks[1:]]
+            got["armatures"] = [m.object.name for m in o.modifiers if m.type == "ARMATURE" and m.object]
+        if o.type == "ARMATURE":
+            got["bones"] = [b.name for b in o.data.bones]
+        objects.append(got)
+    print("IMPORTED " + json.dumps({"path": path, "objects": objects}))
 "#;
     let script_path = dir.join("import.py");
     fs::write(&script_path, script).unwrap();
@@ -74,7 +144,7 @@ for path in sys.argv[sys.argv.index("--") + 1:]:
         ])
         .arg(&script_path)
         .arg("--")
-        .args(&glbs)
+        .args(files)
         .output()
         .expect("blender runs");
     let text = String::from_utf8_lossy(&out.stdout);
@@ -88,40 +158,28 @@ for path in sys.argv[sys.argv.index("--") + 1:]:
         .filter_map(|l| l.strip_prefix("IMPORTED "))
         .map(|l| serde_json::from_str(l).unwrap())
         .collect();
-    assert_eq!(imported.len(), glbs.len(), "{text}");
-    for (glb, got) in glbs.iter().zip(&imported) {
-        // The names as the file gives them (read as JSON: the gltf crate
-        // refuses files that require KHR_mesh_quantization).
-        let bytes = fs::read(glb).unwrap();
-        let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
-        let doc: serde_json::Value = serde_json::from_slice(&bytes[20..20 + length]).unwrap();
-        let names = &doc["meshes"][0]["extras"]["targetNames"];
-        let moved: Vec<f64> = got["moved"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|m| m.as_f64().unwrap())
-            .collect();
-        println!(
-            "{}: {} shape keys, largest moves {:.3?}",
-            glb.display(),
-            moved.len(),
-            &moved[..moved.len().min(4)]
-        );
-        assert_eq!(got["meshes"], 1, "{}", glb.display());
-        assert_eq!(&got["keys"], names, "{}", glb.display());
-        assert!(
-            moved.iter().any(|&m| m > 0.01),
-            "{}: no key moves",
-            glb.display()
-        );
-    }
-    // The sparse file's first frame is the rest itself.
-    let sparse = &imported[glbs
+    assert_eq!(imported.len(), files.len(), "{text}");
+    imported
+}
+
+/// The mesh objects of one file's import.
+fn mesh_objects(imported: &serde_json::Value) -> Vec<&serde_json::Value> {
+    imported["objects"]
+        .as_array()
+        .unwrap()
         .iter()
-        .position(|g| g.ends_with("bent-sparse.glb"))
-        .unwrap()];
-    assert_eq!(sparse["moved"][0].as_f64().unwrap(), 0.0);
+        .filter(|o| o["type"] == "MESH")
+        .collect()
+}
+
+/// How far each shape key of a mesh object moves a vertex at most.
+fn moves(object: &serde_json::Value) -> Vec<f64> {
+    object["moved"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m.as_f64().unwrap())
+        .collect()
 }
 
 fn meshmorph(args: &[&str]) {
@@ -285,24 +343,76 @@ fn out_dir(name: &str) -> PathBuf {
 fn every_glb_passes_the_khronos_validator() {
     let dir = out_dir("gltf-validator");
     let glbs = write_glbs(&dir);
-    let out = Command::new("node")
-        .arg(tools().join("validate.mjs"))
-        .args(&glbs)
-        .output()
-        .expect("node runs");
-    let report = String::from_utf8_lossy(&out.stdout);
-    println!("{report}{}", String::from_utf8_lossy(&out.stderr));
-    assert!(out.status.success(), "validation failed:\n{report}");
-    for glb in &glbs {
+    let reports = validate(&glbs);
+    for (glb, report) in glbs.iter().zip(&reports) {
         assert!(
-            report.contains(&format!("{}: 0 errors, 0 warnings", glb.display())),
-            "{report}"
+            report.errors == 0 && report.warnings == 0,
+            "{}: {report:?}",
+            glb.display()
         );
     }
 }
 
+/// One file's report from the Khronos validator (`validate.mjs`).
+#[derive(Debug)]
+struct Validated {
+    errors: usize,
+    warnings: usize,
+    /// Each error and warning: its severity, code and JSON pointer.
+    issues: Vec<String>,
+}
+
+/// Runs the Khronos validator on `files` (in one node) and reads its
+/// report of each, in order.
+fn validate(files: &[PathBuf]) -> Vec<Validated> {
+    let out = Command::new("node")
+        .arg(tools().join("validate.mjs"))
+        .args(files)
+        .output()
+        .expect("node runs");
+    let report = String::from_utf8_lossy(&out.stdout);
+    println!("{report}{}", String::from_utf8_lossy(&out.stderr));
+    // 1 is a file with an error or a warning, read below; 2 is a file
+    // that could not be read.
+    assert!(
+        matches!(out.status.code(), Some(0 | 1)),
+        "validation failed:\n{report}"
+    );
+    let mut reports: Vec<Validated> = Vec::new();
+    for line in report.lines() {
+        if let Some(issue) = line.strip_prefix("  ") {
+            let (issue, _message) = issue.split_once(": ").unwrap_or((issue, ""));
+            reports.last_mut().unwrap().issues.push(issue.to_string());
+            continue;
+        }
+        let file = &files[reports.len()];
+        let counts = line
+            .strip_prefix(&format!("{}: ", file.display()))
+            .unwrap_or_else(|| panic!("no report of {}:\n{report}", file.display()));
+        let count = |what: &str| -> usize {
+            let words: Vec<&str> = counts.split([' ', ',']).collect();
+            let at = words.iter().position(|w| *w == what).unwrap();
+            words[at - 1].parse().unwrap()
+        };
+        reports.push(Validated {
+            errors: count("errors"),
+            warnings: count("warnings"),
+            issues: Vec::new(),
+        });
+    }
+    assert_eq!(reports.len(), files.len(), "{report}");
+    for (file, r) in files.iter().zip(&reports) {
+        assert_eq!(
+            r.issues.len(),
+            r.errors + r.warnings,
+            "{}: every error and warning listed:\n{report}",
+            file.display()
+        );
+    }
+    reports
+}
+
 fn three_js_in_chromium_draws_the_animation_moving() {
-    let chromium = chromium();
     let dir = out_dir("gltf-chromium");
     let glbs = write_glbs(&dir);
     let shots = dir.join("screenshots");
@@ -312,16 +422,252 @@ fn three_js_in_chromium_draws_the_animation_moving() {
         .iter()
         .filter(|g| !g.ends_with("transfer-shapes.glb") && !g.ends_with("transfer-uvs.glb"))
     {
-        let out = Command::new("node")
-            .arg(tools().join("render.mjs"))
-            .arg(glb)
-            .arg(&shots)
-            .env("CHROMIUM", which(&chromium))
-            .output()
-            .expect("node runs");
-        let report = String::from_utf8_lossy(&out.stdout);
-        println!("{report}{}", String::from_utf8_lossy(&out.stderr));
-        assert!(out.status.success(), "three.js check failed:\n{report}");
+        render(glb, &shots);
     }
     println!("screenshots in {}", shots.display());
+}
+
+/// `tools/browser-checks/render.mjs` on `glb`, screenshots into `shots`:
+/// three.js's GLTFLoader in headless Chromium draws it at the start, the
+/// middle and the end of its animation, and it moves. Its report.
+fn render(glb: &Path, shots: &Path) -> String {
+    let out = Command::new("node")
+        .arg(tools().join("render.mjs"))
+        .arg(glb)
+        .arg(shots)
+        .env("CHROMIUM", which(&chromium()))
+        .output()
+        .expect("node runs");
+    let report = String::from_utf8_lossy(&out.stdout).into_owned();
+    println!("{report}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "three.js check failed:\n{report}");
+    report
+}
+
+/// three.js in headless Chromium on the written-back GLB and VRMs (a
+/// `.gltf` needs its files served beside it, which render.mjs does not):
+/// drawn, its animation (the head nodding) moving it, and the body's
+/// morph targets its own followed by the new ones, by name.
+fn three_js_in_chromium_reads_written_back_glb_and_vrm() {
+    let dir = out_dir("gltf-written-back-chromium");
+    let (pairs, _) = write_backs(&dir);
+    let shots = dir.join("screenshots");
+    for pair in pairs
+        .iter()
+        .filter(|p| p.output.extension().is_some_and(|e| e != "gltf"))
+    {
+        let report = render(&pair.output, &shots);
+        let names = format!("3 morph targets (Smile, {})", pair.added.join(", "));
+        assert!(
+            report.contains(&names),
+            "{}: {report}",
+            pair.output.display()
+        );
+    }
+    println!("screenshots in {}", shots.display());
+}
+
+/// A user's file and the copy of it a transfer wrote shape keys into.
+struct WrittenBack {
+    input: PathBuf,
+    output: PathBuf,
+    /// The shapes the transfer added.
+    added: Vec<String>,
+}
+
+/// Transfers two morph targets of a GLB rig (`Extra_0`, `Extra_1`) into
+/// each kind of user's file the sample character comes as: a GLB, a
+/// `.gltf` whose buffer and texture are files beside it, a VRM 0.x and a
+/// VRM 1.0 (these two with `--vrm-expressions`), each written back
+/// beside its input. Also every input and output, input first.
+fn write_backs(dir: &Path) -> (Vec<WrittenBack>, Vec<PathBuf>) {
+    let mut rig = SampleCharacter::default();
+    rig.extra_targets = 2;
+    rig.rings = 10;
+    rig.segments = 12;
+    let source = dir.join("rig.glb");
+    fs::write(&source, rig.glb()).unwrap();
+    let sample = |vrm: SampleVrm| {
+        let mut c = SampleCharacter::default();
+        c.vrm = vrm;
+        c.glb()
+    };
+    let character = dir.join("character.glb");
+    fs::write(&character, sample(SampleVrm::None)).unwrap();
+    let (vrm0, vrm1) = (dir.join("vrm0.vrm"), dir.join("vrm1.vrm"));
+    fs::write(&vrm0, sample(SampleVrm::V0)).unwrap();
+    fs::write(&vrm1, sample(SampleVrm::V1)).unwrap();
+    // The GLB as a .gltf in a folder of its own: the binary chunk as
+    // `character.bin`, the texture as `skin.png`.
+    let separate = dir.join("separate");
+    fs::create_dir_all(&separate).unwrap();
+    let gltf = separate.join("character.gltf");
+    {
+        let bytes = sample(SampleVrm::None);
+        let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+        let json_length = word(12);
+        let mut json: serde_json::Value =
+            serde_json::from_slice(&bytes[20..20 + json_length]).unwrap();
+        let bin = &bytes[28 + json_length..28 + json_length + word(20 + json_length)];
+        fs::write(separate.join("character.bin"), bin).unwrap();
+        json["buffers"][0]["uri"] = "character.bin".into();
+        let view = &json_view(&json["images"][0], &json);
+        let (start, length) = (
+            view["byteOffset"].as_u64().unwrap_or(0) as usize,
+            view["byteLength"].as_u64().unwrap() as usize,
+        );
+        fs::write(separate.join("skin.png"), &bin[start..start + length]).unwrap();
+        let image = json["images"][0].as_object_mut().unwrap();
+        image.remove("bufferView");
+        image.remove("mimeType");
+        image.insert("uri".into(), "skin.png".into());
+        fs::write(&gltf, serde_json::to_vec_pretty(&json).unwrap()).unwrap();
+    }
+    let added = vec!["Extra_0".to_string(), "Extra_1".to_string()];
+    let pairs: Vec<WrittenBack> = [character, gltf, vrm0, vrm1]
+        .into_iter()
+        .map(|input| {
+            let name = input.file_name().unwrap().to_str().unwrap();
+            let (stem, ext) = name.rsplit_once('.').unwrap();
+            let output = input.with_file_name(format!("{stem}-shapes.{ext}"));
+            let mut args = vec![
+                "transfer",
+                "--source-ref",
+                source.to_str().unwrap(),
+                "--target-ref",
+                input.to_str().unwrap(),
+                "--no-markers",
+                "--shapes",
+                "Extra_0,Extra_1",
+                "--gltf",
+                output.to_str().unwrap(),
+            ];
+            if ext == "vrm" {
+                args.push("--vrm-expressions");
+            }
+            meshmorph(&args);
+            WrittenBack {
+                input,
+                output,
+                added: added.clone(),
+            }
+        })
+        .collect();
+    let files = pairs
+        .iter()
+        .flat_map(|p| [p.input.clone(), p.output.clone()])
+        .collect();
+    (pairs, files)
+}
+
+/// The buffer view an image of `json` is stored in.
+fn json_view(image: &serde_json::Value, json: &serde_json::Value) -> serde_json::Value {
+    json["bufferViews"][image["bufferView"].as_u64().unwrap() as usize].clone()
+}
+
+/// The Khronos validator on every kind of written-back file: no error,
+/// and no warning (code and place) that its input did not have already.
+fn written_back_files_pass_the_khronos_validator_as_their_inputs_do() {
+    let dir = out_dir("gltf-written-back-validator");
+    let (pairs, files) = write_backs(&dir);
+    let reports = validate(&files);
+    for (pair, reports) in pairs.iter().zip(reports.chunks(2)) {
+        let (before, after) = (&reports[0], &reports[1]);
+        assert_eq!(before.errors, 0, "{}: {before:?}", pair.input.display());
+        assert_eq!(after.errors, 0, "{}: {after:?}", pair.output.display());
+        let new: Vec<&String> = after
+            .issues
+            .iter()
+            .filter(|i| !before.issues.contains(i))
+            .collect();
+        assert!(
+            new.is_empty(),
+            "{}: warnings that {} does not have: {new:?}",
+            pair.output.display(),
+            pair.input.display()
+        );
+    }
+}
+
+/// Blender's importer on every kind of written-back file and on its
+/// input: the same objects (names, types, parents), the same armature and
+/// bones, the same materials and textures (with their pixels) on every
+/// mesh and the same vertices; the
+/// body's shape keys are its own followed by the new ones, on the same
+/// object, and each new one moves it; every other mesh's keys as they
+/// were.
+fn blender_finds_written_back_shape_keys_on_the_same_objects() {
+    let dir = out_dir("gltf-written-back-blender");
+    let (pairs, files) = write_backs(&dir);
+    let imported = blender_import(&dir, &files);
+    for (pair, got) in pairs.iter().zip(imported.chunks(2)) {
+        let (before, after) = (&got[0]["objects"], &got[1]["objects"]);
+        let out = pair.output.display();
+        let objects = before.as_array().unwrap();
+        assert_eq!(
+            objects.len(),
+            after.as_array().unwrap().len(),
+            "{out}: {after}"
+        );
+        assert!(
+            objects
+                .iter()
+                .any(|o| o["type"] == "ARMATURE" && !o["bones"].as_array().unwrap().is_empty()),
+            "{}: no armature imported: {before}",
+            pair.input.display()
+        );
+        let mut grown = 0;
+        for (b, a) in objects.iter().zip(after.as_array().unwrap()) {
+            for what in [
+                "name",
+                "type",
+                "parent",
+                "bones",
+                "vertices",
+                "materials",
+                "textures",
+                "armatures",
+            ] {
+                assert_eq!(b[what], a[what], "{out}: `{what}` of {b} became {a}");
+            }
+            if b["type"] != "MESH" || b["keys"] == a["keys"] {
+                continue;
+            }
+            // The body: its own keys first, then the new ones, each moving.
+            grown += 1;
+            let mut keys: Vec<serde_json::Value> = b["keys"].as_array().unwrap().clone();
+            keys.extend(
+                pair.added
+                    .iter()
+                    .map(|n| serde_json::Value::from(n.as_str())),
+            );
+            assert_eq!(a["keys"], serde_json::Value::from(keys), "{out}");
+            for what in ["materials", "textures", "armatures"] {
+                assert!(
+                    !a[what].as_array().unwrap().is_empty(),
+                    "{out}: no {what}: {a}"
+                );
+            }
+            // The texture's pixels were found (beside a .gltf, in a GLB).
+            assert!(
+                a["textures"].as_array().unwrap().iter().all(|t| {
+                    let size = t.as_str().unwrap().rsplit(' ').next().unwrap();
+                    size != "0x0"
+                }),
+                "{out}: a texture without pixels: {a}"
+            );
+            let moved = moves(a);
+            println!(
+                "{out}: `{}` has keys {}, moving at most {moved:.3?}",
+                a["name"], a["keys"]
+            );
+            assert!(
+                moved[moved.len() - pair.added.len()..]
+                    .iter()
+                    .all(|&m| m > 1e-4),
+                "{out}: a new key does not move: {a}"
+            );
+        }
+        assert_eq!(grown, 1, "{out}: the new keys on one object: {after}");
+    }
 }

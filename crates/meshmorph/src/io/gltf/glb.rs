@@ -93,8 +93,7 @@ impl Appender<'_> {
         target: Option<u32>,
         bounds: bool,
     ) -> usize {
-        let bytes: Vec<u8> = values.iter().flat_map(|x| x.to_le_bytes()).collect();
-        let view = self.view(&bytes, target);
+        let view = self.view(&float_bytes(values), target);
         let mut accessor = json!({
             "bufferView": view,
             "componentType": FLOAT,
@@ -151,43 +150,135 @@ impl Appender<'_> {
     /// A `POSITION` delta accessor: none of data when every delta is zero,
     /// sparse when that is smaller (and `sparse`), else dense.
     pub(crate) fn deltas(&mut self, deltas: &[[f32; 3]], sparse: bool) -> usize {
-        let moved: Vec<u32> = (0..deltas.len() as u32)
-            .filter(|&v| deltas[v as usize] != [0.0; 3])
-            .collect();
-        if moved.is_empty() {
-            return self.zeros(deltas.len());
-        }
-        let flat: Vec<f32> = deltas.iter().flatten().copied().collect();
-        let (min, max) = bounds_of(&flat, 3);
-        let index_type: u32 = match deltas.len() {
-            0..=256 => 5121,
-            257..=65536 => 5123,
-            _ => 5125,
-        };
-        let index_bytes = match index_type {
-            5121 => 1,
-            5123 => 2,
-            _ => 4,
-        };
-        if !sparse || moved.len() * (index_bytes + 12) >= deltas.len() * 12 {
-            return self.floats(&flat, 3, Some(ARRAY_BUFFER), true);
-        }
-        let indices = self.view(&integer_bytes(&moved, index_type), None);
-        let values: Vec<u8> = moved
-            .iter()
-            .flat_map(|&v| deltas[v as usize])
-            .flat_map(f32::to_le_bytes)
-            .collect();
-        let values = self.view(&values, None);
-        self.push(
-            "accessors",
-            json!({"componentType": FLOAT, "count": deltas.len(), "type": "VEC3",
-                "min": min, "max": max,
-                "sparse": {"count": moved.len(),
-                    "indices": {"bufferView": indices, "componentType": index_type},
-                    "values": {"bufferView": values}}}),
-        )
+        self.append_deltas(EncodedDeltas::new(deltas.len(), |v| deltas[v], sparse))
     }
+
+    /// The accessor of deltas encoded by [`EncodedDeltas::new`].
+    pub(crate) fn append_deltas(&mut self, e: EncodedDeltas) -> usize {
+        let (count, min, max) = (e.count, e.min, e.max);
+        match e.data {
+            DeltaData::Zeros => self.zeros(count),
+            DeltaData::Dense(bytes) => {
+                let view = self.view(&bytes, Some(ARRAY_BUFFER));
+                self.push(
+                    "accessors",
+                    json!({"bufferView": view, "componentType": FLOAT, "count": count,
+                        "type": "VEC3", "min": min, "max": max}),
+                )
+            }
+            DeltaData::Sparse {
+                moved,
+                index_type,
+                indices,
+                values,
+            } => {
+                let indices = self.view(&indices, None);
+                let values = self.view(&values, None);
+                self.push(
+                    "accessors",
+                    json!({"componentType": FLOAT, "count": count, "type": "VEC3",
+                        "min": min, "max": max,
+                        "sparse": {"count": moved,
+                            "indices": {"bufferView": indices, "componentType": index_type},
+                            "values": {"bufferView": values}}}),
+                )
+            }
+        }
+    }
+}
+
+/// A morph target's `POSITION` deltas as bytes, made apart from the file
+/// (on any thread) and appended by [`Appender::append_deltas`].
+pub(crate) struct EncodedDeltas {
+    count: usize,
+    min: [f32; 3],
+    max: [f32; 3],
+    data: DeltaData,
+}
+
+/// How a target's deltas are stored.
+enum DeltaData {
+    /// Every delta is zero: an accessor without data.
+    Zeros,
+    /// Every delta, little-endian.
+    Dense(Vec<u8>),
+    /// The indices of the vertices that move and their deltas.
+    Sparse {
+        moved: usize,
+        index_type: u32,
+        indices: Vec<u8>,
+        values: Vec<u8>,
+    },
+}
+
+impl EncodedDeltas {
+    /// The deltas `delta(0)`, ..., `delta(count - 1)`: sparse when that is
+    /// smaller (and `sparse`), else dense. One pass over them finds the
+    /// bounds and keeps the moving vertices' deltas; a dense target takes
+    /// a second.
+    pub(crate) fn new(count: usize, delta: impl Fn(usize) -> [f32; 3], sparse: bool) -> Self {
+        let mut min = [f32::INFINITY; 3];
+        let mut max = [f32::NEG_INFINITY; 3];
+        let mut moved: Vec<u32> = Vec::new();
+        let mut values: Vec<u8> = Vec::new();
+        for v in 0..count {
+            let d = delta(v);
+            for c in 0..3 {
+                min[c] = min[c].min(d[c]);
+                max[c] = max[c].max(d[c]);
+            }
+            if d != [0.0; 3] {
+                moved.push(v as u32);
+                for x in d {
+                    values.extend_from_slice(&x.to_le_bytes());
+                }
+            }
+        }
+        if moved.is_empty() {
+            return EncodedDeltas {
+                count,
+                min: [0.0; 3],
+                max: [0.0; 3],
+                data: DeltaData::Zeros,
+            };
+        }
+        let (index_type, index_bytes) = match count {
+            0..=256 => (5121, 1),
+            257..=65536 => (5123, 2),
+            _ => (5125, 4),
+        };
+        let data = if !sparse || moved.len() * (index_bytes + 12) >= count * 12 {
+            let mut dense = Vec::with_capacity(12 * count);
+            for v in 0..count {
+                for x in delta(v) {
+                    dense.extend_from_slice(&x.to_le_bytes());
+                }
+            }
+            DeltaData::Dense(dense)
+        } else {
+            DeltaData::Sparse {
+                moved: moved.len(),
+                index_type,
+                indices: integer_bytes(&moved, index_type),
+                values,
+            }
+        };
+        EncodedDeltas {
+            count,
+            min,
+            max,
+            data,
+        }
+    }
+}
+
+/// Little-endian bytes of `values`.
+pub(crate) fn float_bytes(values: &[f32]) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(4 * values.len());
+    for x in values {
+        bytes.extend_from_slice(&x.to_le_bytes());
+    }
+    bytes
 }
 
 /// Little-endian bytes of `values` as `component_type` (5121, 5123 or

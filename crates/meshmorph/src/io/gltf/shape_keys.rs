@@ -16,12 +16,13 @@
 
 use std::path::Path;
 
+use rayon::prelude::*;
 use serde_json::{json, Map, Value};
 
 use super::accessor::read_floats;
 use super::base64;
 use super::document::{Container, GltfDocument};
-use super::glb::{glb_bytes, Appender};
+use super::glb::{glb_bytes, Appender, EncodedDeltas};
 use super::mesh::{target_names, GltfMesh};
 use crate::error::{Error, Result};
 use crate::io::write_atomic;
@@ -197,9 +198,13 @@ pub fn add_shape_keys(
         .flatten();
     let (buffer, mut bin) = match glb_buffer {
         Some(b) => {
-            let mut bin = doc.bin().expect("checked").to_vec();
             let length = json["buffers"][b]["byteLength"].as_u64().unwrap_or(0) as usize;
-            bin.truncate(length.min(bin.len()));
+            let old = doc.bin().expect("checked");
+            let old = &old[..length.min(old.len())];
+            // Room for every shape stored densely, so that appending
+            // copies nothing already there.
+            let mut bin = Vec::with_capacity(old.len() + 12 * n * shapes.len() + 64);
+            bin.extend_from_slice(old);
             (b, bin)
         }
         None => {
@@ -246,22 +251,34 @@ pub fn add_shape_keys(
                 targets[t] = zero_target(&mut add, count);
             }
         }
-        for (shape, &slot) in shapes.iter().zip(&slots) {
-            let accessor = match &block {
-                Some(r) => {
-                    let range = r.start as usize..r.end as usize;
-                    let deltas: Vec<[f32; 3]> = shape.positions[range.clone()]
-                        .iter()
-                        .zip(&mesh.surface.positions()[range])
-                        .map(|(p, b)| std::array::from_fn(|c| (p[c] - b[c]) as f32))
-                        .collect();
-                    add.deltas(&deltas, options.sparse)
-                }
-                None => add.zeros(count),
-            };
-            // A replaced target loses its other attributes (normals and
-            // tangents of the old shape).
-            targets[slot] = json!({ "POSITION": accessor });
+        // A replaced target loses its other attributes (normals and
+        // tangents of the old shape). A batch of shapes is encoded in
+        // parallel, then appended in order.
+        let batch = crate::limits::FRAMES_IN_FLIGHT_PER_THREAD * rayon::current_num_threads();
+        for (some, their_slots) in shapes.chunks(batch).zip(slots.chunks(batch)) {
+            let encoded: Vec<Option<EncodedDeltas>> = some
+                .par_iter()
+                .map(|shape| {
+                    let range = block.as_ref()?;
+                    let range = range.start as usize..range.end as usize;
+                    let (p, b) = (
+                        &shape.positions[range.clone()],
+                        &mesh.surface.positions()[range],
+                    );
+                    Some(EncodedDeltas::new(
+                        b.len(),
+                        |v| std::array::from_fn(|c| (p[v][c] - b[v][c]) as f32),
+                        options.sparse,
+                    ))
+                })
+                .collect();
+            for (e, &slot) in encoded.into_iter().zip(their_slots) {
+                let accessor = match e {
+                    Some(e) => add.append_deltas(e),
+                    None => add.zeros(count),
+                };
+                targets[slot] = json!({ "POSITION": accessor });
+            }
         }
         add.json["meshes"][mesh.index]["primitives"][k]["targets"] = Value::Array(targets);
     }
