@@ -139,6 +139,16 @@ impl Command {
     }
 }
 
+/// Runs the command line `words` (the program's name first) in this
+/// process, as `main` runs it: the demo's steps that are a user's command.
+fn run_words(words: Vec<std::ffi::OsString>) -> anyhow::Result<()> {
+    let cli = Cli::try_parse_from(words)?;
+    match cli.command {
+        Command::Interpolate(args) => interpolate::run(&args),
+        other => anyhow::bail!("not a command the demo runs: {other:?}"),
+    }
+}
+
 fn main() -> ExitCode {
     memory::share_one_heap();
     allocator::reserve();

@@ -327,6 +327,34 @@ pub fn run(args: &Args) -> Result<()> {
         written.extend(sheet_json.clone());
     }
     let removed = staging.commit()?;
+    if args.json {
+        let mut files: Vec<PathBuf> = (0..count)
+            .map(|k| crate::outputs::frame_path(&args.output, k, count, "png"))
+            .collect();
+        files.extend(written.iter().cloned());
+        crate::output::print_json(&serde_json::json!({
+            "pictures": names,
+            "sizes": [[a.width, a.height], [b.width, b.height]],
+            "shape": match da.shape {
+                PictureShape::Sprite => "sprite",
+                PictureShape::Photo => "photo",
+            },
+            "outline_points": [da.drawing.num_points(), db.drawing.num_points()],
+            "triangles": set.report.triangles,
+            "min_angle_degrees": set.report.min_angle_degrees,
+            "anchors": anchors.len(),
+            "frames_written": count,
+            "frame_size": [width, height],
+            "output": args.output.display().to_string(),
+            "setup_seconds": setup_seconds,
+            "read_seconds": read_seconds,
+            "seconds_per_frame": frames_seconds / count as f64,
+            "files_written": files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
+            "removed_frames": removed,
+            "total_seconds": start.elapsed().as_secs_f64(),
+        }));
+        return Ok(());
+    }
     say!(
         "pictures:       {} ({} × {}) and {} ({} × {}), {}",
         names[0],

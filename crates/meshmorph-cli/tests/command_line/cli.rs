@@ -2415,6 +2415,37 @@ fn demo_writes_everything_and_json_lines() {
         && r["keys"].as_u64() == Some(3)
         && r["max_flipped_triangles"].as_u64() == Some(0)));
     assert!(out.join("spiral").join("frame_0000.obj").is_file());
+    // The sprite morph: its two pictures and anchors, 24 PNG frames, the
+    // GIF, and its report.
+    let sprite = out.join("sprite");
+    for file in [
+        "arm-straight.png",
+        "arm-bent.png",
+        "anchors.txt",
+        "sprite.gif",
+    ] {
+        assert!(sprite.join(file).is_file(), "{file}");
+    }
+    assert_eq!(names(&sprite.join("frames")).len(), 24);
+    // The expressions on the demo's head: its GLB with the 51 shapes, the
+    // GIF, and its report (parts found: eyes, teeth, tongue).
+    let expressions = out.join("expressions");
+    for file in [
+        "input/head.obj",
+        "input/head.txt",
+        "head-arkit.glb",
+        "expressions.gif",
+    ] {
+        assert!(expressions.join(file).is_file(), "{file}");
+    }
+    assert!(reports
+        .iter()
+        .any(|r| r["shapes"].as_array().map(Vec::len) == Some(51)
+            && r["missing"] == serde_json::json!(["tongueOut"])
+            && r["parts"].as_array().is_some_and(|p| !p.is_empty())));
+    assert!(reports.iter().any(|r| r["shape"] == "sprite"
+        && r["frames_written"].as_u64() == Some(24)
+        && r["anchors"].as_u64() == Some(5)));
     // The drawing morph: its two drawings and their anchors, 48 SVG frames,
     // the animated SVG and the GIF, and its report.
     let drawing = out.join("drawing");

@@ -491,9 +491,9 @@ fn follow_parts(
             for (s, r) in recipes.iter().enumerate() {
                 let delta_at = |v: u32| {
                     let (k, i) = owner[v as usize];
-                    r.sources
-                        .iter()
-                        .fold([0.0; 3], |acc, &src| add(acc, template.parts[k].deltas[src][i]))
+                    r.sources.iter().fold([0.0; 3], |acc, &src| {
+                        add(acc, template.parts[k].deltas[src][i])
+                    })
                 };
                 let moved: Vec<[f64; 3]> = hits
                     .iter()
@@ -719,7 +719,12 @@ mod tests {
                 .map(|p| p.vertices)
                 .sum()
         };
-        assert_eq!(following("teethLower"), ranges[0].1.len(), "{:?}", out.parts);
+        assert_eq!(
+            following("teethLower"),
+            ranges[0].1.len(),
+            "{:?}",
+            out.parts
+        );
         assert_eq!(following("eyeLeft"), ranges[1].1.len(), "{:?}", out.parts);
         for (shape, part, moves) in [
             ("jawOpen", 0, true),
