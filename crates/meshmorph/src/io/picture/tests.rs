@@ -32,6 +32,7 @@ fn ring(size: u32, c: [f64; 2], r: f64) -> Picture {
 
 /// A bar `length` long and `width` wide from `pivot` at `angle` radians,
 /// its far end round: an arm.
+#[cfg(feature = "render")]
 fn arm(size: u32, pivot: [f64; 2], length: f64, width: f64, angle: f64) -> Picture {
     let (c, s) = (angle.cos(), angle.sin());
     Picture::from_fn(size, size, |x, y| {
@@ -49,6 +50,7 @@ fn arm(size: u32, pivot: [f64; 2], length: f64, width: f64, angle: f64) -> Pictu
     })
 }
 
+#[cfg(feature = "render")]
 fn alpha_area(p: &Picture) -> f64 {
     p.rgba
         .chunks_exact(4)
