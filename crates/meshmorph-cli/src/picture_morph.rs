@@ -32,8 +32,8 @@ pub struct PictureMorphArgs {
     /// Pictures: the blend of the two pictures goes from the first to the
     /// second between these two moments of the morph (fractions from 0 to
     /// 1), instead of over the whole morph: `--dissolve 0.3,0.7`.
-    #[arg(long, value_delimiter = ',', num_args = 2, value_name = "START,END", value_parser = fraction)]
-    pub dissolve: Option<Vec<f64>>,
+    #[arg(long, value_name = "START,END", value_parser = dissolve_span)]
+    pub dissolve: Option<[f64; 2]>,
     /// Pictures: the frames' size, `WIDTHxHEIGHT` in pixels [default: the
     /// first picture's]; the pictures are stretched onto it.
     #[arg(long, value_name = "WxH", value_parser = frame_size)]
@@ -60,6 +60,14 @@ fn fraction(text: &str) -> Result<f64, String> {
             "`{text}` is not a fraction of the morph from 0 to 1"
         )),
     }
+}
+
+/// `START,END`: two fractions of the morph.
+fn dissolve_span(text: &str) -> Result<[f64; 2], String> {
+    let (a, b) = text.split_once(',').ok_or_else(|| {
+        format!("`{text}` is not START,END (two fractions from 0 to 1), such as 0.3,0.7")
+    })?;
+    Ok([fraction(a.trim())?, fraction(b.trim())?])
 }
 
 fn trace_tolerance(text: &str) -> Result<f64, String> {

@@ -138,3 +138,35 @@ fn photos_with_anchors_and_the_refusals() {
     mentions(&err, &["neither a PNG nor a JPEG"]);
     assert!(!d.join("h").exists());
 }
+
+#[test]
+fn dissolve_takes_two_fractions_and_refuses_others() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    save(d, "a.png", &disc(48, [20.0, 24.0], 14.0));
+    save(d, "b.png", &disc(48, [28.0, 24.0], 16.0));
+    let morph = |span: &str| {
+        run(
+            &[
+                "interpolate",
+                "a.png",
+                "b.png",
+                "-o",
+                "frames",
+                "--frames",
+                "3",
+                "--dissolve",
+                span,
+            ],
+            d,
+        )
+    };
+    succeeds(&morph("0.3,0.7"));
+    // Refused as the arguments are read (a usage error, status 2).
+    for bad in ["0.3", "0.2,1.5", "a,b"] {
+        let out = morph(bad);
+        assert_eq!(out.status.code(), Some(2));
+        mentions(&String::from_utf8_lossy(&out.stderr), &["--dissolve", bad]);
+    }
+    assert!(!d.join("frames").join("frame_0003.png").exists());
+}
