@@ -38,8 +38,23 @@ pub(super) struct Cleanup {
 
 impl Cleanup {
     pub fn run(&self) {
+        let mut dirs: Vec<&std::path::Path> = Vec::new();
         for p in &self.staged {
             let _ = std::fs::remove_file(p);
+            if let Some(dir) = p.parent().filter(|d| !dirs.contains(d)) {
+                dirs.push(dir);
+            }
+        }
+        // What a writer of this process was writing there when the run was
+        // abandoned (out of memory: no unwinding removes it).
+        for dir in dirs {
+            // A file named without a folder is in the current one.
+            let dir = if dir.as_os_str().is_empty() {
+                std::path::Path::new(".")
+            } else {
+                dir
+            };
+            meshmorph::io::remove_own_temporaries(dir);
         }
         for dir in &self.folders {
             // Not followed if it is a link: only the link goes.
@@ -112,7 +127,17 @@ pub fn abandon(message: &str) -> ! {
         Err(std::sync::TryLockError::Poisoned(e)) => e.into_inner().take(),
         Err(std::sync::TryLockError::WouldBlock) => None,
     };
-    stop(&format!("error: {message}; {}", undo(pending)), 1);
+    let said = format!("error: {message}; {}", undo(pending.clone()));
+    tell!("{said}");
+    if AS_JSON.load(Ordering::SeqCst) {
+        crate::output::print_json_error(&said, 1);
+    }
+    // A writer that had started before the run was marked may have made
+    // its temporary file since: removed again just before the end.
+    if let Some(cleanup) = pending {
+        cleanup.run();
+    }
+    std::process::exit(1);
 }
 
 /// Removes what `pending` staged; says what became of the run's outputs.

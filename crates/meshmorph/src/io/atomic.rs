@@ -190,10 +190,37 @@ impl Drop for Temporary {
 
 /// This process's random letters, then the next count.
 fn next_name() -> String {
-    static LETTERS: std::sync::OnceLock<String> = std::sync::OnceLock::new();
     static COUNT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     let count = COUNT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    format!("{}{count}", LETTERS.get_or_init(|| random_name(10)))
+    format!("{}{count}", own_letters())
+}
+
+/// The random letters of this process's temporary files.
+fn own_letters() -> &'static str {
+    static LETTERS: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    LETTERS.get_or_init(|| random_name(10))
+}
+
+/// Removes this process's temporary files in `dir` (those [`write_atomic`]
+/// was writing there): for a process that abandons its run without
+/// unwinding (out of memory, a signal), whose writers cannot remove their
+/// own. Files of other processes and of other runs are left alone: their
+/// names carry another process id or other random letters. Returns how
+/// many were removed.
+pub fn remove_own_temporaries(dir: &Path) -> usize {
+    let prefix = format!(".meshmorph-{}-{}", process_id(), own_letters());
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return 0;
+    };
+    entries
+        .filter_map(|e| e.ok())
+        .filter(|e| {
+            let name = e.file_name();
+            let name = name.to_string_lossy();
+            name.starts_with(&prefix) && name.ends_with(".tmp")
+        })
+        .filter(|e| std::fs::remove_file(e.path()).is_ok())
+        .count()
 }
 
 /// This process's id, asked once (a system call each time otherwise).
@@ -240,6 +267,29 @@ pub fn random_name(len: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn only_this_process_own_temporaries_are_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        // One left by a writer that could not remove it, as a process
+        // abandoning its run leaves it; and others' files.
+        let own = Temporary::create(dir.path()).unwrap();
+        let own_path = own.path.clone();
+        std::mem::forget(own);
+        let others = [
+            format!(".meshmorph-{}-otherletters0.tmp", process_id()),
+            ".meshmorph-1-abcdefghij0.tmp".to_string(),
+            "user.obj".to_string(),
+        ];
+        for name in &others {
+            std::fs::write(dir.path().join(name), b"x").unwrap();
+        }
+        assert_eq!(remove_own_temporaries(dir.path()), 1);
+        assert!(!own_path.exists());
+        for name in &others {
+            assert!(dir.path().join(name).exists(), "{name}");
+        }
+    }
 
     #[cfg(unix)]
     #[test]

@@ -100,7 +100,9 @@ mod vertex_attributes;
 mod wrap_points;
 
 pub use appearance::Appearance;
-pub use atomic::{random_name, refuse_unless_replaceable, write_atomic, write_new};
+pub use atomic::{
+    random_name, refuse_unless_replaceable, remove_own_temporaries, write_atomic, write_new,
+};
 pub use drawing::{
     drawing_of_mesh, match_anchors, parse_svg_drawing, parse_text_drawing, read_anchor_file,
     read_drawing, svg_path_data, write_animated_svg, write_lottie, write_svg_frame,
