@@ -43,6 +43,16 @@ pub fn flag(arg: &str, v: Option<&Bound<'_, PyAny>>, default: bool) -> PyResult<
     }
 }
 
+/// How vertex indices in a file are numbered: from 1 with `one_based`
+/// True, else from 0.
+pub fn numbering(v: Option<&Bound<'_, PyAny>>) -> PyResult<meshmorph::VertexNumbering> {
+    Ok(if flag("one_based", v, false)? {
+        meshmorph::VertexNumbering::FromOne
+    } else {
+        meshmorph::VertexNumbering::FromZero
+    })
+}
+
 /// A whole number that fits an `i32`; `default` for None.
 pub fn whole(arg: &str, v: Option<&Bound<'_, PyAny>>, default: i32) -> PyResult<i32> {
     let Some(v) = v.filter(|v| !v.is_none()) else {

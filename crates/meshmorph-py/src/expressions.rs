@@ -195,7 +195,7 @@ fn arkit_template(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
 }
 
 /// Reads a file of named landmarks on a head (MeshLab's `.pp`, Wrap's
-/// `.json`, or lines of `name x y z` / `name VERTEX`): a list of `(name,
+/// `.json`, or lines of `name x y z` / `name v VERTEX`): a list of `(name,
 /// (x, y, z))` in the file's order, as `expressions` takes them. Points
 /// given by vertex or triangle are placed on `vertices` and `faces`.
 #[pyfunction]
@@ -208,11 +208,7 @@ fn read_landmarks<'py>(
     one_based: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyList>> {
     let path = args::path("path", path)?;
-    let numbering = if args::flag("one_based", one_based, false)? {
-        meshmorph::VertexNumbering::FromOne
-    } else {
-        meshmorph::VertexNumbering::FromZero
-    };
+    let numbering = args::numbering(one_based)?;
     let positions = arrays::points_of::<3>("vertices", vertices)?;
     let triangles = arrays::faces("faces", faces)?;
     let head = arrays::mesh::<3>(py, ("vertices", "faces"), positions, triangles)?;

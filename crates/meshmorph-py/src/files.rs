@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use meshmorph::io::MeshFile;
-use meshmorph::{MarkerSide, Markers, SurfacePoint, VertexNumbering};
+use meshmorph::{MarkerSide, Markers, SurfacePoint};
 use numpy::PyArray1;
 use numpy::PyArrayMethods;
 use pyo3::prelude::*;
@@ -235,11 +235,7 @@ fn read_markers(
 ) -> PyResult<PyMarkers> {
     let path = args::path("path", path)?;
     let target_path = args::optional_path("target_path", target_path)?;
-    let numbering = if args::flag("one_based", one_based, false)? {
-        VertexNumbering::FromOne
-    } else {
-        VertexNumbering::FromZero
-    };
+    let numbering = args::numbering(one_based)?;
     let markers = match target_path {
         None => Markers::read(&path, numbering),
         Some(t) => Markers::read_pair(&path, &t, numbering),
