@@ -10,24 +10,47 @@ use super::document::{CHUNK_BIN, CHUNK_JSON, GLB_MAGIC};
 /// the JSON with spaces, the binary chunk with zeros; no binary chunk when
 /// `bin` is `None`).
 pub(crate) fn glb_bytes(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
-    let json_len = json.len().next_multiple_of(4);
-    let bin_len = bin.map_or(0, |b| b.len().next_multiple_of(4));
-    let total = 12 + 8 + json_len + bin.map_or(0, |_| 8 + bin_len);
-    let mut out = Vec::with_capacity(total);
-    out.extend_from_slice(GLB_MAGIC);
-    out.extend_from_slice(&2u32.to_le_bytes());
-    out.extend_from_slice(&(total as u32).to_le_bytes());
-    out.extend_from_slice(&(json_len as u32).to_le_bytes());
-    out.extend_from_slice(&CHUNK_JSON.to_le_bytes());
-    out.extend_from_slice(json);
-    out.resize(20 + json_len, b' ');
-    if let Some(bin) = bin {
-        out.extend_from_slice(&(bin_len as u32).to_le_bytes());
-        out.extend_from_slice(&CHUNK_BIN.to_le_bytes());
-        out.extend_from_slice(bin);
-        out.resize(total, 0);
-    }
+    let parts = bin.map(|b| [b]);
+    let parts = parts.as_ref().map(|p| &p[..]);
+    let mut out = Vec::with_capacity(glb_length(json, parts));
+    write_glb_parts(&mut out, json, parts).expect("writing to memory does not fail");
     out
+}
+
+/// The length of the GLB [`write_glb_parts`] writes.
+pub(crate) fn glb_length(json: &[u8], bin: Option<&[&[u8]]>) -> usize {
+    let bin_len: Option<usize> = bin.map(|parts| parts.iter().map(|p| p.len()).sum());
+    12 + 8 + json.len().next_multiple_of(4) + bin_len.map_or(0, |b| 8 + b.next_multiple_of(4))
+}
+
+/// Writes a GLB of `json` and a binary chunk made of the `bin` parts one
+/// after another (no binary chunk when `None`), as [`glb_bytes`] lays it
+/// out, without assembling the parts first.
+pub(crate) fn write_glb_parts(
+    w: &mut dyn std::io::Write,
+    json: &[u8],
+    bin: Option<&[&[u8]]>,
+) -> std::io::Result<()> {
+    let total = glb_length(json, bin);
+    let json_len = json.len().next_multiple_of(4);
+    w.write_all(GLB_MAGIC)?;
+    w.write_all(&2u32.to_le_bytes())?;
+    w.write_all(&(total as u32).to_le_bytes())?;
+    w.write_all(&(json_len as u32).to_le_bytes())?;
+    w.write_all(&CHUNK_JSON.to_le_bytes())?;
+    w.write_all(json)?;
+    w.write_all(&b"   "[..json_len - json.len()])?;
+    if let Some(parts) = bin {
+        let length: usize = parts.iter().map(|p| p.len()).sum();
+        let bin_len = length.next_multiple_of(4);
+        w.write_all(&(bin_len as u32).to_le_bytes())?;
+        w.write_all(&CHUNK_BIN.to_le_bytes())?;
+        for part in parts {
+            w.write_all(part)?;
+        }
+        w.write_all(&[0; 3][..bin_len - length])?;
+    }
+    Ok(())
 }
 
 /// `ARRAY_BUFFER`: a buffer view of vertex attributes.
@@ -44,8 +67,43 @@ pub(crate) struct Appender<'a> {
     pub json: &'a mut Value,
     /// The buffer the new views point into.
     pub buffer: usize,
-    /// The bytes of that buffer: new bytes go at its end.
-    pub bin: &'a mut Vec<u8>,
+    /// The length of that buffer before the new bytes (0 for a new one).
+    pub base: usize,
+    /// The new bytes of that buffer, which follow its first `base`.
+    pub bin: &'a mut Pieces,
+}
+
+/// Bytes appended to a binary buffer, kept as the pieces they were made in,
+/// so that joining them copies nothing until they are written.
+#[derive(Debug, Default)]
+pub(crate) struct Pieces {
+    pieces: Vec<Vec<u8>>,
+    len: usize,
+}
+
+impl Pieces {
+    /// Their length in all.
+    pub(crate) fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Appends `bytes`.
+    pub(crate) fn push(&mut self, bytes: Vec<u8>) {
+        self.len += bytes.len();
+        if !bytes.is_empty() {
+            self.pieces.push(bytes);
+        }
+    }
+
+    /// The pieces in order.
+    pub(crate) fn slices(&self) -> impl Iterator<Item = &[u8]> {
+        self.pieces.iter().map(Vec::as_slice)
+    }
+
+    /// The pieces joined.
+    pub(crate) fn concat(&self) -> Vec<u8> {
+        self.pieces.concat()
+    }
 }
 
 impl Appender<'_> {
@@ -70,17 +128,17 @@ impl Appender<'_> {
     }
 
     /// A buffer view of `bytes` (4-byte aligned), with `target` when given.
-    pub(crate) fn view(&mut self, bytes: &[u8], target: Option<u32>) -> usize {
-        let pad = self.bin.len().next_multiple_of(4) - self.bin.len();
-        self.bin.extend(std::iter::repeat_n(0, pad));
+    pub(crate) fn view(&mut self, bytes: Vec<u8>, target: Option<u32>) -> usize {
+        let end = self.base + self.bin.len();
+        self.bin.push(vec![0; end.next_multiple_of(4) - end]);
         let mut view = Map::new();
         view.insert("buffer".into(), json!(self.buffer));
-        view.insert("byteOffset".into(), json!(self.bin.len()));
+        view.insert("byteOffset".into(), json!(self.base + self.bin.len()));
         view.insert("byteLength".into(), json!(bytes.len()));
         if let Some(t) = target {
             view.insert("target".into(), json!(t));
         }
-        self.bin.extend_from_slice(bytes);
+        self.bin.push(bytes);
         self.push("bufferViews", Value::Object(view))
     }
 
@@ -93,7 +151,7 @@ impl Appender<'_> {
         target: Option<u32>,
         bounds: bool,
     ) -> usize {
-        let view = self.view(&float_bytes(values), target);
+        let view = self.view(float_bytes(values), target);
         let mut accessor = json!({
             "bufferView": view,
             "componentType": FLOAT,
@@ -126,7 +184,7 @@ impl Appender<'_> {
             5125
         });
         let bytes = integer_bytes(values, component_type);
-        let view = self.view(&bytes, target);
+        let view = self.view(bytes, target);
         self.push(
             "accessors",
             json!({
@@ -159,7 +217,7 @@ impl Appender<'_> {
         match e.data {
             DeltaData::Zeros => self.zeros(count),
             DeltaData::Dense(bytes) => {
-                let view = self.view(&bytes, Some(ARRAY_BUFFER));
+                let view = self.view(bytes, Some(ARRAY_BUFFER));
                 self.push(
                     "accessors",
                     json!({"bufferView": view, "componentType": FLOAT, "count": count,
@@ -172,8 +230,8 @@ impl Appender<'_> {
                 indices,
                 values,
             } => {
-                let indices = self.view(&indices, None);
-                let values = self.view(&values, None);
+                let indices = self.view(indices, None);
+                let values = self.view(values, None);
                 self.push(
                     "accessors",
                     json!({"componentType": FLOAT, "count": count, "type": "VEC3",
@@ -191,6 +249,8 @@ impl Appender<'_> {
 /// (on any thread) and appended by [`Appender::append_deltas`].
 pub(crate) struct EncodedDeltas {
     count: usize,
+    /// Every delta is finite.
+    pub(crate) finite: bool,
     min: [f32; 3],
     max: [f32; 3],
     data: DeltaData,
@@ -213,30 +273,27 @@ enum DeltaData {
 
 impl EncodedDeltas {
     /// The deltas `delta(0)`, ..., `delta(count - 1)`: sparse when that is
-    /// smaller (and `sparse`), else dense. One pass over them finds the
-    /// bounds and keeps the moving vertices' deltas; a dense target takes
-    /// a second.
+    /// smaller (and `sparse`), else dense. A first pass finds the bounds
+    /// and counts the moving vertices; a second lays out their bytes, in
+    /// buffers of the size they end with.
     pub(crate) fn new(count: usize, delta: impl Fn(usize) -> [f32; 3], sparse: bool) -> Self {
         let mut min = [f32::INFINITY; 3];
         let mut max = [f32::NEG_INFINITY; 3];
-        let mut moved: Vec<u32> = Vec::new();
-        let mut values: Vec<u8> = Vec::new();
+        let mut moved = 0;
+        let mut finite = true;
         for v in 0..count {
             let d = delta(v);
             for c in 0..3 {
-                min[c] = min[c].min(d[c]);
-                max[c] = max[c].max(d[c]);
+                finite &= d[c].is_finite();
+                min[c] = if d[c] < min[c] { d[c] } else { min[c] };
+                max[c] = if d[c] > max[c] { d[c] } else { max[c] };
             }
-            if d != [0.0; 3] {
-                moved.push(v as u32);
-                for x in d {
-                    values.extend_from_slice(&x.to_le_bytes());
-                }
-            }
+            moved += usize::from(d != [0.0; 3]);
         }
-        if moved.is_empty() {
+        if moved == 0 {
             return EncodedDeltas {
                 count,
+                finite,
                 min: [0.0; 3],
                 max: [0.0; 3],
                 data: DeltaData::Zeros,
@@ -247,29 +304,46 @@ impl EncodedDeltas {
             257..=65536 => (5123, 2),
             _ => (5125, 4),
         };
-        let data = if !sparse || moved.len() * (index_bytes + 12) >= count * 12 {
+        let data = if !sparse || moved * (index_bytes + 12) >= count * 12 {
             let mut dense = Vec::with_capacity(12 * count);
             for v in 0..count {
-                for x in delta(v) {
-                    dense.extend_from_slice(&x.to_le_bytes());
-                }
+                dense.extend_from_slice(&vector_bytes(delta(v)));
             }
             DeltaData::Dense(dense)
         } else {
+            let mut indices = Vec::with_capacity(index_bytes * moved);
+            let mut values = Vec::with_capacity(12 * moved);
+            for v in 0..count {
+                let d = delta(v);
+                if d != [0.0; 3] {
+                    indices.extend_from_slice(&(v as u32).to_le_bytes()[..index_bytes]);
+                    values.extend_from_slice(&vector_bytes(d));
+                }
+            }
             DeltaData::Sparse {
-                moved: moved.len(),
+                moved,
                 index_type,
-                indices: integer_bytes(&moved, index_type),
+                indices,
                 values,
             }
         };
         EncodedDeltas {
             count,
+            finite,
             min,
             max,
             data,
         }
     }
+}
+
+/// Little-endian bytes of `d`.
+fn vector_bytes(d: [f32; 3]) -> [u8; 12] {
+    let mut bytes = [0; 12];
+    for (c, x) in d.iter().enumerate() {
+        bytes[4 * c..4 * c + 4].copy_from_slice(&x.to_le_bytes());
+    }
+    bytes
 }
 
 /// Little-endian bytes of `values`.

@@ -6,7 +6,7 @@
 
 use serde_json::{json, Value};
 
-use super::glb::{glb_bytes, Appender, ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER};
+use super::glb::{glb_bytes, Appender, Pieces, ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER};
 use crate::linalg::vector::angle_weighted_vertex_normals;
 use crate::mesh::{shapes, Mesh3};
 
@@ -121,10 +121,11 @@ impl SampleCharacter {
             },
             "extras": { "note": "made in code for tests" },
         });
-        let mut bin = Vec::new();
+        let mut bin = Pieces::default();
         let mut add = Appender {
             json: &mut json,
             buffer: 0,
+            base: 0,
             bin: &mut bin,
         };
         // The seam: triangles of the lower half are cloth, of the upper half
@@ -140,7 +141,7 @@ impl SampleCharacter {
             if y < mid { &mut lower } else { &mut upper }.push(*t);
         }
         let smile = self.smile(body.positions());
-        let image_view = add.view(&SKIN_PNG, None);
+        let image_view = add.view(SKIN_PNG.to_vec(), None);
         let mut primitives = Vec::new();
         let mut node_scale = None;
         for (k, triangles) in [upper, lower].iter().enumerate() {
@@ -179,7 +180,7 @@ impl SampleCharacter {
                         b
                     })
                     .collect();
-                let view = add.view(&bytes, Some(ARRAY_BUFFER));
+                let view = add.view(bytes, Some(ARRAY_BUFFER));
                 add.array("bufferViews")[view]["byteStride"] = json!(8);
                 let decoded: Vec<f32> = q.iter().map(|&v| (v as u16 as i16) as f32).collect();
                 let (min, max) = super::glb::bounds_of(&decoded, 3);
@@ -338,7 +339,7 @@ impl SampleCharacter {
                 })
                 .collect();
             let bytes: Vec<u8> = ibm.iter().flat_map(|x| x.to_le_bytes()).collect();
-            let view = add.view(&bytes, None);
+            let view = add.view(bytes, None);
             let a = add.push(
                 "accessors",
                 json!({"bufferView": view, "componentType": 5126, "count": 2, "type": "MAT4"}),
@@ -377,8 +378,8 @@ impl SampleCharacter {
         if !used.is_empty() {
             json["extensionsUsed"] = Value::Array(used);
         }
-        bin.resize(bin.len().next_multiple_of(4), 0);
-        (json, bin)
+        bin.push(vec![0; bin.len().next_multiple_of(4) - bin.len()]);
+        (json, bin.concat())
     }
 
     /// A `POSITION` target accessor of `deltas`: sparse when
@@ -398,7 +399,7 @@ impl SampleCharacter {
                 }
                 bytes.extend([0, 0]);
             }
-            let view = add.view(&bytes, Some(ARRAY_BUFFER));
+            let view = add.view(bytes, Some(ARRAY_BUFFER));
             add.array("bufferViews")[view]["byteStride"] = json!(8);
             let decoded: Vec<f32> = q.iter().map(|&v| f32::from(v)).collect();
             let (min, max) = super::glb::bounds_of(&decoded, 3);

@@ -14,6 +14,7 @@
 //! (VRM 0.x blend shape groups, VRM 1.0 `expressions.custom`) gain one per
 //! shape.
 
+use std::io::Write;
 use std::path::Path;
 
 use rayon::prelude::*;
@@ -22,7 +23,7 @@ use serde_json::{json, Map, Value};
 use super::accessor::read_floats;
 use super::base64;
 use super::document::{Container, GltfDocument};
-use super::glb::{glb_bytes, Appender, EncodedDeltas};
+use super::glb::{glb_length, write_glb_parts, Appender, EncodedDeltas, Pieces};
 use super::mesh::{target_names, GltfMesh};
 use crate::error::{Error, Result};
 use crate::io::write_atomic;
@@ -98,8 +99,8 @@ pub fn write_shape_keys(
     shapes: &[NewShape<'_>],
     options: &ShapeKeyOptions,
 ) -> Result<()> {
-    let bytes = add_shape_keys(doc, mesh, shapes, options)?;
-    write_atomic(path, |w| w.write_all(&bytes))
+    let edited = edit(doc, mesh, shapes, options)?;
+    write_atomic(path, |w| edited.write_to(w))
 }
 
 /// The bytes of `doc` with `shapes` added to `mesh` (read from `doc`) as
@@ -114,14 +115,66 @@ pub fn write_shape_keys(
 /// be read.
 ///
 /// # Performance
-/// The file is copied once and each shape's deltas appended: about the
-/// time of writing the file plus 12 bytes per vertex and shape.
+/// One pass over each shape's positions encodes its deltas (checking them
+/// finite as it goes); the file's bytes are then copied once, followed by
+/// the new ones ([`write_shape_keys`] writes them to the file from where
+/// they are, without assembling them first).
 pub fn add_shape_keys(
     doc: &GltfDocument,
     mesh: &GltfMesh,
     shapes: &[NewShape<'_>],
     options: &ShapeKeyOptions,
 ) -> Result<Vec<u8>> {
+    let edited = edit(doc, mesh, shapes, options)?;
+    let mut bytes = Vec::with_capacity(edited.len());
+    edited
+        .write_to(&mut bytes)
+        .expect("writing to memory does not fail");
+    Ok(bytes)
+}
+
+/// A document with shape keys added, in parts: its new JSON, and for a GLB
+/// its binary chunk as the file's own bytes followed by the new ones.
+struct Edited<'d> {
+    /// The new JSON.
+    json: Vec<u8>,
+    /// For a GLB: its binary chunk, as the file's own bytes and the new
+    /// ones after them.
+    bin: Option<(&'d [u8], Pieces)>,
+}
+
+impl Edited<'_> {
+    /// The length of the file.
+    fn len(&self) -> usize {
+        match &self.bin {
+            Some((old, new)) => glb_length(&self.json, Some(&self.parts(old, new))),
+            None => self.json.len(),
+        }
+    }
+
+    /// The binary chunk's parts: the file's own bytes, then the new ones.
+    fn parts<'a>(&self, old: &'a [u8], new: &'a Pieces) -> Vec<&'a [u8]> {
+        std::iter::once(old).chain(new.slices()).collect()
+    }
+
+    /// Writes the file: a GLB from its parts, or the JSON of a `.gltf`.
+    fn write_to(&self, w: &mut dyn Write) -> std::io::Result<()> {
+        match &self.bin {
+            Some((old, new)) => write_glb_parts(w, &self.json, Some(&self.parts(old, new))),
+            None => w.write_all(&self.json),
+        }
+    }
+}
+
+/// The edit behind [`add_shape_keys`] and [`write_shape_keys`]: the new
+/// JSON and the new bytes of the binary chunk, the file's own left where
+/// they are.
+fn edit<'d>(
+    doc: &'d GltfDocument,
+    mesh: &GltfMesh,
+    shapes: &[NewShape<'_>],
+    options: &ShapeKeyOptions,
+) -> Result<Edited<'d>> {
     let invalid = |message: String| {
         Error::InvalidMesh(format!(
             "`{}`, mesh `{}`: {message}",
@@ -159,16 +212,6 @@ pub fn add_shape_keys(
                 shape.positions.len()
             )));
         }
-        if let Some(v) = shape
-            .positions
-            .iter()
-            .position(|p| p.iter().any(|x| !x.is_finite()))
-        {
-            return Err(invalid(format!(
-                "shape `{}`: vertex {v} has a coordinate that is not finite",
-                shape.name
-            )));
-        }
         if shapes[..s].iter().any(|o| o.name == shape.name) {
             return Err(invalid(format!("two shapes are named `{}`", shape.name)));
         }
@@ -196,22 +239,16 @@ pub fn add_shape_keys(
                 .and_then(|b| b.iter().position(|b| b.get("uri").is_none()))
         })
         .flatten();
-    let (buffer, mut bin) = match glb_buffer {
+    // The new bytes follow the buffer's own, which stay where they are.
+    let (buffer, old): (usize, &[u8]) = match glb_buffer {
         Some(b) => {
             let length = json["buffers"][b]["byteLength"].as_u64().unwrap_or(0) as usize;
             let old = doc.bin().expect("checked");
-            let old = &old[..length.min(old.len())];
-            // Room for every shape stored densely, so that appending
-            // copies nothing already there.
-            let mut bin = Vec::with_capacity(old.len() + 12 * n * shapes.len() + 64);
-            bin.extend_from_slice(old);
-            (b, bin)
+            (b, &old[..length.min(old.len())])
         }
-        None => {
-            let b = json["buffers"].as_array().map_or(0, Vec::len);
-            (b, Vec::new())
-        }
+        None => (json["buffers"].as_array().map_or(0, Vec::len), &[]),
     };
+    let mut bin = Pieces::default();
     if glb_buffer.is_none() {
         let buffers = json
             .as_object_mut()
@@ -226,6 +263,7 @@ pub fn add_shape_keys(
     let mut add = Appender {
         json: &mut json,
         buffer,
+        base: old.len(),
         bin: &mut bin,
     };
     for (k, primitive) in mesh.primitives.iter().enumerate() {
@@ -272,7 +310,10 @@ pub fn add_shape_keys(
                     ))
                 })
                 .collect();
-            for (e, &slot) in encoded.into_iter().zip(their_slots) {
+            for ((e, &slot), shape) in encoded.into_iter().zip(their_slots).zip(some) {
+                if e.as_ref().is_some_and(|e| !e.finite) {
+                    return Err(invalid(not_finite(shape)));
+                }
                 let accessor = match e {
                     Some(e) => add.append_deltas(e),
                     None => add.zeros(count),
@@ -293,21 +334,41 @@ pub fn add_shape_keys(
         add_vrm_expressions(add.json, mesh, shapes, &slots, options.replace).map_err(invalid)?;
     }
     // The buffer's new length, and the new buffer's data.
-    let length = bin.len();
     match glb_buffer {
-        Some(_) => json["buffers"][buffer]["byteLength"] = json!(length),
+        Some(_) => json["buffers"][buffer]["byteLength"] = json!(old.len() + bin.len()),
         None => {
             json["buffers"][buffer] = json!({
-                "byteLength": length,
-                "uri": format!("data:application/octet-stream;base64,{}", base64::encode(&bin)),
+                "byteLength": bin.len(),
+                "uri": format!("data:application/octet-stream;base64,{}", base64::encode(&bin.concat())),
             });
         }
     }
-    let text = serde_json::to_vec(&json).expect("JSON serialises");
-    Ok(match doc.container() {
-        Container::Glb => glb_bytes(&text, glb_buffer.map(|_| bin.as_slice()).or(doc.bin())),
-        Container::Json => text,
-    })
+    let json = serde_json::to_vec(&json).expect("JSON serialises");
+    let bin = match (doc.container(), glb_buffer) {
+        (Container::Json, _) => None,
+        (Container::Glb, Some(_)) => Some((old, bin)),
+        (Container::Glb, None) => doc.bin().map(|b| (b, Pieces::default())),
+    };
+    Ok(Edited { json, bin })
+}
+
+/// Why `shape` is refused when a delta of it is not finite: the first
+/// vertex with a coordinate that is not finite, or too large for `f32`.
+fn not_finite(shape: &NewShape<'_>) -> String {
+    match shape
+        .positions
+        .iter()
+        .position(|p| p.iter().any(|x| !x.is_finite()))
+    {
+        Some(v) => format!(
+            "shape `{}`: vertex {v} has a coordinate that is not finite",
+            shape.name
+        ),
+        None => format!(
+            "shape `{}` moves a vertex farther than glTF's 32-bit floats hold",
+            shape.name
+        ),
+    }
 }
 
 /// `value[extras][name] = item`, making `extras` when missing.
