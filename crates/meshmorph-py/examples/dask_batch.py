@@ -36,7 +36,8 @@ glTF or VRM target's `gltf` is a copy of its own file with the shapes added as m
 
 A glTF mesh is placed in its scene by its node's matrix and welded at seams, as the command line
 does it; markers' positions are in that scene. A key this example does not handle (the command
-line's `gltf` made from a mesh file that is not glTF, say) is refused, naming it.
+line's `gltf` made from a mesh file that is not glTF, say) is refused, naming it, and so is a
+target whose outputs would write over one of its inputs.
 
 Each task reads its files, fits the correspondence (or loads it), carries every pose and writes
 them through meshmorph's output rules, and returns a report: its time, the correspondence's
@@ -160,7 +161,24 @@ def read_batch(path):
                 "vrm_expressions": t.get("vrm_expressions", False),
             }
         )
+        never_over_inputs(jobs[-1], named)
     return jobs
+
+
+def never_over_inputs(job, named):
+    """Refuses a job that would write over one of its inputs (paths
+    resolved, links followed), as the command line does."""
+    inputs = [job["source"], job["reference"], *job["poses"], *(job["markers"] or []), job["correspondence"]]
+    outputs = [job["gltf"], job["save_correspondence"]]
+    if job["output"]:
+        ext = os.path.splitext(job["reference"])[1]
+        outputs += [os.path.join(job["output"], os.path.splitext(os.path.basename(p))[0] + ext) for p in job["poses"]]
+    read = {os.path.realpath(p): p for p in inputs if p}
+    for out in filter(None, outputs):
+        if os.path.realpath(out) in read:
+            raise ValueError(
+                "{}: the output {} would overwrite the input {}: choose another output path".format(named, out, read[os.path.realpath(out)])
+            )
 
 
 class Reference:

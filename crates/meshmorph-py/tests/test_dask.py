@@ -174,7 +174,7 @@ def test_every_morph_target_by_default_and_one_of_the_same_name_replaced_only_wh
     assert np.abs(back.targets["Up"] - back.vertices - given).max() < 0.1 * np.abs(given).max()
 
 
-def test_batch_keys_that_do_not_go_together_are_refused_naming_the_file_and_key(tmp_path):
+def test_batch_keys_that_do_not_go_together_or_an_output_over_an_input_are_refused_naming_the_file_and_key(tmp_path):
     make_batch(tmp_path)  # the mesh files: source.obj, pose-0.obj, target-0.obj
     cases = [
         (make_rig_batch(tmp_path, name="case-0.json", fps=12), "does not handle fps"),
@@ -189,6 +189,9 @@ def test_batch_keys_that_do_not_go_together_are_refused_naming_the_file_and_key(
         (make_rig_batch(tmp_path, name="case-8.json", target={"gltf": None}), "give `output`"),
         (make_rig_batch(tmp_path, name="case-9.json", target={"vrm_expressions": "yes"}), "`vrm_expressions` is true or false"),
         (make_rig_batch(tmp_path, name="case-10.json", targets=[]), "lists no targets"),
+        (make_rig_batch(tmp_path, name="case-11.json", target={"gltf": "rig.glb"}), "output .*rig.glb would overwrite the input"),
+        (make_rig_batch(tmp_path, name="case-12.json", target={"reference": "target-0.obj", "gltf": None, "mesh": None, "vrm_expressions": None, "output": "."},
+                        source="source.obj", poses=["pose-0.obj"], shapes=None, source_mesh=None), "output .*pose-0.obj would overwrite the input"),
     ]
     for batch, message in cases:
         with pytest.raises(ValueError, match=message):
