@@ -19,14 +19,21 @@ def triangles(obj):
     wound as they face in world space: an object mirrored by its transform
     (a negative scale) has them turned over, so that their normals still
     point outwards there."""
+    tris = loop_triangles(obj)
+    if np.linalg.det(matrix(obj)[:3, :3]) < 0:
+        tris = tris[:, ::-1].copy()
+    return tris
+
+
+def loop_triangles(obj):
+    """The mesh's triangles `(m, 3)` int64, as Blender splits its polygons
+    and winds them (a marker file's triangle numbers and barycentric
+    coordinates refer to these)."""
     mesh = obj.data
     mesh.calc_loop_triangles()
     tris = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int64)
     mesh.loop_triangles.foreach_get("vertices", tris)
-    tris = tris.reshape(-1, 3)
-    if np.linalg.det(matrix(obj)[:3, :3]) < 0:
-        tris = tris[:, ::-1].copy()
-    return tris
+    return tris.reshape(-1, 3)
 
 
 def matrix(obj):

@@ -49,6 +49,22 @@ def _source_and_target(context):
     return others[0], target
 
 
+def _target_of_file(context):
+    """The target of a transfer from a Source File: the active mesh, the
+    only one selected."""
+    target = context.active_object
+    if target is None or target.type != "MESH" or not target.select_get():
+        raise Refusal("Select the target mesh (made active): the source is the Source File")
+    others = [o for o in context.selected_objects if o != target and o.type == "MESH"]
+    if others:
+        raise Refusal(
+            "The source is the Source File, and {} is selected too: select only the target, or clear Source File "
+            "to carry {}'s keys".format(others[0].name, others[0].name)
+        )
+    _in_object_mode(target)
+    return target
+
+
 def _in_object_mode(*objects):
     """Refuses meshes in another mode than Object Mode: in Edit or Sculpt
     Mode their shape keys are not up to date, and Blender would write the
@@ -149,11 +165,13 @@ class MESHMORPH_OT_transfer_shape_keys(_Refusing, bpy.types.Operator):
 
     def _gather(self, context):
         """The transfer's arrays, read from Blender (main thread)."""
+        s = _settings(context)
+        if s.source_file.strip():
+            return self._gather_from_file(context, s)
         source, target = _source_and_target(context)
         meshmorph = _meshmorph()
         from . import marker_sources, transfer_keys
 
-        s = _settings(context)
         names = transfer_keys.chosen_keys(source, target, s.keys)
 
         def markers():
@@ -162,6 +180,34 @@ class MESHMORPH_OT_transfer_shape_keys(_Refusing, bpy.types.Operator):
             if s.marker_source == "GROUPS":
                 return marker_sources.from_vertex_groups(meshmorph, source, target, s.group_prefix)
             return marker_sources.from_empties(meshmorph, source, target)
+
+        return transfer_keys.Work(meshmorph, source, target, names, markers, s.refit)
+
+    def _gather_from_file(self, context, s):
+        """The transfer's arrays with the source read from the Source File
+        (a glTF rig): the target is the active mesh, the markers a marker
+        file between the file's mesh and the target."""
+        target = _target_of_file(context)
+        path = bpy.path.abspath(s.source_file.strip())
+        if s.marker_source != "FILE":
+            raise Refusal(
+                "With a Source File, give the markers as a marker file (vertices of {}'s mesh and of {}): "
+                "choose Marker File in the meshmorph panel".format(path, target.name)
+            )
+        if s.target_points_file.strip():
+            raise Refusal(
+                "With a Source File, give one marker file of pairs between {} and {}, not two point files".format(path, target.name)
+            )
+        meshmorph = _meshmorph()
+        from . import file_source, marker_sources, transfer_keys
+
+        source = file_source.FileSource(meshmorph, path, s.source_mesh)
+        names = transfer_keys.chosen_keys(source, target, s.keys)
+
+        def markers():
+            marker_file = bpy.path.abspath(s.marker_file)
+            read = marker_sources.from_file(meshmorph, source, target, marker_file)
+            return file_source.markers(meshmorph, source, target, read, marker_file)
 
         return transfer_keys.Work(meshmorph, source, target, names, markers, s.refit)
 

@@ -21,6 +21,16 @@ class MeshmorphSettings(bpy.types.PropertyGroup):
         name="Target Points", subtype="FILE_PATH", description="With point files (MeshLab .pp, Wrap .json): the target's"
     )
     group_prefix: bpy.props.StringProperty(name="Group Prefix", default="marker.")
+    source_file: bpy.props.StringProperty(
+        name="Source File",
+        subtype="FILE_PATH",
+        description="A glTF rig (.glb, .gltf, .vrm) whose morph targets are carried, read without importing it, "
+        "instead of a selected source; the markers are a marker file between its mesh and the target",
+    )
+    source_mesh: bpy.props.StringProperty(
+        name="Source Mesh",
+        description="The Source File's mesh (its or its node's name); empty for the only one, else the one with the most vertices",
+    )
     keys: bpy.props.StringProperty(name="Keys", description="The source's keys to carry, comma-separated; empty for all")
     refit: bpy.props.BoolProperty(name="New Fit", description="Fit a new correspondence even when the target keeps one")
     inbetween_from: bpy.props.StringProperty(name="From", description="The key to start from; empty for the basis")
@@ -71,6 +81,9 @@ class MESHMORPH_PT_panel(bpy.types.Panel):
 
         box = layout.box()
         box.label(text="Transfer shape keys (source, then target active)")
+        box.prop(s, "source_file")
+        if s.source_file:
+            box.prop(s, "source_mesh")
         box.prop(s, "marker_source")
         if s.marker_source == "FILE":
             box.prop(s, "marker_file")

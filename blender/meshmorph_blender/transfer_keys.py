@@ -7,6 +7,7 @@ import os
 import numpy as np
 
 from . import kept_correspondence, mesh_arrays
+from .file_source import FileSource
 from .refusal import Missing, Refusal
 
 
@@ -20,10 +21,18 @@ def fit_report(c):
 
 
 def chosen_keys(source, target, wanted):
-    """The source's keys to carry: all (`wanted` empty), or the key named
-    `wanted`, or the names in `wanted`, comma-separated; each checked, and
-    none named like the target's basis (which would move its rest shape)."""
-    names = mesh_arrays.key_names(source)
+    """The source's keys to carry (a source object's shape keys, a source
+    file's morph targets): all (`wanted` empty), or the key named `wanted`,
+    or the names in `wanted`, comma-separated; each checked, and none named
+    like the target's basis (which would move its rest shape)."""
+    if isinstance(source, FileSource):
+        names = source.key_names
+        if not names:
+            raise Refusal(
+                "The mesh {} of {} has no morph targets: choose a rig with shape keys".format(source.gltf.mesh_name, source.name)
+            )
+    else:
+        names = mesh_arrays.key_names(source)
     if not names:
         raise Refusal("{} has no shape keys besides its basis: select a source with shape keys".format(source.name))
     if not wanted.strip():
@@ -34,7 +43,8 @@ def chosen_keys(source, target, wanted):
         chosen = [w.strip() for w in wanted.split(",") if w.strip()]
         for w in chosen:
             if w not in names:
-                raise Refusal("{} has no shape key \"{}\"; it has: {}".format(source.name, w, ", ".join(names)))
+                kind = "morph target" if isinstance(source, FileSource) else "shape key"
+                raise Refusal("{} has no {} \"{}\"; it has: {}".format(source.name, kind, w, ", ".join(names)))
     keys = target.data.shape_keys
     basis = keys.reference_key.name if keys is not None else "Basis"
     if basis in chosen:
@@ -48,19 +58,25 @@ class Work:
     """A transfer's arrays, gathered from Blender on its main thread; `run`
     (which touches no Blender data, so it may run on another thread) does
     the fit and the solves; `store` writes the keys back, on the main
-    thread again."""
+    thread again. The source is an object or a `FileSource`."""
 
     def __init__(self, meshmorph, source, target, names, markers, refit):
         self.meshmorph = meshmorph
         self.source, self.target, self.names = source, target, names
-        self.fs, self.ft = mesh_arrays.triangles(source), mesh_arrays.triangles(target)
+        from_file = isinstance(source, FileSource)
+        self.fs = source.faces if from_file else mesh_arrays.triangles(source)
+        self.ft = mesh_arrays.triangles(target)
         if len(self.fs) == 0 or len(self.ft) == 0:
             empty = source if len(self.fs) == 0 else target
             raise Refusal("{} has no faces: select meshes with faces".format(empty.name))
-        source_rest, target_rest = mesh_arrays.rest(source), mesh_arrays.rest(target)
-        self.vs = mesh_arrays.to_world(source, source_rest)
+        target_rest = mesh_arrays.rest(target)
         self.vt = mesh_arrays.to_world(target, target_rest)
-        self.poses = np.stack([mesh_arrays.to_world(source, mesh_arrays.key_positions(source, n)) for n in names])
+        if from_file:
+            source_rest, self.vs, self.poses = source.rest, source.vertices, source.poses(names)
+        else:
+            source_rest = mesh_arrays.rest(source)
+            self.vs = mesh_arrays.to_world(source, source_rest)
+            self.poses = np.stack([mesh_arrays.to_world(source, mesh_arrays.key_positions(source, n)) for n in names])
         self.meshes = kept_correspondence.meshes_print(source_rest, self.fs, target_rest, self.ft)
         # Markers where there are some; a kept fit serves without them.
         try:
@@ -108,6 +124,11 @@ class Work:
             kept_correspondence.keep(
                 self.target, self.source.name, self.meshes, self.markers_print, self.correspondence, self.report
             )
+        if isinstance(self.source, FileSource):
+            # A glTF file's morph targets have no ranges and no relative keys.
+            for name, positions in zip(self.names, local):
+                mesh_arrays.store_key(self.target, name, positions)
+            return self.report, self.reused
         given = self.source.data.shape_keys.key_blocks
         for name, positions in zip(self.names, local):
             block = mesh_arrays.store_key(self.target, name, positions)

@@ -11,7 +11,10 @@ It installs the add-on from its zip as a user would (into the user scripts
 folder given by BLENDER_USER_SCRIPTS), then: shape keys carried from a quad
 source to a target of other topology (with an n-gon) equal the Python
 package's transfer of the same arrays; a key added later is carried with
-the kept correspondence; a rigidly turned key gives rigid in-betweens and a
+the kept correspondence; a glTF rig's morph targets, read from a GLB file
+(made by the Python package's tests' gltf_files.py), arrive as shape keys,
+and a missing file, a file that is not glTF or a key it lacks are refused
+naming it; a rigidly turned key gives rigid in-betweens and a
 baked animation; the ARKit expressions put on a head from empties and from
 a landmark file equal the Python package's; bad selections give their
 sentence, not a traceback; the
@@ -837,6 +840,113 @@ def test_arkit_expressions_from_empties_and_from_a_landmark_file_equal_the_pytho
     for child in list(head.children):
         bpy.data.objects.remove(child)
     bpy.data.objects.remove(head)
+
+# ------------------------------------------------------------------ a source rig from a glTF file
+
+sys.path.insert(0, os.path.join(ROOT, "crates", "meshmorph-py", "tests"))
+from gltf_files import character  # noqa: E402  (the Python package's tests' hand-made GLB)
+
+
+def plane_target(name, n):
+    """A plane of n x n quads where Blender's glTF importer puts the sheet
+    of gltf_files' character: x from -1 to 1, y = 0, z from 0 to 2 (its
+    node lifts it by 1 along glTF's Y, which is Blender's Z)."""
+    xs = np.linspace(-1.0, 1.0, n + 1)
+    verts = [(x, 0.0, 1.0 + z) for z in xs for x in xs]
+    faces = [[j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i] for j in range(n) for i in range(n)]
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], faces)
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def test_keys_from_a_source_file_arrive_on_the_target_and_bad_files_are_refused_naming_them():
+    import pathlib
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as d:
+        character(pathlib.Path(d) / "plain.glb")
+        plain = meshmorph.read_gltf(os.path.join(d, "plain.glb"))
+        rig = os.path.join(d, "rig.glb")
+        meshmorph.write_gltf(rig, plain, {"Bend": bend(plain.vertices, 0.8)})
+        target = plane_target("Plane", 12)
+        vt = coordinates(target.data.vertices, len(target.data.vertices))
+        # The markers: the sheet's corners, middle and one more point, by
+        # vertex number in the file's mesh and in the target.
+        corners = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0], [0, 0, 0], [0.5, -0.5, 0]], dtype=float)
+        in_blender = np.stack([corners[:, 0], -corners[:, 2], corners[:, 1] + 1], axis=1)
+        nearest = lambda points, at: [int(np.argmin(np.linalg.norm(points - p, axis=1))) for p in at]
+        pairs = zip(nearest(plain.vertices, corners), nearest(vt, in_blender))
+        markers = os.path.join(d, "rig-plane.txt")
+        with open(markers, "w") as f:
+            f.writelines("v {} v {}\n".format(a, b) for a, b in pairs)
+        s = bpy.context.scene.meshmorph
+        s.source_file, s.source_mesh, s.marker_source, s.marker_file = rig, "FaceNode", "FILE", markers
+        s.target_points_file, s.keys, s.refit = "", "Up, Bend", True
+        select(target, active=target)
+        assert bpy.ops.meshmorph.transfer_shape_keys() == {"FINISHED"}
+        assert [k.name for k in target.data.shape_keys.key_blocks] == ["Basis", "Up", "Bend"]
+        # Up lifts the sheet's middle along glTF's +Z, which is Blender's -Y.
+        x, z = vt[:, 0], vt[:, 2] - 1
+        lift = 0.2 * np.exp(-4 * (x ** 2 + z ** 2))
+        moved = key(target, "Up") - vt
+        # Where a vertex of the target is one of the file's sheet (every
+        # other row and column), the lift is the file's; between them the
+        # file's triangles are flat, so it is lower.
+        shared = np.array([j % 2 == 0 and i % 2 == 0 for j in range(13) for i in range(13)])
+        off = np.abs(moved[:, 1] + lift)
+        print("  Up from the file: largest difference {:.3g} of its lift at the file's vertices, {:.3g} between".format(
+            off[shared].max() / lift.max(), off.max() / lift.max()))
+        assert off[shared].max() < 0.15 * lift.max() and off.max() < 0.25 * lift.max()
+        assert np.abs(moved[:, [0, 2]]).max() < 0.1 * lift.max()
+        # And exactly the Python package's transfer of the file's welded
+        # mesh, placed as Blender's importer places it.
+        g = meshmorph.read_gltf(rig)
+        wv, wf, index = g.welded()
+        first = np.unique(index, return_index=True)[1]
+        y_up = np.array([[1.0, 0, 0], [0, 0, -1.0], [0, 1.0, 0]])
+        m = g.transform
+        place = lambda p: (p @ m[:3, :3].T + m[:3, 3]) @ y_up.T
+        points = meshmorph.Markers.from_points(
+            place(plain.vertices[nearest(plain.vertices, corners)]), vt[nearest(vt, in_blender)]
+        )
+        ft = triangles(target)
+        c = meshmorph.correspond(place(wv), wf, vt, ft, points)
+        want = meshmorph.Transfer(place(wv), wf, vt, ft, c).apply_all(np.stack([place(g.targets[n])[first] for n in ("Up", "Bend")]))
+        for n, w in zip(("Up", "Bend"), want.astype(np.float32)):
+            assert np.abs(key(target, n) - w).max() <= 1e-6 * diagonal(vt), n
+        assert np.abs(key(target, "Bend") - vt).max() > 0.1
+        assert target["meshmorph_correspondence"].to_dict()["source"] == rig
+
+        # Refusals naming the file: missing, not glTF, a key it does not have;
+        # and markers given other than by a marker file.
+        text = os.path.join(d, "text.glb")
+        with open(text, "wb") as f:
+            f.write(b"not a glTF file")
+        s.keys = ""
+        for path, words in (
+            (os.path.join(d, "missing.glb"), ("missing.glb", "does not exist")),
+            (text, ("text.glb", "could not be read")),
+        ):
+            s.source_file = path
+            refused(bpy.ops.meshmorph.transfer_shape_keys, (target,), *words)
+        s.source_file, s.keys = rig, "Smile"
+        refused(bpy.ops.meshmorph.transfer_shape_keys, (target,), "rig.glb", "has no morph target \"Smile\"", "Up, Bend")
+        s.keys, s.source_mesh = "Up", "Nose"
+        refused(bpy.ops.meshmorph.transfer_shape_keys, (target,), "rig.glb", "Nose")
+        s.source_mesh, s.marker_source = "", "GROUPS"
+        refused(bpy.ops.meshmorph.transfer_shape_keys, (target,), "Source File", "marker file", "Plane")
+        s.marker_source = "FILE"
+        with open(markers, "w") as f:
+            f.write("v 1000000 v 0\n")
+        refused(bpy.ops.meshmorph.transfer_shape_keys, (target,), "rig-plane.txt", "1000000", "rig.glb")
+        source = bpy.data.objects["Source"]
+        select(source, target, active=target)
+        refused(bpy.ops.meshmorph.transfer_shape_keys, (source, target), "Source File", "Source is selected too")
+    s.source_file, s.source_mesh, s.marker_file, s.keys, s.refit = "", "", "", "", False
+    bpy.data.objects.remove(target)
+
 
 failed = 0
 for name, test in list(globals().items()):
