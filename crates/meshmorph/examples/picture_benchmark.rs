@@ -41,9 +41,11 @@
 //! the two pictures' outlines traced and the compatible meshes made (the
 //! setup of `meshmorph interpolate`, reading left out), the morph's setup
 //! (the factorisation) and the frames' (the mipmaps), then a frame (its
-//! positions and its drawing) on every thread and on one (and the CPU
-//! time of one on one thread, which the machine's other load does not
-//! inflate as it does the clock's); the peak memory
+//! positions and its drawing) on every thread and on one (with the cores
+//! the frames on every thread kept busy, their CPU seconds over their
+//! seconds on the clock, and the CPU time of one on one thread, which the
+//! machine's other load does not inflate as it does the clock's); the peak
+//! memory
 //! of all that (the pictures included) against the two pictures' bytes.
 
 #[path = "support/memory.rs"]
@@ -357,7 +359,14 @@ fn speed(runs: usize) {
         let positions = m.arap.at(0.5);
         m.frames.draw_into(&positions, 0.5, &mut out);
     };
-    let all = median(timing::samples(runs, &mut frame));
+    let cpu_start = memory::cpu_seconds();
+    let all_samples = timing::samples(runs, &mut frame);
+    // How many cores the frames on all threads kept busy: their CPU
+    // seconds over their seconds on the clock.
+    let busy = cpu_start
+        .zip(memory::cpu_seconds())
+        .map(|(before, after)| (after - before) / all_samples.iter().sum::<f64>());
+    let all = median(all_samples);
     let one_thread = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
@@ -376,15 +385,16 @@ fn speed(runs: usize) {
         report.triangles,
         rayon::current_num_threads()
     );
-    println!("| outlines traced | compatible meshes | morph's setup | mipmaps | a frame, all threads | a frame, one thread | ratio | a frame, CPU time | peak memory / pictures |");
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("| outlines traced | compatible meshes | morph's setup | mipmaps | a frame, all threads | cores busy | a frame, one thread | ratio | a frame, CPU time | peak memory / pictures |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     println!(
-        "| {} | {} | {} | {} | {} | {} | {:.2} | {} | {} |",
+        "| {} | {} | {} | {} | {} | {} | {} | {:.2} | {} | {} |",
         fmt(trace),
         fmt(compatible),
         fmt(solve),
         fmt(textures),
         fmt(all),
+        busy.map_or("—".to_string(), |b| format!("{b:.2}")),
         fmt(one),
         one / all,
         cpu.map_or("—".to_string(), fmt),
