@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Result;
+use meshmorph::io::picture::{arm_anchors, arm_sprite, ARM_SPRITE_SIZE};
 use meshmorph::io::{write_animated_svg, write_svg_frame, Animation, Canvas, Format, Style};
 use meshmorph::outline::{compatible_set, Drawing, OutlineOptions};
 use meshmorph::render::{write_gif_2d, Edges, GifOptions, Style2d};
@@ -634,43 +635,9 @@ fn sprite(args: &Args) -> Result<()> {
         (dir.join("arm-straight.png"), 0.0),
         (dir.join("arm-bent.png"), bend),
     ];
-    // Five points matched on the outlines, as a user marks them: the
-    // shoulder's end, the underside of the upper arm, the outside of the
-    // elbow, the forearm's side and the hand's tip (the bent forearm lies
-    // along the upper arm and hides part of its outline, and the outlines
-    // alone could pair them either way).
     let anchors_path = dir.join("anchors.txt");
-    let tip = ARM_FOREARM + 1.4 * ARM_HALF_WIDTH;
-    let end = [ARM_SHOULDER[0] - ARM_HALF_WIDTH, ARM_SHOULDER[1]];
-    let elbow = [ARM_ELBOW[0], ARM_ELBOW[1] + ARM_HALF_WIDTH];
-    let upper = [
-        0.5 * (ARM_SHOULDER[0] + ARM_ELBOW[0]),
-        ARM_ELBOW[1] + ARM_HALF_WIDTH,
-    ];
-    // The forearm's side that faces down when straight, halfway along.
-    let (along, side) = (0.5 * ARM_FOREARM, ARM_HALF_WIDTH);
-    let forearm = [
-        ARM_ELBOW[0] + along * bend.cos() + side * bend.sin(),
-        ARM_ELBOW[1] - along * bend.sin() + side * bend.cos(),
-    ];
-    let anchors = [
-        ("shoulder", end, end),
-        ("upper_arm", upper, upper),
-        ("elbow", elbow, elbow),
-        (
-            "forearm",
-            [ARM_ELBOW[0] + along, ARM_ELBOW[1] + side],
-            forearm,
-        ),
-        (
-            "hand",
-            [ARM_ELBOW[0] + tip, ARM_ELBOW[1]],
-            [
-                ARM_ELBOW[0] + tip * bend.cos(),
-                ARM_ELBOW[1] - tip * bend.sin(),
-            ],
-        ),
-    ];
+    let size = ARM_SPRITE_SIZE;
+    let anchors = arm_anchors(bend, size);
     let mut plan = Plan::new();
     let anchors_output = plan.file(&anchors_path, "demo anchors");
     let outputs: Vec<_> = pictures
@@ -680,7 +647,7 @@ fn sprite(args: &Args) -> Result<()> {
     let staging = plan.prepare()?;
     output::print_warnings(&staging.warnings());
     for (output, (_, bend)) in outputs.into_iter().zip(&pictures) {
-        let picture = arm_sprite(*bend);
+        let picture = arm_sprite(*bend, size);
         staging.write(output, |path| {
             Ok(meshmorph::io::write_atomic(path, |w| {
                 meshmorph::render::write_picture_png(w, &picture)
@@ -727,57 +694,4 @@ fn sprite(args: &Args) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// The arm sprite's shoulder and elbow (pixels, y down) and its forearm's
-/// length.
-const ARM_SHOULDER: [f64; 2] = [50.0, 170.0];
-const ARM_ELBOW: [f64; 2] = [160.0, 170.0];
-const ARM_FOREARM: f64 = 100.0;
-const ARM_HALF_WIDTH: f64 = 13.0;
-
-/// The arm sprite, 320 × 240, its forearm bent by `bend` (radians) at the
-/// elbow: each part striped across in its own coordinates, so that the
-/// stripes turn with the forearm.
-fn arm_sprite(bend: f64) -> meshmorph::io::picture::Picture {
-    let (shoulder, elbow) = (ARM_SHOULDER, ARM_ELBOW);
-    let (upper, fore, half_width) = (ARM_ELBOW[0] - ARM_SHOULDER[0], ARM_FOREARM, ARM_HALF_WIDTH);
-    let (c, s) = (bend.cos(), bend.sin());
-    // Along the part and across it, for a point `p` of a part starting at
-    // `from` in direction (dx, dy).
-    let local = |p: [f64; 2], from: [f64; 2], (dx, dy): (f64, f64)| {
-        let (x, y) = (p[0] - from[0], p[1] - from[1]);
-        (x * dx + y * dy, -x * dy + y * dx)
-    };
-    // A rounded bar of `length` and the colour of its point.
-    let part = |along: f64, across: f64, length: f64, hue: [u8; 3]| -> Option<[u8; 4]> {
-        let clamped = along.clamp(0.0, length);
-        let d = ((along - clamped).powi(2) + across.powi(2)).sqrt();
-        (d <= half_width).then(|| {
-            let stripe = ((along / 12.0).floor() as i64).rem_euclid(2) == 0;
-            let shade = 1.0 - 0.35 * (across / half_width).powi(2);
-            let k = if stripe { shade } else { 0.7 * shade };
-            [
-                (hue[0] as f64 * k) as u8,
-                (hue[1] as f64 * k) as u8,
-                (hue[2] as f64 * k) as u8,
-                255,
-            ]
-        })
-    };
-    meshmorph::io::picture::Picture::from_fn(320, 240, |x, y| {
-        let p = [x as f64 + 0.5, y as f64 + 0.5];
-        // The forearm (drawn over the upper arm), turning upwards from the
-        // elbow: screen y grows downwards.
-        let (a, b) = local(p, elbow, (c, -s));
-        let hand = (a - fore).hypot(b) <= 1.4 * half_width;
-        if hand {
-            return [236, 184, 140, 255];
-        }
-        if let Some(colour) = part(a, b, fore, [70, 130, 220]) {
-            return colour;
-        }
-        let (a, b) = local(p, shoulder, (1.0, 0.0));
-        part(a, b, upper, [220, 90, 70]).unwrap_or([0, 0, 0, 0])
-    })
 }

@@ -10,6 +10,9 @@
 //! ../shared/data/dt/horse-camel beside the workspace (it is skipped
 //! otherwise). Each figure is the median of 5.
 
+#[path = "../examples/support/memory.rs"]
+mod memory;
+
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -70,25 +73,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 fn median_of_5<T>(
     mut f: impl FnMut() -> Result<T, meshmorph::Error>,
 ) -> Result<(f64, u64, T), meshmorph::Error> {
-    let status = |key: &str| -> u64 {
-        std::fs::read_to_string("/proc/self/status")
-            .ok()
-            .and_then(|s| {
-                s.lines()
-                    .find_map(|l| l.strip_prefix(key))
-                    .and_then(|v| v.trim().trim_end_matches(" kB").parse::<u64>().ok())
-            })
-            .map_or(0, |kb| kb * 1024)
-    };
     let mut runs = Vec::new();
     let mut last = None;
     for _ in 0..5 {
-        let _ = std::fs::write("/proc/self/clear_refs", "5");
-        let before = status("VmRSS:");
+        memory::reset_peak();
+        let before = memory::resident_memory().unwrap_or(0);
         let t = Instant::now();
         let got = f()?;
         let seconds = t.elapsed().as_secs_f64();
-        runs.push((seconds, status("VmHWM:").saturating_sub(before)));
+        runs.push((
+            seconds,
+            memory::peak_memory().unwrap_or(0).saturating_sub(before),
+        ));
         last = Some(got);
     }
     runs.sort_by(|a, b| a.0.total_cmp(&b.0));

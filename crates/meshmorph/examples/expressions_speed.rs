@@ -21,6 +21,9 @@ use meshmorph::{
     RECOMMENDED_LANDMARKS,
 };
 
+#[path = "support/memory.rs"]
+mod memory;
+use memory::{peak_memory, reset_peak};
 #[path = "support/timing.rs"]
 #[allow(dead_code)]
 mod timing;
@@ -41,21 +44,6 @@ fn other_proportions(head: &Mesh3) -> Mesh3 {
         })
         .collect();
     head.with_positions(positions).unwrap()
-}
-
-/// The peak resident memory of this process since the last
-/// [`reset_peak`], in bytes (Linux).
-fn peak_memory() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
-}
-
-/// Starts the peak of [`peak_memory`] again from what is in use now
-/// (Linux 4.0 and later; elsewhere the peak stays the whole run's).
-fn reset_peak() {
-    let _ = std::fs::write("/proc/self/clear_refs", "5");
 }
 
 fn main() {

@@ -247,8 +247,11 @@ impl<'a> PictureMorph<'a> {
             } else if blend >= 1.0 {
                 sample(1)
             } else {
-                let (a, b) = (sample(0), sample(1));
-                [0, 1, 2, 3].map(|i| a[i] + blend * (b[i] - a[i]))
+                let (mut a, b) = (sample(0), sample(1));
+                for i in 0..4 {
+                    a[i] += blend * (b[i] - a[i]);
+                }
+                a
             };
             to_straight(mixed)
         };

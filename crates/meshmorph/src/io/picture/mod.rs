@@ -16,11 +16,14 @@
 //! - `outline`: the drawing of a picture: its largest traced region, or
 //!   its rectangle (photo mode), and what was left out.
 //! - `meshes`: the pictures brought to one frame size and made compatible.
+//! - `arm`: a sprite made in code (an arm bending at the elbow) and points
+//!   matched on it, for demos, tests and benchmarks.
 //!
 //! **Coordinates** are pixels: `(0, 0)` the top-left corner of the
 //! top-left pixel, x to the right, y down; pixel `(i, j)` has its centre
 //! at `(i + ½, j + ½)`. Anchors are given so, in each picture's own pixels.
 
+mod arm;
 #[cfg(feature = "render")]
 mod decode;
 mod meshes;
@@ -28,6 +31,7 @@ mod outline;
 mod simplify;
 mod trace;
 
+pub use arm::{arm_anchors, arm_sprite, ARM_SPRITE_SIZE};
 #[cfg(feature = "render")]
 pub use decode::{decode_picture, read_picture, PictureFormat};
 pub use meshes::{picture_meshes, PictureMeshes};
