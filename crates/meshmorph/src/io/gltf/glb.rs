@@ -2,6 +2,9 @@
 //! buffer views and accessors over a growing binary chunk (for new files
 //! and for the data appended to a user's file).
 
+use std::io::Write;
+
+use rayon::prelude::*;
 use serde_json::{json, Map, Value};
 
 use super::document::{CHUNK_BIN, CHUNK_JSON, GLB_MAGIC};
@@ -10,28 +13,31 @@ use super::document::{CHUNK_BIN, CHUNK_JSON, GLB_MAGIC};
 /// the JSON with spaces, the binary chunk with zeros; no binary chunk when
 /// `bin` is `None`).
 pub(crate) fn glb_bytes(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
-    let parts = bin.map(|b| [b]);
-    let parts = parts.as_ref().map(|p| &p[..]);
-    let mut out = Vec::with_capacity(glb_length(json, parts));
-    write_glb_parts(&mut out, json, parts).expect("writing to memory does not fail");
+    let mut out = Vec::with_capacity(glb_length(json.len(), bin.map(<[u8]>::len)));
+    let mut write_bin = |w: &mut dyn Write| w.write_all(bin.unwrap_or_default());
+    let bin = bin.map(|b| (b.len(), &mut write_bin as &mut BinWriter<'_>));
+    write_glb(&mut out, json, bin).expect("writing to memory does not fail");
     out
 }
 
-/// The length of the GLB [`write_glb_parts`] writes.
-pub(crate) fn glb_length(json: &[u8], bin: Option<&[&[u8]]>) -> usize {
-    let bin_len: Option<usize> = bin.map(|parts| parts.iter().map(|p| p.len()).sum());
-    12 + 8 + json.len().next_multiple_of(4) + bin_len.map_or(0, |b| 8 + b.next_multiple_of(4))
+/// What writes a binary chunk's bytes (without its padding).
+pub(crate) type BinWriter<'a> = dyn FnMut(&mut dyn Write) -> std::io::Result<()> + 'a;
+
+/// The length of a GLB of `json_len` bytes of JSON and `bin_len` of binary
+/// chunk (none when `None`), with their padding.
+pub(crate) fn glb_length(json_len: usize, bin_len: Option<usize>) -> usize {
+    12 + 8 + json_len.next_multiple_of(4) + bin_len.map_or(0, |b| 8 + b.next_multiple_of(4))
 }
 
-/// Writes a GLB of `json` and a binary chunk made of the `bin` parts one
-/// after another (no binary chunk when `None`), as [`glb_bytes`] lays it
-/// out, without assembling the parts first.
-pub(crate) fn write_glb_parts(
-    w: &mut dyn std::io::Write,
+/// Writes a GLB of `json` and a binary chunk of the given length whose
+/// bytes the function writes (no binary chunk when `None`), as
+/// [`glb_bytes`] lays it out, without assembling it first.
+pub(crate) fn write_glb(
+    w: &mut dyn Write,
     json: &[u8],
-    bin: Option<&[&[u8]]>,
+    bin: Option<(usize, &mut BinWriter<'_>)>,
 ) -> std::io::Result<()> {
-    let total = glb_length(json, bin);
+    let total = glb_length(json.len(), bin.as_ref().map(|b| b.0));
     let json_len = json.len().next_multiple_of(4);
     w.write_all(GLB_MAGIC)?;
     w.write_all(&2u32.to_le_bytes())?;
@@ -40,14 +46,11 @@ pub(crate) fn write_glb_parts(
     w.write_all(&CHUNK_JSON.to_le_bytes())?;
     w.write_all(json)?;
     w.write_all(&b"   "[..json_len - json.len()])?;
-    if let Some(parts) = bin {
-        let length: usize = parts.iter().map(|p| p.len()).sum();
+    if let Some((length, write_bin)) = bin {
         let bin_len = length.next_multiple_of(4);
         w.write_all(&(bin_len as u32).to_le_bytes())?;
         w.write_all(&CHUNK_BIN.to_le_bytes())?;
-        for part in parts {
-            w.write_all(part)?;
-        }
+        write_bin(w)?;
         w.write_all(&[0; 3][..bin_len - length])?;
     }
     Ok(())
@@ -62,7 +65,7 @@ pub(crate) const FLOAT: u32 = 5126;
 
 /// Buffer views and accessors appended to a document's JSON, their bytes
 /// to a binary buffer.
-pub(crate) struct Appender<'a> {
+pub(crate) struct Appender<'a, 'p> {
     /// The document's JSON (an object).
     pub json: &'a mut Value,
     /// The buffer the new views point into.
@@ -70,18 +73,47 @@ pub(crate) struct Appender<'a> {
     /// The length of that buffer before the new bytes (0 for a new one).
     pub base: usize,
     /// The new bytes of that buffer, which follow its first `base`.
-    pub bin: &'a mut Pieces,
+    pub bin: &'a mut Pieces<'p>,
 }
 
-/// Bytes appended to a binary buffer, kept as the pieces they were made in,
-/// so that joining them copies nothing until they are written.
-#[derive(Debug, Default)]
-pub(crate) struct Pieces {
-    pieces: Vec<Vec<u8>>,
+/// Bytes appended to a binary buffer, in order: pieces made already, kept
+/// as they were made (joining them copies nothing until they are written),
+/// and pieces made only as the buffer is written (a morph target's deltas:
+/// a batch at a time on every thread while the writer writes the ones
+/// before, so that no more than a few are held at once).
+#[derive(Default)]
+pub(crate) struct Pieces<'a> {
+    pieces: Vec<Piece<'a>>,
     len: usize,
 }
 
-impl Pieces {
+/// One piece of [`Pieces`].
+enum Piece<'a> {
+    /// Bytes made already.
+    Made(Vec<u8>),
+    /// A piece of this many bytes, made by the function when written.
+    Later(usize, Box<LaterBytes<'a>>),
+}
+
+/// What makes a later piece: its bytes, appended to the vector given.
+type LaterBytes<'a> = dyn Fn(&mut Vec<u8>) + Send + Sync + 'a;
+
+impl Piece<'_> {
+    /// The bytes of a later piece.
+    fn make(&self) -> Vec<u8> {
+        match self {
+            Piece::Made(bytes) => bytes.clone(),
+            Piece::Later(len, fill) => {
+                let mut bytes = Vec::with_capacity(*len);
+                fill(&mut bytes);
+                debug_assert_eq!(bytes.len(), *len, "a later piece is of the length given");
+                bytes
+            }
+        }
+    }
+}
+
+impl<'a> Pieces<'a> {
     /// Their length in all.
     pub(crate) fn len(&self) -> usize {
         self.len
@@ -91,22 +123,64 @@ impl Pieces {
     pub(crate) fn push(&mut self, bytes: Vec<u8>) {
         self.len += bytes.len();
         if !bytes.is_empty() {
-            self.pieces.push(bytes);
+            self.pieces.push(Piece::Made(bytes));
         }
     }
 
-    /// The pieces in order.
-    pub(crate) fn slices(&self) -> impl Iterator<Item = &[u8]> {
-        self.pieces.iter().map(Vec::as_slice)
+    /// Appends `len` bytes that `fill` makes when they are written.
+    pub(crate) fn push_later(
+        &mut self,
+        len: usize,
+        fill: impl Fn(&mut Vec<u8>) + Send + Sync + 'a,
+    ) {
+        self.len += len;
+        self.pieces.push(Piece::Later(len, Box::new(fill)));
+    }
+
+    /// Writes the pieces in order: the later ones made a batch at a time on
+    /// every thread, on a thread beside this one, which writes.
+    pub(crate) fn write_to(&self, w: &mut dyn Write) -> std::io::Result<()> {
+        let later: Vec<&Piece<'a>> = self
+            .pieces
+            .iter()
+            .filter(|p| matches!(p, Piece::Later(..)))
+            .collect();
+        let batch = crate::limits::FRAMES_IN_FLIGHT_PER_THREAD * rayon::current_num_threads();
+        std::thread::scope(|scope| {
+            let (made, ready) = std::sync::mpsc::sync_channel::<Vec<u8>>(batch);
+            scope.spawn(move || {
+                for some in later.chunks(batch) {
+                    let bytes: Vec<Vec<u8>> = some.par_iter().map(|p| p.make()).collect();
+                    for b in bytes {
+                        if made.send(b).is_err() {
+                            return; // the writer has stopped
+                        }
+                    }
+                }
+            });
+            for piece in &self.pieces {
+                match piece {
+                    Piece::Made(bytes) => w.write_all(bytes)?,
+                    Piece::Later(..) => {
+                        let bytes = ready.recv().expect("every later piece is made");
+                        w.write_all(&bytes)?;
+                    }
+                }
+            }
+            Ok(())
+        })
     }
 
     /// The pieces joined.
     pub(crate) fn concat(&self) -> Vec<u8> {
-        self.pieces.concat()
+        let mut bytes = Vec::with_capacity(self.len);
+        self.write_to(&mut bytes)
+            .expect("writing to memory does not fail");
+        bytes
     }
 }
 
-impl Appender<'_> {
+impl<'p> Appender<'_, 'p> {
     /// The top-level array `name`, made when missing.
     pub(crate) fn array(&mut self, name: &str) -> &mut Vec<Value> {
         let root = self
@@ -129,16 +203,28 @@ impl Appender<'_> {
 
     /// A buffer view of `bytes` (4-byte aligned), with `target` when given.
     pub(crate) fn view(&mut self, bytes: Vec<u8>, target: Option<u32>) -> usize {
+        let offset = self.align();
+        let length = bytes.len();
+        self.bin.push(bytes);
+        self.view_at(offset, length, target)
+    }
+
+    /// Pads the buffer to 4 bytes; the offset of what comes next.
+    fn align(&mut self) -> usize {
         let end = self.base + self.bin.len();
         self.bin.push(vec![0; end.next_multiple_of(4) - end]);
+        self.base + self.bin.len()
+    }
+
+    /// A buffer view of `length` bytes at `offset`, with `target` when given.
+    fn view_at(&mut self, offset: usize, length: usize, target: Option<u32>) -> usize {
         let mut view = Map::new();
         view.insert("buffer".into(), json!(self.buffer));
-        view.insert("byteOffset".into(), json!(self.base + self.bin.len()));
-        view.insert("byteLength".into(), json!(bytes.len()));
+        view.insert("byteOffset".into(), json!(offset));
+        view.insert("byteLength".into(), json!(length));
         if let Some(t) = target {
             view.insert("target".into(), json!(t));
         }
-        self.bin.push(bytes);
         self.push("bufferViews", Value::Object(view))
     }
 
@@ -208,35 +294,65 @@ impl Appender<'_> {
     /// A `POSITION` delta accessor: none of data when every delta is zero,
     /// sparse when that is smaller (and `sparse`), else dense.
     pub(crate) fn deltas(&mut self, deltas: &[[f32; 3]], sparse: bool) -> usize {
-        self.append_deltas(EncodedDeltas::new(deltas.len(), |v| deltas[v], sparse))
+        let delta = |v: usize| deltas[v];
+        let summary = DeltaSummary::of(deltas.len(), delta);
+        let layout = summary.layout(sparse);
+        let mut bytes = Vec::with_capacity(layout.len);
+        layout.fill(delta, &mut bytes);
+        self.delta_accessor(&summary, &layout, |at| at.push(bytes))
     }
 
-    /// The accessor of deltas encoded by [`EncodedDeltas::new`].
-    pub(crate) fn append_deltas(&mut self, e: EncodedDeltas) -> usize {
-        let (count, min, max) = (e.count, e.min, e.max);
-        match e.data {
-            DeltaData::Zeros => self.zeros(count),
-            DeltaData::Dense(bytes) => {
-                let view = self.view(bytes, Some(ARRAY_BUFFER));
+    /// The accessor of [`deltas`](Self::deltas) for deltas summed up in
+    /// `summary`, whose bytes `delta` makes only when the buffer is written
+    /// (see [`Pieces`]).
+    pub(crate) fn deltas_later(
+        &mut self,
+        summary: &DeltaSummary,
+        sparse: bool,
+        delta: impl Fn(usize) -> [f32; 3] + Send + Sync + 'p,
+    ) -> usize {
+        let layout = summary.layout(sparse);
+        let fill = layout.clone();
+        self.delta_accessor(summary, &layout, move |at| {
+            at.push_later(fill.len, move |bytes| fill.fill(&delta, bytes))
+        })
+    }
+
+    /// The accessor of deltas laid out by `layout`, its bytes appended by
+    /// `append` (after padding to 4 bytes).
+    fn delta_accessor(
+        &mut self,
+        summary: &DeltaSummary,
+        layout: &DeltaLayout,
+        append: impl FnOnce(&mut Pieces<'p>),
+    ) -> usize {
+        let (count, min, max) = (summary.count, summary.min, summary.max);
+        if layout.len == 0 {
+            return self.zeros(count);
+        }
+        let offset = self.align();
+        append(self.bin);
+        match layout.index_type {
+            None => {
+                let dense = self.view_at(offset, layout.len, Some(ARRAY_BUFFER));
                 self.push(
                     "accessors",
-                    json!({"bufferView": view, "componentType": FLOAT, "count": count,
+                    json!({"bufferView": dense, "componentType": FLOAT, "count": count,
                         "type": "VEC3", "min": min, "max": max}),
                 )
             }
-            DeltaData::Sparse {
-                moved,
-                index_type,
-                indices,
-                values,
-            } => {
-                let indices = self.view(indices, None);
-                let values = self.view(values, None);
+            Some(index_type) => {
+                let indices = self.view_at(offset, layout.values_at - layout.padding, None);
+                let values = self.view_at(
+                    offset + layout.values_at,
+                    layout.len - layout.values_at,
+                    None,
+                );
                 self.push(
                     "accessors",
                     json!({"componentType": FLOAT, "count": count, "type": "VEC3",
                         "min": min, "max": max,
-                        "sparse": {"count": moved,
+                        "sparse": {"count": summary.moved,
                             "indices": {"bufferView": indices, "componentType": index_type},
                             "values": {"bufferView": values}}}),
                 )
@@ -245,38 +361,20 @@ impl Appender<'_> {
     }
 }
 
-/// A morph target's `POSITION` deltas as bytes, made apart from the file
-/// (on any thread) and appended by [`Appender::append_deltas`].
-pub(crate) struct EncodedDeltas {
+/// What one pass over a morph target's deltas finds: their bounds, how
+/// many vertices move, and whether every delta is finite.
+pub(crate) struct DeltaSummary {
     count: usize,
     /// Every delta is finite.
     pub(crate) finite: bool,
     min: [f32; 3],
     max: [f32; 3],
-    data: DeltaData,
+    moved: usize,
 }
 
-/// How a target's deltas are stored.
-enum DeltaData {
-    /// Every delta is zero: an accessor without data.
-    Zeros,
-    /// Every delta, little-endian.
-    Dense(Vec<u8>),
-    /// The indices of the vertices that move and their deltas.
-    Sparse {
-        moved: usize,
-        index_type: u32,
-        indices: Vec<u8>,
-        values: Vec<u8>,
-    },
-}
-
-impl EncodedDeltas {
-    /// The deltas `delta(0)`, ..., `delta(count - 1)`: sparse when that is
-    /// smaller (and `sparse`), else dense. A first pass finds the bounds
-    /// and counts the moving vertices; a second lays out their bytes, in
-    /// buffers of the size they end with.
-    pub(crate) fn new(count: usize, delta: impl Fn(usize) -> [f32; 3], sparse: bool) -> Self {
+impl DeltaSummary {
+    /// The summary of `delta(0)`, ..., `delta(count - 1)`.
+    pub(crate) fn of(count: usize, delta: impl Fn(usize) -> [f32; 3]) -> Self {
         let mut min = [f32::INFINITY; 3];
         let mut max = [f32::NEG_INFINITY; 3];
         let mut moved = 0;
@@ -285,54 +383,106 @@ impl EncodedDeltas {
             let d = delta(v);
             for c in 0..3 {
                 finite &= d[c].is_finite();
+                // Not `f32::min`, whose care for NaN keeps the loop from
+                // being vectorised (a NaN is caught by `finite`).
                 min[c] = if d[c] < min[c] { d[c] } else { min[c] };
                 max[c] = if d[c] > max[c] { d[c] } else { max[c] };
             }
             moved += usize::from(d != [0.0; 3]);
         }
         if moved == 0 {
-            return EncodedDeltas {
-                count,
-                finite,
-                min: [0.0; 3],
-                max: [0.0; 3],
-                data: DeltaData::Zeros,
-            };
+            (min, max) = ([0.0; 3], [0.0; 3]);
         }
-        let (index_type, index_bytes) = match count {
-            0..=256 => (5121, 1),
-            257..=65536 => (5123, 2),
-            _ => (5125, 4),
-        };
-        let data = if !sparse || moved * (index_bytes + 12) >= count * 12 {
-            let mut dense = Vec::with_capacity(12 * count);
-            for v in 0..count {
-                dense.extend_from_slice(&vector_bytes(delta(v)));
-            }
-            DeltaData::Dense(dense)
-        } else {
-            let mut indices = Vec::with_capacity(index_bytes * moved);
-            let mut values = Vec::with_capacity(12 * moved);
-            for v in 0..count {
-                let d = delta(v);
-                if d != [0.0; 3] {
-                    indices.extend_from_slice(&(v as u32).to_le_bytes()[..index_bytes]);
-                    values.extend_from_slice(&vector_bytes(d));
-                }
-            }
-            DeltaData::Sparse {
-                moved,
-                index_type,
-                indices,
-                values,
-            }
-        };
-        EncodedDeltas {
+        DeltaSummary {
             count,
             finite,
             min,
             max,
-            data,
+            moved,
+        }
+    }
+
+    /// How the deltas are stored: no data when none moves, sparse when that
+    /// is smaller (and `sparse`), else dense.
+    fn layout(&self, sparse: bool) -> DeltaLayout {
+        let (index_type, index_bytes) = match self.count {
+            0..=256 => (5121, 1),
+            257..=65536 => (5123, 2),
+            _ => (5125, 4),
+        };
+        if self.moved == 0 {
+            DeltaLayout {
+                index_type: None,
+                index_bytes,
+                padding: 0,
+                values_at: 0,
+                len: 0,
+            }
+        } else if !sparse || self.moved * (index_bytes + 12) >= self.count * 12 {
+            DeltaLayout {
+                index_type: None,
+                index_bytes,
+                padding: 0,
+                values_at: 0,
+                len: 12 * self.count,
+            }
+        } else {
+            let indices = index_bytes * self.moved;
+            let padding = indices.next_multiple_of(4) - indices;
+            DeltaLayout {
+                index_type: Some(index_type),
+                index_bytes,
+                padding,
+                values_at: indices + padding,
+                len: indices + padding + 12 * self.moved,
+            }
+        }
+    }
+}
+
+/// The bytes of a morph target's deltas: dense (every delta), or sparse
+/// (the moving vertices' indices, padding to 4 bytes, their deltas).
+#[derive(Clone, Debug)]
+struct DeltaLayout {
+    /// The sparse indices' component type; `None` for dense deltas.
+    index_type: Option<u32>,
+    index_bytes: usize,
+    padding: usize,
+    /// Where the sparse deltas start.
+    values_at: usize,
+    /// The bytes in all (0: no data).
+    len: usize,
+}
+
+impl DeltaLayout {
+    /// Appends the bytes of `delta(0)`, ... to `bytes`.
+    fn fill(&self, delta: impl Fn(usize) -> [f32; 3], bytes: &mut Vec<u8>) {
+        let start = bytes.len();
+        match self.index_type {
+            None if self.len > 0 => {
+                for v in 0..self.len / 12 {
+                    bytes.extend_from_slice(&vector_bytes(delta(v)));
+                }
+            }
+            None => {}
+            Some(_) => {
+                bytes.resize(start + self.len, 0);
+                let (indices, values) = bytes[start..].split_at_mut(self.values_at);
+                let (mut i, mut k) = (0, 0);
+                for v in 0.. {
+                    if k == values.len() {
+                        break;
+                    }
+                    let d = delta(v);
+                    if d != [0.0; 3] {
+                        indices[i..i + self.index_bytes]
+                            .copy_from_slice(&(v as u32).to_le_bytes()[..self.index_bytes]);
+                        values[k..k + 12].copy_from_slice(&vector_bytes(d));
+                        i += self.index_bytes;
+                        k += 12;
+                    }
+                }
+            }
         }
     }
 }
@@ -392,5 +542,111 @@ pub(crate) fn bounds_of(values: &[f32], components: usize) -> (Vec<f32>, Vec<f32
         (vec![0.0; components], vec![0.0; components])
     } else {
         (min, max)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Pieces made now and later: written in order, whether the later ones
+    /// come in one batch or many.
+    fn pieces(later: usize) -> (Pieces<'static>, Vec<u8>) {
+        let mut pieces = Pieces::default();
+        let mut expected = Vec::new();
+        for k in 0..later {
+            let made = vec![k as u8; k % 3];
+            expected.extend_from_slice(&made);
+            pieces.push(made);
+            let len = 1000 + k;
+            expected.extend((0..len).map(|i| (i * 7 + k) as u8));
+            pieces.push_later(len, move |bytes| {
+                bytes.extend((0..len).map(|i| (i * 7 + k) as u8));
+            });
+        }
+        (pieces, expected)
+    }
+
+    #[test]
+    fn later_pieces_are_written_in_their_place() {
+        for later in [0, 1, 5, 40] {
+            let (pieces, expected) = pieces(later);
+            assert_eq!(pieces.len(), expected.len());
+            assert_eq!(pieces.concat(), expected, "{later} later pieces");
+        }
+    }
+
+    /// A writer that fails after `room` bytes.
+    struct Full {
+        room: usize,
+    }
+
+    impl Write for Full {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            if self.room == 0 {
+                return Err(std::io::Error::other("no room left"));
+            }
+            let n = buf.len().min(self.room);
+            self.room -= n;
+            Ok(n)
+        }
+
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_failing_writer_stops_the_pieces_with_its_error() {
+        let (pieces, expected) = pieces(40);
+        for room in [0, 10, expected.len() / 2, expected.len() - 1] {
+            let error = pieces.write_to(&mut Full { room }).unwrap_err();
+            assert_eq!(error.to_string(), "no room left");
+        }
+        assert!(pieces
+            .write_to(&mut Full {
+                room: expected.len()
+            })
+            .is_ok());
+    }
+
+    #[test]
+    fn sparse_and_dense_deltas_lay_out_what_moves() {
+        // 300 vertices (2-byte indices), every 10th moving: sparse; with
+        // `sparse` off, or every vertex moving: dense.
+        let deltas: Vec<[f32; 3]> = (0..300)
+            .map(|v| {
+                if v % 10 == 3 {
+                    [v as f32, -1.0, 0.5]
+                } else {
+                    [0.0; 3]
+                }
+            })
+            .collect();
+        let summary = DeltaSummary::of(deltas.len(), |v| deltas[v]);
+        assert!(summary.finite);
+        assert_eq!(summary.moved, 30);
+        let sparse = summary.layout(true);
+        assert_eq!(sparse.index_type, Some(5123));
+        let mut bytes = Vec::new();
+        sparse.fill(|v| deltas[v], &mut bytes);
+        assert_eq!(bytes.len(), sparse.len);
+        let index = |i: usize| u16::from_le_bytes([bytes[2 * i], bytes[2 * i + 1]]) as usize;
+        let value = |i: usize, c: usize| {
+            let at = sparse.values_at + 12 * i + 4 * c;
+            f32::from_le_bytes(bytes[at..at + 4].try_into().unwrap())
+        };
+        for i in 0..30 {
+            assert_eq!(index(i), 10 * i + 3);
+            assert_eq!([value(i, 0), value(i, 1), value(i, 2)], deltas[10 * i + 3]);
+        }
+        let dense = summary.layout(false);
+        assert_eq!((dense.index_type, dense.len), (None, 12 * 300));
+        let mut bytes = Vec::new();
+        dense.fill(|v| deltas[v], &mut bytes);
+        assert_eq!(bytes, float_bytes(deltas.as_flattened()));
+        let still = DeltaSummary::of(10, |_| [0.0; 3]);
+        assert_eq!(still.layout(true).len, 0);
+        assert!(!DeltaSummary::of(3, |v| [0.0, f32::NAN * v as f32, 0.0]).finite);
     }
 }

@@ -385,7 +385,7 @@ impl SampleCharacter {
     /// A `POSITION` target accessor of `deltas`: sparse when
     /// [`sparse`](Self::sparse) and most are zero; normalised 16-bit when
     /// quantised.
-    fn target(&self, add: &mut Appender<'_>, deltas: &[[f32; 3]], scale: Option<f32>) -> usize {
+    fn target(&self, add: &mut Appender<'_, '_>, deltas: &[[f32; 3]], scale: Option<f32>) -> usize {
         if let Some(scale) = scale {
             let q: Vec<i16> = deltas
                 .iter()

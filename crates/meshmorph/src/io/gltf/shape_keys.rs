@@ -23,7 +23,7 @@ use serde_json::{json, Map, Value};
 use super::accessor::read_floats;
 use super::base64;
 use super::document::{Container, GltfDocument};
-use super::glb::{glb_length, write_glb_parts, Appender, EncodedDeltas, Pieces};
+use super::glb::{glb_length, write_glb, Appender, DeltaSummary, Pieces};
 use super::mesh::{target_names, GltfMesh};
 use crate::error::{Error, Result};
 use crate::io::write_atomic;
@@ -134,33 +134,35 @@ pub fn add_shape_keys(
 }
 
 /// A document with shape keys added, in parts: its new JSON, and for a GLB
-/// its binary chunk as the file's own bytes followed by the new ones.
+/// its binary chunk as the file's own bytes followed by the new ones (made
+/// as they are written).
 struct Edited<'d> {
     /// The new JSON.
     json: Vec<u8>,
     /// For a GLB: its binary chunk, as the file's own bytes and the new
     /// ones after them.
-    bin: Option<(&'d [u8], Pieces)>,
+    bin: Option<(&'d [u8], Pieces<'d>)>,
 }
 
 impl Edited<'_> {
     /// The length of the file.
     fn len(&self) -> usize {
         match &self.bin {
-            Some((old, new)) => glb_length(&self.json, Some(&self.parts(old, new))),
+            Some((old, new)) => glb_length(self.json.len(), Some(old.len() + new.len())),
             None => self.json.len(),
         }
-    }
-
-    /// The binary chunk's parts: the file's own bytes, then the new ones.
-    fn parts<'a>(&self, old: &'a [u8], new: &'a Pieces) -> Vec<&'a [u8]> {
-        std::iter::once(old).chain(new.slices()).collect()
     }
 
     /// Writes the file: a GLB from its parts, or the JSON of a `.gltf`.
     fn write_to(&self, w: &mut dyn Write) -> std::io::Result<()> {
         match &self.bin {
-            Some((old, new)) => write_glb_parts(w, &self.json, Some(&self.parts(old, new))),
+            Some((old, new)) => {
+                let mut write_bin = |w: &mut dyn Write| {
+                    w.write_all(old)?;
+                    new.write_to(w)
+                };
+                write_glb(w, &self.json, Some((old.len() + new.len(), &mut write_bin)))
+            }
             None => w.write_all(&self.json),
         }
     }
@@ -171,8 +173,8 @@ impl Edited<'_> {
 /// they are.
 fn edit<'d>(
     doc: &'d GltfDocument,
-    mesh: &GltfMesh,
-    shapes: &[NewShape<'_>],
+    mesh: &'d GltfMesh,
+    shapes: &'d [NewShape<'d>],
     options: &ShapeKeyOptions,
 ) -> Result<Edited<'d>> {
     let invalid = |message: String| {
@@ -290,36 +292,39 @@ fn edit<'d>(
             }
         }
         // A replaced target loses its other attributes (normals and
-        // tangents of the old shape). A batch of shapes is encoded in
-        // parallel, then appended in order.
-        let batch = crate::limits::FRAMES_IN_FLIGHT_PER_THREAD * rayon::current_num_threads();
-        for (some, their_slots) in shapes.chunks(batch).zip(slots.chunks(batch)) {
-            let encoded: Vec<Option<EncodedDeltas>> = some
-                .par_iter()
-                .map(|shape| {
-                    let range = block.as_ref()?;
-                    let range = range.start as usize..range.end as usize;
-                    let (p, b) = (
-                        &shape.positions[range.clone()],
-                        &mesh.surface.positions()[range],
-                    );
-                    Some(EncodedDeltas::new(
-                        b.len(),
-                        |v| std::array::from_fn(|c| (p[v][c] - b[v][c]) as f32),
-                        options.sparse,
-                    ))
-                })
-                .collect();
-            for ((e, &slot), shape) in encoded.into_iter().zip(their_slots).zip(some) {
-                if e.as_ref().is_some_and(|e| !e.finite) {
-                    return Err(invalid(not_finite(shape)));
-                }
-                let accessor = match e {
-                    Some(e) => add.append_deltas(e),
-                    None => add.zeros(count),
-                };
-                targets[slot] = json!({ "POSITION": accessor });
+        // tangents of the old shape). One pass over each shape (on every
+        // thread) finds its bounds and what moves; its bytes are made as
+        // the file is written.
+        let Some(range) = block else {
+            for &slot in &slots {
+                targets[slot] = zero_target(&mut add, count);
             }
+            add.json["meshes"][mesh.index]["primitives"][k]["targets"] = Value::Array(targets);
+            continue;
+        };
+        let range = range.start as usize..range.end as usize;
+        let rest = &mesh.surface.positions()[range.clone()];
+        let deltas: Vec<_> = shapes
+            .iter()
+            .map(|shape| {
+                let moved = &shape.positions[range.clone()];
+                move |v: usize| -> [f32; 3] {
+                    std::array::from_fn(|c| (moved[v][c] - rest[v][c]) as f32)
+                }
+            })
+            .collect();
+        let summaries: Vec<DeltaSummary> = deltas
+            .par_iter()
+            .map(|delta| DeltaSummary::of(rest.len(), delta))
+            .collect();
+        for (((summary, delta), &slot), shape) in
+            summaries.iter().zip(deltas).zip(&slots).zip(shapes)
+        {
+            if !summary.finite {
+                return Err(invalid(not_finite(shape)));
+            }
+            let accessor = add.deltas_later(summary, options.sparse, delta);
+            targets[slot] = json!({ "POSITION": accessor });
         }
         add.json["meshes"][mesh.index]["primitives"][k]["targets"] = Value::Array(targets);
     }
@@ -389,7 +394,7 @@ fn extend_weights(value: &mut Value, count: usize) {
 }
 
 /// A target of zeros: `POSITION` of an accessor without data.
-fn zero_target(add: &mut Appender<'_>, count: usize) -> Value {
+fn zero_target(add: &mut Appender<'_, '_>, count: usize) -> Value {
     json!({ "POSITION": add.zeros(count) })
 }
 
@@ -398,7 +403,7 @@ fn zero_target(add: &mut Appender<'_>, count: usize) -> Value {
 /// targets), in a new `f32` accessor.
 fn extend_animations(
     doc: &GltfDocument,
-    add: &mut Appender<'_>,
+    add: &mut Appender<'_, '_>,
     nodes: &[usize],
     old_count: usize,
     new_count: usize,
