@@ -159,6 +159,31 @@ class CompatibleMeshes:
 
 def compatible_meshes(drawings: Seq[Loops], anchors: Optional[npt.NDArray[Union[np.float64, np.float32]]] = None) -> CompatibleMeshes: ...
 
+# (height, width, 4) RGBA or (height, width, 3) RGB (opaque), uint8, rows from the top.
+PictureArray = npt.NDArray[np.uint8]
+
+def morph_pictures(
+    a: PictureArray,
+    b: PictureArray,
+    frames: int,
+    anchors: Optional[Union[npt.NDArray[Union[np.float64, np.float32]], Tuple[Vertices, Vertices]]] = None,
+    *,
+    frame_only: bool = False,
+    dissolve: Optional[Tuple[float, float]] = None,
+    size: Optional[Tuple[int, int]] = None,
+    trace_tolerance: float = 0.5,
+    consistency: bool = True,
+    turns: int = 0,
+    stretch: str = "linear",
+    return_report: bool = False,
+) -> Union[npt.NDArray[np.uint8], Tuple[npt.NDArray[np.uint8], dict]]:
+    """One picture morphed into another: (frames, height, width, 4) uint8 RGBA frames, the first
+    ``a`` and the last ``b``. Anchors: (k, 2, 2) or two (k, 2) arrays of pixel coordinates, x right
+    and y down from each picture's top-left corner. With ``return_report``: (frames, report), the
+    report a dict: shape ("sprite" or "photo"), frame_size, outline_points, left_out, anchors,
+    vertices, triangles, min_angle_degrees, text."""
+    ...
+
 def expressions(
     vertices: Vertices,
     faces: Faces,

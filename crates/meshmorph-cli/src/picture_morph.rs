@@ -9,14 +9,12 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
 use meshmorph::io::picture::{
-    picture_drawing, picture_meshes, picture_morph_memory, read_picture, Picture, PictureDrawing,
-    PictureFormat, PictureShape,
+    picture_morph_memory, read_picture, Picture, PictureFormat, PictureShape,
 };
-use meshmorph::outline::OutlineOptions;
 use meshmorph::render::{
-    sprite_sheet, write_apng, write_picture_gif, write_picture_png, PictureMorph,
+    frame_times, sprite_sheet, write_apng, write_picture_gif, write_picture_png, PictureFrames,
+    PictureMorphOptions,
 };
-use meshmorph::Interpolator;
 use rayon::prelude::*;
 
 use crate::interpolate::Args;
@@ -196,29 +194,29 @@ pub fn run(args: &Args) -> Result<()> {
         ),
     )?;
     let names: Vec<String> = keys.iter().map(|k| format!("`{}`", k.display())).collect();
-    let drawing = |pic: &Picture, k: usize| -> Result<PictureDrawing> {
-        Ok(picture_drawing(
-            pic,
-            p.frame_only,
-            p.trace_tolerance,
-            16.0,
-            &names[k],
-        )?)
+    let anchors: Vec<Vec<[f64; 2]>> = match &args.drawing.anchors {
+        Some(path) => meshmorph::io::read_anchor_file(path, 2)?
+            .into_iter()
+            .map(|r| r.points)
+            .collect(),
+        None => Vec::new(),
     };
-    let (da, db) = (drawing(&a, 0)?, drawing(&b, 1)?);
-    if da.shape != db.shape {
-        let (sprite, photo) = if da.shape == PictureShape::Sprite {
-            (0, 1)
-        } else {
-            (1, 0)
-        };
-        bail!(
-            "{} has transparency (a sprite, traced) but {} is opaque (a photo, its whole rectangle): give two sprites or two photos, or add --frame-only to morph both as rectangles",
-            names[sprite],
-            names[photo]
-        );
-    }
-    for (d, name) in [(&da, &names[0]), (&db, &names[1])] {
+    let begin = Instant::now();
+    let options = PictureMorphOptions::default()
+        .with_frame_only(p.frame_only)
+        .with_trace_tolerance(p.trace_tolerance)
+        .with_frame_size(Some((width, height)))
+        .with_dissolve(p.dissolve)
+        .with_interpolation(args.frames.options());
+    let morph = PictureFrames::new(
+        [&a, &b],
+        &anchors,
+        &options,
+        &[names[0].clone(), names[1].clone()],
+    )
+    .with_context(|| format!("morphing {}", names.join(" into ")))?;
+    let [da, db] = &morph.drawings;
+    for (d, name) in [(da, &names[0]), (db, &names[1])] {
         if !d.left_out.is_empty() {
             let list: Vec<String> = d
                 .left_out
@@ -237,57 +235,10 @@ pub fn run(args: &Args) -> Result<()> {
             );
         }
     }
-    let anchors: Vec<Vec<[f64; 2]>> = match &args.drawing.anchors {
-        Some(path) => meshmorph::io::read_anchor_file(path, 2)?
-            .into_iter()
-            .map(|r| r.points)
-            .collect(),
-        None => Vec::new(),
-    };
-    let begin = Instant::now();
-    let meshes = picture_meshes(
-        &[&a, &b],
-        &[&da, &db],
-        &anchors,
-        (width, height),
-        &OutlineOptions::default(),
-        &names,
-    )
-    .with_context(|| format!("making {} compatible", names.join(", ")))?;
-    let set = &meshes.set;
-    let interpolator = Interpolator::new(&set.meshes[0], &set.meshes[1], &args.frames.options())
-        .with_context(|| format!("interpolating {}", names.join(" to ")))?;
-    let scale = f64::from(width) / f64::from(a.width);
-    let fringe = (da.tolerance.max(db.tolerance) + 1.5) * scale.max(1.0);
-    let morph = PictureMorph::new(
-        [&a, &b],
-        &meshes.sources,
-        set.meshes[0].triangles(),
-        &set.loops,
-        (width, height),
-        fringe,
-    )?;
+    let set = &morph.meshes.set;
     let setup_seconds = begin.elapsed().as_secs_f64();
-    let times: Vec<f64> = if count == 1 {
-        vec![0.0]
-    } else {
-        (0..count).map(|k| k as f64 / (count - 1) as f64).collect()
-    };
-    let blend = |t: f64| match &p.dissolve {
-        Some(d) if d[1] > d[0] => ((t - d[0]) / (d[1] - d[0])).clamp(0.0, 1.0),
-        Some(d) => {
-            if t < d[0] {
-                0.0
-            } else {
-                1.0
-            }
-        }
-        None => t,
-    };
-    let frame = |k: usize| -> Picture {
-        let t = times[k];
-        morph.draw(&interpolator.at(t), blend(t))
-    };
+    let times = frame_times(count);
+    let frame = |k: usize| -> Picture { morph.draw(times[k]) };
     let draw_begin = Instant::now();
     frame_outputs
         .par_iter()

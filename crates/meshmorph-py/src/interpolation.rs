@@ -41,7 +41,7 @@ macro_rules! each {
 }
 
 /// The options as given (None for each one's default).
-fn options(
+pub(crate) fn options(
     consistency: Option<&Bound<'_, PyAny>>,
     turns: Option<&Bound<'_, PyAny>>,
     stretch: Option<&Bound<'_, PyAny>>,

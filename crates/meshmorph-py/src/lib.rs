@@ -13,6 +13,7 @@ mod gltf;
 mod gradients;
 mod interpolation;
 mod outline;
+mod pictures;
 mod progress;
 mod transfer;
 mod work;
@@ -50,6 +51,7 @@ fn meshmorph_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     gltf::register(m)?;
     gradients::register(m)?;
     outline::register(m)?;
+    pictures::register(m)?;
     expressions::register(m)?;
     Ok(())
 }

@@ -23,7 +23,7 @@ fn drawing(arg: &str, d: &Bound<'_, PyAny>) -> PyResult<Vec<Vec<[f64; 2]>>> {
 }
 
 /// Anchors `(k, count, 2)`: one point on each of the `count` drawings.
-fn anchors(a: &Bound<'_, PyAny>, count: usize) -> PyResult<Vec<Vec<[f64; 2]>>> {
+pub(crate) fn anchors(a: &Bound<'_, PyAny>, count: usize) -> PyResult<Vec<Vec<[f64; 2]>>> {
     let read = |shape: &[usize], at: &dyn Fn(usize, usize, usize) -> f64| {
         if shape[1..] != [count, 2] {
             return Err(bad(

@@ -22,7 +22,8 @@
 //!
 //! **Pictures morphed** (sprites and photos): [`PictureMorph`] draws a
 //! frame of two pictures carried by compatible meshes, textured, in full
-//! colour; [`write_picture_png`], [`write_apng`], [`write_picture_gif`]
+//! colour; [`PictureFrames`] sets up a whole morph of one picture into
+//! another (drawings, meshes, interpolator, frames); [`write_picture_png`], [`write_apng`], [`write_picture_gif`]
 //! and [`sprite_sheet`] write such frames.
 //!
 //! **Files**: [`write_png`] for a canvas, [`write_gif`] for any sequence of
@@ -55,6 +56,7 @@ mod legend;
 mod mesh2d;
 mod palette;
 mod picture_files;
+mod picture_frames;
 mod png;
 mod raster;
 mod resample;
@@ -74,6 +76,10 @@ pub use self::legend::{with_legend, Legend};
 pub use self::mesh2d::draw_mesh_2d;
 pub use self::palette::{slot, Palette, Ramp, Rgb};
 pub use self::picture_files::{sprite_sheet, write_apng, write_picture_gif, write_picture_png};
+pub use self::picture_frames::{
+    dissolve_blend, frame_times, PictureFrames, PictureMorphOptions, MAX_FRAME_SIDE,
+    MAX_TRACE_TOLERANCE,
+};
 pub use self::png::write_png;
 pub use self::shade3d::{draw_mesh_3d, draw_mesh_3d_coloured, Camera3d, Style3d};
 pub use self::style::{Edges, Flipped, Style2d};

@@ -89,7 +89,7 @@ pub fn picture_drawing(
     }
     if picture.is_fully_transparent() {
         return Err(Error::InvalidArgument(format!(
-            "{name} is fully transparent (every pixel's alpha is 0): there is nothing to morph; give a picture with an opaque part, or use --frame-only to morph the whole rectangle"
+            "{name} is fully transparent (every pixel's alpha is 0): there is nothing to morph; give a picture with an opaque part, or morph the whole rectangle (--frame-only on the command line, frame_only=True in Python)"
         )));
     }
     let loops = trace_alpha(picture, 0.5);
@@ -125,7 +125,7 @@ pub fn picture_drawing(
     }
     if outers.is_empty() {
         return Err(Error::InvalidArgument(format!(
-            "{name} has no opaque region of {min_area} square pixels or more (alpha at or above one half): only {specks} specks; give a picture with an opaque part, or use --frame-only to morph the whole rectangle"
+            "{name} has no opaque region of {min_area} square pixels or more (alpha at or above one half): only {specks} specks; give a picture with an opaque part, or morph the whole rectangle (--frame-only on the command line, frame_only=True in Python)"
         )));
     }
     outers.sort_by(|a, b| b.1.total_cmp(&a.1));
