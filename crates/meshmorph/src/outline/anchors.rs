@@ -254,8 +254,10 @@ pub(crate) fn insert_inside(
         }
         if !all_positive(&moved, triangles) {
             return Err(Error::IncompatibleDrawings(format!(
-                "the anchors inside could not be put in place in drawing {} without turning a triangle over: \
-                 check that they are in the same order in every drawing, or add anchors on the outlines",
+                "the anchors inside could not be put in place in drawing {} without turning a triangle over \
+                 (distinct points inside can always be matched without a fold, but this mesh did not find the way): \
+                 check that each anchor is at the corresponding place in every drawing, move anchors that sit \
+                 very close to the outline or to each other apart, or add anchors on the outlines",
                 d + 1
             )));
         }

@@ -17,7 +17,7 @@ use spade::{
     AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
 };
 
-use super::geometry::{diagonal, orient};
+use super::geometry::{diagonal, dist, orient, point_segment_distance};
 use crate::mesh::signed_areas;
 
 /// A mesh of the first drawing: the matched boundary points first (in
@@ -34,10 +34,13 @@ pub(crate) struct Refined {
 /// no inside edge joining two boundary points (such an edge would be
 /// fixed in the second drawing, where it may well lie outside): those
 /// are split by a point at their middle and the refinement run again.
-/// `None` when the points do not triangulate as the loops say.
+/// `steiner` are inside points put in before the refinement (free
+/// vertices, like the refinement's own). `None` when the points do not
+/// triangulate as the loops say.
 pub(crate) fn refine(
     points: &[[f64; 2]],
     loop_start: &[usize],
+    steiner: &[[f64; 2]],
     angle_degrees: f64,
 ) -> Option<Refined> {
     // The loops' points, then fixed points inside (anchors).
@@ -61,6 +64,9 @@ pub(crate) fn refine(
         .ok()?;
     if cdt.num_vertices() != n || conflicts > 0 || cdt.num_constraints() != num_edges {
         return None;
+    }
+    for p in steiner {
+        cdt.insert(Point2::new(p[0], p[1])).ok()?;
     }
     let params = RefinementParameters::<f64>::new()
         .with_angle_limit(AngleLimit::from_deg(angle_degrees))
@@ -653,19 +659,64 @@ pub(crate) fn all_positive(positions: &[[f64; 2]], triangles: &[[u32; 3]]) -> bo
     })
 }
 
+/// Free points around each anchor inside of one drawing (`points`: the
+/// loops' points up to `loop_start`'s last entry, then the anchors),
+/// `rings` rings of six each, the outermost at 0.6 of the way to the
+/// nearest loop or half-way to the nearest other anchor. The anchor's own
+/// triangles then have no other fixed corner: a fixed corner beside a
+/// fixed anchor pins a triangle's edge in every drawing, where the
+/// anchor and that corner may well sit the other way round, and the
+/// rings give the untangling the room to turn and shear the anchor's
+/// neighbourhood.
+pub(crate) fn rings_around_anchors(
+    points: &[[f64; 2]],
+    loop_start: &[usize],
+    rings: usize,
+) -> Vec<[f64; 2]> {
+    let n = loop_start[loop_start.len() - 1];
+    let mut out = Vec::with_capacity(6 * rings * (points.len() - n));
+    for (j, &p) in points.iter().enumerate().skip(n) {
+        let to_loops = loop_start
+            .windows(2)
+            .flat_map(|w| (w[0]..w[1]).map(move |i| (i, if i + 1 == w[1] { w[0] } else { i + 1 })))
+            .map(|(i, k)| point_segment_distance(p, points[i], points[k]))
+            .fold(f64::INFINITY, f64::min);
+        let to_anchors = points[n..]
+            .iter()
+            .enumerate()
+            .filter(|&(k, _)| k + n != j)
+            .map(|(_, &q)| 0.5 * dist(p, q))
+            .fold(f64::INFINITY, f64::min);
+        let reach = 0.6 * to_loops.min(to_anchors);
+        for r in 1..=rings {
+            let radius = reach * r as f64 / rings as f64;
+            // Each ring turned by half a step from the one inside it.
+            let turn = 0.5 * (r % 2) as f64;
+            for k in 0..6 {
+                let angle = (k as f64 + turn) * std::f64::consts::FRAC_PI_3;
+                out.push([p[0] + radius * angle.cos(), p[1] + radius * angle.sin()]);
+            }
+        }
+    }
+    out
+}
+
 /// The fast way whole: drawing `source` refined (its fixed points
-/// `fixed[source]`: the loops' points, then any anchors inside), mapped
-/// into every other drawing with its own fixed points, all checked: the
-/// positions in every drawing and the triangles. `None` when any triangle
-/// is not positive in any.
+/// `fixed[source]`: the loops' points, then any anchors inside; with
+/// `rings` of free points around each anchor,
+/// [`rings_around_anchors`]), mapped into every other drawing with its
+/// own fixed points, all checked: the positions in every drawing and the
+/// triangles. `None` when any triangle is not positive in any.
 pub(crate) fn compatible(
     fixed: &[Vec<[f64; 2]>],
     source: usize,
     loop_start: &[usize],
+    rings: usize,
     angle_degrees: f64,
     patience: Patience,
 ) -> Option<super::Positioned> {
-    let refined = refine(&fixed[source], loop_start, angle_degrees)?;
+    let steiner = rings_around_anchors(&fixed[source], loop_start, rings);
+    let refined = refine(&fixed[source], loop_start, &steiner, angle_degrees)?;
     if !all_positive(&refined.positions, &refined.triangles) {
         return None;
     }

@@ -29,7 +29,11 @@
 //! Before steps 3 and 4, `mapped` tries the first way: one drawing meshed
 //! with good angles (constrained Delaunay refinement), mapped into the
 //! others with the matched boundary and the anchors fixed and untangled
-//! (Garanzha et al. 2021), the thinnest drawing's mesh first; it is kept
+//! (Garanzha et al. 2021), the thinnest drawing's mesh first; anchors
+//! inside are vertices of that mesh from the start, fixed at their points
+//! in the others like the boundary, and when no drawing's mesh untangles
+//! so, it is made again with rings of free points around each anchor
+//! (no triangle then holds an anchor and another fixed point). It is kept
 //! when every triangle is positive in every mesh, and the overlay is made
 //! only when no drawing's mesh untangles. With three or more drawings the overlay is made for the
 //! first two, and its mesh mapped into each further drawing (through the
@@ -439,7 +443,8 @@ pub struct CompatibleSet {
 /// into the others and untangled ([`OutlinePath::Mapped`]): the thinnest
 /// drawing's mesh first, then each other's while the smallest angle is
 /// below [`OutlineOptions::accept_angle_degrees`], and when no drawing's
-/// mesh untangles quickly, again with a patient untangling. Only when
+/// mesh untangles quickly, again with a patient untangling, and with
+/// anchors inside, again with rings of free points around each. Only when
 /// that fails too do they come from the overlay
 /// of Aronov, Seidel and Souvaine (1993) of the first drawing with each
 /// other ([`OutlinePath::Overlay`]), which cannot fail on drawings that
@@ -555,12 +560,25 @@ pub fn compatible_set(
             roundness(&fixed[x], &boundary.loop_start)
                 .total_cmp(&roundness(&fixed[y], &boundary.loop_start))
         });
-        'passes: for patience in [mapped::Patience::SHORT, mapped::Patience::LONG] {
+        // With anchors inside, a last pair of passes with rings of free
+        // points around each anchor (one ring, then two), so that no
+        // triangle holds an anchor and another fixed point.
+        let passes = [
+            (0, mapped::Patience::SHORT),
+            (0, mapped::Patience::LONG),
+            (1, mapped::Patience::LONG),
+            (2, mapped::Patience::LONG),
+        ];
+        'passes: for (pass, &(rings, patience)) in passes.iter().enumerate() {
+            if rings > 0 && inside == 0 {
+                break;
+            }
             for &source in &sources {
                 if let Some((mut meshes, mut triangles)) = mapped::compatible(
                     &fixed,
                     source,
                     &boundary.loop_start,
+                    rings,
                     options.mapped_angle_degrees,
                     patience,
                 ) {
@@ -579,9 +597,10 @@ pub fn compatible_set(
                         });
                     }
                 }
-                if best.as_ref().is_some_and(|b| {
-                    worst(&b.angles) >= accept || patience.rounds > mapped::Patience::SHORT.rounds
-                }) {
+                if best
+                    .as_ref()
+                    .is_some_and(|b| worst(&b.angles) >= accept || pass > 0)
+                {
                     break 'passes;
                 }
             }
@@ -692,6 +711,7 @@ fn overlay_set(
                     &two,
                     0,
                     &boundary.loop_start,
+                    0,
                     options.mapped_angle_degrees,
                     mapped::Patience::SHORT,
                 )
