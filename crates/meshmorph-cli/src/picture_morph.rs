@@ -13,7 +13,7 @@ use meshmorph::io::picture::{
 };
 use meshmorph::render::{
     frame_times, sprite_sheet, write_apng, write_picture_gif, write_picture_png, PictureFrames,
-    PictureMorphOptions,
+    PictureMorphOptions, MAX_FRAME_SIDE, MAX_TRACE_TOLERANCE,
 };
 use rayon::prelude::*;
 
@@ -70,20 +70,22 @@ fn dissolve_span(text: &str) -> Result<[f64; 2], String> {
 
 fn trace_tolerance(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
-        Ok(x) if x > 0.0 && x <= 16.0 => Ok(x),
+        Ok(x) if x > 0.0 && x <= MAX_TRACE_TOLERANCE => Ok(x),
         _ => Err(format!(
-            "`{text}` is not a tolerance in pixels from 0 (excluded) to 16, such as 0.5"
+            "`{text}` is not a tolerance in pixels from 0 (excluded) to {MAX_TRACE_TOLERANCE}, such as 0.5"
         )),
     }
 }
 
 fn frame_size(text: &str) -> Result<(u32, u32), String> {
     let bad = || {
-        format!("`{text}` is not a frame size WIDTHxHEIGHT in pixels (1 to 16384), such as 640x480")
+        format!(
+            "`{text}` is not a frame size WIDTHxHEIGHT in pixels (1 to {MAX_FRAME_SIDE}), such as 640x480"
+        )
     };
     let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
     let side = |s: &str| match s.trim().parse::<u32>() {
-        Ok(v) if (1..=16384).contains(&v) => Ok(v),
+        Ok(v) if (1..=MAX_FRAME_SIDE).contains(&v) => Ok(v),
         _ => Err(bad()),
     };
     Ok((side(w)?, side(h)?))
