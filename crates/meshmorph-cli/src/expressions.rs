@@ -304,8 +304,7 @@ fn read_template(args: &Args) -> Result<(ExpressionTemplate, String)> {
     let path = Path::new(&args.template);
     let bytes = std::fs::read(path)
         .with_context(|| format!("reading the template `{}`", path.display()))?;
-    let what = format!("the template `{}`", path.display());
-    let template = ExpressionTemplate::from_glb(&bytes, &what)?;
+    let template = ExpressionTemplate::from_glb(&bytes, &path.display().to_string())?;
     Ok((template, format!("`{}`", path.display())))
 }
 

@@ -131,8 +131,7 @@ fn expressions<'py>(
         Some(path) => {
             let bytes = std::fs::read(&path)
                 .map_err(|e| bad("template", format!("reading `{}`: {e}", path.display())))?;
-            ExpressionTemplate::from_glb(&bytes, &format!("template `{}`", path.display()))
-                .map_err(error)?
+            ExpressionTemplate::from_glb(&bytes, &path.display().to_string()).map_err(error)?
         }
     };
     arrays::setup("faces", triangles.len())?;

@@ -41,8 +41,9 @@ impl Guide {
             let path = Path::new(template);
             let bytes = std::fs::read(path)
                 .with_context(|| format!("reading the template `{}`", path.display()))?;
-            let what = format!("the template `{}`", path.display());
-            (ExpressionTemplate::from_glb(&bytes, &what)?, what)
+            let name = path.display().to_string();
+            let template = ExpressionTemplate::from_glb(&bytes, &name)?;
+            (template, format!("the template `{name}`"))
         };
         let numbered = |n: u8| {
             template

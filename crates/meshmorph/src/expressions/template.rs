@@ -57,10 +57,11 @@ impl ExpressionTemplate {
     /// parts (the layout of `templates/arkit.glb`).
     ///
     /// # Errors
-    /// [`Error::InvalidArgument`] naming `what` and the element that is
+    /// [`Error::Parse`] or [`Error::InvalidArgument`] naming the file
+    /// `name` (its path, as the user gave it) and the element that is
     /// missing or malformed.
-    pub fn from_glb(bytes: &[u8], what: &str) -> Result<Self> {
-        read_template_glb(bytes, what)
+    pub fn from_glb(bytes: &[u8], name: &str) -> Result<Self> {
+        read_template_glb(bytes, name)
     }
 
     /// The index of the shape named `name`.
@@ -88,7 +89,7 @@ impl ExpressionTemplate {
 
     /// Checks that every shape has a delta for every vertex.
     pub(crate) fn check(&self, what: &str) -> Result<()> {
-        let bad = |m: String| Err(Error::InvalidArgument(format!("{what}: {m}")));
+        let bad = |m: String| Err(Error::InvalidArgument(format!("`{what}`: {m}")));
         if self.head_deltas.len() != self.shape_names.len() {
             return bad(format!(
                 "{} shape names for {} shapes",

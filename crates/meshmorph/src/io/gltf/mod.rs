@@ -19,7 +19,7 @@
 //! - Writing a new GLB of a mesh and its frames ([`write_glb`] and its
 //!   kin, `write.rs`).
 
-mod accessor;
+pub(crate) mod accessor;
 mod base64;
 mod document;
 mod glb;
