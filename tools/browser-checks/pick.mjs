@@ -154,7 +154,12 @@ try {
     await page.screenshot({ path: join(outdir, plan.screenshot) });
   }
   if (plan.done) {
-    await page.click('#done');
+    // The click sends "done" from the page: wait for the server's answer,
+    // or closing the browser may cancel the request before it is sent.
+    await Promise.all([
+      page.waitForResponse((r) => r.url().endsWith('/api/done'), { timeout: 60000 }),
+      page.click('#done'),
+    ]);
   }
 } catch (e) {
   result.errors.push(String(e));

@@ -162,6 +162,23 @@ fn the_page_makes_deletes_undoes_saves_and_fits_pairs() {
 
 /// Runs `pick.mjs` on the page at `url` with `plan`, keeping its
 /// screenshots in `target/pick-check/`; the page's report.
+/// Waits for `meshmorph pick` to end after the page said "done": within a
+/// minute, else it is ended and the test fails (instead of waiting for
+/// ever).
+fn ends_after_done(child: &mut std::process::Child) {
+    let start = std::time::Instant::now();
+    while start.elapsed() < std::time::Duration::from_secs(60) {
+        if let Some(status) = child.try_wait().unwrap() {
+            assert!(status.success(), "meshmorph pick ended with {status}");
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    panic!("meshmorph pick did not end within a minute of the page's \"done\"");
+}
+
 /// `meshmorph pick ARGS`, and the page's address from its first line.
 fn spawn_pick(args: &[&std::ffi::OsStr]) -> (std::process::Child, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_meshmorph"))
@@ -236,7 +253,7 @@ fn horse_camel_fits_on_the_page_as_correspond_fits() {
         "screenshot": "pick-horse-camel.png", "size": [1280, 720], "done": true,
     });
     let page = drive(url, &plan, dir.path());
-    assert!(child.wait().unwrap().success());
+    ends_after_done(&mut child);
     let corr = Command::new(env!("CARGO_BIN_EXE_meshmorph"))
         .args(["correspond", "--json", "--source-ref"])
         .arg(&horse)
@@ -337,7 +354,7 @@ fn guided_by_the_template_the_landmarks_are_placed_and_previewed() {
         "screenshot": "pick-guided.png", "size": [1280, 720], "done": true,
     });
     let page = drive(url, &plan, dir.path());
-    assert!(child.wait().unwrap().success());
+    ends_after_done(&mut child);
     let asked: Vec<&str> = page["asked"]
         .as_array()
         .unwrap()
