@@ -249,7 +249,8 @@ fn morph_pictures<'py>(
         return Err(bad(
             "trace_tolerance",
             format!(
-                "{tolerance} pixels: expected a tolerance from 0 (excluded) to 16, such as 0.5"
+                "{tolerance} pixels: expected a tolerance from 0 (excluded) to {}, such as 0.5",
+                meshmorph::render::MAX_TRACE_TOLERANCE
             ),
         ));
     }

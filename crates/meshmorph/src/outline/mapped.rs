@@ -662,7 +662,8 @@ pub(crate) fn all_positive(positions: &[[f64; 2]], triangles: &[[u32; 3]]) -> bo
 /// Free points around each anchor inside of one drawing (`points`: the
 /// loops' points up to `loop_start`'s last entry, then the anchors),
 /// `rings` rings of six each, the outermost at 0.6 of the way to the
-/// nearest loop or half-way to the nearest other anchor. The anchor's own
+/// nearest loop or 0.3 of the way to the nearest other anchor (0.6 of
+/// half-way), whichever is nearer. The anchor's own
 /// triangles then have no other fixed corner: a fixed corner beside a
 /// fixed anchor pins a triangle's edge in every drawing, where the
 /// anchor and that corner may well sit the other way round, and the

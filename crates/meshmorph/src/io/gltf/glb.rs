@@ -98,19 +98,12 @@ enum Piece<'a> {
 /// What makes a later piece: its bytes, appended to the vector given.
 type LaterBytes<'a> = dyn Fn(&mut Vec<u8>) + Send + Sync + 'a;
 
-impl Piece<'_> {
-    /// The bytes of a later piece.
-    fn make(&self) -> Vec<u8> {
-        match self {
-            Piece::Made(bytes) => bytes.clone(),
-            Piece::Later(len, fill) => {
-                let mut bytes = Vec::with_capacity(*len);
-                fill(&mut bytes);
-                debug_assert_eq!(bytes.len(), *len, "a later piece is of the length given");
-                bytes
-            }
-        }
-    }
+/// The bytes of a later piece of `len` bytes.
+fn make(len: usize, fill: &LaterBytes<'_>) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(len);
+    fill(&mut bytes);
+    debug_assert_eq!(bytes.len(), len, "a later piece is of the length given");
+    bytes
 }
 
 impl<'a> Pieces<'a> {
@@ -140,17 +133,23 @@ impl<'a> Pieces<'a> {
     /// Writes the pieces in order: the later ones made a batch at a time on
     /// every thread, on a thread beside this one, which writes.
     pub(crate) fn write_to(&self, w: &mut dyn Write) -> std::io::Result<()> {
-        let later: Vec<&Piece<'a>> = self
+        let later: Vec<(usize, &LaterBytes<'a>)> = self
             .pieces
             .iter()
-            .filter(|p| matches!(p, Piece::Later(..)))
+            .filter_map(|p| match p {
+                Piece::Later(len, fill) => Some((*len, &**fill)),
+                Piece::Made(_) => None,
+            })
             .collect();
         let batch = crate::limits::FRAMES_IN_FLIGHT_PER_THREAD * rayon::current_num_threads();
         std::thread::scope(|scope| {
             let (made, ready) = std::sync::mpsc::sync_channel::<Vec<u8>>(batch);
             scope.spawn(move || {
                 for some in later.chunks(batch) {
-                    let bytes: Vec<Vec<u8>> = some.par_iter().map(|p| p.make()).collect();
+                    let bytes: Vec<Vec<u8>> = some
+                        .par_iter()
+                        .map(|&(len, fill)| make(len, fill))
+                        .collect();
                     for b in bytes {
                         if made.send(b).is_err() {
                             return; // the writer has stopped
