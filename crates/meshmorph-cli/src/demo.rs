@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Result;
+use meshmorph::io::gltf::SampleCharacter;
 use meshmorph::io::picture::{arm_anchors, arm_sprite, ARM_SPRITE_SIZE};
 use meshmorph::io::{write_animated_svg, write_svg_frame, Animation, Canvas, Format, Style};
 use meshmorph::outline::{compatible_set, Drawing, OutlineOptions};
@@ -41,6 +42,12 @@ use crate::transfer::{run_transfer, CorrespondArgs, References, TransferArgs};
 ///   transfer.gif, transfer.png,      a thin tube's bending poses carried over
 ///   transfer.glb, transfer/target/*  to a thicker, differently tessellated tube
 ///   (the inputs are in transfer/input/, to rerun with `meshmorph transfer`);
+///   character/character-shapes.glb   two shapes of a rig (character/input/rig.glb)
+///                                    carried into a copy of a skinned, textured
+///                                    character of other tessellation
+///                                    (character/input/character.glb: its
+///                                    skeleton, materials, eye and own shape key
+///                                    kept), from seven points (markers.txt);
 ///   sprite/arm-straight.png,         a sprite made in code (an arm, striped
 ///   sprite/arm-bent.png,             across, its forearm then bent by 150°
 ///   sprite/anchors.txt,              at the elbow), five points matched on
@@ -68,6 +75,7 @@ pub fn run(args: &Args) -> Result<()> {
     coil(args)?;
     drawing(args)?;
     transfer(args)?;
+    character(args)?;
     sprite(args)?;
     expressions(args)
 }
@@ -465,19 +473,7 @@ fn transfer(args: &Args) -> Result<()> {
             target_mesh: None,
         }),
         batch: Vec::new(),
-        correspond: CorrespondArgs {
-            markers: vec![markers_path.clone()],
-            no_markers: false,
-            one_based: false,
-            smoothness_weight: None,
-            identity_weight: None,
-            closest_weights: None,
-            closest_cutoff: None,
-            match_threshold: None,
-            closest_normal_angle: None,
-            match_normal_angle: None,
-            no_align: false,
-        },
+        correspond: markers_only(&markers_path),
         correspondence: None,
         save_correspondence: Some(dir.join("thin-to-thick.corr")),
         pin: Vec::new(),
@@ -510,6 +506,117 @@ fn transfer(args: &Args) -> Result<()> {
             markers_path.display(),
             out.display(),
             input.join("bend-*.obj").display()
+        );
+    }
+    Ok(())
+}
+
+/// A correspondence fitted from the markers in `path`, every other
+/// setting its default.
+fn markers_only(path: &std::path::Path) -> CorrespondArgs {
+    CorrespondArgs {
+        markers: vec![path.to_path_buf()],
+        no_markers: false,
+        one_based: false,
+        smoothness_weight: None,
+        identity_weight: None,
+        closest_weights: None,
+        closest_cutoff: None,
+        match_threshold: None,
+        closest_normal_angle: None,
+        match_normal_angle: None,
+        no_align: false,
+    }
+}
+
+/// Marker pairs on the sample character's body, as positions (the rig and
+/// the character are the same body, made of fewer or more vertices).
+const BODY_MARKERS: &str = "# name, a point on the rig, the same point on the character
+top 0 1.6 0 0 1.6 0
+bottom 0 0 0 0 0 0
+right 0.25 0.8 0 0.25 0.8 0
+left -0.25 0.8 0 -0.25 0.8 0
+front 0 0.8 0.25 0 0.8 0.25
+back 0 0.8 -0.25 0 0.8 -0.25
+chin 0 1.2 0.25 0 1.2 0.25
+";
+
+/// Deformation transfer into a user's own GLB: a coarse rig's two shape
+/// keys carried into a copy of a skinned, textured character (the
+/// library's sample character: two materials, a skeleton, an eye mesh, an
+/// animation and a shape key of its own), everything else of it kept.
+fn character(args: &Args) -> Result<()> {
+    let dir = args.output.join("character");
+    let input = dir.join("input");
+    let mut rig = SampleCharacter::default();
+    (rig.rings, rig.segments, rig.extra_targets) = (10, 12, 2);
+    let rig_path = input.join("rig.glb");
+    let character_path = input.join("character.glb");
+    let markers_path = input.join("markers.txt");
+    let files = [
+        (&rig_path, rig.glb()),
+        (&character_path, SampleCharacter::default().glb()),
+        (&markers_path, BODY_MARKERS.as_bytes().to_vec()),
+    ];
+    let mut plan = Plan::new();
+    let outputs: Vec<_> = files
+        .iter()
+        .map(|(path, bytes)| (plan.file(path, "demo character file"), bytes))
+        .collect();
+    let staging = plan.prepare()?;
+    output::print_warnings(&staging.warnings());
+    for (output, bytes) in outputs {
+        staging.write(output, |path| {
+            Ok(meshmorph::io::write_atomic(path, |w| w.write_all(bytes))?)
+        })?;
+    }
+    staging.commit()?;
+    if !args.json {
+        say!("\n== deformation transfer into a GLB character: a rig's shape keys, the rest of the file kept ==");
+    }
+    let glb = dir.join("character-shapes.glb");
+    let shapes = vec!["Extra_0".to_string(), "Extra_1".to_string()];
+    run_transfer(&TransferArgs {
+        refs: Some(References {
+            source_ref: rig_path.clone(),
+            target_ref: character_path.clone(),
+            no_weld: false,
+            source_mesh: Some("Body".to_string()),
+            target_mesh: Some("Body".to_string()),
+        }),
+        batch: Vec::new(),
+        correspond: markers_only(&markers_path),
+        correspondence: None,
+        save_correspondence: None,
+        pin: Vec::new(),
+        output: None,
+        format: None,
+        json: args.json,
+        gltf: GltfArgs {
+            gltf: Some(glb.clone()),
+            max_gltf_mb: 256.0,
+            gltf_quantize: false,
+            gltf_dense: false,
+        },
+        gltf_shapes: false,
+        shapes: shapes.clone(),
+        replace_shapes: false,
+        vrm_expressions: false,
+        pictures: PictureArgs {
+            png: None,
+            gif: None,
+            draw: args.draw.clone(),
+        },
+        poses: Vec::new(),
+    })?;
+    if !args.json {
+        say!(
+            "rerun: meshmorph transfer --source-ref {} --source-mesh Body --target-ref {} --target-mesh Body --markers {} --shapes {} --gltf {}",
+            rig_path.display(),
+            character_path.display(),
+            markers_path.display(),
+            shapes.join(","),
+            glb.display()
         );
     }
     Ok(())

@@ -2427,6 +2427,22 @@ fn demo_writes_everything_and_json_lines() {
         assert!(sprite.join(file).is_file(), "{file}");
     }
     assert_eq!(names(&sprite.join("frames")).len(), 24);
+    // The rig's two shapes in a copy of the character: its own shape key
+    // first, then theirs; its other mesh (the eye), skin and animation
+    // kept; the character's file as it was made.
+    let character = out.join("character");
+    let (doc, mesh) =
+        meshmorph::io::gltf::read(&character.join("character-shapes.glb"), Some("Body")).unwrap();
+    assert_eq!(mesh.target_names(), ["Smile", "Extra_0", "Extra_1"]);
+    let (input, _) =
+        meshmorph::io::gltf::read(&character.join("input/character.glb"), Some("Body")).unwrap();
+    for kept in ["skins", "animations", "materials", "images", "nodes"] {
+        assert_eq!(doc.json()[kept], input.json()[kept], "{kept}");
+    }
+    assert_eq!(
+        doc.json()["meshes"].as_array().unwrap().len(),
+        input.json()["meshes"].as_array().unwrap().len()
+    );
     // The expressions on the demo's head: its GLB with the 51 shapes, the
     // GIF, and its report (parts found: eyes, teeth, tongue).
     let expressions = out.join("expressions");
