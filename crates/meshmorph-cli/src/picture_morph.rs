@@ -92,7 +92,7 @@ fn frame_size(text: &str) -> Result<(u32, u32), String> {
 }
 
 /// Whether `path` is named as a picture (`.png`, `.jpg`, `.jpeg`).
-fn is_picture(path: &Path) -> bool {
+pub(crate) fn is_picture(path: &Path) -> bool {
     PictureFormat::of_path(path).is_some()
 }
 
@@ -117,6 +117,27 @@ pub fn named_as_pictures(keys: &[PathBuf]) -> Result<bool> {
 /// Bytes a pixel of the larger picture takes at the peak (see
 /// [`picture_morph_memory`]), for the size refused before decoding.
 const BYTES_PER_PICTURE_PIXEL: u64 = 19;
+
+/// The source and target pictures read, each refused when it has more
+/// pixels than the free memory holds for a morph (the message says how
+/// much a morph takes and how much is free).
+pub(crate) fn read_pictures(paths: [&Path; 2]) -> Result<[Picture; 2]> {
+    let free = crate::memory::available();
+    let max_pixels = free.map_or(u64::MAX, |f| f / BYTES_PER_PICTURE_PIXEL);
+    let read = |k: usize| -> Result<Picture> {
+        read_picture(paths[k], max_pixels).map_err(|e| {
+            let mut text = e.to_string();
+            if let Some(f) = free.filter(|_| text.contains("pixels a picture may have")) {
+                text.push_str(&format!(
+                    " (a morph takes about {BYTES_PER_PICTURE_PIXEL} bytes a pixel of its pictures, and {} is available)",
+                    crate::memory::human_bytes(f)
+                ));
+            }
+            anyhow::anyhow!("reading the {} picture {text}", ["source", "target"][k])
+        })
+    };
+    Ok([read(0)?, read(1)?])
+}
 
 /// `meshmorph interpolate` on two pictures.
 pub fn run(args: &Args) -> Result<()> {
@@ -167,21 +188,7 @@ pub fn run(args: &Args) -> Result<()> {
         .map(|s| plan.file(s, "sprite sheet's JSON"));
     let staging = plan.prepare()?;
 
-    let free = crate::memory::available();
-    let max_pixels = free.map_or(u64::MAX, |f| f / BYTES_PER_PICTURE_PIXEL);
-    let read = |k: usize| -> Result<Picture> {
-        read_picture(&keys[k], max_pixels).map_err(|e| {
-            let mut text = e.to_string();
-            if let Some(f) = free.filter(|_| text.contains("pixels a picture may have")) {
-                text.push_str(&format!(
-                    " (a morph takes about {BYTES_PER_PICTURE_PIXEL} bytes a pixel of its pictures, and {} is available)",
-                    crate::memory::human_bytes(f)
-                ));
-            }
-            anyhow::anyhow!("reading the {} picture {text}", ["source", "target"][k])
-        })
-    };
-    let (a, b) = (read(0)?, read(1)?);
+    let [a, b] = read_pictures([&keys[0], &keys[1]])?;
     let read_seconds = start.elapsed().as_secs_f64();
     let (width, height) = p.frame_size.unwrap_or((a.width, a.height));
     let held =

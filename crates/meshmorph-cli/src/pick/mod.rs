@@ -1,5 +1,7 @@
 //! `meshmorph pick`: marker pairs picked on the two meshes in the browser,
-//! with the correspondence's fit (and a transferred pose) shown on demand.
+//! with the correspondence's fit (and a transferred pose) shown on demand;
+//! or, given two pictures, the anchors of their morph, with the morph
+//! shown playing as they change ([`pictures`]).
 //!
 //! The command reads the files named on its command line once, opens a
 //! door on the loopback address ([`door`]) and serves one page
@@ -10,6 +12,7 @@
 mod door;
 mod guide;
 mod page;
+mod pictures;
 mod session;
 
 use std::path::PathBuf;
@@ -21,13 +24,17 @@ use meshmorph::Markers;
 use crate::output;
 use crate::transfer::{CorrespondArgs, References};
 
-/// Pick marker pairs on two meshes in the browser and save them.
+/// Pick marker pairs on two meshes in the browser and save them; or, on
+/// two pictures (PNG, JPEG, ...), the anchors of their morph.
 ///
 /// Starts a server on the loopback address (127.0.0.1 and ::1 only) and
 /// prints the page's address, with a random token in it that every request
 /// needs. On the page: click the source, then the target, to make a pair
 /// (Alt-click snaps to the nearest vertex); "fit" shows the correspondence
-/// the markers make; "save" writes them to the output.
+/// the markers make; "save" writes them to the output. On two pictures:
+/// click a point on the first, then the same point on the second; the
+/// morph they make plays beside them; "save" writes the anchor file
+/// `interpolate --anchors` reads.
 #[derive(Debug, clap::Args)]
 #[command(
     mut_arg("markers", |a| a.help("Start from these markers: one file of pairs, or twice a file of points (the source's, then the target's: MeshLab's .pp, Wrap's .json, or one point a line), as `correspond` reads them")),
@@ -56,6 +63,10 @@ pub struct Args {
     /// and surface points. Never one of the inputs.
     #[arg(short, long, value_name = "MARKERS")]
     pub output: PathBuf,
+    /// With two pictures: start from these anchors (the file
+    /// `interpolate --anchors` reads).
+    #[arg(long, value_name = "ANCHORS", conflicts_with_all = ["template", "pose", "markers"])]
+    pub anchors: Option<PathBuf>,
     /// A pose of the source, shown transferred to the target after each fit.
     #[arg(long, value_name = "POSE")]
     pub pose: Option<PathBuf>,
@@ -79,6 +90,21 @@ pub struct Args {
 }
 
 pub fn run(args: &Args) -> Result<()> {
+    let on_pictures = args.template.is_none()
+        && crate::picture_morph::is_picture(&args.source)
+        && args
+            .target
+            .as_deref()
+            .is_some_and(crate::picture_morph::is_picture);
+    if on_pictures {
+        return run_on_pictures(args);
+    }
+    if let Some(anchors) = &args.anchors {
+        anyhow::bail!(
+            "--anchors {} is for two pictures (PNG, JPEG, ...): on meshes give --markers",
+            anchors.display()
+        );
+    }
     let marker_files = if args.correspond.markers.is_empty() {
         &[][..]
     } else {
@@ -157,7 +183,6 @@ pub fn run(args: &Args) -> Result<()> {
         || target.file_mesh().mirror_plane(),
     );
     let door = door::Door::open(args.port)?;
-    let url = door.url();
     let (done, finished) = mpsc::channel();
     let session = session::Session {
         refs,
@@ -173,16 +198,70 @@ pub fn run(args: &Args) -> Result<()> {
         ended: Mutex::new(false),
         guide,
     };
-    let served = door.serve(Arc::new(session));
+    serve_until_done(door, Arc::new(session), &finished, args.open);
+    Ok(())
+}
+
+/// Serves `session` behind `door` until the page says done (`finished`
+/// is told), opening the page in the browser when asked.
+fn serve_until_done(
+    door: door::Door,
+    session: Arc<dyn door::Handler>,
+    finished: &mpsc::Receiver<()>,
+    open: bool,
+) {
+    let url = door.url();
+    let served = door.serve(session);
     say!("pick: open {url} in a browser (Ctrl-C or \"done\" on the page stops)");
     // Kept until the session ends: the browser may read it late.
-    let _opened = args.open.then(|| open_browser(&url)).flatten();
+    let _opened = open.then(|| open_browser(&url)).flatten();
     // Until the page says done; Ctrl-C ends the process from its handler.
     let _ = finished.recv();
     // Requests that showed the token before "done" are answered (a save
     // among them is refused: the session has ended) before the process ends.
     served.settle();
     say!("pick: done");
+}
+
+/// `pick` on two pictures: the anchors of their morph.
+fn run_on_pictures(args: &Args) -> Result<()> {
+    let Some(target) = &args.target else {
+        anyhow::bail!("give two pictures");
+    };
+    if args.pose.is_some() {
+        anyhow::bail!("--pose is for meshes: on two pictures the page shows their morph");
+    }
+    if !args.correspond.markers.is_empty() {
+        anyhow::bail!("--markers is for meshes: on two pictures give --anchors");
+    }
+    let paths = [args.source.clone(), target.clone()];
+    let mut inputs: Vec<(PathBuf, &'static str)> = vec![
+        (paths[0].clone(), "source picture"),
+        (paths[1].clone(), "target picture"),
+    ];
+    inputs.extend(args.anchors.iter().map(|p| (p.clone(), "anchor file")));
+    let save = session::SaveTarget {
+        path: args.output.clone(),
+        inputs,
+    };
+    drop(save.prepare()?);
+    let pictures = crate::picture_morph::read_pictures([&paths[0], &paths[1]])?;
+    let start = match &args.anchors {
+        Some(path) => pictures::read_start(path, [&pictures[0], &pictures[1]])?,
+        None => Vec::new(),
+    };
+    let door = door::Door::open(args.port)?;
+    let (done, finished) = mpsc::channel();
+    let session = pictures::PictureSession {
+        paths,
+        pictures,
+        save,
+        start,
+        previewing: Mutex::new(()),
+        done: Mutex::new(done),
+        ended: Mutex::new(false),
+    };
+    serve_until_done(door, Arc::new(session), &finished, args.open);
     Ok(())
 }
 

@@ -28,9 +28,30 @@ pub fn asset(path: &str) -> Option<Asset> {
         ),
         "/pick.css" => ("text/css; charset=utf-8", include_bytes!("page/pick.css")),
         "/pick.js" => (JS, include_bytes!("page/pick.js")),
+        "/server.js" => (JS, include_bytes!("page/server.js")),
         "/three.module.js" => (JS, include_bytes!("page/vendor/three.module.js")),
         "/three.core.js" => (JS, include_bytes!("page/vendor/three.core.js")),
         "/OrbitControls.js" => (JS, orbit_controls()),
+        _ => return None,
+    };
+    Some(Asset { content_type, body })
+}
+
+/// The file at `path` of the page for two pictures (`pick A.png B.png`),
+/// if it has one there.
+pub fn picture_asset(path: &str) -> Option<Asset> {
+    let (content_type, body): (&str, &'static [u8]) = match path {
+        "/" | "/index.html" => (
+            "text/html; charset=utf-8",
+            include_bytes!("page/pictures.html"),
+        ),
+        "/pick.css" => ("text/css; charset=utf-8", include_bytes!("page/pick.css")),
+        "/pictures.css" => (
+            "text/css; charset=utf-8",
+            include_bytes!("page/pictures.css"),
+        ),
+        "/pictures.js" => (JS, include_bytes!("page/pictures.js")),
+        "/server.js" => (JS, include_bytes!("page/server.js")),
         _ => return None,
     };
     Some(Asset { content_type, body })
@@ -65,11 +86,19 @@ mod tests {
             assert!(asset(&format!("/{name}")).is_some());
         }
         let js = String::from_utf8_lossy(asset("/pick.js").unwrap().body).into_owned();
-        for name in ["./three.module.js", "./OrbitControls.js"] {
+        for name in ["./three.module.js", "./OrbitControls.js", "./server.js"] {
             assert!(js.contains(name), "{name}");
             assert!(asset(&name[1..]).is_some());
         }
         assert!(asset("/../Cargo.toml").is_none());
+        let html = String::from_utf8_lossy(picture_asset("/").unwrap().body).into_owned();
+        for name in ["pick.css", "pictures.css", "pictures.js"] {
+            assert!(html.contains(name), "{name}");
+            assert!(picture_asset(&format!("/{name}")).is_some());
+        }
+        assert!(picture_asset("/pick.js").is_none());
+        let js = String::from_utf8_lossy(picture_asset("/pictures.js").unwrap().body).into_owned();
+        assert!(js.contains("./server.js") && picture_asset("/server.js").is_some());
         assert!(asset("/vendor/LICENSE").is_none());
     }
 }

@@ -101,12 +101,8 @@ struct PageMarkers {
 impl Handler for Session {
     fn handle(&self, request: Request) -> Response {
         let Request { method, path, body } = request;
-        if let Some(asset) = page::asset(&path) {
-            return if method == "GET" {
-                Response::ok(asset.content_type, asset.body.to_vec())
-            } else {
-                Response::error(405, "use GET")
-            };
+        if let Some(answer) = serve_file(page::asset(&path), &method) {
+            return answer;
         }
         let answer = match (method.as_str(), path.as_str()) {
             ("GET", "/api/session") => Ok(Response::json(&self.describe())),
@@ -115,13 +111,7 @@ impl Handler for Session {
             ("POST", "/api/fit") => self.markers(&body).and_then(|m| self.fit(&m)),
             ("POST", "/api/mirror") => self.markers(&body).and_then(|m| self.mirror(&m)),
             ("POST", "/api/save") => self.markers(&body).and_then(|m| self.save(&m)),
-            ("POST", "/api/done") => {
-                // A save under way finishes first (its file whole at `-o`).
-                *self.ended.lock().unwrap_or_else(|e| e.into_inner()) = true;
-                let mut answer = Response::json(&json!({ "done": true }));
-                answer.last = true;
-                Ok(answer)
-            }
+            ("POST", "/api/done") => Ok(end(&self.ended)),
             (_, "/api/session" | "/api/mesh/source" | "/api/mesh/target") => {
                 return Response::error(405, "use GET")
             }
@@ -383,6 +373,25 @@ impl Session {
             "pairs": markers.pairs().len(),
         })))
     }
+}
+
+/// A file of the page, when `path` named one: given to GET only.
+pub fn serve_file(asset: Option<page::Asset>, method: &str) -> Option<Response> {
+    let asset = asset?;
+    Some(if method == "GET" {
+        Response::ok(asset.content_type, asset.body.to_vec())
+    } else {
+        Response::error(405, "use GET")
+    })
+}
+
+/// The answer to the page's "done": the session marked ended (a save
+/// under way finishes first, its file whole at `-o`), the last answer.
+pub fn end(ended: &Mutex<bool>) -> Response {
+    *ended.lock().unwrap_or_else(|e| e.into_inner()) = true;
+    let mut answer = Response::json(&json!({ "done": true }));
+    answer.last = true;
+    answer
 }
 
 fn point_json(p: &SurfacePoint) -> Value {

@@ -15,5 +15,6 @@ mod hostile_outputs;
 mod hostile_reads;
 mod interrupt;
 mod pick_door;
+mod pick_pictures;
 mod pick_session;
 mod pictures;

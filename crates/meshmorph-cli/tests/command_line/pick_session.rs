@@ -65,6 +65,27 @@ impl Pick {
         Self::spawn(&[&source, &target], output, extra)
     }
 
+    /// Writes the demo's arm sprite, straight and bent by 150° (with its
+    /// anchors, `anchors.txt`), into `dir` and starts `pick` on the two
+    /// pictures, saving to `dir/picked.txt`.
+    pub fn start_pictures(dir: &Path, extra: &[&str]) -> Pick {
+        use meshmorph::io::picture::{arm_anchors, arm_sprite, ARM_SPRITE_SIZE};
+        let bend = 150f64.to_radians();
+        let source = dir.join("arm-straight.png");
+        let target = dir.join("arm-bent.png");
+        for (path, angle) in [(&source, 0.0), (&target, bend)] {
+            let mut file = std::fs::File::create(path).unwrap();
+            meshmorph::render::write_picture_png(&mut file, &arm_sprite(angle, ARM_SPRITE_SIZE))
+                .unwrap();
+        }
+        let mut text = String::new();
+        for (name, a, b) in arm_anchors(bend, ARM_SPRITE_SIZE) {
+            text.push_str(&format!("{name} {} {} {} {}\n", a[0], a[1], b[0], b[1]));
+        }
+        std::fs::write(dir.join("anchors.txt"), text).unwrap();
+        Self::spawn(&[&source, &target], dir.join("picked.txt"), extra)
+    }
+
     /// `pick --template TEMPLATE HEAD -o dir/landmarks.txt`.
     pub fn start_guided(dir: &Path, template: &str, head: &Path) -> Pick {
         let output = dir.join("landmarks.txt");
@@ -120,20 +141,36 @@ impl Pick {
     }
 
     /// The status and body of the response on `stream`.
-    fn answer(mut stream: TcpStream) -> (u16, String) {
+    fn answer(stream: TcpStream) -> (u16, String) {
+        let (status, body) = Self::answer_bytes(stream);
+        (status, String::from_utf8_lossy(&body).into_owned())
+    }
+
+    /// The status and body (as bytes) of the response on `stream`.
+    fn answer_bytes(mut stream: TcpStream) -> (u16, Vec<u8>) {
         let mut answer = Vec::new();
         let _ = stream.read_to_end(&mut answer);
-        let text = String::from_utf8_lossy(&answer).into_owned();
-        let status = text
+        let end = answer
+            .windows(4)
+            .position(|w| w == b"\r\n\r\n")
+            .map_or(answer.len(), |k| k + 4);
+        let head = String::from_utf8_lossy(&answer[..end]).into_owned();
+        let status = head
             .split_whitespace()
             .nth(1)
             .and_then(|s| s.parse().ok())
             .unwrap_or(0);
-        let body = text
-            .split_once("\r\n\r\n")
-            .map(|(_, b)| b.to_string())
-            .unwrap_or_default();
-        (status, body)
+        (status, answer[end..].to_vec())
+    }
+
+    /// [`Pick::page`] with the body as bytes (a picture).
+    pub fn page_bytes(&self, method: &str, path: &str, body: &str) -> (u16, Vec<u8>) {
+        let mut stream = TcpStream::connect(("127.0.0.1", self.port)).unwrap();
+        stream
+            .set_read_timeout(Some(Duration::from_secs(60)))
+            .unwrap();
+        let _ = stream.write_all(self.request(method, path, body).as_bytes());
+        Self::answer_bytes(stream)
     }
 
     /// A request from the page itself: the right Host, Origin and token.

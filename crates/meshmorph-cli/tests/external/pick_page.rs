@@ -38,6 +38,11 @@ pub fn checks() -> Vec<Check> {
             Needs::Chromium,
         ),
         (
+            "pick_page::on_two_pictures_anchors_are_clicked_previewed_and_saved",
+            on_two_pictures_anchors_are_clicked_previewed_and_saved,
+            Needs::Chromium,
+        ),
+        (
             "pick_page::the_page_carries_the_pinned_three_js",
             the_page_carries_the_pinned_three_js,
             Needs::Node,
@@ -202,11 +207,17 @@ fn spawn_pick(args: &[&std::ffi::OsStr]) -> (std::process::Child, String) {
 }
 
 fn drive(url: &str, plan: &Value, dir: &Path) -> Value {
+    drive_with("pick.mjs", url, plan, dir)
+}
+
+/// Runs `script` (in `tools/browser-checks`) on the page at `url` with
+/// `plan`; its one line of JSON.
+fn drive_with(script: &str, url: &str, plan: &Value, dir: &Path) -> Value {
     let artifacts = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/pick-check");
     let plan_path = dir.join("plan.json");
     std::fs::write(&plan_path, plan.to_string()).unwrap();
     let out = Command::new("node")
-        .arg(tools().join("pick.mjs"))
+        .arg(tools().join(script))
         .arg(url)
         .arg(&artifacts)
         .arg(&plan_path)
@@ -221,6 +232,59 @@ fn drive(url: &str, plan: &Value, dir: &Path) -> Value {
         String::from_utf8_lossy(&out.stderr)
     );
     serde_json::from_str(stdout.trim()).expect("one JSON line")
+}
+
+/// `pick A.png B.png --anchors`: the demo's arm sprites and anchors, one
+/// anchor clicked on both pictures, one dragged (then undone), one deleted
+/// (then undone), a preview of the morph after each change, the anchors
+/// saved as `interpolate --anchors` reads them. Its screenshot is kept as
+/// `target/pick-check/pick-pictures.png`.
+fn on_two_pictures_anchors_are_clicked_previewed_and_saved() {
+    let dir = tempfile::TempDir::new().unwrap();
+    let anchors = dir.path().join("anchors.txt");
+    let mut pick = Pick::start_pictures(dir.path(), &["--anchors", anchors.to_str().unwrap()]);
+    let clicked = [[160.0, 160.0], [140.0, 158.0]];
+    let plan = serde_json::json!({
+        "anchors": [clicked],
+        "drag": { "anchor": 5, "side": "b", "to": [134.0, 154.0] },
+        "delete": 0,
+        "save": true,
+        "screenshot": "pick-pictures.png",
+        "size": [1280, 640],
+        "done": true,
+    });
+    let report = drive_with("pick-pictures.mjs", &pick.url, &plan, dir.path());
+    let point = |v: &Value| [v[0].as_f64().unwrap(), v[1].as_f64().unwrap()];
+    let near = |p: [f64; 2], q: [f64; 2], tol: f64| (p[0] - q[0]).hypot(p[1] - q[1]) <= tol;
+    assert_eq!(report["start"].as_array().unwrap().len(), 5, "{report}");
+    let after = report["after_clicks"].as_array().unwrap();
+    assert_eq!(after.len(), 6, "{report}");
+    // A click lands within a screen pixel (under a picture pixel here).
+    assert!(near(point(&after[5]["a"]), clicked[0], 1.0), "{report}");
+    assert!(near(point(&after[5]["b"]), clicked[1], 1.0), "{report}");
+    assert!(
+        near(point(&report["dragged"]), [134.0, 154.0], 1.0),
+        "{report}"
+    );
+    assert!(
+        near(point(&report["drag_undone"]), clicked[1], 1.0),
+        "{report}"
+    );
+    assert_eq!(report["after_delete"], 5, "{report}");
+    assert_eq!(report["after_undo"], 6, "{report}");
+    // The first preview, one after the click, two for the drag and its
+    // undoing, two for the deletion and its undoing.
+    assert!(report["previews"].as_u64().unwrap() >= 6, "{report}");
+    assert!(report["preview_error"].is_null(), "{report}");
+    assert_eq!(report["saved"], "6", "{report}");
+    assert!(pick.wait().success());
+    let saved = meshmorph::io::read_anchor_file(&pick.output, 2).unwrap();
+    assert_eq!(saved.len(), 6);
+    let given = meshmorph::io::read_anchor_file(&anchors, 2).unwrap();
+    for (s, g) in saved.iter().zip(&given) {
+        assert_eq!((&s.name, &s.points), (&g.name, &g.points));
+    }
+    assert!(near(saved[5].points[0], clicked[0], 1.0) && near(saved[5].points[1], clicked[1], 1.0));
 }
 
 /// Horse to camel with the shared 107 markers and a pose: the page's fit

@@ -4,6 +4,7 @@
 // relative: the page's address holds the session's token.
 import * as THREE from './three.module.js';
 import { OrbitControls } from './OrbitControls.js';
+import { request } from './server.js';
 
 const $ = (id) => document.getElementById(id);
 const SOURCE = 0, TARGET = 1;
@@ -17,21 +18,6 @@ const CLICK_SLOP = 4; // pixels a click may move and stay a click
 const UNDO_LIMIT = 500;
 
 // ---------------------------------------------------------------- server
-
-async function request(path, body, binary = false) {
-  const init = body === undefined ? {} : {
-    method: 'POST',
-    headers: { 'content-type': 'application/json' },
-    body: JSON.stringify(body),
-  };
-  const response = await fetch(path, init);
-  if (!response.ok) {
-    let message = response.statusText;
-    try { message = (await response.json()).error ?? message; } catch { /* not JSON */ }
-    throw new Error(message);
-  }
-  return binary ? response.arrayBuffer() : response.json();
-}
 
 /** A mesh as the server sends it: counts, f32 positions, u32 corners. */
 function parseMesh(buffer) {
@@ -580,7 +566,7 @@ async function fitOnce() {
   document.body.dataset.fit = 'running';
   let result;
   try {
-    const buffer = await request('api/fit', { pairs }, true);
+    const buffer = await request('api/fit', { pairs }, 'binary');
     result = parseFit(buffer, state.meshes[SOURCE].positions.length / 3, state.meshes[TARGET].positions.length / 3);
   } catch (e) {
     if (generation === fitGeneration) {
@@ -766,8 +752,8 @@ function overlay() {
 async function start() {
   const [session, source, target] = await Promise.all([
     request('api/session'),
-    request('api/mesh/source', undefined, true).then(parseMesh),
-    request('api/mesh/target', undefined, true).then(parseMesh),
+    request('api/mesh/source', undefined, 'binary').then(parseMesh),
+    request('api/mesh/target', undefined, 'binary').then(parseMesh),
   ]);
   state.session = session;
   state.meshes = [prepare(source), prepare(target)];
