@@ -247,8 +247,11 @@ fn place_inside(a: &[[f64; 2]], b_boundary: &[[f64; 2]], triangles: &[[u32; 3]])
 
 /// The foldover-free energy: for each triangle the first drawing's
 /// shape (scaled to the second's area) as reference, the inverse of its
-/// edge matrix and its share of the area.
-struct Energy<'a> {
+/// edge matrix and its share of the area. `theta` weighs the area term
+/// against the shape term: 1/2 makes each triangle's term
+/// `½ (σ1 + 1/σ1)(σ2 + 1/σ2)` of its map's singular values, least (2)
+/// for a rigid motion.
+pub(super) struct Energy<'a> {
     triangles: &'a [[u32; 3]],
     inverse: Vec<[f64; 4]>,
     weight: Vec<f64>,
@@ -261,7 +264,58 @@ fn chi(d: f64, eps: f64) -> f64 {
     0.5 * (d + (eps * eps + d * d).sqrt())
 }
 
-impl Energy<'_> {
+impl<'a> Energy<'a> {
+    /// The energy of maps of `reference`'s triangles into a drawing of
+    /// signed area `target_area`: each triangle's shape in `reference`
+    /// scaled to that area. Vertices below `fixed` get no gradient.
+    pub(super) fn against(
+        reference: &[[f64; 2]],
+        triangles: &'a [[u32; 3]],
+        target_area: f64,
+        fixed: usize,
+        theta: f64,
+    ) -> Self {
+        let area: f64 = signed_areas(reference, triangles).iter().sum();
+        let scale = (target_area / area).abs().sqrt();
+        let mut inverse = Vec::with_capacity(triangles.len());
+        let mut weight = Vec::with_capacity(triangles.len());
+        for t in triangles {
+            let [i, j, k] = t.map(|v| reference[v as usize]);
+            let d = [
+                scale * (j[0] - i[0]),
+                scale * (k[0] - i[0]),
+                scale * (j[1] - i[1]),
+                scale * (k[1] - i[1]),
+            ];
+            let det = d[0] * d[3] - d[1] * d[2];
+            inverse.push([d[3] / det, -d[1] / det, -d[2] / det, d[0] / det]);
+            weight.push(0.5 * det / target_area.abs());
+        }
+        Self {
+            triangles,
+            inverse,
+            weight,
+            fixed,
+            theta,
+        }
+    }
+
+    /// The conformal distortion of each triangle from an equilateral one
+    /// (the MIPS energy of Hormann and Greiner 2000, `|J|² / det J`, the
+    /// shape part of the foldover-free energy), each triangle weighed
+    /// alike, the mean over them: 2 when all are equilateral, infinite
+    /// for a flat one. Vertices below `fixed` get no gradient.
+    pub(super) fn equilateral(triangles: &'a [[u32; 3]], fixed: usize) -> Self {
+        let height = 0.75f64.sqrt();
+        Self {
+            triangles,
+            inverse: vec![[1.0, -0.5 / height, 0.0, 1.0 / height]; triangles.len()],
+            weight: vec![1.0 / triangles.len() as f64; triangles.len()],
+            fixed,
+            theta: 0.0,
+        }
+    }
+
     /// Jacobian of triangle `t` (row-major 2x2).
     #[inline]
     fn jacobian(&self, b: &[[f64; 2]], t: usize) -> [f64; 4] {
@@ -276,7 +330,7 @@ impl Energy<'_> {
         ]
     }
 
-    fn min_det(&self, b: &[[f64; 2]]) -> f64 {
+    pub(super) fn min_det(&self, b: &[[f64; 2]]) -> f64 {
         (0..self.triangles.len())
             .map(|t| {
                 let j = self.jacobian(b, t);
@@ -297,7 +351,7 @@ impl Energy<'_> {
 
     /// The energy at `b` and, when `grad` is given, its gradient with
     /// respect to every vertex (the fixed ones' left at zero).
-    fn eval(&self, b: &[[f64; 2]], eps: f64, mut grad: Option<&mut [[f64; 2]]>) -> f64 {
+    pub(super) fn eval(&self, b: &[[f64; 2]], eps: f64, mut grad: Option<&mut [[f64; 2]]>) -> f64 {
         if let Some(g) = grad.as_deref_mut() {
             g.fill([0.0, 0.0]);
         }
@@ -354,7 +408,11 @@ impl Energy<'_> {
 
 /// Limited-memory BFGS (Nocedal 1980) with a backtracking line search on
 /// the free coordinates `x`, at most `iterations` steps.
-fn lbfgs(x: &mut [f64], iterations: usize, mut f: impl FnMut(&[f64], &mut [f64]) -> f64) -> f64 {
+pub(super) fn lbfgs(
+    x: &mut [f64],
+    iterations: usize,
+    mut f: impl FnMut(&[f64], &mut [f64]) -> f64,
+) -> f64 {
     const MEMORY: usize = 8;
     let len = x.len();
     let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
@@ -501,30 +559,8 @@ pub(crate) fn untangle(
     if b.len() == n {
         return b;
     }
-    let area_a: f64 = signed_areas(a, triangles).iter().sum();
     let area_b = area_from_boundary(&b, triangles, n);
-    let scale = (area_b / area_a).abs().sqrt();
-    let mut inverse = Vec::with_capacity(triangles.len());
-    let mut weight = Vec::with_capacity(triangles.len());
-    for t in triangles {
-        let [i, j, k] = t.map(|v| a[v as usize]);
-        let d = [
-            scale * (j[0] - i[0]),
-            scale * (k[0] - i[0]),
-            scale * (j[1] - i[1]),
-            scale * (k[1] - i[1]),
-        ];
-        let det = d[0] * d[3] - d[1] * d[2];
-        inverse.push([d[3] / det, -d[1] / det, -d[2] / det, d[0] / det]);
-        weight.push(0.5 * det / area_b.abs());
-    }
-    let energy = Energy {
-        triangles,
-        inverse,
-        weight,
-        fixed: n,
-        theta: 1.0 / 128.0,
-    };
+    let energy = Energy::against(a, triangles, area_b, n, 1.0 / 128.0);
     let free = b.len() - n;
     let mut x: Vec<f64> = b[n..].iter().flat_map(|p| [p[0], p[1]]).collect();
     let mut grad = vec![[0.0; 2]; b.len()];
@@ -589,14 +625,7 @@ pub(crate) fn relax(b: &mut [[f64; 2]], triangles: &[[u32; 3]], n: usize, iterat
     if b.len() <= n || triangles.is_empty() {
         return;
     }
-    let height = 0.75f64.sqrt();
-    let energy = Energy {
-        triangles,
-        inverse: vec![[1.0, -0.5 / height, 0.0, 1.0 / height]; triangles.len()],
-        weight: vec![1.0 / triangles.len() as f64; triangles.len()],
-        fixed: n,
-        theta: 0.0,
-    };
+    let energy = Energy::equilateral(triangles, n);
     if energy.min_det(b) <= 0.0 {
         return;
     }
@@ -625,7 +654,7 @@ pub(crate) fn relax(b: &mut [[f64; 2]], triangles: &[[u32; 3]], n: usize, iterat
 
 /// The second drawing's area, from its boundary loops (signed, as the
 /// triangles' boundary edges run).
-fn area_from_boundary(b: &[[f64; 2]], triangles: &[[u32; 3]], n: usize) -> f64 {
+pub(super) fn area_from_boundary(b: &[[f64; 2]], triangles: &[[u32; 3]], n: usize) -> f64 {
     // Boundary edges are the directed edges whose reverse is absent, both
     // ends on the boundary.
     let mut edges: HashSet<(u32, u32)> = HashSet::with_capacity(triangles.len() * 3);

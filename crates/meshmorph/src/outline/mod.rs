@@ -52,10 +52,13 @@ mod holes;
 mod improve;
 mod mapped;
 mod overlay;
+mod settle;
 #[cfg(test)]
 mod tests;
 
 use std::time::Instant;
+
+use rayon::prelude::*;
 
 pub use drawing::Drawing;
 
@@ -109,6 +112,12 @@ pub struct OutlineOptions {
     /// their smallest angle is at least this many degrees; below it every
     /// drawing's mesh is tried as the source and the best kept. Default 10.
     pub accept_angle_degrees: f64,
+    /// L-BFGS steps of each round that makes the map from one drawing's
+    /// mesh to another's as rigid as it can be (inside points moved,
+    /// boundary points that are not a drawing's own slid along its
+    /// outline; the drawings' points and the anchors stay; 0: none).
+    /// Default 300.
+    pub settle_steps: usize,
 }
 
 /// Which way the compatible meshes were made.
@@ -131,6 +140,7 @@ impl Default for OutlineOptions {
             mapped_first: true,
             mapped_angle_degrees: 25.0,
             accept_angle_degrees: 10.0,
+            settle_steps: 300,
         }
     }
 }
@@ -366,6 +376,9 @@ struct Candidate {
     angles: Vec<f64>,
     path: OutlinePath,
     overlay_angles: Option<Vec<f64>>,
+    /// The drawing whose mesh the others' were mapped from (the first
+    /// for the overlay).
+    source: usize,
 }
 
 /// Two compatible meshes, one inside each drawing: the same triangles,
@@ -573,28 +586,39 @@ pub fn compatible_set(
             if rings > 0 && inside == 0 {
                 break;
             }
-            for &source in &sources {
-                if let Some((mut meshes, mut triangles)) = mapped::compatible(
-                    &fixed,
-                    source,
-                    &boundary.loop_start,
-                    rings,
-                    options.mapped_angle_degrees,
-                    patience,
-                ) {
+            // Every source of the pass at once (on the machine's cores),
+            // then taken in order as one after the other would be: the
+            // same meshes whatever the number of threads.
+            let tried: Vec<Option<Candidate>> = sources
+                .par_iter()
+                .map(|&source| {
+                    let (mut meshes, mut triangles) = mapped::compatible(
+                        &fixed,
+                        source,
+                        &boundary.loop_start,
+                        rings,
+                        options.mapped_angle_degrees,
+                        patience,
+                    )?;
                     let (_, angles) =
                         improve_set(&mut meshes, &mut triangles, n + inside, n, options);
+                    Some(Candidate {
+                        meshes,
+                        triangles,
+                        angles,
+                        path: OutlinePath::Mapped,
+                        overlay_angles: None,
+                        source,
+                    })
+                })
+                .collect();
+            for candidate in tried {
+                if let Some(c) = candidate {
                     if best
                         .as_ref()
-                        .is_none_or(|b| worst(&angles) > worst(&b.angles))
+                        .is_none_or(|b| worst(&c.angles) > worst(&b.angles))
                     {
-                        best = Some(Candidate {
-                            meshes,
-                            triangles,
-                            angles,
-                            path: OutlinePath::Mapped,
-                            overlay_angles: None,
-                        });
+                        best = Some(c);
                     }
                 }
                 if best
@@ -615,9 +639,19 @@ pub fn compatible_set(
     if best.is_none() {
         best = Some(overlay_set(&boundary, &fixed, n, options)?);
     }
-    let Some(chosen) = best else {
+    let Some(mut chosen) = best else {
         unreachable!("the overlay either succeeds or returns its error")
     };
+    let anchor_vertices = placed.vertices(&boundary, n);
+    if options.settle_steps > 0 {
+        settle_set(
+            &mut chosen,
+            &boundary,
+            &anchor_vertices,
+            n + inside,
+            options.settle_steps,
+        );
+    }
     let loops: Vec<Vec<u32>> = boundary
         .loop_start
         .windows(2)
@@ -646,7 +680,6 @@ pub fn compatible_set(
                 .collect()
         })
         .collect();
-    let anchor_vertices = placed.vertices(&boundary, n);
     let steiner_points = chosen.meshes[0].len() - n - inside;
     let num_triangles = chosen.triangles.len();
     let mut meshes = Vec::with_capacity(count);
@@ -672,6 +705,74 @@ pub fn compatible_set(
             seconds: start.elapsed().as_secs_f64(),
         },
     })
+}
+
+/// The chosen meshes' maps made as rigid as they can be ([`settle`]):
+/// each other mesh against the source drawing's, and with two drawings
+/// then the source's against the other (so that the boundary points of
+/// both slide). Each drawing's own points and the anchors
+/// (`anchor_vertices`, those below `num_boundary` on the outlines) stay;
+/// vertices from `free_from` on move freely. The smallest angles are
+/// measured again.
+fn settle_set(
+    chosen: &mut Candidate,
+    boundary: &common::CommonBoundary,
+    anchor_vertices: &[u32],
+    free_from: usize,
+    steps: usize,
+) {
+    let n = boundary.loop_start[boundary.loop_start.len() - 1];
+    let count = chosen.meshes.len();
+    let slides: Vec<Vec<settle::Slide>> = (0..count)
+        .map(|d| {
+            let mut fixed: Vec<bool> = boundary.from[d].iter().map(Option::is_some).collect();
+            for &v in anchor_vertices {
+                if (v as usize) < n {
+                    fixed[v as usize] = true;
+                }
+            }
+            settle::slides(&chosen.meshes[d][..n], &boundary.loop_start, &fixed)
+        })
+        .collect();
+    let source = chosen.source;
+    for k in (0..count).filter(|&k| k != source) {
+        let (reference, moving) = two_of(&mut chosen.meshes, source, k);
+        settle::settle(
+            reference,
+            &chosen.triangles,
+            moving,
+            free_from,
+            &slides[k],
+            steps,
+        );
+        if count == 2 {
+            let (reference, moving) = two_of(&mut chosen.meshes, k, source);
+            settle::settle(
+                reference,
+                &chosen.triangles,
+                moving,
+                free_from,
+                &slides[source],
+                steps,
+            );
+        }
+    }
+    chosen.angles = improve::smallest_angles(&improve::Pair {
+        meshes: &mut chosen.meshes,
+        triangles: &mut chosen.triangles,
+        fixed: &mut Vec::new(),
+    });
+}
+
+/// Mesh `r` to read and mesh `m` to change, of `meshes` (`r != m`).
+fn two_of(meshes: &mut [Vec<[f64; 2]>], r: usize, m: usize) -> (&[[f64; 2]], &mut [[f64; 2]]) {
+    if r < m {
+        let (low, high) = meshes.split_at_mut(m);
+        (&low[r], &mut high[0])
+    } else {
+        let (low, high) = meshes.split_at_mut(r);
+        (&high[0], &mut low[m])
+    }
 }
 
 /// The guaranteed way: the first drawing overlaid with each other one,
@@ -781,5 +882,6 @@ fn overlay_set(
         angles,
         path: OutlinePath::Overlay,
         overlay_angles: Some(overlay_angles),
+        source: 0,
     })
 }
