@@ -270,11 +270,8 @@ function press(side, event) {
   if (!point) return;
   remember();
   const pending = state.anchors.findIndex((x) => !(x.a && x.b));
-  if (pending >= 0 && !state.anchors[pending][side]) {
-    state.anchors[pending][side] = point;
-    state.selected = pending;
-  } else if (pending >= 0) {
-    // The half-made anchor's point on this side, placed again.
+  if (pending >= 0) {
+    // The half-made anchor completed (or its point on this side placed again).
     state.anchors[pending][side] = point;
     state.selected = pending;
   } else {
