@@ -22,8 +22,19 @@
 //!
 //! Every step keeps every triangle positive (a step that would turn one
 //! over is refused), so valid meshes stay valid.
+//!
+//! The mesh is graded (small triangles along a finely traced outline,
+//! large ones inside), and the shape term of a small triangle is stiffer
+//! than a large one's by the square of their sizes: plain L-BFGS crawls.
+//! Each unknown's step is scaled by the inverse of the energy's stiffness
+//! along it at the start (a diagonal preconditioner), and the settle
+//! converges in about 50 steps where 300 plain ones did not (the demo's
+//! arm: the map from A to B stretches 1.86 on average after 50, 100 or
+//! 300 preconditioned steps; 1.98 after 300 plain ones).
 
-use super::mapped::{area_from_boundary, lbfgs, Energy};
+use super::energy::Energy;
+use super::lbfgs::lbfgs_scaled;
+use super::mapped::area_from_boundary;
 
 /// A boundary point of one drawing that may slide: vertex `vertex` on
 /// the segment from `from` to `to` (the fixed points on either side of
@@ -88,9 +99,7 @@ pub(crate) fn settle(
         return;
     }
     let area = area_from_boundary(moving, triangles, free_from);
-    let energy = Energy::against(reference, triangles, area, 0, 0.5);
-    let shape = Energy::equilateral(triangles, 0);
-    let mut shape_grad = vec![[0.0; 2]; moving.len()];
+    let energy = Energy::against(reference, triangles, area, 0, 0.5).with_shape();
     if energy.min_det(moving) <= 0.0 {
         return;
     }
@@ -123,16 +132,22 @@ pub(crate) fn settle(
             ];
         }
     };
-    lbfgs(&mut x, iterations, |x, g| {
+    // Each unknown's step scaled by the inverse of the energy's stiffness
+    // along it at the start (for a slide, along its segment).
+    let stiffness = energy.diagonal(moving);
+    let scale: Vec<f64> = (free_from..moving.len())
+        .flat_map(|v| [1.0 / stiffness[v], 1.0 / stiffness[v]])
+        .chain(slides.iter().map(|s| {
+            let d = [s.to[0] - s.from[0], s.to[1] - s.from[1]];
+            1.0 / ((d[0] * d[0] + d[1] * d[1]) * stiffness[s.vertex as usize])
+        }))
+        .map(|m| if m.is_finite() && m > 0.0 { m } else { 1.0 })
+        .collect();
+    lbfgs_scaled(&mut x, iterations, Some(&scale), |x, g| {
         place(x, &mut work);
-        if energy.min_det(&work) <= 0.0 {
-            return f64::INFINITY;
-        }
-        let mut e = energy.eval(&work, 0.0, Some(&mut grad));
-        e += shape.eval(&work, 0.0, Some(&mut shape_grad));
-        for (g, h) in grad.iter_mut().zip(&shape_grad) {
-            g[0] += h[0];
-            g[1] += h[1];
+        let e = energy.eval_positive(&work, Some(&mut grad));
+        if e.is_infinite() {
+            return e;
         }
         for k in 0..free {
             g[2 * k] = grad[free_from + k][0];
