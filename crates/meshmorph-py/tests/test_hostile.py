@@ -110,7 +110,17 @@ def test_a_sequence_that_understates_its_length_is_refused(small):
 
 # ---------------------------------------------------------------- Ctrl-C
 
-def test_ctrl_c_stops_a_long_frames_call_between_frames():
+@pytest.fixture
+def ctrl_c_raises():
+    """Ctrl-C raises KeyboardInterrupt, as in a terminal: a process started
+    in the background by a shell without job control inherits SIGINT
+    ignored, and Python then keeps it ignored."""
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, before)
+
+
+def test_ctrl_c_stops_a_long_frames_call_between_frames(ctrl_c_raises):
     v, f = sheet(40)
     v = v + 10.0  # no coordinate is 0: a frame written is not all zeros
     i = meshmorph.Interpolator(v, bent(v, 1.5) * [1.3, 1.0, 0.8], f, stretch="log")
@@ -139,7 +149,7 @@ def test_ctrl_c_stops_a_long_frames_call_between_frames():
     assert 0 < written() < k
 
 
-def test_ctrl_c_stops_apply_all_between_poses_even_with_a_slow_progress_callback(transfer):
+def test_ctrl_c_stops_apply_all_between_poses_even_with_a_slow_progress_callback(transfer, ctrl_c_raises):
     vs, fs, vt, ft, c, t = transfer
     poses = np.stack([bent(vs, a) for a in np.linspace(0.0, 1.5, 400)])
     calls = []
