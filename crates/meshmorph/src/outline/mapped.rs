@@ -287,8 +287,14 @@ impl Patience {
 
 /// Moves the vertices from `n` on of `b` (the first `n` stay where they
 /// are) so that every triangle is positive, each as close to its shape
-/// in `a` as the foldover-free energy makes it. The result may still hold
-/// turned-over triangles; the caller checks.
+/// in `a` as the foldover-free energy makes it, in rounds of L-BFGS with
+/// a decreasing regularisation, and stops at the end of the first round
+/// that leaves every triangle positive. (Going on until the energy
+/// settles evens out the shapes further, which the flips, splits,
+/// relaxation and rigid settle that follow do anyway: on the picture
+/// benchmark at 4096 x 4096 it took the compatible meshes from 0.51 to
+/// 0.85 s and changed no measure.) The result may still hold turned-over
+/// triangles; the caller checks.
 pub(crate) fn untangle(
     a: &[[f64; 2]],
     triangles: &[[u32; 3]],
@@ -328,6 +334,9 @@ pub(crate) fn untangle(
             b[n + k] = [x[2 * k], x[2 * k + 1]];
         }
         mindet = energy.min_det(&b);
+        if mindet > 0.0 {
+            break;
+        }
         // Give up when the turned-over triangles stop getting fewer: the
         // overlay will do.
         let inverted = energy.inverted(&b);
@@ -347,9 +356,6 @@ pub(crate) fn untangle(
         } else {
             1e-13
         };
-        if mindet > 0.0 && (e_prev - e).abs() <= 1e-4 * e {
-            break;
-        }
         e_prev = e;
     }
     b
