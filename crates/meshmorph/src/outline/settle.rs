@@ -141,6 +141,8 @@ pub(crate) fn settle(
             let d = [s.to[0] - s.from[0], s.to[1] - s.from[1]];
             1.0 / ((d[0] * d[0] + d[1] * d[1]) * stiffness[s.vertex as usize])
         }))
+        // (An unknown with no stiffness, such as a slide along a segment
+        // of no length, has no gradient either: any scale does.)
         .map(|m| if m.is_finite() && m > 0.0 { m } else { 1.0 })
         .collect();
     lbfgs_scaled(&mut x, iterations, Some(&scale), |x, g| {
