@@ -296,6 +296,9 @@ pub struct Run<'a> {
     /// Writes each planar frame itself (a drawing's outline) instead of
     /// as a mesh.
     pub outline: Option<&'a dyn WriteFrame>,
+    /// The keys' y axis points down (SVG drawings): the pictures (`--png`,
+    /// `--gif`, `--svg`) are drawn with it down, as the drawings show.
+    pub y_down: bool,
 }
 
 /// A frame written otherwise than as a mesh: a drawing's outline.
@@ -327,6 +330,7 @@ where
         image_budget,
         key_names: _,
         outline,
+        y_down,
     } = *run;
     crate::memory::check_frames_in_flight(
         morph.num_vertices(),
@@ -405,12 +409,19 @@ where
     let (max_flipped, max_flipped_frame) = frames.most_flipped;
     let mut files_written: Vec<PathBuf> = (0..times.len()).map(|k| outputs.mesh_path(k)).collect();
     // Pictures and the GLB recompute the frames they draw or write.
-    let recomputed = Recomputed { morph, times };
+    let recomputed = Recomputed {
+        morph,
+        times,
+        y_down: false,
+    };
     files_written.extend(write_pictures(
         args,
         outputs,
         staging,
-        &recomputed,
+        &Recomputed {
+            y_down,
+            ..recomputed
+        },
         (morph.triangles(), run.key_names),
     )?);
     // The first key's looks for the GLB, when it comes from a file.
@@ -533,6 +544,9 @@ where
 {
     pub morph: &'a Sequence<D>,
     pub times: &'a [f64],
+    /// Each frame's second coordinate negated: a drawing whose y points
+    /// down, handed to the pictures, which take y as pointing up.
+    pub y_down: bool,
 }
 
 impl<const D: usize> FrameSource<D> for Recomputed<'_, D>
@@ -547,6 +561,11 @@ where
         let mut positions = vec![[0.0; D]; self.morph.num_vertices()];
         self.morph
             .at_into(self.times[k], &mut positions, &mut self.morph.workspace());
+        if self.y_down {
+            for p in &mut positions {
+                p[1] = -p[1];
+            }
+        }
         use_frame(&positions)
     }
 }

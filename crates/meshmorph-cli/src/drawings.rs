@@ -530,7 +530,11 @@ fn animate(
         welded_vertices: 0,
         parts_following_host: morph.parts_following_host(),
     };
-    let recomputed = Recomputed { morph, times };
+    let recomputed = Recomputed {
+        morph,
+        times,
+        y_down: false,
+    };
     let style = &files[0].style;
     let canvas = Canvas::for_frames(
         files[0].canvas.as_ref(),
@@ -561,6 +565,7 @@ fn animate(
         image_budget,
         key_names: &key_names,
         outline: is_drawing_frame.then_some(&outline as &dyn WriteFrame),
+        y_down: files[0].kind == DrawingKind::Svg,
     };
     let mut report = write_frames(morph, first.positions(), &run, &setup)?;
     let draw = &args.frames.pictures.draw;

@@ -196,6 +196,7 @@ pub fn run(args: &Args) -> Result<()> {
     if crate::picture_morph::named_as_pictures(&args.keys)? {
         return crate::picture_morph::run(args);
     }
+    args.picture.check_not_pictures()?;
     if crate::drawings::named_as_drawings(&args.keys) {
         return crate::drawings::run(args, None);
     }
@@ -381,6 +382,7 @@ pub fn animate(
         image_budget,
         key_names,
         outline: None,
+        y_down: false,
     };
     let begin = Instant::now();
     let unused_vertices = first.num_unused_vertices();

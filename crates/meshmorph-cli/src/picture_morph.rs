@@ -51,6 +51,33 @@ pub struct PictureMorphArgs {
     pub sprite_sheet: Option<PathBuf>,
 }
 
+impl PictureMorphArgs {
+    /// The flags for pictures given on the command line (the trace
+    /// tolerance, which has a default, cannot be told apart).
+    fn given(&self) -> Vec<&'static str> {
+        [
+            (self.frame_only, "--frame-only"),
+            (self.dissolve.is_some(), "--dissolve"),
+            (self.frame_size.is_some(), "--frame-size"),
+            (self.apng.is_some(), "--apng"),
+            (self.sprite_sheet.is_some(), "--sprite-sheet"),
+        ]
+        .into_iter()
+        .filter_map(|(given, flag)| given.then_some(flag))
+        .collect()
+    }
+
+    /// Refuses flags for pictures on keys that are not pictures.
+    pub fn check_not_pictures(&self) -> Result<()> {
+        if let Some(flag) = self.given().first() {
+            bail!(
+                "{flag} applies to pictures (PNG or JPEG keys); these keys are drawings or meshes, whose pictures are --png (a still) and --gif"
+            );
+        }
+        Ok(())
+    }
+}
+
 fn fraction(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
         Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
@@ -243,6 +270,24 @@ pub fn run(args: &Args) -> Result<()> {
                 list.join("; ")
             );
         }
+    }
+    if da.shape == PictureShape::Photo && anchors.is_empty() {
+        tell!(
+            "warning: photos morph as whole rectangles, and without anchors nothing inside them is matched (a stretch and a blend): match eyes to eyes, corners to corners with --anchors FILE, whose points `meshmorph pick {} {} -o anchors.txt` places",
+            keys[0].display(),
+            keys[1].display()
+        );
+    }
+    if p.frame_size.is_none() && (a.width, a.height) != (b.width, b.height) {
+        tell!(
+            "note: {} ({} × {}) is stretched onto the frames' size, {}'s {} × {} (--frame-size sets another)",
+            names[1],
+            b.width,
+            b.height,
+            names[0],
+            a.width,
+            a.height
+        );
     }
     let set = &morph.meshes.set;
     let setup_seconds = begin.elapsed().as_secs_f64();

@@ -2,8 +2,9 @@
 
 use std::path::{Path, PathBuf};
 
-/// Extensions of the frame files meshmorph writes.
-const FRAME_EXTENSIONS: [&str; 6] = ["obj", "off", "ply", "stl", "svg", "txt"];
+/// Extensions of the frame files meshmorph writes (meshes, drawings and
+/// pictures).
+const FRAME_EXTENSIONS: [&str; 7] = ["obj", "off", "ply", "stl", "svg", "txt", "png"];
 
 /// `dir/frame_0007.ext`, with enough digits for `count` frames (at least 4).
 pub fn frame_path(dir: &Path, index: usize, count: usize, ext: &str) -> PathBuf {
@@ -47,7 +48,12 @@ mod tests {
 
     #[test]
     fn only_exact_frame_names() {
-        for good in ["frame_0000.obj", "frame_12345.svg", "frame_0031.ply"] {
+        for good in [
+            "frame_0000.obj",
+            "frame_12345.svg",
+            "frame_0031.ply",
+            "frame_0002.png",
+        ] {
             assert!(is_frame_name(good), "{good}");
         }
         for bad in [

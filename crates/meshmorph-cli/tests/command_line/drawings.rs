@@ -458,6 +458,20 @@ fn refusals_name_the_file_and_leave_nothing() {
         d,
     ));
     mentions(&err, &["--lottie applies to drawings"]);
+    // Flags for pictures on drawings and on meshes: refused, nothing
+    // written.
+    for (keys, flag) in [
+        (["bar.svg", "up.svg"], "--apng"),
+        (["bar.svg", "up.svg"], "--sprite-sheet"),
+        (["m/sq.obj", "m/wide.obj"], "--apng"),
+    ] {
+        let err = fails(&run(
+            &["interpolate", keys[0], keys[1], "-o", "z", flag, "p.png"],
+            d,
+        ));
+        mentions(&err, &[&format!("{flag} applies to pictures")]);
+        assert!(!d.join("z").exists() && !d.join("p.png").exists());
+    }
 }
 
 #[test]
@@ -499,4 +513,63 @@ fn no_output_lands_on_an_input() {
     ));
     mentions(&err, &["would overwrite", "bar.obj"]);
     assert!(!d.join("f").exists());
+}
+
+/// SVG's y points down: `--png` and `--gif` draw a drawing the way up it
+/// shows in the SVG (a triangle with its apex at the top stays so).
+#[test]
+fn pictures_of_svg_drawings_keep_their_way_up() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Apex at the top (small y), base at the bottom; the second is the
+    // same triangle moved right.
+    for (name, dx) in [("a.svg", 0), ("b.svg", 60)] {
+        let body = format!(
+            r#"<path d="M{} 10 L{} 90 L{} 90 Z"/>"#,
+            50 + dx,
+            20 + dx,
+            80 + dx
+        );
+        fs::write(d.join(name), svg(&body)).unwrap();
+    }
+    let out = run(
+        &[
+            "interpolate",
+            "a.svg",
+            "b.svg",
+            "-o",
+            "f",
+            "--frames",
+            "3",
+            "--png",
+            "s.png",
+            "--gif",
+            "m.gif",
+        ],
+        d,
+    );
+    succeeds(&out);
+    let still = meshmorph::io::picture::read_picture(&d.join("s.png"), u64::MAX).unwrap();
+    // The first panel (a third of the width), below its caption: the ink's
+    // rows weighed by how much ink each holds lie below the middle when the
+    // wide base is at the bottom.
+    let (w, h) = (still.width as usize, still.height as usize);
+    let (mut ink, mut weighted_row) = (0.0, 0.0);
+    for y in 30..h {
+        for x in 0..w / 3 {
+            let p = &still.rgba[4 * (y * w + x)..4 * (y * w + x) + 4];
+            if p[3] > 0 && (p[0] < 200 || p[1] < 200 || p[2] < 200) {
+                ink += 1.0;
+                weighted_row += y as f64;
+            }
+        }
+    }
+    assert!(ink > 100.0, "no ink in the first panel");
+    let mean_row = weighted_row / ink;
+    let drawn = |y: f64| (y - 30.0) / (h as f64 - 30.0);
+    assert!(
+        drawn(mean_row) > 0.5,
+        "the ink's mean row is at {:.2} of the panel's height: drawn upside down",
+        drawn(mean_row)
+    );
 }

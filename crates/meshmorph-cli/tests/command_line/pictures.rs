@@ -76,6 +76,30 @@ fn sprites_morph_into_pngs_gif_apng_and_a_sprite_sheet() {
         serde_json::from_slice(&fs::read(d.join("sheet.json")).unwrap()).unwrap();
     assert_eq!(json["frames"]["frame_0004.png"]["frame"]["x"], 48);
     assert_eq!(json["meta"]["image"], "sheet.png");
+    // Again into the same folder with fewer frames: the earlier run's
+    // surplus frames go, so the folder holds one animation.
+    let out = run(
+        &[
+            "interpolate",
+            "a.png",
+            "b.png",
+            "-o",
+            "frames",
+            "--frames",
+            "3",
+        ],
+        d,
+    );
+    mentions(
+        &succeeds(&out),
+        &["removed:        2 frames of an earlier run"],
+    );
+    let mut left: Vec<String> = fs::read_dir(d.join("frames"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(left, ["frame_0000.png", "frame_0001.png", "frame_0002.png"]);
 }
 
 #[test]
@@ -105,6 +129,26 @@ fn photos_with_anchors_and_the_refusals() {
         d,
     ));
     mentions(&text, &["photos", "2 kept matched"]);
+    // Without anchors the morph runs, and says what anchors would do;
+    // pictures of different sizes say which is stretched onto which.
+    save(
+        d,
+        "r.png",
+        &Picture::from_fn(50, 30, |x, y| [x as u8, y as u8, 9, 255]),
+    );
+    let out = run(
+        &["interpolate", "p.png", "r.png", "-o", "plain", "--frames", "3"],
+        d,
+    );
+    succeeds(&out);
+    mentions(
+        &String::from_utf8_lossy(&out.stderr),
+        &[
+            "without anchors nothing inside them is matched",
+            "meshmorph pick p.png r.png -o anchors.txt",
+            "`r.png` (50 × 30) is stretched onto the frames' size, `p.png`'s 40 × 30",
+        ],
+    );
     // Anchors outside a picture.
     fs::write(d.join("bad.txt"), "eye 10 10 44 12\n").unwrap();
     let err = fails(&run(
