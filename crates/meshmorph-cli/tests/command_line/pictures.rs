@@ -137,7 +137,15 @@ fn photos_with_anchors_and_the_refusals() {
         &Picture::from_fn(50, 30, |x, y| [x as u8, y as u8, 9, 255]),
     );
     let out = run(
-        &["interpolate", "p.png", "r.png", "-o", "plain", "--frames", "3"],
+        &[
+            "interpolate",
+            "p.png",
+            "r.png",
+            "-o",
+            "plain",
+            "--frames",
+            "3",
+        ],
         d,
     );
     succeeds(&out);
