@@ -9,15 +9,14 @@
 //! thousand triangles an evaluation takes a fraction of a millisecond,
 //! less than waking another thread costs.)
 
+use crate::linalg::matrix::{det2, mul, mul_nt, Mat2};
 use crate::mesh::signed_areas;
 
 /// The inverse of the edge matrix of the equilateral triangle of unit
-/// edge, `[1, ½; 0, √¾]⁻¹` (row-major).
-const EQUILATERAL: [f64; 4] = [
-    1.0,
-    -0.5 / SQRT_THREE_QUARTERS,
-    0.0,
-    1.0 / SQRT_THREE_QUARTERS,
+/// edge, `[1, ½; 0, √¾]⁻¹`.
+const EQUILATERAL: Mat2 = [
+    [1.0, -0.5 / SQRT_THREE_QUARTERS],
+    [0.0, 1.0 / SQRT_THREE_QUARTERS],
 ];
 const SQRT_THREE_QUARTERS: f64 = 0.866_025_403_784_438_6;
 
@@ -28,7 +27,7 @@ const SQRT_THREE_QUARTERS: f64 = 0.866_025_403_784_438_6;
 /// the shape term alone, `|J|² / det J`.
 pub(super) struct Energy<'a> {
     triangles: &'a [[u32; 3]],
-    inverse: Vec<[f64; 4]>,
+    inverse: Vec<Mat2>,
     weight: Vec<f64>,
     fixed: usize,
     theta: f64,
@@ -43,52 +42,36 @@ pub(super) fn chi(d: f64, eps: f64) -> f64 {
     0.5 * (d + (eps * eps + d * d).sqrt())
 }
 
-/// `a b` of two row-major 2x2 matrices.
+/// The edge matrix of triangle `tri` at `b`: its edges from the first
+/// corner to the second and to the third, as columns.
 #[inline]
-fn product(a: [f64; 4], b: &[f64; 4]) -> [f64; 4] {
-    [
-        a[0] * b[0] + a[1] * b[2],
-        a[0] * b[1] + a[1] * b[3],
-        a[2] * b[0] + a[3] * b[2],
-        a[2] * b[1] + a[3] * b[3],
-    ]
-}
-
-/// `a bᵀ` of two row-major 2x2 matrices.
-#[inline]
-fn product_transposed(a: [f64; 4], b: &[f64; 4]) -> [f64; 4] {
-    [
-        a[0] * b[0] + a[1] * b[1],
-        a[0] * b[2] + a[1] * b[3],
-        a[2] * b[0] + a[3] * b[1],
-        a[2] * b[2] + a[3] * b[3],
-    ]
+fn edges(b: &[[f64; 2]], tri: [u32; 3]) -> Mat2 {
+    let [i, j, k] = tri.map(|v| b[v as usize]);
+    [[j[0] - i[0], k[0] - i[0]], [j[1] - i[1], k[1] - i[1]]]
 }
 
 /// One triangle's term at Jacobian `j`, weighed by `w`, and its
 /// derivative with respect to `j` when `with_gradient`.
 #[inline]
-fn term(j: [f64; 4], w: f64, theta: f64, eps: f64, with_gradient: bool) -> (f64, [f64; 4]) {
-    let det = j[0] * j[3] - j[1] * j[2];
-    let tr = j[0] * j[0] + j[1] * j[1] + j[2] * j[2] + j[3] * j[3];
+fn term(j: Mat2, w: f64, theta: f64, eps: f64, with_gradient: bool) -> (f64, Mat2) {
+    let det = det2(j);
+    let tr = j[0][0] * j[0][0] + j[0][1] * j[0][1] + j[1][0] * j[1][0] + j[1][1] * j[1][1];
     let root = (eps * eps + det * det).sqrt();
     let c = 0.5 * (det + root);
     let num = (1.0 - theta) * tr + theta * (1.0 + det * det);
     let energy = w * num / c;
     if !with_gradient {
-        return (energy, [0.0; 4]);
+        return (energy, [[0.0; 2]; 2]);
     }
     let dc = c / root;
     let a = w * 2.0 * (1.0 - theta) / c;
     let q = w * (2.0 * theta * det / c - num * dc / (c * c));
-    // dE/dJ = a J + q cof(J), cof(J) = [j3, -j2; -j1, j0].
+    // dE/dJ = a J + q cof(J), cof(J) = [j11, -j10; -j01, j00].
     (
         energy,
         [
-            a * j[0] + q * j[3],
-            a * j[1] - q * j[2],
-            a * j[2] - q * j[1],
-            a * j[3] + q * j[0],
+            [a * j[0][0] + q * j[1][1], a * j[0][1] - q * j[1][0]],
+            [a * j[1][0] - q * j[0][1], a * j[1][1] + q * j[0][0]],
         ],
     )
 }
@@ -109,16 +92,13 @@ impl<'a> Energy<'a> {
         let scale = (target_area / area).abs().sqrt();
         let mut inverse = Vec::with_capacity(triangles.len());
         let mut weight = Vec::with_capacity(triangles.len());
-        for t in triangles {
-            let [i, j, k] = t.map(|v| reference[v as usize]);
-            let d = [
-                scale * (j[0] - i[0]),
-                scale * (k[0] - i[0]),
-                scale * (j[1] - i[1]),
-                scale * (k[1] - i[1]),
-            ];
-            let det = d[0] * d[3] - d[1] * d[2];
-            inverse.push([d[3] / det, -d[1] / det, -d[2] / det, d[0] / det]);
+        for &t in triangles {
+            let d = edges(reference, t).map(|row| row.map(|x| scale * x));
+            let det = det2(d);
+            inverse.push([
+                [d[1][1] / det, -d[0][1] / det],
+                [-d[1][0] / det, d[0][0] / det],
+            ]);
             weight.push(0.5 * det / target_area.abs());
         }
         Self {
@@ -157,32 +137,22 @@ impl<'a> Energy<'a> {
 
     /// Jacobian of triangle `t` at `b`.
     #[inline]
-    fn jacobian(&self, b: &[[f64; 2]], t: usize) -> [f64; 4] {
-        let [i, j, k] = self.triangles[t].map(|v| b[v as usize]);
-        product(
-            [j[0] - i[0], k[0] - i[0], j[1] - i[1], k[1] - i[1]],
-            &self.inverse[t],
-        )
+    fn jacobian(&self, b: &[[f64; 2]], t: usize) -> Mat2 {
+        mul(edges(b, self.triangles[t]), self.inverse[t])
     }
 
     /// The smallest determinant of the triangles' maps at `b`: positive
     /// when every triangle is.
     pub(super) fn min_det(&self, b: &[[f64; 2]]) -> f64 {
         (0..self.triangles.len())
-            .map(|t| {
-                let j = self.jacobian(b, t);
-                j[0] * j[3] - j[1] * j[2]
-            })
+            .map(|t| det2(self.jacobian(b, t)))
             .fold(f64::INFINITY, f64::min)
     }
 
     /// How many triangles are not positive at `b`.
     pub(super) fn inverted(&self, b: &[[f64; 2]]) -> usize {
         (0..self.triangles.len())
-            .filter(|&t| {
-                let j = self.jacobian(b, t);
-                j[0] * j[3] - j[1] * j[2] <= 0.0
-            })
+            .filter(|&t| det2(self.jacobian(b, t)) <= 0.0)
             .count()
     }
 
@@ -193,34 +163,22 @@ impl<'a> Energy<'a> {
     /// preconditioner of [`super::lbfgs::lbfgs_scaled`].
     pub(super) fn diagonal(&self, b: &[[f64; 2]]) -> Vec<f64> {
         let mut h = vec![0.0; b.len()];
-        let mut add = |t: &[u32; 3], r: &[f64; 4], w: f64, det: f64| {
+        let mut add = |t: &[u32; 3], r: &Mat2, w: f64, det: f64| {
             let w = 2.0 * w / chi(det, 1e-12 * det.abs().max(1e-300));
             // The rows of R are the Jacobian's derivatives along the
             // second and third corners' coordinates; the first's is minus
             // their sum.
-            let rows = [[-(r[0] + r[2]), -(r[1] + r[3])], [r[0], r[1]], [r[2], r[3]]];
+            let rows = [[-(r[0][0] + r[1][0]), -(r[0][1] + r[1][1])], r[0], r[1]];
             for (&v, row) in t.iter().zip(rows) {
                 h[v as usize] += w * (row[0] * row[0] + row[1] * row[1]);
             }
         };
-        for (t, tri) in self.triangles.iter().enumerate() {
-            let [i, j, l] = tri.map(|v| b[v as usize]);
-            let d = [j[0] - i[0], l[0] - i[0], j[1] - i[1], l[1] - i[1]];
-            let jac = product(d, &self.inverse[t]);
-            add(
-                tri,
-                &self.inverse[t],
-                self.weight[t],
-                jac[0] * jac[3] - jac[1] * jac[2],
-            );
+        for (t, &tri) in self.triangles.iter().enumerate() {
+            let d = edges(b, tri);
+            let r = &self.inverse[t];
+            add(&tri, r, self.weight[t], det2(mul(d, *r)));
             if self.shape > 0.0 {
-                let own = product(d, &EQUILATERAL);
-                add(
-                    tri,
-                    &EQUILATERAL,
-                    self.shape,
-                    own[0] * own[3] - own[1] * own[2],
-                );
+                add(&tri, &EQUILATERAL, self.shape, det2(mul(d, EQUILATERAL)));
             }
         }
         h
@@ -251,32 +209,32 @@ impl<'a> Energy<'a> {
             g.fill([0.0, 0.0]);
         }
         let (mut total, mut least) = (0.0, f64::INFINITY);
-        for (t, tri) in self.triangles.iter().enumerate() {
-            let [i, j, l] = tri.map(|v| b[v as usize]);
-            let d = [j[0] - i[0], l[0] - i[0], j[1] - i[1], l[1] - i[1]];
+        for (t, &tri) in self.triangles.iter().enumerate() {
+            let d = edges(b, tri);
             let r = &self.inverse[t];
-            let jac = product(d, r);
-            least = least.min(jac[0] * jac[3] - jac[1] * jac[2]);
+            let jac = mul(d, *r);
+            least = least.min(det2(jac));
             let (e, gj) = term(jac, self.weight[t], self.theta, eps, with_gradient);
             total += e;
             // dE/dD = dE/dJ Rᵀ.
-            let mut gd = product_transposed(gj, r);
+            let mut gd = mul_nt(&gj, r);
             if self.shape > 0.0 {
-                let own = product(d, &EQUILATERAL);
-                let (e, gj) = term(own, self.shape, 0.0, 0.0, with_gradient);
+                let (e, gj) = term(mul(d, EQUILATERAL), self.shape, 0.0, 0.0, with_gradient);
                 total += e;
-                let g = product_transposed(gj, &EQUILATERAL);
-                for (a, b) in gd.iter_mut().zip(g) {
+                let g = mul_nt(&gj, &EQUILATERAL);
+                for (a, b) in gd.iter_mut().flatten().zip(g.iter().flatten()) {
                     *a += b;
                 }
             }
             let Some(g) = grad.as_deref_mut() else {
                 continue;
             };
+            // The second corner moves the first column of D, the third the
+            // second, the first both against.
             let corners = [
-                [-(gd[0] + gd[1]), -(gd[2] + gd[3])],
-                [gd[0], gd[2]],
-                [gd[1], gd[3]],
+                [-(gd[0][0] + gd[0][1]), -(gd[1][0] + gd[1][1])],
+                [gd[0][0], gd[1][0]],
+                [gd[0][1], gd[1][1]],
             ];
             for (&v, c) in tri.iter().zip(corners) {
                 if v as usize >= self.fixed {

@@ -1,5 +1,26 @@
 //! Limited-memory BFGS, the minimiser of the outline wing's energies
-//! (the untangling, the relaxation and the rigid settle).
+//! (the untangling, the relaxation and the rigid settle), and the moves
+//! between free points and its unknowns (each point's x, then its y).
+
+/// The coordinates of `points` as unknowns: x, y of the first, then of
+/// the next, ...
+pub(super) fn unknowns(points: &[[f64; 2]]) -> Vec<f64> {
+    points.iter().flat_map(|p| [p[0], p[1]]).collect()
+}
+
+/// `points` placed at the unknowns `x` (two for each point).
+pub(super) fn place(x: &[f64], points: &mut [[f64; 2]]) {
+    for (p, c) in points.iter_mut().zip(x.chunks_exact(2)) {
+        *p = [c[0], c[1]];
+    }
+}
+
+/// The gradient of each point, `grad`, as the unknowns' gradient `g`.
+pub(super) fn gather(grad: &[[f64; 2]], g: &mut [f64]) {
+    for (c, q) in g.chunks_exact_mut(2).zip(grad) {
+        c.copy_from_slice(q);
+    }
+}
 
 /// Limited-memory BFGS (Nocedal 1980) with a backtracking line search on
 /// the free coordinates `x`, at most `iterations` steps.

@@ -19,7 +19,7 @@ use spade::{
 
 use super::energy::{chi, Energy};
 use super::geometry::{diagonal, dist, orient, point_segment_distance};
-use super::lbfgs::lbfgs;
+use super::lbfgs::{gather, lbfgs, place, unknowns};
 
 /// A mesh of the first drawing: the matched boundary points first (in
 /// their order), then the inside points, with counter-clockwise
@@ -307,8 +307,7 @@ pub(crate) fn untangle(
     }
     let area_b = area_from_boundary(&b, triangles, n);
     let energy = Energy::against(a, triangles, area_b, n, 1.0 / 128.0);
-    let free = b.len() - n;
-    let mut x: Vec<f64> = b[n..].iter().flat_map(|p| [p[0], p[1]]).collect();
+    let mut x = unknowns(&b[n..]);
     let mut grad = vec![[0.0; 2]; b.len()];
     let mut mindet = energy.min_det(&b);
     let mut eps = (1e-12 + 0.04 * mindet.min(0.0).powi(2)).sqrt();
@@ -319,20 +318,13 @@ pub(crate) fn untangle(
             let b = &mut b;
             let grad = &mut grad;
             lbfgs(&mut x, 150, |x, g| {
-                for k in 0..free {
-                    b[n + k] = [x[2 * k], x[2 * k + 1]];
-                }
+                place(x, &mut b[n..]);
                 let e = energy.eval(b, eps, Some(grad));
-                for k in 0..free {
-                    g[2 * k] = grad[n + k][0];
-                    g[2 * k + 1] = grad[n + k][1];
-                }
+                gather(&grad[n..], g);
                 e
             })
         };
-        for k in 0..free {
-            b[n + k] = [x[2 * k], x[2 * k + 1]];
-        }
+        place(&x, &mut b[n..]);
         mindet = energy.min_det(&b);
         if mindet > 0.0 {
             break;
@@ -375,27 +367,19 @@ pub(crate) fn relax(b: &mut [[f64; 2]], triangles: &[[u32; 3]], n: usize, iterat
     if energy.min_det(b) <= 0.0 {
         return;
     }
-    let free = b.len() - n;
-    let mut x: Vec<f64> = b[n..].iter().flat_map(|p| [p[0], p[1]]).collect();
+    let mut x = unknowns(&b[n..]);
     let mut work = b.to_vec();
     let mut grad = vec![[0.0; 2]; b.len()];
     lbfgs(&mut x, iterations, |x, g| {
-        for k in 0..free {
-            work[n + k] = [x[2 * k], x[2 * k + 1]];
-        }
+        place(x, &mut work[n..]);
         let e = energy.eval_positive(&work, Some(&mut grad));
         if e.is_infinite() {
             return e;
         }
-        for k in 0..free {
-            g[2 * k] = grad[n + k][0];
-            g[2 * k + 1] = grad[n + k][1];
-        }
+        gather(&grad[n..], g);
         e
     });
-    for k in 0..free {
-        b[n + k] = [x[2 * k], x[2 * k + 1]];
-    }
+    place(&x, &mut b[n..]);
 }
 
 /// The second drawing's area, from its boundary loops (signed, as the

@@ -618,14 +618,12 @@ pub fn compatible_set(
                     })
                 })
                 .collect();
-            for candidate in tried {
-                if let Some(c) = candidate {
-                    if best
-                        .as_ref()
-                        .is_none_or(|b| worst(&c.angles) > worst(&b.angles))
-                    {
-                        best = Some(c);
-                    }
+            for c in tried.into_iter().flatten() {
+                if best
+                    .as_ref()
+                    .is_none_or(|b| worst(&c.angles) > worst(&b.angles))
+                {
+                    best = Some(c);
                 }
                 if best
                     .as_ref()

@@ -33,7 +33,7 @@
 //! 300 preconditioned steps; 1.98 after 300 plain ones).
 
 use super::energy::Energy;
-use super::lbfgs::lbfgs_scaled;
+use super::lbfgs::{gather, lbfgs_scaled, place, unknowns};
 use super::mapped::area_from_boundary;
 
 /// A boundary point of one drawing that may slide: vertex `vertex` on
@@ -44,6 +44,31 @@ pub(crate) struct Slide {
     pub(crate) vertex: u32,
     pub(crate) from: [f64; 2],
     pub(crate) to: [f64; 2],
+}
+
+impl Slide {
+    /// From `from` to `to`.
+    fn segment(&self) -> [f64; 2] {
+        [self.to[0] - self.from[0], self.to[1] - self.from[1]]
+    }
+
+    /// The point a fraction `f` of the way along the segment.
+    fn at(&self, f: f64) -> [f64; 2] {
+        let d = self.segment();
+        [self.from[0] + f * d[0], self.from[1] + f * d[1]]
+    }
+
+    /// The fraction of the way along the segment of `p`'s projection onto
+    /// it (0 for a segment of no length).
+    fn fraction_of(&self, p: [f64; 2]) -> f64 {
+        let d = self.segment();
+        let length2 = d[0] * d[0] + d[1] * d[1];
+        if length2 > 0.0 {
+            ((p[0] - self.from[0]) * d[0] + (p[1] - self.from[1]) * d[1]) / length2
+        } else {
+            0.0
+        }
+    }
 }
 
 /// The boundary points of one drawing (`points`: its boundary vertices,
@@ -105,31 +130,18 @@ pub(crate) fn settle(
     }
     // The unknowns: each free vertex's coordinates, then each slide's
     // fraction of its segment.
-    let along = |s: &Slide, p: [f64; 2]| {
-        let d = [s.to[0] - s.from[0], s.to[1] - s.from[1]];
-        let length2 = d[0] * d[0] + d[1] * d[1];
-        if length2 > 0.0 {
-            ((p[0] - s.from[0]) * d[0] + (p[1] - s.from[1]) * d[1]) / length2
-        } else {
-            0.0
-        }
-    };
-    let mut x: Vec<f64> = moving[free_from..]
-        .iter()
-        .flat_map(|p| [p[0], p[1]])
-        .chain(slides.iter().map(|s| along(s, moving[s.vertex as usize])))
-        .collect();
+    let mut x = unknowns(&moving[free_from..]);
+    x.extend(
+        slides
+            .iter()
+            .map(|s| s.fraction_of(moving[s.vertex as usize])),
+    );
     let mut work = moving.to_vec();
     let mut grad = vec![[0.0; 2]; moving.len()];
-    let place = |x: &[f64], work: &mut [[f64; 2]]| {
-        for k in 0..free {
-            work[free_from + k] = [x[2 * k], x[2 * k + 1]];
-        }
+    let put = |x: &[f64], work: &mut [[f64; 2]]| {
+        place(&x[..2 * free], &mut work[free_from..]);
         for (s, &f) in slides.iter().zip(&x[2 * free..]) {
-            work[s.vertex as usize] = [
-                s.from[0] + f * (s.to[0] - s.from[0]),
-                s.from[1] + f * (s.to[1] - s.from[1]),
-            ];
+            work[s.vertex as usize] = s.at(f);
         }
     };
     // Each unknown's step scaled by the inverse of the energy's stiffness
@@ -138,7 +150,7 @@ pub(crate) fn settle(
     let scale: Vec<f64> = (free_from..moving.len())
         .flat_map(|v| [1.0 / stiffness[v], 1.0 / stiffness[v]])
         .chain(slides.iter().map(|s| {
-            let d = [s.to[0] - s.from[0], s.to[1] - s.from[1]];
+            let d = s.segment();
             1.0 / ((d[0] * d[0] + d[1] * d[1]) * stiffness[s.vertex as usize])
         }))
         // (An unknown with no stiffness, such as a slide along a segment
@@ -146,22 +158,19 @@ pub(crate) fn settle(
         .map(|m| if m.is_finite() && m > 0.0 { m } else { 1.0 })
         .collect();
     lbfgs_scaled(&mut x, iterations, Some(&scale), |x, g| {
-        place(x, &mut work);
+        put(x, &mut work);
         let e = energy.eval_positive(&work, Some(&mut grad));
         if e.is_infinite() {
             return e;
         }
-        for k in 0..free {
-            g[2 * k] = grad[free_from + k][0];
-            g[2 * k + 1] = grad[free_from + k][1];
-        }
-        for (i, s) in slides.iter().enumerate() {
-            let q = grad[s.vertex as usize];
-            g[2 * free + i] = q[0] * (s.to[0] - s.from[0]) + q[1] * (s.to[1] - s.from[1]);
+        gather(&grad[free_from..], &mut g[..2 * free]);
+        for (s, gi) in slides.iter().zip(&mut g[2 * free..]) {
+            let (q, d) = (grad[s.vertex as usize], s.segment());
+            *gi = q[0] * d[0] + q[1] * d[1];
         }
         e
     });
-    place(&x, &mut work);
+    put(&x, &mut work);
     if energy.min_det(&work) > 0.0 {
         moving.copy_from_slice(&work);
     }
