@@ -105,7 +105,7 @@ pub use error::{Error, Result};
 pub use expressions::arkit_names::{arkit_recipes, ShapeRecipe, ARKIT_NAMES};
 pub use expressions::carry::{
     expressions, CarryMethod, ExpressionOptions, FoundPart, HeadExpressions, ShapeReport,
-    LOOKUP_ANGLE,
+    FOLD_SLACK, LOOKUP_ANGLE,
 };
 pub use expressions::landmark_file::read_landmarks;
 pub use expressions::landmarks::{

@@ -10,7 +10,8 @@
 //!    closest point of a template triangle facing its way (within
 //!    [`LOOKUP_ANGLE`]), so that a point of a closed upper lip finds the
 //!    upper lip, whose surface faces down there, not the lower one facing
-//!    up; the same for eyelids.
+//!    up; the same for eyelids. Where the facing point is much farther than
+//!    the closest (a fold, [`FOLD_SLACK`]), the closest.
 //! 3. Each shape is carried by one of two ways ([`CarryMethod`]): the
 //!    template's displacements copied through that place (turned and
 //!    scaled by the landmarks' similarity), or deformation transfer
@@ -31,7 +32,7 @@ use crate::expressions::template::ExpressionTemplate;
 use crate::linalg::matrix::{mul_vec, Mat3};
 use crate::linalg::similarity::Similarity;
 use crate::linalg::vector::{add, scale, sub};
-use crate::mesh::closest::{closest_region, vertex_normals, Angle, SurfaceIndex};
+use crate::mesh::closest::{closest_region, vertex_normals, Angle, ClosestPoint, SurfaceIndex};
 use crate::mesh::seams::Seams;
 use crate::mesh::topology::connected_components;
 use crate::mesh::Mesh3;
@@ -348,21 +349,17 @@ struct Place {
 }
 
 /// Each vertex of `surface`'s place on `deformed` (the template fitted
-/// onto it): the closest point on a triangle facing within
-/// [`LOOKUP_ANGLE`] of the vertex's normal, else the closest point.
+/// onto it): see [`place_of`].
 fn find_places(deformed: &Mesh3, surface: &Mesh3) -> Vec<Place> {
     let index = SurfaceIndex::new(deformed.positions(), deformed.triangles());
     let normals = vertex_normals(surface.positions(), surface.triangles());
-    let reach = 0.05 * surface.bounding_box_diagonal();
+    let diagonal = surface.bounding_box_diagonal();
     surface
         .positions()
         .par_iter()
         .zip(&normals)
         .map(|(&p, &n)| {
-            let hit = index
-                .closest_compatible(p, n, reach, Angle::degrees(LOOKUP_ANGLE))
-                .or_else(|| index.closest(p))
-                .expect("the template has triangles");
+            let hit = place_of(&index, p, n, diagonal);
             let corners = deformed.corners(hit.triangle as usize);
             Place {
                 triangle: hit.triangle,
@@ -370,6 +367,31 @@ fn find_places(deformed: &Mesh3, surface: &Mesh3) -> Vec<Place> {
             }
         })
         .collect()
+}
+
+/// How much farther than the closest point a point facing a vertex's way
+/// may be and still be taken, as a fraction of the head's diagonal.
+pub const FOLD_SLACK: f64 = 0.01;
+
+/// The point of the template a head vertex at `p` with unit normal `n`
+/// takes its motion from: the closest point on a triangle facing within
+/// [`LOOKUP_ANGLE`] of `n`, so that a point of a closed upper lip finds the
+/// upper lip, whose surface faces down there, not the lower one facing up;
+/// but only if it is at most [`FOLD_SLACK`] of the `diagonal` farther than
+/// the closest point of all. Else the closest point: at a fold (the corner
+/// of a mouth, where upper and lower lip meet) the head's normal points
+/// across the fold, away from every triangle there, and the nearest facing
+/// one lies on another part of the face.
+fn place_of(index: &SurfaceIndex, p: [f64; 3], n: [f64; 3], diagonal: f64) -> ClosestPoint {
+    let closest = index.closest(p).expect("the template has triangles");
+    index
+        .closest_compatible(
+            p,
+            n,
+            closest.distance + FOLD_SLACK * diagonal,
+            Angle::degrees(LOOKUP_ANGLE),
+        )
+        .unwrap_or(closest)
 }
 
 /// Whether every corner of `place`'s triangle is still in recipe `r`.
@@ -584,6 +606,34 @@ mod tests {
 
     fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
         norm(sub(a, b))
+    }
+
+    /// A closed mouth: an upper lip's underside facing down at y = 0, a
+    /// lower lip's top facing up a thousandth below it, both ending at
+    /// x = 1, and past that the cheek, facing forward, 0.05 in front.
+    fn lips() -> SurfaceIndex {
+        let lip = |y: f64| [[-1.0, y, -1.0], [1.0, y, -1.0], [1.0, y, 3.0]];
+        let [a, b, c] = lip(-0.001);
+        let cheek = [[1.05, -1.0, 0.05], [2.05, -1.0, 0.05], [1.05, 1.0, 0.05]];
+        let corners = [lip(0.0), [a, c, b], cheek];
+        let positions: Vec<[f64; 3]> = corners.iter().flatten().copied().collect();
+        SurfaceIndex::new(&positions, &[[0, 1, 2], [3, 4, 5], [6, 7, 8]])
+    }
+
+    #[test]
+    fn a_vertex_takes_the_lip_facing_its_way_but_the_closest_point_at_a_fold() {
+        let index = lips();
+        let diagonal = 4.0;
+        // Nearer the other lip by a hair: the lip facing its way.
+        let upper = place_of(&index, [0.9, -0.0006, 0.0], [0.0, -1.0, 0.0], diagonal);
+        assert_eq!(upper.triangle, 0);
+        let lower = place_of(&index, [0.9, -0.0004, 0.0], [0.0, 1.0, 0.0], diagonal);
+        assert_eq!(lower.triangle, 1);
+        // At the lips' corner the normal points across the fold (here
+        // forward): the cheek faces that way but lies 0.11 away, against
+        // 0.0004 for the upper lip.
+        let fold = place_of(&index, [0.95, -0.0004, 0.0], [0.0, 0.0, 1.0], diagonal);
+        assert_eq!(fold.triangle, 0);
     }
 
     #[test]
