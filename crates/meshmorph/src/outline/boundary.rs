@@ -170,14 +170,54 @@ fn warp(fa: &[[f64; 2]], fb: &[[f64; 2]], band: usize, skip: f64, path: bool) ->
 
 /// How a loop's near-best starts are told apart: by where they put the
 /// points in a frame the drawings already share (a hole, once the outer
-/// loops are matched), or by how well they lay the other loops (the
-/// holes) over each other (an outer loop with holes).
+/// loops are matched), by how well they lay the other loops (the holes)
+/// over each other (an outer loop with holes), then by how little they
+/// turn the drawing (every outer loop).
 pub(crate) enum TieBreak<'a> {
     /// The second drawing's points in the first's frame.
     Frame(&'a Similarity),
     /// The first and second drawings' holes, laid over each other by the
-    /// similarity of the outer loops as matched from a start.
+    /// similarity of the outer loops as matched from a start; of starts
+    /// that lay them equally well, the one that turns least.
     Holes(&'a [Vec<[f64; 2]>], &'a [Vec<[f64; 2]>]),
+    /// The start that turns the drawing least: a round outline, whose
+    /// every start matches alike, is not spun.
+    Turn,
+}
+
+/// How far the points of `a` lie from those of `b` read from `start`, once
+/// `b`'s are laid onto `a`'s by a shift and a scale but no turn: sums of
+/// squares over `n` samples, over `a`'s squared size.
+fn turned_away(a: &ArcLoop, b: &ArcLoop, start: f64, n: usize) -> f64 {
+    let (pa, pb): (Vec<[f64; 2]>, Vec<[f64; 2]>) = (0..n)
+        .map(|k| {
+            let t = k as f64 / n as f64;
+            (a.at(t), b.at(start + t))
+        })
+        .unzip();
+    let mean = |p: &[[f64; 2]]| {
+        let s = p.iter().fold([0.0, 0.0], |m, q| [m[0] + q[0], m[1] + q[1]]);
+        [s[0] / n as f64, s[1] / n as f64]
+    };
+    let (ma, mb) = (mean(&pa), mean(&pb));
+    let spread = |p: &[[f64; 2]], m: [f64; 2]| -> f64 {
+        p.iter()
+            .map(|q| (q[0] - m[0]).powi(2) + (q[1] - m[1]).powi(2))
+            .sum()
+    };
+    let (sa, sb) = (spread(&pa, ma), spread(&pb, mb));
+    if sa <= 0.0 || sb <= 0.0 {
+        return 0.0;
+    }
+    let k = (sa / sb).sqrt();
+    pa.iter()
+        .zip(&pb)
+        .map(|(p, q)| {
+            let r = [ma[0] + k * (q[0] - mb[0]), ma[1] + k * (q[1] - mb[1])];
+            (p[0] - r[0]).powi(2) + (p[1] - r[1]).powi(2)
+        })
+        .sum::<f64>()
+        / sa
 }
 
 /// The warp found by aligning the signatures over every start. With a
@@ -201,15 +241,21 @@ fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, tie: Option<&TieBreak>
     // score again, whichever is more: a loop with no features scores
     // every start alike, up to where the samples fall), the one it
     // prefers.
-    let moved = |start: f64| -> f64 {
+    // How far a start moves the drawing by the tie-break, first, then how
+    // much it turns it.
+    let moved = |start: f64| -> (f64, f64) {
+        let turn = || turned_away(a, b, start, coarse);
         match tie {
-            Some(TieBreak::Frame(frame)) => (0..coarse)
-                .map(|k| {
-                    let t = k as f64 / coarse as f64;
-                    let (p, q) = (a.at(t), frame.apply(b.at(start + t)));
-                    (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)
-                })
-                .sum(),
+            Some(TieBreak::Frame(frame)) => (
+                (0..coarse)
+                    .map(|k| {
+                        let t = k as f64 / coarse as f64;
+                        let (p, q) = (a.at(t), frame.apply(b.at(start + t)));
+                        (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)
+                    })
+                    .sum(),
+                0.0,
+            ),
             Some(TieBreak::Holes(holes_a, holes_b)) => {
                 let (pa, pb): (Vec<[f64; 2]>, Vec<[f64; 2]>) = (0..coarse)
                     .map(|k| {
@@ -217,10 +263,21 @@ fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, tie: Option<&TieBreak>
                         (a.at(t), b.at(start + t))
                     })
                     .unzip();
-                holes_misplaced(holes_a, holes_b, &Similarity::of_points(&pa, &pb))
+                let misplaced = holes_misplaced(holes_a, holes_b, &Similarity::of_points(&pa, &pb));
+                (misplaced, turn())
             }
-            None => 0.0,
+            Some(TieBreak::Turn) => (0.0, turn()),
+            None => (0.0, 0.0),
         }
+    };
+    // Holes misplaced by less than a hundredth of the drawing's size each
+    // are as good as in place (a round hole in the middle lies there from
+    // every start).
+    let alike = match tie {
+        Some(TieBreak::Holes(holes_a, _)) => {
+            0.01 * diagonal(a.points.iter()) * holes_a.len() as f64
+        }
+        _ => 0.0,
     };
     let pick = |scored: &mut Vec<(f64, f64)>| -> (f64, f64) {
         scored.sort_by(|x, y| x.0.total_cmp(&y.0));
@@ -229,17 +286,31 @@ fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, tie: Option<&TieBreak>
         // under 1 % of a loop's whole turn are how the samples happen to
         // fall between a round loop's points, not features.)
         let floor = 0.01 * std::f64::consts::TAU;
-        let near = best + (0.25 * (median - best)).max(0.5 * best).max(floor);
-        let mut chosen = scored[0];
-        let mut least = f64::INFINITY;
-        for &(score, start) in scored.iter().take_while(|x| x.0 <= near) {
-            let m = moved(start);
-            if m < least {
-                least = m;
-                chosen = (score, start);
-            }
-        }
-        chosen
+        // The turn alone is weak evidence: it only picks among starts that
+        // score alike but for how the samples fall. Where the median start
+        // scores within 5 % of the best, no feature tells the starts apart
+        // (a round loop's spread is about 1 %): any start up to twice that
+        // spread. Else within 2 % of the best: a start one sample off a
+        // feature scores 5 % or more worse.
+        let near = match tie {
+            Some(TieBreak::Turn) if median - best < 0.05 * best => best + 2.0 * (median - best),
+            Some(TieBreak::Turn) => best + 0.02 * best + 0.1 * floor,
+            _ => best + (0.25 * (median - best)).max(0.5 * best).max(floor),
+        };
+        let candidates: Vec<((f64, f64), (f64, f64))> = scored
+            .iter()
+            .take_while(|x| x.0 <= near)
+            .map(|&c| (moved(c.1), c))
+            .collect();
+        let least = candidates
+            .iter()
+            .map(|c| c.0 .0)
+            .fold(f64::INFINITY, f64::min);
+        candidates
+            .iter()
+            .filter(|c| c.0 .0 <= least + alike)
+            .min_by(|x, y| x.0 .1.total_cmp(&y.0 .1))
+            .map_or(scored[0], |c| c.1)
     };
     if tie.is_some() {
         scored = vec![pick(&mut scored)];

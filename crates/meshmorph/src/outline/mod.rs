@@ -533,8 +533,11 @@ pub fn compatible_set(
             &d.loops()[0],
             &on_loops(0, 0)?,
             options.samples,
-            (first.num_loops() > 1)
-                .then_some(&TieBreak::Holes(&first.loops()[1..], &d.loops()[1..])),
+            Some(&if first.num_loops() > 1 {
+                TieBreak::Holes(&first.loops()[1..], &d.loops()[1..])
+            } else {
+                TieBreak::Turn
+            }),
         )?;
         let frame = holes::Similarity::of_outer(&outer);
         let pairing = holes::pair_holes(&first.loops()[1..], &d.loops()[1..], &frame);

@@ -848,3 +848,72 @@ fn unlike_pairs_are_mapped_with_no_sliver() {
         );
     }
 }
+
+/// The turn, in degrees, of the rotation that best lays the vertices of
+/// `a` onto those of `b` (centred, least squares).
+fn turn_degrees(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
+    let n = a.len() as f64;
+    let mean = |p: &[[f64; 2]]| {
+        let s = p.iter().fold([0.0, 0.0], |m, q| [m[0] + q[0], m[1] + q[1]]);
+        [s[0] / n, s[1] / n]
+    };
+    let (ma, mb) = (mean(a), mean(b));
+    let (mut re, mut im) = (0.0, 0.0);
+    for (p, q) in a.iter().zip(b) {
+        let (u, v) = ([p[0] - ma[0], p[1] - ma[1]], [q[0] - mb[0], q[1] - mb[1]]);
+        re += u[0] * v[0] + u[1] * v[1];
+        im += u[0] * v[1] - u[1] * v[0];
+    }
+    im.atan2(re).to_degrees()
+}
+
+#[test]
+fn round_shapes_are_not_spun() {
+    // A round outline matches itself from every start alike; of those
+    // the match takes the one that turns least, wherever each loop starts
+    // and whichever way it runs, with or without noise of 0.3 of the
+    // points' spacing.
+    let ellipse =
+        |n: usize, a: f64, b: f64| curve(n, |t| [a * (TAU * t).cos(), b * (TAU * t).sin()]);
+    let pairs: Vec<(&str, Loops, Loops)> = vec![
+        (
+            "a disc into an ellipse",
+            vec![circle(72, [0.0, 0.0], 1.0)],
+            vec![ellipse(57, 1.6, 0.7)],
+        ),
+        (
+            "a rounded block into a circle",
+            vec![squircle(64, [0.0, 0.0], 1.0, 5.0)],
+            vec![circle(90, [0.0, 0.0], 1.2)],
+        ),
+        (
+            "a ring into a square frame",
+            vec![circle(72, [0.0, 0.0], 1.0), circle(40, [0.0, 0.0], 0.5)],
+            vec![
+                squircle(80, [0.0, 0.0], 1.0, 10.0),
+                squircle(44, [0.0, 0.0], 0.55, 10.0),
+            ],
+        ),
+    ];
+    for (name, a, b) in &pairs {
+        for (start, reverse, noise) in [
+            (0, false, 0.0),
+            (13, false, 0.0),
+            (29, true, 0.0),
+            (7, false, 0.3),
+            (3, true, 0.3),
+        ] {
+            let b = pose(b, 0.0, 1.0, start, reverse, noise, 1);
+            let m = check(a, &b).meshes;
+            let turn = turn_degrees(m.a.positions(), m.b.positions());
+            // (With noise the warp between the samples' features is free
+            // to slide a little along a featureless loop.)
+            let limit = if noise > 0.0 { 6.0 } else { 3.0 };
+            assert!(
+                turn.abs() < limit,
+                "{name}, second loop restarted at {start}{}, noise {noise}: turned {turn:.1}°",
+                if reverse { " and reversed" } else { "" }
+            );
+        }
+    }
+}
