@@ -428,7 +428,7 @@ pub fn run(args: &Args, mismatch: Option<anyhow::Error>) -> Result<()> {
     let anchor_points: Vec<Vec<[f64; 2]>> = anchor_rows.iter().map(|r| r.points.clone()).collect();
     let names: Vec<String> = keys.iter().map(|k| format!("`{}`", k.display())).collect();
     let set = compatible_set(&drawings, &anchor_points, &OutlineOptions::default())
-        .map_err(|e| name_drawings(e, &names))
+        .map_err(|e| anyhow::anyhow!(name_anchors(&name_drawings(e, &names), &anchor_rows)))
         .with_context(|| format!("making {} compatible", names.join(", ")))?;
     let compatible_seconds = begin.elapsed().as_secs_f64();
     let report = animate(
@@ -478,7 +478,7 @@ pub fn run(args: &Args, mismatch: Option<anyhow::Error>) -> Result<()> {
 
 /// The library says "drawing k" (from 1) and "the first drawing": say the
 /// files.
-fn name_drawings(e: meshmorph::Error, names: &[String]) -> anyhow::Error {
+fn name_drawings(e: meshmorph::Error, names: &[String]) -> String {
     let mut text = e.to_string();
     for (k, name) in names.iter().enumerate().rev() {
         text = text.replace(
@@ -490,7 +490,31 @@ fn name_drawings(e: meshmorph::Error, names: &[String]) -> anyhow::Error {
         "the first drawing",
         &format!("the first drawing ({})", names[0]),
     );
-    anyhow::anyhow!(text)
+    text
+}
+
+/// `text` with each `anchor K` (counted from 1) followed by the anchor's
+/// name and where it was given: `anchor 3 (`elbow`, `a.txt`, line 5)`.
+pub(crate) fn name_anchors(text: &str, rows: &[AnchorRow]) -> String {
+    const WORD: &str = "anchor ";
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(at) = rest.find(WORD) {
+        let after = &rest[at + WORD.len()..];
+        let digits = after.bytes().take_while(u8::is_ascii_digit).count();
+        out.push_str(&rest[..at + WORD.len() + digits]);
+        let row = after[..digits]
+            .parse::<usize>()
+            .ok()
+            .and_then(|k| k.checked_sub(1))
+            .and_then(|k| rows.get(k));
+        if let Some(row) = row {
+            out.push_str(&format!(" ({})", row.label()));
+        }
+        rest = &after[digits..];
+    }
+    out.push_str(rest);
+    out
 }
 
 /// Interpolates the compatible meshes of `set` and writes the frames and

@@ -230,13 +230,11 @@ pub fn run(args: &Args) -> Result<()> {
         ),
     )?;
     let names: Vec<String> = keys.iter().map(|k| format!("`{}`", k.display())).collect();
-    let anchors: Vec<Vec<[f64; 2]>> = match &args.drawing.anchors {
-        Some(path) => meshmorph::io::read_anchor_file(path, 2)?
-            .into_iter()
-            .map(|r| r.points)
-            .collect(),
+    let rows = match &args.drawing.anchors {
+        Some(path) => meshmorph::io::read_anchor_file(path, 2)?,
         None => Vec::new(),
     };
+    let anchors: Vec<Vec<[f64; 2]>> = rows.iter().map(|r| r.points.clone()).collect();
     let begin = Instant::now();
     let options = PictureMorphOptions::default()
         .with_frame_only(p.frame_only)
@@ -250,6 +248,7 @@ pub fn run(args: &Args) -> Result<()> {
         &options,
         &[names[0].clone(), names[1].clone()],
     )
+    .map_err(|e| anyhow::anyhow!(crate::drawings::name_anchors(&e.to_string(), &rows)))
     .with_context(|| format!("morphing {}", names.join(" into ")))?;
     let [da, db] = &morph.drawings;
     for (d, name) in [(da, &names[0]), (db, &names[1])] {

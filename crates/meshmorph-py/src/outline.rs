@@ -40,7 +40,9 @@ pub(crate) fn anchors(a: &Bound<'_, PyAny>, count: usize) -> PyResult<Vec<Vec<[f
                 return Err(bad(
                     "anchors",
                     format!(
-                        "anchor {k} has a coordinate on drawing {d} that is not finite ({:?})",
+                        "anchors[{k}, {d}] (anchor {}, its point on drawing {}) is not finite: {:?}",
+                        k + 1,
+                        d + 1,
                         points[d]
                     ),
                 ));

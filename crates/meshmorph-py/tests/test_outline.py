@@ -159,7 +159,7 @@ def test_the_gil_is_released():
         ([[blob()], [circle(40, 3), circle(10, 0.5, (0.5, 0))]], None, "the first drawing has 1 loop"),
         ([[blob()], [blob()]], np.zeros((2, 3, 2)), "anchors: expected the shape (k, 2, 2)"),
         ([[blob()], [blob()]], np.zeros((2, 2)), "anchors: expected a (k, 2, 2) float64 or float32 numpy array or None"),
-        ([[blob()], [blob()]], np.array([[[np.inf, 0], [0, 0]]]), "anchors: anchor 0 has a coordinate on drawing 0 that is not finite"),
+        ([[blob()], [blob()]], np.array([[[np.inf, 0], [0, 0]]]), "anchors: anchors[0, 0] (anchor 1, its point on drawing 1) is not finite"),
         ([[blob()], [blob()]], np.array([[[0.0, 0.0], [1.0, 0.0]], [[10.0, 10.0], [1.0, 0.0]]]), "anchor"),
     ],
 )

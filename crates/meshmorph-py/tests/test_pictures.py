@@ -145,7 +145,7 @@ def test_refuses_bad_pictures(change, words):
     [
         (np.array([[[10.0, 10.0], [70.0, 10.0]]]), ["anchor 1", "`b`", "outside the picture"]),
         (np.array([[[-1.0, 10.0], [10.0, 10.0]]]), ["anchor 1", "`a`", "outside the picture"]),
-        (np.array([[[np.nan, 10.0], [10.0, 10.0]]]), ["anchors:", "anchor 0", "not finite"]),
+        (np.array([[[np.nan, 10.0], [10.0, 10.0]]]), ["anchors:", "anchors[0, 0] (anchor 1", "not finite"]),
         ((np.zeros((2, 2)), np.zeros((3, 2))), ["anchors:", "2 points on a but 3 on b"]),
         ((np.zeros((2, 2)),), ["anchors:", "a sequence of 1"]),
         ((np.zeros((2, 2)), np.zeros((2, 3))), ["anchors[1]:"]),

@@ -309,6 +309,28 @@ fn anchors_from_a_file() {
     ));
     mentions(&err, &["`bad.txt`, line 1", "expected 4 numbers"]);
     assert!(!d.join("u").exists());
+    // An anchor the drawings refuse is named, with its line, counted from 1.
+    fs::write(d.join("far.txt"), "corner 10 10 20 5\nfar 500 500 20 5\n").unwrap();
+    let err = fails(&run(
+        &[
+            "interpolate",
+            "sq.txt",
+            "wide.txt",
+            "--anchors",
+            "far.txt",
+            "-o",
+            "u",
+        ],
+        d,
+    ));
+    mentions(
+        &err,
+        &[
+            "anchor 2 (`far`, `far.txt`, line 2)",
+            "lies outside drawing 1 (`sq.txt`)",
+        ],
+    );
+    assert!(!d.join("u").exists());
 }
 
 /// Writes the compatible meshes of `sq.txt` and `wide.txt` as `m/sq.obj`

@@ -158,7 +158,11 @@ fn photos_with_anchors_and_the_refusals() {
         ],
     );
     // Anchors outside a picture.
-    fs::write(d.join("bad.txt"), "eye 10 10 44 12\n").unwrap();
+    fs::write(
+        d.join("bad.txt"),
+        "# name, then x y on each\neye 10 10 44 12\n",
+    )
+    .unwrap();
     let err = fails(&run(
         &[
             "interpolate",
@@ -171,7 +175,14 @@ fn photos_with_anchors_and_the_refusals() {
         ],
         d,
     ));
-    mentions(&err, &["outside the picture", "`q.png`"]);
+    mentions(
+        &err,
+        &[
+            "anchor 1 (`eye`, `bad.txt`, line 2)",
+            "outside the picture",
+            "`q.png`",
+        ],
+    );
     assert!(!d.join("g").exists());
     // Fully transparent.
     save(d, "clear.png", &Picture::from_fn(8, 8, |_, _| [0, 0, 0, 0]));

@@ -53,7 +53,8 @@ pub(crate) fn place(drawings: &[Drawing], anchors: &[Vec<[f64; 2]>]) -> Result<P
     for (k, anchor) in anchors.iter().enumerate() {
         if anchor.len() != drawings.len() {
             return Err(Error::IncompatibleDrawings(format!(
-                "anchor {k} has {} point{} but there are {} drawings: give one point per drawing",
+                "anchor {} has {} point{} but there are {} drawings: give one point per drawing",
+                k + 1,
                 anchor.len(),
                 if anchor.len() == 1 { "" } else { "s" },
                 drawings.len()
@@ -63,7 +64,8 @@ pub(crate) fn place(drawings: &[Drawing], anchors: &[Vec<[f64; 2]>]) -> Result<P
         for (d, (&p, drawing)) in anchor.iter().zip(drawings).enumerate() {
             if !(p[0].is_finite() && p[1].is_finite()) {
                 return Err(Error::IncompatibleDrawings(format!(
-                    "anchor {k}'s point on drawing {} is not finite: {p:?}",
+                    "anchor {}'s point on drawing {} is not finite: {p:?}",
+                    k + 1,
                     d + 1
                 )));
             }
@@ -71,7 +73,8 @@ pub(crate) fn place(drawings: &[Drawing], anchors: &[Vec<[f64; 2]>]) -> Result<P
             let on = distance <= 0.01 * sizes[d];
             if !on && !inside_region(drawing, p) {
                 return Err(Error::IncompatibleDrawings(format!(
-                    "anchor {k}'s point {p:?} lies outside drawing {}: put it on the outline or inside the shape",
+                    "anchor {}'s point {p:?} lies outside drawing {}: put it on the outline or inside the shape",
+                    k + 1,
                     d + 1
                 )));
             }
@@ -97,8 +100,9 @@ pub(crate) fn place(drawings: &[Drawing], anchors: &[Vec<[f64; 2]>]) -> Result<P
                 .map(|(d, _)| (d + 1).to_string())
                 .collect();
             return Err(Error::IncompatibleDrawings(format!(
-                "anchor {k} is on the outline of drawing {} but inside the shape in the others: \
+                "anchor {} is on the outline of drawing {} but inside the shape in the others: \
                  put all its points on the outlines (within 1 % of each drawing's size) or all inside",
+                k + 1,
                 which.join(", ")
             )));
         }
@@ -116,7 +120,7 @@ impl Placed {
             if (x.l == l) != (y.l == m) {
                 return Err(Error::IncompatibleDrawings(format!(
                     "anchor {} is on loop {} of the first drawing and loop {} of drawing {}, which do not pair (loop {l} pairs with loop {m}): put its points on loops that pair, outer with outer",
-                    self.given_index(Ok(i)),
+                    self.given_number(Ok(i)),
                     x.l,
                     y.l,
                     k + 1
@@ -134,8 +138,9 @@ impl Placed {
         Ok(out)
     }
 
-    fn given_index(&self, which: std::result::Result<usize, usize>) -> usize {
-        self.order.iter().position(|&o| o == which).unwrap_or(0)
+    /// The anchor's number as given, counted from 1.
+    fn given_number(&self, which: std::result::Result<usize, usize>) -> usize {
+        self.order.iter().position(|&o| o == which).unwrap_or(0) + 1
     }
 
     /// The vertex of each anchor as given: on the outlines, the boundary

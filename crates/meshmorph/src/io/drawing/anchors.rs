@@ -17,6 +17,17 @@ pub struct AnchorRow {
     pub origin: String,
 }
 
+impl AnchorRow {
+    /// Its name and origin, for messages: `` `elbow`, `a.txt`, line 3 ``.
+    pub fn label(&self) -> String {
+        if self.name.is_empty() {
+            self.origin.clone()
+        } else {
+            format!("`{}`, {}", self.name, self.origin)
+        }
+    }
+}
+
 /// Reads an anchor file for `drawings` drawings: one anchor a line, an
 /// optional name (a first word that is not a number) then `x y` for each
 /// drawing in order, all on the line (spaces, tabs or commas between);
