@@ -11,6 +11,7 @@ use anyhow::{bail, Context, Result};
 use meshmorph::io::picture::{
     picture_morph_memory, read_picture, Picture, PictureFormat, PictureShape,
 };
+use meshmorph::playback::shown_order;
 use meshmorph::render::{
     frame_times, sprite_sheet, write_apng, write_picture_gif, write_picture_png, PictureFrames,
     PictureMorphOptions, MAX_FRAME_SIDE, MAX_TRACE_TOLERANCE,
@@ -302,13 +303,14 @@ pub fn run(args: &Args) -> Result<()> {
         })?;
     let frames_seconds = draw_begin.elapsed().as_secs_f64();
     let delay = Duration::from_secs_f64(1.0 / args.frames.pictures.draw.fps);
+    let order = shown_order(count, !args.frames.pictures.draw.no_boomerang);
     let mut written: Vec<PathBuf> = Vec::new();
     if let Some(out) = gif {
         staging.write_to(out, |_, w| {
             Ok(write_picture_gif(
                 w,
                 (width, height),
-                count,
+                &order,
                 delay,
                 &mut |k| frame(k),
             )?)
@@ -317,7 +319,7 @@ pub fn run(args: &Args) -> Result<()> {
     }
     if let Some(out) = apng {
         staging.write_to(out, |_, w| {
-            Ok(write_apng(w, (width, height), count, delay, &mut |k| {
+            Ok(write_apng(w, (width, height), &order, delay, &mut |k| {
                 frame(k)
             })?)
         })?;

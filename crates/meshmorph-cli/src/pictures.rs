@@ -75,7 +75,8 @@ pub struct DrawArgs {
     /// Frame rate of the GIF and of the glTF animation.
     #[arg(long, default_value_t = DEFAULT_FPS, value_name = "FPS", value_parser = crate::output::frame_rate)]
     pub fps: f64,
-    /// Play the GIF forward only, instead of forward then back.
+    /// Play the GIF (and a picture morph's APNG) forward only, instead of
+    /// forward then back.
     #[arg(long)]
     pub no_boomerang: bool,
 }

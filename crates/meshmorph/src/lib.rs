@@ -97,6 +97,7 @@ pub mod limits;
 mod linalg;
 mod mesh;
 pub mod outline;
+pub mod playback;
 #[cfg(feature = "render")]
 pub mod render;
 mod transfer;

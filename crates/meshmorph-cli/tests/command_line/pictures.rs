@@ -23,6 +23,13 @@ fn save(dir: &Path, name: &str, p: &Picture) {
     meshmorph::render::write_picture_png(&mut f, p).unwrap();
 }
 
+/// The frame count an animated PNG declares (its `acTL` chunk).
+fn apng_frames(path: &std::path::Path) -> u32 {
+    let bytes = fs::read(path).unwrap();
+    let at = bytes.windows(4).position(|w| w == b"acTL").unwrap();
+    u32::from_be_bytes(bytes[at + 4..at + 8].try_into().unwrap())
+}
+
 #[test]
 fn sprites_morph_into_pngs_gif_apng_and_a_sprite_sheet() {
     let dir = tempfile::tempdir().unwrap();
@@ -69,7 +76,8 @@ fn sprites_morph_into_pngs_gif_apng_and_a_sprite_sheet() {
     };
     assert_eq!(visible(&first), visible(&a));
     assert!(fs::read(d.join("m.gif")).unwrap().starts_with(b"GIF89a"));
-    assert!(fs::metadata(d.join("m.apng.png")).unwrap().len() > 0);
+    // Forward and back, as drawings' and meshes' animations play: 5 + 3.
+    assert_eq!(apng_frames(&d.join("m.apng.png")), 8);
     let sheet = read_picture(&d.join("sheet.png"), u64::MAX).unwrap();
     assert_eq!((sheet.width, sheet.height), (3 * 48, 2 * 48));
     let json: serde_json::Value =
@@ -94,6 +102,20 @@ fn sprites_morph_into_pngs_gif_apng_and_a_sprite_sheet() {
         &succeeds(&out),
         &["removed:        2 frames of an earlier run"],
     );
+    let once = [
+        "interpolate",
+        "a.png",
+        "b.png",
+        "--frames",
+        "5",
+        "-o",
+        "once",
+        "--apng",
+        "once.png",
+        "--no-boomerang",
+    ];
+    succeeds(&run(&once, d));
+    assert_eq!(apng_frames(&d.join("once.png")), 5);
     let mut left: Vec<String> = fs::read_dir(d.join("frames"))
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())

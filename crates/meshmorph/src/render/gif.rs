@@ -82,11 +82,7 @@ impl GifOptions {
             self.fps.clamp(slowest, fastest)
         };
         let step = Duration::from_secs_f64(1.0 / fps);
-        let mut order: Vec<usize> = (0..num_frames).collect();
-        if self.boomerang && num_frames > 2 {
-            order.extend((1..num_frames - 1).rev());
-        }
-        order
+        crate::playback::shown_order(num_frames, self.boomerang)
             .into_iter()
             .map(|i| {
                 let hold = i == 0 || i + 1 == num_frames;

@@ -28,10 +28,11 @@ fn rgba_encoder(w: &mut dyn Write, width: u32, height: u32) -> ::png::Encoder<'_
     enc
 }
 
-/// Writes `count` frames of `width × height` pixels as an animated PNG
-/// (APNG: plays in every browser; viewers without APNG show the first
-/// frame), each shown for `delay`, played over and over. `frame(k)` gives
-/// frame `k`, asked for once each, in order.
+/// Writes frames of `width × height` pixels as an animated PNG (APNG:
+/// plays in every browser; viewers without APNG show the first frame), in
+/// the `order` shown ([`shown_order`](crate::playback::shown_order)), each
+/// shown for `delay`, played over and over. `frame(k)` gives frame `k`,
+/// asked for once each time it is shown.
 ///
 /// # Errors
 /// The writer's errors; [`io::ErrorKind::InvalidInput`] for no frame or a
@@ -39,19 +40,19 @@ fn rgba_encoder(w: &mut dyn Write, width: u32, height: u32) -> ::png::Encoder<'_
 pub fn write_apng(
     w: &mut dyn Write,
     (width, height): (u32, u32),
-    count: usize,
+    order: &[usize],
     delay: Duration,
     frame: &mut dyn FnMut(usize) -> Picture,
 ) -> io::Result<()> {
-    if count == 0 {
+    if order.is_empty() {
         return Err(io::Error::new(io::ErrorKind::InvalidInput, "no frame"));
     }
     let mut enc = rgba_encoder(w, width, height);
-    enc.set_animated(count as u32, 0).map_err(png_error)?;
+    enc.set_animated(order.len() as u32, 0).map_err(png_error)?;
     let ms = delay.as_millis().clamp(1, u128::from(u16::MAX)) as u16;
     enc.set_frame_delay(ms, 1000).map_err(png_error)?;
     let mut writer = enc.write_header().map_err(png_error)?;
-    for k in 0..count {
+    for &k in order {
         let picture = frame(k);
         check_size(&picture, width, height)?;
         writer.write_image_data(&picture.rgba).map_err(png_error)?;
@@ -59,8 +60,8 @@ pub fn write_apng(
     writer.finish().map_err(png_error)
 }
 
-/// Writes `count` frames as an animated GIF, each shown for `delay`,
-/// played over and over: each frame's own 255 colours (NeuQuant), pixels
+/// Writes frames as an animated GIF in the `order` shown, each shown for
+/// `delay`, played over and over: each frame's own 255 colours (NeuQuant), pixels
 /// under half alpha transparent, every frame drawn on a cleared page.
 ///
 /// # Errors
@@ -68,7 +69,7 @@ pub fn write_apng(
 pub fn write_picture_gif(
     w: &mut dyn Write,
     (width, height): (u32, u32),
-    count: usize,
+    order: &[usize],
     delay: Duration,
     frame: &mut dyn FnMut(usize) -> Picture,
 ) -> io::Result<()> {
@@ -79,7 +80,7 @@ pub fn write_picture_gif(
     let mut enc = ::gif::Encoder::new(w, gw, gh, &[]).map_err(gif_error)?;
     enc.set_repeat(::gif::Repeat::Infinite).map_err(gif_error)?;
     let centis = (delay.as_millis() / 10).clamp(2, u128::from(u16::MAX)) as u16;
-    for k in 0..count {
+    for &k in order {
         let mut picture = frame(k);
         check_size(&picture, width, height)?;
         for p in picture.rgba.chunks_exact_mut(4) {
@@ -173,4 +174,49 @@ fn too_large(side: u32) -> io::Error {
         io::ErrorKind::InvalidInput,
         format!("a GIF's sides are at most 65535 pixels, not {side}"),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::playback::shown_order;
+
+    /// Frame `k`: every pixel's red is `40 k`, opaque.
+    fn frame(k: usize) -> Picture {
+        Picture::from_fn(3, 2, |_, _| [40 * k as u8, 0, 0, 255])
+    }
+
+    #[test]
+    fn animations_show_their_frames_in_the_order_given() {
+        let order = shown_order(4, true);
+        let mut gif = Vec::new();
+        write_picture_gif(
+            &mut gif,
+            (3, 2),
+            &order,
+            Duration::from_millis(40),
+            &mut frame,
+        )
+        .unwrap();
+        let mut options = ::gif::DecodeOptions::new();
+        options.set_color_output(::gif::ColorOutput::RGBA);
+        let mut decoder = options.read_info(gif.as_slice()).unwrap();
+        let mut reds = Vec::new();
+        while let Some(f) = decoder.read_next_frame().unwrap() {
+            reds.push(f.buffer[0]);
+        }
+        assert_eq!(reds, [0, 40, 80, 120, 80, 40]);
+        let mut apng = Vec::new();
+        write_apng(
+            &mut apng,
+            (3, 2),
+            &order,
+            Duration::from_millis(40),
+            &mut frame,
+        )
+        .unwrap();
+        let actl = apng.windows(4).position(|w| w == b"acTL").unwrap();
+        let count = u32::from_be_bytes(apng[actl + 4..actl + 8].try_into().unwrap());
+        assert_eq!(count, 6);
+    }
 }

@@ -6,8 +6,8 @@ use std::io::Write;
 
 use serde_json::{json, Value};
 
-use super::svg_animate::shown_order;
 use super::Animation;
+use crate::playback::shown_order;
 
 fn still(k: Value) -> Value {
     json!({"a": 0, "k": k})

@@ -5,16 +5,7 @@ use std::io::Write;
 
 use super::svg_write::{paint_attributes, svg_open, svg_path_data};
 use super::Animation;
-
-/// The frames in the order shown: forward, then (with `boomerang`) back
-/// without repeating the ends.
-pub(super) fn shown_order(count: usize, boomerang: bool) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..count).collect();
-    if boomerang && count > 2 {
-        order.extend((1..count - 1).rev());
-    }
-    order
-}
+use crate::playback::shown_order;
 
 /// Writes every frame of `animation.frames` as one SVG document whose path's `d`
 /// goes through them at `fps` frames a second, over and over
