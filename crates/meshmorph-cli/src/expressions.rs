@@ -321,6 +321,13 @@ fn destination(args: &Args) -> Result<Destination> {
         if args.replace_shapes || args.vrm_expressions || args.gltf_dense {
             bail!("--replace-shapes, --vrm-expressions and --gltf-dense are for a glTF output (-o FILE.glb, .gltf or .vrm); `{}` is a directory", out.display());
         }
+        if let Ok(format) = meshmorph::io::Format::from_path(out) {
+            bail!(
+                "-o `{}` names one {} file, but the shapes are one mesh each: give a folder (-o shapes/) for a mesh per shape, or a .glb for one file with every shape as a morph target",
+                out.display(),
+                format.extension().to_uppercase()
+            );
+        }
         let format = output::format_or_like(args.format, &args.head)?;
         return Ok(Destination::Folder(format));
     }

@@ -213,4 +213,21 @@ fn too_few_or_unknown_landmarks_are_refused_naming_them_and_nothing_is_written()
     assert!(!out.status.success());
     assert!(text(&out).contains("rig.glb"), "{}", text(&out));
     assert!(!text(&out).contains("panicked"), "{}", text(&out));
+
+    // -o naming one mesh file (the head itself, or a new one): a folder
+    // or a .glb is asked for, and nothing is written.
+    let (_, all) = head_and_landmarks(&[]);
+    std::fs::write(&points, &all).unwrap();
+    let before = std::fs::read(&head_path).unwrap();
+    for out_path in [head_path.clone(), dir.path().join("shapes.obj")] {
+        let out = expressions(&head_path, &points, &out_path, &[]);
+        assert!(!out.status.success());
+        assert!(
+            text(&out).contains("names one OBJ file") && text(&out).contains("give a folder"),
+            "{}",
+            text(&out)
+        );
+    }
+    assert_eq!(std::fs::read(&head_path).unwrap(), before);
+    assert!(!dir.path().join("shapes.obj").exists());
 }

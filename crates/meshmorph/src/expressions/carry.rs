@@ -27,7 +27,9 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::expressions::arkit_names::{arkit_recipes, ShapeRecipe};
-use crate::expressions::landmarks::{check_landmarks, landmark_name, landmark_number};
+use crate::expressions::landmarks::{
+    check_landmarks, landmark_name, landmark_number, misplaced_landmarks,
+};
 use crate::expressions::template::ExpressionTemplate;
 use crate::linalg::matrix::{mul_vec, Mat3};
 use crate::linalg::similarity::Similarity;
@@ -300,7 +302,11 @@ fn landmark_markers(
         pairs.push([template.head.positions()[v as usize], *p]);
         names.push(Some(landmark_name(n)));
     }
-    let warnings = check_landmarks(&numbers)?;
+    let mut warnings = check_landmarks(&numbers)?;
+    let (on_template, on_head): (Vec<[f64; 3]>, Vec<[f64; 3]>) =
+        pairs.iter().map(|p| (p[0], p[1])).unzip();
+    let labels: Vec<String> = points.iter().map(|(name, _)| format!("`{name}`")).collect();
+    warnings.extend(misplaced_landmarks(&on_template, &on_head, &labels));
     Ok((Markers::from_points(pairs).with_names(names), warnings))
 }
 

@@ -11,6 +11,8 @@
 //! missing, and warns about a region none of them holds).
 
 use crate::error::{Error, Result};
+use crate::linalg::similarity::Similarity;
+use crate::linalg::vector::{add, norm, scale, sub};
 
 /// The fewest landmarks [`check_landmarks`] accepts.
 pub const MIN_LANDMARKS: usize = 12;
@@ -138,9 +140,138 @@ pub fn check_landmarks(numbers: &[u8]) -> Result<Vec<String>> {
         .collect())
 }
 
+/// How far from where the others put it a landmark may lie before it is
+/// named in a warning, as a fraction of the landmarks' spread (their RMS
+/// distance from their centre). Right landmarks lie up to 0.13 of it on
+/// heads sampled from the template's identity model and 0.31 on a head
+/// of other proportions; an eye corner named for the other corner of its
+/// eye lies 1.45, one placed on the nose tip 1.03.
+pub const LANDMARK_MISPLACED: f64 = 0.6;
+
+/// Warnings about landmarks that are on the head but likely misnamed or
+/// misplaced: `template` and `head` are the landmarks' positions on the
+/// template and on the head, pair by pair, `names` their names.
+///
+/// - Left and right swapped: the head's landmarks fit the template's far
+///   better mirrored than as given (a face is nearly symmetric, so
+///   swapping every left with its right mirrors the set).
+/// - One misplaced: after the similarity that best lays the template's
+///   landmarks onto the head's, a landmark lying more than
+///   [`LANDMARK_MISPLACED`] of the spread from where it lands.
+pub fn misplaced_landmarks(
+    template: &[[f64; 3]],
+    head: &[[f64; 3]],
+    names: &[String],
+) -> Vec<String> {
+    let residuals = |to: &[[f64; 3]]| -> Option<Vec<f64>> {
+        let s = Similarity::fit(template, to).ok()?;
+        Some(
+            template
+                .iter()
+                .zip(to)
+                .map(|(&t, &h)| norm(sub(s.apply(t), h)))
+                .collect(),
+        )
+    };
+    let centre = head
+        .iter()
+        .fold([0.0; 3], |c, p| add(c, scale(*p, 1.0 / head.len() as f64)));
+    let spread = (head
+        .iter()
+        .map(|p| norm(sub(*p, centre)).powi(2))
+        .sum::<f64>()
+        / head.len() as f64)
+        .sqrt();
+    let Some(given) = residuals(head) else {
+        return Vec::new();
+    };
+    let rms = |r: &[f64]| (r.iter().map(|x| x * x).sum::<f64>() / r.len() as f64).sqrt();
+    let mirrored: Vec<[f64; 3]> = head.iter().map(|p| [-p[0], p[1], p[2]]).collect();
+    if let Some(m) = residuals(&mirrored) {
+        if rms(&m) < 0.5 * rms(&given) && rms(&given) > 0.5 * LANDMARK_MISPLACED * spread {
+            return vec![format!(
+                "the landmarks fit the template far better mirrored (their distance from where the \
+                 template puts them {:.0} % of their spread as given, {:.0} % mirrored): left and \
+                 right look swapped. Left and right are the head's own: its left eye is on the \
+                 viewer's right when facing it",
+                100.0 * rms(&given) / spread,
+                100.0 * rms(&m) / spread
+            )];
+        }
+    }
+    given
+        .iter()
+        .zip(names)
+        .filter(|(r, _)| **r > LANDMARK_MISPLACED * spread)
+        .map(|(r, name)| {
+            format!(
+                "landmark {name} lies {:.0} % of the landmarks' spread from where the others put it: \
+                 check its name and place",
+                100.0 * r / spread
+            )
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The recommended landmarks of the built-in template, by name, and
+    /// their positions on it.
+    fn template_landmarks() -> (Vec<String>, Vec<[f64; 3]>) {
+        let t = crate::expressions::template::ExpressionTemplate::arkit();
+        RECOMMENDED
+            .iter()
+            .map(|&n| {
+                let v = t.landmark(&n.to_string()).unwrap();
+                (landmark_name(n), t.head.positions()[v as usize])
+            })
+            .unzip()
+    }
+
+    #[test]
+    fn swapped_sides_and_a_misplaced_landmark_are_warned_about() {
+        let (names, on_template) = template_landmarks();
+        // A head: the template's landmarks turned, scaled, moved, and
+        // given other proportions (wider by a tenth, a longer face).
+        let head: Vec<[f64; 3]> = on_template
+            .iter()
+            .map(|p| [2.0 * p[2] + 1.0, 2.2 * p[1] - 3.0, -2.0 * 1.1 * p[0]])
+            .collect();
+        assert!(misplaced_landmarks(&on_template, &head, &names).is_empty());
+        // Left and right swapped: each point given the name of its mirror.
+        let mirror = |name: &str| {
+            if let Some(base) = name.strip_suffix("Left") {
+                format!("{base}Right")
+            } else if let Some(base) = name.strip_suffix("Right") {
+                format!("{base}Left")
+            } else {
+                name.to_string()
+            }
+        };
+        let swapped: Vec<[f64; 3]> = names
+            .iter()
+            .map(|n| head[names.iter().position(|m| *m == mirror(n)).unwrap_or(0)])
+            .collect();
+        let w = misplaced_landmarks(&on_template, &swapped, &names);
+        assert!(
+            w.len() == 1 && w[0].contains("left and right look swapped"),
+            "{w:?}"
+        );
+        // One eye corner on the nose tip.
+        let (corner, tip) = (
+            names.iter().position(|n| n == "eyeOuterLeft").unwrap(),
+            names.iter().position(|n| n == "noseTip").unwrap(),
+        );
+        let mut misplaced = head.clone();
+        misplaced[corner] = head[tip];
+        let w = misplaced_landmarks(&on_template, &misplaced, &names);
+        assert!(
+            w.len() == 1 && w[0].contains("landmark eyeOuterLeft lies"),
+            "{w:?}"
+        );
+    }
 
     #[test]
     fn names_numbers_and_aliases_resolve() {
