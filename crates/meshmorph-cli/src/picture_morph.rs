@@ -253,6 +253,12 @@ pub fn run(args: &Args) -> Result<()> {
     .with_context(|| format!("morphing {}", names.join(" into ")))?;
     let [da, db] = &morph.drawings;
     for (d, name) in [(da, &names[0]), (db, &names[1])] {
+        if d.faint_left_out > 0 {
+            tell!(
+                "warning: {name} has {} pixels less than half opaque beyond its edges (a glow or a soft shadow?): the sprite is traced where alpha crosses one half, and they are left out of every frame; morph the whole picture with --frame-only to keep them",
+                d.faint_left_out
+            );
+        }
         if !d.left_out.is_empty() {
             let list: Vec<String> = d
                 .left_out

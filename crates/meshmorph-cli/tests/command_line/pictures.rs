@@ -57,6 +57,8 @@ fn sprites_morph_into_pngs_gif_apng_and_a_sprite_sheet() {
     );
     let text = succeeds(&out);
     mentions(&text, &["sprites traced", "frames:"]);
+    let quiet = String::from_utf8_lossy(&out.stderr);
+    assert!(!quiet.contains("less than half opaque"), "{quiet}");
     for k in 0..5 {
         let f = read_picture(&d.join(format!("frames/frame_{k:04}.png")), u64::MAX).unwrap();
         assert_eq!((f.width, f.height), (48, 48));
@@ -101,6 +103,24 @@ fn sprites_morph_into_pngs_gif_apng_and_a_sprite_sheet() {
     mentions(
         &succeeds(&out),
         &["removed:        2 frames of an earlier run"],
+    );
+    // A soft shadow under half opaque around b: named as left out.
+    let mut glow = disc(64, [40.0, 30.0], 18.0);
+    for p in glow.rgba.chunks_exact_mut(4) {
+        if p[3] == 0 {
+            p[3] = 50;
+        }
+    }
+    save(d, "glow.png", &glow);
+    let out = run(&["interpolate", "a.png", "glow.png", "-o", "soft"], d);
+    succeeds(&out);
+    mentions(
+        &String::from_utf8_lossy(&out.stderr),
+        &[
+            "`glow.png` has",
+            "pixels less than half opaque",
+            "--frame-only",
+        ],
     );
     let once = [
         "interpolate",

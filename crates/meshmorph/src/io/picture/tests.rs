@@ -122,6 +122,28 @@ fn the_largest_region_is_kept_and_the_others_named() {
 }
 
 #[test]
+fn a_glow_under_half_opaque_is_counted_as_left_out_but_an_edge_is_not() {
+    let disc = |glow: bool| {
+        Picture::from_fn(64, 64, |x, y| {
+            let d = 20.0 - (f64::from(x) + 0.5 - 32.0).hypot(f64::from(y) + 0.5 - 32.0);
+            let a = edge_alpha(d);
+            let a = if glow && a == 0 && d > -8.0 { 60 } else { a };
+            [200, 100, 50, a]
+        })
+    };
+    let plain = picture_drawing(&disc(false), false, 0.5, 16.0, "disc").unwrap();
+    assert_eq!(plain.faint_left_out, 0);
+    let glowing = picture_drawing(&disc(true), false, 0.5, 16.0, "glow").unwrap();
+    // The glow's ring: about π (28² - 20²) = 1,200 pixels, less the
+    // edge's allowance of two a pixel of outline (about 250).
+    assert!(
+        (800..1200).contains(&glowing.faint_left_out),
+        "{}",
+        glowing.faint_left_out
+    );
+}
+
+#[test]
 fn empty_and_transparent_pictures_are_refused() {
     assert!(matches!(
         Picture::new(0, 4, Vec::new()),
