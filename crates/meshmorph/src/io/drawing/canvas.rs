@@ -42,7 +42,23 @@ pub(super) fn bounds(
     (b[0] <= b[2] && b[1] <= b[3] && b.iter().all(|x| x.is_finite())).then_some(b)
 }
 
+/// Significant digits written for a drawing's coordinates, at the size of
+/// its page: one more than a 32-bit float holds (SVG readers, `usvg`
+/// among them, read coordinates as those), so a drawing read and written
+/// back loses nothing, and arithmetic's last bits are not written.
+pub const SIGNIFICANT_DIGITS: i32 = 8;
+
 impl Canvas {
+    /// Digits after the point for coordinates on this canvas:
+    /// [`SIGNIFICANT_DIGITS`] at the size of its viewBox's longer side.
+    pub fn decimals(&self) -> usize {
+        let extent = self.view_box[2].abs().max(self.view_box[3].abs());
+        if !(extent.is_finite() && extent > 0.0) {
+            return 17;
+        }
+        (SIGNIFICANT_DIGITS - extent.log10().ceil() as i32).clamp(0, 17) as usize
+    }
+
     /// The point as written: y negated when the drawing's y points up.
     pub fn map(&self, p: [f64; 2]) -> [f64; 2] {
         if self.flip_y {

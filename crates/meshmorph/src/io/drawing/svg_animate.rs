@@ -27,7 +27,7 @@ pub fn write_animated_svg(w: &mut dyn Write, animation: &Animation<'_>) -> std::
     write!(
         w,
         "  <path {} d=\"{}\">",
-        paint_attributes(a.style),
+        paint_attributes(a.style, a.canvas.decimals()),
         data.first().map_or("", String::as_str)
     )?;
     if order.len() > 1 {

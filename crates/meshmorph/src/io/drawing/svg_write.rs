@@ -10,12 +10,33 @@ pub(super) fn push_number(out: &mut Vec<u8>, x: f64) {
     super::super::push_f64(out, if x == 0.0 { 0.0 } else { x });
 }
 
+/// Appends `x` with at most `decimals` digits after the point, trailing
+/// zeros dropped (`18`, not `18.000000741839404`; `-0` as `0`).
+pub(super) fn push_rounded(out: &mut Vec<u8>, x: f64, decimals: usize) {
+    use std::io::Write as _;
+    let start = out.len();
+    write!(out, "{x:.decimals$}").expect("writing to a Vec");
+    if out[start..].contains(&b'.') {
+        while out.last() == Some(&b'0') {
+            out.pop();
+        }
+        if out.last() == Some(&b'.') {
+            out.pop();
+        }
+    }
+    if &out[start..] == b"-0" {
+        out.truncate(start);
+        out.push(b'0');
+    }
+}
+
 /// The `d` of a path through the loops: `loops[l]` lists vertex indices
 /// into `positions`; each loop is `M x y L x y ... Z`, the outer loop
 /// first, in the order given, mapped by `canvas` (y flipped for drawings
-/// with y up).
+/// with y up), to the canvas's [`decimals`](Canvas::decimals).
 pub fn svg_path_data(positions: &[[f64; 2]], loops: &[Vec<u32>], canvas: &Canvas) -> String {
     let mut out = Vec::with_capacity(loops.iter().map(Vec::len).sum::<usize>() * 20);
+    let decimals = canvas.decimals();
     for (l, indices) in loops.iter().enumerate() {
         if l > 0 {
             out.push(b' ');
@@ -27,9 +48,9 @@ pub fn svg_path_data(positions: &[[f64; 2]], loops: &[Vec<u32>], canvas: &Canvas
                 _ => b" ",
             });
             let p = canvas.map(positions[v as usize]);
-            push_number(&mut out, p[0]);
+            push_rounded(&mut out, p[0], decimals);
             out.push(b' ');
-            push_number(&mut out, p[1]);
+            push_rounded(&mut out, p[1], decimals);
         }
         out.push(b'Z');
     }
@@ -60,8 +81,9 @@ pub(super) fn svg_open(canvas: &Canvas) -> String {
     )
 }
 
-/// The paint attributes of a path drawn in `style`, even-odd filled.
-pub(super) fn paint_attributes(style: &Style) -> String {
+/// The paint attributes of a path drawn in `style`, even-odd filled,
+/// the stroke's width to `decimals`.
+pub(super) fn paint_attributes(style: &Style, decimals: usize) -> String {
     let mut a = format!(
         "fill=\"{}\" fill-rule=\"evenodd\"",
         hex(style.fill.unwrap_or([0, 0, 0]))
@@ -70,10 +92,12 @@ pub(super) fn paint_attributes(style: &Style) -> String {
         a += &format!(" fill-opacity=\"{}\"", style.fill_opacity);
     }
     if let Some(s) = style.stroke.filter(|_| style.stroke_width > 0.0) {
+        let mut width = Vec::new();
+        push_rounded(&mut width, style.stroke_width, decimals);
         a += &format!(
             " stroke=\"{}\" stroke-width=\"{}\" stroke-linejoin=\"round\"",
             hex(s),
-            style.stroke_width
+            String::from_utf8(width).expect("ASCII")
         );
         if style.stroke_opacity < 1.0 {
             a += &format!(" stroke-opacity=\"{}\"", style.stroke_opacity);
@@ -84,7 +108,8 @@ pub(super) fn paint_attributes(style: &Style) -> String {
 
 /// Writes one frame as an SVG document: `canvas`'s viewBox and size, one
 /// `<path>` (even-odd filled, in `style`) through `loops` (vertex indices
-/// into `positions`, outer loop first), every point exactly as computed.
+/// into `positions`, outer loop first), every point to the canvas's
+/// [`decimals`](Canvas::decimals).
 ///
 /// # Errors
 /// The writer's.
@@ -99,7 +124,7 @@ pub fn write_svg_frame(
     writeln!(
         w,
         "  <path {} d=\"{}\"/>\n</svg>",
-        paint_attributes(style),
+        paint_attributes(style, canvas.decimals()),
         svg_path_data(positions, loops, canvas)
     )
 }

@@ -393,19 +393,34 @@ fn an_svg_frame_reads_back_with_the_same_points() {
             );
         }
     }
-    // The path's numbers are the frame's, exactly.
+    // The path's numbers are the frame's to eight significant digits at
+    // the page's size, with no digit beyond (no float noise).
     let d = svg_path_data(&frames[1], &loops, &canvas);
-    let numbers: Vec<f64> = d
+    let decimals = canvas.decimals();
+    let words: Vec<&str> = d
         .split(|c: char| c.is_ascii_alphabetic() || c == ' ')
         .filter(|s| !s.is_empty())
-        .map(|s| s.parse().unwrap())
         .collect();
     let want: Vec<f64> = loops
         .iter()
         .flatten()
         .flat_map(|&v| frames[1][v as usize])
         .collect();
-    assert_eq!(numbers, want);
+    assert_eq!(words.len(), want.len());
+    let extent = canvas.view_box[2].max(canvas.view_box[3]);
+    for (word, x) in words.iter().zip(&want) {
+        let n: f64 = word.parse().unwrap();
+        assert!(
+            (n - x).abs() <= 0.5e-8 * 10f64.powf(extent.log10().ceil()) + 1e-15,
+            "{word} {x}"
+        );
+        let after = word.split('.').nth(1).map_or(0, str::len);
+        assert!(
+            after <= decimals && !word.ends_with('0') || !word.contains('.'),
+            "{word}"
+        );
+    }
+    assert!(words.contains(&"0.1") && words.contains(&"5.1"), "{d}");
     // Frames leaving the page grow it.
     let small = Canvas {
         view_box: [0.0, 0.0, 5.0, 5.0],
