@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use anyhow::Result;
 use meshmorph::io::gltf::SampleCharacter;
-use meshmorph::io::picture::{arm_anchors, arm_sprite, ARM_SPRITE_SIZE};
+use meshmorph::io::picture::{arm_anchors, arm_fold_anchors, arm_sprite, ARM_SPRITE_SIZE};
 use meshmorph::io::{write_animated_svg, write_svg_frame, Animation, Canvas, Format, Style};
 use meshmorph::outline::{compatible_set, Drawing, OutlineOptions};
 use meshmorph::render::{write_gif_2d, Edges, GifOptions, Style2d};
@@ -50,8 +50,9 @@ use crate::transfer::{run_transfer, CorrespondArgs, References, TransferArgs};
 ///                                    kept), from seven points (markers.txt);
 ///   sprite/arm-straight.png,         a sprite made in code (an arm, striped
 ///   sprite/arm-bent.png,             across, its forearm then bent by 150°
-///   sprite/anchors.txt,              at the elbow), five points matched on
-///   sprite/frames/frame_*.png,       them, and its morph: a PNG a frame and
+///   sprite/anchors.txt,              at the elbow), seven points matched on
+///   sprite/frames/frame_*.png,       them (two at the fold of the elbow),
+///                                    and its morph: a PNG a frame and
 ///   sprite/sprite.gif                a GIF;
 ///   expressions/head-arkit.glb,      the ARKit shapes put on a head made in code
 ///   expressions/expressions.gif      (expressions/input/head.obj, the template's
@@ -744,7 +745,8 @@ fn sprite(args: &Args) -> Result<()> {
     ];
     let anchors_path = dir.join("anchors.txt");
     let size = ARM_SPRITE_SIZE;
-    let anchors = arm_anchors(bend, size);
+    let mut anchors = arm_anchors(bend, size).to_vec();
+    anchors.extend(arm_fold_anchors(bend, size));
     let mut plan = Plan::new();
     let anchors_output = plan.file(&anchors_path, "demo anchors");
     let outputs: Vec<_> = pictures

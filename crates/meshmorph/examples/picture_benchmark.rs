@@ -1,8 +1,9 @@
 //! A picture morph against the two baselines a user has: the arm sprite
 //! of `meshmorph demo` ([`arm_sprite`]: upper arm and forearm, striped
 //! across, a hand) turning its forearm by 150° at the elbow, with the
-//! demo's five anchors, then the same sprite drawn at 4096 × 4096 for the
-//! time and memory of a large morph.
+//! demo's seven anchors ([`arm_anchors`] and [`arm_fold_anchors`]) and
+//! with the five on the outlines alone, then the same sprite drawn at
+//! 4096 × 4096 (five anchors) for the time and memory of a large morph.
 //!
 //! `cargo run --release -p meshmorph --features render --example picture_benchmark [-- RUNS]`
 //! (RUNS 3 by default: the median of RUNS timings).
@@ -62,8 +63,8 @@ mod timing;
 use std::time::Instant;
 
 use meshmorph::io::picture::{
-    arm_anchors, arm_sprite, picture_drawing, picture_meshes, Picture, PictureMeshes,
-    ARM_SPRITE_SIZE,
+    arm_anchors, arm_fold_anchors, arm_sprite, picture_drawing, picture_meshes, Picture,
+    PictureMeshes, ARM_SPRITE_SIZE,
 };
 use meshmorph::outline::OutlineOptions;
 use meshmorph::render::PictureMorph;
@@ -88,13 +89,15 @@ struct Morph<'a> {
 }
 
 /// The straight arm and the arm bent by 150°, `size` pixels, and their
-/// anchors.
-fn arm_pair(size: (u32, u32)) -> (Picture, Picture, Vec<Vec<[f64; 2]>>) {
+/// anchors: the five on the outlines, and with `fold` the two at the
+/// elbow's fold (the demo's seven).
+fn arm_pair(size: (u32, u32), fold: bool) -> (Picture, Picture, Vec<Vec<[f64; 2]>>) {
     let bend = BEND_DEGREES.to_radians();
-    let anchors = arm_anchors(bend, size)
-        .iter()
-        .map(|(_, a, b)| vec![*a, *b])
-        .collect();
+    let mut named = arm_anchors(bend, size).to_vec();
+    if fold {
+        named.extend(arm_fold_anchors(bend, size));
+    }
+    let anchors = named.iter().map(|(_, a, b)| vec![*a, *b]).collect();
     (arm_sprite(0.0, size), arm_sprite(bend, size), anchors)
 }
 
@@ -273,8 +276,16 @@ impl Quality {
     }
 }
 
-fn quality() {
-    let (a, b, anchors) = arm_pair(ARM_SPRITE_SIZE);
+fn quality(fold: bool) {
+    println!(
+        "\n### With {}\n",
+        if fold {
+            "the demo's seven anchors: five on the outlines, two at the elbow's fold"
+        } else {
+            "the five anchors on the outlines"
+        }
+    );
+    let (a, b, anchors) = arm_pair(ARM_SPRITE_SIZE, fold);
     let (meshes, _) = meshes(&a, &b, &anchors);
     let (m, _) = morph(&a, &b, meshes);
     let (area_a, area_b) = (opaque_area(&a), opaque_area(&b));
@@ -313,8 +324,8 @@ fn quality() {
     // from its place in A to its place in B, which every frame shares out.
     let (between, between_worst, _) = frame_stretch(&m.meshes, pb, 0.0, &|_| true);
     println!(
-        "Quality: the arm sprite of `meshmorph demo` ({} × {}), its forearm turning {BEND_DEGREES}° at the elbow, five anchors, {FRAMES} frames; compatible meshes of {} triangles, whose map from A to B stretches {between:.3} on average, {between_worst:.2} at worst.\n",
-        a.width, a.height, report.triangles
+        "Quality: the arm sprite of `meshmorph demo` ({} × {}), its forearm turning {BEND_DEGREES}° at the elbow, {} anchors, {FRAMES} frames; compatible meshes of {} triangles, whose map from A to B stretches {between:.3} on average, {between_worst:.2} at worst.\n",
+        a.width, a.height, anchors.len(), report.triangles
     );
     println!("| method | area / straight blend | area / true arm | ghost, max | stretch, mean (max over frames) | stretch, worst | flipped |");
     println!("|---|---|---|---|---|---|---|");
@@ -387,7 +398,7 @@ fn quality() {
 
 fn speed(runs: usize) {
     let base = memory::resident_memory().unwrap_or(0);
-    let (a, b, anchors) = arm_pair((LARGE, LARGE));
+    let (a, b, anchors) = arm_pair((LARGE, LARGE), false);
     let bytes = (a.rgba.len() + b.rgba.len()) as f64;
     memory::reset_peak();
     let (meshes, [trace, compatible]) = meshes(&a, &b, &anchors);
@@ -447,6 +458,7 @@ fn main() {
         .map(|a| a.parse().expect("RUNS: a number of runs"))
         .unwrap_or(3)
         .max(1);
-    quality();
+    quality(true);
+    quality(false);
     speed(runs);
 }

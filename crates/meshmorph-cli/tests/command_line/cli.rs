@@ -2461,7 +2461,7 @@ fn demo_writes_everything_and_json_lines() {
             && r["parts"].as_array().is_some_and(|p| !p.is_empty())));
     assert!(reports.iter().any(|r| r["shape"] == "sprite"
         && r["frames_written"].as_u64() == Some(24)
-        && r["anchors"].as_u64() == Some(5)));
+        && r["anchors"].as_u64() == Some(7)));
     // The drawing morph: its two drawings and their anchors, 48 SVG frames,
     // the animated SVG and the GIF, and its report.
     let drawing = out.join("drawing");

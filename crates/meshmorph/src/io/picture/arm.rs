@@ -1,7 +1,8 @@
 //! A sprite made in code, for the demo, the tests and the benchmarks: an
 //! arm (upper arm and forearm, striped across, a hand at the end), its
-//! forearm bent at the elbow by any angle, and five points matched on the
-//! outlines of the straight arm and a bent one.
+//! forearm bent at the elbow by any angle, five points matched on the
+//! outlines of the straight arm and a bent one, and two more at the fold
+//! of the elbow.
 
 use super::Picture;
 
@@ -112,6 +113,33 @@ pub fn arm_anchors(bend: f64, size: (u32, u32)) -> [(&'static str, [f64; 2], [f6
             forearm,
         ),
         ("hand", [elbow_at[0] + tip, elbow_at[1]], hand),
+    ]
+    .map(|(name, a, b)| (name, scaled(a), scaled(b)))
+}
+
+/// Two more points matched where the arm folds, as a user who knows how an
+/// elbow bends marks them: bent, the forearm's upper side meets the upper
+/// arm's top in a corner, `half_width · tan(bend / 2)` along the forearm
+/// from the elbow; the straight arm's top edge from that corner to the
+/// forearm's side just past it (a quarter of a half width) folds away into
+/// the corner. The corner is the same point of the upper arm in both
+/// pictures; the other, the same point of the forearm. Without them the
+/// outline's length the fold takes is shared along the whole arm.
+pub fn arm_fold_anchors(bend: f64, size: (u32, u32)) -> [(&'static str, [f64; 2], [f64; 2]); 2] {
+    let s = arm_scale(size);
+    let (elbow, half_width) = (ELBOW, HALF_WIDTH);
+    let fold = half_width * (0.5 * bend).tan();
+    let top = elbow[1] - half_width;
+    let corner = [elbow[0] - half_width * bend.sin() + fold * bend.cos(), top];
+    let past = fold + 0.25 * half_width;
+    let forearm = [
+        elbow[0] - half_width * bend.sin() + past * bend.cos(),
+        elbow[1] - half_width * bend.cos() - past * bend.sin(),
+    ];
+    let scaled = |p: [f64; 2]| p.map(|v| v * s);
+    [
+        ("inner_elbow", corner, corner),
+        ("inner_forearm", [elbow[0] + past, top], forearm),
     ]
     .map(|(name, a, b)| (name, scaled(a), scaled(b)))
 }

@@ -31,7 +31,7 @@ mod outline;
 mod simplify;
 mod trace;
 
-pub use arm::{arm_anchors, arm_sprite, ARM_SPRITE_SIZE};
+pub use arm::{arm_anchors, arm_fold_anchors, arm_sprite, ARM_SPRITE_SIZE};
 #[cfg(feature = "render")]
 pub use decode::{decode_picture, read_picture, PictureFormat};
 pub use meshes::{picture_meshes, PictureMeshes};
