@@ -180,7 +180,8 @@ def morph_pictures(
     """One picture morphed into another: (frames, height, width, 4) uint8 RGBA frames, the first
     ``a`` and the last ``b``. Anchors: (k, 2, 2) or two (k, 2) arrays of pixel coordinates, x right
     and y down from each picture's top-left corner. With ``return_report``: (frames, report), the
-    report a dict: shape ("sprite" or "photo"), frame_size, outline_points, left_out, anchors,
+    report a dict: shape ("sprite" or "photo"), frame_size, outline_points, left_out,
+    faint_left_out (pixels under half opaque beyond an edge, which tracing leaves out), anchors,
     vertices, triangles, min_angle_degrees, text."""
     ...
 

@@ -154,6 +154,7 @@ struct Figures {
     frame_size: (u32, u32),
     outline_points: (usize, usize),
     left_out: (usize, usize),
+    faint_left_out: (usize, usize),
     anchors: usize,
     vertices: usize,
     triangles: usize,
@@ -173,6 +174,7 @@ impl Figures {
             frame_size: frames.size(),
             outline_points: (da.drawing.num_points(), db.drawing.num_points()),
             left_out: (da.left_out.len(), db.left_out.len()),
+            faint_left_out: (da.faint_left_out, db.faint_left_out),
             anchors: set.anchors.len(),
             vertices: set.meshes[0].num_vertices(),
             triangles: set.report.triangles,
@@ -187,6 +189,7 @@ impl Figures {
         d.set_item("frame_size", self.frame_size)?;
         d.set_item("outline_points", self.outline_points)?;
         d.set_item("left_out", self.left_out)?;
+        d.set_item("faint_left_out", self.faint_left_out)?;
         d.set_item("anchors", self.anchors)?;
         d.set_item("vertices", self.vertices)?;
         d.set_item("triangles", self.triangles)?;
@@ -217,7 +220,10 @@ impl Figures {
 /// `Interpolator`. With `return_report=True`, returns `(frames, report)`,
 /// the report a dict: `shape` ("sprite" or "photo"), `frame_size`,
 /// `outline_points`, `left_out` (regions left out of each picture: only
-/// the largest is morphed), `anchors`, `vertices`, `triangles`,
+/// the largest is morphed), `faint_left_out` (each picture's pixels under
+/// half opaque beyond an anti-aliased edge, a glow or a soft shadow, which
+/// tracing leaves out; `frame_only=True` keeps them), `anchors`,
+/// `vertices`, `triangles`,
 /// `min_angle_degrees` and `text`. The GIL is released during the work,
 /// and Ctrl-C stops it between frames.
 #[pyfunction]

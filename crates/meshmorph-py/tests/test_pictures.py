@@ -88,8 +88,14 @@ def test_report():
     assert report["triangles"] > 20 and report["vertices"] > 20
     assert min(report["min_angle_degrees"]) > 5
     assert report["anchors"] == 0 and report["left_out"] == (0, 0)
+    assert report["faint_left_out"] == (0, 0)
     assert all(n >= 8 for n in report["outline_points"])
     assert "triangles" in report["text"]
+    # A soft shadow under half opaque around b: counted as left out.
+    shadowed = b.copy()
+    shadowed[..., 3] = np.where(shadowed[..., 3] == 0, 50, shadowed[..., 3])
+    _, report = meshmorph.morph_pictures(a, shadowed, 2, return_report=True)
+    assert report["faint_left_out"][0] == 0 and report["faint_left_out"][1] > 1000
 
 
 def test_photos_with_anchors():
