@@ -185,33 +185,39 @@ pub(crate) enum TieBreak<'a> {
     Turn,
 }
 
-/// How far the points of `a` lie from those of `b` read from `start`, once
-/// `b`'s are laid onto `a`'s by a shift and a scale but no turn: sums of
-/// squares over `n` samples, over `a`'s squared size.
-fn turned_away(a: &ArcLoop, b: &ArcLoop, start: f64, n: usize) -> f64 {
-    let (pa, pb): (Vec<[f64; 2]>, Vec<[f64; 2]>) = (0..n)
+/// `n` points of `a` from its start and of `b` from `start`, evenly
+/// spaced by arc length, pair by pair.
+fn sampled(a: &ArcLoop, b: &ArcLoop, start: f64, n: usize) -> (Vec<[f64; 2]>, Vec<[f64; 2]>) {
+    (0..n)
         .map(|k| {
             let t = k as f64 / n as f64;
             (a.at(t), b.at(start + t))
         })
-        .unzip();
+        .unzip()
+}
+
+/// How far points `pa` lie from points `pb` once `pb` are laid onto them
+/// by a shift and a scale but no turn: the sum of squares over `pa`'s
+/// squared spread about its centre.
+fn turned_away(pa: &[[f64; 2]], pb: &[[f64; 2]]) -> f64 {
+    let n = pa.len() as f64;
     let mean = |p: &[[f64; 2]]| {
         let s = p.iter().fold([0.0, 0.0], |m, q| [m[0] + q[0], m[1] + q[1]]);
-        [s[0] / n as f64, s[1] / n as f64]
+        [s[0] / n, s[1] / n]
     };
-    let (ma, mb) = (mean(&pa), mean(&pb));
+    let (ma, mb) = (mean(pa), mean(pb));
     let spread = |p: &[[f64; 2]], m: [f64; 2]| -> f64 {
         p.iter()
             .map(|q| (q[0] - m[0]).powi(2) + (q[1] - m[1]).powi(2))
             .sum()
     };
-    let (sa, sb) = (spread(&pa, ma), spread(&pb, mb));
+    let (sa, sb) = (spread(pa, ma), spread(pb, mb));
     if sa <= 0.0 || sb <= 0.0 {
         return 0.0;
     }
     let k = (sa / sb).sqrt();
     pa.iter()
-        .zip(&pb)
+        .zip(pb)
         .map(|(p, q)| {
             let r = [ma[0] + k * (q[0] - mb[0]), ma[1] + k * (q[1] - mb[1])];
             (p[0] - r[0]).powi(2) + (p[1] - r[1]).powi(2)
@@ -237,37 +243,29 @@ fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, tie: Option<&TieBreak>
         .collect();
     scored.sort_by(|x, y| x.0.total_cmp(&y.0));
     // Where a tie-break is given: among the starts scored near the best
-    // (within a quarter of the way to the median score, or half the best
-    // score again, whichever is more: a loop with no features scores
-    // every start alike, up to where the samples fall), the one it
-    // prefers.
-    // How far a start moves the drawing by the tie-break, first, then how
-    // much it turns it.
+    // (`pick` says how near), the one it prefers: how far a start moves the
+    // drawing by the tie-break first, then how much it turns it.
     let moved = |start: f64| -> (f64, f64) {
-        let turn = || turned_away(a, b, start, coarse);
+        let Some(tie) = tie else {
+            return (0.0, 0.0);
+        };
+        let (pa, pb) = sampled(a, b, start, coarse);
         match tie {
-            Some(TieBreak::Frame(frame)) => (
-                (0..coarse)
-                    .map(|k| {
-                        let t = k as f64 / coarse as f64;
-                        let (p, q) = (a.at(t), frame.apply(b.at(start + t)));
+            TieBreak::Frame(frame) => (
+                pa.iter()
+                    .zip(&pb)
+                    .map(|(p, &q)| {
+                        let q = frame.apply(q);
                         (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)
                     })
                     .sum(),
                 0.0,
             ),
-            Some(TieBreak::Holes(holes_a, holes_b)) => {
-                let (pa, pb): (Vec<[f64; 2]>, Vec<[f64; 2]>) = (0..coarse)
-                    .map(|k| {
-                        let t = k as f64 / coarse as f64;
-                        (a.at(t), b.at(start + t))
-                    })
-                    .unzip();
-                let misplaced = holes_misplaced(holes_a, holes_b, &Similarity::of_points(&pa, &pb));
-                (misplaced, turn())
-            }
-            Some(TieBreak::Turn) => (0.0, turn()),
-            None => (0.0, 0.0),
+            TieBreak::Holes(holes_a, holes_b) => (
+                holes_misplaced(holes_a, holes_b, &Similarity::of_points(&pa, &pb)),
+                turned_away(&pa, &pb),
+            ),
+            TieBreak::Turn => (0.0, turned_away(&pa, &pb)),
         }
     };
     // Holes misplaced by less than a hundredth of the drawing's size each
@@ -286,7 +284,10 @@ fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, tie: Option<&TieBreak>
         // under 1 % of a loop's whole turn are how the samples happen to
         // fall between a round loop's points, not features.)
         let floor = 0.01 * std::f64::consts::TAU;
-        // The turn alone is weak evidence: it only picks among starts that
+        // A frame or holes to go by: within a quarter of the way to the
+        // median score, or half the best score again, whichever is more (a
+        // loop with no features scores every start alike, up to where the
+        // samples fall). The turn alone is weak evidence: it only picks among starts that
         // score alike but for how the samples fall. Where the median start
         // scores within 5 % of the best, no feature tells the starts apart
         // (a round loop's spread is about 1 %): any start up to twice that

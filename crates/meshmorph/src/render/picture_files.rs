@@ -63,6 +63,8 @@ pub fn write_apng(
 /// Writes frames as an animated GIF in the `order` shown, each shown for
 /// `delay`, played over and over: each frame's own 255 colours (NeuQuant), pixels
 /// under half alpha transparent, every frame drawn on a cleared page.
+/// Each frame is drawn and quantised once; one shown again later (on the
+/// way back of a boomerang) is kept compressed until its last showing.
 ///
 /// # Errors
 /// As [`write_apng`].
@@ -80,16 +82,31 @@ pub fn write_picture_gif(
     let mut enc = ::gif::Encoder::new(w, gw, gh, &[]).map_err(gif_error)?;
     enc.set_repeat(::gif::Repeat::Infinite).map_err(gif_error)?;
     let centis = (delay.as_millis() / 10).clamp(2, u128::from(u16::MAX)) as u16;
-    for &k in order {
-        let mut picture = frame(k);
-        check_size(&picture, width, height)?;
-        for p in picture.rgba.chunks_exact_mut(4) {
-            p[3] = if p[3] >= 128 { 255 } else { 0 };
-        }
-        let mut f = ::gif::Frame::from_rgba_speed(gw, gh, &mut picture.rgba, 10);
-        f.delay = centis;
-        f.dispose = ::gif::DisposalMethod::Background;
+    let count = order.iter().max().map_or(0, |&k| k + 1);
+    let mut last_shown = vec![0; count];
+    for (j, &k) in order.iter().enumerate() {
+        last_shown[k] = j;
+    }
+    let mut kept: Vec<Option<::gif::Frame<'static>>> = vec![None; count];
+    for (j, &k) in order.iter().enumerate() {
+        let f = match kept[k].take() {
+            Some(f) => f,
+            None => {
+                let mut picture = frame(k);
+                check_size(&picture, width, height)?;
+                for p in picture.rgba.chunks_exact_mut(4) {
+                    p[3] = if p[3] >= 128 { 255 } else { 0 };
+                }
+                let mut f = ::gif::Frame::from_rgba_speed(gw, gh, &mut picture.rgba, 10);
+                f.delay = centis;
+                f.dispose = ::gif::DisposalMethod::Background;
+                f
+            }
+        };
         enc.write_frame(&f).map_err(gif_error)?;
+        if last_shown[k] > j {
+            kept[k] = Some(f);
+        }
     }
     Ok(())
 }
