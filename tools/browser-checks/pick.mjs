@@ -78,6 +78,9 @@ try {
       const at = await project('target', point);
       await page.mouse.click(at.x, at.y);
       await page.evaluate(() => new Promise((ok) => requestAnimationFrame(() => requestAnimationFrame(ok))));
+      // The skipped landmark, asked again once every other one had been
+      // asked, is placed: the round is over.
+      if (next.name === skip) break;
     }
     result.asked = asked;
     result.guide_text = await page.evaluate(() => document.getElementById('guide').innerText);

@@ -1,9 +1,10 @@
-// Opens a GLB in headless Chromium with three.js's GLTFLoader, plays its
-// animation to the start, the middle and the end, and checks from the
-// rendered pixels that the mesh is drawn and moves. Saves a screenshot of
-// each time to OUTDIR.
+// Opens each GLB in headless Chromium with three.js's GLTFLoader (one
+// browser, a page for each), plays its animation to the start, the middle
+// and the end, and checks from the rendered pixels that the mesh is drawn
+// and moves. Saves a screenshot of each time to OUTDIR, and prints a
+// paragraph for each file, starting with its name.
 //
-//   node render.mjs FILE.glb OUTDIR [--chromium PATH]
+//   node render.mjs FILE.glb... OUTDIR [--chromium PATH]
 //
 // Exits 0 when the checks pass, 1 when they fail, 2 on a usage or setup error.
 import { createServer } from 'node:http';
@@ -16,19 +17,23 @@ const here = dirname(fileURLToPath(import.meta.url));
 const args = process.argv.slice(2);
 const chromiumAt = args.indexOf('--chromium');
 const chromium = chromiumAt >= 0 ? args.splice(chromiumAt, 2)[1] : process.env.CHROMIUM ?? '/usr/bin/chromium';
-if (args.length !== 2) {
-  console.error('usage: node render.mjs FILE.glb OUTDIR [--chromium PATH]');
+if (args.length < 2) {
+  console.error('usage: node render.mjs FILE.glb... OUTDIR [--chromium PATH]');
   process.exit(2);
 }
-const [glb, outdir] = args.map((a) => resolve(a));
+const paths = args.map((a) => resolve(a));
+const outdir = paths.pop();
+const glbs = paths;
 await mkdir(outdir, { recursive: true });
 
 const TYPES = { '.html': 'text/html', '.js': 'text/javascript', '.glb': 'model/gltf-binary' };
-// Serves this folder (the page, three.js) and the one GLB, on loopback only.
+// Serves this folder (the page, three.js) and the GLBs named (/model/K.glb
+// the K-th), on loopback only.
 const server = createServer(async (req, res) => {
   const path = decodeURIComponent(new URL(req.url, 'http://127.0.0.1').pathname);
-  const file = path === '/model.glb' ? glb : join(here, path);
-  if (!file.startsWith(here) && file !== glb) {
+  const model = path.match(/^\/model\/(\d+)\.glb$/);
+  const file = model ? glbs[Number(model[1])] : join(here, path);
+  if (!file || (!model && !file.startsWith(here))) {
     res.writeHead(403).end();
     return;
   }
@@ -49,12 +54,20 @@ const browser = await puppeteer.launch({
 });
 let failed = false;
 try {
+  for (const [k, glb] of glbs.entries()) await check(k, glb);
+} finally {
+  await browser.close();
+  server.close();
+}
+process.exit(failed ? 1 : 0);
+
+async function check(k, glb) {
   const page = await browser.newPage();
   const errors = [];
   page.on('pageerror', (e) => errors.push(e.message));
   page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
   await page.setViewport({ width: 480, height: 360 });
-  await page.goto(`http://127.0.0.1:${port}/view.html?file=/model.glb&width=480&height=360`);
+  await page.goto(`http://127.0.0.1:${port}/view.html?file=/model/${k}.glb&width=480&height=360`);
   const info = await page.evaluate(async () => {
     const m = await window.meshmorph;
     return { duration: m.duration, targets: m.targets, targetNames: m.targetNames };
@@ -85,8 +98,6 @@ try {
     console.log(`  page errors:\n    ${errors.join('\n    ')}`);
     failed = true;
   }
-} finally {
-  await browser.close();
-  server.close();
+  console.log('');
+  await page.close();
 }
-process.exit(failed ? 1 : 0);

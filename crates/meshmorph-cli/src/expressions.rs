@@ -147,6 +147,24 @@ pub struct PartLine {
     pub follows: Option<String>,
 }
 
+/// The separate parts grouped by the template part they follow (none: they
+/// stay still), in the order the parts come: `(followed, parts, vertices)`.
+/// Teeth come as many pieces; the report says one line for them all.
+fn by_part_followed(parts: &[PartLine]) -> Vec<(Option<&str>, usize, usize)> {
+    let mut followed: Vec<(Option<&str>, usize, usize)> = Vec::new();
+    for p in parts {
+        let follows = p.follows.as_deref();
+        match followed.iter_mut().find(|(f, ..)| *f == follows) {
+            Some((_, pieces, vertices)) => {
+                *pieces += 1;
+                *vertices += p.vertices;
+            }
+            None => followed.push((follows, 1, p.vertices)),
+        }
+    }
+    followed
+}
+
 /// What a run did.
 #[derive(Debug, Serialize)]
 pub struct Report {
@@ -203,13 +221,16 @@ impl Report {
                 }
             );
         }
-        for p in &self.parts {
-            match &p.follows {
-                Some(name) => say!("part: {} moving with {name}", output::vertices(p.vertices)),
-                None => say!(
-                    "part: {} with no template part near: it stays still",
-                    output::vertices(p.vertices)
-                ),
+        for (follows, pieces, vertices) in by_part_followed(&self.parts) {
+            let what = if pieces == 1 {
+                format!("part: {}", output::vertices(vertices))
+            } else {
+                format!("parts: {pieces} of {} in all", output::vertices(vertices))
+            };
+            match follows {
+                Some(name) => say!("{what} moving with {name}"),
+                None if pieces == 1 => say!("{what} with no template part near: it stays still"),
+                None => say!("{what} with no template part near: they stay still"),
             }
         }
         let mut largest: Vec<&ShapeLine> = self.shapes.iter().collect();
@@ -680,5 +701,35 @@ impl Report {
         self.warnings = warnings;
         self.total_seconds = start.elapsed().as_secs_f64();
         self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parts_are_told_once_for_each_template_part_they_follow() {
+        let part = |vertices, follows: Option<&str>| PartLine {
+            vertices,
+            follows: follows.map(str::to_string),
+        };
+        let parts = [
+            part(100, Some("gumsTongue")),
+            part(10, Some("teethUpper")),
+            part(12, None),
+            part(11, Some("teethUpper")),
+            part(3, None),
+            part(7, Some("eyeLeft")),
+        ];
+        assert_eq!(
+            by_part_followed(&parts),
+            [
+                (Some("gumsTongue"), 1, 100),
+                (Some("teethUpper"), 2, 21),
+                (None, 2, 15),
+                (Some("eyeLeft"), 1, 7),
+            ]
+        );
     }
 }

@@ -418,22 +418,23 @@ fn three_js_in_chromium_draws_the_animation_moving() {
     let shots = dir.join("screenshots");
     // The planar interpolation and the transfer, both animated, and the
     // quantised and sparse variants.
-    for glb in glbs
+    let animated: Vec<&Path> = glbs
         .iter()
         .filter(|g| !g.ends_with("transfer-shapes.glb") && !g.ends_with("transfer-uvs.glb"))
-    {
-        render(glb, &shots);
-    }
+        .map(PathBuf::as_path)
+        .collect();
+    render(&animated, &shots);
     println!("screenshots in {}", shots.display());
 }
 
-/// `tools/browser-checks/render.mjs` on `glb`, screenshots into `shots`:
-/// three.js's GLTFLoader in headless Chromium draws it at the start, the
-/// middle and the end of its animation, and it moves. Its report.
-fn render(glb: &Path, shots: &Path) -> String {
+/// `tools/browser-checks/render.mjs` on `glbs` (one browser for them all),
+/// screenshots into `shots`: three.js's GLTFLoader in headless Chromium
+/// draws each at the start, the middle and the end of its animation, and
+/// it moves. Its report on each, in their order.
+fn render(glbs: &[&Path], shots: &Path) -> Vec<String> {
     let out = Command::new("node")
         .arg(tools().join("render.mjs"))
-        .arg(glb)
+        .args(glbs)
         .arg(shots)
         .env("CHROMIUM", which(&chromium()))
         .output()
@@ -441,7 +442,18 @@ fn render(glb: &Path, shots: &Path) -> String {
     let report = String::from_utf8_lossy(&out.stdout).into_owned();
     println!("{report}{}", String::from_utf8_lossy(&out.stderr));
     assert!(out.status.success(), "three.js check failed:\n{report}");
-    report
+    // A paragraph a file, each starting with the file's name.
+    let reports: Vec<String> = report
+        .split("\n\n")
+        .filter(|p| !p.trim().is_empty())
+        .map(str::to_string)
+        .collect();
+    assert_eq!(reports.len(), glbs.len(), "{report}");
+    for (glb, paragraph) in glbs.iter().zip(&reports) {
+        let name = glb.file_name().unwrap().to_string_lossy();
+        assert!(paragraph.starts_with(&format!("{name}: ")), "{report}");
+    }
+    reports
 }
 
 /// three.js in headless Chromium on the written-back GLB and VRMs (a
@@ -452,11 +464,12 @@ fn three_js_in_chromium_reads_written_back_glb_and_vrm() {
     let dir = out_dir("gltf-written-back-chromium");
     let (pairs, _) = write_backs(&dir);
     let shots = dir.join("screenshots");
-    for pair in pairs
+    let drawn: Vec<&WrittenBack> = pairs
         .iter()
         .filter(|p| p.output.extension().is_some_and(|e| e != "gltf"))
-    {
-        let report = render(&pair.output, &shots);
+        .collect();
+    let outputs: Vec<&Path> = drawn.iter().map(|p| p.output.as_path()).collect();
+    for (pair, report) in drawn.iter().zip(render(&outputs, &shots)) {
         let names = format!("3 morph targets (Smile, {})", pair.added.join(", "));
         assert!(
             report.contains(&names),
