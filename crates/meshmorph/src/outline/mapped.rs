@@ -11,6 +11,7 @@
 //! positive in both meshes and falls back to the overlay otherwise.
 
 use std::collections::HashSet;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use spade::handles::FixedVertexHandle;
 use spade::{
@@ -255,7 +256,7 @@ pub(crate) fn map_into(
     a: &[[f64; 2]],
     triangles: &[[u32; 3]],
     b_boundary: &[[f64; 2]],
-    patience: Patience,
+    patience: Patience<'_>,
 ) -> Vec<[f64; 2]> {
     let b = place_inside(a, b_boundary, triangles);
     untangle(a, triangles, b, b_boundary.len(), patience)
@@ -263,26 +264,44 @@ pub(crate) fn map_into(
 
 /// How long the untangling keeps going: at most `rounds` rounds of
 /// L-BFGS with one regularisation each, and it gives up once `stall`
-/// rounds in a row have not made the turned-over triangles fewer.
+/// rounds in a row have not made the turned-over triangles fewer, or
+/// when `called_off` is set (another try has already given what this one
+/// would be for).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Patience {
+pub(crate) struct Patience<'a> {
     pub(crate) rounds: usize,
     pub(crate) stall: usize,
+    pub(crate) called_off: Option<&'a AtomicBool>,
 }
 
-impl Patience {
+impl<'a> Patience<'a> {
     /// Enough for like drawings, and a quick give-up on hard pairs.
-    pub(crate) const SHORT: Self = Self {
+    pub(crate) const SHORT: Patience<'static> = Patience {
         rounds: 30,
         stall: 6,
+        called_off: None,
     };
     /// For unlike drawings (a fat shape into a thin spiral band), whose
     /// untangling goes on shrinking the turned-over triangles for
     /// hundreds of rounds before the last one turns up.
-    pub(crate) const LONG: Self = Self {
+    pub(crate) const LONG: Patience<'static> = Patience {
         rounds: 400,
         stall: 40,
+        called_off: None,
     };
+
+    /// The same patience, given up as soon as `flag` is set.
+    pub(crate) fn unless<'b>(self, flag: &'b AtomicBool) -> Patience<'b> {
+        Patience {
+            rounds: self.rounds,
+            stall: self.stall,
+            called_off: Some(flag),
+        }
+    }
+
+    fn called_off(&self) -> bool {
+        self.called_off.is_some_and(|f| f.load(Ordering::Relaxed))
+    }
 }
 
 /// Moves the vertices from `n` on of `b` (the first `n` stay where they
@@ -300,7 +319,7 @@ pub(crate) fn untangle(
     triangles: &[[u32; 3]],
     mut b: Vec<[f64; 2]>,
     n: usize,
-    patience: Patience,
+    patience: Patience<'_>,
 ) -> Vec<[f64; 2]> {
     if b.len() == n {
         return b;
@@ -314,6 +333,9 @@ pub(crate) fn untangle(
     let mut e_prev = energy.eval(&b, eps, None);
     let (mut fewest, mut stalled) = (usize::MAX, 0);
     for _ in 0..patience.rounds {
+        if patience.called_off() {
+            break;
+        }
         let e = {
             let b = &mut b;
             let grad = &mut grad;
@@ -473,7 +495,7 @@ pub(crate) fn compatible(
     loop_start: &[usize],
     rings: usize,
     angle_degrees: f64,
-    patience: Patience,
+    patience: Patience<'_>,
 ) -> Option<super::Positioned> {
     let steiner = rings_around_anchors(&fixed[source], loop_start, rings);
     let refined = refine(&fixed[source], loop_start, &steiner, angle_degrees)?;

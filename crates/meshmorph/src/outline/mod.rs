@@ -58,6 +58,7 @@ mod settle;
 #[cfg(test)]
 mod tests;
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -597,20 +598,41 @@ pub fn compatible_set(
             }
             // Every source of the pass at once (on the machine's cores),
             // then taken in order as one after the other would be: the
-            // same meshes whatever the number of threads.
+            // same meshes whatever the number of threads. A source taken
+            // (any valid meshes after the first pass, good enough angles
+            // in it) calls off the sources after it, which would not be
+            // looked at: on one core a thin drawing's quick success no
+            // longer waits for a fat one's long failure.
+            let called_off: Vec<AtomicBool> =
+                sources.iter().map(|_| AtomicBool::new(false)).collect();
+            let taken = |k: usize| {
+                for later in &called_off[k + 1..] {
+                    later.store(true, Ordering::Relaxed);
+                }
+            };
             let tried: Vec<Option<Candidate>> = sources
                 .par_iter()
-                .map(|&source| {
+                .enumerate()
+                .map(|(k, &source)| {
+                    if called_off[k].load(Ordering::Relaxed) {
+                        return None;
+                    }
                     let (mut meshes, mut triangles) = mapped::compatible(
                         &fixed,
                         source,
                         &boundary.loop_start,
                         rings,
                         options.mapped_angle_degrees,
-                        patience,
+                        patience.unless(&called_off[k]),
                     )?;
+                    if pass > 0 {
+                        taken(k);
+                    }
                     let (_, angles) =
                         improve_set(&mut meshes, &mut triangles, n + inside, n, options);
+                    if worst(&angles) >= accept {
+                        taken(k);
+                    }
                     Some(Candidate {
                         meshes,
                         triangles,

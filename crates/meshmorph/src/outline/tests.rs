@@ -917,3 +917,30 @@ fn round_shapes_are_not_spun() {
         }
     }
 }
+
+/// The sources are tried at once, and a source taken calls off the ones
+/// after it: whatever the number of threads, the same meshes, on an
+/// unlike pair whose first quick pass fails and on a like one.
+#[test]
+fn the_meshes_do_not_depend_on_the_number_of_threads() {
+    let pairs = [
+        (vec![star(100, 3)], vec![thick_curl(120)]),
+        (vec![c_shape(120, false)], vec![c_shape(90, true)]),
+    ];
+    for (a, b) in pairs {
+        let drawings = [Drawing::new(a).unwrap(), Drawing::new(b).unwrap()];
+        let with = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| compatible_set(&drawings, &[], &OutlineOptions::default()).unwrap())
+        };
+        let (one, two) = (with(1), with(2));
+        assert_eq!(one.report.path, two.report.path);
+        for (m, n) in one.meshes.iter().zip(&two.meshes) {
+            assert_eq!(m.triangles(), n.triangles());
+            assert_eq!(m.positions(), n.positions());
+        }
+    }
+}
