@@ -535,7 +535,10 @@ fn animate(
         bail!("--turns applies to two keys only: a sequence's whole turns come from its keys");
     }
     crate::memory::check_setup(first.num_triangles(), "the interpolation")?;
-    let options = args.frames.options();
+    // A drawing's frames are mended where the fit turns triangles over
+    // (the outline stays as it is): the meshes, GLB and pictures show the
+    // inside.
+    let options = args.frames.options().with_mend_folds(true);
     let (interpolator, sequence);
     let morph: &Sequence<2> = if set.meshes.len() == 2 {
         interpolator = Interpolator::new(&set.meshes[0], &set.meshes[1], &options)?;

@@ -56,6 +56,23 @@ pub(crate) fn options(
         .with_stretch(stretch))
 }
 
+/// [`options`] with `mend_folds` (planar frames mended where triangles
+/// turn over; default off).
+fn frame_options(
+    consistency: Option<&Bound<'_, PyAny>>,
+    turns: Option<&Bound<'_, PyAny>>,
+    stretch: Option<&Bound<'_, PyAny>>,
+    mend_folds: Option<&Bound<'_, PyAny>>,
+) -> PyResult<InterpolatorOptions> {
+    Ok(
+        options(consistency, turns, stretch)?.with_mend_folds(args::flag(
+            "mend_folds",
+            mend_folds,
+            false,
+        )?),
+    )
+}
+
 /// Keys of one dimension (checked by [`dimension`]) with the faces
 /// `triangles`, each checked, named in messages as given.
 fn keys<const D: usize>(
@@ -120,14 +137,19 @@ fn dimension(named: &[(String, Points)]) -> PyResult<usize> {
 /// Levin 2000; rotations made consistent across the mesh, Baxter, Barla and
 /// Anjyo 2008). Vertices `(n, 2)` or `(n, 3)`, faces `(m, 3)`. Factored once;
 /// `at(t)` is one back-substitution; `frames(ts)` runs in parallel.
+/// `mend_folds=True` (planar): a frame in which triangles turn over is mended
+/// where they are, its outline kept, as drawings' compatible meshes want.
 #[pyclass(name = "Interpolator", module = "meshmorph", frozen)]
 pub struct PyInterpolator(Either<Interpolator<2>, Interpolator<3>>);
 
 #[pymethods]
 impl PyInterpolator {
     #[new]
-    #[pyo3(signature = (v0, v1, f, *, consistency = None, turns = None, stretch = None))]
-    #[pyo3(text_signature = "(v0, v1, f, *, consistency=True, turns=0, stretch='linear')")]
+    #[allow(clippy::too_many_arguments)] // the keyword arguments Python takes
+    #[pyo3(signature = (v0, v1, f, *, consistency = None, turns = None, stretch = None, mend_folds = None))]
+    #[pyo3(
+        text_signature = "(v0, v1, f, *, consistency=True, turns=0, stretch='linear', mend_folds=False)"
+    )]
     fn new(
         py: Python<'_>,
         v0: &Bound<'_, PyAny>,
@@ -136,8 +158,9 @@ impl PyInterpolator {
         consistency: Option<&Bound<'_, PyAny>>,
         turns: Option<&Bound<'_, PyAny>>,
         stretch: Option<&Bound<'_, PyAny>>,
+        mend_folds: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let options = options(consistency, turns, stretch)?;
+        let options = frame_options(consistency, turns, stretch, mend_folds)?;
         let named = vec![
             ("v0".to_string(), arrays::points("v0", v0)?),
             ("v1".to_string(), arrays::points("v1", v1)?),
@@ -204,8 +227,10 @@ fn stacked(arg: &str, a: &Bound<'_, PyAny>, triangles: usize) -> PyResult<Vec<(S
 #[pymethods]
 impl PySequence {
     #[new]
-    #[pyo3(signature = (keys, f, *, consistency = None, turns = None, stretch = None))]
-    #[pyo3(text_signature = "(keys, f, *, consistency=True, turns=0, stretch='linear')")]
+    #[pyo3(signature = (keys, f, *, consistency = None, turns = None, stretch = None, mend_folds = None))]
+    #[pyo3(
+        text_signature = "(keys, f, *, consistency=True, turns=0, stretch='linear', mend_folds=False)"
+    )]
     fn new(
         py: Python<'_>,
         keys: &Bound<'_, PyAny>,
@@ -213,8 +238,9 @@ impl PySequence {
         consistency: Option<&Bound<'_, PyAny>>,
         turns: Option<&Bound<'_, PyAny>>,
         stretch: Option<&Bound<'_, PyAny>>,
+        mend_folds: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let options = options(consistency, turns, stretch)?;
+        let options = frame_options(consistency, turns, stretch, mend_folds)?;
         let triangles = arrays::faces("f", f)?;
         let named = stacked("keys", keys, triangles.len())?;
         if named.len() < 2 {

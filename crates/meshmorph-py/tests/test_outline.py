@@ -168,3 +168,44 @@ def test_refusals(drawings, anchors, message):
         meshmorph.compatible_meshes(drawings, anchors)
     assert message in str(e.value)
     assert isinstance(e.value, ValueError)
+
+
+def spiral_band(n=160, width=0.12):
+    """A thick band along a spiral, n points round, counter-clockwise."""
+    def centre(t):
+        a = 0.5 + 3.2 * np.pi * t
+        r = 0.3 + 0.25 * a
+        return np.stack([r * np.cos(a), r * np.sin(a)], axis=-1)
+
+    def side(t, sign):
+        d = centre(np.minimum(t + 1e-4, 1.0)) - centre(np.maximum(t - 1e-4, 0.0))
+        d /= np.linalg.norm(d, axis=-1, keepdims=True)
+        return centre(t) + sign * width * np.stack([-d[:, 1], d[:, 0]], axis=-1)
+
+    half = n // 2
+    t = np.linspace(0.0, 1.0, half)
+    return np.concatenate([side(t, -1.0), side(t[::-1][: n - half], 1.0)])
+
+
+def test_mend_folds_leaves_no_triangle_turned_over_inside_and_keeps_the_outline():
+    """A round drawing into a thin spiral band: the fit turns triangles over
+    inside; mend_folds=True moves the inside only where they are."""
+    a, b = [blob(90)], [spiral_band()]
+    result = meshmorph.compatible_meshes([a, b])
+    v0, v1 = result.vertices
+    f = result.triangles
+    fit = meshmorph.Interpolator(v0, v1, f)
+    mended = meshmorph.Interpolator(v0, v1, f, mend_folds=True)
+    outline = np.concatenate(result.loops)
+    inside = ~np.isin(f, outline).any(axis=1)
+    ts = np.linspace(0.0, 1.0, 11)
+    x, y = fit.frames(ts), mended.frames(ts)
+    turned = lambda v: signed_areas(v, f) <= 0
+    assert sum(turned(k).sum() for k in x) > 0, "the pair no longer folds: choose another"
+    for k, (xk, yk) in enumerate(zip(x, y)):
+        assert not (turned(yk) & inside).any(), f"frame {k}"
+        np.testing.assert_array_equal(xk[outline], yk[outline])
+        if not turned(xk).any():
+            np.testing.assert_array_equal(xk, yk)
+    with pytest.raises(meshmorph.MeshmorphError, match="mend_folds"):
+        meshmorph.Interpolator(v0, v1, f, mend_folds="yes")

@@ -497,10 +497,11 @@ fn measure(frames: &[Loops], pair: &Pair) -> Measures {
 fn morph(pair: &Pair) -> meshmorph::Result<(CompatibleSet, Interpolator<2>)> {
     let drawings = [Drawing::new(pair.a.clone())?, Drawing::new(pair.b.clone())?];
     let set = compatible_set(&drawings, &[], &OutlineOptions::default())?;
+    // As the command line morphs drawings: folds mended.
     let morph = Interpolator::new(
         &set.meshes[0],
         &set.meshes[1],
-        &InterpolatorOptions::default(),
+        &InterpolatorOptions::default().with_mend_folds(true),
     )?;
     Ok((set, morph))
 }

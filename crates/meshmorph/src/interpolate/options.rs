@@ -43,6 +43,18 @@ pub struct InterpolatorOptions {
     pub allow_flips: bool,
     /// Which Cholesky variant factors the system. Default [`FactorKind::Auto`].
     pub factor: FactorKind,
+    /// Planar only: a frame in which triangles turn over is mended where
+    /// they are. The inner vertices within two rings of them (then four,
+    /// eight, sixteen) are moved until every triangle is positive, by the
+    /// untangling that makes compatible meshes (the foldover-free energy of
+    /// Garanzha et al. 2021, against the first key's triangles); the rest
+    /// of the frame, and its outline always, stay as the fit made them. A
+    /// frame with nothing turned over is unchanged (one pass over its
+    /// triangles tells). Default `false`: the published method's frames.
+    /// Drawings and pictures turn it on: where a drawing's maps disagree a
+    /// great deal (a round shape into a thin curl) the fit turns a few
+    /// triangles over inside an outline that stays whole.
+    pub mend_folds: bool,
 }
 
 impl Default for InterpolatorOptions {
@@ -53,6 +65,7 @@ impl Default for InterpolatorOptions {
             stretch: StretchMode::Linear,
             allow_flips: false,
             factor: FactorKind::Auto,
+            mend_folds: false,
         }
     }
 }
@@ -81,6 +94,11 @@ impl InterpolatorOptions {
     /// Sets [`InterpolatorOptions::factor`].
     pub fn with_factor(mut self, kind: FactorKind) -> Self {
         self.factor = kind;
+        self
+    }
+    /// Sets [`InterpolatorOptions::mend_folds`].
+    pub fn with_mend_folds(mut self, on: bool) -> Self {
+        self.mend_folds = on;
         self
     }
 }

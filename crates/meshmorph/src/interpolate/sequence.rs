@@ -55,6 +55,7 @@ use crate::linalg::matrix::{identity, lerp, mul, Mat};
 use crate::linalg::Space;
 use crate::mesh::topology::TriangleAdjacency;
 use crate::mesh::Mesh;
+use crate::outline::FrameMender;
 
 /// Eigenvalues of stretches below this are raised to it before logarithms
 /// and powers.
@@ -281,6 +282,9 @@ where
     /// to the bit, and the vertices no triangle uses move on straight lines
     /// between them.
     later: Vec<Vec<[f64; D]>>,
+    /// Mends the frames where triangles turn over
+    /// ([`InterpolatorOptions::mend_folds`]; planar only).
+    mender: Option<FrameMender>,
 }
 
 impl<const D: usize> Sequence<D>
@@ -338,7 +342,9 @@ where
         );
         let rest = Arc::new(rest?);
         let (segments, last) = segments?;
-        Ok((Self::build(rest, adjacency, later_keys, segments), last))
+        let mut sequence = Self::build(rest, adjacency, later_keys, segments);
+        sequence.mender = mender(first, options);
+        Ok((sequence, last))
     }
 
     /// The sequence from the rest system's source (key 0) through
@@ -376,7 +382,10 @@ where
         options: &InterpolatorOptions,
     ) -> Result<(Self, Vec<Log<D>>)> {
         let (segments, last) = segments(rest.source(), &adjacency, later_keys, options)?;
-        Ok((Self::build(rest, adjacency, later_keys, segments), last))
+        let mender = mender(rest.source(), options);
+        let mut sequence = Self::build(rest, adjacency, later_keys, segments);
+        sequence.mender = mender;
+        Ok((sequence, last))
     }
 
     fn build(
@@ -413,6 +422,7 @@ where
             attached,
             offsets,
             later,
+            mender: None,
         }
     }
 
@@ -665,6 +675,11 @@ where
                 out[v as usize] = std::array::from_fn(|i| if a[i] == b[i] { a[i] } else { c[i] });
             }
         }
+        if let Some(mender) = &self.mender {
+            for out in outs.iter_mut() {
+                mender.mend(bytemuck::cast_slice_mut(out));
+            }
+        }
         ws.turns = turns_at;
     }
 
@@ -698,6 +713,15 @@ where
 /// and the logarithms of the last key's rotations.
 /// Refuses what no sequence of `later` keys after the first can take:
 /// none, or `turns` beyond two planar keys.
+/// The mender of frames of `first`'s triangles, when the options ask for
+/// one and the meshes are planar.
+fn mender<const D: usize>(first: &Mesh<D>, options: &InterpolatorOptions) -> Option<FrameMender> {
+    (options.mend_folds && D == 2).then(|| {
+        let positions: &[[f64; 2]] = bytemuck::cast_slice(first.positions());
+        FrameMender::new(positions, first.triangles())
+    })
+}
+
 fn check_arguments<const D: usize>(later: usize, options: &InterpolatorOptions) -> Result<()> {
     if later == 0 {
         return Err(Error::InvalidArgument(

@@ -53,6 +53,7 @@ mod holes;
 mod improve;
 mod lbfgs;
 mod mapped;
+mod mend;
 mod overlay;
 mod settle;
 #[cfg(test)]
@@ -64,6 +65,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 pub use drawing::Drawing;
+pub(crate) use mend::FrameMender;
 
 use self::boundary::{match_loops, MatchedPoint, TieBreak};
 use self::geometry::{dist, lerp, point_segment_distance, ArcLoop};

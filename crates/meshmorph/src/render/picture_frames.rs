@@ -40,7 +40,9 @@ pub struct PictureMorphOptions {
     /// blend goes from the first picture to the second. Default `None`:
     /// over the whole morph.
     pub dissolve: Option<[f64; 2]>,
-    /// The interpolation of the meshes. Default: its own defaults.
+    /// The interpolation of the meshes. Default: its own defaults with
+    /// [`InterpolatorOptions::mend_folds`] on (a triangle turned over
+    /// would draw its piece of picture twice).
     pub interpolation: InterpolatorOptions,
     /// How the compatible meshes are made. Default: its own defaults.
     pub outline: OutlineOptions,
@@ -54,7 +56,7 @@ impl Default for PictureMorphOptions {
             min_area: 16.0,
             frame_size: None,
             dissolve: None,
-            interpolation: InterpolatorOptions::default(),
+            interpolation: InterpolatorOptions::default().with_mend_folds(true),
             outline: OutlineOptions::default(),
         }
     }
