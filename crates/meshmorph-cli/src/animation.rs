@@ -37,6 +37,18 @@ pub struct FrameOutputs {
 }
 
 impl FrameOutputs {
+    /// Whether an output shows the meshes' insides (frames written as
+    /// meshes, their SVG pictures, the GIF, the PNG, the GLB), not only
+    /// their outlines (a drawing's SVG or text frames).
+    pub fn shows_inside(&self) -> bool {
+        let mesh_frames = !self.meshes.is_empty() && !matches!(self.ext, "svg" | "txt");
+        mesh_frames
+            || !self.svgs.is_empty()
+            || self.gif.is_some()
+            || self.png.is_some()
+            || self.gltf.is_some()
+    }
+
     /// Adds the frames (and SVGs, GIF, PNG, GLB) of `count` frames in `dir`
     /// to `plan`.
     pub fn plan(

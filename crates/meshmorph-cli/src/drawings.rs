@@ -536,9 +536,14 @@ fn animate(
     }
     crate::memory::check_setup(first.num_triangles(), "the interpolation")?;
     // A drawing's frames are mended where the fit turns triangles over
-    // (the outline stays as it is): the meshes, GLB and pictures show the
-    // inside.
-    let options = args.frames.options().with_mend_folds(true);
+    // (the outline stays as it is) when an output shows the inside: outlines
+    // alone (SVG and text frames, the animated SVG, Lottie) are the same
+    // either way, and mending an unlike pair's frame can take a good part
+    // of a second.
+    let options = args
+        .frames
+        .options()
+        .with_mend_folds(outputs.frames.shows_inside());
     let (interpolator, sequence);
     let morph: &Sequence<2> = if set.meshes.len() == 2 {
         interpolator = Interpolator::new(&set.meshes[0], &set.meshes[1], &options)?;
