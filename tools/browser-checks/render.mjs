@@ -9,7 +9,7 @@
 // Exits 0 when the checks pass, 1 when they fail, 2 on a usage or setup error.
 import { createServer } from 'node:http';
 import { readFile, mkdir } from 'node:fs/promises';
-import { basename, dirname, extname, join, resolve } from 'node:path';
+import { basename, dirname, extname, join, relative, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import puppeteer from 'puppeteer-core';
 
@@ -30,10 +30,16 @@ const TYPES = { '.html': 'text/html', '.js': 'text/javascript', '.glb': 'model/g
 // Serves this folder (the page, three.js) and the GLBs named (/model/K.glb
 // the K-th), on loopback only.
 const server = createServer(async (req, res) => {
-  const path = decodeURIComponent(new URL(req.url, 'http://127.0.0.1').pathname);
+  let path;
+  try {
+    path = decodeURIComponent(new URL(req.url, 'http://127.0.0.1').pathname);
+  } catch {
+    res.writeHead(400).end();
+    return;
+  }
   const model = path.match(/^\/model\/(\d+)\.glb$/);
   const file = model ? glbs[Number(model[1])] : join(here, path);
-  if (!file || (!model && !file.startsWith(here))) {
+  if (!file || (!model && relative(here, file).startsWith('..'))) {
     res.writeHead(403).end();
     return;
   }

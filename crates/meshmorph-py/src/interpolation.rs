@@ -138,7 +138,8 @@ fn dimension(named: &[(String, Points)]) -> PyResult<usize> {
 /// Anjyo 2008). Vertices `(n, 2)` or `(n, 3)`, faces `(m, 3)`. Factored once;
 /// `at(t)` is one back-substitution; `frames(ts)` runs in parallel.
 /// `mend_folds=True` (planar): a frame in which triangles turn over is mended
-/// where they are, its outline kept, as drawings' compatible meshes want.
+/// where they are, its outline kept, as drawings' compatible meshes want
+/// (such a frame then takes more than its back-substitution).
 #[pyclass(name = "Interpolator", module = "meshmorph", frozen)]
 pub struct PyInterpolator(Either<Interpolator<2>, Interpolator<3>>);
 

@@ -43,16 +43,21 @@ pub struct InterpolatorOptions {
     pub allow_flips: bool,
     /// Which Cholesky variant factors the system. Default [`FactorKind::Auto`].
     pub factor: FactorKind,
-    /// Planar only: a frame in which triangles turn over is mended where
-    /// they are. The inner vertices within two rings of them (then four,
-    /// eight, sixteen) are moved until every triangle is positive, by the
-    /// untangling that makes compatible meshes (the foldover-free energy of
-    /// Garanzha et al. 2021, against the first key's triangles); the rest
-    /// of the frame, and its outline always, stay as the fit made them. A
+    /// Planar only, for [`Interpolator`](crate::Interpolator) and
+    /// [`Sequence`](crate::Sequence) frames (not blends): a frame in which
+    /// triangles turn over is mended where they are. For each group of
+    /// them, the inner vertices within two rings (then four, eight,
+    /// sixteen) are moved until every triangle around them is positive, by
+    /// the untangling that makes compatible meshes (the foldover-free
+    /// energy of Garanzha et al. 2021, against the first key's triangles);
+    /// the rest of the frame, and its outline always, stay as the fit made
+    /// them. A group no ring mends (a triangle with its three corners on
+    /// the outline, or where the outline itself folds) is left as it is. A
     /// frame with nothing turned over is unchanged (one pass over its
-    /// triangles tells). Default `false`: the published method's frames.
-    /// Drawings and pictures turn it on: where a drawing's maps disagree a
-    /// great deal (a round shape into a thin curl) the fit turns a few
+    /// triangles tells); a frame with folds takes milliseconds to a good
+    /// part of a second more. Default `false`: the published method's
+    /// frames. Drawings and pictures turn it on: where a drawing's maps
+    /// disagree a great deal (a round shape into a thin curl) the fit turns
     /// triangles over inside an outline that stays whole.
     pub mend_folds: bool,
 }

@@ -709,19 +709,18 @@ where
     }
 }
 
-/// The segments between consecutive keys (see the module documentation),
-/// and the logarithms of the last key's rotations.
-/// Refuses what no sequence of `later` keys after the first can take:
-/// none, or `turns` beyond two planar keys.
 /// The mender of frames of `first`'s triangles, when the options ask for
-/// one and the meshes are planar.
+/// one and the meshes are planar (and `first`'s triangles all run one way).
 fn mender<const D: usize>(first: &Mesh<D>, options: &InterpolatorOptions) -> Option<FrameMender> {
-    (options.mend_folds && D == 2).then(|| {
-        let positions: &[[f64; 2]] = bytemuck::cast_slice(first.positions());
-        FrameMender::new(positions, first.triangles())
-    })
+    if !options.mend_folds || D != 2 {
+        return None;
+    }
+    let positions: &[[f64; 2]] = bytemuck::cast_slice(first.positions());
+    FrameMender::new(positions, first.triangles())
 }
 
+/// Refuses what no sequence of `later` keys after the first can take:
+/// none, or `turns` beyond two planar keys.
 fn check_arguments<const D: usize>(later: usize, options: &InterpolatorOptions) -> Result<()> {
     if later == 0 {
         return Err(Error::InvalidArgument(
@@ -737,6 +736,8 @@ fn check_arguments<const D: usize>(later: usize, options: &InterpolatorOptions) 
     Ok(())
 }
 
+/// The segments between consecutive keys (see the module documentation),
+/// and the logarithms of the last key's rotations.
 fn segments<const D: usize>(
     rest: &Mesh<D>,
     adjacency: &TriangleAdjacency,

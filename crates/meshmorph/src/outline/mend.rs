@@ -23,8 +23,12 @@ const RINGS: [usize; 4] = [2, 4, 8, 16];
 /// What mending a planar sequence's frames needs from its first key.
 #[derive(Debug)]
 pub(crate) struct FrameMender {
-    /// The first key's positions: each triangle's own shape.
+    /// The first key's positions, mirrored (x negated) when its triangles
+    /// run clockwise: each triangle's own shape, counter-clockwise.
     rest: Vec<[f64; 2]>,
+    /// Whether the first key's triangles run clockwise (a mesh in y-down
+    /// coordinates): frames are mirrored the same way while mended.
+    mirrored: bool,
     triangles: Vec<[u32; 3]>,
     /// Whether a vertex is on the outline (or used by no triangle): it is
     /// never moved.
@@ -35,9 +39,26 @@ pub(crate) struct FrameMender {
 }
 
 impl FrameMender {
-    /// The mender of frames of the mesh `rest` with `triangles`.
-    pub(crate) fn new(rest: &[[f64; 2]], triangles: &[[u32; 3]]) -> Self {
+    /// The mender of frames of the mesh `rest` with `triangles`; none when
+    /// its triangles do not all run the same way (a folded first key):
+    /// turned over then means nothing.
+    pub(crate) fn new(rest: &[[f64; 2]], triangles: &[[u32; 3]]) -> Option<Self> {
         let n = rest.len();
+        let signs: Vec<f64> = triangles
+            .iter()
+            .map(|t| {
+                orient(
+                    rest[t[0] as usize],
+                    rest[t[1] as usize],
+                    rest[t[2] as usize],
+                )
+            })
+            .collect();
+        let mirrored = signs.iter().all(|&a| a < 0.0);
+        if !mirrored && !signs.iter().all(|&a| a > 0.0) {
+            return None;
+        }
+        let rest: Vec<[f64; 2]> = rest.iter().map(|&p| mirror(p, mirrored)).collect();
         // An edge used once is on the outline.
         let mut edges: Vec<(u32, u32)> = triangles
             .iter()
@@ -79,44 +100,91 @@ impl FrameMender {
                 fill[v as usize] += 1;
             }
         }
-        Self {
-            rest: rest.to_vec(),
+        Some(Self {
+            rest,
+            mirrored,
             triangles: triangles.to_vec(),
             kept,
             at,
             corners,
-        }
+        })
     }
 
     fn triangles_at(&self, v: usize) -> &[u32] {
         &self.corners[self.at[v]..self.at[v + 1]]
     }
 
-    /// Mends `frame` where triangles are turned over (not positive): the
-    /// inner vertices within two rings of them moved until every triangle
-    /// is positive, with four, eight, sixteen rings where two are too few.
-    /// The number of triangles left turned over: 0 unless the outline
-    /// itself folds or no ring gave a valid patch (then the frame is as
-    /// the fit made it).
+    /// Whether triangle `t` is turned over (or flat) in `frame`, against
+    /// the way the first key's triangles run.
+    fn is_turned(&self, frame: &[[f64; 2]], t: usize) -> bool {
+        let [a, b, c] = self.triangles[t].map(|v| mirror(frame[v as usize], self.mirrored));
+        let area = orient(a, b, c);
+        area.is_nan() || area <= 0.0
+    }
+
+    /// Mends `frame` where triangles are turned over: for each group of
+    /// them (sharing corners), the inner vertices within two rings moved
+    /// until every triangle around them is positive, with four, eight,
+    /// sixteen rings where two are too few; a group no ring mends is left
+    /// as the fit made it. The number of triangles left turned over: those
+    /// of such groups (where the outline itself folds, or a triangle has
+    /// its three corners on it), 0 otherwise.
     pub(crate) fn mend(&self, frame: &mut [[f64; 2]]) -> usize {
         let turned: Vec<usize> = (0..self.triangles.len())
-            .filter(|&t| {
-                let [a, b, c] = self.triangles[t].map(|v| frame[v as usize]);
-                orient(a, b, c).is_nan() || orient(a, b, c) <= 0.0
-            })
+            .filter(|&t| self.is_turned(frame, t))
             .collect();
         if turned.is_empty() {
             return 0;
         }
-        for rings in RINGS {
-            if let Some(mended) = self.try_rings(frame, &turned, rings) {
-                for (v, p) in mended {
-                    frame[v] = p;
+        for group in self.groups(&turned) {
+            for rings in RINGS {
+                if let Some(mended) = self.try_rings(frame, &group, rings) {
+                    for (v, p) in mended {
+                        frame[v] = mirror(p, self.mirrored);
+                    }
+                    break;
                 }
-                return 0;
             }
         }
-        turned.len()
+        turned.iter().filter(|&&t| self.is_turned(frame, t)).count()
+    }
+
+    /// The triangles `turned` in groups that share corners.
+    fn groups(&self, turned: &[usize]) -> Vec<Vec<usize>> {
+        let mut root: Vec<usize> = (0..turned.len()).collect();
+        fn find(root: &mut [usize], mut k: usize) -> usize {
+            while root[k] != k {
+                root[k] = root[root[k]];
+                k = root[k];
+            }
+            k
+        }
+        let mut first_at: std::collections::HashMap<u32, usize> = std::collections::HashMap::new();
+        for (k, &t) in turned.iter().enumerate() {
+            for v in self.triangles[t] {
+                match first_at.get(&v) {
+                    Some(&j) => {
+                        let (a, b) = (find(&mut root, j), find(&mut root, k));
+                        root[a] = b;
+                    }
+                    None => {
+                        first_at.insert(v, k);
+                    }
+                }
+            }
+        }
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        let mut group_of: std::collections::HashMap<usize, usize> =
+            std::collections::HashMap::new();
+        for (k, &t) in turned.iter().enumerate() {
+            let r = find(&mut root, k);
+            let g = *group_of.entry(r).or_insert_with(|| {
+                groups.push(Vec::new());
+                groups.len() - 1
+            });
+            groups[g].push(t);
+        }
+        groups
     }
 
     /// The new positions of the inner vertices within `rings` rings of the
@@ -192,7 +260,10 @@ impl FrameMender {
             .map(|&t| self.triangles[t as usize].map(|v| local[v as usize]))
             .collect();
         let reference: Vec<[f64; 2]> = order.iter().map(|&v| self.rest[v]).collect();
-        let start: Vec<[f64; 2]> = order.iter().map(|&v| frame[v]).collect();
+        let start: Vec<[f64; 2]> = order
+            .iter()
+            .map(|&v| mirror(frame[v], self.mirrored))
+            .collect();
         // The smallest patch is given up on quickly: the next is bigger.
         let patience = if rings == RINGS[0] {
             Patience::SHORT
@@ -207,5 +278,14 @@ impl FrameMender {
                 .zip(mended[held..].iter().copied())
                 .collect()
         })
+    }
+}
+
+/// `p` with its x negated when `mirrored`.
+fn mirror(p: [f64; 2], mirrored: bool) -> [f64; 2] {
+    if mirrored {
+        [-p[0], p[1]]
+    } else {
+        p
     }
 }

@@ -953,25 +953,33 @@ fn the_meshes_do_not_depend_on_the_number_of_threads() {
 #[test]
 fn mended_frames_have_no_triangle_turned_over_inside_and_keep_the_outline() {
     let pairs = [
-        (vec![star(90, 4)], vec![spiral(160)]),
-        (vec![random_polygon(50, 1)], vec![thick_curl(90)]),
+        (vec![star(90, 4)], vec![spiral(160)], false),
+        (vec![random_polygon(50, 1)], vec![thick_curl(90)], false),
+        // The first pair mirrored: its triangles run clockwise (as in y-down
+        // coordinates), and turned over means counter-clockwise.
+        (vec![star(90, 4)], vec![spiral(160)], true),
     ];
-    for (a, b) in pairs {
+    for (a, b, mirrored) in pairs {
         let drawings = [Drawing::new(a).unwrap(), Drawing::new(b).unwrap()];
         let set = compatible_set(&drawings, &[], &OutlineOptions::default()).unwrap();
-        let (a, b) = (&set.meshes[0], &set.meshes[1]);
+        let side = if mirrored { -1.0 } else { 1.0 };
+        let keys: Vec<Mesh2> = set
+            .meshes
+            .iter()
+            .map(|m| {
+                let p = m.positions().iter().map(|p| [side * p[0], p[1]]).collect();
+                m.with_positions(p).unwrap()
+            })
+            .collect();
+        let (a, b) = (&keys[0], &keys[1]);
         let fit = Interpolator::new(a, b, &InterpolatorOptions::default()).unwrap();
         let options = InterpolatorOptions::default().with_mend_folds(true);
         let mended = Interpolator::new(a, b, &options).unwrap();
-        let turned = |x: &[[f64; 2]]| {
-            a.triangles()
-                .iter()
-                .filter(|t| {
-                    let [p, q, r] = t.map(|v| x[v as usize]);
-                    orient(p, q, r) <= 0.0
-                })
-                .count()
+        let is_turned = |x: &[[f64; 2]], t: &[u32; 3]| {
+            let [p, q, r] = t.map(|v| x[v as usize]);
+            side * orient(p, q, r) <= 0.0
         };
+        let turned = |x: &[[f64; 2]]| a.triangles().iter().filter(|t| is_turned(x, t)).count();
         let on_outline: std::collections::HashSet<u32> =
             set.loops.iter().flatten().copied().collect();
         let (mut before, mut after) = (0, 0);
@@ -992,8 +1000,7 @@ fn mended_frames_have_no_triangle_turned_over_inside_and_keep_the_outline() {
             // What is left turned over lies on the outline: an outline
             // edge (held) and a corner that cannot get to its side.
             for tri in a.triangles() {
-                let [p, q, r] = tri.map(|v| y[v as usize]);
-                if orient(p, q, r) <= 0.0 {
+                if is_turned(&y, tri) {
                     let held = tri.iter().filter(|v| on_outline.contains(v)).count();
                     assert!(held >= 2, "t = {t}: {tri:?} turned over inside");
                 }
@@ -1003,6 +1010,6 @@ fn mended_frames_have_no_triangle_turned_over_inside_and_keep_the_outline() {
         }
         eprintln!("turned over, summed over the frames: {before} by the fit, {after} mended");
         assert!(before > 0, "the pair no longer folds: choose another");
-        assert!(5 * after <= before, "{after} of {before} left");
+        assert!(10 * after <= before, "{after} of {before} left");
     }
 }
