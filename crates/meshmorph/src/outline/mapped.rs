@@ -305,20 +305,23 @@ impl<'a> Patience<'a> {
 }
 
 /// L-BFGS steps in a round of the untangling. The regularisation's
-/// schedule, not how far a round gets, sets how many rounds it takes: on
-/// the 500-point star into the curl (1,301 free points) 150 steps a round
-/// untangled in 62 rounds and 1.25 s, 60 in 64 and 0.74 s, 30 in 68 and
-/// 0.40 s, 20 in 74, 15 in 92, and 10 gave up (BENCHMARKS.md). 30 stays
-/// three times from that edge.
-const STEPS_PER_ROUND: usize = 30;
+/// schedule more than how far a round gets sets how many rounds it
+/// takes: on the 500-point star into the curl (1,301 free points) 150
+/// steps a round untangled in 62 rounds and 1.25 s, 60 in 64 and 0.74 s,
+/// 30 in 68 and 0.40 s, and 10 gave up. Harder pairs need longer rounds:
+/// of 16 random polygons into a thick curl, 150 and 60 steps mapped the
+/// same 10 (the others go to the overlay), 30 only 6 (BENCHMARKS.md).
+const STEPS_PER_ROUND: usize = 60;
 
 /// L-BFGS steps on the energy itself (unregularised, with a barrier)
-/// once a round leaves every triangle positive: with that round's 30 they
-/// make the 150 a round had before, so the shapes the improvement starts
-/// from are as even as they were then. (Going on with the last round's
+/// once a round leaves every triangle positive, if that round used all
+/// its steps: with its 60 they make the 150 a round had before, so the
+/// shapes the improvement starts from are as even as they were then (a
+/// like pair's one round stops on its own, and goes on no further). (Going on with the last round's
 /// regularisation instead, kept when still valid, mended the 500-point
-/// star to curl's frames in 35 to 39 ms each against 21 to 26 ms.)
-const POLISH_STEPS: usize = 120;
+/// star to curl's frames in 35 to 39 ms each against 21 to 26 ms, with 30
+/// steps a round.)
+const POLISH_STEPS: usize = 90;
 
 /// Moves the vertices from `n` on of `b` (the first `n` stay where they
 /// are) so that every triangle is positive, each as close to its shape
@@ -349,14 +352,20 @@ pub(crate) fn untangle(
     let mut eps = (1e-12 + 0.04 * mindet.min(0.0).powi(2)).sqrt();
     let mut e_prev = energy.eval(&b, eps, None);
     let (mut fewest, mut stalled) = (usize::MAX, 0);
+    // Evaluations of the energy in the last round: fewer than its steps
+    // when it stopped because the energy no longer fell.
+    let mut evaluations = 0;
     for _ in 0..patience.rounds {
         if patience.called_off() {
             break;
         }
+        evaluations = 0;
         let e = {
             let b = &mut b;
             let grad = &mut grad;
+            let evaluations = &mut evaluations;
             lbfgs(&mut x, STEPS_PER_ROUND, |x, g| {
+                *evaluations += 1;
                 place(x, &mut b[n..]);
                 let e = energy.eval(b, eps, Some(grad));
                 gather(&grad[n..], g);
@@ -389,9 +398,9 @@ pub(crate) fn untangle(
         };
         e_prev = e;
     }
-    if mindet > 0.0 {
-        // Valid: [`POLISH_STEPS`] more on the energy itself, a barrier
-        // keeping every triangle positive.
+    if mindet > 0.0 && evaluations >= STEPS_PER_ROUND {
+        // Valid, but the last round was cut short: [`POLISH_STEPS`] more
+        // on the energy itself, a barrier keeping every triangle positive.
         let mut work = b.clone();
         lbfgs(&mut x, POLISH_STEPS, |x, g| {
             place(x, &mut work[n..]);

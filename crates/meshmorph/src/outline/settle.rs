@@ -134,7 +134,7 @@ pub(crate) fn settle(
     x.extend(
         slides
             .iter()
-            .map(|s| s.fraction_of(moving[s.vertex as usize])),
+            .map(|s| s.fraction_of(moving[s.vertex as usize]).clamp(0.0, 1.0)),
     );
     let mut work = moving.to_vec();
     let mut grad = vec![[0.0; 2]; moving.len()];
@@ -158,6 +158,12 @@ pub(crate) fn settle(
         .map(|m| if m.is_finite() && m > 0.0 { m } else { 1.0 })
         .collect();
     lbfgs_scaled(&mut x, iterations, Some(&scale), |x, g| {
+        // A slide stays on its segment: past either end it would leave
+        // the outline (where the outline turns at a fixed point) without
+        // necessarily turning a triangle over.
+        if x[2 * free..].iter().any(|f| !(0.0..=1.0).contains(f)) {
+            return f64::INFINITY;
+        }
         put(x, &mut work);
         let e = energy.eval_positive(&work, Some(&mut grad));
         if e.is_infinite() {
