@@ -314,21 +314,22 @@ impl<'a> Patience<'a> {
 const STEPS_PER_ROUND: usize = 60;
 
 /// L-BFGS steps on the energy itself (unregularised, with a barrier)
-/// once a round leaves every triangle positive, if that round used all
-/// its steps: with its 60 they make the 150 a round had before, so the
-/// shapes the improvement starts from are as even as they were then (a
-/// like pair's one round stops on its own, and goes on no further). (Going on with the last round's
-/// regularisation instead, kept when still valid, mended the 500-point
-/// star to curl's frames in 35 to 39 ms each against 21 to 26 ms, with 30
-/// steps a round.)
+/// once a round leaves every triangle positive, if that round may have
+/// run to its cap: with its 60 they make the 150 a round had before, so
+/// the shapes the improvement starts from are as even as they were then.
+/// A like pair's single round stops on its own and goes no further.
+/// (Going on with the last round's regularisation instead, kept when
+/// still valid, mended the 500-point star to curl's frames in 35 to 39 ms
+/// each against 21 to 26 ms, with 30 steps a round.)
 const POLISH_STEPS: usize = 90;
 
 /// Moves the vertices from `n` on of `b` (the first `n` stay where they
 /// are) so that every triangle is positive, each as close to its shape
 /// in `a` as the foldover-free energy makes it, in rounds of L-BFGS with
 /// a decreasing regularisation ([`STEPS_PER_ROUND`] steps each); after
-/// the first round that leaves every triangle positive, [`POLISH_STEPS`]
-/// more on the energy itself, and no further rounds. (Going on until the
+/// the first round that leaves every triangle positive, no further
+/// rounds, and [`POLISH_STEPS`] more on the energy itself when that round
+/// may have run to its cap. (Going on until the
 /// energy settles evens out the shapes further, which the flips, splits,
 /// relaxation and rigid settle that follow do anyway: on the picture
 /// benchmark at 4096 x 4096 it took the compatible meshes from 0.51 to
@@ -352,8 +353,9 @@ pub(crate) fn untangle(
     let mut eps = (1e-12 + 0.04 * mindet.min(0.0).powi(2)).sqrt();
     let mut e_prev = energy.eval(&b, eps, None);
     let (mut fewest, mut stalled) = (usize::MAX, 0);
-    // Evaluations of the energy in the last round: fewer than its steps
-    // when it stopped because the energy no longer fell.
+    // Evaluations of the energy in the last round (a step takes one or
+    // more): fewer than the cap on steps means it stopped before the cap,
+    // because the energy no longer fell.
     let mut evaluations = 0;
     for _ in 0..patience.rounds {
         if patience.called_off() {
@@ -399,8 +401,9 @@ pub(crate) fn untangle(
         e_prev = e;
     }
     if mindet > 0.0 && evaluations >= STEPS_PER_ROUND {
-        // Valid, but the last round was cut short: [`POLISH_STEPS`] more
-        // on the energy itself, a barrier keeping every triangle positive.
+        // Valid, but the last round may have run to its cap:
+        // [`POLISH_STEPS`] more on the energy itself, a barrier keeping
+        // every triangle positive.
         let mut work = b.clone();
         lbfgs(&mut x, POLISH_STEPS, |x, g| {
             place(x, &mut work[n..]);

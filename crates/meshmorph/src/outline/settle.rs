@@ -160,7 +160,8 @@ pub(crate) fn settle(
     lbfgs_scaled(&mut x, iterations, Some(&scale), |x, g| {
         // A slide stays on its segment: past either end it would leave
         // the outline (where the outline turns at a fixed point) without
-        // necessarily turning a triangle over.
+        // necessarily turning a triangle over. The line search treats the
+        // ends as it treats a triangle turning over: the step is halved.
         if x[2 * free..].iter().any(|f| !(0.0..=1.0).contains(f)) {
             return f64::INFINITY;
         }

@@ -785,11 +785,12 @@ fn random_polygon(n: usize, seed: u64) -> Vec<[f64; 2]> {
 }
 
 /// The smallest angle the unlike pairs below reach in both meshes. The
-/// worst of them, a random polygon into a thick curl, lands between 0.9°
-/// and 1.1° as the untangling's rounds change (1.09° with rounds of 150
-/// steps, 0.92° with 60; its family's others rose as many as fell:
-/// BENCHMARKS.md, "Shorter rounds for the untangling").
-const UNLIKE_MIN_ANGLE_DEGREES: f64 = 0.9;
+/// worst of them, random polygon 3 into a thick curl, moves with the
+/// untangling's rounds: 1.09° with rounds of 150 steps, 0.92° with 60
+/// (over 16 seeds of that family the angles rose as often as they fell:
+/// BENCHMARKS.md, "Shorter rounds for the untangling"). The bound is a
+/// guard against slivers, below that with room.
+const UNLIKE_MIN_ANGLE_DEGREES: f64 = 0.8;
 
 /// Unlike pairs (fat shapes and thin spiral bands, a C and a G, random
 /// simple polygons against a spiral, unlike shapes with a hole) are meshed
