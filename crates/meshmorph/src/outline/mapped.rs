@@ -402,18 +402,8 @@ pub(crate) fn untangle(
     }
     if mindet > 0.0 && evaluations >= STEPS_PER_ROUND {
         // Valid, but the last round may have run to its cap:
-        // [`POLISH_STEPS`] more on the energy itself, a barrier keeping
-        // every triangle positive.
-        let mut work = b.clone();
-        lbfgs(&mut x, POLISH_STEPS, |x, g| {
-            place(x, &mut work[n..]);
-            let e = energy.eval_positive(&work, Some(&mut grad));
-            if e.is_finite() {
-                gather(&grad[n..], g);
-            }
-            e
-        });
-        place(&x, &mut b[n..]);
+        // [`POLISH_STEPS`] more on the energy itself.
+        descend_positive(&energy, &mut b, n, POLISH_STEPS);
     }
     b
 }
@@ -432,16 +422,22 @@ pub(crate) fn relax(b: &mut [[f64; 2]], triangles: &[[u32; 3]], n: usize, iterat
     if energy.min_det(b) <= 0.0 {
         return;
     }
+    descend_positive(&energy, b, n, iterations);
+}
+
+/// Moves the vertices from `n` on of a valid mesh `b` (the first `n`
+/// stay) to lower `energy` unregularised, with a barrier that keeps every
+/// triangle positive: at most `steps` L-BFGS steps.
+fn descend_positive(energy: &Energy<'_>, b: &mut [[f64; 2]], n: usize, steps: usize) {
     let mut x = unknowns(&b[n..]);
     let mut work = b.to_vec();
     let mut grad = vec![[0.0; 2]; b.len()];
-    lbfgs(&mut x, iterations, |x, g| {
+    lbfgs(&mut x, steps, |x, g| {
         place(x, &mut work[n..]);
         let e = energy.eval_positive(&work, Some(&mut grad));
-        if e.is_infinite() {
-            return e;
+        if e.is_finite() {
+            gather(&grad[n..], g);
         }
-        gather(&grad[n..], g);
         e
     });
     place(&x, &mut b[n..]);
