@@ -7,7 +7,8 @@
 use super::boundary::LoopAnchor;
 use super::common::CommonBoundary;
 use super::geometry::{diagonal, dist, inside_loop};
-use super::mapped::{all_positive, untangle, Patience};
+use super::mapped::all_positive;
+use super::untangle::{untangle, Patience};
 use super::{snap, Drawing};
 use crate::error::{Error, Result};
 

@@ -29,7 +29,6 @@ pub(super) struct Energy<'a> {
     triangles: &'a [[u32; 3]],
     inverse: Vec<Mat2>,
     weight: Vec<f64>,
-    fixed: usize,
     theta: f64,
     /// Weight of each triangle's distortion from an equilateral one,
     /// added in the same pass ([`Energy::with_shape`]); 0 for none.
@@ -58,14 +57,15 @@ fn term(j: Mat2, w: f64, theta: f64, eps: f64, with_gradient: bool) -> (f64, Mat
     let tr = j[0][0] * j[0][0] + j[0][1] * j[0][1] + j[1][0] * j[1][0] + j[1][1] * j[1][1];
     let root = (eps * eps + det * det).sqrt();
     let c = 0.5 * (det + root);
+    let inv_c = 1.0 / c;
     let num = (1.0 - theta) * tr + theta * (1.0 + det * det);
-    let energy = w * num / c;
+    let energy = w * num * inv_c;
     if !with_gradient {
         return (energy, [[0.0; 2]; 2]);
     }
-    let dc = c / root;
-    let a = w * 2.0 * (1.0 - theta) / c;
-    let q = w * (2.0 * theta * det / c - num * dc / (c * c));
+    // dc/d(det) = c / root, so num dc / c² = num / (c root).
+    let a = w * 2.0 * (1.0 - theta) * inv_c;
+    let q = w * inv_c * (2.0 * theta * det - num / root);
     // dE/dJ = a J + q cof(J), cof(J) = [j11, -j10; -j01, j00].
     (
         energy,
@@ -79,13 +79,11 @@ fn term(j: Mat2, w: f64, theta: f64, eps: f64, with_gradient: bool) -> (f64, Mat
 impl<'a> Energy<'a> {
     /// The energy of maps of `reference`'s triangles into a drawing of
     /// signed area `target_area`: each triangle's shape in `reference`
-    /// scaled to that area, weighed by its share of the area. Vertices
-    /// below `fixed` get no gradient.
+    /// scaled to that area, weighed by its share of the area.
     pub(super) fn against(
         reference: &[[f64; 2]],
         triangles: &'a [[u32; 3]],
         target_area: f64,
-        fixed: usize,
         theta: f64,
     ) -> Self {
         let area: f64 = signed_areas(reference, triangles).iter().sum();
@@ -105,7 +103,6 @@ impl<'a> Energy<'a> {
             triangles,
             inverse,
             weight,
-            fixed,
             theta,
             shape: 0.0,
         }
@@ -115,13 +112,12 @@ impl<'a> Energy<'a> {
     /// (the MIPS energy of Hormann and Greiner 2000, `|J|² / det J`, the
     /// shape part of the foldover-free energy), each triangle weighed
     /// alike, the mean over them: 2 when all are equilateral, infinite
-    /// for a flat one. Vertices below `fixed` get no gradient.
-    pub(super) fn equilateral(triangles: &'a [[u32; 3]], fixed: usize) -> Self {
+    /// for a flat one.
+    pub(super) fn equilateral(triangles: &'a [[u32; 3]]) -> Self {
         Self {
             triangles,
             inverse: vec![EQUILATERAL; triangles.len()],
             weight: vec![1.0 / triangles.len() as f64; triangles.len()],
-            fixed,
             theta: 0.0,
             shape: 0.0,
         }
@@ -186,7 +182,8 @@ impl<'a> Energy<'a> {
 
     /// The energy at `b`, regularised by `eps` (0 for none), and, when
     /// `grad` is given, its gradient with respect to every vertex (the
-    /// fixed ones' left at zero).
+    /// caller takes the free ones' and leaves the rest: a branch on each
+    /// corner cost more than the sums).
     pub(super) fn eval(&self, b: &[[f64; 2]], eps: f64, grad: Option<&mut [[f64; 2]]>) -> f64 {
         self.evaluate(b, eps, grad).0
     }
@@ -237,11 +234,9 @@ impl<'a> Energy<'a> {
                 [gd[0][1], gd[1][1]],
             ];
             for (&v, c) in tri.iter().zip(corners) {
-                if v as usize >= self.fixed {
-                    let g = &mut g[v as usize];
-                    g[0] += c[0];
-                    g[1] += c[1];
-                }
+                let g = &mut g[v as usize];
+                g[0] += c[0];
+                g[1] += c[1];
             }
         }
         (total, least)

@@ -47,7 +47,6 @@ pub(super) fn lbfgs_scaled(
     let scaled = |i: usize| scale.map_or(1.0, |m| m[i]);
     const MEMORY: usize = 8;
     let len = x.len();
-    let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
     let mut g = vec![0.0; len];
     let mut fx = f(x, &mut g);
     let mut s_hist: Vec<Vec<f64>> = Vec::with_capacity(MEMORY);
@@ -74,20 +73,19 @@ pub(super) fn lbfgs_scaled(
         }
         let gamma = match s_hist.len() {
             0 => {
-                1.0 / d
-                    .iter()
-                    .enumerate()
-                    .map(|(i, di)| scaled(i) * di * di)
-                    .sum::<f64>()
-                    .sqrt()
+                1.0 / match scale {
+                    None => dot(&d, &d),
+                    Some(m) => weighted_dot(&d, m, &d),
+                }
+                .sqrt()
             }
             k => {
                 let y = &y_hist[k - 1];
                 dot(&s_hist[k - 1], y)
-                    / y.iter()
-                        .enumerate()
-                        .map(|(i, yi)| scaled(i) * yi * yi)
-                        .sum::<f64>()
+                    / match scale {
+                        None => dot(y, y),
+                        Some(m) => weighted_dot(y, m, y),
+                    }
             }
         };
         for (i, di) in d.iter_mut().enumerate() {
@@ -158,4 +156,42 @@ pub(super) fn lbfgs_scaled(
         }
     }
     fx
+}
+
+/// The dot product of `u` and `v`, summed in four lanes (one running sum
+/// waits on each addition; four keep the adder busy).
+fn dot(u: &[f64], v: &[f64]) -> f64 {
+    let mut lanes = [0.0; 4];
+    let (uc, vc) = (u.chunks_exact(4), v.chunks_exact(4));
+    let tail: f64 = uc
+        .remainder()
+        .iter()
+        .zip(vc.remainder())
+        .map(|(a, b)| a * b)
+        .sum();
+    for (a, b) in uc.zip(vc) {
+        for k in 0..4 {
+            lanes[k] += a[k] * b[k];
+        }
+    }
+    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail
+}
+
+/// The sum of `u[i] w[i] v[i]`, in four lanes as [`dot`].
+fn weighted_dot(u: &[f64], w: &[f64], v: &[f64]) -> f64 {
+    let mut lanes = [0.0; 4];
+    let (uc, wc, vc) = (u.chunks_exact(4), w.chunks_exact(4), v.chunks_exact(4));
+    let tail: f64 = uc
+        .remainder()
+        .iter()
+        .zip(wc.remainder())
+        .zip(vc.remainder())
+        .map(|((a, m), b)| a * m * b)
+        .sum();
+    for ((a, m), b) in uc.zip(wc).zip(vc) {
+        for k in 0..4 {
+            lanes[k] += a[k] * m[k] * b[k];
+        }
+    }
+    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail
 }

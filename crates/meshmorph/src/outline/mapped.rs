@@ -11,16 +11,15 @@
 //! positive in both meshes and falls back to the overlay otherwise.
 
 use std::collections::HashSet;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 use spade::handles::FixedVertexHandle;
 use spade::{
     AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
 };
 
-use super::energy::{chi, Energy};
+use super::energy::Energy;
 use super::geometry::{diagonal, dist, orient, point_segment_distance};
-use super::lbfgs::{gather, lbfgs, place, unknowns};
+use super::untangle::{descend_positive, untangle, Patience, Untangling};
 
 /// A mesh of the first drawing: the matched boundary points first (in
 /// their order), then the inside points, with counter-clockwise
@@ -262,152 +261,6 @@ pub(crate) fn map_into(
     untangle(a, triangles, b, b_boundary.len(), patience)
 }
 
-/// How long the untangling keeps going: at most `rounds` rounds of
-/// L-BFGS with one regularisation each, and it gives up once `stall`
-/// rounds in a row have not made the turned-over triangles fewer, or
-/// when `called_off` is set (another try has already given what this one
-/// would be for).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Patience<'a> {
-    pub(crate) rounds: usize,
-    pub(crate) stall: usize,
-    pub(crate) called_off: Option<&'a AtomicBool>,
-}
-
-impl<'a> Patience<'a> {
-    /// Enough for like drawings, and a quick give-up on hard pairs.
-    pub(crate) const SHORT: Patience<'static> = Patience {
-        rounds: 30,
-        stall: 6,
-        called_off: None,
-    };
-    /// For unlike drawings (a fat shape into a thin spiral band), whose
-    /// untangling goes on shrinking the turned-over triangles for
-    /// hundreds of rounds before the last one turns up.
-    pub(crate) const LONG: Patience<'static> = Patience {
-        rounds: 400,
-        stall: 40,
-        called_off: None,
-    };
-
-    /// The same patience, given up as soon as `flag` is set.
-    pub(crate) fn unless<'b>(self, flag: &'b AtomicBool) -> Patience<'b> {
-        Patience {
-            rounds: self.rounds,
-            stall: self.stall,
-            called_off: Some(flag),
-        }
-    }
-
-    fn called_off(&self) -> bool {
-        self.called_off.is_some_and(|f| f.load(Ordering::Relaxed))
-    }
-}
-
-/// L-BFGS steps in a round of the untangling. The regularisation's
-/// schedule more than how far a round gets sets how many rounds it
-/// takes: on the 500-point star into the curl (1,301 free points) 150
-/// steps a round untangled in 62 rounds and 1.25 s, 60 in 64 and 0.74 s,
-/// 30 in 68 and 0.40 s, and 10 gave up. Harder pairs need longer rounds:
-/// of 16 random polygons into a thick curl, 150 and 60 steps mapped the
-/// same 10 (the others go to the overlay), 30 only 6 (BENCHMARKS.md).
-const STEPS_PER_ROUND: usize = 60;
-
-/// L-BFGS steps on the energy itself (unregularised, with a barrier)
-/// once a round leaves every triangle positive, if that round may have
-/// run to its cap: with its 60 they make the 150 a round had before, so
-/// the shapes the improvement starts from are as even as they were then.
-/// A like pair's single round stops on its own and goes no further.
-/// (Going on with the last round's regularisation instead, kept when
-/// still valid, mended the 500-point star to curl's frames in 35 to 39 ms
-/// each against 21 to 26 ms, with 30 steps a round.)
-const POLISH_STEPS: usize = 90;
-
-/// Moves the vertices from `n` on of `b` (the first `n` stay where they
-/// are) so that every triangle is positive, each as close to its shape
-/// in `a` as the foldover-free energy makes it, in rounds of L-BFGS with
-/// a decreasing regularisation ([`STEPS_PER_ROUND`] steps each); after
-/// the first round that leaves every triangle positive, no further
-/// rounds, and [`POLISH_STEPS`] more on the energy itself when that round
-/// may have run to its cap. (Going on until the
-/// energy settles evens out the shapes further, which the flips, splits,
-/// relaxation and rigid settle that follow do anyway: on the picture
-/// benchmark at 4096 x 4096 it took the compatible meshes from 0.51 to
-/// 0.85 s and changed no measure.) The result may still hold turned-over
-/// triangles; the caller checks.
-pub(crate) fn untangle(
-    a: &[[f64; 2]],
-    triangles: &[[u32; 3]],
-    mut b: Vec<[f64; 2]>,
-    n: usize,
-    patience: Patience<'_>,
-) -> Vec<[f64; 2]> {
-    if b.len() == n {
-        return b;
-    }
-    let area_b = area_from_boundary(&b, triangles, n);
-    let energy = Energy::against(a, triangles, area_b, n, 1.0 / 128.0);
-    let mut x = unknowns(&b[n..]);
-    let mut grad = vec![[0.0; 2]; b.len()];
-    let mut mindet = energy.min_det(&b);
-    let mut eps = (1e-12 + 0.04 * mindet.min(0.0).powi(2)).sqrt();
-    let mut e_prev = energy.eval(&b, eps, None);
-    let (mut fewest, mut stalled) = (usize::MAX, 0);
-    // Evaluations of the energy in the last round (a step takes one or
-    // more): fewer than the cap on steps means it stopped before the cap,
-    // because the energy no longer fell.
-    let mut evaluations = 0;
-    for _ in 0..patience.rounds {
-        if patience.called_off() {
-            break;
-        }
-        evaluations = 0;
-        let e = {
-            let b = &mut b;
-            let grad = &mut grad;
-            let evaluations = &mut evaluations;
-            lbfgs(&mut x, STEPS_PER_ROUND, |x, g| {
-                *evaluations += 1;
-                place(x, &mut b[n..]);
-                let e = energy.eval(b, eps, Some(grad));
-                gather(&grad[n..], g);
-                e
-            })
-        };
-        place(&x, &mut b[n..]);
-        mindet = energy.min_det(&b);
-        if mindet > 0.0 {
-            break;
-        }
-        // Give up when the turned-over triangles stop getting fewer: the
-        // overlay will do.
-        let inverted = energy.inverted(&b);
-        if inverted < fewest {
-            fewest = inverted;
-            stalled = 0;
-        } else {
-            stalled += 1;
-            if stalled >= patience.stall {
-                break;
-            }
-        }
-        let sigma = (1.0 - e / e_prev).max(0.1);
-        let mu = (1.0 - sigma) * chi(mindet, eps);
-        eps = if mindet < mu {
-            2.0 * (mu * (mu - mindet)).sqrt()
-        } else {
-            1e-13
-        };
-        e_prev = e;
-    }
-    if mindet > 0.0 && evaluations >= STEPS_PER_ROUND {
-        // Valid, but the last round may have run to its cap:
-        // [`POLISH_STEPS`] more on the energy itself.
-        descend_positive(&energy, &mut b, n, POLISH_STEPS);
-    }
-    b
-}
-
 /// Moves the vertices from `n` on of a valid mesh (the first `n` stay) to
 /// lower the sum over its triangles of their conformal distortion from an
 /// equilateral triangle (the MIPS energy of Hormann and Greiner 2000,
@@ -418,29 +271,11 @@ pub(crate) fn relax(b: &mut [[f64; 2]], triangles: &[[u32; 3]], n: usize, iterat
     if b.len() <= n || triangles.is_empty() {
         return;
     }
-    let energy = Energy::equilateral(triangles, n);
+    let energy = Energy::equilateral(triangles);
     if energy.min_det(b) <= 0.0 {
         return;
     }
     descend_positive(&energy, b, n, iterations);
-}
-
-/// Moves the vertices from `n` on of a valid mesh `b` (the first `n`
-/// stay) to lower `energy` unregularised, with a barrier that keeps every
-/// triangle positive: at most `steps` L-BFGS steps.
-fn descend_positive(energy: &Energy<'_>, b: &mut [[f64; 2]], n: usize, steps: usize) {
-    let mut x = unknowns(&b[n..]);
-    let mut work = b.to_vec();
-    let mut grad = vec![[0.0; 2]; b.len()];
-    lbfgs(&mut x, steps, |x, g| {
-        place(x, &mut work[n..]);
-        let e = energy.eval_positive(&work, Some(&mut grad));
-        if e.is_finite() {
-            gather(&grad[n..], g);
-        }
-        e
-    });
-    place(&x, &mut b[n..]);
 }
 
 /// The second drawing's area, from its boundary loops (signed, as the
@@ -522,11 +357,89 @@ pub(crate) fn rings_around_anchors(
     out
 }
 
-/// The fast way whole: drawing `source` refined (its fixed points
+/// Drawing `source` refined for the fast way (its fixed points
 /// `fixed[source]`: the loops' points, then any anchors inside; with
 /// `rings` of free points around each anchor,
-/// [`rings_around_anchors`]), mapped into every other drawing with its
-/// own fixed points, all checked: the positions in every drawing and the
+/// [`rings_around_anchors`]). `None` when it does not triangulate as its
+/// loops say or a triangle comes out flat.
+pub(crate) fn source_mesh(
+    fixed: &[Vec<[f64; 2]>],
+    source: usize,
+    loop_start: &[usize],
+    rings: usize,
+    angle_degrees: f64,
+) -> Option<Refined> {
+    let steiner = rings_around_anchors(&fixed[source], loop_start, rings);
+    let refined = refine(&fixed[source], loop_start, &steiner, angle_degrees)?;
+    all_positive(&refined.positions, &refined.triangles).then_some(refined)
+}
+
+/// One drawing's refined mesh being mapped into every other drawing
+/// with its own fixed points: placed ([`place_inside`]), then untangled,
+/// one drawing after another, as far as the patience given so far.
+pub(crate) struct Mapping<'r> {
+    source: usize,
+    refined: &'r Refined,
+    /// The untangling into each drawing (none into the source).
+    into: Vec<Option<Untangling<'r>>>,
+}
+
+impl<'r> Mapping<'r> {
+    /// `refined` (drawing `source`'s mesh, [`source_mesh`]) placed in
+    /// every other drawing at its fixed points, nothing untangled yet.
+    pub(crate) fn start(fixed: &[Vec<[f64; 2]>], source: usize, refined: &'r Refined) -> Self {
+        let into = fixed
+            .iter()
+            .enumerate()
+            .map(|(k, points)| {
+                (k != source).then(|| {
+                    let b = place_inside(&refined.positions, points, &refined.triangles);
+                    Untangling::new(&refined.positions, &refined.triangles, b, points.len())
+                })
+            })
+            .collect();
+        Self {
+            source,
+            refined,
+            into,
+        }
+    }
+
+    /// Untangles into each drawing in turn as far as `patience` (counted
+    /// from the start, [`Patience`]); whether every one is untangled. A
+    /// drawing left tangled stops the ones after it, which are taken up
+    /// with the next call.
+    pub(crate) fn go(&mut self, patience: Patience<'_>) -> bool {
+        self.into
+            .iter_mut()
+            .flatten()
+            .all(|untangling| untangling.go(patience))
+    }
+
+    /// The positions in every drawing and the triangles, when every
+    /// triangle is positive in all (by [`all_positive`]).
+    pub(crate) fn finish(self) -> Option<super::Positioned> {
+        let mut meshes = Vec::with_capacity(self.into.len());
+        for (k, untangling) in self.into.into_iter().enumerate() {
+            meshes.push(match untangling {
+                None if k == self.source => self.refined.positions.clone(),
+                None => return None,
+                Some(u) => {
+                    let b = u.finish();
+                    if !all_positive(&b, &self.refined.triangles) {
+                        return None;
+                    }
+                    b
+                }
+            });
+        }
+        Some((meshes, self.refined.triangles.clone()))
+    }
+}
+
+/// The fast way whole: drawing `source` refined ([`source_mesh`]),
+/// mapped into every other drawing with its own fixed points
+/// ([`Mapping`]), all checked: the positions in every drawing and the
 /// triangles. `None` when any triangle is not positive in any.
 pub(crate) fn compatible(
     fixed: &[Vec<[f64; 2]>],
@@ -536,22 +449,10 @@ pub(crate) fn compatible(
     angle_degrees: f64,
     patience: Patience<'_>,
 ) -> Option<super::Positioned> {
-    let steiner = rings_around_anchors(&fixed[source], loop_start, rings);
-    let refined = refine(&fixed[source], loop_start, &steiner, angle_degrees)?;
-    if !all_positive(&refined.positions, &refined.triangles) {
+    let refined = source_mesh(fixed, source, loop_start, rings, angle_degrees)?;
+    let mut mapping = Mapping::start(fixed, source, &refined);
+    if !mapping.go(patience) {
         return None;
     }
-    let mut meshes = Vec::with_capacity(fixed.len());
-    for (k, points) in fixed.iter().enumerate() {
-        if k == source {
-            meshes.push(refined.positions.clone());
-            continue;
-        }
-        let b = map_into(&refined.positions, &refined.triangles, points, patience);
-        if !all_positive(&b, &refined.triangles) {
-            return None;
-        }
-        meshes.push(b);
-    }
-    Some((meshes, refined.triangles))
+    mapping.finish()
 }

@@ -14,7 +14,8 @@
 //! nothing turned over costs one pass over its triangles.
 
 use super::geometry::orient;
-use super::mapped::{all_positive, untangle, Patience};
+use super::mapped::all_positive;
+use super::untangle::{untangle, Patience};
 
 /// Rings of inner vertices around the turned-over triangles moved in each
 /// try: a fold is mended with as little of the frame as it needs.

@@ -58,8 +58,10 @@ mod overlay;
 mod settle;
 #[cfg(test)]
 mod tests;
+mod untangle;
 
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -585,15 +587,21 @@ pub fn compatible_set(
             roundness(&fixed[x], &boundary.loop_start)
                 .total_cmp(&roundness(&fixed[y], &boundary.loop_start))
         });
-        // With anchors inside, a last pair of passes with rings of free
-        // points around each anchor (one ring, then two), so that no
-        // triangle holds an anchor and another fixed point.
+        // The patient pass takes up each drawing's untangling where the
+        // first look left it (the same mesh, no rounds run twice). With
+        // anchors inside, a last pair of passes with rings of free points
+        // around each anchor (one ring, then two), so that no triangle
+        // holds an anchor and another fixed point.
         let passes = [
-            (0, mapped::Patience::SHORT),
-            (0, mapped::Patience::LONG),
-            (1, mapped::Patience::LONG),
-            (2, mapped::Patience::LONG),
+            (0, untangle::Patience::FIRST_LOOK),
+            (0, untangle::Patience::LONG),
+            (1, untangle::Patience::LONG),
+            (2, untangle::Patience::LONG),
         ];
+        let source_meshes: Vec<OnceLock<Option<mapped::Refined>>> =
+            sources.iter().map(|_| OnceLock::new()).collect();
+        let mappings: Vec<Mutex<Option<mapped::Mapping>>> =
+            sources.iter().map(|_| Mutex::new(None)).collect();
         'passes: for (pass, &(rings, patience)) in passes.iter().enumerate() {
             if rings > 0 && inside == 0 {
                 break;
@@ -619,14 +627,36 @@ pub fn compatible_set(
                     if called_off[k].load(Ordering::Relaxed) {
                         return None;
                     }
-                    let (mut meshes, mut triangles) = mapped::compatible(
-                        &fixed,
-                        source,
-                        &boundary.loop_start,
-                        rings,
-                        options.mapped_angle_degrees,
-                        patience.unless(&called_off[k]),
-                    )?;
+                    let patience = patience.unless(&called_off[k]);
+                    let (mut meshes, mut triangles) = if rings == 0 {
+                        let refined = source_meshes[k]
+                            .get_or_init(|| {
+                                mapped::source_mesh(
+                                    &fixed,
+                                    source,
+                                    &boundary.loop_start,
+                                    0,
+                                    options.mapped_angle_degrees,
+                                )
+                            })
+                            .as_ref()?;
+                        let mut kept = mappings[k].lock().ok()?;
+                        let mapping = kept
+                            .get_or_insert_with(|| mapped::Mapping::start(&fixed, source, refined));
+                        if !mapping.go(patience) {
+                            return None;
+                        }
+                        kept.take()?.finish()?
+                    } else {
+                        mapped::compatible(
+                            &fixed,
+                            source,
+                            &boundary.loop_start,
+                            rings,
+                            options.mapped_angle_degrees,
+                            patience,
+                        )?
+                    };
                     if pass > 0 {
                         taken(k);
                     }
@@ -845,7 +875,7 @@ fn overlay_set(
                     &boundary.loop_start,
                     0,
                     options.mapped_angle_degrees,
-                    mapped::Patience::SHORT,
+                    untangle::Patience::SHORT,
                 )
             })
             .flatten()
@@ -867,7 +897,7 @@ fn overlay_set(
             &meshes[0],
             &triangles,
             &boundary.points[k],
-            mapped::Patience::SHORT,
+            untangle::Patience::SHORT,
         );
         if !mapped::all_positive(&b, &triangles) {
             let (mut m, t) = pair_with(k)?;
@@ -877,7 +907,7 @@ fn overlay_set(
                 triangles: t,
             };
             let start = carry::carry_all(&pair, &meshes[0]);
-            b = mapped::untangle(&meshes[0], &triangles, start, n, mapped::Patience::LONG);
+            b = untangle::untangle(&meshes[0], &triangles, start, n, untangle::Patience::LONG);
             if !mapped::all_positive(&b, &triangles) {
                 return Err(Error::IncompatibleDrawings(format!(
                     "drawing {} could not be given the mesh of the first two without turning a triangle over: \

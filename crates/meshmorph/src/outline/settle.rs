@@ -124,7 +124,7 @@ pub(crate) fn settle(
         return;
     }
     let area = area_from_boundary(moving, triangles, free_from);
-    let energy = Energy::against(reference, triangles, area, 0, 0.5).with_shape();
+    let energy = Energy::against(reference, triangles, area, 0.5).with_shape();
     if energy.min_det(moving) <= 0.0 {
         return;
     }
