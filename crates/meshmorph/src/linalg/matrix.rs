@@ -29,12 +29,6 @@ pub fn mul_tn<const D: usize>(A: &Mat<D>, B: &Mat<D>) -> Mat<D> {
     std::array::from_fn(|i| std::array::from_fn(|j| (0..D).map(|k| A[k][i] * B[k][j]).sum()))
 }
 
-/// `A Bᵀ`.
-#[inline]
-pub fn mul_nt<const D: usize>(A: &Mat<D>, B: &Mat<D>) -> Mat<D> {
-    std::array::from_fn(|i| std::array::from_fn(|j| (0..D).map(|k| A[i][k] * B[j][k]).sum()))
-}
-
 /// `A x`.
 #[inline]
 pub fn mul_vec<const D: usize>(A: &Mat<D>, x: [f64; D]) -> [f64; D] {

@@ -9,7 +9,8 @@
 //! thousand triangles an evaluation takes a fraction of a millisecond,
 //! less than waking another thread costs.)
 
-use crate::linalg::matrix::{det2, mul, mul_nt, Mat2};
+use crate::linalg::lanes::{array, Lanes, Real};
+use crate::linalg::matrix::{det2, mul, Mat2};
 use crate::mesh::signed_areas;
 
 /// The inverse of the edge matrix of the equilateral triangle of unit
@@ -49,23 +50,52 @@ fn edges(b: &[[f64; 2]], tri: [u32; 3]) -> Mat2 {
     [[j[0] - i[0], k[0] - i[0]], [j[1] - i[1], k[1] - i[1]]]
 }
 
-/// One triangle's term at Jacobian `j`, weighed by `w`, and its
-/// derivative with respect to `j` when `with_gradient`.
-#[inline]
-fn term(j: Mat2, w: f64, theta: f64, eps: f64, with_gradient: bool) -> (f64, Mat2) {
-    let det = det2(j);
+/// Triangles evaluated side by side in a pass of [`Energy::evaluate`].
+const TRIANGLES_PER_STEP: usize = 4;
+
+/// A 2 x 2 matrix of lanes (one per triangle), row by row.
+type LaneMat<const L: usize> = [[Lanes<L>; 2]; 2];
+
+#[inline(always)]
+fn mul_lanes<const L: usize>(a: &LaneMat<L>, b: &LaneMat<L>) -> LaneMat<L> {
+    array(|i| array(|j| a[i][0] * b[0][j] + a[i][1] * b[1][j]))
+}
+
+/// `a bᵀ`.
+#[inline(always)]
+fn mul_nt_lanes<const L: usize>(a: &LaneMat<L>, b: &LaneMat<L>) -> LaneMat<L> {
+    array(|i| array(|j| a[i][0] * b[j][0] + a[i][1] * b[j][1]))
+}
+
+#[inline(always)]
+fn det_lanes<const L: usize>(a: &LaneMat<L>) -> Lanes<L> {
+    a[0][0] * a[1][1] - a[0][1] * a[1][0]
+}
+
+/// The triangles' terms at Jacobians `j`, weighed by `w`, and their
+/// derivatives with respect to `j` when `with_gradient`.
+#[inline(always)]
+fn term<const L: usize>(
+    j: LaneMat<L>,
+    w: Lanes<L>,
+    theta: f64,
+    eps: f64,
+    with_gradient: bool,
+) -> (Lanes<L>, LaneMat<L>) {
+    let det = det_lanes(&j);
     let tr = j[0][0] * j[0][0] + j[0][1] * j[0][1] + j[1][0] * j[1][0] + j[1][1] * j[1][1];
-    let root = (eps * eps + det * det).sqrt();
-    let c = 0.5 * (det + root);
-    let inv_c = 1.0 / c;
-    let num = (1.0 - theta) * tr + theta * (1.0 + det * det);
+    let root = (Lanes::splat(eps * eps) + det * det).map(f64::sqrt);
+    let c = Lanes::splat(0.5) * (det + root);
+    let inv_c = c.map(|c| 1.0 / c);
+    let num =
+        Lanes::splat(1.0 - theta) * tr + Lanes::splat(theta) * (Lanes::splat(1.0) + det * det);
     let energy = w * num * inv_c;
     if !with_gradient {
-        return (energy, [[0.0; 2]; 2]);
+        return (energy, [[Lanes::splat(0.0); 2]; 2]);
     }
     // dc/d(det) = c / root, so num dc / c² = num / (c root).
-    let a = w * 2.0 * (1.0 - theta) * inv_c;
-    let q = w * inv_c * (2.0 * theta * det - num / root);
+    let a = w * Lanes::splat(2.0 * (1.0 - theta)) * inv_c;
+    let q = w * inv_c * (Lanes::splat(2.0 * theta) * det - num.zip(root, |n, r| n / r));
     // dE/dJ = a J + q cof(J), cof(J) = [j11, -j10; -j01, j00].
     (
         energy,
@@ -199,39 +229,81 @@ impl<'a> Energy<'a> {
     }
 
     /// The energy and the smallest determinant at `b`, and the gradient
-    /// into `grad`.
+    /// into `grad`: [`TRIANGLES_PER_STEP`] triangles side by side, with
+    /// AVX2 (x86-64-v3) where the processor has it (chosen when the
+    /// program runs).
     fn evaluate(&self, b: &[[f64; 2]], eps: f64, mut grad: Option<&mut [[f64; 2]]>) -> (f64, f64) {
-        let with_gradient = grad.is_some();
         if let Some(g) = grad.as_deref_mut() {
             g.fill([0.0, 0.0]);
         }
-        let (mut total, mut least) = (0.0, f64::INFINITY);
-        for (t, &tri) in self.triangles.iter().enumerate() {
-            let d = edges(b, tri);
-            let r = &self.inverse[t];
-            let jac = mul(d, *r);
-            least = least.min(det2(jac));
-            let (e, gj) = term(jac, self.weight[t], self.theta, eps, with_gradient);
-            total += e;
-            // dE/dD = dE/dJ Rᵀ.
-            let mut gd = mul_nt(&gj, r);
-            if self.shape > 0.0 {
-                let (e, gj) = term(mul(d, EQUILATERAL), self.shape, 0.0, 0.0, with_gradient);
-                total += e;
-                let g = mul_nt(&gj, &EQUILATERAL);
-                for (a, b) in gd.iter_mut().flatten().zip(g.iter().flatten()) {
-                    *a += b;
-                }
-            }
-            let Some(g) = grad.as_deref_mut() else {
-                continue;
-            };
+        pulp::Arch::new().dispatch(Pass {
+            energy: self,
+            b,
+            eps,
+            grad,
+        })
+    }
+
+    /// Triangles `first..first + L`'s terms at `b` added to `sums` (the
+    /// energy, and the smallest determinant so far) and their gradient
+    /// into `grad`.
+    #[inline(always)]
+    fn step<const L: usize>(
+        &self,
+        b: &[[f64; 2]],
+        first: usize,
+        eps: f64,
+        sums: &mut (f64, f64),
+        grad: Option<&mut [[f64; 2]]>,
+    ) {
+        let with_gradient = grad.is_some();
+        let tris: [[u32; 3]; L] = array(|l| self.triangles[first + l]);
+        let corner = |k: usize, c: usize| Lanes::<L>(array(|l| b[tris[l][k] as usize][c]));
+        // Edge matrices: the edges from the first corner to the second and
+        // to the third, as columns.
+        let (x0, y0) = (corner(0, 0), corner(0, 1));
+        let d: LaneMat<L> = [
+            [corner(1, 0) - x0, corner(2, 0) - x0],
+            [corner(1, 1) - y0, corner(2, 1) - y0],
+        ];
+        let r: LaneMat<L> = array(|i| array(|j| Lanes(array(|l| self.inverse[first + l][i][j]))));
+        let jac = mul_lanes(&d, &r);
+        let det = det_lanes(&jac);
+        let w = Lanes(array(|l| self.weight[first + l]));
+        let (e, gj) = term(jac, w, self.theta, eps, with_gradient);
+        // dE/dD = dE/dJ Rᵀ.
+        let mut gd = mul_nt_lanes(&gj, &r);
+        let mut energy = e;
+        if self.shape > 0.0 {
+            let equilateral: LaneMat<L> = EQUILATERAL.map(|row| row.map(Lanes::splat));
+            let (e, gj) = term(
+                mul_lanes(&d, &equilateral),
+                Lanes::splat(self.shape),
+                0.0,
+                0.0,
+                with_gradient,
+            );
+            energy = energy + e;
+            let g = mul_nt_lanes(&gj, &equilateral);
+            gd = array(|i| array(|j| gd[i][j] + g[i][j]));
+        }
+        for l in 0..L {
+            sums.0 += energy.0[l];
+            sums.1 = sums.1.min(det.0[l]);
+        }
+        let Some(g) = grad else {
+            return;
+        };
+        for (l, tri) in tris.iter().enumerate() {
             // The second corner moves the first column of D, the third the
             // second, the first both against.
             let corners = [
-                [-(gd[0][0] + gd[0][1]), -(gd[1][0] + gd[1][1])],
-                [gd[0][0], gd[1][0]],
-                [gd[0][1], gd[1][1]],
+                [
+                    -(gd[0][0].0[l] + gd[0][1].0[l]),
+                    -(gd[1][0].0[l] + gd[1][1].0[l]),
+                ],
+                [gd[0][0].0[l], gd[1][0].0[l]],
+                [gd[0][1].0[l], gd[1][1].0[l]],
             ];
             for (&v, c) in tri.iter().zip(corners) {
                 let g = &mut g[v as usize];
@@ -239,6 +311,38 @@ impl<'a> Energy<'a> {
                 g[1] += c[1];
             }
         }
-        (total, least)
+    }
+}
+
+/// A pass of [`Energy::evaluate`] over every triangle.
+struct Pass<'a, 'e> {
+    energy: &'a Energy<'e>,
+    b: &'a [[f64; 2]],
+    eps: f64,
+    grad: Option<&'a mut [[f64; 2]]>,
+}
+
+impl pulp::WithSimd for Pass<'_, '_> {
+    type Output = (f64, f64);
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(mut self, _: S) -> (f64, f64) {
+        let mut sums = (0.0, f64::INFINITY);
+        let count = self.energy.triangles.len();
+        let whole = count - count % TRIANGLES_PER_STEP;
+        for first in (0..whole).step_by(TRIANGLES_PER_STEP) {
+            self.energy.step::<TRIANGLES_PER_STEP>(
+                self.b,
+                first,
+                self.eps,
+                &mut sums,
+                self.grad.as_deref_mut(),
+            );
+        }
+        for first in whole..count {
+            self.energy
+                .step::<1>(self.b, first, self.eps, &mut sums, self.grad.as_deref_mut());
+        }
+        sums
     }
 }
