@@ -535,14 +535,16 @@ fn animate(
         bail!("--turns applies to two keys only: a sequence's whole turns come from its keys");
     }
     crate::memory::check_setup(first.num_triangles(), "the interpolation")?;
-    // A drawing's frames are mended where the fit turns triangles over
-    // (the outline stays as it is) when an output shows the inside: outlines
-    // alone (SVG and text frames, the animated SVG, Lottie) are the same
-    // either way, and mending an unlike pair's frame can take a good part
-    // of a second.
+    // A drawing's frames' outlines are untied where the fit knots them
+    // (microseconds where it does not). They are mended where the fit
+    // turns triangles over (the outline stays as it is) when an output
+    // shows the inside: outlines alone (SVG and text frames, the animated
+    // SVG, Lottie) are the same either way, and mending an unlike pair's
+    // frame can take a good part of a second.
     let options = args
         .frames
         .options()
+        .with_untie_outlines(true)
         .with_mend_folds(outputs.frames.shows_inside());
     let (interpolator, sequence);
     let morph: &Sequence<2> = if set.meshes.len() == 2 {

@@ -242,7 +242,12 @@ pub fn run(args: &Args) -> Result<()> {
         .with_trace_tolerance(p.trace_tolerance)
         .with_frame_size(Some((width, height)))
         .with_dissolve(p.dissolve)
-        .with_interpolation(args.frames.options().with_mend_folds(true));
+        .with_interpolation(
+            args.frames
+                .options()
+                .with_untie_outlines(true)
+                .with_mend_folds(true),
+        );
     let morph = PictureFrames::new(
         [&a, &b],
         &anchors,

@@ -57,20 +57,18 @@ pub(crate) fn options(
 }
 
 /// [`options`] with `mend_folds` (planar frames mended where triangles
-/// turn over; default off).
+/// turn over) and `untie_outlines` (planar frames' outlines untied where
+/// they knot); both default off.
 fn frame_options(
     consistency: Option<&Bound<'_, PyAny>>,
     turns: Option<&Bound<'_, PyAny>>,
     stretch: Option<&Bound<'_, PyAny>>,
     mend_folds: Option<&Bound<'_, PyAny>>,
+    untie_outlines: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<InterpolatorOptions> {
-    Ok(
-        options(consistency, turns, stretch)?.with_mend_folds(args::flag(
-            "mend_folds",
-            mend_folds,
-            false,
-        )?),
-    )
+    Ok(options(consistency, turns, stretch)?
+        .with_mend_folds(args::flag("mend_folds", mend_folds, false)?)
+        .with_untie_outlines(args::flag("untie_outlines", untie_outlines, false)?))
 }
 
 /// Keys of one dimension (checked by [`dimension`]) with the faces
@@ -140,6 +138,9 @@ fn dimension(named: &[(String, Points)]) -> PyResult<usize> {
 /// `mend_folds=True` (planar): a frame in which triangles turn over is mended
 /// where they are, its outline kept, as drawings' compatible meshes want
 /// (such a frame then takes more than its back-substitution).
+/// `untie_outlines=True` (planar): where a frame's outline knots (a short
+/// stretch crumpled across itself), that stretch is laid straight; an
+/// outline that stays simple is kept to the bit.
 #[pyclass(name = "Interpolator", module = "meshmorph", frozen)]
 pub struct PyInterpolator(Either<Interpolator<2>, Interpolator<3>>);
 
@@ -147,9 +148,9 @@ pub struct PyInterpolator(Either<Interpolator<2>, Interpolator<3>>);
 impl PyInterpolator {
     #[new]
     #[allow(clippy::too_many_arguments)] // the keyword arguments Python takes
-    #[pyo3(signature = (v0, v1, f, *, consistency = None, turns = None, stretch = None, mend_folds = None))]
+    #[pyo3(signature = (v0, v1, f, *, consistency = None, turns = None, stretch = None, mend_folds = None, untie_outlines = None))]
     #[pyo3(
-        text_signature = "(v0, v1, f, *, consistency=True, turns=0, stretch='linear', mend_folds=False)"
+        text_signature = "(v0, v1, f, *, consistency=True, turns=0, stretch='linear', mend_folds=False, untie_outlines=False)"
     )]
     fn new(
         py: Python<'_>,
@@ -160,8 +161,9 @@ impl PyInterpolator {
         turns: Option<&Bound<'_, PyAny>>,
         stretch: Option<&Bound<'_, PyAny>>,
         mend_folds: Option<&Bound<'_, PyAny>>,
+        untie_outlines: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let options = frame_options(consistency, turns, stretch, mend_folds)?;
+        let options = frame_options(consistency, turns, stretch, mend_folds, untie_outlines)?;
         let named = vec![
             ("v0".to_string(), arrays::points("v0", v0)?),
             ("v1".to_string(), arrays::points("v1", v1)?),
@@ -228,9 +230,10 @@ fn stacked(arg: &str, a: &Bound<'_, PyAny>, triangles: usize) -> PyResult<Vec<(S
 #[pymethods]
 impl PySequence {
     #[new]
-    #[pyo3(signature = (keys, f, *, consistency = None, turns = None, stretch = None, mend_folds = None))]
+    #[allow(clippy::too_many_arguments)] // the keyword arguments Python takes
+    #[pyo3(signature = (keys, f, *, consistency = None, turns = None, stretch = None, mend_folds = None, untie_outlines = None))]
     #[pyo3(
-        text_signature = "(keys, f, *, consistency=True, turns=0, stretch='linear', mend_folds=False)"
+        text_signature = "(keys, f, *, consistency=True, turns=0, stretch='linear', mend_folds=False, untie_outlines=False)"
     )]
     fn new(
         py: Python<'_>,
@@ -240,8 +243,9 @@ impl PySequence {
         turns: Option<&Bound<'_, PyAny>>,
         stretch: Option<&Bound<'_, PyAny>>,
         mend_folds: Option<&Bound<'_, PyAny>>,
+        untie_outlines: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let options = frame_options(consistency, turns, stretch, mend_folds)?;
+        let options = frame_options(consistency, turns, stretch, mend_folds, untie_outlines)?;
         let triangles = arrays::faces("f", f)?;
         let named = stacked("keys", keys, triangles.len())?;
         if named.len() < 2 {

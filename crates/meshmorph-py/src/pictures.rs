@@ -261,7 +261,9 @@ fn morph_pictures<'py>(
         ));
     }
     let interpolation: InterpolatorOptions =
-        crate::interpolation::options(consistency, turns, stretch)?.with_mend_folds(true);
+        crate::interpolation::options(consistency, turns, stretch)?
+            .with_untie_outlines(true)
+            .with_mend_folds(true);
     let size = frame_size(size)?.unwrap_or((pictures[0].width, pictures[0].height));
     let options = PictureMorphOptions::default()
         .with_frame_only(args::flag("frame_only", frame_only, false)?)

@@ -209,3 +209,52 @@ def test_mend_folds_leaves_no_triangle_turned_over_inside_and_keeps_the_outline(
             np.testing.assert_array_equal(xk, yk)
     with pytest.raises(meshmorph.MeshmorphError, match="mend_folds"):
         meshmorph.Interpolator(v0, v1, f, mend_folds="yes")
+
+
+def outline_crosses(p):
+    """Whether the closed polyline p has two edges, not neighbours, that cross."""
+    n = len(p)
+    orient = lambda a, b, c: (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    for i in range(n):
+        a, b = p[i], p[(i + 1) % n]
+        for j in range(i + 2, n):
+            if (j + 1) % n == i:
+                continue
+            c, d = p[j], p[(j + 1) % n]
+            if orient(a, b, c) * orient(a, b, d) < 0 and orient(c, d, a) * orient(c, d, b) < 0:
+                return True
+    return False
+
+
+def spiky(n, seed):
+    """A random star-shaped polygon of n points, counter-clockwise."""
+    rng = np.random.default_rng(seed)
+    a = np.sort(rng.uniform(0.0, 2 * np.pi, n))
+    r = rng.uniform(0.4, 1.0, n)
+    return np.stack([r * np.cos(a), r * np.sin(a)], axis=1)
+
+
+def test_untie_outlines_leaves_no_outline_crossed_and_keeps_simple_frames():
+    """Spiky polygons into a spiral band: the fit twists short stretches of
+    the outline through themselves in some frames; untie_outlines=True cuts
+    them, moving a few outline points, and leaves frames whose outline is
+    simple as the fit made them, the keys to the bit."""
+    knotted = 0
+    for seed in range(3):
+        result = meshmorph.compatible_meshes([[spiky(50, seed)], [spiral_band()]])
+        v0, v1 = result.vertices
+        f, loop = result.triangles, np.asarray(result.loops[0])
+        fit = meshmorph.Interpolator(v0, v1, f)
+        untied = meshmorph.Interpolator(v0, v1, f, untie_outlines=True)
+        for t in np.linspace(0.0, 1.0, 11):
+            x, y = fit.at(t), untied.at(t)
+            assert not outline_crosses(y[loop]), f"seed {seed}, t = {t}"
+            if outline_crosses(x[loop]):
+                knotted += 1
+                assert (np.linalg.norm(x - y, axis=1) > 0).sum() <= len(loop) // 8
+            else:
+                np.testing.assert_array_equal(x, y)
+        np.testing.assert_array_equal(untied.at(1.0), v1)
+    assert knotted > 0, "the pairs no longer knot: choose others"
+    with pytest.raises(meshmorph.MeshmorphError, match="untie_outlines"):
+        meshmorph.Interpolator(v0, v1, f, untie_outlines=2)

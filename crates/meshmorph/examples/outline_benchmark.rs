@@ -501,7 +501,9 @@ fn morph(pair: &Pair) -> meshmorph::Result<(CompatibleSet, Interpolator<2>)> {
     let morph = Interpolator::new(
         &set.meshes[0],
         &set.meshes[1],
-        &InterpolatorOptions::default().with_mend_folds(true),
+        &InterpolatorOptions::default()
+            .with_mend_folds(true)
+            .with_untie_outlines(true),
     )?;
     Ok((set, morph))
 }

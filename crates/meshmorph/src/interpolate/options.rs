@@ -60,6 +60,18 @@ pub struct InterpolatorOptions {
     /// disagree a great deal (a round shape into a thin curl) the fit turns
     /// triangles over inside an outline that stays whole.
     pub mend_folds: bool,
+    /// Untie each planar frame's outline where the fit crumples a short
+    /// stretch of it into a knot that crosses itself (a few points, at
+    /// most an eighth of their loop, gathered a fraction of an edge
+    /// across): that stretch is laid straight between the points on either
+    /// side, its points in order and spaced as the fit spaced them; the
+    /// rest of the frame stays as the fit made it (then mended, with
+    /// [`Self::mend_folds`]). Two far places of the outline that meet are
+    /// left as they are. A frame whose outline is simple is unchanged (one
+    /// sweep over its boundary edges tells, microseconds). Default
+    /// `false`: the published method's frames. Drawings and pictures turn
+    /// it on.
+    pub untie_outlines: bool,
 }
 
 impl Default for InterpolatorOptions {
@@ -71,6 +83,7 @@ impl Default for InterpolatorOptions {
             allow_flips: false,
             factor: FactorKind::Auto,
             mend_folds: false,
+            untie_outlines: false,
         }
     }
 }
@@ -104,6 +117,11 @@ impl InterpolatorOptions {
     /// Sets [`InterpolatorOptions::mend_folds`].
     pub fn with_mend_folds(mut self, on: bool) -> Self {
         self.mend_folds = on;
+        self
+    }
+    /// Sets [`InterpolatorOptions::untie_outlines`].
+    pub fn with_untie_outlines(mut self, on: bool) -> Self {
+        self.untie_outlines = on;
         self
     }
 }

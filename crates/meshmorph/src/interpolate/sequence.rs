@@ -55,7 +55,7 @@ use crate::linalg::matrix::{identity, lerp, mul, Mat};
 use crate::linalg::Space;
 use crate::mesh::topology::TriangleAdjacency;
 use crate::mesh::Mesh;
-use crate::outline::FrameMender;
+use crate::outline::{FrameMender, OutlineUntier};
 
 /// Eigenvalues of stretches below this are raised to it before logarithms
 /// and powers.
@@ -282,6 +282,9 @@ where
     /// to the bit, and the vertices no triangle uses move on straight lines
     /// between them.
     later: Vec<Vec<[f64; D]>>,
+    /// Unties the frames' outlines where they knot
+    /// ([`InterpolatorOptions::untie_outlines`]; planar only).
+    untier: Option<OutlineUntier>,
     /// Mends the frames where triangles turn over
     /// ([`InterpolatorOptions::mend_folds`]; planar only).
     mender: Option<FrameMender>,
@@ -343,7 +346,7 @@ where
         let rest = Arc::new(rest?);
         let (segments, last) = segments?;
         let mut sequence = Self::build(rest, adjacency, later_keys, segments);
-        sequence.mender = mender(first, options);
+        (sequence.untier, sequence.mender) = menders(first, options);
         Ok((sequence, last))
     }
 
@@ -382,9 +385,9 @@ where
         options: &InterpolatorOptions,
     ) -> Result<(Self, Vec<Log<D>>)> {
         let (segments, last) = segments(rest.source(), &adjacency, later_keys, options)?;
-        let mender = mender(rest.source(), options);
+        let (untier, mender) = menders(rest.source(), options);
         let mut sequence = Self::build(rest, adjacency, later_keys, segments);
-        sequence.mender = mender;
+        (sequence.untier, sequence.mender) = (untier, mender);
         Ok((sequence, last))
     }
 
@@ -422,6 +425,7 @@ where
             attached,
             offsets,
             later,
+            untier: None,
             mender: None,
         }
     }
@@ -675,6 +679,13 @@ where
                 out[v as usize] = std::array::from_fn(|i| if a[i] == b[i] { a[i] } else { c[i] });
             }
         }
+        // The outline first: straightening a knot can turn triangles over
+        // that the mending then puts right.
+        if let Some(untier) = &self.untier {
+            for out in outs.iter_mut() {
+                untier.untie(bytemuck::cast_slice_mut(out));
+            }
+        }
         if let Some(mender) = &self.mender {
             for out in outs.iter_mut() {
                 mender.mend(bytemuck::cast_slice_mut(out));
@@ -709,14 +720,27 @@ where
     }
 }
 
-/// The mender of frames of `first`'s triangles, when the options ask for
-/// one and the meshes are planar (and `first`'s triangles all run one way).
-fn mender<const D: usize>(first: &Mesh<D>, options: &InterpolatorOptions) -> Option<FrameMender> {
-    if !options.mend_folds || D != 2 {
-        return None;
+/// The untier and the mender of frames of `first`'s triangles, each when
+/// the options ask for it and the meshes are planar (and `first`'s
+/// boundary is simple loops, its triangles all run one way).
+fn menders<const D: usize>(
+    first: &Mesh<D>,
+    options: &InterpolatorOptions,
+) -> (Option<OutlineUntier>, Option<FrameMender>) {
+    if D != 2 {
+        return (None, None);
     }
     let positions: &[[f64; 2]] = bytemuck::cast_slice(first.positions());
-    FrameMender::new(positions, first.triangles())
+    (
+        options
+            .untie_outlines
+            .then(|| OutlineUntier::new(first.triangles()))
+            .flatten(),
+        options
+            .mend_folds
+            .then(|| FrameMender::new(positions, first.triangles()))
+            .flatten(),
+    )
 }
 
 /// Refuses what no sequence of `later` keys after the first can take:

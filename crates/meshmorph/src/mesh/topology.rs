@@ -266,6 +266,60 @@ impl<const D: usize> Mesh<D> {
     }
 }
 
+/// Where the boundary of a triangle list is not a set of simple loops.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoundaryBreak {
+    /// Two boundary edges leave this vertex: the boundary meets itself there.
+    PassesTwice(u32),
+    /// No boundary edge leaves this vertex though one arrives: neighbouring
+    /// triangles list their shared edge the same way round.
+    Stops(u32),
+}
+
+/// The boundary loops of `triangles`: the edges that no triangle lists the
+/// other way round, each loop as its vertices in the order the triangles
+/// run, loops in the order of their first edge in `triangles`. Empty for a
+/// closed surface.
+///
+/// # Errors
+/// [`BoundaryBreak`] where the boundary edges do not make simple loops.
+pub fn boundary_loops(triangles: &[[u32; 3]]) -> Result<Vec<Vec<u32>>, BoundaryBreak> {
+    use std::collections::{HashMap, HashSet};
+    let directed: HashSet<(u32, u32)> = triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
+        .collect();
+    let mut next: HashMap<u32, u32> = HashMap::new();
+    let mut order: Vec<u32> = Vec::new();
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            if directed.contains(&(b, a)) {
+                continue;
+            }
+            if next.insert(a, b).is_some() {
+                return Err(BoundaryBreak::PassesTwice(a));
+            }
+            order.push(a);
+        }
+    }
+    let mut seen = HashSet::new();
+    let mut loops = Vec::new();
+    for &start in &order {
+        if seen.contains(&start) {
+            continue;
+        }
+        let mut vertices = Vec::new();
+        let mut v = start;
+        while seen.insert(v) {
+            vertices.push(v);
+            v = *next.get(&v).ok_or(BoundaryBreak::Stops(v))?;
+        }
+        loops.push(vertices);
+    }
+    Ok(loops)
+}
+
 /// Connected components of `triangles` over `num_vertices` vertices,
 /// numbered in order of their first triangle.
 pub fn connected_components(num_vertices: usize, triangles: &[[u32; 3]]) -> Components {

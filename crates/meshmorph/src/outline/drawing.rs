@@ -1,9 +1,11 @@
 //! A drawing: one filled planar region given as closed loops of points,
 //! checked and put in a standard orientation.
 
+use std::ops::ControlFlow;
+
 use super::geometry::{
-    diagonal, inside_loop, orient, point_segment_distance, segments_cross, segments_meet,
-    signed_area2,
+    diagonal, inside_loop, near_edge_pairs, orient, point_segment_distance, segments_cross,
+    segments_meet, signed_area2,
 };
 use crate::error::{Error, Result};
 
@@ -197,111 +199,78 @@ impl Drawing {
 /// Fails on the first two edges that cross or touch, and on a loop that
 /// folds back on itself.
 fn check_edges(loops: &[Vec<[f64; 2]>], given: &[Vec<usize>], tol: f64) -> Result<()> {
-    struct Edge {
-        l: usize,
-        i: usize,
-        a: [f64; 2],
-        b: [f64; 2],
-        lo: f64,
-        hi: f64,
-    }
-    let mut edges = Vec::new();
-    for (l, pts) in loops.iter().enumerate() {
-        let n = pts.len();
-        for i in 0..n {
-            let (a, b) = (pts[i], pts[(i + 1) % n]);
-            edges.push(Edge {
-                l,
-                i,
-                a,
-                b,
-                lo: a[0].min(b[0]) - tol,
-                hi: a[0].max(b[0]) + tol,
-            });
-        }
-    }
-    edges.sort_by(|e, f| e.lo.total_cmp(&f.lo));
     let name_edge = |l: usize, i: usize| {
         let n = loops[l].len();
         format!("{}-{}", given[l][i], given[l][(i + 1) % n])
     };
-    for x in 0..edges.len() {
-        let e = &edges[x];
-        for f in &edges[x + 1..] {
-            if f.lo > e.hi {
-                break;
-            }
-            let (lo_y, hi_y) = (e.a[1].min(e.b[1]) - tol, e.a[1].max(e.b[1]) + tol);
-            if f.a[1].max(f.b[1]) < lo_y || f.a[1].min(f.b[1]) > hi_y {
-                continue;
-            }
-            if e.l == f.l {
-                let n = loops[e.l].len();
-                let (i, j) = (e.i, f.i);
-                let shared = if (i + 1) % n == j {
-                    Some((j, e.a, f.b))
-                } else if (j + 1) % n == i {
-                    Some((i, f.a, e.b))
-                } else {
-                    None
-                };
-                if let Some((k, before, after)) = shared {
-                    let p = loops[e.l][k];
-                    let folds = orient(before, p, after).abs()
-                        <= tol * super::geometry::dist(before, after).max(tol)
-                        && ((p[0] - before[0]) * (after[0] - p[0])
-                            + (p[1] - before[1]) * (after[1] - p[1]))
-                            < 0.0;
-                    let reaches = point_segment_distance(before, p, after) <= tol
-                        || point_segment_distance(after, before, p) <= tol;
-                    if folds || reaches {
-                        return Err(Error::InvalidDrawing {
-                            loop_index: e.l,
-                            message: format!(
-                                "{} folds back on itself at point {}: remove the spike there",
-                                loop_name(e.l),
-                                given[e.l][k]
-                            ),
-                        });
-                    }
-                    continue;
+    let failure = near_edge_pairs(loops, tol, |e, f| {
+        if e.l == f.l {
+            let n = loops[e.l].len();
+            let (i, j) = (e.i, f.i);
+            let shared = if (i + 1) % n == j {
+                Some((j, e.a, f.b))
+            } else if (j + 1) % n == i {
+                Some((i, f.a, e.b))
+            } else {
+                None
+            };
+            if let Some((k, before, after)) = shared {
+                let p = loops[e.l][k];
+                let folds = orient(before, p, after).abs()
+                    <= tol * super::geometry::dist(before, after).max(tol)
+                    && ((p[0] - before[0]) * (after[0] - p[0])
+                        + (p[1] - before[1]) * (after[1] - p[1]))
+                        < 0.0;
+                let reaches = point_segment_distance(before, p, after) <= tol
+                    || point_segment_distance(after, before, p) <= tol;
+                if folds || reaches {
+                    return ControlFlow::Break(Error::InvalidDrawing {
+                        loop_index: e.l,
+                        message: format!(
+                            "{} folds back on itself at point {}: remove the spike there",
+                            loop_name(e.l),
+                            given[e.l][k]
+                        ),
+                    });
                 }
-            }
-            if segments_meet(e.a, e.b, f.a, f.b, tol) {
-                let verb = if segments_cross(e.a, e.b, f.a, f.b) {
-                    "crosses"
-                } else {
-                    "touches"
-                };
-                let (first, second) = if (e.l, e.i) <= (f.l, f.i) {
-                    (f, e)
-                } else {
-                    (e, f)
-                };
-                let message = if first.l == second.l {
-                    format!(
-                        "{} {verb} itself at points {} and {}: a loop must be simple; split it where it meets itself",
-                        loop_name(first.l),
-                        name_edge(first.l, first.i),
-                        name_edge(second.l, second.i)
-                    )
-                } else {
-                    format!(
-                        "{} {verb} {} at points {} and {}: loops must keep apart; move one of them",
-                        loop_name(first.l),
-                        loop_name(second.l),
-                        name_edge(first.l, first.i),
-                        name_edge(second.l, second.i)
-                    )
-                };
-                return Err(Error::InvalidDrawing {
-                    loop_index: first.l,
-                    message,
-                });
+                return ControlFlow::Continue(());
             }
         }
-    }
-    Ok(())
+        if !segments_meet(e.a, e.b, f.a, f.b, tol) {
+            return ControlFlow::Continue(());
+        }
+        let verb = if segments_cross(e.a, e.b, f.a, f.b) {
+            "crosses"
+        } else {
+            "touches"
+        };
+        let (first, second) = if (e.l, e.i) <= (f.l, f.i) {
+            (f, e)
+        } else {
+            (e, f)
+        };
+        let message = if first.l == second.l {
+            format!(
+                "{} {verb} itself at points {} and {}: a loop must be simple; split it where it meets itself",
+                loop_name(first.l),
+                name_edge(first.l, first.i),
+                name_edge(second.l, second.i)
+            )
+        } else {
+            format!(
+                "{} {verb} {} at points {} and {}: loops must keep apart; move one of them",
+                loop_name(first.l),
+                loop_name(second.l),
+                name_edge(first.l, first.i),
+                name_edge(second.l, second.i)
+            )
+        };
+        ControlFlow::Break(Error::InvalidDrawing {
+            loop_index: first.l,
+            message,
+        })
+    });
+    failure.map_or(Ok(()), Err)
 }
 
 #[cfg(test)]

@@ -24,8 +24,8 @@ pub(crate) fn lerp(a: [f64; 2], b: [f64; 2], s: f64) -> [f64; 2] {
     [a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s]
 }
 
-/// Distance from `p` to the segment `a b`.
-pub(crate) fn point_segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+/// The point of the segment `a b` nearest to `p`.
+pub(crate) fn nearest_on_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     let d = sub(b, a);
     let len2 = d[0] * d[0] + d[1] * d[1];
     let s = if len2 > 0.0 {
@@ -33,7 +33,37 @@ pub(crate) fn point_segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f
     } else {
         0.0
     };
-    dist(p, lerp(a, b, s))
+    lerp(a, b, s)
+}
+
+/// Distance from `p` to the segment `a b`.
+pub(crate) fn point_segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    dist(p, nearest_on_segment(p, a, b))
+}
+
+/// The nearest points of the segments `a b` and `c d`, one on each: where
+/// they cross, their crossing twice.
+pub(crate) fn nearest_points(
+    a: [f64; 2],
+    b: [f64; 2],
+    c: [f64; 2],
+    d: [f64; 2],
+) -> ([f64; 2], [f64; 2]) {
+    if segments_cross(a, b, c, d) {
+        // a + s (b - a) on c d: orient(c, d, ·) is affine along a b.
+        let (oa, ob) = (orient(c, d, a), orient(c, d, b));
+        let x = lerp(a, b, oa / (oa - ob));
+        return (x, x);
+    }
+    [
+        (a, nearest_on_segment(a, c, d)),
+        (b, nearest_on_segment(b, c, d)),
+        (nearest_on_segment(c, a, b), c),
+        (nearest_on_segment(d, a, b), d),
+    ]
+    .into_iter()
+    .min_by(|(p, q), (r, s)| dist(*p, *q).total_cmp(&dist(*r, *s)))
+    .expect("four candidates")
 }
 
 /// Whether the segments `a b` and `c d` cross at a point inside both.
@@ -51,6 +81,63 @@ pub(crate) fn segments_meet(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2], 
         || point_segment_distance(b, c, d) <= tol
         || point_segment_distance(c, a, b) <= tol
         || point_segment_distance(d, a, b) <= tol
+}
+
+/// Edge `i` of loop `l` (from its point `i` to the next), with its x range
+/// widened by the sweep's tolerance.
+pub(crate) struct LoopEdge {
+    pub(crate) l: usize,
+    pub(crate) i: usize,
+    pub(crate) a: [f64; 2],
+    pub(crate) b: [f64; 2],
+    lo: f64,
+    hi: f64,
+}
+
+/// Every pair of edges of `loops` whose bounding boxes, widened by `tol`,
+/// overlap, given to `visit` (the edge of smaller left end first) until it
+/// breaks with a value, which is returned.
+///
+/// # Performance
+/// A sweep along x: `O(n log n)` for the `n` edges plus the pairs whose x
+/// ranges overlap.
+pub(crate) fn near_edge_pairs<B>(
+    loops: &[Vec<[f64; 2]>],
+    tol: f64,
+    mut visit: impl FnMut(&LoopEdge, &LoopEdge) -> std::ops::ControlFlow<B>,
+) -> Option<B> {
+    let mut edges = Vec::with_capacity(loops.iter().map(Vec::len).sum());
+    for (l, pts) in loops.iter().enumerate() {
+        let n = pts.len();
+        for i in 0..n {
+            let (a, b) = (pts[i], pts[(i + 1) % n]);
+            edges.push(LoopEdge {
+                l,
+                i,
+                a,
+                b,
+                lo: a[0].min(b[0]) - tol,
+                hi: a[0].max(b[0]) + tol,
+            });
+        }
+    }
+    edges.sort_by(|e, f| e.lo.total_cmp(&f.lo));
+    for x in 0..edges.len() {
+        let e = &edges[x];
+        let (lo_y, hi_y) = (e.a[1].min(e.b[1]) - tol, e.a[1].max(e.b[1]) + tol);
+        for f in &edges[x + 1..] {
+            if f.lo > e.hi {
+                break;
+            }
+            if f.a[1].max(f.b[1]) < lo_y || f.a[1].min(f.b[1]) > hi_y {
+                continue;
+            }
+            if let std::ops::ControlFlow::Break(value) = visit(e, f) {
+                return Some(value);
+            }
+        }
+    }
+    None
 }
 
 /// Twice the signed area of a closed loop (shoelace formula): positive

@@ -59,6 +59,7 @@ mod settle;
 #[cfg(test)]
 mod tests;
 mod untangle;
+mod untie;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, OnceLock};
@@ -68,6 +69,7 @@ use rayon::prelude::*;
 
 pub use drawing::Drawing;
 pub(crate) use mend::FrameMender;
+pub(crate) use untie::OutlineUntier;
 
 use self::boundary::{match_loops, MatchedPoint, TieBreak};
 use self::geometry::{dist, lerp, point_segment_distance, ArcLoop};

@@ -1018,3 +1018,69 @@ fn mended_frames_have_no_triangle_turned_over_inside_and_keep_the_outline() {
         assert!(10 * after <= before, "{after} of {before} left");
     }
 }
+
+/// Whether the frame `x`'s outline (the `loops` of the set's meshes)
+/// crosses or touches itself, by the drawings' own check.
+fn outline_crosses(x: &[[f64; 2]], loops: &[Vec<u32>]) -> bool {
+    let points: Loops = loops
+        .iter()
+        .map(|l| l.iter().map(|&v| x[v as usize]).collect())
+        .collect();
+    Drawing::new(points).is_err()
+}
+
+/// Spiky polygons into a thick curl and a spiral: the fit twists the
+/// bottom of a notch through itself in most frames. Untied, no frame's
+/// outline crosses or touches itself, a frame whose fit's outline is
+/// simple is the fit's to the bit, and a knotted one moves a few of its
+/// points (at most an eighth of the loop), by less than a tenth of its
+/// size (the twisted bit cut off: 7.5 % at most on these).
+#[test]
+fn untied_frames_outlines_never_cross() {
+    let pairs = [
+        (random_polygon(50, 1), thick_curl(90)),
+        (random_polygon(60, 2), thick_curl(90)),
+        (random_polygon(60, 3), spiral(120)),
+    ];
+    for (p, (a, b)) in pairs.into_iter().enumerate() {
+        let drawings = [
+            Drawing::new(vec![a]).unwrap(),
+            Drawing::new(vec![b]).unwrap(),
+        ];
+        let set = compatible_set(&drawings, &[], &OutlineOptions::default()).unwrap();
+        let (a, b) = (&set.meshes[0], &set.meshes[1]);
+        let fit = Interpolator::new(a, b, &InterpolatorOptions::default()).unwrap();
+        let options = InterpolatorOptions::default().with_untie_outlines(true);
+        let untied = Interpolator::new(a, b, &options).unwrap();
+        let n = set.loops[0].len();
+        let mut knotted = 0;
+        for k in 0..=20 {
+            let t = k as f64 / 20.0;
+            let (x, y) = (fit.at(t), untied.at(t));
+            assert!(
+                !outline_crosses(&y, &set.loops),
+                "pair {p}, t = {t}: crosses"
+            );
+            if !outline_crosses(&x, &set.loops) {
+                assert_eq!(x, y, "pair {p}, t = {t}: a simple outline changed");
+                continue;
+            }
+            knotted += 1;
+            let size = diagonal(x.iter());
+            let moved: Vec<f64> = x
+                .iter()
+                .zip(&y)
+                .map(|(&q, &r)| super::geometry::dist(q, r))
+                .filter(|&d| d > 0.0)
+                .collect();
+            assert!(
+                8 * moved.len() <= n,
+                "pair {p}, t = {t}: {} of {n} moved",
+                moved.len()
+            );
+            let most = moved.iter().copied().fold(0.0, f64::max) / size;
+            assert!(most < 0.1, "pair {p}, t = {t}: moved {most:.3} of the size");
+        }
+        assert!(knotted > 0, "pair {p} no longer knots: choose another");
+    }
+}

@@ -41,8 +41,9 @@ pub struct PictureMorphOptions {
     /// over the whole morph.
     pub dissolve: Option<[f64; 2]>,
     /// The interpolation of the meshes. Default: its own defaults with
-    /// [`InterpolatorOptions::mend_folds`] on (a triangle turned over
-    /// would draw its piece of picture twice).
+    /// [`InterpolatorOptions::untie_outlines`] and
+    /// [`InterpolatorOptions::mend_folds`] on (a knotted outline or a
+    /// triangle turned over would draw its piece of picture twice).
     pub interpolation: InterpolatorOptions,
     /// How the compatible meshes are made. Default: its own defaults.
     pub outline: OutlineOptions,
@@ -56,7 +57,9 @@ impl Default for PictureMorphOptions {
             min_area: 16.0,
             frame_size: None,
             dissolve: None,
-            interpolation: InterpolatorOptions::default().with_mend_folds(true),
+            interpolation: InterpolatorOptions::default()
+                .with_untie_outlines(true)
+                .with_mend_folds(true),
             outline: OutlineOptions::default(),
         }
     }

@@ -1,11 +1,9 @@
 //! A planar mesh's boundary as a drawing: its outer boundary loop and the
 //! loops around its holes.
 
-use std::collections::HashMap;
-
 use super::regions::signed_area2;
 use crate::error::{Error, Result};
-use crate::mesh::topology::connected_components;
+use crate::mesh::topology::{boundary_loops, connected_components, BoundaryBreak};
 use crate::mesh::Mesh2;
 use crate::outline::Drawing;
 
@@ -27,57 +25,25 @@ pub fn drawing_of_mesh(mesh: &Mesh2, name: &str) -> Result<Drawing> {
             "{name} is in {parts} separate parts: a drawing is one region; give each part as a mesh of its own"
         )));
     }
-    let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
-    for t in triangles {
-        for k in 0..3 {
-            *directed.entry((t[k], t[(k + 1) % 3])).or_default() += 1;
-        }
-    }
-    let mut next: HashMap<u32, u32> = HashMap::new();
-    let mut order: Vec<u32> = Vec::new();
-    for t in triangles {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            if directed.contains_key(&(b, a)) {
-                continue;
-            }
-            if next.insert(a, b).is_some() {
-                return Err(Error::InvalidMesh(format!(
-                    "{name}'s boundary passes twice through vertex {a} (numbered from 0): its outline touches itself there; separate the parts that meet at that vertex"
-                )));
-            }
-            order.push(a);
-        }
-    }
-    if next.is_empty() {
+    let loops = boundary_loops(triangles).map_err(|e| {
+        Error::InvalidMesh(match e {
+            BoundaryBreak::PassesTwice(a) => format!(
+                "{name}'s boundary passes twice through vertex {a} (numbered from 0): its outline touches itself there; separate the parts that meet at that vertex"
+            ),
+            BoundaryBreak::Stops(v) => format!(
+                "{name}'s boundary stops at vertex {v} (numbered from 0): triangles on either side of an edge list it the same way round; orient them alike"
+            ),
+        })
+    })?;
+    if loops.is_empty() {
         return Err(Error::InvalidMesh(format!(
             "{name} has no boundary (it is closed): a drawing is a region with an outline"
         )));
     }
-    let mut seen = std::collections::HashSet::new();
-    let mut loops: Vec<Vec<[f64; 2]>> = Vec::new();
-    for &start in &order {
-        if seen.contains(&start) {
-            continue;
-        }
-        let mut points = Vec::new();
-        let mut v = start;
-        loop {
-            if !seen.insert(v) {
-                break;
-            }
-            points.push(mesh.positions()[v as usize]);
-            match next.get(&v) {
-                Some(&w) => v = w,
-                None => {
-                    return Err(Error::InvalidMesh(format!(
-                        "{name}'s boundary stops at vertex {v} (numbered from 0): triangles on either side of an edge list it the same way round; orient them alike"
-                    )))
-                }
-            }
-        }
-        loops.push(points);
-    }
+    let mut loops: Vec<Vec<[f64; 2]>> = loops
+        .iter()
+        .map(|l| l.iter().map(|&v| mesh.positions()[v as usize]).collect())
+        .collect();
     let outer = (0..loops.len())
         .max_by(|&a, &b| {
             signed_area2(&loops[a])
