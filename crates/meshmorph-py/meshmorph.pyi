@@ -174,7 +174,7 @@ def morph_pictures(
     trace_tolerance: float = 0.5,
     consistency: bool = True,
     turns: int = 0,
-    stretch: str = "linear",
+    stretch: str = "area",
     return_report: bool = False,
 ) -> Union[npt.NDArray[np.uint8], Tuple[npt.NDArray[np.uint8], dict]]:
     """One picture morphed into another: (frames, height, width, 4) uint8 RGBA frames, the first

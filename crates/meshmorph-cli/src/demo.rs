@@ -14,7 +14,7 @@ use meshmorph::{shapes, Interpolator, InterpolatorOptions, Mesh3};
 
 use crate::animation::FrameOutputs;
 use crate::gltf::GltfArgs;
-use crate::interpolate::{animate, FrameArgs, Keys, Stretch};
+use crate::interpolate::{animate, FrameArgs, Keys};
 use crate::output;
 use crate::outputs::Plan;
 use crate::pictures::{DrawArgs, PictureArgs};
@@ -91,7 +91,7 @@ fn spiral(args: &Args) -> Result<()> {
         times: None,
         no_consistency: false,
         turns: 0,
-        stretch: Stretch::Linear,
+        stretch: None,
         allow_flips: false,
         svg: false,
         pictures: PictureArgs {
@@ -130,7 +130,7 @@ fn coil(args: &Args) -> Result<()> {
         times: None,
         no_consistency: false,
         turns: 0,
-        stretch: Stretch::Linear,
+        stretch: None,
         allow_flips: false,
         svg: false,
         pictures: PictureArgs {

@@ -13,7 +13,7 @@ use meshmorph::io::{
     AnchorRow, Animation, Canvas, DrawingFile, DrawingKind, DrawingOptions, Format, Style,
 };
 use meshmorph::outline::{compatible_set, CompatibleSet, Drawing, OutlineOptions};
-use meshmorph::{Interpolator, Mesh2, Sequence};
+use meshmorph::{Interpolator, Mesh2, Sequence, StretchMode};
 use serde::Serialize;
 
 use crate::animation::{write_frames, FrameOutputs, Recomputed, Run, Setup, WriteFrame};
@@ -535,6 +535,9 @@ fn animate(
         bail!("--turns applies to two keys only: a sequence's whole turns come from its keys");
     }
     crate::memory::check_setup(first.num_triangles(), "the interpolation")?;
+    // A drawing's triangles keep their areas on the straight blend of the
+    // keys' (`--stretch area`, unless another is asked for): unlike pairs
+    // swell by a quarter or more with the published linear blend.
     // A drawing's frames' outlines are untied where the fit knots them
     // (microseconds where it does not). They are mended where the fit
     // turns triangles over (the outline stays as it is) when an output
@@ -543,7 +546,7 @@ fn animate(
     // frame can take a good part of a second.
     let options = args
         .frames
-        .options()
+        .options_or(StretchMode::AreaBlend)
         .with_untie_outlines(true)
         .with_mend_folds(outputs.frames.shows_inside());
     let (interpolator, sequence);

@@ -16,6 +16,7 @@ use meshmorph::render::{
     frame_times, sprite_sheet, write_apng, write_picture_gif, write_picture_png, PictureFrames,
     PictureMorphOptions, MAX_FRAME_SIDE, MAX_TRACE_TOLERANCE,
 };
+use meshmorph::StretchMode;
 use rayon::prelude::*;
 
 use crate::interpolate::Args;
@@ -244,7 +245,7 @@ pub fn run(args: &Args) -> Result<()> {
         .with_dissolve(p.dissolve)
         .with_interpolation(
             args.frames
-                .options()
+                .options_or(StretchMode::AreaBlend)
                 .with_untie_outlines(true)
                 .with_mend_folds(true),
         );

@@ -46,8 +46,19 @@ pub(crate) fn options(
     turns: Option<&Bound<'_, PyAny>>,
     stretch: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<InterpolatorOptions> {
-    let stretch = match args::choice("stretch", stretch, &["linear", "log"], "linear")? {
+    options_or(consistency, turns, stretch, "linear")
+}
+
+/// [`options`] with `stretch` `default` unless given.
+pub(crate) fn options_or(
+    consistency: Option<&Bound<'_, PyAny>>,
+    turns: Option<&Bound<'_, PyAny>>,
+    stretch: Option<&Bound<'_, PyAny>>,
+    default: &'static str,
+) -> PyResult<InterpolatorOptions> {
+    let stretch = match args::choice("stretch", stretch, &["linear", "log", "area"], default)? {
         "log" => StretchMode::Log,
+        "area" => StretchMode::AreaBlend,
         _ => StretchMode::Linear,
     };
     Ok(InterpolatorOptions::default()

@@ -261,7 +261,7 @@ fn morph_pictures<'py>(
         ));
     }
     let interpolation: InterpolatorOptions =
-        crate::interpolation::options(consistency, turns, stretch)?
+        crate::interpolation::options_or(consistency, turns, stretch, "area")?
             .with_untie_outlines(true)
             .with_mend_folds(true);
     let size = frame_size(size)?.unwrap_or((pictures[0].width, pictures[0].height));

@@ -234,7 +234,7 @@ def test_os_fork_after_a_parallel_call_gives_a_child_that_works():
         (lambda v, f, i: meshmorph.Interpolator(v, v, f, turns=1.5), "turns: expected a whole number, got 1.5 (a float)"),
         (lambda v, f, i: meshmorph.Blend(v, np.stack([v]), f, turns="2"), "turns: expected a whole number"),
         (lambda v, f, i: meshmorph.Interpolator(v, v, f, consistency="yes"), "consistency: expected True or False"),
-        (lambda v, f, i: meshmorph.Interpolator(v, v, f, stretch=3), "stretch: expected \"linear\" or \"log\", got 3"),
+        (lambda v, f, i: meshmorph.Interpolator(v, v, f, stretch=3), "stretch: expected \"linear\" or \"log\" or \"area\", got 3"),
         (lambda v, f, i: i.frames("abc"), "ts: expected a sequence of numbers (a list or a 1-D numpy array), got 'abc' (a str)"),
         (lambda v, f, i: i.frames(5), "ts: expected a sequence of numbers"),
         (lambda v, f, i: i.frames([0.1, "x"]), "ts[1]: expected a number, got 'x' (a str)"),

@@ -23,6 +23,10 @@
 //!
 //! then the times of two 500-point outlines to 60 SVG path strings
 //! (setup, and per frame), for every method on one thread.
+//!
+//! meshmorph morphs as the command line does (`--stretch area`, outlines
+//! untied, folds mended); `MM_STRETCH=linear` in the environment takes the
+//! paper's linear blend of the stretches instead, for comparison.
 
 use std::f64::consts::{PI, TAU};
 use std::fmt::Write as _;
@@ -204,6 +208,197 @@ fn arm(bend: f64, spacing: f64, at: Point, heading: f64) -> Vec<Point> {
     )
 }
 
+/// Points along an arc of radius `r` about `c` from angle `a0` to `a1`
+/// (radians), `n` of them, the last left out.
+fn arc(c: Point, r: f64, a0: f64, a1: f64, n: usize) -> Vec<Point> {
+    (0..n)
+        .map(|k| {
+            let a = a0 + (a1 - a0) * k as f64 / n as f64;
+            [c[0] + r * a.cos(), c[1] + r * a.sin()]
+        })
+        .collect()
+}
+
+/// A hand, fingers up and the thumb out to its side, about 150 tall.
+fn hand(spacing: f64) -> Vec<Point> {
+    let corners = [
+        [-25.0, -30.0],
+        [25.0, -30.0],
+        [30.0, 0.0],
+        [45.0, 20.0],
+        [62.0, 44.0],
+        [54.0, 52.0],
+        [34.0, 36.0],
+        [30.0, 60.0],
+        [30.0, 100.0],
+        [20.0, 100.0],
+        [18.5, 60.0],
+        [16.0, 60.0],
+        [16.0, 112.0],
+        [4.0, 112.0],
+        [3.0, 60.0],
+        [0.5, 60.0],
+        [0.5, 115.0],
+        [-11.0, 115.0],
+        [-12.0, 60.0],
+        [-14.5, 60.0],
+        [-15.0, 104.0],
+        [-26.0, 104.0],
+        [-28.0, 60.0],
+        [-31.0, 0.0],
+    ];
+    sampled(&corners, spacing)
+}
+
+/// A claw hammer standing on its handle, about 150 tall.
+fn hammer(spacing: f64) -> Vec<Point> {
+    let corners = [
+        [-8.0, -60.0],
+        [8.0, -60.0],
+        [8.0, 60.0],
+        [45.0, 60.0],
+        [50.0, 75.0],
+        [45.0, 90.0],
+        [-45.0, 90.0],
+        [-62.0, 74.0],
+        [-42.0, 76.0],
+        [-8.0, 60.0],
+    ];
+    sampled(&corners, spacing)
+}
+
+/// A horse's silhouette, facing right: thin legs, a neck and a head.
+fn horse(spacing: f64) -> Vec<Point> {
+    let corners = [
+        [-60.0, 40.0],
+        [-82.0, 8.0],
+        [-76.0, 6.0],
+        [-62.0, 26.0],
+        [-60.0, 0.0],
+        [-58.0, -50.0],
+        [-49.0, -50.0],
+        [-46.0, 0.0],
+        [-35.0, 0.0],
+        [-33.0, -50.0],
+        [-24.0, -50.0],
+        [-21.0, 0.0],
+        [30.0, 0.0],
+        [32.0, -50.0],
+        [41.0, -50.0],
+        [43.0, 0.0],
+        [50.0, 0.0],
+        [52.0, -50.0],
+        [61.0, -50.0],
+        [62.0, 5.0],
+        [66.0, 22.0],
+        [86.0, 52.0],
+        [110.0, 48.0],
+        [113.0, 60.0],
+        [96.0, 76.0],
+        [90.0, 90.0],
+        [84.0, 78.0],
+        [60.0, 46.0],
+    ];
+    sampled(&corners, spacing)
+}
+
+/// An elephant's silhouette, facing right: thick legs, a trunk, big
+/// ears over the neck.
+fn elephant(spacing: f64) -> Vec<Point> {
+    let corners = [
+        [-70.0, 55.0],
+        [-84.0, 14.0],
+        [-79.0, 12.0],
+        [-72.0, 30.0],
+        [-70.0, -5.0],
+        [-68.0, -50.0],
+        [-47.0, -50.0],
+        [-44.0, -5.0],
+        [-30.0, -5.0],
+        [-28.0, -50.0],
+        [-7.0, -50.0],
+        [-4.0, -5.0],
+        [25.0, -5.0],
+        [27.0, -50.0],
+        [48.0, -50.0],
+        [50.0, -5.0],
+        [55.0, -5.0],
+        [57.0, -50.0],
+        [78.0, -50.0],
+        [80.0, 0.0],
+        [84.0, 8.0],
+        [92.0, -40.0],
+        [101.0, -38.0],
+        [97.0, 12.0],
+        [102.0, 42.0],
+        [90.0, 72.0],
+        [66.0, 78.0],
+        [46.0, 66.0],
+        [40.0, 30.0],
+        [30.0, 60.0],
+    ];
+    sampled(&corners, spacing)
+}
+
+/// Points from `a` (included) towards `b` (left out), about `spacing`
+/// apart.
+fn line(a: Point, b: Point, spacing: f64) -> Vec<Point> {
+    let n = ((dist(a, b) / spacing).ceil() as usize).max(1);
+    (0..n)
+        .map(|k| {
+            let s = k as f64 / n as f64;
+            [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])]
+        })
+        .collect()
+}
+
+/// The letter B: a straight back and two bowls, with two holes.
+fn letter_b(spacing: f64) -> Loops {
+    let per = |r: f64, turn: f64| ((r * turn / spacing).ceil() as usize).max(8);
+    let mut outer = line([-50.0, 100.0], [-50.0, -100.0], spacing);
+    outer.extend(line([-50.0, -100.0], [20.0, -100.0], spacing));
+    outer.extend(arc([20.0, -50.0], 50.0, -PI / 2.0, PI / 2.0, per(50.0, PI)));
+    outer.extend(line([20.0, 0.0], [15.0, 0.0], spacing));
+    outer.extend(arc([15.0, 50.0], 50.0, -PI / 2.0, PI / 2.0, per(50.0, PI)));
+    outer.extend(line([15.0, 100.0], [-50.0, 100.0], spacing));
+    let hole = |c: Point| {
+        let mut h = arc(c, 24.0, 0.0, TAU, per(24.0, TAU));
+        h.reverse();
+        h
+    };
+    vec![outer, hole([-5.0, -50.0]), hole([-8.0, 50.0])]
+}
+
+/// The digit 8: a tall loop pinched at its waist, two round holes.
+fn digit_8(spacing: f64, at: Point) -> Loops {
+    let n = (600.0 / spacing) as usize;
+    let outer: Vec<Point> = (0..n)
+        .map(|k| {
+            let a = TAU * k as f64 / n as f64;
+            let pinch = 1.0 - 0.5 * (-(a.sin() * a.sin()) / 0.02).exp();
+            [at[0] + 55.0 * a.cos() * pinch, at[1] + 100.0 * a.sin()]
+        })
+        .collect();
+    let hole = |c: Point| {
+        let mut h = round(
+            ((TAU * 27.0 / spacing) as usize).max(12),
+            c,
+            25.0,
+            30.0,
+            2.0,
+            0.0,
+            false,
+        );
+        h.reverse();
+        h
+    };
+    vec![
+        outer,
+        hole([at[0], at[1] - 48.0]),
+        hole([at[0], at[1] + 48.0]),
+    ]
+}
+
 /// The benchmark's pairs, in drawing units (about 200 across, as an SVG).
 fn pairs() -> Vec<Pair> {
     let s = arrow(5.0);
@@ -259,6 +454,24 @@ fn pairs() -> Vec<Pair> {
             rotation: false,
             a: vec![letter_c(6.0)],
             b: vec![letter_g(5.0, [0.0, 0.0])],
+        },
+        Pair {
+            name: "hand to hammer",
+            rotation: false,
+            a: vec![hand(5.0)],
+            b: vec![hammer(5.0)],
+        },
+        Pair {
+            name: "horse to elephant",
+            rotation: false,
+            a: vec![horse(4.0)],
+            b: vec![elephant(4.0)],
+        },
+        Pair {
+            name: "B to 8 (two holes)",
+            rotation: false,
+            a: letter_b(5.0),
+            b: digit_8(5.0, [10.0, 0.0]),
         },
         Pair {
             name: "star to curl",
@@ -497,13 +710,20 @@ fn measure(frames: &[Loops], pair: &Pair) -> Measures {
 fn morph(pair: &Pair) -> meshmorph::Result<(CompatibleSet, Interpolator<2>)> {
     let drawings = [Drawing::new(pair.a.clone())?, Drawing::new(pair.b.clone())?];
     let set = compatible_set(&drawings, &[], &OutlineOptions::default())?;
-    // As the command line morphs drawings: folds mended.
+    // As the command line morphs drawings: the triangles' areas kept on
+    // their blend, outlines untied, folds mended (`MM_STRETCH=linear`: the
+    // published linear blend of the stretches instead, for comparison).
     let morph = Interpolator::new(
         &set.meshes[0],
         &set.meshes[1],
         &InterpolatorOptions::default()
             .with_mend_folds(true)
-            .with_untie_outlines(true),
+            .with_untie_outlines(true)
+            .with_stretch(if std::env::var("MM_STRETCH").as_deref() == Ok("linear") {
+                meshmorph::StretchMode::Linear
+            } else {
+                meshmorph::StretchMode::AreaBlend
+            }),
     )?;
     Ok((set, morph))
 }

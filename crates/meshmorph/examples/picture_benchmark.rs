@@ -12,8 +12,11 @@
 //! methods:
 //!
 //! - **meshmorph**: the as-rigid-as-possible frames of the compatible
-//!   meshes, each drawn with A carried forward and B carried back, blended
-//!   by t ([`PictureMorph`]), as `meshmorph interpolate` draws them;
+//!   meshes (`PictureMorphOptions`' interpolation: areas kept on their
+//!   blend, outlines untied, folds mended; `MM_STRETCH=linear` in the
+//!   environment: the paper's linear blend of the stretches), each drawn
+//!   with A carried forward and B carried back, blended by t
+//!   ([`PictureMorph`]), as `meshmorph interpolate` draws them;
 //! - **linear warp**: the same meshes, each vertex moved on a straight
 //!   line from A to B, the same drawing;
 //! - **cross-dissolve**: no warp, A and B blended by t in premultiplied
@@ -67,8 +70,8 @@ use meshmorph::io::picture::{
     PictureMeshes, ARM_SPRITE_SIZE,
 };
 use meshmorph::outline::OutlineOptions;
-use meshmorph::render::PictureMorph;
-use meshmorph::{Interpolator, InterpolatorOptions};
+use meshmorph::render::{PictureMorph, PictureMorphOptions};
+use meshmorph::Interpolator;
 use timing::{fmt, median};
 
 const FRAMES: usize = 11;
@@ -127,12 +130,12 @@ fn meshes(a: &Picture, b: &Picture, anchors: &[Vec<[f64; 2]>]) -> (PictureMeshes
 fn morph<'a>(a: &'a Picture, b: &'a Picture, meshes: PictureMeshes) -> (Morph<'a>, [f64; 2]) {
     let start = Instant::now();
     let set = &meshes.set;
-    let arap = Interpolator::new(
-        &set.meshes[0],
-        &set.meshes[1],
-        &InterpolatorOptions::default(),
-    )
-    .unwrap();
+    // As `meshmorph interpolate` and `PictureFrames` morph pictures.
+    let mut options = PictureMorphOptions::default().interpolation;
+    if std::env::var("MM_STRETCH").as_deref() == Ok("linear") {
+        options = options.with_stretch(meshmorph::StretchMode::Linear);
+    }
+    let arap = Interpolator::new(&set.meshes[0], &set.meshes[1], &options).unwrap();
     let solve = start.elapsed().as_secs_f64();
     let start = Instant::now();
     // The command line's fringe: the tracing's tolerance and a pixel and a

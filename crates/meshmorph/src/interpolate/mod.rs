@@ -18,6 +18,7 @@
 //! a back-substitution. What depends on the dimension is behind
 //! [`Rotations`](crate::Rotations) and [`TriangleMaps`].
 
+mod area_blend;
 mod attached;
 mod blend;
 mod dimension;

@@ -39,6 +39,7 @@ use std::sync::{Arc, OnceLock};
 
 use rayon::prelude::*;
 
+use super::area_blend::area_blend;
 use super::attached::Attached;
 use super::poses::{check_poses, decompose};
 use super::rest::{EachTriangle, TriangleRows};
@@ -91,6 +92,9 @@ where
     Power(Vec<StretchPowers<D>>),
     /// `(log S_j, log S_{j+1})`, interpolated linearly, then exponentiated.
     LogLinear(Vec<(Mat<D>, Mat<D>)>),
+    /// `(S_j, S_{j+1})` (the identity first), blended with their areas
+    /// kept ([`area_blend`]; planar only).
+    AreaBlend(Vec<(Mat<D>, Mat<D>)>),
 }
 
 #[derive(Debug)]
@@ -669,6 +673,21 @@ where
                 outs,
                 ws,
             ),
+            SegmentStretches::AreaBlend(v) => rest.solve_frames(
+                EachTriangle {
+                    frames: us.len(),
+                    rows_of: |t, f| {
+                        let (a, b) = &v[t];
+                        let S = planar_area_blend(a, b, us[f]);
+                        rest.fit_rows(t, &mul(rot(f, t), S))
+                    },
+                },
+                centroid,
+                attached,
+                offset,
+                outs,
+                ws,
+            ),
         }
         let (from, to) = (self.key(j), self.key(j + 1));
         for &v in rest.loose_vertices() {
@@ -743,12 +762,34 @@ fn menders<const D: usize>(
     )
 }
 
+/// [`area_blend`] of two planar stretches (`D` is 2: other dimensions are
+/// refused by [`check_arguments`]).
+#[inline]
+fn planar_area_blend<const D: usize>(a: &Mat<D>, b: &Mat<D>, u: f64) -> Mat<D> {
+    let two = |m: &Mat<D>| [[m[0][0], m[0][1]], [m[1][0], m[1][1]]];
+    let s = area_blend(&two(a), &two(b), u);
+    std::array::from_fn(|i| {
+        std::array::from_fn(|j| {
+            if i < 2 && j < 2 {
+                s[i][j]
+            } else {
+                f64::from(u8::from(i == j))
+            }
+        })
+    })
+}
+
 /// Refuses what no sequence of `later` keys after the first can take:
 /// none, or `turns` beyond two planar keys.
 fn check_arguments<const D: usize>(later: usize, options: &InterpolatorOptions) -> Result<()> {
     if later == 0 {
         return Err(Error::InvalidArgument(
             "a sequence needs at least two keys".into(),
+        ));
+    }
+    if options.stretch == StretchMode::AreaBlend && D != 2 {
+        return Err(Error::InvalidArgument(
+            "the stretch mode AreaBlend is for planar meshes: use Linear or Log in space".into(),
         ));
     }
     if options.turns != 0 && (D != 2 || later > 1) {
@@ -817,6 +858,13 @@ where
                     .par_iter()
                     .zip(&maps.stretches)
                     .map(|(a, b)| (log(a), log(b)))
+                    .collect(),
+            ),
+            StretchMode::AreaBlend => SegmentStretches::AreaBlend(
+                previous_stretch
+                    .iter()
+                    .copied()
+                    .zip(maps.stretches.iter().copied())
                     .collect(),
             ),
             StretchMode::Linear if j == 0 => SegmentStretches::FromIdentity(maps.stretches.clone()),

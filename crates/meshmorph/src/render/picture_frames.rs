@@ -6,7 +6,7 @@
 
 use super::PictureMorph;
 use crate::error::{Error, Result};
-use crate::interpolate::{Interpolator, InterpolatorOptions};
+use crate::interpolate::{Interpolator, InterpolatorOptions, StretchMode};
 use crate::io::picture::{
     picture_drawing, picture_meshes, Picture, PictureDrawing, PictureMeshes, PictureShape,
 };
@@ -58,6 +58,7 @@ impl Default for PictureMorphOptions {
             frame_size: None,
             dissolve: None,
             interpolation: InterpolatorOptions::default()
+                .with_stretch(StretchMode::AreaBlend)
                 .with_untie_outlines(true)
                 .with_mend_folds(true),
             outline: OutlineOptions::default(),

@@ -44,7 +44,11 @@ fn family() -> Vec<(&'static str, Mesh2, Mesh2)> {
 #[test]
 fn endpoints_are_reproduced() {
     for (name, source, target) in family() {
-        for stretch in [StretchMode::Linear, StretchMode::Log] {
+        for stretch in [
+            StretchMode::Linear,
+            StretchMode::Log,
+            StretchMode::AreaBlend,
+        ] {
             let opts = InterpolatorOptions::default().with_stretch(stretch);
             let m = Interpolator::new(&source, &target, &opts).unwrap();
             let tol = 1e-9
@@ -425,5 +429,55 @@ fn planar_sequences_and_blends_agree_with_the_same_keys_in_space() {
         }
         let d = max_distance(&plane.at(&[0.0, 1.0]), third.positions());
         assert!(d < tol, "{name} blend reproduces a shape: {d}");
+    }
+}
+
+/// Where no triangle is stretched one way and squeezed the other (a rigid
+/// turn), the area-kept blend is the linear blend; elsewhere its frames
+/// are never larger than the linear blend's, and near the straight blend
+/// of the keys' areas.
+#[test]
+fn area_blend_is_the_linear_blend_where_nothing_swells() {
+    let area = |m: &Mesh2, x: &[[f64; 2]]| -> f64 {
+        m.triangles()
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| x[v as usize]);
+                0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+            })
+            .sum()
+    };
+    for (name, source, target) in family() {
+        let linear = Interpolator::new(&source, &target, &InterpolatorOptions::default()).unwrap();
+        let kept = Interpolator::new(
+            &source,
+            &target,
+            &InterpolatorOptions::default().with_stretch(StretchMode::AreaBlend),
+        )
+        .unwrap();
+        let ends = [
+            area(&source, source.positions()),
+            area(&source, target.positions()),
+        ];
+        let tol = 1e-9 * source.bounding_box_diagonal();
+        for k in 0..=10 {
+            let t = k as f64 / 10.0;
+            let (x, y) = (linear.at(t), kept.at(t));
+            if name == "rigid 170" {
+                let d = max_distance(&x, &y);
+                assert!(d < tol, "{name}, t = {t}: {d:e} from the linear blend");
+            } else {
+                // Only ever thinner than the linear blend's triangles, so
+                // never larger than its frame; near the blend of the ends.
+                let blend = (1.0 - t) * ends[0] + t * ends[1];
+                let (by_linear, by_kept) = (area(&source, &x), area(&source, &y));
+                assert!(
+                    by_kept <= by_linear * (1.0 + 1e-9),
+                    "{name}, t = {t}: area {by_kept} above the linear blend's {by_linear}"
+                );
+                let off = (by_kept / blend - 1.0).abs();
+                assert!(off < 0.05, "{name}, t = {t}: area {off:.3} off the blend");
+            }
+        }
     }
 }

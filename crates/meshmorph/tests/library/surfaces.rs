@@ -642,3 +642,18 @@ fn frames_solved_together_are_the_frames_solved_one_by_one() {
         }
     }
 }
+
+/// The area-kept stretch blend is planar: a surface's is refused, naming it.
+#[test]
+fn area_blend_is_refused_in_space() {
+    let (_, source, target) = family().remove(0);
+    let err = Sequence::new(
+        &[source, target],
+        &opts().with_stretch(StretchMode::AreaBlend),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(&err, Error::InvalidArgument(m) if m.contains("AreaBlend") && m.contains("planar")),
+        "{err}"
+    );
+}
