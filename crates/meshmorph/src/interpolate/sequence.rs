@@ -110,6 +110,25 @@ where
     first: bool,
 }
 
+impl<const D: usize> SegmentStretches<D>
+where
+    Space<D>: Dimension<D>,
+{
+    /// Triangle `t`'s stretch a fraction `u` along the segment, for the
+    /// stretches made per triangle and frame (not folded into rows).
+    #[inline]
+    fn of_triangle(&self, t: usize, u: f64) -> Mat<D> {
+        match self {
+            Self::Power(v) => Space::<D>::stretch_power(&v[t], u, LOG_FLOOR),
+            Self::LogLinear(v) => Space::<D>::stretch_exp(&lerp(&v[t].0, &v[t].1, u)),
+            Self::AreaBlend(v) => planar_area_blend(&v[t].0, &v[t].1, u),
+            Self::FromIdentity(_) | Self::Linear(_) | Self::Fitted(_) => {
+                unreachable!("linear stretches are folded into rows when the sequence is built")
+            }
+        }
+    }
+}
+
 impl<const D: usize> Segment<D>
 where
     Space<D>: Dimension<D>,
@@ -641,44 +660,11 @@ where
                 outs,
                 ws,
             ),
-            SegmentStretches::FromIdentity(_) | SegmentStretches::Linear(_) => {
-                unreachable!("linear stretches are folded into rows when the sequence is built")
-            }
-            SegmentStretches::Power(v) => rest.solve_frames(
+            stretches => rest.solve_frames(
                 EachTriangle {
                     frames: us.len(),
                     rows_of: |t, f| {
-                        let S = Space::<D>::stretch_power(&v[t], us[f], LOG_FLOOR);
-                        rest.fit_rows(t, &mul(rot(f, t), S))
-                    },
-                },
-                centroid,
-                attached,
-                offset,
-                outs,
-                ws,
-            ),
-            SegmentStretches::LogLinear(v) => rest.solve_frames(
-                EachTriangle {
-                    frames: us.len(),
-                    rows_of: |t, f| {
-                        let (a, b) = &v[t];
-                        let S = Space::<D>::stretch_exp(&lerp(a, b, us[f]));
-                        rest.fit_rows(t, &mul(rot(f, t), S))
-                    },
-                },
-                centroid,
-                attached,
-                offset,
-                outs,
-                ws,
-            ),
-            SegmentStretches::AreaBlend(v) => rest.solve_frames(
-                EachTriangle {
-                    frames: us.len(),
-                    rows_of: |t, f| {
-                        let (a, b) = &v[t];
-                        let S = planar_area_blend(a, b, us[f]);
+                        let S = stretches.of_triangle(t, us[f]);
                         rest.fit_rows(t, &mul(rot(f, t), S))
                     },
                 },
