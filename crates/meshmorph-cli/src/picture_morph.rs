@@ -21,6 +21,7 @@ use rayon::prelude::*;
 
 use crate::interpolate::Args;
 use crate::outputs::Plan;
+use crate::pictures::DEFAULT_SIZE;
 
 /// Options of `interpolate` for pictures.
 #[derive(Debug, Clone, clap::Args)]
@@ -94,7 +95,13 @@ fn dissolve_span(text: &str) -> Result<[f64; 2], String> {
     let (a, b) = text.split_once(',').ok_or_else(|| {
         format!("`{text}` is not START,END (two fractions from 0 to 1), such as 0.3,0.7")
     })?;
-    Ok([fraction(a.trim())?, fraction(b.trim())?])
+    let span = [fraction(a.trim())?, fraction(b.trim())?];
+    if span[1] < span[0] {
+        return Err(format!(
+            "`{text}` ends before it starts: give START first (the same fraction twice cuts from one picture to the other there)"
+        ));
+    }
+    Ok(span)
 }
 
 fn trace_tolerance(text: &str) -> Result<f64, String> {
@@ -187,9 +194,20 @@ pub fn run(args: &Args) -> Result<()> {
         (args.drawing.meshes.is_some(), "--meshes"),
         (args.format.is_some(), "--format"),
         (args.frames.times.is_some(), "--t"),
+        (args.frames.gltf.gltf.is_some(), "--gltf"),
     ] {
         if given {
             bail!("{flag} does not apply to pictures: their frames are pictures (PNG), with --gif, --apng and --sprite-sheet");
+        }
+    }
+    let draw = &args.frames.pictures.draw;
+    for (given, flag) in [
+        (draw.size != DEFAULT_SIZE, "--size"),
+        (draw.gif_width.is_some(), "--gif-width"),
+        (draw.gif_height.is_some(), "--gif-height"),
+    ] {
+        if given {
+            bail!("{flag} does not apply to pictures: their frames, GIF and APNG are the first picture's size, or --frame-size WIDTHxHEIGHT");
         }
     }
     let count = args.frames.frames;
@@ -359,7 +377,7 @@ pub fn run(args: &Args) -> Result<()> {
             .collect();
         files.extend(written.iter().cloned());
         crate::output::print_json(&serde_json::json!({
-            "pictures": names,
+            "pictures": keys.iter().map(|k| k.display().to_string()).collect::<Vec<_>>(),
             "sizes": [[a.width, a.height], [b.width, b.height]],
             "shape": match da.shape {
                 PictureShape::Sprite => "sprite",
@@ -376,7 +394,7 @@ pub fn run(args: &Args) -> Result<()> {
             "read_seconds": read_seconds,
             "seconds_per_frame": frames_seconds / count as f64,
             "files_written": files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
-            "removed_frames": removed,
+            "surplus_frames_removed": removed,
             "total_seconds": start.elapsed().as_secs_f64(),
         }));
         return Ok(());

@@ -137,7 +137,13 @@ fn dissolve(v: Option<&Bound<'_, PyAny>>) -> PyResult<Option<[f64; 2]>> {
         return Ok(None);
     };
     match v.extract::<(f64, f64)>() {
-        Ok((s, e)) if [s, e].iter().all(|x| (0.0..=1.0).contains(x)) => Ok(Some([s, e])),
+        Ok((s, e)) if [s, e].iter().all(|x| (0.0..=1.0).contains(x)) && s <= e => {
+            Ok(Some([s, e]))
+        }
+        Ok((s, e)) if s > e => Err(bad(
+            "dissolve",
+            format!("({s}, {e}) ends before it starts: give the start first (the same fraction twice cuts from one picture to the other there)"),
+        )),
         _ => Err(bad(
             "dissolve",
             format!(

@@ -177,6 +177,7 @@ def test_refuses_bad_anchors(anchors, words):
         (dict(frames=True), ["frames:", "whole number"]),
         (dict(frames=3, dissolve=(0.2, 1.5)), ["dissolve:", "fractions"]),
         (dict(frames=3, dissolve=0.5), ["dissolve:", "(start, end)"]),
+        (dict(frames=3, dissolve=(0.7, 0.3)), ["dissolve:", "ends before it starts"]),
         (dict(frames=3, size=(0, 10)), ["size:", "(width, height)"]),
         (dict(frames=3, size=(10**6, 10)), ["size:", "16384"]),
         (dict(frames=3, trace_tolerance=0.0), ["trace_tolerance:"]),

@@ -268,10 +268,46 @@ fn dissolve_takes_two_fractions_and_refuses_others() {
     };
     succeeds(&morph("0.3,0.7"));
     // Refused as the arguments are read (a usage error, status 2).
-    for bad in ["0.3", "0.2,1.5", "a,b"] {
+    succeeds(&morph("0.5,0.5"));
+    for bad in ["0.3", "0.2,1.5", "a,b", "0.7,0.3"] {
         let out = morph(bad);
         assert_eq!(out.status.code(), Some(2));
         mentions(&String::from_utf8_lossy(&out.stderr), &["--dissolve", bad]);
     }
     assert!(!d.join("frames").join("frame_0003.png").exists());
+}
+
+/// The flags of meshes' and drawings' outputs that pictures do not take
+/// are refused, naming the flag, and nothing is written.
+#[test]
+fn flags_pictures_do_not_take_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    save(d, "a.png", &disc(32, [14.0, 16.0], 10.0));
+    save(d, "b.png", &disc(32, [18.0, 16.0], 11.0));
+    for (flag, value) in [
+        ("--gltf", "x.glb"),
+        ("--size", "300"),
+        ("--gif-width", "200"),
+        ("--gif-height", "200"),
+    ] {
+        let err = fails(&run(
+            &[
+                "interpolate",
+                "a.png",
+                "b.png",
+                "-o",
+                "frames",
+                "--gif",
+                "m.gif",
+                flag,
+                value,
+            ],
+            d,
+        ));
+        mentions(&err, &[flag, "does not apply to pictures"]);
+        assert!(
+            !d.join("frames").exists() && !d.join("m.gif").exists() && !d.join("x.glb").exists()
+        );
+    }
 }

@@ -119,6 +119,12 @@ impl PictureMorphOptions {
                     d[0], d[1]
                 )));
             }
+            if d[1] < d[0] {
+                return Err(Error::InvalidArgument(format!(
+                    "a dissolve from {} to {}: it ends before it starts (give the start first; the same fraction twice cuts from one picture to the other there)",
+                    d[0], d[1]
+                )));
+            }
         }
         Ok(())
     }
@@ -126,7 +132,7 @@ impl PictureMorphOptions {
 
 /// The weight of the second picture at moment `t` of the morph: `t`
 /// itself, or with `dissolve` `[start, end]` 0 before `start`, 1 after
-/// `end` and straight between (a step at `start` when `end <= start`).
+/// `end` and straight between (a step at `start` when `end` is `start`).
 pub fn dissolve_blend(t: f64, dissolve: Option<[f64; 2]>) -> f64 {
     match dissolve {
         Some(d) if d[1] > d[0] => ((t - d[0]) / (d[1] - d[0])).clamp(0.0, 1.0),

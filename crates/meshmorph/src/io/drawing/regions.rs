@@ -63,6 +63,49 @@ pub(crate) fn inside(points: &[[f64; 2]], p: [f64; 2]) -> bool {
     winding(points, p) != 0
 }
 
+/// A point of loop `i` of `loops` to ask which side the fill is on: the
+/// midpoint of its first edge that lies on no other loop (a vertex may be
+/// shared, as where two loops of a figure eight touch); its first edge's
+/// midpoint where every one does.
+fn probe(loops: &[FilledLoop], i: usize) -> [f64; 2] {
+    let points = &loops[i].points;
+    let n = points.len();
+    let midpoint = |k: usize| {
+        let (a, b) = (points[k], points[(k + 1) % n]);
+        [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]
+    };
+    let size = points
+        .iter()
+        .map(|p| p[0].abs().max(p[1].abs()))
+        .fold(0.0, f64::max);
+    let tol = 1e-9 * size.max(f64::MIN_POSITIVE);
+    let on_another = |p: [f64; 2]| {
+        loops.iter().enumerate().any(|(j, m)| {
+            j != i
+                && (0..m.points.len()).any(|k| {
+                    let (a, b) = (m.points[k], m.points[(k + 1) % m.points.len()]);
+                    segment_distance(p, a, b) <= tol
+                })
+        })
+    };
+    (0..n)
+        .map(midpoint)
+        .find(|&p| !on_another(p))
+        .unwrap_or_else(|| midpoint(0))
+}
+
+/// The distance from `p` to the segment `a b`.
+fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (d, e) = ([b[0] - a[0], b[1] - a[1]], [p[0] - a[0], p[1] - a[1]]);
+    let length2 = d[0] * d[0] + d[1] * d[1];
+    let s = if length2 > 0.0 {
+        ((e[0] * d[0] + e[1] * d[1]) / length2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (e[0] - s * d[0]).hypot(e[1] - s * d[1])
+}
+
 /// Sorts `loops` into regions: each loop is an outer loop when the fill is
 /// on its inside only, a hole when on its outside only (by its path's
 /// `rules[element]`, counting the other loops of the same path); a loop
@@ -72,7 +115,7 @@ pub(super) fn regions(loops: &[FilledLoop], rules: &[Rule]) -> Vec<Region> {
     let mut outers = Vec::new();
     let mut holes = Vec::new();
     for (i, l) in loops.iter().enumerate() {
-        let p = l.points[0];
+        let p = probe(loops, i);
         let others: i32 = loops
             .iter()
             .enumerate()
@@ -100,7 +143,7 @@ pub(super) fn regions(loops: &[FilledLoop], rules: &[Rule]) -> Vec<Region> {
         })
         .collect();
     for h in holes {
-        let p = loops[h].points[0];
+        let p = probe(loops, h);
         let around = found
             .iter_mut()
             .filter(|r| inside(&loops[r.outer].points, p))
@@ -166,5 +209,34 @@ mod tests {
             filled(1, square(2.0, 2.0, 2.0, true)),
         ];
         assert_eq!(regions(&apart, &[Rule::EvenOdd, Rule::EvenOdd]).len(), 2);
+    }
+
+    #[test]
+    fn loops_touching_at_a_vertex_are_told_apart() {
+        // A figure eight drawn as one path: two diamonds the same way round
+        // that share the vertex each starts at. Two regions under either
+        // rule, neither taken for a loop within the other's fill.
+        let right = vec![
+            [100.0, 100.0],
+            [150.0, 150.0],
+            [190.0, 100.0],
+            [150.0, 50.0],
+        ];
+        let left = vec![[100.0, 100.0], [50.0, 50.0], [10.0, 100.0], [50.0, 150.0]];
+        let eight = [filled(0, right.clone()), filled(0, left)];
+        for rule in [Rule::NonZero, Rule::EvenOdd] {
+            assert_eq!(regions(&eight, &[rule]).len(), 2, "{rule:?}");
+        }
+        // A hole starting at a vertex of its outer loop is still its hole.
+        let mut hole = square(120.0, 90.0, 20.0, true);
+        hole[0] = [150.0, 50.0];
+        let found = regions(&[filled(0, right), filled(0, hole)], &[Rule::NonZero]);
+        assert_eq!(
+            found,
+            vec![Region {
+                outer: 0,
+                holes: vec![1]
+            }]
+        );
     }
 }

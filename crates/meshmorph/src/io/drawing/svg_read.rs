@@ -150,8 +150,11 @@ fn walk(group: &usvg::Group, to_user: &Affine, opacity: f64, found: &mut Found) 
                 if !p.is_visible() {
                     continue;
                 }
-                let Some(fill) = p.fill() else {
-                    if p.stroke().is_some() {
+                // A fill no one sees (`fill-opacity="0"`, `opacity="0"` on
+                // it or a group around it) is no fill.
+                let seen = |o: usvg::Opacity| opacity * f64::from(o.get()) > 0.0;
+                let Some(fill) = p.fill().filter(|f| seen(f.opacity())) else {
+                    if p.stroke().is_some_and(|s| seen(s.opacity())) {
                         found.stroked_only += 1;
                     }
                     continue;

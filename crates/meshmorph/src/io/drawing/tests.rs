@@ -233,6 +233,25 @@ fn refusals_name_the_file_and_what_was_found() {
         r#"<rect x="0" y="0" width="50" height="50"/><rect x="10" y="10" width="10" height="10" fill="white"/>"#,
     );
     assert!(m.contains("does not cut a hole"), "{m}");
+    // Shapes no one sees are not regions.
+    for unseen in [r#"fill-opacity="0""#, r#"opacity="0""#] {
+        let svg = format!(
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100"><rect x="0" y="0" width="50" height="50"/><rect {unseen} x="100" y="0" width="50" height="50"/></svg>"#
+        );
+        let d = parse_svg_drawing(
+            svg.as_bytes(),
+            Path::new("t.svg"),
+            &DrawingOptions::default(),
+        )
+        .unwrap_or_else(|e| panic!("{unseen}: {e}"));
+        assert_eq!(d.drawing.num_points(), 4, "{unseen}");
+    }
+    // A figure eight in one path, its two loops meeting where both start:
+    // two regions, neither left out.
+    let m = refusal(
+        r#"<path d="M100 100 L150 50 L190 100 L150 150 Z M100 100 L50 150 L10 100 L50 50 Z"/>"#,
+    );
+    assert!(m.contains("2 separate filled regions"), "{m}");
     let m = refusal(r#"<path id="bow" d="M0 0 L50 50 L50 0 L0 50 Z"/>"#);
     assert!(
         m.starts_with("`t.svg`") && m.contains("crosses itself") && m.contains("element `bow`"),

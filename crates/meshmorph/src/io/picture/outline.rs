@@ -131,7 +131,8 @@ pub fn picture_drawing(
     }
     if outers.is_empty() {
         return Err(Error::InvalidArgument(format!(
-            "{name} has no opaque region of {min_area} square pixels or more (alpha at or above one half): only {specks} specks; give a picture with an opaque part, or morph the whole rectangle (--frame-only on the command line, frame_only=True in Python)"
+            "{name} has no opaque region of {min_area} square pixels or more (alpha at or above one half): only {}; give a picture with an opaque part, or morph the whole rectangle (--frame-only on the command line, frame_only=True in Python)",
+            if specks == 1 { "1 speck".to_string() } else { format!("{specks} specks") }
         )));
     }
     outers.sort_by(|a, b| b.1.total_cmp(&a.1));
