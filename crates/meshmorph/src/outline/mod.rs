@@ -48,7 +48,7 @@ mod cuts;
 mod disk;
 mod drawing;
 mod energy;
-mod geometry;
+pub(crate) mod geometry;
 mod holes;
 mod improve;
 mod lbfgs;

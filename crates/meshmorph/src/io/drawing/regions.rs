@@ -2,6 +2,8 @@
 //! fill from outside (outer loops), which from inside (holes), by each
 //! path's fill rule.
 
+use crate::outline::geometry::point_segment_distance;
+
 /// How a path decides what is inside.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Rule {
@@ -84,7 +86,7 @@ fn probe(loops: &[FilledLoop], i: usize) -> [f64; 2] {
             j != i
                 && (0..m.points.len()).any(|k| {
                     let (a, b) = (m.points[k], m.points[(k + 1) % m.points.len()]);
-                    segment_distance(p, a, b) <= tol
+                    point_segment_distance(p, a, b) <= tol
                 })
         })
     };
@@ -92,18 +94,6 @@ fn probe(loops: &[FilledLoop], i: usize) -> [f64; 2] {
         .map(midpoint)
         .find(|&p| !on_another(p))
         .unwrap_or_else(|| midpoint(0))
-}
-
-/// The distance from `p` to the segment `a b`.
-fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let (d, e) = ([b[0] - a[0], b[1] - a[1]], [p[0] - a[0], p[1] - a[1]]);
-    let length2 = d[0] * d[0] + d[1] * d[1];
-    let s = if length2 > 0.0 {
-        ((e[0] * d[0] + e[1] * d[1]) / length2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (e[0] - s * d[0]).hypot(e[1] - s * d[1])
 }
 
 /// Sorts `loops` into regions: each loop is an outer loop when the fill is
