@@ -61,8 +61,13 @@ pub struct InterpolatorOptions {
     /// the untangling that makes compatible meshes (the foldover-free
     /// energy of Garanzha et al. 2021, against the first key's triangles);
     /// the rest of the frame, and its outline always, stay as the fit made
-    /// them. A group no ring mends (a triangle with its three corners on
-    /// the outline, or where the outline itself folds) is left as it is. A
+    /// them. Where the untangling stalls (a jagged stretch of outline bent
+    /// so far that a triangle's one free corner has little room), the
+    /// vertices within sixteen rings are moved in turn, each to where the
+    /// smallest of its triangles is largest (Freitag and Plassmann 2000).
+    /// A group neither mends (where the outline itself folds, or a
+    /// triangle has its three corners on it, which compatible meshes made
+    /// from drawings never have) is left as it is. A
     /// frame with nothing turned over is unchanged (one pass over its
     /// triangles tells); a frame with folds takes milliseconds to a good
     /// part of a second more. Default `false`: the published method's

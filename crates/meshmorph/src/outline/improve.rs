@@ -116,6 +116,10 @@ fn flip_round(pair: &mut Pair) -> usize {
         if x == y {
             continue;
         }
+        if pair.fixed[x as usize] && pair.fixed[y as usize] {
+            // A chord: see [`split_chords`].
+            continue;
+        }
         let old = cached[t].min(cached[s]);
         let (n1, n2) = ([x, y, v], [y, x, u]);
         let (q1, q2) = (quality(pair.meshes, n1), quality(pair.meshes, n2));
@@ -195,13 +199,7 @@ fn smooth_round(pair: &mut Pair) -> usize {
 /// point to where it helps. Returns how many edges were split.
 fn split_round(pair: &mut Pair, target: f64, budget: usize) -> usize {
     let tris = &mut *pair.triangles;
-    let mut edge_of: EdgeMap<usize> =
-        EdgeMap::with_capacity_and_hasher(tris.len() * 3, Default::default());
-    for (t, tri) in tris.iter().enumerate() {
-        for i in 0..3 {
-            edge_of.insert((tri[i], tri[(i + 1) % 3]), t);
-        }
-    }
+    let edge_of = triangle_of_edge(tris);
     let target_sine = sine(target);
     let mut touched = vec![false; tris.len()];
     let mut splits = 0;
@@ -233,23 +231,93 @@ fn split_round(pair: &mut Pair, target: f64, budget: usize) -> usize {
             }
         }
         let Some((_, u, v, s)) = best else { continue };
-        let x = tri.into_iter().find(|&w| w != u && w != v).unwrap_or(u);
-        let y = tris[s].into_iter().find(|&w| w != u && w != v).unwrap_or(u);
-        let w = pair.meshes[0].len() as u32;
-        for p in pair.meshes.iter_mut() {
-            let (m, n) = (p[u as usize], p[v as usize]);
-            p.push([(m[0] + n[0]) * 0.5, (m[1] + n[1]) * 0.5]);
-        }
-        pair.fixed.push(false);
-        tris[t] = [u, w, x];
-        tris[s] = [v, w, y];
-        tris.push([w, v, x]);
-        tris.push([w, u, y]);
+        split_edge(pair.meshes, tris, pair.fixed, (t, s), (u, v));
         touched[t] = true;
         touched[s] = true;
         splits += 1;
     }
     splits
+}
+
+/// The triangle running along each directed edge `(u, v)`.
+fn triangle_of_edge(tris: &[[u32; 3]]) -> EdgeMap<usize> {
+    let mut edge_of: EdgeMap<usize> =
+        EdgeMap::with_capacity_and_hasher(tris.len() * 3, Default::default());
+    for (t, tri) in tris.iter().enumerate() {
+        for i in 0..3 {
+            edge_of.insert((tri[i], tri[(i + 1) % 3]), t);
+        }
+    }
+    edge_of
+}
+
+/// Splits the edge from `u` to `v` at its midpoint in every mesh: `t`
+/// is its triangle running from `u` to `v`, `s` the one running back.
+/// Both become two, each positive wherever its half was, and the new
+/// point is free.
+fn split_edge(
+    meshes: &mut [Vec<[f64; 2]>],
+    tris: &mut Vec<[u32; 3]>,
+    fixed: &mut Vec<bool>,
+    (t, s): (usize, usize),
+    (u, v): (u32, u32),
+) {
+    let x = tris[t].into_iter().find(|&w| w != u && w != v).unwrap_or(u);
+    let y = tris[s].into_iter().find(|&w| w != u && w != v).unwrap_or(u);
+    let w = meshes[0].len() as u32;
+    for p in meshes.iter_mut() {
+        let (m, n) = (p[u as usize], p[v as usize]);
+        p.push([(m[0] + n[0]) * 0.5, (m[1] + n[1]) * 0.5]);
+    }
+    fixed.push(false);
+    tris[t] = [u, w, x];
+    tris[s] = [v, w, y];
+    tris.push([w, v, x]);
+    tris.push([w, u, y]);
+}
+
+/// Splits every inside edge between two fixed points (a chord across the
+/// drawing from one outline point to another, or to an anchor) at its
+/// midpoint, until none is left; returns how many were split. A triangle
+/// whose three corners are fixed can be put right by no inside point: in
+/// a frame that bends the outline there (a jagged stretch straightened,
+/// a slit closed) it turns over, and neither the mend nor the untangling
+/// can reach it. With no chord, every triangle has a free corner, and
+/// every free point a free neighbour across each chord there was.
+/// [`flip_round`] makes no new chord.
+pub(crate) fn split_chords(pair: &mut Pair) -> usize {
+    let mut splits = 0;
+    loop {
+        let tris = &mut *pair.triangles;
+        let edge_of = triangle_of_edge(tris);
+        let mut chords: Vec<(u32, u32)> = edge_of
+            .keys()
+            .copied()
+            .filter(|&(u, v)| {
+                u < v
+                    && pair.fixed[u as usize]
+                    && pair.fixed[v as usize]
+                    && edge_of.contains_key(&(v, u))
+            })
+            .collect();
+        // The same meshes whatever the map's order.
+        chords.sort_unstable();
+        let mut touched = vec![false; tris.len()];
+        let before = splits;
+        for (u, v) in chords {
+            let (t, s) = (edge_of[&(u, v)], edge_of[&(v, u)]);
+            if touched[t] || touched[s] {
+                continue;
+            }
+            split_edge(pair.meshes, tris, pair.fixed, (t, s), (u, v));
+            touched[t] = true;
+            touched[s] = true;
+            splits += 1;
+        }
+        if splits == before {
+            return splits;
+        }
+    }
 }
 
 /// Alternates splits of poor triangles' edges, flips and smoothing for up

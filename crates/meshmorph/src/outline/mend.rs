@@ -9,17 +9,26 @@
 //! moved by the untangling that makes the compatible meshes
 //! ([`untangle`]: the foldover-free energy of Garanzha et al. 2021,
 //! against the first key's triangles), everything else of the frame kept
-//! as the fit made it, the outline to the bit. Set up once per sequence
+//! as the fit made it, the outline to the bit. Where that stalls, the
+//! last resort moves each of them in turn to where the smallest of its
+//! triangles is largest ([`widen`]). Set up once per sequence
 //! (which vertices are inner, which triangles meet at each); a frame with
 //! nothing turned over costs one pass over its triangles.
 
 use super::geometry::orient;
 use super::mapped::all_positive;
 use super::untangle::{untangle, Patience};
+use super::widest::{triangles_at, widen};
 
 /// Rings of inner vertices around the turned-over triangles moved in each
 /// try: a fold is mended with as little of the frame as it needs.
 const RINGS: [usize; 4] = [2, 4, 8, 16];
+
+/// Sweeps of the last resort ([`widen`]) over the widest rings: at most
+/// this many, and it stops sooner once the smallest triangle has not
+/// grown for a tenth of them (the unmendable: a frame whose outline leaves
+/// a free point no side of an edge it must be on).
+const WIDENING_SWEEPS: usize = 1000;
 
 /// What mending a planar sequence's frames needs from its first key.
 #[derive(Debug)]
@@ -31,6 +40,8 @@ pub(crate) struct FrameMender {
     /// coordinates): frames are mirrored the same way while mended.
     mirrored: bool,
     triangles: Vec<[u32; 3]>,
+    /// The triangles' areas in `rest` (positive).
+    rest_areas: Vec<f64>,
     /// Whether a vertex is on the outline (or used by no triangle): it is
     /// never moved.
     kept: Vec<bool>,
@@ -60,6 +71,7 @@ impl FrameMender {
             return None;
         }
         let rest: Vec<[f64; 2]> = rest.iter().map(|&p| mirror(p, mirrored)).collect();
+        let rest_areas = signs.iter().map(|a| 0.5 * a.abs()).collect();
         // An edge used once is on the outline.
         let mut edges: Vec<(u32, u32)> = triangles
             .iter()
@@ -84,27 +96,12 @@ impl FrameMender {
             }
             k = j;
         }
-        let mut at = vec![0usize; n + 1];
-        for t in triangles {
-            for &v in t {
-                at[v as usize + 1] += 1;
-            }
-        }
-        for v in 0..n {
-            at[v + 1] += at[v];
-        }
-        let mut fill = at.clone();
-        let mut corners = vec![0u32; at[n]];
-        for (i, t) in triangles.iter().enumerate() {
-            for &v in t {
-                corners[fill[v as usize]] = i as u32;
-                fill[v as usize] += 1;
-            }
-        }
+        let (at, corners) = triangles_at(n, triangles);
         Some(Self {
             rest,
             mirrored,
             triangles: triangles.to_vec(),
+            rest_areas,
             kept,
             at,
             corners,
@@ -126,10 +123,11 @@ impl FrameMender {
     /// Mends `frame` where triangles are turned over: for each group of
     /// them (sharing corners), the inner vertices within two rings moved
     /// until every triangle around them is positive, with four, eight,
-    /// sixteen rings where two are too few; a group no ring mends is left
-    /// as the fit made it. The number of triangles left turned over: those
-    /// of such groups (where the outline itself folds, or a triangle has
-    /// its three corners on it), 0 otherwise.
+    /// sixteen rings where two are too few, then the widening of sixteen
+    /// rings; a group none mends is left as the fit made it. The number
+    /// of triangles left turned over: those of such groups (where the
+    /// outline itself folds, or a triangle has its three corners on it),
+    /// 0 otherwise.
     pub(crate) fn mend(&self, frame: &mut [[f64; 2]]) -> usize {
         let turned: Vec<usize> = (0..self.triangles.len())
             .filter(|&t| self.is_turned(frame, t))
@@ -138,13 +136,12 @@ impl FrameMender {
             return 0;
         }
         for group in self.groups(&turned) {
-            for rings in RINGS {
-                if let Some(mended) = self.try_rings(frame, &group, rings) {
-                    for (v, p) in mended {
-                        frame[v] = mirror(p, self.mirrored);
-                    }
-                    break;
-                }
+            let mended = RINGS
+                .iter()
+                .find_map(|&rings| self.try_rings(frame, &group, rings))
+                .or_else(|| self.try_widening(frame, &group));
+            for (v, p) in mended.into_iter().flatten() {
+                frame[v] = mirror(p, self.mirrored);
             }
         }
         turned.iter().filter(|&&t| self.is_turned(frame, t)).count()
@@ -197,8 +194,13 @@ impl FrameMender {
         turned: &[usize],
         rings: usize,
     ) -> Option<Vec<(usize, [f64; 2])>> {
-        let n = self.rest.len();
-        let mut free = vec![false; n];
+        self.untangle_rings(frame, &self.within_rings(turned, rings), rings)
+    }
+
+    /// Whether each vertex is an inner one within `rings` rings of the
+    /// triangles `turned`.
+    fn within_rings(&self, turned: &[usize], rings: usize) -> Vec<bool> {
+        let mut free = vec![false; self.rest.len()];
         let mut front: Vec<usize> = Vec::new();
         for &t in turned {
             for v in self.triangles[t] {
@@ -224,14 +226,49 @@ impl FrameMender {
             }
             front = next;
         }
-        // The patch: every triangle at a moved vertex, its other vertices
-        // held, numbered first.
-        let mut patch: Vec<u32> = Vec::new();
-        let mut in_patch = vec![false; self.triangles.len()];
+        free
+    }
+
+    /// The last resort for a group no ring mends: the inner vertices
+    /// within the widest rings moved each in turn to where its smallest
+    /// triangle is largest ([`widen`]), when that makes every triangle
+    /// around them positive.
+    fn try_widening(&self, frame: &[[f64; 2]], turned: &[usize]) -> Option<Vec<(usize, [f64; 2])>> {
+        let free = self.within_rings(turned, RINGS[RINGS.len() - 1]);
+        let moved: Vec<usize> = (0..free.len()).filter(|&v| free[v]).collect();
+        if moved.is_empty() {
+            return None;
+        }
+        let mut positions: Vec<[f64; 2]> =
+            frame.iter().map(|&p| mirror(p, self.mirrored)).collect();
+        widen(
+            &mut positions,
+            &self.triangles,
+            &self.rest_areas,
+            &moved,
+            (&self.at, &self.corners),
+            WIDENING_SWEEPS,
+        )
+        .then(|| moved.iter().map(|&v| (v, positions[v])).collect())
+    }
+
+    /// The positions of the `free` vertices (those within `rings` rings
+    /// of the turned-over triangles), placed by the untangling around them.
+    fn untangle_rings(
+        &self,
+        frame: &[[f64; 2]],
+        free: &[bool],
+        rings: usize,
+    ) -> Option<Vec<(usize, [f64; 2])>> {
+        let n = self.rest.len();
         let moved: Vec<usize> = (0..n).filter(|&v| free[v]).collect();
         if moved.is_empty() {
             return None;
         }
+        // The patch: every triangle at a moved vertex, its other vertices
+        // held, numbered first.
+        let mut patch: Vec<u32> = Vec::new();
+        let mut in_patch = vec![false; self.triangles.len()];
         for &v in &moved {
             for &t in self.triangles_at(v) {
                 if !in_patch[t as usize] {

@@ -60,6 +60,7 @@ mod settle;
 mod tests;
 mod untangle;
 mod untie;
+mod widest;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, OnceLock};
@@ -305,8 +306,9 @@ fn overlay_pair(
 
 /// The compatible improvement of meshes whose first `num_fixed` vertices
 /// (the outline points, then the anchors inside) stay where they are,
-/// adding at most `extra` vertices: the smallest angles (radians) before
-/// and after.
+/// adding at most `extra` vertices besides those that split the chords
+/// between fixed points ([`improve::split_chords`]): the smallest angles
+/// (radians) before and after.
 fn improve_set(
     meshes: &mut [Vec<[f64; 2]>],
     triangles: &mut Vec<[u32; 3]>,
@@ -320,6 +322,7 @@ fn improve_set(
         triangles,
         fixed: &mut fixed,
     };
+    improve::split_chords(&mut pair);
     let before = improve::smallest_angles(&pair);
     improve::improve(
         &mut pair,
