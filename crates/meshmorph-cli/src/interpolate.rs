@@ -214,6 +214,16 @@ pub fn run(args: &Args) -> Result<()> {
     if crate::drawings::named_as_drawings(&args.keys) {
         return crate::drawings::run(args, None);
     }
+    if let Some(key) = args
+        .keys
+        .iter()
+        .find(|k| (k.is_file() || !k.exists()) && meshmorph::io::Format::from_path(k).is_err())
+    {
+        bail!(
+            "`{}`: unknown format: interpolate takes meshes (.obj, .off, .ply, .stl), drawings (.svg, or polygons as .txt) or pictures (.png, .jpg, .jpeg), told apart by the file's extension",
+            key.display()
+        );
+    }
     match run_meshes(args) {
         // Planar meshes whose triangles differ are drawings.
         Err(e) if crate::drawings::is_mismatch(&e) && args.dim != Some(3) => {

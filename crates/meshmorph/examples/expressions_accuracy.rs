@@ -7,13 +7,17 @@
 //!
 //! ```sh
 //! MESHMORPH_ICT_FACEKIT=PATH/TO/ICT-FaceKit cargo run --release -p meshmorph \
-//!     --example expressions_accuracy [-- HEADS]
+//!     --example expressions_accuracy [-- HEADS [LANDMARKS]]
 //! ```
+//!
+//! LANDMARKS: `recommended` (the default: the 17 of
+//! [`RECOMMENDED_LANDMARKS`]), `all` (the 68), or iBUG numbers separated by
+//! commas; each placed exactly where it lies on the sampled head.
 //!
 //! Prints, for each head and way of carrying the shapes: error (RMS over
 //! the face after centring, over the head's bounding-box diagonal) mean and
 //! worst over the shapes, the largest vertex error, and the do-nothing
-//! baseline; 17 landmarks (the recommended set); and the time.
+//! baseline; and the time.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -183,6 +187,12 @@ fn main() {
         std::process::exit(2);
     };
     let heads: usize = std::env::args().nth(1).map_or(3, |a| a.parse().unwrap());
+    let landmarks: Vec<String> = match std::env::args().nth(2).as_deref() {
+        None | Some("recommended") => RECOMMENDED_LANDMARKS.iter().map(u8::to_string).collect(),
+        Some("all") => (1..=68).map(|k: u8| k.to_string()).collect(),
+        Some(list) => list.split(',').map(str::to_string).collect(),
+    };
+    println!("{} landmarks: {}", landmarks.len(), landmarks.join(", "));
     let template = ExpressionTemplate::arkit();
     let n = template.head.num_vertices();
     let neutral = template.head.positions().to_vec();
@@ -220,13 +230,13 @@ fn main() {
                     .all(|&c| template.face.contains(&(c as usize)))
             })
             .collect();
-        let points: Vec<(String, [f64; 3])> = RECOMMENDED_LANDMARKS
+        let points: Vec<(String, [f64; 3])> = landmarks
             .iter()
-            .map(|&k| {
-                (
-                    k.to_string(),
-                    identity[template.landmark(&k.to_string()).unwrap() as usize],
-                )
+            .map(|k| {
+                let v = template
+                    .landmark(k)
+                    .unwrap_or_else(|| panic!("no landmark {k} in the template"));
+                (k.clone(), identity[v as usize])
             })
             .collect();
         for method in [CarryMethod::Displacements, CarryMethod::Transfer] {

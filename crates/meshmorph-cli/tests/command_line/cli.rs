@@ -695,7 +695,7 @@ fn interpolate_unknown_extension() {
     ]);
     let err = fails(&out);
     assert_empty(&p.out);
-    assert_mentions(&err, &[&shown(&fbx), "unknown mesh format"]);
+    assert_mentions(&err, &[&shown(&fbx), "unknown format", ".png"]);
 }
 
 #[test]

@@ -468,7 +468,7 @@ fn catalogue() -> Vec<Case> {
         // interpolate: bad files
         case("missing source", &[I, "nosuch.obj", "dst.obj", "-o", "out"], 1, &["nosuch.obj"]),
         case("a marker file is no drawing", &[I, "markers.txt", "dst.obj", "-o", "out"], 1, &["reading the source drawing `markers.txt`"]),
-        case("unknown extension", &[I, "markers.cons", "dst.obj", "-o", "out"], 1, &["markers.cons", "unknown mesh format"]),
+        case("unknown extension", &[I, "markers.cons", "dst.obj", "-o", "out"], 1, &["markers.cons", "unknown format", ".svg"]),
         with_setup(case("malformed OBJ line", &[I, "bad.obj", "dst.obj", "-o", "out"], 1, &["bad.obj", "line 2"]),
             |d| obj_with(d, "bad.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n")),
         with_setup(case("OBJ with a byte-order mark", &[I, "src.obj", "dst.obj", "-o", "out", "--frames", "2"], 0, &["wrote 2 frames"]),

@@ -108,7 +108,50 @@ pub(crate) fn place(drawings: &[Drawing], anchors: &[Vec<[f64; 2]>]) -> Result<P
             )));
         }
     }
+    check_apart(&placed, &sizes)?;
     Ok(placed)
+}
+
+/// The least distance between two anchors inside a drawing, as a fraction
+/// of its size: closer ones would make triangles of no area between them.
+const ANCHORS_APART: f64 = 1e-3;
+
+/// Refuses two anchors inside that lie at (almost) the same place in a
+/// drawing (each drawing's points hashed into cells of that size, so that
+/// many anchors cost no more than their number).
+fn check_apart(placed: &Placed, sizes: &[f64]) -> Result<()> {
+    let number = |j: usize| {
+        placed
+            .order
+            .iter()
+            .position(|o| *o == Err(j))
+            .map_or(j + 1, |i| i + 1)
+    };
+    for (d, size) in sizes.iter().enumerate() {
+        let least = ANCHORS_APART * size;
+        let cell = |p: [f64; 2]| ((p[0] / least).floor() as i64, (p[1] / least).floor() as i64);
+        let mut cells: std::collections::HashMap<(i64, i64), Vec<usize>> =
+            std::collections::HashMap::new();
+        for (j, a) in placed.inside.iter().enumerate() {
+            let (x, y) = cell(a[d]);
+            for near in (x - 1..=x + 1).flat_map(|x| (y - 1..=y + 1).map(move |y| (x, y))) {
+                for &i in cells.get(&near).into_iter().flatten() {
+                    let apart = dist(placed.inside[i][d], a[d]);
+                    if apart < least {
+                        return Err(Error::IncompatibleDrawings(format!(
+                            "anchors {} and {} lie {apart} apart on drawing {}, less than {} % of its size: give each its own place, or drop one",
+                            number(i),
+                            number(j),
+                            d + 1,
+                            100.0 * ANCHORS_APART
+                        )));
+                    }
+                }
+            }
+            cells.entry((x, y)).or_default().push(j);
+        }
+    }
+    Ok(())
 }
 
 impl Placed {

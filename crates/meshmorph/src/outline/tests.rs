@@ -648,6 +648,20 @@ fn anchors_inside_are_vertices_at_their_points_in_every_mesh() {
         e.contains("anchor 1") && e.contains("outside drawing 1"),
         "{e}"
     );
+    // Two anchors inside at (almost) the same place in one drawing would
+    // make a triangle of no area: refused naming both and the drawing.
+    let a = inside(&drawings[0], 1.0);
+    let twins = vec![
+        vec![a, inside(&drawings[1], 1.0)],
+        vec![[a[0] + 1e-9, a[1]], inside(&drawings[1], -1.0)],
+    ];
+    let e = compatible_set(&drawings[..2], &twins, &OutlineOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("anchors 1 and 2") && e.contains("drawing 1"),
+        "{e}"
+    );
 }
 
 #[test]
