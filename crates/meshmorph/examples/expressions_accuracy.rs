@@ -260,17 +260,8 @@ fn main() {
                     .unwrap();
                 let truth = |v: usize| -> [f64; 3] {
                     let (t, b) = remeshed.at[v];
-                    std::array::from_fn(|i| {
-                        (0..3)
-                            .map(|c| {
-                                b[c] * recipe
-                                    .sources
-                                    .iter()
-                                    .map(|&s| template.head_deltas[s][tris[t][c] as usize][i])
-                                    .sum::<f64>()
-                            })
-                            .sum()
-                    })
+                    let corner = tris[t].map(|c| template.recipe_delta(&recipe, c as usize));
+                    std::array::from_fn(|i| (0..3).map(|c| b[c] * corner[c][i]).sum())
                 };
                 let errors: Vec<[f64; 3]> = face
                     .iter()

@@ -69,11 +69,7 @@ fn main() {
         .iter()
         .map(|r| {
             (0..positions.len())
-                .map(|v| {
-                    r.sources.iter().fold([0.0; 3], |acc, &s| {
-                        std::array::from_fn(|i| acc[i] + template.head_deltas[s][v][i])
-                    })
-                })
+                .map(|v| template.recipe_delta(r, v))
                 .collect()
         })
         .collect();

@@ -409,13 +409,6 @@ fn still(template: &ExpressionTemplate, r: &ShapeRecipe, place: &Place) -> bool 
     })
 }
 
-/// The template head's delta of vertex `v` in recipe `r`.
-fn recipe_delta(template: &ExpressionTemplate, r: &ShapeRecipe, v: usize) -> [f64; 3] {
-    r.sources
-        .iter()
-        .fold([0.0; 3], |acc, &k| add(acc, template.head_deltas[k][v]))
-}
-
 /// The template head in recipe `r`.
 fn recipe_pose(template: &ExpressionTemplate, r: &ShapeRecipe) -> Vec<[f64; 3]> {
     template
@@ -423,7 +416,7 @@ fn recipe_pose(template: &ExpressionTemplate, r: &ShapeRecipe) -> Vec<[f64; 3]> 
         .positions()
         .iter()
         .enumerate()
-        .map(|(v, &p)| add(p, recipe_delta(template, r, v)))
+        .map(|(v, &p)| add(p, template.recipe_delta(r, v)))
         .collect()
 }
 
@@ -443,7 +436,7 @@ fn displaced(
             let d = (0..3).fold([0.0; 3], |acc, i| {
                 add(
                     acc,
-                    scale(recipe_delta(template, r, tri[i] as usize), place.weights[i]),
+                    scale(template.recipe_delta(r, tri[i] as usize), place.weights[i]),
                 )
             });
             if d == [0.0; 3] {
@@ -653,7 +646,7 @@ mod tests {
         for (k, r) in recipes.iter().enumerate() {
             let mut worst = 0.0f64;
             for v in t.face.clone() {
-                let truth = scale(mul_vec(&s.rotation, recipe_delta(&t, r, v)), s.scale);
+                let truth = scale(mul_vec(&s.rotation, t.recipe_delta(r, v)), s.scale);
                 worst = worst.max(distance(out.deltas[k][v], truth));
             }
             assert!(worst < 0.002 * diagonal, "{}: {worst}", r.name);
@@ -663,13 +656,13 @@ mod tests {
             for tri in t.head.triangles() {
                 if tri
                     .iter()
-                    .any(|&c| recipe_delta(&t, r, c as usize) != [0.0; 3])
+                    .any(|&c| t.recipe_delta(r, c as usize) != [0.0; 3])
                 {
                     tri.iter().for_each(|&c| near_motion[c as usize] = true);
                 }
             }
             for (v, near) in near_motion.iter().enumerate() {
-                if !near && recipe_delta(&t, r, v) == [0.0; 3] {
+                if !near && t.recipe_delta(r, v) == [0.0; 3] {
                     assert_eq!(out.deltas[k][v], [0.0; 3], "{} vertex {v}", r.name);
                 }
             }

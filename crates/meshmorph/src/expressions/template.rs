@@ -7,7 +7,9 @@
 use std::ops::Range;
 
 use crate::error::{Error, Result};
+use crate::expressions::arkit_names::ShapeRecipe;
 use crate::expressions::template_file::read_template_glb;
+use crate::linalg::vector::add;
 use crate::mesh::Mesh3;
 
 /// The template meshmorph ships: the ICT-FaceKit head in metres, its
@@ -85,6 +87,14 @@ impl ExpressionTemplate {
             .zip(&self.head_deltas[k])
             .map(|(p, d)| std::array::from_fn(|i| p[i] + d[i]))
             .collect()
+    }
+
+    /// The head's delta of vertex `v` in recipe `r`: the sum of its
+    /// sources' deltas.
+    pub fn recipe_delta(&self, r: &ShapeRecipe, v: usize) -> [f64; 3] {
+        r.sources
+            .iter()
+            .fold([0.0; 3], |acc, &k| add(acc, self.head_deltas[k][v]))
     }
 
     /// Checks that every shape has a delta for every vertex.
