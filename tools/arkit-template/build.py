@@ -20,6 +20,12 @@ shape as a morph target, named in `mesh.extras.targetNames`:
 - `eyeLeft`, `eyeRight` (eyeballs), `teethUpper`, `teethLower`,
   `gumsTongue`: the parts that move rigidly or nearly.
 
+After its shapes the head has the FaceKit's identity model as targets too
+(`identity000` to `identity099`, each one standard deviation of a principal
+component of head shape, largest first), named in `mesh.extras.identityBases`:
+meshmorph fits them to a user's head before the correspondence. Stored the
+same way, densely (they move every vertex), and not zeroed below 0.1 mm.
+
 Left and right are the head's own (as in ARKit's `eyeBlinkLeft`). The
 FaceKit's eyelashes, lacrimal fluid and eye blend and occlusion meshes are
 left out. Targets are sparse accessors of KHR_mesh_quantization: a vertex's
@@ -84,6 +90,9 @@ EYE_LOOKS = {  # shape: (eyeball, direction of the look, before the turn)
     "eyeLookUp_R": ("eyeRight", (0, 1)), "eyeLookDown_R": ("eyeRight", (0, -1)),
     "eyeLookIn_R": ("eyeRight", (1, 0)), "eyeLookOut_R": ("eyeRight", (-1, 0)),
 }
+
+# The FaceKit's identity model: its 100 principal components of head shape.
+IDENTITY_BASES = 100
 
 METRES_PER_UNIT = 0.01  # the FaceKit models in centimetres
 STEPS = 32767.0
@@ -170,9 +179,20 @@ def indices_accessor(glb, tris, num_vertices):
 
 
 def delta_accessor(glb, q):
-    """A sparse normalised-short accessor of the quantised deltas `q`
-    (n x 3 int16): only the rows that are not zero are stored."""
+    """A normalised-short accessor of the quantised deltas `q` (n x 3
+    int16): sparse (only the rows that are not zero) unless that is larger
+    than all of them."""
     moved = np.nonzero(np.any(q != 0, axis=1))[0]
+    if len(moved) * 8 >= len(q) * 6:
+        return glb.accessor({
+            "bufferView": glb.view(q.astype("<i2").tobytes()),
+            "componentType": 5122,
+            "normalized": True,
+            "count": len(q),
+            "type": "VEC3",
+            "min": [int(x) for x in q.min(axis=0)],
+            "max": [int(x) for x in q.max(axis=0)],
+        })
     a = {
         "componentType": 5122,
         "normalized": True,
@@ -246,6 +266,19 @@ def main():
             sys.exit(f"{name}.obj: a delta of more than 1 m")
         deltas.append(d.astype(np.int16))
 
+    # The identity model on the head's vertices.
+    head_end = PARTS[0][4] + 1
+    identity_names = [f"identity{i:03d}" for i in range(IDENTITY_BASES)]
+    identity = []
+    for name in identity_names:
+        v, _ = read_obj(os.path.join(model, name + ".obj"))
+        if v.shape != neutral.shape:
+            sys.exit(f"{name}.obj: {len(v)} vertices, the neutral head has {len(neutral)}")
+        d = np.rint((v - neutral)[:head_end] * METRES_PER_UNIT * STEPS)
+        if np.abs(d).max() > STEPS:
+            sys.exit(f"{name}.obj: a delta of more than 1 m")
+        identity.append(d.astype(np.int16))
+
     glb = Glb()
     meshes, nodes = [], []
     for name, f0, f1, v0, v1 in PARTS:
@@ -262,6 +295,8 @@ def main():
         }
         extras = {"targetNames": shapes}
         if name == "head":
+            prim["targets"] += [{"POSITION": delta_accessor(glb, d)} for d in identity]
+            extras = {"targetNames": shapes + identity_names, "identityBases": identity_names}
             extras["regions"] = {r: [a, b] for r, a, b in HEAD_REGIONS}
             extras["landmarks"] = [
                 {"name": str(k + 1), "vertex": v} for k, v in enumerate(LANDMARKS)

@@ -7,8 +7,13 @@
 //!
 //! ```sh
 //! MESHMORPH_ICT_FACEKIT=PATH/TO/ICT-FaceKit cargo run --release -p meshmorph \
-//!     --example expressions_accuracy [-- HEADS [LANDMARKS]]
+//!     --example expressions_accuracy [-- HEADS [LANDMARKS [BASES [WARP]]]]
 //! ```
+//!
+//! BASES: how many of the template's identity bases the fit uses (default
+//! all 100; 0: none, the correspondence alone). WARP: millimetres of a
+//! smooth deformation outside the identity model added to each sampled
+//! head (default 0), for heads the model does not reach.
 //!
 //! LANDMARKS: `recommended` (the default: the 17 of
 //! [`RECOMMENDED_LANDMARKS`]), `all` (the 68), or iBUG numbers separated by
@@ -52,6 +57,41 @@ fn obj_positions(path: &std::path::Path, n: usize) -> Vec<[f64; 3]> {
                 .split_whitespace()
                 .map(|x| x.parse::<f64>().unwrap() * 0.01);
             [it.next().unwrap(), it.next().unwrap(), it.next().unwrap()]
+        })
+        .collect()
+}
+
+/// `positions` moved by a smooth field the identity model does not hold:
+/// three plane waves of 12 to 20 cm wavelength in random directions, each
+/// moving up to `amplitude` metres along a random direction.
+fn warped(positions: &[[f64; 3]], amplitude: f64, rng: &mut Normal) -> Vec<[f64; 3]> {
+    if amplitude == 0.0 {
+        return positions.to_vec();
+    }
+    let unit = |rng: &mut Normal| {
+        let v = [rng.sample(), rng.sample(), rng.sample()];
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        v.map(|x| x / l)
+    };
+    let waves: Vec<([f64; 3], [f64; 3], f64, f64)> = (0..3)
+        .map(|_| {
+            let length = 0.12 + 0.08 * rng.uniform();
+            (
+                unit(rng),
+                unit(rng),
+                std::f64::consts::TAU / length,
+                std::f64::consts::TAU * rng.uniform(),
+            )
+        })
+        .collect();
+    positions
+        .iter()
+        .map(|&p| {
+            waves.iter().fold(p, |acc, (k, d, f, phase)| {
+                let s = amplitude / 3.0_f64.sqrt()
+                    * (f * (k[0] * p[0] + k[1] * p[1] + k[2] * p[2]) + phase).sin();
+                std::array::from_fn(|i| acc[i] + s * d[i])
+            })
         })
         .collect()
 }
@@ -193,7 +233,15 @@ fn main() {
         Some(list) => list.split(',').map(str::to_string).collect(),
     };
     println!("{} landmarks: {}", landmarks.len(), landmarks.join(", "));
+    let used_bases: usize = std::env::args().nth(3).map_or(100, |a| a.parse().unwrap());
+    let warp: f64 = std::env::args().nth(4).map_or(0.0, |a| a.parse().unwrap());
     let template = ExpressionTemplate::arkit();
+    let mut used = template.clone();
+    used.identity.truncate(used_bases);
+    println!(
+        "identity bases fitted: {}; out-of-model warp: {warp} mm",
+        used.identity.len()
+    );
     let n = template.head.num_vertices();
     let neutral = template.head.positions().to_vec();
     let model = root.join("FaceXModel");
@@ -218,6 +266,7 @@ fn main() {
                 })
             })
             .collect();
+        let identity = warped(&identity, warp * 1e-3, &mut rng);
         let id_head = template.head.with_positions(identity.clone()).unwrap();
         let remeshed = remesh(&id_head, &mut rng);
         let head = &remeshed.mesh;
@@ -242,7 +291,7 @@ fn main() {
         for method in [CarryMethod::Displacements, CarryMethod::Transfer] {
             let start = Instant::now();
             let out = expressions(
-                &template,
+                &used,
                 head,
                 &points,
                 &ExpressionOptions::default().with_method(method),

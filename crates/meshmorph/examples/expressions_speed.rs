@@ -8,10 +8,11 @@
 //! (51 shapes' deltas of every vertex, as 64-bit floats).
 //!
 //! ```sh
-//! cargo run --release -p meshmorph --example expressions_speed [-- LEVELS]
+//! cargo run --release -p meshmorph --example expressions_speed [-- LEVELS [no-identity]]
 //! ```
 //!
-//! LEVELS: how many subdivisions, 0 to 3 (default 3).
+//! LEVELS: how many subdivisions, 0 to 3 (default 3). A second argument
+//! `no-identity` leaves out the fit of the template's identity model.
 
 use std::time::Instant;
 
@@ -52,7 +53,10 @@ fn main() {
         .map(|a| a.parse().expect("LEVELS: a number from 0 to 3"))
         .unwrap_or(3)
         .min(3);
-    let template = ExpressionTemplate::arkit();
+    let mut template = ExpressionTemplate::arkit();
+    if std::env::args().nth(2).as_deref() == Some("no-identity") {
+        template.identity.clear();
+    }
     let base = other_proportions(&template.head);
     let points: Vec<(String, [f64; 3])> = RECOMMENDED_LANDMARKS
         .iter()

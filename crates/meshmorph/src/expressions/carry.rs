@@ -27,13 +27,14 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::expressions::arkit_names::{arkit_recipes, ShapeRecipe};
+use crate::expressions::identity::fit_identity;
 use crate::expressions::landmarks::{
     check_landmarks, landmark_name, landmark_number, misplaced_landmarks,
 };
 use crate::expressions::template::ExpressionTemplate;
-use crate::linalg::matrix::{mul_vec, Mat3};
+use crate::linalg::matrix::mul_vec;
 use crate::linalg::similarity::Similarity;
-use crate::linalg::vector::{add, scale, sub};
+use crate::linalg::vector::{add, mean_of, scale, sub};
 use crate::mesh::closest::{closest_region, vertex_normals, Angle, ClosestPoint, SurfaceIndex};
 use crate::mesh::seams::Seams;
 use crate::mesh::topology::connected_components;
@@ -168,13 +169,39 @@ fn expressions_welded(
     points: &[(String, [f64; 3])],
     options: &ExpressionOptions,
 ) -> Result<HeadExpressions> {
-    let (markers, warnings) = landmark_markers(template, points)?;
+    let (_, warnings) = landmark_markers(template, points)?;
     let (recipes, missing) = arkit_recipes(&template.shape_names, options.all_shapes);
 
     // The head's main surface, apart from its separate parts.
     let comps = connected_components(head.num_vertices(), head.triangles());
     let main = largest_component(head, &comps.of_triangle, comps.count);
     let (surface, surface_vertices) = sub_mesh(head, |t| comps.of_triangle[t] == main)?;
+
+    // The template given the head's proportions, where it has a model of
+    // heads.
+    let fitted;
+    let template = match (!template.identity.is_empty())
+        .then(|| {
+            fit_identity(
+                &template.head,
+                &template.identity,
+                &template.outer.clone().collect::<Vec<_>>(),
+                &surface,
+                &landmark_vertices(template, points),
+            )
+        })
+        .flatten()
+    {
+        Some(positions) => {
+            fitted = ExpressionTemplate {
+                head: template.head.with_positions(positions)?,
+                ..template.clone()
+            };
+            &fitted
+        }
+        None => template,
+    };
+    let (markers, _) = landmark_markers(template, points)?;
 
     let (markers, _) = markers.snap(&template.head, &surface)?;
     let fit = correspond(&template.head, &surface, &markers, &options.correspond)?;
@@ -276,6 +303,18 @@ fn expressions_welded(
         report,
         parts,
     })
+}
+
+/// Each named point's template vertex (the points that name none left
+/// out: [`landmark_markers`] refuses them).
+fn landmark_vertices(
+    template: &ExpressionTemplate,
+    points: &[(String, [f64; 3])],
+) -> Vec<(u32, [f64; 3])> {
+    points
+        .iter()
+        .filter_map(|(name, p)| Some((template.landmark(&landmark_number(name)?.to_string())?, *p)))
+        .collect()
 }
 
 /// The markers from named points, and the warnings about regions none holds.
@@ -553,20 +592,13 @@ fn rigid_fit(rest: &[[f64; 3]], posed: &[[f64; 3]]) -> Option<Similarity> {
     let mut fit = Similarity::fit(rest, posed).ok()?;
     // Rigid: the part keeps its size (the fit's own centroid rule places it).
     fit.scale = 1.0;
-    fit.translation = sub(mean(posed), mul_vec(&fit.rotation, mean(rest)));
+    fit.translation = sub(mean_of(posed), mul_vec(&fit.rotation, mean_of(rest)));
     Some(fit)
-}
-
-fn mean(points: &[[f64; 3]]) -> [f64; 3] {
-    let sum = points.iter().fold([0.0; 3], |s, p| add(s, *p));
-    scale(sum, 1.0 / points.len().max(1) as f64)
 }
 
 /// `s⁻¹(p)` for a similarity `s`.
 fn inverse_apply(s: &Similarity, p: [f64; 3]) -> [f64; 3] {
-    let q = scale(sub(p, s.translation), 1.0 / s.scale);
-    let rt: Mat3 = std::array::from_fn(|i| std::array::from_fn(|j| s.rotation[j][i]));
-    mul_vec(&rt, q)
+    s.inverse().apply(p)
 }
 
 #[cfg(test)]

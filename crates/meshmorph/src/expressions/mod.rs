@@ -5,6 +5,7 @@
 
 pub(crate) mod arkit_names;
 pub(crate) mod carry;
+pub(crate) mod identity;
 pub(crate) mod landmark_file;
 pub(crate) mod landmarks;
 pub(crate) mod template;

@@ -33,6 +33,16 @@ pub struct ExpressionTemplate {
     pub landmarks: Vec<(String, u32)>,
     /// The separate parts, each with a delta of every vertex in every shape.
     pub parts: Vec<TemplatePart>,
+    /// The head's identity bases (a linear model of head shapes: the
+    /// neutral plus a standard-normal weighted sum of these deltas of every
+    /// head vertex is a plausible head), largest first; empty when the
+    /// template has none.
+    pub identity: Vec<Vec<[f64; 3]>>,
+    /// The head's outer surface (the face, the head and the neck, without
+    /// the mouth's and eyes' sockets), the vertices fitted to a user's head
+    /// with the identity bases; all of the head when the template does not
+    /// say.
+    pub outer: Range<usize>,
 }
 
 /// A separate part of a template (an eyeball, the teeth, ...).

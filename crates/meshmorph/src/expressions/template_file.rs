@@ -60,16 +60,36 @@ pub(crate) fn read_template_glb(bytes: &[u8], name: &str) -> Result<ExpressionTe
         })
         .collect::<Option<Vec<_>>>()
         .ok_or_else(|| bad("a landmark without a `name` and a `vertex`"))?;
-    let face = extras["regions"]["face"]
-        .as_array()
-        .and_then(|r| Some(r.first()?.as_u64()? as usize..r.get(1)?.as_u64()? as usize + 1))
-        .unwrap_or(0..head_mesh.num_vertices());
+    let region = |name: &str| {
+        extras["regions"][name]
+            .as_array()
+            .and_then(|r| Some(r.first()?.as_u64()? as usize..r.get(1)?.as_u64()? as usize + 1))
+    };
+    let face = region("face").unwrap_or(0..head_mesh.num_vertices());
+    let outer = match (region("face"), region("headNeck")) {
+        (Some(f), Some(h)) => f.start.min(h.start)..f.end.max(h.end),
+        _ => 0..head_mesh.num_vertices(),
+    };
+    // The identity bases are the head's targets that `extras.identityBases`
+    // names, after its shapes.
+    let bases = extras["identityBases"].as_array().map_or(0, Vec::len);
+    if bases > head_deltas.len() {
+        return Err(bad(
+            "`extras.identityBases` names more targets than the head has",
+        ));
+    }
+    let mut head_deltas = head_deltas;
+    let identity = head_deltas.split_off(head_deltas.len() - bases);
+    let mut shape_names = shape_names;
+    shape_names.truncate(head_deltas.len());
     let template = ExpressionTemplate {
         head: head_mesh,
         face,
         shape_names,
         head_deltas,
         landmarks,
+        identity,
+        outer,
         parts: parts
             .into_iter()
             .map(|(name, (mesh, deltas))| TemplatePart { name, mesh, deltas })

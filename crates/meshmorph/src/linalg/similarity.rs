@@ -11,7 +11,7 @@
 
 use crate::error::{Error, Result};
 use crate::linalg::matrix::{det3, inverse3};
-use crate::linalg::vector::{add, dot, norm, scale, sub};
+use crate::linalg::vector::{add, dot, mean_of, norm, scale, sub};
 
 /// `x ↦ s R x + t`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,6 +54,21 @@ impl Similarity {
     pub fn rotate(&self, v: [f64; 3]) -> [f64; 3] {
         let R = &self.rotation;
         [dot(R[0], v), dot(R[1], v), dot(R[2], v)]
+    }
+
+    /// The similarity that undoes this one: `Rᵀ (p − t) / s`.
+    pub fn inverse(&self) -> Similarity {
+        let rotation: [[f64; 3]; 3] =
+            std::array::from_fn(|i| std::array::from_fn(|j| self.rotation[j][i]));
+        let back = Similarity {
+            rotation,
+            scale: 1.0 / self.scale,
+            translation: [0.0; 3],
+        };
+        Similarity {
+            translation: scale(back.apply(self.translation), -1.0),
+            ..back
+        }
     }
 
     /// `other ∘ self`: this similarity, then `other`.
@@ -114,7 +129,7 @@ impl Similarity {
                 if from.len() == 1 { "" } else { "s" }
             )));
         }
-        let (cx, cy) = (mean(from), mean(to));
+        let (cx, cy) = (mean_of(from), mean_of(to));
         for (points, c, which) in [(from, cx, "source"), (to, cy, "target")] {
             if is_on_a_line(points, c) {
                 return Err(Error::InvalidArgument(format!(
@@ -185,11 +200,6 @@ pub fn fit_robust(from: &[[f64; 3]], to: &[[f64; 3]]) -> Result<(Similarity, Vec
         // The others alone cannot fix it: keep the fit of all.
         Err(_) => Ok((first, bad)),
     }
-}
-
-fn mean(p: &[[f64; 3]]) -> [f64; 3] {
-    let s = p.iter().fold([0.0; 3], |a, &b| add(a, b));
-    scale(s, 1.0 / p.len() as f64)
 }
 
 /// Whether the points lie (numerically) on one line through `c`: the second

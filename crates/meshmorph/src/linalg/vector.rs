@@ -52,6 +52,12 @@ pub fn centroid<const D: usize>(p: [[f64; D]; 3]) -> [f64; D] {
     std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k]) / 3.0)
 }
 
+/// The mean of `points` (the origin for none).
+pub fn mean_of<const D: usize>(points: &[[f64; D]]) -> [f64; D] {
+    let sum = points.iter().fold([0.0; D], |acc, &p| add(acc, p));
+    scale(sum, 1.0 / points.len().max(1) as f64)
+}
+
 /// The angle between two vectors from `y = |a × b|` and `x = a · b`
 /// (`atan2(y, x)` for `y ≥ 0`, to 1e-7 radian; 0 when both are 0).
 #[inline]
