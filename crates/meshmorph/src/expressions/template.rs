@@ -66,7 +66,10 @@ impl ExpressionTemplate {
     /// A template from a GLB holding a mesh `head` with named morph targets
     /// (`extras.targetNames`) and landmarks (`extras.landmarks`, a list of
     /// `{"name", "vertex"}`), and other meshes with the same targets as its
-    /// parts (the layout of `templates/arkit.glb`).
+    /// parts (the layout of `templates/arkit.glb`). Targets of the head
+    /// that `extras.identityBases` names (the last ones) are its identity
+    /// model, not shapes: they are fitted to a head before the
+    /// correspondence.
     ///
     /// # Errors
     /// [`Error::Parse`] or [`Error::InvalidArgument`] naming the file
