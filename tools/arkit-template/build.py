@@ -23,8 +23,10 @@ shape as a morph target, named in `mesh.extras.targetNames`:
 After its shapes the head has the FaceKit's identity model as targets too
 (`identity000` to `identity099`, each one standard deviation of a principal
 component of head shape, largest first), named in `mesh.extras.identityBases`:
-meshmorph fits them to a user's head before the correspondence. Stored the
-same way, densely (they move every vertex), and not zeroed below 0.1 mm.
+meshmorph fits them to a user's head before the correspondence. Stored
+densely (they move every vertex), each stretched to the 16-bit range: a
+basis is its target times its entry in `mesh.extras.identityUnits` (metres),
+in steps of about 1 µm.
 
 Left and right are the head's own (as in ARKit's `eyeBlinkLeft`). The
 FaceKit's eyelashes, lacrimal fluid and eye blend and occlusion meshes are
@@ -269,15 +271,18 @@ def main():
     # The identity model on the head's vertices.
     head_end = PARTS[0][4] + 1
     identity_names = [f"identity{i:03d}" for i in range(IDENTITY_BASES)]
-    identity = []
+    identity, identity_units = [], []
     for name in identity_names:
         v, _ = read_obj(os.path.join(model, name + ".obj"))
         if v.shape != neutral.shape:
             sys.exit(f"{name}.obj: {len(v)} vertices, the neutral head has {len(neutral)}")
-        d = np.rint((v - neutral)[:head_end] * METRES_PER_UNIT * STEPS)
-        if np.abs(d).max() > STEPS:
-            sys.exit(f"{name}.obj: a delta of more than 1 m")
-        identity.append(d.astype(np.int16))
+        d = (v - neutral)[:head_end] * METRES_PER_UNIT
+        # Each basis stretched to the 16-bit range, its scale beside it:
+        # 1 µm steps where the shapes' 31 µm would add up over 100 bases
+        # to a tenth of a millimetre.
+        unit = float(np.abs(d).max())
+        identity.append(np.rint(d / unit * STEPS).astype(np.int16))
+        identity_units.append(unit)
 
     glb = Glb()
     meshes, nodes = [], []
@@ -296,7 +301,11 @@ def main():
         extras = {"targetNames": shapes}
         if name == "head":
             prim["targets"] += [{"POSITION": delta_accessor(glb, d)} for d in identity]
-            extras = {"targetNames": shapes + identity_names, "identityBases": identity_names}
+            extras = {
+                "targetNames": shapes + identity_names,
+                "identityBases": identity_names,
+                "identityUnits": identity_units,
+            }
             extras["regions"] = {r: [a, b] for r, a, b in HEAD_REGIONS}
             extras["landmarks"] = [
                 {"name": str(k + 1), "vertex": v} for k, v in enumerate(LANDMARKS)

@@ -701,6 +701,87 @@ mod tests {
         }
     }
 
+    /// A head that is its own mirror image (the template's, a symmetric
+    /// head, widened towards the jaw and its face lengthened) gets left and
+    /// right shapes that are each other's mirror images as closely as the
+    /// template's own are: every ARKit pair (`...Left`, `...Right`), at
+    /// every vertex, within the template's own difference plus 0.1 % of the
+    /// diagonal.
+    #[test]
+    fn left_and_right_shapes_stay_mirror_images_on_a_symmetric_head() {
+        let t = ExpressionTemplate::arkit();
+        let d0 = t.head.bounding_box_diagonal();
+        let warp = |[x, y, z]: [f64; 3]| {
+            let v = y / d0;
+            [
+                x * (1.08 - 0.4 * v),
+                y * 1.06,
+                z + 0.03 * (x / d0).powi(2) * d0,
+            ]
+        };
+        let head = t
+            .head
+            .with_positions(t.head.positions().iter().map(|&p| warp(p)).collect())
+            .unwrap();
+        let points: Vec<(String, [f64; 3])> = RECOMMENDED
+            .iter()
+            .map(|&n| {
+                let v = t.landmark(&n.to_string()).unwrap();
+                (landmark_name(n), head.positions()[v as usize])
+            })
+            .collect();
+        // Each vertex's mirror image: the nearest corner of the nearest
+        // triangle to its reflection (the template is symmetric to 0.05 mm).
+        let reflect = |p: [f64; 3]| [-p[0], p[1], p[2]];
+        let index = SurfaceIndex::new(head.positions(), head.triangles());
+        let mirror: Vec<usize> = head
+            .positions()
+            .iter()
+            .map(|&p| {
+                let q = reflect(p);
+                let hit = index.closest(q).unwrap();
+                let tri = head.triangles()[hit.triangle as usize];
+                tri.iter()
+                    .map(|&c| c as usize)
+                    .min_by(|&a, &b| {
+                        distance(head.positions()[a], q)
+                            .total_cmp(&distance(head.positions()[b], q))
+                    })
+                    .unwrap()
+            })
+            .collect();
+        let out = expressions(&t, &head, &points, &ExpressionOptions::default()).unwrap();
+        let (recipes, _) = arkit_recipes(&t.shape_names, false);
+        let diagonal = head.bounding_box_diagonal();
+        let mut pairs = 0;
+        for (l, name) in out.names.iter().enumerate() {
+            let Some(stem) = name.strip_suffix("Left") else {
+                continue;
+            };
+            let r = out
+                .names
+                .iter()
+                .position(|n| *n == format!("{stem}Right"))
+                .unwrap();
+            let asymmetry = |delta: &dyn Fn(usize, usize) -> [f64; 3]| {
+                t.face
+                    .clone()
+                    .map(|v| distance(delta(l, v), reflect(delta(r, mirror[v]))))
+                    .fold(0.0, f64::max)
+            };
+            let own = asymmetry(&|k, v| t.recipe_delta(&recipes[k], v)) / d0;
+            let carried = asymmetry(&|k, v| out.deltas[k][v]) / diagonal;
+            assert!(
+                carried <= own + 1e-3,
+                "{name}: left and right differ by {:.3} % of the diagonal, the template's by {:.3} %",
+                100.0 * carried,
+                100.0 * own
+            );
+            pairs += 1;
+        }
+        assert!(pairs >= 20, "{pairs} left and right pairs");
+    }
+
     #[test]
     fn eyelids_meet_in_eye_blink_and_lips_in_mouth_close_with_jaw_open() {
         let (t, head, points, _) = moved_template();

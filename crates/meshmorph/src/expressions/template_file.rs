@@ -79,7 +79,22 @@ pub(crate) fn read_template_glb(bytes: &[u8], name: &str) -> Result<ExpressionTe
         ));
     }
     let mut head_deltas = head_deltas;
-    let identity = head_deltas.split_off(head_deltas.len() - bases);
+    let mut identity = head_deltas.split_off(head_deltas.len() - bases);
+    // Each basis may be stored stretched, its unit beside it.
+    if let Some(units) = extras["identityUnits"].as_array() {
+        if units.len() != bases {
+            return Err(bad(
+                "`extras.identityUnits` does not give one unit per identity basis",
+            ));
+        }
+        for (basis, unit) in identity.iter_mut().zip(units) {
+            let unit = unit
+                .as_f64()
+                .filter(|u| u.is_finite() && *u > 0.0)
+                .ok_or_else(|| bad("an identity basis's unit is not a positive number"))?;
+            basis.iter_mut().flatten().for_each(|x| *x *= unit);
+        }
+    }
     let mut shape_names = shape_names;
     shape_names.truncate(head_deltas.len());
     let template = ExpressionTemplate {
