@@ -26,6 +26,7 @@ static COMMITTED: AtomicBool = AtomicBool::new(false);
 static AS_JSON: AtomicBool = AtomicBool::new(false);
 static GATE: RwLock<()> = RwLock::new(());
 static PENDING: Mutex<Option<Cleanup>> = Mutex::new(None);
+static ABANDONING: AtomicBool = AtomicBool::new(false);
 
 /// What a run must undo if it does not commit.
 #[derive(Clone, Debug, Default)]
@@ -121,6 +122,15 @@ fn on_interrupt(status: i32) {
 /// are removed, `message` is said and the process exits with status 1.
 /// The interrupt's hold is not taken: the failing thread may be writing.
 pub fn abandon(message: &str) -> ! {
+    // Threads failing together (the frames are drawn on every core): the
+    // first removes the staged files and ends the process; the others wait
+    // for it, instead of finding nothing left to undo and ending the
+    // process while the first is still removing.
+    if ABANDONING.swap(true, Ordering::SeqCst) {
+        loop {
+            std::thread::park();
+        }
+    }
     INTERRUPTED.store(true, Ordering::SeqCst);
     let pending = match PENDING.try_lock() {
         Ok(mut p) => p.take(),

@@ -1,7 +1,7 @@
 //! The user's head found in the template's model of heads, before the
 //! correspondence: the template's neutral head plus a weighted sum of its
-//! identity bases (ICT-FaceKit's linear model of head shapes, the largest
-//! of them shipped), the weights and a similarity fitted to the landmarks
+//! identity bases (ICT-FaceKit's linear model of head shapes, all 100 of
+//! its components shipped), the weights and a similarity fitted to the landmarks
 //! and to the head's surface, with the model's prior (the weights
 //! standard normal) keeping the fit a plausible head.
 //!

@@ -142,6 +142,24 @@ impl ExpressionTemplate {
                 self.head.num_vertices()
             ));
         }
+        if let Some(k) = self
+            .identity
+            .iter()
+            .position(|b| b.len() != self.head.num_vertices())
+        {
+            return bad(format!(
+                "identity basis {k} has {} deltas for a head of {} vertices",
+                self.identity[k].len(),
+                self.head.num_vertices()
+            ));
+        }
+        if self.outer.start > self.outer.end || self.outer.end > self.head.num_vertices() {
+            return bad(format!(
+                "the regions `face` and `headNeck` reach vertex {}, the head has {}",
+                self.outer.end.max(self.outer.start),
+                self.head.num_vertices()
+            ));
+        }
         for part in &self.parts {
             if part.deltas.len() != self.shape_names.len()
                 || part
