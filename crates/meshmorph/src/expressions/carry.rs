@@ -40,7 +40,7 @@ use crate::mesh::seams::Seams;
 use crate::mesh::topology::connected_components;
 use crate::mesh::Mesh3;
 use crate::transfer::markers::Markers;
-use crate::transfer::matching::{correspond, CorrespondOptions};
+use crate::transfer::matching::{correspond, deform_onto, CorrespondOptions};
 use crate::transfer::pose_transfer::{Transfer, TransferOptions};
 
 /// How far a head vertex's normal may turn from the template triangle it
@@ -169,44 +169,55 @@ fn expressions_welded(
     points: &[(String, [f64; 3])],
     options: &ExpressionOptions,
 ) -> Result<HeadExpressions> {
-    let (_, warnings) = landmark_markers(template, points)?;
+    let (_, warnings) = landmark_markers(template, &template.head, points)?;
     let (recipes, missing) = arkit_recipes(&template.shape_names, options.all_shapes);
 
     // The head's main surface, apart from its separate parts.
     let comps = connected_components(head.num_vertices(), head.triangles());
     let main = largest_component(head, &comps.of_triangle, comps.count);
     let (surface, surface_vertices) = sub_mesh(head, |t| comps.of_triangle[t] == main)?;
+    let surface_index = SurfaceIndex::new(surface.positions(), surface.triangles());
 
-    // The template given the head's proportions, where it has a model of
-    // heads.
-    let fitted;
-    let template = match (!template.identity.is_empty())
+    // The template's head given the head's proportions, where it has a
+    // model of heads.
+    let fitted = (!template.identity.is_empty())
         .then(|| {
             fit_identity(
                 &template.head,
                 &template.identity,
                 &template.outer.clone().collect::<Vec<_>>(),
-                &surface,
+                (&surface, &surface_index),
                 &landmark_vertices(template, points),
             )
         })
         .flatten()
-    {
-        Some(positions) => {
-            fitted = ExpressionTemplate {
-                head: template.head.with_positions(positions)?,
-                ..template.clone()
-            };
-            &fitted
-        }
-        None => template,
-    };
-    let (markers, _) = landmark_markers(template, points)?;
+        .map(|positions| template.head.with_positions(positions))
+        .transpose()?;
+    let reference = fitted.as_ref().unwrap_or(&template.head);
+    let (markers, _) = landmark_markers(template, reference, points)?;
+    let (markers, _) = markers.snap(reference, &surface)?;
 
-    let (markers, _) = markers.snap(&template.head, &surface)?;
-    let fit = correspond(&template.head, &surface, &markers, &options.correspond)?;
-    let similarity = fit.marker_fit;
-    let places = find_places(&fit.deformed_source, &surface);
+    // Displacements need only the template's head laid onto the head;
+    // transfer (and the comparison) the pairs of triangles too.
+    let needs_pairs = options.compare || options.method == CarryMethod::Transfer;
+    let (similarity, deformed, correspondence) = if needs_pairs {
+        let fit = correspond(reference, &surface, &markers, &options.correspond)?;
+        (
+            fit.marker_fit,
+            fit.deformed_source,
+            Some(fit.correspondence),
+        )
+    } else {
+        let (similarity, deformed) = deform_onto(
+            reference,
+            &surface,
+            &surface_index,
+            &markers,
+            &options.correspond,
+        )?;
+        (similarity, deformed, None)
+    };
+    let places = find_places(&deformed, &surface);
     let diagonal = head.bounding_box_diagonal();
 
     let by_method = |method: CarryMethod| -> Result<Vec<Vec<[f64; 3]>>> {
@@ -216,16 +227,21 @@ fn expressions_welded(
                 .map(|r| displaced(template, r, &places, &similarity))
                 .collect()),
             CarryMethod::Transfer => {
+                let Some(correspondence) = &correspondence else {
+                    return Err(Error::InvalidArgument(
+                        "transfer needs the pairs of triangles".into(),
+                    ));
+                };
                 let transfer = Transfer::new(
-                    &template.head,
+                    reference,
                     &surface,
-                    &fit.correspondence,
+                    correspondence,
                     &TransferOptions::default(),
                 )?;
                 recipes
                     .par_iter()
                     .map(|r| {
-                        let pose = template.head.with_positions(recipe_pose(template, r))?;
+                        let pose = reference.with_positions(recipe_pose(template, reference, r))?;
                         let out = transfer.apply(&pose)?;
                         Ok(out
                             .iter()
@@ -320,6 +336,7 @@ fn landmark_vertices(
 /// The markers from named points, and the warnings about regions none holds.
 fn landmark_markers(
     template: &ExpressionTemplate,
+    reference: &Mesh3,
     points: &[(String, [f64; 3])],
 ) -> Result<(Markers, Vec<String>)> {
     let mut numbers = Vec::with_capacity(points.len());
@@ -338,7 +355,7 @@ fn landmark_markers(
             ))
         })?;
         numbers.push(n);
-        pairs.push([template.head.positions()[v as usize], *p]);
+        pairs.push([reference.positions()[v as usize], *p]);
         names.push(Some(landmark_name(n)));
     }
     let mut warnings = check_landmarks(&numbers)?;
@@ -448,10 +465,9 @@ fn still(template: &ExpressionTemplate, r: &ShapeRecipe, place: &Place) -> bool 
     })
 }
 
-/// The template head in recipe `r`.
-fn recipe_pose(template: &ExpressionTemplate, r: &ShapeRecipe) -> Vec<[f64; 3]> {
-    template
-        .head
+/// The template's head `reference` (as fitted to the head) in recipe `r`.
+fn recipe_pose(template: &ExpressionTemplate, reference: &Mesh3, r: &ShapeRecipe) -> Vec<[f64; 3]> {
+    reference
         .positions()
         .iter()
         .enumerate()

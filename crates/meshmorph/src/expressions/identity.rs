@@ -68,34 +68,35 @@ pub(crate) fn fit_identity(
     neutral: &Mesh3,
     bases: &[Vec<[f64; 3]>],
     sample: &[usize],
-    surface: &Mesh3,
+    (surface, index): (&Mesh3, &SurfaceIndex),
     landmarks: &[(u32, [f64; 3])],
 ) -> Option<Vec<[f64; 3]>> {
-    let fitted = fit_once(neutral, bases, sample, surface, landmarks)?;
-    let Some(mirror) = mirror_map(neutral) else {
-        return Some(fitted);
+    let symmetric =
+        mirror_map(neutral).filter(|mirror| is_own_mirror_image(surface, index, landmarks, mirror));
+    let Some(mirror) = symmetric else {
+        return fit_once(neutral, bases, sample, (index, false), landmarks);
     };
-    if !is_own_mirror_image(surface, landmarks, &mirror) {
-        return Some(fitted);
-    }
     // The same fit of the head's mirror image (its landmarks on the
     // template's mirror vertices), mirrored back: their mean is symmetric,
-    // whether or not the model holds the head.
-    let image = Mesh3::new(
-        surface.positions().iter().map(|&p| reflect(p)).collect(),
-        surface
-            .triangles()
-            .iter()
-            .map(|&[a, b, c]| [a, c, b])
-            .collect(),
-    )
-    .ok()?;
+    // whether or not the model holds the head. The two run side by side.
     let image_landmarks: Vec<(u32, [f64; 3])> = landmarks
         .iter()
         .map(|&(v, p)| (mirror[v as usize] as u32, reflect(p)))
         .collect();
     let mirrored_sample: Vec<usize> = sample.iter().map(|&v| mirror[v]).collect();
-    let of_image = fit_once(neutral, bases, &mirrored_sample, &image, &image_landmarks)?;
+    let (fitted, of_image) = rayon::join(
+        || fit_once(neutral, bases, sample, (index, false), landmarks),
+        || {
+            fit_once(
+                neutral,
+                bases,
+                &mirrored_sample,
+                (index, true),
+                &image_landmarks,
+            )
+        },
+    );
+    let (fitted, of_image) = (fitted?, of_image?);
     Some(
         fitted
             .iter()
@@ -105,12 +106,14 @@ pub(crate) fn fit_identity(
     )
 }
 
-/// [`fit_identity`] as it is, without the mirror image.
+/// [`fit_identity`] without the mirror image's fit: of the head `surface`
+/// indexes, or (`mirrored`) of its mirror image across `x = 0` (the
+/// `landmarks` then on the mirror image).
 fn fit_once(
     neutral: &Mesh3,
     bases: &[Vec<[f64; 3]>],
     sample: &[usize],
-    surface: &Mesh3,
+    (index, mirrored): (&SurfaceIndex, bool),
     landmarks: &[(u32, [f64; 3])],
 ) -> Option<Vec<[f64; 3]>> {
     let k = bases.len();
@@ -126,7 +129,7 @@ fn fit_once(
     let diagonal = neutral.bounding_box_diagonal();
     let weight_of_point = 1.0 / (SPREAD * diagonal).powi(2);
     let mut shape = neutral.positions().to_vec();
-    let index = SurfaceIndex::new(surface.positions(), surface.triangles());
+    let image = |p: [f64; 3]| if mirrored { reflect(p) } else { p };
     let mut last_distance = f64::INFINITY;
     for _ in 0..ROUNDS {
         let to_head = to_template.inverse();
@@ -138,12 +141,12 @@ fn fit_once(
             .par_iter()
             .filter_map(|&v| {
                 let hit = index.closest_compatible(
-                    to_head.apply(shape[v]),
-                    to_head.rotate(normals[v]),
+                    image(to_head.apply(shape[v])),
+                    image(to_head.rotate(normals[v])),
                     reach,
                     Angle::degrees(FACING),
                 )?;
-                Some((v, to_template.apply(hit.point)))
+                Some((v, to_template.apply(image(hit.point))))
             })
             .collect();
         if hits.len() < 3 {
@@ -267,7 +270,12 @@ const SYMMETRIC: f64 = 1e-4;
 /// partner, its template vertex's mirror, onto it, then by closest
 /// points), every 16th vertex lies within [`SYMMETRIC`] of the diagonal of
 /// the surface.
-fn is_own_mirror_image(surface: &Mesh3, landmarks: &[(u32, [f64; 3])], mirror: &[usize]) -> bool {
+fn is_own_mirror_image(
+    surface: &Mesh3,
+    index: &SurfaceIndex,
+    landmarks: &[(u32, [f64; 3])],
+    mirror: &[usize],
+) -> bool {
     let (from, to): (Vec<[f64; 3]>, Vec<[f64; 3]>) = landmarks
         .iter()
         .filter_map(|&(v, p)| {
@@ -281,7 +289,6 @@ fn is_own_mirror_image(surface: &Mesh3, landmarks: &[(u32, [f64; 3])], mirror: &
     };
     // The landmarks, placed by hand, lay it roughly; closest points
     // finish it.
-    let index = SurfaceIndex::new(surface.positions(), surface.triangles());
     let probes: Vec<[f64; 3]> = surface.positions().iter().step_by(16).copied().collect();
     for _ in 0..MIRROR_ROUNDS {
         let (moved, onto): (Vec<[f64; 3]>, Vec<[f64; 3]>) = probes
@@ -362,6 +369,20 @@ mod tests {
     /// to within 0.2 mm at every vertex of the outer surface (heads 40 mm
     /// from the neutral), from the
     /// recommended landmarks placed where the head's vertices went.
+    /// The template fitted to `head`, from its recommended landmarks where
+    /// the template's lie on it.
+    fn fitted_to(t: &ExpressionTemplate, sample: &[usize], head: &Mesh3) -> Vec<[f64; 3]> {
+        let landmarks: Vec<(u32, [f64; 3])> = RECOMMENDED
+            .iter()
+            .map(|&n| {
+                let v = t.landmark(&n.to_string()).unwrap();
+                (v, head.positions()[v as usize])
+            })
+            .collect();
+        let index = SurfaceIndex::new(head.positions(), head.triangles());
+        fit_identity(&t.head, &t.identity, sample, (head, &index), &landmarks).unwrap()
+    }
+
     #[test]
     fn heads_from_the_model_are_found_to_a_fifth_of_a_millimetre() {
         let t = ExpressionTemplate::arkit();
@@ -398,14 +419,7 @@ mod tests {
                 .copied()
                 .collect();
             let head = Mesh3::new(s.apply_all(&truth), outer_triangles).unwrap();
-            let landmarks: Vec<(u32, [f64; 3])> = RECOMMENDED
-                .iter()
-                .map(|&n| {
-                    let v = t.landmark(&n.to_string()).unwrap();
-                    (v, head.positions()[v as usize])
-                })
-                .collect();
-            let fitted = fit_identity(&t.head, &t.identity, &sample, &head, &landmarks).unwrap();
+            let fitted = fitted_to(&t, &sample, &head);
             // The fit lives in the template's space: compare shapes after
             // the similarity that best lays one onto the other.
             let (a, b): (Vec<[f64; 3]>, Vec<[f64; 3]>) =
@@ -447,15 +461,8 @@ mod tests {
             })
             .collect();
         let head = t.head.with_positions(warped.clone()).unwrap();
-        let landmarks: Vec<(u32, [f64; 3])> = RECOMMENDED
-            .iter()
-            .map(|&n| {
-                let v = t.landmark(&n.to_string()).unwrap();
-                (v, warped[v as usize])
-            })
-            .collect();
         let sample: Vec<usize> = t.outer.clone().collect();
-        let fitted = fit_identity(&t.head, &t.identity, &sample, &head, &landmarks).unwrap();
+        let fitted = fitted_to(&t, &sample, &head);
         let off = |shape: &[[f64; 3]]| {
             let (a, b): (Vec<[f64; 3]>, Vec<[f64; 3]>) =
                 sample.iter().map(|&v| (shape[v], warped[v])).unzip();

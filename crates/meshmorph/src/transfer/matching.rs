@@ -389,46 +389,14 @@ pub fn correspond_with_progress(
     options: &CorrespondOptions,
     progress: &mut dyn FnMut(usize),
 ) -> Result<CorrespondResult> {
-    options.validate()?;
-    markers.validate(source, target)?;
+    let Aligned {
+        alignment,
+        marker_residuals,
+        source: aligned,
+        components,
+    } = align(source, target, markers, options)?;
+    let source = aligned.as_ref().unwrap_or(source);
     let unmarked = markers.pairs().is_empty();
-    if !unmarked && markers.pairs().len() < MIN_MARKERS {
-        return Err(Error::InvalidArgument(format!(
-            "{} marker pair{} given: correspondence needs at least {MIN_MARKERS} (or none, for two shapes that stand alike)",
-            markers.pairs().len(),
-            if markers.pairs().len() == 1 { "" } else { "s" }
-        )));
-    }
-    source.check_no_degenerate_triangles("source reference")?;
-    target.check_no_degenerate_triangles("target reference")?;
-    let components = connected_components(source.num_vertices(), source.triangles());
-
-    let (from, to) = markers.positions(source, target);
-    // Fitted in a fixed order of the pairs, so that the order of the
-    // markers does not change the last bits.
-    let mut order: Vec<usize> = (0..from.len()).collect();
-    let keys: Vec<[Key; 2]> = markers
-        .pairs()
-        .iter()
-        .map(|[s, t]| [key(s, source.triangles()), key(t, target.triangles())])
-        .collect();
-    order.sort_unstable_by_key(|&k| keys[k]);
-    let sorted = |p: &[[f64; 3]]| -> Vec<[f64; 3]> { order.iter().map(|&k| p[k]).collect() };
-    let alignment = if options.align && unmarked {
-        standing_alike(source, target)
-    } else if options.align {
-        fit_robust(&sorted(&from), &sorted(&to))?.0
-    } else {
-        Similarity::IDENTITY
-    };
-    let marker_residuals = residuals(&alignment, &from, &to);
-    let aligned;
-    let source = if alignment.is_identity() {
-        source
-    } else {
-        aligned = source.with_positions(alignment.apply_all(source.positions()))?;
-        &aligned
-    };
     // The mirror planes the turn keeps together are found beside the
     // deformation (which leaves a core idle between its factorizations).
     let mut mirror_planes = (None, None);
@@ -438,7 +406,15 @@ pub fn correspond_with_progress(
                 mirror_planes = rayon::join(|| mirror_plane(source), || mirror_plane(target));
             });
         }
-        deform(source, target, &components, markers, options, progress)
+        deform(
+            source,
+            target,
+            None,
+            &components,
+            markers,
+            options,
+            progress,
+        )
     })?;
     let deformed_source = source.with_positions(deformed)?;
     // Centroids of two differently tessellated surfaces lie up to about an
@@ -485,6 +461,107 @@ pub fn correspond_with_progress(
         marker_residuals,
         mirror_planes,
         fit,
+    })
+}
+
+/// The source deformed onto the target (steps 0 and 1 of [`correspond`],
+/// without the pairing of triangles that follows): the similarity fitted to
+/// the markers, and the source brought onto the target by it and deformed
+/// onto the target's surface. `target_index` is the target's
+/// [`SurfaceIndex`], where the caller has one.
+///
+/// # Errors
+/// As [`correspond`].
+pub(crate) fn deform_onto(
+    source: &Mesh3,
+    target: &Mesh3,
+    target_index: &SurfaceIndex,
+    markers: &Markers,
+    options: &CorrespondOptions,
+) -> Result<(Similarity, Mesh3)> {
+    let Aligned {
+        alignment,
+        source: aligned,
+        components,
+        ..
+    } = align(source, target, markers, options)?;
+    let source = aligned.as_ref().unwrap_or(source);
+    let deformed = deform(
+        source,
+        target,
+        Some(target_index),
+        &components,
+        markers,
+        options,
+        &mut |_| {},
+    )?;
+    Ok((alignment, source.with_positions(deformed)?))
+}
+
+/// The source brought onto the target by the markers (step 0).
+struct Aligned {
+    /// The similarity fitted to the markers (the identity without
+    /// alignment).
+    alignment: Similarity,
+    /// Each marker's misfit after it.
+    marker_residuals: Vec<f64>,
+    /// The source moved by it; `None` where it moves nothing.
+    source: Option<Mesh3>,
+    /// The source's connected parts.
+    components: Components,
+}
+
+/// Checks the options, markers and meshes, and brings the source onto the
+/// target by the similarity that best fits the markers.
+fn align(
+    source: &Mesh3,
+    target: &Mesh3,
+    markers: &Markers,
+    options: &CorrespondOptions,
+) -> Result<Aligned> {
+    options.validate()?;
+    markers.validate(source, target)?;
+    let unmarked = markers.pairs().is_empty();
+    if !unmarked && markers.pairs().len() < MIN_MARKERS {
+        return Err(Error::InvalidArgument(format!(
+            "{} marker pair{} given: correspondence needs at least {MIN_MARKERS} (or none, for two shapes that stand alike)",
+            markers.pairs().len(),
+            if markers.pairs().len() == 1 { "" } else { "s" }
+        )));
+    }
+    source.check_no_degenerate_triangles("source reference")?;
+    target.check_no_degenerate_triangles("target reference")?;
+    let components = connected_components(source.num_vertices(), source.triangles());
+
+    let (from, to) = markers.positions(source, target);
+    // Fitted in a fixed order of the pairs, so that the order of the
+    // markers does not change the last bits.
+    let mut order: Vec<usize> = (0..from.len()).collect();
+    let keys: Vec<[Key; 2]> = markers
+        .pairs()
+        .iter()
+        .map(|[s, t]| [key(s, source.triangles()), key(t, target.triangles())])
+        .collect();
+    order.sort_unstable_by_key(|&k| keys[k]);
+    let sorted = |p: &[[f64; 3]]| -> Vec<[f64; 3]> { order.iter().map(|&k| p[k]).collect() };
+    let alignment = if options.align && unmarked {
+        standing_alike(source, target)
+    } else if options.align {
+        fit_robust(&sorted(&from), &sorted(&to))?.0
+    } else {
+        Similarity::IDENTITY
+    };
+    let marker_residuals = residuals(&alignment, &from, &to);
+    let source = if alignment.is_identity() {
+        None
+    } else {
+        Some(source.with_positions(alignment.apply_all(source.positions()))?)
+    };
+    Ok(Aligned {
+        alignment,
+        marker_residuals,
+        source,
+        components,
     })
 }
 
@@ -602,6 +679,7 @@ pub(crate) fn mean_length(edges: &[Edge], p: &[[f64; 3]]) -> f64 {
 fn deform(
     source: &Mesh3,
     target: &Mesh3,
+    target_index: Option<&SurfaceIndex>,
     components: &Components,
     markers: &Markers,
     options: &CorrespondOptions,
@@ -615,28 +693,37 @@ fn deform(
     // The first round has no closest-point term: its matrix (with the
     // ordering and symbolic analysis every round shares) is factored while
     // the target's triangles are indexed for the closest points.
-    let (surface, first) = rayon::join(
-        || SurfaceIndex::new(target.positions(), target.triangles()),
-        || -> Result<_> {
-            let mut terms = DeformTerms::new(source, options)?;
-            let pins = marker_pins(source, target, markers);
-            let held = HeldPoints::new(source, target, markers, &terms.base);
-            let first_weight = options.closest_weights.first().copied().unwrap_or(1.0);
-            let anchors = part_anchors(
-                &terms,
-                components,
-                &|v| pins.is_pinned(v) || held.holds(v),
-                (first_weight, per_square_size),
+    let first = || -> Result<_> {
+        let mut terms = DeformTerms::new(source, options)?;
+        let pins = marker_pins(source, target, markers);
+        let held = HeldPoints::new(source, target, markers, &terms.base);
+        let first_weight = options.closest_weights.first().copied().unwrap_or(1.0);
+        let anchors = part_anchors(
+            &terms,
+            components,
+            &|v| pins.is_pinned(v) || held.holds(v),
+            (first_weight, per_square_size),
+        );
+        terms.base.add_to_diagonal(&anchors);
+        held.add_to(&mut terms.base);
+        terms.anchors = anchors;
+        // One factorization per round, each used once: the supernodal
+        // factor is the faster one then.
+        let system = FactoredSystem::new(&terms.base, &pins, FactorKind::Supernodal)?;
+        Ok((terms, system, held))
+    };
+    let built;
+    let (surface, first) = match target_index {
+        Some(index) => (index, first()),
+        None => {
+            let (index, first) = rayon::join(
+                || SurfaceIndex::new(target.positions(), target.triangles()),
+                first,
             );
-            terms.base.add_to_diagonal(&anchors);
-            held.add_to(&mut terms.base);
-            terms.anchors = anchors;
-            // One factorization per round, each used once: the supernodal
-            // factor is the faster one then.
-            let system = FactoredSystem::new(&terms.base, &pins, FactorKind::Supernodal)?;
-            Ok((terms, system, held))
-        },
-    );
+            built = index;
+            (&built, first)
+        }
+    };
     let (terms, mut system, held) = first?;
     let DeformTerms {
         ops,
@@ -670,7 +757,7 @@ fn deform(
                 cutoff * reach(markers.pairs().is_empty(), round - 1),
                 Angle::degrees(options.closest_normal_angle),
             );
-            for (v, c) in closest_points(&surface, &positions, source.triangles(), within)
+            for (v, c) in closest_points(surface, &positions, source.triangles(), within)
                 .iter()
                 .enumerate()
             {
