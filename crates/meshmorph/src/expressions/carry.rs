@@ -267,13 +267,46 @@ fn expressions_welded(
         (true, CarryMethod::Transfer) => Some(by_method(CarryMethod::Displacements)?),
     };
 
-    // Onto the whole head, parts following the template's parts.
-    let mut deltas = vec![vec![[0.0; 3]; head.num_vertices()]; recipes.len()];
-    for (k, d) in surface_deltas.iter().enumerate() {
-        for (i, &v) in surface_vertices.iter().enumerate() {
-            deltas[k][v as usize] = d[i];
-        }
-    }
+    // Where the two ways differ most, before the deltas go onto the head.
+    let methods_differ: Vec<Option<(f64, u32)>> = surface_deltas
+        .par_iter()
+        .enumerate()
+        .map(|(k, d)| {
+            other.as_ref().map(|o| {
+                let (i, dist) = d
+                    .iter()
+                    .zip(&o[k])
+                    .map(|(a, b)| norm(sub(*a, *b)))
+                    .enumerate()
+                    .fold(
+                        (0, 0.0),
+                        |best, (i, x)| if x > best.1 { (i, x) } else { best },
+                    );
+                (dist / diagonal, surface_vertices[i])
+            })
+        })
+        .collect();
+
+    // Onto the whole head (as they are where the surface is the whole head,
+    // in its order), parts following the template's parts.
+    let whole_head = surface_vertices.len() == head.num_vertices()
+        && surface_vertices
+            .iter()
+            .enumerate()
+            .all(|(i, &v)| v as usize == i);
+    let mut deltas: Vec<Vec<[f64; 3]>> = surface_deltas
+        .into_par_iter()
+        .map(|d| {
+            if whole_head {
+                return d;
+            }
+            let mut on_head = vec![[0.0; 3]; head.num_vertices()];
+            for (&v, x) in surface_vertices.iter().zip(d) {
+                on_head[v as usize] = x;
+            }
+            on_head
+        })
+        .collect();
     let parts = follow_parts(
         template,
         head,
@@ -285,30 +318,14 @@ fn expressions_welded(
     );
 
     let report = recipes
-        .iter()
-        .enumerate()
-        .map(|(k, r)| {
-            let d = &deltas[k];
-            let moved = d.iter().filter(|x| **x != [0.0; 3]).count();
-            let largest = d.iter().map(|x| norm(*x)).fold(0.0, f64::max) / diagonal;
-            let methods_differ = other.as_ref().map(|o| {
-                let (i, dist) = surface_deltas[k]
-                    .iter()
-                    .zip(&o[k])
-                    .map(|(a, b)| norm(sub(*a, *b)))
-                    .enumerate()
-                    .fold(
-                        (0, 0.0),
-                        |best, (i, x)| if x > best.1 { (i, x) } else { best },
-                    );
-                (dist / diagonal, surface_vertices[i])
-            });
-            ShapeReport {
-                name: r.name.clone(),
-                moved,
-                largest,
-                methods_differ,
-            }
+        .par_iter()
+        .zip(&deltas)
+        .zip(methods_differ)
+        .map(|((r, d), methods_differ)| ShapeReport {
+            name: r.name.clone(),
+            moved: d.iter().filter(|x| **x != [0.0; 3]).count(),
+            largest: d.iter().map(|x| norm(*x)).fold(0.0, f64::max) / diagonal,
+            methods_differ,
         })
         .collect();
     Ok(HeadExpressions {
