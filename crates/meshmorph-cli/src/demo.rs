@@ -683,6 +683,7 @@ fn expressions(args: &Args) -> Result<()> {
         replace_shapes: false,
         vrm_expressions: false,
         gltf_dense: false,
+        max_gltf_mb: 1024.0,
         format: None,
         pictures: PictureArgs {
             png: None,

@@ -91,6 +91,13 @@ pub struct Args {
     /// sparse accessors.
     #[arg(long)]
     pub gltf_dense: bool,
+    /// With -o FILE.glb for a head that is not glTF: refuse, before any
+    /// work, a GLB that may weigh more than this many megabytes (10^6
+    /// bytes; counted as if every shape moved every vertex, so the file
+    /// written with sparse storage is often half of it: 1024 is a head of
+    /// about 800,000 vertices).
+    #[arg(long, default_value_t = 1024.0, value_name = "MB", value_parser = output::positive_number)]
+    pub max_gltf_mb: f64,
     /// Output mesh format with -o DIR [default: the head's; OBJ for a glTF
     /// head].
     #[arg(long, value_enum)]
@@ -484,6 +491,27 @@ pub fn run(args: &Args) -> Result<()> {
     let points = meshmorph::read_landmarks(&args.markers, &head.mesh, numbering(args.one_based))
         .map_err(|e| output::reading_error(e, "landmark file", &args.markers))?;
     memory::check_setup(head.mesh.num_triangles(), "the expressions")?;
+    // A new GLB too heavy is refused before the work.
+    let new_glb = GltfArgs {
+        gltf: Some(args.output.clone()),
+        max_gltf_mb: args.max_gltf_mb,
+        gltf_quantize: false,
+        gltf_dense: args.gltf_dense,
+    };
+    let texture_budget = match (&destination, &head.file) {
+        (Destination::NewGlb, HeadFile::Mesh(file)) => new_glb.check_targets::<3>(
+            Some(&file.file),
+            &head.mesh,
+            names.len(),
+            "shapes",
+            if args.all_shapes {
+                "leave out --all-shapes, "
+            } else {
+                ""
+            },
+        )?,
+        _ => 0,
+    };
 
     let begin = Instant::now();
     let made = meshmorph::expressions(&template, &head.mesh, &points, &options)
@@ -564,20 +592,13 @@ pub fn run(args: &Args) -> Result<()> {
             files_written.push(args.output.clone());
         }
         (Destination::NewGlb, HeadFile::Mesh(file)) => {
-            let gltf = GltfArgs {
-                gltf: Some(args.output.clone()),
-                max_gltf_mb: 256.0,
-                gltf_quantize: false,
-                gltf_dense: args.gltf_dense,
-            };
-            let budget = gltf.check::<3>(Some(&file.file), &head.mesh, posed.len())?;
-            let look = Appearance::of_file(&file.file, budget)?;
+            let look = Appearance::of_file(&file.file, texture_budget)?;
             let base = look.base(rest, head.mesh.triangles());
             let options = GltfOptions::default()
                 .with_animation(false)
                 .with_name(crate::gltf::mesh_name(&args.head));
             staging.write(shape_outputs[0], |path| {
-                let mut staged = gltf.clone();
+                let mut staged = new_glb.clone();
                 staged.gltf = Some(path.to_path_buf());
                 staged.write(&base, &posed, &made.names, &options)?;
                 Ok(())

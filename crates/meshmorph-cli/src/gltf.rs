@@ -74,6 +74,20 @@ impl GltfArgs {
         mesh: &Mesh3,
         frames: usize,
     ) -> Result<u64> {
+        self.check_targets::<D>(file, mesh, frames, "frames", "write fewer frames, ")
+    }
+
+    /// [`GltfArgs::check`] for `count` morph targets that the refusal calls
+    /// `what` (frames, shapes), with `advice` on how to make fewer of them
+    /// (ending in a comma and a space; empty where there is no way).
+    pub fn check_targets<const D: usize>(
+        &self,
+        file: Option<&MeshFile>,
+        mesh: &Mesh3,
+        count: usize,
+        what: &str,
+        advice: &str,
+    ) -> Result<u64> {
         let Some(path) = &self.gltf else {
             return Ok(0);
         };
@@ -84,7 +98,7 @@ impl GltfArgs {
         let bytes = estimate_glb_bytes::<D>(
             vertices,
             mesh.num_triangles(),
-            frames,
+            count,
             base.corner_uvs.is_some(),
         );
         let textures = file.map_or(0, Appearance::texture_bytes);
@@ -100,8 +114,8 @@ impl GltfArgs {
                 (String::new(), "")
             };
             bail!(
-                "--gltf `{}` would weigh about {mb:.0} MB ({frames} frames x {vertices} vertices x {} bytes, \
-                 plus the base mesh{texture_part}), over the limit of {} MB: write fewer frames, {smaller}or raise the limit \
+                "`{}` would weigh about {mb:.0} MB ({count} {what} x {vertices} vertices x {} bytes, \
+                 plus the base mesh{texture_part}), over the limit of {} MB: {advice}{smaller}or raise the limit \
                  with --max-gltf-mb {}",
                 path.display(),
                 if D == 3 { 24 } else { 12 },

@@ -230,4 +230,26 @@ fn too_few_or_unknown_landmarks_are_refused_naming_them_and_nothing_is_written()
     }
     assert_eq!(std::fs::read(&head_path).unwrap(), before);
     assert!(!dir.path().join("shapes.obj").exists());
+
+    // A new GLB past --max-gltf-mb: refused with the count of shapes, the
+    // way to make fewer of them and the limit that would do; nothing written.
+    let glb = dir.path().join("head-arkit.glb");
+    let out = expressions(
+        &head_path,
+        &points,
+        &glb,
+        &["--all-shapes", "--max-gltf-mb", "1"],
+    );
+    assert!(!out.status.success());
+    let message = text(&out);
+    for expected in [
+        "head-arkit.glb",
+        "would weigh about",
+        "shapes x",
+        "leave out --all-shapes",
+        "--max-gltf-mb ",
+    ] {
+        assert!(message.contains(expected), "{expected}: {message}");
+    }
+    assert!(!glb.exists());
 }

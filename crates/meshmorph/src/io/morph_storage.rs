@@ -184,17 +184,42 @@ pub(crate) fn normals_changed<const D: usize>(
     triangles: &[[u32; 3]],
     original: &[u32],
 ) -> Vec<u32> {
-    let mut touched = vec![false; base.len()];
-    for t in triangles {
-        if t.iter().any(|&v| frame[v as usize] != base[v as usize]) {
-            for &v in t {
-                touched[v as usize] = true;
+    NormalsChanged::find(frame, base, triangles, original).vertices
+}
+
+/// Where a frame's normals may differ from the base's.
+pub(crate) struct NormalsChanged {
+    /// The glTF vertices ([`normals_changed`]).
+    pub vertices: Vec<u32>,
+    /// The triangles around their original vertices: all a changed
+    /// normal is made of.
+    pub around: Vec<u32>,
+}
+
+impl NormalsChanged {
+    /// See [`normals_changed`].
+    pub fn find<const D: usize>(
+        frame: &[[f64; D]],
+        base: &[[f64; D]],
+        triangles: &[[u32; 3]],
+        original: &[u32],
+    ) -> Self {
+        let mut touched = vec![false; base.len()];
+        for t in triangles {
+            if t.iter().any(|&v| frame[v as usize] != base[v as usize]) {
+                for &v in t {
+                    touched[v as usize] = true;
+                }
             }
         }
+        let around = (0..triangles.len() as u32)
+            .filter(|&t| triangles[t as usize].iter().any(|&v| touched[v as usize]))
+            .collect();
+        let vertices = (0..original.len() as u32)
+            .filter(|&i| touched[original[i as usize] as usize])
+            .collect();
+        Self { vertices, around }
     }
-    (0..original.len() as u32)
-        .filter(|&i| touched[original[i as usize] as usize])
-        .collect()
 }
 
 /// How one target attribute is stored: its size decides.

@@ -58,7 +58,7 @@ use json::validation::{Checked::Valid, USize64};
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::io::morph_storage::{normals_changed, Deltas, Quantization, Storage};
+use crate::io::morph_storage::{normals_changed, Deltas, NormalsChanged, Quantization, Storage};
 use crate::io::{write_atomic, xyz};
 use crate::linalg::vector::{angle_weighted_normals, angle_weighted_vertex_normals};
 use crate::mesh::check_finite;
@@ -455,7 +455,8 @@ impl<'a, const D: usize> Layout<'a, D> {
             .iter()
             .map(|&v| xyz(&base.positions[v as usize]).map(|x| x as f32))
             .collect();
-        let base_normals = gltf_normals::<D>(base.positions, base.triangles, &original, &groups);
+        let base_normals =
+            gltf_normals::<D>(base.positions, base.triangles, &original, &groups, None);
 
         // Each frame checked, with what the JSON needs before any data: its
         // position deltas' bounds and how many of its position and normal
@@ -1033,16 +1034,22 @@ impl<'a, const D: usize> Layout<'a, D> {
         };
         plan.positions.write(&mut out, &deltas, &moved);
         if let Some(storage) = plan.normals {
-            let normals = gltf_normals::<D>(frame, self.triangles, &self.original, &self.groups);
-            let deltas = Deltas::F32(
-                normals
-                    .iter()
-                    .zip(&self.base_normals)
-                    .map(|(a, b)| std::array::from_fn(|k| a[k] - b[k]))
-                    .collect(),
+            // Only the normals around the vertices the frame moves are
+            // made afresh: elsewhere their deltas are zero.
+            let changed = NormalsChanged::find(frame, self.base, self.triangles, &self.original);
+            let normals = gltf_normals::<D>(
+                frame,
+                self.triangles,
+                &self.original,
+                &self.groups,
+                Some(&changed.around),
             );
-            let changed = normals_changed(frame, self.base, self.triangles, &self.original);
-            storage.write(&mut out, &deltas, &changed);
+            let mut deltas = vec![[0.0; 3]; self.original.len()];
+            for &i in &changed.vertices {
+                let (a, b) = (normals[i as usize], self.base_normals[i as usize]);
+                deltas[i as usize] = std::array::from_fn(|k| a[k] - b[k]);
+            }
+            storage.write(&mut out, &Deltas::F32(deltas), &changed.vertices);
         }
         out
     }
@@ -1221,17 +1228,25 @@ fn accessor(
 /// space the triangle normals each weighing its angle at the vertex, as
 /// Blender computes them (+z where they cancel out); with normal `groups`
 /// (the triangle corners' and each glTF vertex's), over the corners of the
-/// vertex's group only, so hard edges stay hard.
+/// vertex's group only, so hard edges stay hard. With `only`, from those
+/// triangles alone: right at the vertices all of whose triangles they are.
 fn gltf_normals<const D: usize>(
     positions: &[[f64; D]],
     triangles: &[[u32; 3]],
     original: &[u32],
     groups: &Option<(Vec<[u32; 3]>, Vec<u32>)>,
+    only: Option<&[u32]>,
 ) -> Vec<[f32; 3]> {
     if D != 3 {
         return vec![[0.0, 0.0, 1.0]; original.len()];
     }
     let space: Vec<[f64; 3]> = positions.iter().map(xyz).collect();
+    // The triangles used, by their number in `triangles`.
+    let used: Vec<usize> = match only {
+        Some(only) => only.iter().map(|&t| t as usize).collect(),
+        None => (0..triangles.len()).collect(),
+    };
+    let corners: Vec<[u32; 3]> = used.iter().map(|&t| triangles[t]).collect();
     let unit = |n: [f64; 3]| {
         if n == [0.0; 3] {
             [0.0, 0.0, 1.0]
@@ -1244,8 +1259,8 @@ fn gltf_normals<const D: usize>(
     match groups {
         Some((corner_groups, vertex_group)) => {
             let count = vertex_group.iter().max().map_or(0, |&g| g as usize + 1);
-            let normals = angle_weighted_normals(&space, triangles, count, |t, k| {
-                corner_groups[t][k] as usize
+            let normals = angle_weighted_normals(&space, &corners, count, |t, k| {
+                corner_groups[used[t]][k] as usize
             });
             vertex_group
                 .iter()
@@ -1253,7 +1268,7 @@ fn gltf_normals<const D: usize>(
                 .collect()
         }
         None => {
-            let normals = angle_weighted_vertex_normals(&space, triangles);
+            let normals = angle_weighted_vertex_normals(&space, &corners);
             original
                 .iter()
                 .map(|&v| unit(normals[v as usize]))
