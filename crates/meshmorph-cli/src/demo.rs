@@ -671,10 +671,11 @@ fn expressions(args: &Args) -> Result<()> {
     let glb = dir.join("head-arkit.glb");
     let gif = dir.join("expressions.gif");
     crate::expressions::run(&crate::expressions::Args {
-        head: head_path.clone(),
-        markers: landmarks_path.clone(),
+        head: Some(head_path.clone()),
+        markers: Some(landmarks_path.clone()),
         one_based: false,
-        output: glb.clone(),
+        output: Some(glb.clone()),
+        batch: Vec::new(),
         template: "arkit".to_string(),
         mesh: None,
         method: crate::expressions::MethodArg::Displacements,

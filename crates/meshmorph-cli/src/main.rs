@@ -26,6 +26,7 @@ macro_rules! tell {
 
 mod allocator;
 mod animation;
+mod batch_file;
 mod blend;
 mod correspond;
 mod demo;

@@ -33,12 +33,8 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
 
-use super::{plan_transfer, run_transfer, Done, References, TransferArgs};
+use super::{plan_transfer, run_transfer, Done, Planned, References, TransferArgs};
 use crate::output;
-use crate::outputs::check_runs;
-
-/// The most bytes a batch file may hold: 16 MiB, some 80,000 targets.
-const MAX_BATCH_FILE_BYTES: u64 = 16 << 20;
 
 /// The batch file's form, at the end of `meshmorph transfer --help`.
 pub const FORMAT: &str = r#"A batch file (--batch), TOML or JSON, paths relative to it:
@@ -209,17 +205,7 @@ pub fn run(args: &TransferArgs) -> Result<()> {
 
 /// The jobs of one batch file: its paths taken relative to its folder.
 fn read(file: &Path, args: &TransferArgs) -> Result<Vec<Job>> {
-    let text = meshmorph::io::read_text(file, MAX_BATCH_FILE_BYTES, "a batch file")
-        .with_context(|| format!("cannot read the batch file `{}`", file.display()))?;
-    let is_json = file
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-    let batch: BatchFile = if is_json {
-        serde_json::from_str(&text).map_err(anyhow::Error::from)
-    } else {
-        toml::from_str(&text).map_err(anyhow::Error::from)
-    }
-    .with_context(|| format!("the batch file `{}`", file.display()))?;
+    let batch: BatchFile = crate::batch_file::read(file)?;
     if batch.poses.is_empty() && !crate::gltf::is_gltf(&batch.source) {
         bail!(
             "the batch file `{}` lists no poses (a glTF or VRM source's morph targets would be them; `{}` is not one)",
@@ -306,20 +292,17 @@ fn plan(jobs: Vec<Job>, args: &TransferArgs) -> Result<Vec<Job>> {
         .iter()
         .map(|job| plan_transfer(&job.args).with_context(|| job.named.clone()))
         .collect::<Result<Vec<_>>>()?;
-    let runs: Vec<(String, &crate::outputs::Plan)> = jobs
-        .iter()
-        .zip(&plans)
-        .map(|(job, planned)| (job.named.clone(), &planned.plan))
-        .collect();
-    let shared: Vec<(PathBuf, String)> = args
-        .batch
-        .iter()
-        .map(|b| (b.clone(), "batch file".to_string()))
-        .collect();
-    let repeats = check_runs(&runs, &shared)?;
+    let runs: Vec<(Job, Planned)> = jobs.into_iter().zip(plans).collect();
+    let runs = crate::batch_file::runs_once(
+        runs,
+        |(job, planned)| (job.named.clone(), &planned.plan),
+        &args.batch,
+        "target",
+        args.json,
+    )?;
     // A glTF made from scratch (the target is not glTF) is a .glb, as
     // --gltf's own check says on the command line.
-    for job in &jobs {
+    for (job, _) in &runs {
         if let Some(g) = job.args.gltf.gltf.as_deref() {
             if !job.args.writes_into_gltf_target() {
                 crate::pictures::file_named(&g.to_string_lossy(), "glb", "binary glTF")
@@ -327,20 +310,7 @@ fn plan(jobs: Vec<Job>, args: &TransferArgs) -> Result<Vec<Job>> {
             }
         }
     }
-    let mut kept = Vec::with_capacity(jobs.len() - repeats.len());
-    for (k, job) in jobs.into_iter().enumerate() {
-        if repeats.contains(&k) {
-            if !args.json {
-                say!(
-                    "note: {} reads and writes the same files as a target before it: run once",
-                    job.named
-                );
-            }
-        } else {
-            kept.push(job);
-        }
-    }
-    Ok(kept)
+    Ok(runs.into_iter().map(|(job, _)| job).collect())
 }
 
 #[cfg(test)]

@@ -253,3 +253,66 @@ fn too_few_or_unknown_landmarks_are_refused_naming_them_and_nothing_is_written()
     }
     assert!(!glb.exists());
 }
+
+#[test]
+fn a_batch_puts_the_shapes_on_each_head_and_one_that_fails_leaves_the_others() {
+    let dir = tempfile::tempdir().unwrap();
+    let (head, landmarks) = head_and_landmarks(&[]);
+    let (_, few) = head_and_landmarks(&[1, 9, 17, 18, 22, 23]);
+    write_obj(&dir.path().join("alice.obj"), &head);
+    write_obj(&dir.path().join("bob.obj"), &head);
+    std::fs::write(dir.path().join("alice.txt"), &landmarks).unwrap();
+    std::fs::write(dir.path().join("bob.txt"), &few).unwrap();
+    let batch = dir.path().join("heads.toml");
+    let write_batch = |bob_output: &str| {
+        std::fs::write(
+            &batch,
+            format!(
+                "[[heads]]\nhead = \"alice.obj\"\nmarkers = \"alice.txt\"\noutput = \"alice-arkit.glb\"\ngif = \"alice.gif\"\n\n\
+                 [[heads]]\nhead = \"bob.obj\"\nmarkers = \"bob.txt\"\noutput = \"{bob_output}\"\n"
+            ),
+        )
+        .unwrap();
+    };
+
+    // Two heads writing the same file: refused before any work.
+    write_batch("alice-arkit.glb");
+    let out = run(&["expressions", "--batch", s(&batch)]);
+    assert!(!out.status.success());
+    let message = text(&out);
+    assert!(
+        message.contains("head 0") && message.contains("head 1"),
+        "{message}"
+    );
+    assert!(!message.contains("panicked"), "{message}");
+    assert!(!dir.path().join("alice-arkit.glb").exists());
+
+    // Bob's landmarks are too few: Alice's head is written, Bob's named.
+    write_batch("bob/");
+    let out = run(&["expressions", "--batch", s(&batch), "--size", "48"]);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out));
+    let message = text(&out);
+    assert!(
+        message.contains("`bob.obj`") && message.contains("12"),
+        "{message}"
+    );
+    assert!(message.contains("1 of 2 heads written"), "{message}");
+    assert!(message.contains("1 of 2 heads failed"), "{message}");
+    let (_, mesh) = read(&dir.path().join("alice-arkit.glb"), None).unwrap();
+    assert_eq!(mesh.target_names().len(), 51);
+    assert!(dir.path().join("alice.gif").exists());
+    assert!(files_in(&dir.path().join("bob")).is_empty());
+
+    // One picture for every head: refused, pointing at the batch file.
+    let out = run(&["expressions", "--batch", s(&batch), "--gif", "all.gif"]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out).contains("for each head in the batch file"),
+        "{}",
+        text(&out)
+    );
+    // A head on the command line as well: refused by the parser.
+    let out = run(&["expressions", "--batch", s(&batch), "x.obj"]);
+    assert!(!out.status.success());
+    assert!(text(&out).contains("--batch"), "{}", text(&out));
+}

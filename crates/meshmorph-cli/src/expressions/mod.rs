@@ -1,5 +1,8 @@
 //! `meshmorph expressions`: a template's facial expressions (the 52 ARKit
-//! shapes of the built-in template) put on a head from a few landmarks.
+//! shapes of the built-in template) put on a head from a few landmarks,
+//! or on many heads from a batch file (`batch`).
+
+mod batch;
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -37,24 +40,45 @@ use crate::transfer::numbering;
 /// everything else kept; with a head of another format, a new GLB of the
 /// head with the shapes as morph targets. -o DIR writes one mesh per shape,
 /// DIR/<shape name>.<ext>, in the head's format. The head is never written.
-#[derive(Debug, clap::Args)]
+///
+/// --batch FILE puts them on many heads, each named with its landmarks and
+/// output in the file (see the end of this help).
+#[derive(Debug, Clone, clap::Args)]
 #[command(
+    after_long_help = batch::FORMAT,
     mut_arg("png", |a| a.help("Also write a still picture (PNG) of three of the new shapes on the head (jawOpen, eyeBlinkLeft, mouthSmileLeft, those it has)")),
     mut_arg("gif", |a| a.help("Also write an animated GIF of the head making a few of its new shapes (jawOpen, eyeBlinkLeft, mouthSmileLeft, browInnerUp, those it has) one after another")),
 )]
 pub struct Args {
     /// The head at rest: OBJ, OFF, PLY, STL, or a glTF, GLB or VRM file.
-    pub head: PathBuf,
+    #[arg(required_unless_present = "batch", conflicts_with = "batch")]
+    pub head: Option<PathBuf>,
     /// The landmarks on the head: MeshLab's .pp, Wrap's .json, or lines of
     /// `name x y z` or `name VERTEX`, each named by its landmark.
-    #[arg(long, value_name = "FILE")]
-    pub markers: PathBuf,
+    #[arg(
+        long,
+        value_name = "FILE",
+        required_unless_present = "batch",
+        conflicts_with = "batch"
+    )]
+    pub markers: Option<PathBuf>,
     /// Vertex indices in the landmark file start at 1 instead of 0.
     #[arg(long)]
     pub one_based: bool,
     /// Where the shapes go: FILE.glb, .gltf or .vrm, or a directory.
-    #[arg(short, long, value_name = "OUT")]
-    pub output: PathBuf,
+    #[arg(
+        short,
+        long,
+        value_name = "OUT",
+        required_unless_present = "batch",
+        conflicts_with = "batch"
+    )]
+    pub output: Option<PathBuf>,
+    /// Many heads, each with its landmarks and output, from a batch file
+    /// (TOML or JSON; see the end of this help); repeat for several files.
+    /// The other options apply to every head.
+    #[arg(long, value_name = "FILE")]
+    pub batch: Vec<PathBuf>,
     /// The template: `arkit` (built in) or a rig's GLB: a mesh named `head`
     /// with named morph targets (`extras.targetNames`) and landmarks
     /// (`extras.landmarks`, a list of {"name", "vertex"}), its other meshes
@@ -64,7 +88,7 @@ pub struct Args {
     /// With a glTF or VRM head: its mesh to read, by the mesh's or its
     /// node's name [default: the only mesh, else the one with the most
     /// vertices].
-    #[arg(long, value_name = "NAME")]
+    #[arg(long, value_name = "NAME", conflicts_with = "batch")]
     pub mesh: Option<String>,
     /// How each shape is carried: `displacements` copies the template's
     /// moves through the fitted correspondence (closest to the template's
@@ -107,6 +131,23 @@ pub struct Args {
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
+}
+
+impl Args {
+    /// The head (given unless --batch: then each head of the batch is set).
+    fn head(&self) -> &Path {
+        self.head.as_deref().unwrap_or(Path::new(""))
+    }
+
+    /// The landmark file (as [`Args::head`]).
+    fn markers(&self) -> &Path {
+        self.markers.as_deref().unwrap_or(Path::new(""))
+    }
+
+    /// Where the shapes go (as [`Args::head`]).
+    fn output(&self) -> &Path {
+        self.output.as_deref().unwrap_or(Path::new(""))
+    }
 }
 
 /// How the shapes are carried (see [`CarryMethod`]).
@@ -294,7 +335,7 @@ enum HeadFile {
 
 impl Head {
     fn read(args: &Args) -> Result<Self> {
-        let path = &args.head;
+        let path = args.head();
         if is_gltf(path) {
             let (doc, mesh) = meshmorph::io::gltf::read(path, args.mesh.as_deref())
                 .map_err(|e| output::reading_error(e, "head", path))?;
@@ -344,7 +385,7 @@ fn is_text_gltf(path: &Path) -> bool {
 
 /// Where the shapes go, refusing a glTF output that does not fit the head.
 fn destination(args: &Args) -> Result<Destination> {
-    let out = &args.output;
+    let out = args.output();
     if !is_gltf(out) {
         if args.replace_shapes || args.vrm_expressions || args.gltf_dense {
             bail!("--replace-shapes, --vrm-expressions and --gltf-dense are for a glTF output (-o FILE.glb, .gltf or .vrm); `{}` is a directory", out.display());
@@ -356,7 +397,7 @@ fn destination(args: &Args) -> Result<Destination> {
                 format.extension().to_uppercase()
             );
         }
-        let format = output::format_or_like(args.format, &args.head)?;
+        let format = output::format_or_like(args.format, args.head())?;
         return Ok(Destination::Folder(format));
     }
     if args.format.is_some() {
@@ -365,19 +406,19 @@ fn destination(args: &Args) -> Result<Destination> {
             out.display()
         );
     }
-    if is_gltf(&args.head) {
-        if is_text_gltf(out) != is_text_gltf(&args.head) {
+    if is_gltf(args.head()) {
+        if is_text_gltf(out) != is_text_gltf(args.head()) {
             bail!(
                 "`{}` would hold a copy of `{}`, which is {}: name it as the head is named (.gltf for a text glTF; .glb or .vrm for a binary one)",
                 out.display(),
-                args.head.display(),
-                if is_text_gltf(&args.head) { "a text glTF" } else { "a binary glTF" }
+                args.head().display(),
+                if is_text_gltf(args.head()) { "a text glTF" } else { "a binary glTF" }
             );
         }
         return Ok(Destination::IntoHead);
     }
     if args.replace_shapes || args.vrm_expressions {
-        bail!("--replace-shapes and --vrm-expressions add to a glTF or VRM head's own file; `{}` is not one", args.head.display());
+        bail!("--replace-shapes and --vrm-expressions add to a glTF or VRM head's own file; `{}` is not one", args.head().display());
     }
     pictures::file_named(&out.to_string_lossy(), "glb", "binary glTF")
         .map_err(anyhow::Error::msg)?;
@@ -442,34 +483,48 @@ impl FrameSource<3> for ShapeTour<'_> {
 }
 
 pub fn run(args: &Args) -> Result<()> {
-    let start = Instant::now();
-    let destination = destination(args)?;
-    let mut plan = Plan::new();
-    plan.input(&args.head, "head");
-    plan.input(&args.markers, "landmark file");
-    if args.template != "arkit" {
-        plan.input(Path::new(&args.template), "template");
+    if !args.batch.is_empty() {
+        return batch::run(args);
     }
     // The shapes' names are known only once the template is read; the
     // built-in template is read before any output is planned.
-    let (template, template_name) = read_template(args)?;
-    let options = ExpressionOptions::default()
-        .with_method(match args.method {
-            MethodArg::Displacements => CarryMethod::Displacements,
-            MethodArg::Transfer => CarryMethod::Transfer,
-        })
-        .with_compare(args.compare)
-        .with_all_shapes(args.all_shapes);
-    let names = planned_names(&template, args.all_shapes);
+    let template = read_template(args)?;
+    let planned = plan_head(args, &template.0)?;
+    run_head(args, &template, planned).map(|_| ())
+}
+
+/// The files one head's run reads and writes, planned before any work.
+struct Planned {
+    destination: Destination,
+    plan: Plan,
+    /// The shapes the template will give.
+    names: Vec<String>,
+    /// The shapes' files (-o DIR), or the one glTF file.
+    shape_outputs: Vec<Output>,
+    shape_paths: Vec<PathBuf>,
+    png: Option<Output>,
+    gif: Option<Output>,
+}
+
+/// The plan of the head `args` names, with `template` (read already).
+fn plan_head(args: &Args, template: &ExpressionTemplate) -> Result<Planned> {
+    let destination = destination(args)?;
+    let mut plan = Plan::new();
+    plan.input(args.head(), "head");
+    plan.input(args.markers(), "landmark file");
+    if args.template != "arkit" {
+        plan.input(Path::new(&args.template), "template");
+    }
+    let names = planned_names(template, args.all_shapes);
     let (shape_outputs, shape_paths) = match &destination {
         Destination::Folder(format) => {
-            let paths = shape_paths(&args.output, &names, format.extension())?;
+            let paths = shape_paths(args.output(), &names, format.extension())?;
             let outputs: Vec<Output> = paths.iter().map(|p| plan.file(p, "shape")).collect();
             (outputs, paths)
         }
         _ => (
-            vec![plan.file(&args.output, "glTF file")],
-            vec![args.output.clone()],
+            vec![plan.file(args.output(), "glTF file")],
+            vec![args.output().to_path_buf()],
         ),
     };
     let png = args
@@ -482,18 +537,59 @@ pub fn run(args: &Args) -> Result<()> {
         .gif
         .as_deref()
         .map(|p| plan.file(p, "animation"));
+    Ok(Planned {
+        destination,
+        plan,
+        names,
+        shape_outputs,
+        shape_paths,
+        png,
+        gif,
+    })
+}
+
+/// What one head's run made, for a batch's totals.
+struct Done {
+    shapes: usize,
+    expressions_seconds: f64,
+}
+
+/// Puts the shapes of `template` (read, with what the report calls it) on
+/// the head `args` names, as `planned`.
+fn run_head(
+    args: &Args,
+    (template, template_name): &(ExpressionTemplate, String),
+    planned: Planned,
+) -> Result<Done> {
+    let start = Instant::now();
+    let Planned {
+        destination,
+        plan,
+        names,
+        shape_outputs,
+        shape_paths,
+        png,
+        gif,
+    } = planned;
+    let options = ExpressionOptions::default()
+        .with_method(match args.method {
+            MethodArg::Displacements => CarryMethod::Displacements,
+            MethodArg::Transfer => CarryMethod::Transfer,
+        })
+        .with_compare(args.compare)
+        .with_all_shapes(args.all_shapes);
     let staging = plan.prepare()?;
-    memory::check_reading(&[args.head.as_path()])?;
+    memory::check_reading(&[args.head()])?;
     let head = Head::read(args)?;
     if let HeadFile::Mesh(file) = &head.file {
         output::protect_side_files(&staging, &file.file, "head")?;
     }
-    let points = meshmorph::read_landmarks(&args.markers, &head.mesh, numbering(args.one_based))
-        .map_err(|e| output::reading_error(e, "landmark file", &args.markers))?;
+    let points = meshmorph::read_landmarks(args.markers(), &head.mesh, numbering(args.one_based))
+        .map_err(|e| output::reading_error(e, "landmark file", args.markers()))?;
     memory::check_setup(head.mesh.num_triangles(), "the expressions")?;
     // A new GLB too heavy is refused before the work.
     let new_glb = GltfArgs {
-        gltf: Some(args.output.clone()),
+        gltf: Some(args.output().to_path_buf()),
         max_gltf_mb: args.max_gltf_mb,
         gltf_quantize: false,
         gltf_dense: args.gltf_dense,
@@ -514,8 +610,8 @@ pub fn run(args: &Args) -> Result<()> {
     };
 
     let begin = Instant::now();
-    let made = meshmorph::expressions(&template, &head.mesh, &points, &options)
-        .with_context(|| format!("putting the expressions on `{}`", args.head.display()))?;
+    let made = meshmorph::expressions(template, &head.mesh, &points, &options)
+        .with_context(|| format!("putting the expressions on `{}`", args.head().display()))?;
     let expressions_seconds = begin.elapsed().as_secs_f64();
     if made.names != names {
         bail!(
@@ -554,7 +650,7 @@ pub fn run(args: &Args) -> Result<()> {
                 staging.write_to(*output, |to, w| {
                     let dropped = file.write_to(w, to, positions, *format)?;
                     if files_written.is_empty() {
-                        warnings.extend(output::dropped_for(&args.output, &dropped));
+                        warnings.extend(output::dropped_for(args.output(), &dropped));
                     }
                     Ok(())
                 })?;
@@ -584,19 +680,19 @@ pub fn run(args: &Args) -> Result<()> {
             crate::gltf::write_shapes_into(
                 &staging,
                 shape_outputs[0],
-                (&args.head, doc, mesh),
+                (args.head(), doc, mesh),
                 &made.names,
                 &posed,
                 &options,
             )?;
-            files_written.push(args.output.clone());
+            files_written.push(args.output().to_path_buf());
         }
         (Destination::NewGlb, HeadFile::Mesh(file)) => {
             let look = Appearance::of_file(&file.file, texture_budget)?;
             let base = look.base(rest, head.mesh.triangles());
             let options = GltfOptions::default()
                 .with_animation(false)
-                .with_name(crate::gltf::mesh_name(&args.head));
+                .with_name(crate::gltf::mesh_name(args.head()));
             staging.write(shape_outputs[0], |path| {
                 let mut staged = new_glb.clone();
                 staged.gltf = Some(path.to_path_buf());
@@ -604,7 +700,7 @@ pub fn run(args: &Args) -> Result<()> {
                 Ok(())
             })?;
             warnings.extend(look.warnings);
-            files_written.push(args.output.clone());
+            files_written.push(args.output().to_path_buf());
         }
         _ => unreachable!("a glTF destination is chosen by the head's kind"),
     }
@@ -647,17 +743,21 @@ pub fn run(args: &Args) -> Result<()> {
     }
     output::print_warnings(&warnings);
     staging.commit()?;
+    let shapes = made.names.len();
     report(
         args,
         &head,
         made,
-        template_name,
+        template_name.clone(),
         points.len(),
         expressions_seconds,
     )
     .with_files(files_written, warnings, start)
     .print(args.json);
-    Ok(())
+    Ok(Done {
+        shapes,
+        expressions_seconds,
+    })
 }
 
 /// The names of the shapes `template` will give (as
@@ -676,7 +776,7 @@ fn report(
     expressions_seconds: f64,
 ) -> Report {
     Report {
-        head: args.head.clone(),
+        head: args.head().to_path_buf(),
         mesh: match &head.file {
             HeadFile::Gltf(_, mesh) => Some(mesh.name.clone()),
             HeadFile::Mesh(_) => None,
@@ -710,7 +810,7 @@ fn report(
             .collect(),
         expressions_seconds,
         total_seconds: 0.0,
-        output: args.output.clone(),
+        output: args.output().to_path_buf(),
         files_written: Vec::new(),
         warnings: Vec::new(),
     }
