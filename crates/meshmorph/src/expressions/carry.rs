@@ -379,7 +379,7 @@ fn landmark_markers(
     let (on_template, on_head): (Vec<[f64; 3]>, Vec<[f64; 3]>) =
         pairs.iter().map(|p| (p[0], p[1])).unzip();
     let labels: Vec<String> = points.iter().map(|(name, _)| format!("`{name}`")).collect();
-    warnings.extend(misplaced_landmarks(&on_template, &on_head, &labels));
+    warnings.extend(misplaced_landmarks(&on_template, &on_head, &labels)?);
     Ok((Markers::from_points(pairs).with_names(names), warnings))
 }
 

@@ -148,21 +148,32 @@ pub fn check_landmarks(numbers: &[u8]) -> Result<Vec<String>> {
 /// eye lies 1.45, one placed on the nose tip 1.03.
 pub const LANDMARK_MISPLACED: f64 = 0.6;
 
-/// Warnings about landmarks that are on the head but likely misnamed or
-/// misplaced: `template` and `head` are the landmarks' positions on the
-/// template and on the head, pair by pair, `names` their names.
+/// How far (as [`LANDMARK_MISPLACED`]) a landmark may lie before it is
+/// refused: three times the farthest right one seen, below a landmark put
+/// on the nose tip (1.03). The fit from such a landmark pulls the face
+/// apart (a jaw landmark put at the jaw's angle, 1.14 of the spread, made
+/// jawOpen move the chin by more than the head's size).
+pub const LANDMARK_WRONG: f64 = 0.9;
+
+/// Checks landmarks that are on the head for a misnamed or misplaced one:
+/// `template` and `head` are the landmarks' positions on the template and
+/// on the head, pair by pair, `names` their names. Returns the warnings.
 ///
 /// - Left and right swapped: the head's landmarks fit the template's far
 ///   better mirrored than as given (a face is nearly symmetric, so
-///   swapping every left with its right mirrors the set).
+///   swapping every left with its right mirrors the set). Refused.
 /// - One misplaced: after the similarity that best lays the template's
 ///   landmarks onto the head's, a landmark lying more than
-///   [`LANDMARK_MISPLACED`] of the spread from where it lands.
+///   [`LANDMARK_MISPLACED`] of the spread from where it lands is warned
+///   about, more than [`LANDMARK_WRONG`] refused.
+///
+/// # Errors
+/// [`Error::InvalidArgument`] saying which landmarks and what to do.
 pub fn misplaced_landmarks(
     template: &[[f64; 3]],
     head: &[[f64; 3]],
     names: &[String],
-) -> Vec<String> {
+) -> Result<Vec<String>> {
     let residuals = |to: &[[f64; 3]]| -> Option<Vec<f64>> {
         let s = Similarity::fit(template, to).ok()?;
         Some(
@@ -183,34 +194,54 @@ pub fn misplaced_landmarks(
         / head.len() as f64)
         .sqrt();
     let Some(given) = residuals(head) else {
-        return Vec::new();
+        return Ok(Vec::new());
     };
     let rms = |r: &[f64]| (r.iter().map(|x| x * x).sum::<f64>() / r.len() as f64).sqrt();
     let mirrored: Vec<[f64; 3]> = head.iter().map(|p| [-p[0], p[1], p[2]]).collect();
     if let Some(m) = residuals(&mirrored) {
         if rms(&m) < 0.5 * rms(&given) && rms(&given) > 0.5 * LANDMARK_MISPLACED * spread {
-            return vec![format!(
+            return Err(Error::InvalidArgument(format!(
                 "the landmarks fit the template far better mirrored (their distance from where the \
                  template puts them {:.0} % of their spread as given, {:.0} % mirrored): left and \
                  right look swapped. Left and right are the head's own: its left eye is on the \
-                 viewer's right when facing it",
+                 viewer's right when facing it; swap every Left and Right name",
                 100.0 * rms(&given) / spread,
                 100.0 * rms(&m) / spread
-            )];
+            )));
         }
     }
-    given
-        .iter()
-        .zip(names)
-        .filter(|(r, _)| **r > LANDMARK_MISPLACED * spread)
-        .map(|(r, name)| {
+    let off = |limit: f64| -> Vec<String> {
+        given
+            .iter()
+            .zip(names)
+            .filter(|(r, _)| **r > limit * spread)
+            .map(|(r, name)| format!("{name} {:.0} %", 100.0 * r / spread))
+            .collect()
+    };
+    let hint = if names.iter().any(|n| n.contains("jaw")) {
+        " (jawRight and jawLeft, iBUG 1 and 17, are where the jawline meets the ear, level with \
+         the eyes' outer corners, not the jaw's angle)"
+    } else {
+        ""
+    };
+    let wrong = off(LANDMARK_WRONG);
+    if !wrong.is_empty() {
+        return Err(Error::InvalidArgument(format!(
+            "landmarks far from where the others put them, in per cent of the landmarks' spread \
+             (right ones lie within about 30 %): {}. Check their names and places{hint}, or \
+             leave them out ({MIN_LANDMARKS} landmarks suffice)",
+            wrong.join(", ")
+        )));
+    }
+    Ok(off(LANDMARK_MISPLACED)
+        .into_iter()
+        .map(|line| {
             format!(
-                "landmark {name} lies {:.0} % of the landmarks' spread from where the others put it: \
-                 check its name and place",
-                100.0 * r / spread
+                "landmark {line} of the landmarks' spread from where the others put it: check its \
+                 name and place{hint}"
             )
         })
-        .collect()
+        .collect())
 }
 
 #[cfg(test)]
@@ -231,7 +262,7 @@ mod tests {
     }
 
     #[test]
-    fn swapped_sides_and_a_misplaced_landmark_are_warned_about() {
+    fn swapped_sides_and_a_misplaced_landmark_are_refused_one_a_little_off_warned_about() {
         let (names, on_template) = template_landmarks();
         // A head: the template's landmarks turned, scaled, moved, and
         // given other proportions (wider by a tenth, a longer face).
@@ -239,7 +270,9 @@ mod tests {
             .iter()
             .map(|p| [2.0 * p[2] + 1.0, 2.2 * p[1] - 3.0, -2.0 * 1.1 * p[0]])
             .collect();
-        assert!(misplaced_landmarks(&on_template, &head, &names).is_empty());
+        assert!(misplaced_landmarks(&on_template, &head, &names)
+            .unwrap()
+            .is_empty());
         // Left and right swapped: each point given the name of its mirror.
         let mirror = |name: &str| {
             if let Some(base) = name.strip_suffix("Left") {
@@ -254,11 +287,10 @@ mod tests {
             .iter()
             .map(|n| head[names.iter().position(|m| *m == mirror(n)).unwrap_or(0)])
             .collect();
-        let w = misplaced_landmarks(&on_template, &swapped, &names);
-        assert!(
-            w.len() == 1 && w[0].contains("left and right look swapped"),
-            "{w:?}"
-        );
+        let e = misplaced_landmarks(&on_template, &swapped, &names)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("left and right look swapped"), "{e}");
         // One eye corner on the nose tip.
         let (corner, tip) = (
             names.iter().position(|n| n == "eyeOuterLeft").unwrap(),
@@ -266,9 +298,15 @@ mod tests {
         );
         let mut misplaced = head.clone();
         misplaced[corner] = head[tip];
-        let w = misplaced_landmarks(&on_template, &misplaced, &names);
+        let e = misplaced_landmarks(&on_template, &misplaced, &names)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("eyeOuterLeft") && e.contains("leave"), "{e}");
+        // Halfway there: named in a warning, not refused.
+        misplaced[corner] = std::array::from_fn(|i| 0.3 * head[corner][i] + 0.7 * head[tip][i]);
+        let w = misplaced_landmarks(&on_template, &misplaced, &names).unwrap();
         assert!(
-            w.len() == 1 && w[0].contains("landmark eyeOuterLeft lies"),
+            w.len() == 1 && w[0].contains("landmark eyeOuterLeft"),
             "{w:?}"
         );
     }
