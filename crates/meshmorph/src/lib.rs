@@ -106,13 +106,13 @@ pub use error::{Error, Result};
 pub use expressions::arkit_names::{arkit_recipes, ShapeRecipe, ARKIT_NAMES};
 pub use expressions::carry::{
     expressions, CarryMethod, ExpressionOptions, FoundPart, HeadExpressions, ShapeReport,
-    FOLD_SLACK, LOOKUP_ANGLE,
 };
 pub use expressions::landmark_file::read_landmarks;
 pub use expressions::landmarks::{
     check_landmarks, landmark_name, landmark_number, ALIASES as LANDMARK_ALIASES, MIN_LANDMARKS,
     RECOMMENDED as RECOMMENDED_LANDMARKS,
 };
+pub use expressions::places::{FOLD_SLACK, ISLAND_SHARE, LOOKUP_ANGLE, PATH_STRETCH};
 pub use expressions::template::{ExpressionTemplate, TemplatePart, ARKIT_TEMPLATE_GLB};
 pub use gradient::solve::FactorKind;
 pub use gradient::TriangleMaps;

@@ -6,12 +6,13 @@
 //!    head: the similarity that best fits the landmarks, then the
 //!    template's own shape kept while closest points pull it onto the
 //!    head.
-//! 2. Each vertex of the head finds its place on the deformed template: the
-//!    closest point of a template triangle facing its way (within
-//!    [`LOOKUP_ANGLE`]), so that a point of a closed upper lip finds the
-//!    upper lip, whose surface faces down there, not the lower one facing
-//!    up; the same for eyelids. Where the facing point is much farther than
-//!    the closest (a fold, [`FOLD_SLACK`]), the closest.
+//! 2. Each vertex of the head finds its place on the deformed template
+//!    ([`places`](super::places)): the closest point of a template triangle
+//!    facing its way, so that a point of a closed upper lip finds the upper
+//!    lip, whose surface faces down there, not the lower one facing up; the
+//!    same for eyelids. A few vertices whose places are cut off from all
+//!    around them (one lip's vertices that found the other lip, near a
+//!    mouth's corner) take their places again from their neighbours'.
 //! 3. Each shape is carried by one of two ways ([`CarryMethod`]): the
 //!    template's displacements copied through that place (turned and
 //!    scaled by the landmarks' similarity), or deformation transfer
@@ -31,21 +32,18 @@ use crate::expressions::identity::fit_identity;
 use crate::expressions::landmarks::{
     check_landmarks, landmark_name, landmark_number, misplaced_landmarks,
 };
+use crate::expressions::places::{find_places, Place};
 use crate::expressions::template::ExpressionTemplate;
 use crate::linalg::matrix::mul_vec;
 use crate::linalg::similarity::Similarity;
 use crate::linalg::vector::{add, mean_of, scale, sub};
-use crate::mesh::closest::{closest_region, vertex_normals, Angle, ClosestPoint, SurfaceIndex};
+use crate::mesh::closest::{closest_region, SurfaceIndex};
 use crate::mesh::seams::Seams;
 use crate::mesh::topology::connected_components;
 use crate::mesh::Mesh3;
 use crate::transfer::markers::Markers;
 use crate::transfer::matching::{correspond, deform_onto, CorrespondOptions};
 use crate::transfer::pose_transfer::{Transfer, TransferOptions};
-
-/// How far a head vertex's normal may turn from the template triangle it
-/// takes its motion from, in degrees.
-pub const LOOKUP_ANGLE: f64 = 60.0;
 
 /// How the shapes are carried onto the head.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -217,7 +215,8 @@ fn expressions_welded(
         )?;
         (similarity, deformed, None)
     };
-    let places = find_places(&deformed, &surface);
+    let smooth = similarity.apply_all(reference.positions());
+    let (places, _) = find_places(&deformed, &smooth, &surface);
     let diagonal = head.bounding_box_diagonal();
 
     let by_method = |method: CarryMethod| -> Result<Vec<Vec<[f64; 3]>>> {
@@ -419,60 +418,6 @@ fn sub_mesh(mesh: &Mesh3, keep: impl Fn(usize) -> bool) -> Result<(Mesh3, Vec<u3
     Ok((Mesh3::new(positions, triangles)?, kept))
 }
 
-/// Where a head vertex takes its motion from: a template triangle and the
-/// barycentric coordinates of a point on it.
-#[derive(Clone, Copy, Debug)]
-struct Place {
-    triangle: u32,
-    weights: [f64; 3],
-}
-
-/// Each vertex of `surface`'s place on `deformed` (the template fitted
-/// onto it): see [`place_of`].
-fn find_places(deformed: &Mesh3, surface: &Mesh3) -> Vec<Place> {
-    let index = SurfaceIndex::new(deformed.positions(), deformed.triangles());
-    let normals = vertex_normals(surface.positions(), surface.triangles());
-    let diagonal = surface.bounding_box_diagonal();
-    surface
-        .positions()
-        .par_iter()
-        .zip(&normals)
-        .map(|(&p, &n)| {
-            let hit = place_of(&index, p, n, diagonal);
-            let corners = deformed.corners(hit.triangle as usize);
-            Place {
-                triangle: hit.triangle,
-                weights: closest_region(p, corners).barycentric(),
-            }
-        })
-        .collect()
-}
-
-/// How much farther than the closest point a point facing a vertex's way
-/// may be and still be taken, as a fraction of the head's diagonal.
-pub const FOLD_SLACK: f64 = 0.01;
-
-/// The point of the template a head vertex at `p` with unit normal `n`
-/// takes its motion from: the closest point on a triangle facing within
-/// [`LOOKUP_ANGLE`] of `n`, so that a point of a closed upper lip finds the
-/// upper lip, whose surface faces down there, not the lower one facing up;
-/// but only if it is at most [`FOLD_SLACK`] of the `diagonal` farther than
-/// the closest point of all. Else the closest point: at a fold (the corner
-/// of a mouth, where upper and lower lip meet) the head's normal points
-/// across the fold, away from every triangle there, and the nearest facing
-/// one lies on another part of the face.
-fn place_of(index: &SurfaceIndex, p: [f64; 3], n: [f64; 3], diagonal: f64) -> ClosestPoint {
-    let closest = index.closest(p).expect("the template has triangles");
-    index
-        .closest_compatible(
-            p,
-            n,
-            closest.distance + FOLD_SLACK * diagonal,
-            Angle::degrees(LOOKUP_ANGLE),
-        )
-        .unwrap_or(closest)
-}
-
 /// Whether every corner of `place`'s triangle is still in recipe `r`.
 fn still(template: &ExpressionTemplate, r: &ShapeRecipe, place: &Place) -> bool {
     let tri = template.head.triangles()[place.triangle as usize];
@@ -670,34 +615,6 @@ mod tests {
 
     fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
         norm(sub(a, b))
-    }
-
-    /// A closed mouth: an upper lip's underside facing down at y = 0, a
-    /// lower lip's top facing up a thousandth below it, both ending at
-    /// x = 1, and past that the cheek, facing forward, 0.05 in front.
-    fn lips() -> SurfaceIndex {
-        let lip = |y: f64| [[-1.0, y, -1.0], [1.0, y, -1.0], [1.0, y, 3.0]];
-        let [a, b, c] = lip(-0.001);
-        let cheek = [[1.05, -1.0, 0.05], [2.05, -1.0, 0.05], [1.05, 1.0, 0.05]];
-        let corners = [lip(0.0), [a, c, b], cheek];
-        let positions: Vec<[f64; 3]> = corners.iter().flatten().copied().collect();
-        SurfaceIndex::new(&positions, &[[0, 1, 2], [3, 4, 5], [6, 7, 8]])
-    }
-
-    #[test]
-    fn a_vertex_takes_the_lip_facing_its_way_but_the_closest_point_at_a_fold() {
-        let index = lips();
-        let diagonal = 4.0;
-        // Nearer the other lip by a hair: the lip facing its way.
-        let upper = place_of(&index, [0.9, -0.0006, 0.0], [0.0, -1.0, 0.0], diagonal);
-        assert_eq!(upper.triangle, 0);
-        let lower = place_of(&index, [0.9, -0.0004, 0.0], [0.0, 1.0, 0.0], diagonal);
-        assert_eq!(lower.triangle, 1);
-        // At the lips' corner the normal points across the fold (here
-        // forward): the cheek faces that way but lies 0.11 away, against
-        // 0.0004 for the upper lip.
-        let fold = place_of(&index, [0.95, -0.0004, 0.0], [0.0, 0.0, 1.0], diagonal);
-        assert_eq!(fold.triangle, 0);
     }
 
     #[test]

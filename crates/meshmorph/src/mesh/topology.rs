@@ -135,37 +135,9 @@ impl TriangleAdjacency {
         Self::from_pairs(num_triangles, pairs)
     }
 
-    /// Compresses `(triangle, neighbour)` pairs: each triangle's neighbours
-    /// in increasing order, repeats dropped. The pairs are bucketed by
-    /// triangle (each bucket holds a few), not sorted as a whole.
+    /// Compresses `(triangle, neighbour)` pairs ([`bucket_pairs`]).
     fn from_pairs(num_triangles: usize, pairs: Vec<(u32, u32)>) -> Self {
-        let mut start = vec![0usize; num_triangles + 1];
-        for &(a, _) in &pairs {
-            start[a as usize + 1] += 1;
-        }
-        for t in 0..num_triangles {
-            start[t + 1] += start[t];
-        }
-        let mut bucketed = vec![0u32; pairs.len()];
-        let mut fill = start.clone();
-        for &(a, b) in &pairs {
-            bucketed[fill[a as usize]] = b;
-            fill[a as usize] += 1;
-        }
-        drop(pairs);
-        let mut offsets = Vec::with_capacity(num_triangles + 1);
-        offsets.push(0);
-        let mut neighbors = Vec::with_capacity(bucketed.len());
-        for t in 0..num_triangles {
-            let bucket = &mut bucketed[start[t]..start[t + 1]];
-            bucket.sort_unstable();
-            for (k, &b) in bucket.iter().enumerate() {
-                if k == 0 || bucket[k - 1] != b {
-                    neighbors.push(b);
-                }
-            }
-            offsets.push(neighbors.len());
-        }
+        let (offsets, neighbors) = bucket_pairs(num_triangles, pairs);
         Self { offsets, neighbors }
     }
 
@@ -318,6 +290,89 @@ pub fn boundary_loops(triangles: &[[u32; 3]]) -> Result<Vec<Vec<u32>>, BoundaryB
         loops.push(vertices);
     }
     Ok(loops)
+}
+
+/// Compresses `(item, other)` pairs over `count` items into offsets
+/// (`count + 1`) and the concatenated lists: each item's others in
+/// increasing order, repeats dropped. The pairs are bucketed by item (each
+/// bucket holds a few), not sorted as a whole.
+fn bucket_pairs(count: usize, pairs: Vec<(u32, u32)>) -> (Vec<usize>, Vec<u32>) {
+    let mut start = vec![0usize; count + 1];
+    for &(a, _) in &pairs {
+        start[a as usize + 1] += 1;
+    }
+    for t in 0..count {
+        start[t + 1] += start[t];
+    }
+    let mut bucketed = vec![0u32; pairs.len()];
+    let mut fill = start.clone();
+    for &(a, b) in &pairs {
+        bucketed[fill[a as usize]] = b;
+        fill[a as usize] += 1;
+    }
+    drop(pairs);
+    let mut offsets = Vec::with_capacity(count + 1);
+    offsets.push(0);
+    let mut lists = Vec::with_capacity(bucketed.len());
+    for t in 0..count {
+        let bucket = &mut bucketed[start[t]..start[t + 1]];
+        bucket.sort_unstable();
+        for (k, &b) in bucket.iter().enumerate() {
+            if k == 0 || bucket[k - 1] != b {
+                lists.push(b);
+            }
+        }
+        offsets.push(lists.len());
+    }
+    (offsets, lists)
+}
+
+/// What lies around each vertex of a mesh: the vertices it shares an edge
+/// with, and the triangles that use it.
+#[derive(Clone, Debug)]
+pub struct VertexStar {
+    neighbour_offsets: Vec<usize>,
+    neighbours: Vec<u32>,
+    triangle_offsets: Vec<usize>,
+    triangles: Vec<u32>,
+}
+
+impl VertexStar {
+    /// The stars of the `num_vertices` vertices of `triangles`.
+    pub fn new(num_vertices: usize, triangles: &[[u32; 3]]) -> Self {
+        let mut edges = Vec::with_capacity(6 * triangles.len());
+        let mut uses = Vec::with_capacity(3 * triangles.len());
+        for (t, tri) in triangles.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                if a != b {
+                    edges.push((a, b));
+                    edges.push((b, a));
+                }
+                uses.push((a, t as u32));
+            }
+        }
+        let (neighbour_offsets, neighbours) = bucket_pairs(num_vertices, edges);
+        let (triangle_offsets, triangles) = bucket_pairs(num_vertices, uses);
+        Self {
+            neighbour_offsets,
+            neighbours,
+            triangle_offsets,
+            triangles,
+        }
+    }
+
+    /// The vertices sharing an edge with vertex `v`, in increasing order.
+    #[inline]
+    pub fn neighbours(&self, v: usize) -> &[u32] {
+        &self.neighbours[self.neighbour_offsets[v]..self.neighbour_offsets[v + 1]]
+    }
+
+    /// The triangles using vertex `v`, in increasing order.
+    #[inline]
+    pub fn triangles(&self, v: usize) -> &[u32] {
+        &self.triangles[self.triangle_offsets[v]..self.triangle_offsets[v + 1]]
+    }
 }
 
 /// Connected components of `triangles` over `num_vertices` vertices,

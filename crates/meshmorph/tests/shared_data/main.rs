@@ -6,6 +6,7 @@
 
 #[path = "../library/common.rs"]
 mod common;
+mod expressions;
 mod interpolate;
 mod io;
 mod needs;
@@ -19,7 +20,7 @@ type Check = (&'static str, &'static str, fn(PathBuf));
 
 fn main() {
     let args = libtest_mimic::Arguments::from_args();
-    let checks: [Check; 8] = [
+    let checks: [Check; 9] = [
         ("io::shared_data_meshes", "", io::shared_data_meshes),
         (
             "interpolate::real_2d_meshes_interpolate_without_flips",
@@ -50,6 +51,11 @@ fn main() {
             "transfer::the_face_masks_cry_transfers_to_the_head_close_to_sumners",
             "dt/face-head",
             transfer::the_face_masks_cry_transfers_to_the_head_close_to_sumners,
+        ),
+        (
+            "expressions::sumners_head_opens_its_jaw_each_lip_moving_as_a_whole",
+            "dt/face-head",
+            expressions::sumners_head_opens_its_jaw_each_lip_moving_as_a_whole,
         ),
         (
             "transfer::the_camels_nonmanifold_edges_and_boundaries_are_handled",
