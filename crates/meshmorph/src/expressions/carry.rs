@@ -32,6 +32,7 @@ use crate::expressions::identity::fit_identity;
 use crate::expressions::landmarks::{
     check_landmarks, landmark_name, landmark_number, misplaced_landmarks,
 };
+use crate::expressions::openings::joined_openings;
 use crate::expressions::places::{find_places, Place};
 use crate::expressions::template::ExpressionTemplate;
 use crate::linalg::matrix::mul_vec;
@@ -167,7 +168,7 @@ fn expressions_welded(
     points: &[(String, [f64; 3])],
     options: &ExpressionOptions,
 ) -> Result<HeadExpressions> {
-    let (_, warnings) = landmark_markers(template, &template.head, points)?;
+    let (_, mut warnings) = landmark_markers(template, &template.head, points)?;
     let (recipes, missing) = arkit_recipes(&template.shape_names, options.all_shapes);
 
     // The head's main surface, apart from its separate parts.
@@ -216,7 +217,14 @@ fn expressions_welded(
         (similarity, deformed, None)
     };
     let smooth = similarity.apply_all(reference.positions());
-    let (places, _) = find_places(&deformed, &smooth, &surface);
+    let found = find_places(&deformed, &smooth, &surface);
+    warnings.extend(joined_openings(
+        template,
+        |v| deformed.positions()[v as usize],
+        surface.positions(),
+        &found.cut,
+    ));
+    let places = found.places;
     let diagonal = head.bounding_box_diagonal();
 
     let by_method = |method: CarryMethod| -> Result<Vec<Vec<[f64; 3]>>> {
@@ -623,6 +631,7 @@ mod tests {
         let out = expressions(&t, &head, &points, &ExpressionOptions::default()).unwrap();
         assert_eq!(out.missing, ["tongueOut"]);
         assert_eq!(out.names.len(), 51);
+        assert!(out.warnings.is_empty(), "{:?}", out.warnings);
         let diagonal = head.bounding_box_diagonal();
         let (recipes, _) = arkit_recipes(&t.shape_names, false);
         for (k, r) in recipes.iter().enumerate() {

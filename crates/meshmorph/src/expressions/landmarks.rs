@@ -162,6 +162,7 @@ pub const LANDMARK_WRONG: f64 = 0.9;
 /// - Left and right swapped: the head's landmarks fit the template's far
 ///   better mirrored than as given (a face is nearly symmetric, so
 ///   swapping every left with its right mirrors the set). Refused.
+/// - Two swapped ([`swapped_pair`]): refused, naming them.
 /// - One misplaced: after the similarity that best lays the template's
 ///   landmarks onto the head's, a landmark lying more than
 ///   [`LANDMARK_MISPLACED`] of the spread from where it lands is warned
@@ -210,6 +211,9 @@ pub fn misplaced_landmarks(
             )));
         }
     }
+    if let Some(pair) = swapped_pair(template, head, names, spread) {
+        return Err(Error::InvalidArgument(pair));
+    }
     let off = |limit: f64| -> Vec<String> {
         given
             .iter()
@@ -242,6 +246,40 @@ pub fn misplaced_landmarks(
             )
         })
         .collect())
+}
+
+/// Two landmarks whose names look swapped: with the similarity that best
+/// lays the template's landmarks onto the head's, each lands far nearer
+/// the other's point than its own (their distances to the other's point
+/// less than half those to their own, together more than a tenth of the
+/// landmarks' spread). Landmarks of a head of other proportions, right
+/// but shifted together, never do: a shift brings each nearer the other
+/// only by moving the other farther. Returns what to say.
+fn swapped_pair(
+    template: &[[f64; 3]],
+    head: &[[f64; 3]],
+    names: &[String],
+    spread: f64,
+) -> Option<String> {
+    let s = Similarity::fit(template, head).ok()?;
+    let landed: Vec<[f64; 3]> = template.iter().map(|&t| s.apply(t)).collect();
+    let mut worst: Option<(f64, usize, usize)> = None;
+    for a in 0..head.len() {
+        for b in a + 1..head.len() {
+            let own = norm(sub(landed[a], head[a])) + norm(sub(landed[b], head[b]));
+            let other = norm(sub(landed[a], head[b])) + norm(sub(landed[b], head[a]));
+            if own > 0.1 * spread && other < 0.5 * own && worst.is_none_or(|w| other / own < w.0) {
+                worst = Some((other / own, a, b));
+            }
+        }
+    }
+    let (_, a, b) = worst?;
+    Some(format!(
+        "landmarks {} and {} look swapped: each lies where the other belongs. Check their names \
+         (upperLipTop is the top of the upper lip, lowerLipBottom the bottom of the lower one; Left \
+         and Right are the head's own)",
+        names[a], names[b]
+    ))
 }
 
 #[cfg(test)]
@@ -291,6 +329,25 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("left and right look swapped"), "{e}");
+        // The lips' names swapped, or two eye corners'.
+        for (a, b) in [
+            ("upperLipTop", "lowerLipBottom"),
+            ("eyeInnerLeft", "eyeOuterLeft"),
+        ] {
+            let (i, j) = (
+                names.iter().position(|n| n == a).unwrap(),
+                names.iter().position(|n| n == b).unwrap(),
+            );
+            let mut swapped = head.clone();
+            swapped.swap(i, j);
+            let e = misplaced_landmarks(&on_template, &swapped, &names)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains(&format!("landmarks {a} and {b} look swapped")),
+                "{e}"
+            );
+        }
         // One eye corner on the nose tip.
         let (corner, tip) = (
             names.iter().position(|n| n == "eyeOuterLeft").unwrap(),

@@ -8,6 +8,7 @@ pub(crate) mod carry;
 pub(crate) mod identity;
 pub(crate) mod landmark_file;
 pub(crate) mod landmarks;
+pub(crate) mod openings;
 pub(crate) mod places;
 pub(crate) mod template;
 pub(crate) mod template_file;

@@ -94,15 +94,20 @@ impl Template<'_> {
     }
 }
 
+/// Each vertex's place, and what the search for them found.
+pub(crate) struct Places {
+    /// Each vertex's place.
+    pub places: Vec<Place>,
+    /// The head's edges whose ends' places are not joined, each vertex pair
+    /// smaller first: where the head is one surface and the template two
+    /// (lips or eyelids modelled joined), and around islands.
+    pub cut: Vec<(u32, u32)>,
+}
+
 /// Each vertex of `surface`'s place on `deformed` (the template laid onto
-/// it), and how many were islands taken again from around them; `smooth`
-/// is the template in the head's place before it was laid on (the same
-/// triangles).
-pub(crate) fn find_places(
-    deformed: &Mesh3,
-    smooth: &[[f64; 3]],
-    surface: &Mesh3,
-) -> (Vec<Place>, usize) {
+/// it), islands taken again from around them; `smooth` is the template in the head's place before it was laid on
+/// (the same triangles).
+pub(crate) fn find_places(deformed: &Mesh3, smooth: &[[f64; 3]], surface: &Mesh3) -> Places {
     let template = Template {
         mesh: deformed,
         index: SurfaceIndex::new(deformed.positions(), deformed.triangles()),
@@ -119,7 +124,8 @@ pub(crate) fn find_places(
         .collect();
 
     let head_star = VertexStar::new(surface.num_vertices(), surface.triangles());
-    let islands = islands(&template, &head_star, positions, &hits);
+    let cut = cut_edges(&template, &head_star, positions, &hits);
+    let islands = islands(&head_star, positions.len(), &cut);
     retake_islands(
         &template, &head_star, positions, &normals, diagonal, &islands, &mut hits,
     );
@@ -132,7 +138,9 @@ pub(crate) fn find_places(
             weights: closest_region(p, deformed.corners(hit.triangle as usize)).barycentric(),
         })
         .collect();
-    (places, islands.len())
+    let mut cut: Vec<(u32, u32)> = cut.into_iter().collect();
+    cut.sort_unstable();
+    Places { places, cut }
 }
 
 /// The point of the template a head vertex at `p` with unit normal `n`
@@ -161,16 +169,14 @@ pub(crate) fn place_of(
         .unwrap_or(closest)
 }
 
-/// The head's vertices cut off, by edges whose ends' places are not
-/// joined ([`joined`]), in pieces of at most [`ISLAND_SHARE`] of them.
-fn islands(
+/// The head's edges whose ends' places are not [`joined`].
+fn cut_edges(
     template: &Template,
     head: &VertexStar,
     positions: &[[f64; 3]],
     hits: &[ClosestPoint],
-) -> HashSet<u32> {
-    let n = positions.len();
-    let cut: HashSet<(u32, u32)> = (0..n)
+) -> HashSet<(u32, u32)> {
+    (0..positions.len())
         .into_par_iter()
         .flat_map_iter(|u| {
             head.neighbours(u)
@@ -185,7 +191,12 @@ fn islands(
                 })
                 .map(move |&v| (u as u32, v))
         })
-        .collect();
+        .collect()
+}
+
+/// The head's vertices cut off from the rest by the `cut` edges, in pieces
+/// of at most [`ISLAND_SHARE`] of them.
+fn islands(head: &VertexStar, n: usize, cut: &HashSet<(u32, u32)>) -> HashSet<u32> {
     if cut.is_empty() {
         return HashSet::new();
     }
@@ -489,7 +500,7 @@ mod tests {
             .collect();
         assert!(hits.iter().all(lower));
         let star = VertexStar::new(head.num_vertices(), head.triangles());
-        assert!(islands(&template, &star, head.positions(), &hits).is_empty());
+        assert!(cut_edges(&template, &star, head.positions(), &hits).is_empty());
 
         // One vertex in the middle finds the upper lip, 0.095 away in
         // space, 2 along the template around the corner.
@@ -497,7 +508,9 @@ mod tests {
         let above = [hits[wrong].point[0], 0.2, hits[wrong].point[2]];
         hits[wrong] = template.index.closest(above).unwrap();
         assert!(!lower(&hits[wrong]));
-        let found = islands(&template, &star, head.positions(), &hits);
+        let cut = cut_edges(&template, &star, head.positions(), &hits);
+        assert_eq!(cut.len(), 6, "{cut:?}");
+        let found = islands(&star, head.num_vertices(), &cut);
         assert_eq!(found, HashSet::from([wrong as u32]));
         retake_islands(
             &template,
@@ -514,11 +527,11 @@ mod tests {
     }
 
     #[test]
-    fn a_mesh_onto_itself_has_no_islands_and_each_vertex_its_own_place() {
+    fn a_mesh_onto_itself_has_no_cut_edges_and_each_vertex_its_own_place() {
         let lips = folded_lips();
-        let (places, islands) = find_places(&lips, lips.positions(), &lips);
-        assert_eq!(islands, 0);
-        for (v, place) in places.iter().enumerate() {
+        let found = find_places(&lips, lips.positions(), &lips);
+        assert!(found.cut.is_empty());
+        for (v, place) in found.places.iter().enumerate() {
             let tri = lips.triangles()[place.triangle as usize];
             let k = tri.iter().position(|&c| c as usize == v).unwrap();
             assert!((place.weights[k] - 1.0).abs() < 1e-9, "{v}: {place:?}");

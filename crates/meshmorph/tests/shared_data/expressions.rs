@@ -45,6 +45,12 @@ pub fn sumners_head_opens_its_jaw_each_lip_moving_as_a_whole(dir: PathBuf) {
     let out = expressions(&template, &head, &points, &ExpressionOptions::default()).unwrap();
     let jaw = out.names.iter().position(|n| n == "jawOpen").unwrap();
     let d = &out.deltas[jaw];
+    // Its lips are one surface: said, and no more.
+    assert!(
+        out.warnings.len() == 1 && out.warnings[0].contains("lips of the mouth are joined"),
+        "{:?}",
+        out.warnings
+    );
 
     // The vertices joined to `start` through those that `keep`.
     let mut around = vec![Vec::new(); p.len()];
