@@ -175,15 +175,18 @@ pub fn misplaced_landmarks(
     head: &[[f64; 3]],
     names: &[String],
 ) -> Result<Vec<String>> {
-    let residuals = |to: &[[f64; 3]]| -> Option<Vec<f64>> {
+    // Where the template's landmarks land under the similarity that best
+    // lays them onto `to`, and how far each is from its point there.
+    let landed = |to: &[[f64; 3]]| -> Option<Vec<[f64; 3]>> {
         let s = Similarity::fit(template, to).ok()?;
-        Some(
-            template
-                .iter()
-                .zip(to)
-                .map(|(&t, &h)| norm(sub(s.apply(t), h)))
-                .collect(),
-        )
+        Some(template.iter().map(|&t| s.apply(t)).collect())
+    };
+    let residuals = |landed: &[[f64; 3]], to: &[[f64; 3]]| -> Vec<f64> {
+        landed
+            .iter()
+            .zip(to)
+            .map(|(&l, &h)| norm(sub(l, h)))
+            .collect()
     };
     let centre = head
         .iter()
@@ -194,12 +197,13 @@ pub fn misplaced_landmarks(
         .sum::<f64>()
         / head.len() as f64)
         .sqrt();
-    let Some(given) = residuals(head) else {
+    let Some(landed_given) = landed(head) else {
         return Ok(Vec::new());
     };
+    let given = residuals(&landed_given, head);
     let rms = |r: &[f64]| (r.iter().map(|x| x * x).sum::<f64>() / r.len() as f64).sqrt();
     let mirrored: Vec<[f64; 3]> = head.iter().map(|p| [-p[0], p[1], p[2]]).collect();
-    if let Some(m) = residuals(&mirrored) {
+    if let Some(m) = landed(&mirrored).map(|l| residuals(&l, &mirrored)) {
         if rms(&m) < 0.5 * rms(&given) && rms(&given) > 0.5 * LANDMARK_MISPLACED * spread {
             return Err(Error::InvalidArgument(format!(
                 "the landmarks fit the template far better mirrored (their distance from where the \
@@ -211,7 +215,7 @@ pub fn misplaced_landmarks(
             )));
         }
     }
-    if let Some(pair) = swapped_pair(template, head, names, spread) {
+    if let Some(pair) = swapped_pair(&landed_given, head, names, spread) {
         return Err(Error::InvalidArgument(pair));
     }
     let off = |limit: f64| -> Vec<String> {
@@ -248,21 +252,20 @@ pub fn misplaced_landmarks(
         .collect())
 }
 
-/// Two landmarks whose names look swapped: with the similarity that best
-/// lays the template's landmarks onto the head's, each lands far nearer
+/// Two landmarks whose names look swapped: of the template's landmarks
+/// `landed` by the similarity that best lays them onto the head's, each
+/// lands far nearer
 /// the other's point than its own (their distances to the other's point
 /// less than half those to their own, together more than a tenth of the
 /// landmarks' spread). Landmarks of a head of other proportions, right
 /// but shifted together, never do: a shift brings each nearer the other
 /// only by moving the other farther. Returns what to say.
 fn swapped_pair(
-    template: &[[f64; 3]],
+    landed: &[[f64; 3]],
     head: &[[f64; 3]],
     names: &[String],
     spread: f64,
 ) -> Option<String> {
-    let s = Similarity::fit(template, head).ok()?;
-    let landed: Vec<[f64; 3]> = template.iter().map(|&t| s.apply(t)).collect();
     let mut worst: Option<(f64, usize, usize)> = None;
     for a in 0..head.len() {
         for b in a + 1..head.len() {

@@ -11,7 +11,7 @@
 //! the shapes can avoid while the head keeps its faces.
 
 use crate::expressions::template::ExpressionTemplate;
-use crate::linalg::vector::{dot, norm, scale, sub};
+use crate::linalg::vector::{add, dot, norm, scale, sub};
 
 /// The share of an opening's width, between its corners, that the head's
 /// cut edges must line for the opening to be found closed. A mouth or an
@@ -51,7 +51,7 @@ pub(crate) fn joined_openings(
             let mut lined = [false; BINS];
             for &(u, v) in cut {
                 let (p, q) = (positions[u as usize], positions[v as usize]);
-                let mid = scale([p[0] + q[0], p[1] + q[1], p[2] + q[2]], 0.5);
+                let mid = scale(add(p, q), 0.5);
                 let along = dot(sub(mid, a), across) / (width * width);
                 let off = norm(sub(sub(mid, a), scale(across, along)));
                 if (0.0..1.0).contains(&along) && off < 0.25 * width {

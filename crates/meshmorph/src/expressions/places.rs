@@ -105,8 +105,8 @@ pub(crate) struct Places {
 }
 
 /// Each vertex of `surface`'s place on `deformed` (the template laid onto
-/// it), islands taken again from around them; `smooth` is the template in the head's place before it was laid on
-/// (the same triangles).
+/// it), islands taken again from around them; `smooth` is the template in
+/// the head's place before it was laid on (the same triangles).
 pub(crate) fn find_places(deformed: &Mesh3, smooth: &[[f64; 3]], surface: &Mesh3) -> Places {
     let template = Template {
         mesh: deformed,
@@ -159,14 +159,20 @@ pub(crate) fn place_of(
     diagonal: f64,
 ) -> ClosestPoint {
     let closest = index.closest(p).expect("the template has triangles");
-    index
-        .closest_compatible(
-            p,
-            n,
-            closest.distance + FOLD_SLACK * diagonal,
-            Angle::degrees(LOOKUP_ANGLE),
-        )
-        .unwrap_or(closest)
+    facing_or_closest(closest, diagonal, |within| {
+        index.closest_compatible(p, n, within, Angle::degrees(LOOKUP_ANGLE))
+    })
+}
+
+/// [`place_of`]'s rule: the closest facing point that `facing_within`
+/// finds within [`FOLD_SLACK`] of the `diagonal` farther than `closest`,
+/// else `closest`.
+fn facing_or_closest(
+    closest: ClosestPoint,
+    diagonal: f64,
+    facing_within: impl FnOnce(f64) -> Option<ClosestPoint>,
+) -> ClosestPoint {
+    facing_within(closest.distance + FOLD_SLACK * diagonal).unwrap_or(closest)
 }
 
 /// The head's edges whose ends' places are not [`joined`].
@@ -201,21 +207,21 @@ fn islands(head: &VertexStar, n: usize, cut: &HashSet<(u32, u32)>) -> HashSet<u3
         return HashSet::new();
     }
     let largest_island = (ISLAND_SHARE * n as f64) as usize;
-    let mut label = vec![u32::MAX; n];
+    let mut seen = vec![false; n];
     let mut islands = HashSet::new();
     let mut stack = Vec::new();
     for start in 0..n {
-        if label[start] != u32::MAX {
+        if seen[start] {
             continue;
         }
-        label[start] = start as u32;
+        seen[start] = true;
         let mut piece = vec![start as u32];
         stack.push(start);
         while let Some(u) = stack.pop() {
             for &v in head.neighbours(u) {
                 let pair = (u.min(v as usize) as u32, u.max(v as usize) as u32);
-                if label[v as usize] == u32::MAX && !cut.contains(&pair) {
-                    label[v as usize] = start as u32;
+                if !seen[v as usize] && !cut.contains(&pair) {
+                    seen[v as usize] = true;
                     piece.push(v);
                     stack.push(v as usize);
                 }
@@ -318,9 +324,9 @@ fn closest_among(
             .map(|(h, _)| *h)
     };
     let closest = nearest(false).expect("a settled neighbour's triangle is a candidate");
-    nearest(true)
-        .filter(|f| f.distance <= closest.distance + FOLD_SLACK * diagonal)
-        .unwrap_or(closest)
+    facing_or_closest(closest, diagonal, |within| {
+        nearest(true).filter(|f| f.distance <= within)
+    })
 }
 
 /// Whether the places `a` and `b` are joined by a path along the
