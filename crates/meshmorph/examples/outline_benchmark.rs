@@ -719,6 +719,7 @@ fn morph(pair: &Pair) -> meshmorph::Result<(CompatibleSet, Interpolator<2>)> {
         &InterpolatorOptions::default()
             .with_mend_folds(true)
             .with_untie_outlines(true)
+            .with_outline_lengths(std::env::var("MM_OUTLINE").as_deref() != Ok("fit"))
             .with_stretch(if std::env::var("MM_STRETCH").as_deref() == Ok("linear") {
                 meshmorph::StretchMode::Linear
             } else {

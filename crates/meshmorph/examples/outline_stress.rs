@@ -200,6 +200,9 @@ struct Tally {
     area: [f64; 2],
     ends: f64,
     min_angle: f64,
+    /// Each pair's mean deviation of its outline's edge lengths from the
+    /// straight blend of their lengths in the two drawings' meshes.
+    edges: Vec<f64>,
     seconds: Vec<f64>,
     /// Triangles turned over by how many of their corners are on the
     /// outline.
@@ -222,6 +225,7 @@ fn main() {
     let options = InterpolatorOptions::default()
         .with_mend_folds(true)
         .with_untie_outlines(true)
+        .with_outline_lengths(std::env::var("MM_OUTLINE").as_deref() != Ok("fit"))
         .with_stretch(StretchMode::AreaBlend);
     for k in 0..pairs {
         let family = k % 3;
@@ -264,6 +268,10 @@ fn main() {
         let (area_a, area_b) = (area(&a), area(&b));
         let (mut crossed_frames, mut flipped) = (0, 0);
         let mut out = false;
+        let edge_length = |x: &[[f64; 2]], l: &[u32], i: usize| {
+            dist(x[l[i] as usize], x[l[(i + 1) % l.len()] as usize])
+        };
+        let (mut deviation, mut edges) = (0.0, 0usize);
         for f in 0..FRAMES {
             let t = f as f64 / (FRAMES - 1) as f64;
             let x = morph.at(t);
@@ -274,6 +282,14 @@ fn main() {
                 .collect();
             if crossed(&loops) {
                 crossed_frames += 1;
+            }
+            for l in &set.loops {
+                for i in 0..l.len() {
+                    let blend = (1.0 - t) * edge_length(set.meshes[0].positions(), l, i)
+                        + t * edge_length(set.meshes[1].positions(), l, i);
+                    deviation += (edge_length(&x, l, i) - blend).abs() / blend;
+                    edges += 1;
+                }
             }
             for tr in triangles {
                 let [p, q, s] = tr.map(|v| x[v as usize]);
@@ -320,9 +336,10 @@ fn main() {
             );
         }
         tally.area_out += usize::from(out);
+        tally.edges.push(deviation / edges.max(1) as f64);
     }
-    println!("| family | pairs | failed | pairs with a frame crossed (frames) | pairs with a triangle turned over (triangles) | pairs with the area outside 0.85 to 1.2 | area, min to max | ends, largest | smallest angle | setup, median and slowest |");
-    println!("|---|---:|---:|---:|---:|---:|---|---:|---:|---|");
+    println!("| family | pairs | failed | pairs with a frame crossed (frames) | pairs with a triangle turned over (triangles) | pairs with the area outside 0.85 to 1.2 | area, min to max | ends, largest | smallest angle | edges against their blend, median and worst pair | setup, median and slowest |");
+    println!("|---|---:|---:|---:|---:|---:|---|---:|---:|---|---|");
     for (name, t) in names.iter().zip(&mut tallies) {
         t.seconds.sort_by(f64::total_cmp);
         let median = t
@@ -331,8 +348,11 @@ fn main() {
             .copied()
             .unwrap_or(f64::NAN);
         let slowest = t.seconds.last().copied().unwrap_or(f64::NAN);
+        t.edges.sort_by(f64::total_cmp);
+        let edges_median = t.edges.get(t.edges.len() / 2).copied().unwrap_or(f64::NAN);
+        let edges_worst = t.edges.last().copied().unwrap_or(f64::NAN);
         println!(
-            "| {name} | {} | {} | {} ({}) | {} ({}) | {} | {:.3} to {:.3} | {:.1e} % | {:.2}° | {:.0} ms, {:.0} ms |",
+            "| {name} | {} | {} | {} ({}) | {} ({}) | {} | {:.3} to {:.3} | {:.1e} % | {:.2}° | {:.2} %, {:.2} % | {:.0} ms, {:.0} ms |",
             t.pairs,
             t.failed.len(),
             t.crossed_pairs,
@@ -344,6 +364,8 @@ fn main() {
             t.area[1],
             100.0 * t.ends,
             t.min_angle,
+            100.0 * edges_median,
+            100.0 * edges_worst,
             1e3 * median,
             1e3 * slowest
         );

@@ -23,6 +23,7 @@ mod attached;
 mod blend;
 mod dimension;
 mod options;
+mod outline_lengths;
 mod poses;
 mod rest;
 pub(crate) mod rotation;
@@ -92,6 +93,9 @@ pub struct FrameWorkspace<const D: usize = 2> {
     /// For each frame, its rotations of the segment's shared whole turns
     /// ([`Rotations::turns_at`]).
     turns: Vec<Vec<[f64; 4]>>,
+    /// The moves of a planar frame's vertices when its outline takes the
+    /// blended lengths ([`InterpolatorOptions::outline_lengths`]).
+    outline: Vec<[f64; 2]>,
 }
 
 /// The most frames solved together ([`Sequence::frames_into`]): one pass

@@ -87,6 +87,17 @@ pub struct InterpolatorOptions {
     /// `false`: the published method's frames. Drawings and pictures turn
     /// it on.
     pub untie_outlines: bool,
+    /// Give each planar frame's outline the straight blend of its edges'
+    /// lengths in the two keys around it, each edge in the direction the
+    /// fit gives it, the loop closed by spreading the gap over its edges
+    /// (Sederberg et al. 1993), and move the inside with it (the same fit
+    /// with the outline held: one more back-substitution a frame). Where two
+    /// drawings' maps disagree a great deal, the fit alone pulls the outline
+    /// in, nearly every edge 10 to 17 % shorter than its blend at half-way.
+    /// A rigid turn is unchanged. Done before [`Self::untie_outlines`] and
+    /// [`Self::mend_folds`]. Default `false`: the published method's
+    /// frames. Drawings and pictures turn it on.
+    pub outline_lengths: bool,
 }
 
 impl Default for InterpolatorOptions {
@@ -99,6 +110,7 @@ impl Default for InterpolatorOptions {
             factor: FactorKind::Auto,
             mend_folds: false,
             untie_outlines: false,
+            outline_lengths: false,
         }
     }
 }
@@ -134,6 +146,12 @@ impl InterpolatorOptions {
         self.mend_folds = on;
         self
     }
+    /// Sets [`InterpolatorOptions::outline_lengths`].
+    pub fn with_outline_lengths(mut self, on: bool) -> Self {
+        self.outline_lengths = on;
+        self
+    }
+
     /// Sets [`InterpolatorOptions::untie_outlines`].
     pub fn with_untie_outlines(mut self, on: bool) -> Self {
         self.untie_outlines = on;

@@ -14,7 +14,7 @@
 use super::attached::{Attached, PartAnchors};
 use super::{FrameWorkspace, FRAMES_PER_SOLVE, TRIANGLES_PER_STEP};
 use crate::error::Result;
-use crate::gradient::solve::{FactorKind, SymmetricBuilder};
+use crate::gradient::solve::{FactorKind, SymmetricBuilder, SymmetricMatrix};
 use crate::gradient::weights::vertex_weights;
 use crate::gradient::{FactoredSystem, GradientOperators, Pins, Placement, TriangleMaps};
 use crate::interpolate::Dimension;
@@ -91,15 +91,10 @@ where
                 .collect(),
         );
         let weights: Vec<f64> = areas.iter().map(|a| a.abs()).collect();
-        // The normal matrix: the area-weighted cotangent Laplacian.
-        let mut builder = SymmetricBuilder::new(n, 6 * tris.len());
-        for (t, &w) in weights.iter().enumerate() {
-            operators.add_fit(&mut builder, t, w);
-        }
         let components = connected_components(n, tris);
         let mut pins = Pins::new(n);
         pins.hold_free_parts(&components, |_| [0.0; D]);
-        let system = FactoredSystem::new(&builder.build(), &pins, factor)?;
+        let system = FactoredSystem::new(&normal_matrix(&operators, &weights), &pins, factor)?;
         let placement = Placement::new(&components, |_| true, vertex_weights(n, tris, &weights));
         let mut part_area = vec![0.0; components.count];
         for (t, &c) in components.of_triangle.iter().enumerate() {
@@ -123,6 +118,12 @@ where
             anchors,
             loose,
         })
+    }
+
+    /// The normal matrix of the fit (the area-weighted cotangent Laplacian
+    /// of the source), unfactored: for systems that hold other vertices.
+    pub(super) fn normal_matrix(&self) -> SymmetricMatrix {
+        normal_matrix(&self.operators, &self.weights)
     }
 
     /// The (signed, in the plane) area of each triangle of `source`, after
@@ -185,6 +186,7 @@ where
             rows: Vec::new(),
             parts: Vec::new(),
             turns: Vec::new(),
+            outline: Vec::new(),
         }
     }
 
@@ -327,6 +329,19 @@ where
             }
         }
     }
+}
+
+/// The normal matrix of the fit of every triangle's map with `weights`:
+/// the area-weighted cotangent Laplacian of the source.
+fn normal_matrix<const D: usize>(
+    operators: &GradientOperators<D, 3>,
+    weights: &[f64],
+) -> SymmetricMatrix {
+    let mut builder = SymmetricBuilder::new(operators.num_vertices(), 6 * weights.len());
+    for (t, &w) in weights.iter().enumerate() {
+        operators.add_fit(&mut builder, t, w);
+    }
+    builder.build()
 }
 
 /// The rows of the right-hand side each frame gives each triangle, for

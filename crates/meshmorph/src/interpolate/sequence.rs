@@ -41,6 +41,7 @@ use rayon::prelude::*;
 
 use super::area_blend::area_blend;
 use super::attached::Attached;
+use super::outline_lengths::OutlineLengths;
 use super::poses::{check_poses, decompose};
 use super::rest::{EachTriangle, TriangleRows};
 use super::{
@@ -311,6 +312,9 @@ where
     /// Mends the frames where triangles turn over
     /// ([`InterpolatorOptions::mend_folds`]; planar only).
     mender: Option<FrameMender>,
+    /// Gives the frames' outlines their blended lengths
+    /// ([`InterpolatorOptions::outline_lengths`]; planar only).
+    lengths: Option<OutlineLengths>,
 }
 
 impl<const D: usize> Sequence<D>
@@ -368,8 +372,10 @@ where
         );
         let rest = Arc::new(rest?);
         let (segments, last) = segments?;
+        let lengths = outline_lengths(&rest, later_keys, options)?;
         let mut sequence = Self::build(rest, adjacency, later_keys, segments);
         (sequence.untier, sequence.mender) = menders(first, options);
+        sequence.lengths = lengths;
         Ok((sequence, last))
     }
 
@@ -409,8 +415,9 @@ where
     ) -> Result<(Self, Vec<Log<D>>)> {
         let (segments, last) = segments(rest.source(), &adjacency, later_keys, options)?;
         let (untier, mender) = menders(rest.source(), options);
+        let lengths = outline_lengths(&rest, later_keys, options)?;
         let mut sequence = Self::build(rest, adjacency, later_keys, segments);
-        (sequence.untier, sequence.mender) = (untier, mender);
+        (sequence.untier, sequence.mender, sequence.lengths) = (untier, mender, lengths);
         Ok((sequence, last))
     }
 
@@ -450,6 +457,7 @@ where
             later,
             untier: None,
             mender: None,
+            lengths: None,
         }
     }
 
@@ -686,9 +694,10 @@ where
         }
         // The outline first: straightening a knot can turn triangles over
         // that the mending then puts right.
-        if let Some(untier) = &self.untier {
-            for out in outs.iter_mut() {
-                untier.untie(bytemuck::cast_slice_mut(out));
+        if self.lengths.is_some() || self.untier.is_some() {
+            // Both exist for planar sequences only.
+            for (out, &u) in outs.iter_mut().zip(&us) {
+                self.shape_outline(j, u, bytemuck::cast_slice_mut(out), &mut ws.outline);
             }
         }
         if let Some(mender) = &self.mender {
@@ -697,6 +706,38 @@ where
             }
         }
         ws.turns = turns_at;
+    }
+
+    /// Gives the planar frame `out` at time `u` of segment `j` its
+    /// outline's blended lengths and unties its knots, as the options ask.
+    /// Where the outline with the blended lengths still crosses itself once
+    /// untied (two far places of it pushed together, which untying leaves),
+    /// the frame goes back towards the fit's, to half, a quarter, then none
+    /// of the change (the frame is linear in it), until untying leaves it
+    /// simple. `rows` is scratch.
+    fn shape_outline(&self, j: usize, u: f64, out: &mut [[f64; 2]], rows: &mut Vec<[f64; 2]>) {
+        let Some(lengths) = &self.lengths else {
+            if let Some(untier) = &self.untier {
+                untier.untie(out);
+            }
+            return;
+        };
+        let fitted = out.to_vec();
+        lengths.apply(j, u, out, rows);
+        let Some(untier) = &self.untier else {
+            return;
+        };
+        let lengthened = out.to_vec();
+        for share in [1.0, 0.5, 0.25, 0.0] {
+            if share < 1.0 {
+                for (o, (f, l)) in out.iter_mut().zip(fitted.iter().zip(&lengthened)) {
+                    *o = std::array::from_fn(|i| f[i] + share * (l[i] - f[i]));
+                }
+            }
+            if untier.untie(out) == 0 {
+                return;
+            }
+        }
     }
 
     /// The positions of key `j`.
@@ -746,6 +787,30 @@ fn menders<const D: usize>(
             .then(|| FrameMender::new(positions, first.triangles()))
             .flatten(),
     )
+}
+
+/// What gives the frames of `rest`'s source through `later` keys their
+/// blended outline lengths, when the options ask for it and the meshes are
+/// planar (and the source's boundary is simple loops).
+///
+/// # Errors
+/// [`Error::Solver`] when the system with the outline held cannot be
+/// factored.
+fn outline_lengths<const D: usize>(
+    rest: &RestSystem<D>,
+    later: &[Mesh<D>],
+    options: &InterpolatorOptions,
+) -> Result<Option<OutlineLengths>>
+where
+    Space<D>: Dimension<D>,
+{
+    if D != 2 || !options.outline_lengths {
+        return Ok(None);
+    }
+    let keys = std::iter::once(rest.source().positions())
+        .chain(later.iter().map(Mesh::positions))
+        .map(bytemuck::cast_slice::<[f64; D], [f64; 2]>);
+    OutlineLengths::new(rest, keys, options.factor)
 }
 
 /// [`area_blend`] of two planar stretches (`D` is 2: other dimensions are

@@ -3,6 +3,7 @@
 //! similarity fits. Everything above it (meshes, the gradient-domain core,
 //! interpolation, transfer) computes with these.
 
+pub(crate) mod block_chain;
 pub(crate) mod lanes;
 pub(crate) mod matrix;
 pub(crate) mod polar;
