@@ -68,18 +68,19 @@ pub(crate) fn options_or(
 }
 
 /// [`options`] with `mend_folds` (planar frames mended where triangles
-/// turn over) and `untie_outlines` (planar frames' outlines untied where
-/// they knot); both default off.
+/// turn over), `untie_outlines` (planar frames' outlines untied where they
+/// knot) and `outline_lengths` (planar frames' outline edges on the blend
+/// of their lengths); all default off.
 fn frame_options(
     consistency: Option<&Bound<'_, PyAny>>,
     turns: Option<&Bound<'_, PyAny>>,
     stretch: Option<&Bound<'_, PyAny>>,
-    mend_folds: Option<&Bound<'_, PyAny>>,
-    untie_outlines: Option<&Bound<'_, PyAny>>,
+    [mend_folds, untie_outlines, outline_lengths]: [Option<&Bound<'_, PyAny>>; 3],
 ) -> PyResult<InterpolatorOptions> {
     Ok(options(consistency, turns, stretch)?
         .with_mend_folds(args::flag("mend_folds", mend_folds, false)?)
-        .with_untie_outlines(args::flag("untie_outlines", untie_outlines, false)?))
+        .with_untie_outlines(args::flag("untie_outlines", untie_outlines, false)?)
+        .with_outline_lengths(args::flag("outline_lengths", outline_lengths, false)?))
 }
 
 /// Keys of one dimension (checked by [`dimension`]) with the faces
@@ -152,6 +153,10 @@ fn dimension(named: &[(String, Points)]) -> PyResult<usize> {
 /// `untie_outlines=True` (planar): where a frame's outline knots (a short
 /// stretch crumpled across itself), that stretch is laid straight; an
 /// outline that stays simple is kept to the bit.
+/// `outline_lengths=True` (planar): each frame's outline edges take the
+/// straight blend of their lengths in the keys, in the fit's directions and
+/// with the fit's area, and the inside moves with them (where two drawings
+/// differ a great deal the fit alone shortens them by 10 to 17 %).
 #[pyclass(name = "Interpolator", module = "meshmorph", frozen)]
 pub struct PyInterpolator(Either<Interpolator<2>, Interpolator<3>>);
 
@@ -159,9 +164,9 @@ pub struct PyInterpolator(Either<Interpolator<2>, Interpolator<3>>);
 impl PyInterpolator {
     #[new]
     #[allow(clippy::too_many_arguments)] // the keyword arguments Python takes
-    #[pyo3(signature = (v0, v1, f, *, consistency = None, turns = None, stretch = None, mend_folds = None, untie_outlines = None))]
+    #[pyo3(signature = (v0, v1, f, *, consistency = None, turns = None, stretch = None, mend_folds = None, untie_outlines = None, outline_lengths = None))]
     #[pyo3(
-        text_signature = "(v0, v1, f, *, consistency=True, turns=0, stretch='linear', mend_folds=False, untie_outlines=False)"
+        text_signature = "(v0, v1, f, *, consistency=True, turns=0, stretch='linear', mend_folds=False, untie_outlines=False, outline_lengths=False)"
     )]
     fn new(
         py: Python<'_>,
@@ -173,8 +178,14 @@ impl PyInterpolator {
         stretch: Option<&Bound<'_, PyAny>>,
         mend_folds: Option<&Bound<'_, PyAny>>,
         untie_outlines: Option<&Bound<'_, PyAny>>,
+        outline_lengths: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let options = frame_options(consistency, turns, stretch, mend_folds, untie_outlines)?;
+        let options = frame_options(
+            consistency,
+            turns,
+            stretch,
+            [mend_folds, untie_outlines, outline_lengths],
+        )?;
         let named = vec![
             ("v0".to_string(), arrays::points("v0", v0)?),
             ("v1".to_string(), arrays::points("v1", v1)?),
@@ -223,7 +234,9 @@ impl PyInterpolator {
 }
 
 /// As-rigid-as-possible interpolation through keys `(k, n, d)` with faces
-/// `(m, 3)`: `at(s)` passes through key `j` at `s = j`.
+/// `(m, 3)`: `at(s)` passes through key `j` at `s = j`. Its keyword
+/// arguments are [`PyInterpolator`]'s (with `outline_lengths`, each frame's
+/// outline takes the blend of its two keys' lengths).
 #[pyclass(name = "Sequence", module = "meshmorph", frozen)]
 pub struct PySequence(Either<Sequence<2>, Sequence<3>>);
 
@@ -242,9 +255,9 @@ fn stacked(arg: &str, a: &Bound<'_, PyAny>, triangles: usize) -> PyResult<Vec<(S
 impl PySequence {
     #[new]
     #[allow(clippy::too_many_arguments)] // the keyword arguments Python takes
-    #[pyo3(signature = (keys, f, *, consistency = None, turns = None, stretch = None, mend_folds = None, untie_outlines = None))]
+    #[pyo3(signature = (keys, f, *, consistency = None, turns = None, stretch = None, mend_folds = None, untie_outlines = None, outline_lengths = None))]
     #[pyo3(
-        text_signature = "(keys, f, *, consistency=True, turns=0, stretch='linear', mend_folds=False, untie_outlines=False)"
+        text_signature = "(keys, f, *, consistency=True, turns=0, stretch='linear', mend_folds=False, untie_outlines=False, outline_lengths=False)"
     )]
     fn new(
         py: Python<'_>,
@@ -255,8 +268,14 @@ impl PySequence {
         stretch: Option<&Bound<'_, PyAny>>,
         mend_folds: Option<&Bound<'_, PyAny>>,
         untie_outlines: Option<&Bound<'_, PyAny>>,
+        outline_lengths: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let options = frame_options(consistency, turns, stretch, mend_folds, untie_outlines)?;
+        let options = frame_options(
+            consistency,
+            turns,
+            stretch,
+            [mend_folds, untie_outlines, outline_lengths],
+        )?;
         let triangles = arrays::faces("f", f)?;
         let named = stacked("keys", keys, triangles.len())?;
         if named.len() < 2 {

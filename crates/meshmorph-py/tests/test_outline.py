@@ -279,3 +279,36 @@ def test_area_stretch_keeps_an_unlike_pair_near_the_blended_area():
         by_linear, by_kept = area(linear.at(t)[loop]) / blend, area(kept.at(t)[loop]) / blend
         assert by_kept <= max(by_linear, 1.0) + 1e-9, f"t = {t}: {by_kept} against {by_linear}"
     np.testing.assert_allclose(kept.at(1.0), v1, atol=1e-9 * np.ptp(v1))
+
+
+def test_outline_lengths_keep_the_edges_on_their_blend_and_the_area():
+    """A star into a spiral band: the fit alone shortens the outline's edges
+    (several per cent off the blend of their lengths at half-way);
+    outline_lengths=True puts them within a per cent or two of it, with the
+    outline's area the fit's, and the keys to the bit."""
+    result = meshmorph.compatible_meshes([[spiky(60, 7)], [spiral_band()]])
+    v0, v1 = result.vertices
+    f, loop = result.triangles, np.asarray(result.loops[0])
+    fit = meshmorph.Interpolator(v0, v1, f, stretch="area")
+    kept = meshmorph.Interpolator(v0, v1, f, stretch="area", outline_lengths=True)
+
+    def lengths(x):
+        return np.linalg.norm(x[np.roll(loop, -1)] - x[loop], axis=1)
+
+    def area(x):
+        p, q = x[loop], x[np.roll(loop, -1)]
+        return 0.5 * abs((p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]).sum())
+
+    def off(x, t):
+        blend = (1 - t) * lengths(v0) + t * lengths(v1)
+        return np.mean(np.abs(lengths(x) - blend) / blend)
+
+    assert off(fit.at(0.5), 0.5) > 0.03, "the fit no longer shortens the edges: choose another pair"
+    for t in np.linspace(0.1, 0.9, 9):
+        x, y = fit.at(t), kept.at(t)
+        assert off(y, t) < 0.5 * off(x, t), f"t = {t}"
+        assert abs(area(y) / area(x) - 1) < 1e-9, f"t = {t}"
+    np.testing.assert_array_equal(kept.at(0.0), v0)
+    np.testing.assert_array_equal(kept.at(1.0), v1)
+    with pytest.raises(meshmorph.MeshmorphError, match="outline_lengths"):
+        meshmorph.Interpolator(v0, v1, f, outline_lengths="yes")
