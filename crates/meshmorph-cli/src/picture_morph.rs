@@ -264,7 +264,6 @@ pub fn run(args: &Args) -> Result<()> {
         .with_interpolation(
             args.frames
                 .options_or(StretchMode::AreaBlend)
-                .with_outline_lengths(true)
                 .with_untie_outlines(true)
                 .with_mend_folds(true),
         );

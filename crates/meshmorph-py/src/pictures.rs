@@ -268,7 +268,6 @@ fn morph_pictures<'py>(
     }
     let interpolation: InterpolatorOptions =
         crate::interpolation::options_or(consistency, turns, stretch, "area")?
-            .with_outline_lengths(true)
             .with_untie_outlines(true)
             .with_mend_folds(true);
     let size = frame_size(size)?.unwrap_or((pictures[0].width, pictures[0].height));

@@ -41,8 +41,7 @@ pub struct PictureMorphOptions {
     /// over the whole morph.
     pub dissolve: Option<[f64; 2]>,
     /// The interpolation of the meshes. Default: its own defaults with
-    /// the area-kept stretch, [`InterpolatorOptions::outline_lengths`] (the
-    /// outline's edges on the blend of their lengths, as for drawings),
+    /// the area-kept stretch,
     /// [`InterpolatorOptions::untie_outlines`] and
     /// [`InterpolatorOptions::mend_folds`] on (a knotted outline or a
     /// triangle turned over would draw its piece of picture twice).
@@ -61,7 +60,6 @@ impl Default for PictureMorphOptions {
             dissolve: None,
             interpolation: InterpolatorOptions::default()
                 .with_stretch(StretchMode::AreaBlend)
-                .with_outline_lengths(true)
                 .with_untie_outlines(true)
                 .with_mend_folds(true),
             outline: OutlineOptions::default(),
