@@ -39,6 +39,10 @@ use serde_json::{json, Value};
 type Point = [f64; 2];
 type Loops = Vec<Vec<Point>>;
 
+#[path = "support/outline_edges.rs"]
+mod outline_edges;
+use outline_edges::edges_off_blend;
+
 const FRAMES: usize = 11;
 
 /// A pair of drawings to morph.
@@ -673,32 +677,17 @@ fn measure(frames: &[Loops], pair: &Pair) -> Measures {
     let eps = 1e-7 * diagonal(&pair.a);
     let (area_a, area_b) = (region_area(&pair.a), region_area(&pair.b));
     let mut area = [f64::INFINITY, 0.0f64];
-    let (mut deviation, mut count) = (0.0, 0usize);
     for (k, frame) in frames.iter().enumerate() {
         let t = k as f64 / (n - 1) as f64;
         let ratio = region_area(frame) / ((1.0 - t) * area_a + t * area_b);
         area = [area[0].min(ratio), area[1].max(ratio)];
-        if k == 0 || k == n - 1 {
-            continue;
-        }
-        for (l, pts) in frame.iter().enumerate() {
-            for i in 0..pts.len() {
-                let j = (i + 1) % pts.len();
-                let length = |f: &Loops| dist(f[l][i], f[l][j]);
-                let blend = (1.0 - t) * length(&frames[0]) + t * length(&frames[n - 1]);
-                if blend > eps {
-                    deviation += (length(frame) - blend).abs() / blend;
-                    count += 1;
-                }
-            }
-        }
     }
     Measures {
         ends,
         crossed: frames.iter().filter(|f| crossed(f, eps)).count(),
         flipped: None,
         area,
-        edges: deviation / count.max(1) as f64,
+        edges: edges_off_blend(frames, eps),
         points: frames[0].iter().map(Vec::len).sum(),
     }
 }
