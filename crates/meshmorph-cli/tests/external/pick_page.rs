@@ -415,7 +415,7 @@ fn guided_by_the_template_the_landmarks_are_placed_and_previewed() {
     let plan = serde_json::json!({
         "guided": { "points": points, "skip": "noseTip" },
         "save": true,
-        "screenshot": "pick-guided.png", "size": [1280, 720], "done": true,
+        "screenshot": "pick-guided.png", "size": [800, 450], "done": true,
     });
     let page = drive(url, &plan, dir.path());
     ends_after_done(&mut child);
