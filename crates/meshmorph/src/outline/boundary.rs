@@ -48,6 +48,10 @@ pub(crate) struct LoopAnchor {
 /// second's: knots `(ta, tb)` increasing in both, spanning one turn.
 struct Warp {
     knots: Vec<(f64, f64)>,
+    /// The same before the blend with the diagonal that keeps it strictly
+    /// increasing (`warp_from`): how far the blend moved a point is how
+    /// far from its partner it may be and still be merged with it.
+    unblended: Vec<(f64, f64)>,
 }
 
 impl Warp {
@@ -75,6 +79,20 @@ impl Warp {
     fn inverse(&self, tb: f64) -> f64 {
         Self::eval(&self.knots, tb, false)
     }
+    /// How far the blend moved the partner of `ta` on the second loop.
+    fn blended_forward(&self, ta: f64) -> f64 {
+        cyclic_distance(self.forward(ta), Self::eval(&self.unblended, ta, true))
+    }
+    /// How far the blend moved the partner of `tb` on the first loop.
+    fn blended_inverse(&self, tb: f64) -> f64 {
+        cyclic_distance(self.inverse(tb), Self::eval(&self.unblended, tb, false))
+    }
+}
+
+/// The distance between two arc-length fractions round the loop.
+fn cyclic_distance(x: f64, y: f64) -> f64 {
+    let d = (x - y).rem_euclid(1.0);
+    d.min(1.0 - d)
 }
 
 /// Turning angles of `n` samples of `arc` from fraction `start` on, at
@@ -377,12 +395,14 @@ fn aligned_warp(a: &ArcLoop, b: &ArcLoop, samples: usize, tie: Option<&TieBreak>
 fn warp_from(fa: &[[f64; 2]], b: &ArcLoop, start: f64, n: usize, band: usize, skip: f64) -> Warp {
     let (_, mid) = warp(fa, &signature(b, start, n), band, skip, true);
     let mut knots = Vec::with_capacity(n + 1);
+    let mut unblended = Vec::with_capacity(n + 1);
     for i in 0..=n {
         let g = match i {
             0 => 0.0,
             i if i == n => n as f64,
             i => mid[i],
         };
+        unblended.push((i as f64 / n as f64, start + g / n as f64));
         // A blend with the diagonal keeps the map strictly increasing.
         let g = 0.8 * g + 0.2 * i as f64;
         knots.push((i as f64 / n as f64, start + g / n as f64));
@@ -391,8 +411,11 @@ fn warp_from(fa: &[[f64; 2]], b: &ArcLoop, start: f64, n: usize, band: usize, sk
         if knots[k].1 < knots[k - 1].1 {
             knots[k].1 = knots[k - 1].1;
         }
+        if unblended[k].1 < unblended[k - 1].1 {
+            unblended[k].1 = unblended[k - 1].1;
+        }
     }
-    Warp { knots }
+    Warp { knots, unblended }
 }
 
 /// The warp through the anchors, by arc length between them.
@@ -415,7 +438,10 @@ fn anchored_warp(anchors: &[LoopAnchor]) -> Result<Warp> {
         knots.push((s.ta, tb));
     }
     knots.push((a0 + 1.0, b0 + 1.0));
-    Ok(Warp { knots })
+    Ok(Warp {
+        unblended: knots.clone(),
+        knots,
+    })
 }
 
 struct Event {
@@ -428,6 +454,10 @@ struct Event {
     /// Spacing of the given points about this one, as fractions.
     gap_a: f64,
     gap_b: f64,
+    /// How far the warp's blend with the diagonal moved this point's
+    /// partner on each loop, as fractions.
+    moved_a: f64,
+    moved_b: f64,
 }
 
 /// Matches two loops (both in the same orientation): the same number of
@@ -465,6 +495,8 @@ pub(crate) fn match_loops(
             from_b: None,
             gap_a: gaps(&arc_a, i),
             gap_b: f64::INFINITY,
+            moved_a: 0.0,
+            moved_b: map.blended_forward(ta),
         });
     }
     for j in 0..b.len() {
@@ -478,6 +510,8 @@ pub(crate) fn match_loops(
             from_b: Some(j),
             gap_a: f64::INFINITY,
             gap_b: gaps(&arc_b, j),
+            moved_a: map.blended_inverse(tb),
+            moved_b: 0.0,
         });
     }
     for s in anchors {
@@ -490,14 +524,18 @@ pub(crate) fn match_loops(
             from_b: None,
             gap_a: f64::INFINITY,
             gap_b: f64::INFINITY,
+            moved_a: 0.0,
+            moved_b: 0.0,
         });
     }
     events.sort_by(|x, y| x.ta.total_cmp(&y.ta));
-    let cyc = |x: f64, y: f64| {
-        let d = (x - y).rem_euclid(1.0);
-        d.min(1.0 - d)
-    };
-    // Merge neighbours that are the same point, closest first, a few rounds.
+    let cyc = cyclic_distance;
+    // Merge neighbours that are the same point, closest first, a few
+    // rounds: within 0.3 of the given points' spacing, and as much again
+    // where the warp's blend with the diagonal moved them apart (a
+    // square's corner and a 4:1 bar's, whose sides are 0.25 and 0.4 of
+    // their loops, are matched by the alignment and 0.03 apart after the
+    // blend, 0.3 of the bar's spacing there).
     for _ in 0..3 {
         let n = events.len();
         if n < 2 {
@@ -512,8 +550,10 @@ pub(crate) fn match_loops(
                     || (e.b.is_some() && f.b.is_some() && e.from_b.is_none() && f.from_b.is_none());
                 let da = cyc(e.ta, f.ta);
                 let db = cyc(e.tb, f.tb);
-                let ok =
-                    !clash && da < 0.3 * e.gap_a.min(f.gap_a) && db < 0.3 * e.gap_b.min(f.gap_b);
+                let (near_a, near_b) = (0.3 * e.gap_a.min(f.gap_a), 0.3 * e.gap_b.min(f.gap_b));
+                let ok = !clash
+                    && da < near_a + (e.moved_a + f.moved_a).min(near_a)
+                    && db < near_b + (e.moved_b + f.moved_b).min(near_b);
                 ok.then_some((da + db, i))
             })
             .collect();
@@ -541,6 +581,8 @@ pub(crate) fn match_loops(
                     from_b: None,
                     gap_a: 0.0,
                     gap_b: 0.0,
+                    moved_a: 0.0,
+                    moved_b: 0.0,
                 },
             );
             let e = &mut events[i];
@@ -556,6 +598,8 @@ pub(crate) fn match_loops(
             }
             e.gap_a = e.gap_a.min(f.gap_a);
             e.gap_b = e.gap_b.min(f.gap_b);
+            e.moved_a = 0.0;
+            e.moved_b = 0.0;
             remove[j] = true;
         }
         let mut k = 0;
@@ -605,6 +649,33 @@ mod tests {
             .collect();
         pts.rotate_left(start);
         pts
+    }
+
+    /// A square into a 4:1 bar, the bar turned, moved and restarted:
+    /// corners go to corners, though the square's sides are a quarter of
+    /// its length each and the bar's long sides 0.4.
+    #[test]
+    fn a_squares_corners_go_to_a_bars_corners() {
+        let square = vec![[30.0, 30.0], [70.0, 30.0], [70.0, 70.0], [30.0, 70.0]];
+        for (turn, start) in [(0.0, 0), (2.1, 1), (-0.7, 2), (std::f64::consts::PI, 3)] {
+            let (s, c) = f64::sin_cos(turn);
+            let mut bar: Vec<[f64; 2]> = [[10.0, 40.0], [90.0, 40.0], [90.0, 60.0], [10.0, 60.0]]
+                .iter()
+                .map(|p| {
+                    [
+                        3.0 * (c * p[0] - s * p[1]) + 7.0,
+                        3.0 * (s * p[0] + c * p[1]),
+                    ]
+                })
+                .collect();
+            bar.rotate_left(start);
+            let m = match_loops(&square, &bar, &[], 256, Some(&TieBreak::Turn)).unwrap();
+            assert_eq!(m.len(), 4, "{m:?}");
+            assert!(
+                m.iter().all(|p| p.from_a.is_some() && p.from_b.is_some()),
+                "{m:?}"
+            );
+        }
     }
 
     #[test]
