@@ -692,41 +692,35 @@ where
                 out[v as usize] = std::array::from_fn(|i| if a[i] == b[i] { a[i] } else { c[i] });
             }
         }
-        // The outline first: straightening a knot can turn triangles over
-        // that the mending then puts right.
-        if self.lengths.is_some() || self.untier.is_some() {
-            // Both exist for planar sequences only.
+        if self.lengths.is_some() || self.untier.is_some() || self.mender.is_some() {
+            // All three exist for planar sequences only.
             for (out, &u) in outs.iter_mut().zip(&us) {
-                self.shape_outline(j, u, bytemuck::cast_slice_mut(out), &mut ws.outline);
-            }
-        }
-        if let Some(mender) = &self.mender {
-            for out in outs.iter_mut() {
-                mender.mend(bytemuck::cast_slice_mut(out));
+                self.shape_frame(j, u, bytemuck::cast_slice_mut(out), &mut ws.outline);
             }
         }
         ws.turns = turns_at;
     }
 
     /// Gives the planar frame `out` at time `u` of segment `j` its
-    /// outline's blended lengths and unties its knots, as the options ask.
-    /// Where the outline with the blended lengths still crosses itself once
-    /// untied (two far places of it pushed together, which untying leaves),
-    /// the frame goes back towards the fit's, to half, a quarter, then none
-    /// of the change (the frame is linear in it), until untying leaves it
-    /// simple. `rows` is scratch.
-    fn shape_outline(&self, j: usize, u: f64, out: &mut [[f64; 2]], rows: &mut Vec<[f64; 2]>) {
+    /// outline's blended lengths, unties its knots and mends its folds, as
+    /// the options ask: the outline first, since straightening a knot can
+    /// turn triangles over that the mending then puts right. Where the
+    /// outline with the blended lengths still crosses itself once untied
+    /// (two far places of it pushed together, which untying leaves), or
+    /// leaves triangles turned over that the mending cannot put right, the
+    /// frame goes back towards the fit's, to half, a quarter, then none of
+    /// the change (the frame is linear in it), until it is simple and
+    /// mended. `rows` is scratch.
+    fn shape_frame(&self, j: usize, u: f64, out: &mut [[f64; 2]], rows: &mut Vec<[f64; 2]>) {
+        let untie = |out: &mut [[f64; 2]]| self.untier.as_ref().map_or(0, |u| u.untie(out));
+        let mend = |out: &mut [[f64; 2]]| self.mender.as_ref().map_or(0, |m| m.mend(out));
         let Some(lengths) = &self.lengths else {
-            if let Some(untier) = &self.untier {
-                untier.untie(out);
-            }
+            untie(out);
+            mend(out);
             return;
         };
         let fitted = out.to_vec();
         lengths.apply(j, u, out, rows);
-        let Some(untier) = &self.untier else {
-            return;
-        };
         let lengthened = out.to_vec();
         for share in [1.0, 0.5, 0.25, 0.0] {
             if share < 1.0 {
@@ -734,7 +728,13 @@ where
                     *o = std::array::from_fn(|i| f[i] + share * (l[i] - f[i]));
                 }
             }
-            if untier.untie(out) == 0 {
+            // The fit's own frame (share 0) is untied and mended as well as
+            // they can.
+            let fits = share == 0.0;
+            if untie(out) > 0 && !fits {
+                continue;
+            }
+            if mend(out) == 0 || fits {
                 return;
             }
         }
