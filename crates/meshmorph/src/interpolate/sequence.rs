@@ -719,6 +719,10 @@ where
             mend(out);
             return;
         };
+        if self.untier.is_none() && self.mender.is_none() {
+            lengths.apply(j, u, out, rows);
+            return;
+        }
         let fitted = out.to_vec();
         lengths.apply(j, u, out, rows);
         let lengthened = out.to_vec();

@@ -79,13 +79,21 @@ impl Warp {
     fn inverse(&self, tb: f64) -> f64 {
         Self::eval(&self.knots, tb, false)
     }
-    /// How far the blend moved the partner of `ta` on the second loop.
-    fn blended_forward(&self, ta: f64) -> f64 {
-        cyclic_distance(self.forward(ta), Self::eval(&self.unblended, ta, true))
+    /// Where `ta`'s partner on the second loop would be without the blend.
+    fn unblended_forward(&self, ta: f64) -> f64 {
+        Self::eval(&self.unblended, ta, true)
     }
-    /// How far the blend moved the partner of `tb` on the first loop.
-    fn blended_inverse(&self, tb: f64) -> f64 {
-        cyclic_distance(self.inverse(tb), Self::eval(&self.unblended, tb, false))
+    /// Where `tb`'s partner on the first loop would be without the blend.
+    fn unblended_inverse(&self, tb: f64) -> f64 {
+        Self::eval(&self.unblended, tb, false)
+    }
+}
+
+/// Raises each knot's second fraction to the one before it, where the
+/// alignment's path stepped back.
+fn non_decreasing(knots: &mut [(f64, f64)]) {
+    for k in 1..knots.len() {
+        knots[k].1 = knots[k].1.max(knots[k - 1].1);
     }
 }
 
@@ -407,14 +415,8 @@ fn warp_from(fa: &[[f64; 2]], b: &ArcLoop, start: f64, n: usize, band: usize, sk
         let g = 0.8 * g + 0.2 * i as f64;
         knots.push((i as f64 / n as f64, start + g / n as f64));
     }
-    for k in 1..knots.len() {
-        if knots[k].1 < knots[k - 1].1 {
-            knots[k].1 = knots[k - 1].1;
-        }
-        if unblended[k].1 < unblended[k - 1].1 {
-            unblended[k].1 = unblended[k - 1].1;
-        }
-    }
+    non_decreasing(&mut knots);
+    non_decreasing(&mut unblended);
     Warp { knots, unblended }
 }
 
@@ -486,9 +488,10 @@ pub(crate) fn match_loops(
     let mut events: Vec<Event> = Vec::with_capacity(a.len() + b.len() + anchors.len());
     for i in 0..a.len() {
         let ta = arc_a.param(i);
+        let tb = map.forward(ta);
         events.push(Event {
             ta,
-            tb: map.forward(ta),
+            tb,
             a: Some(a[i]),
             b: None,
             from_a: Some(i),
@@ -496,13 +499,14 @@ pub(crate) fn match_loops(
             gap_a: gaps(&arc_a, i),
             gap_b: f64::INFINITY,
             moved_a: 0.0,
-            moved_b: map.blended_forward(ta),
+            moved_b: cyclic_distance(tb, map.unblended_forward(ta)),
         });
     }
     for j in 0..b.len() {
         let tb = arc_b.param(j);
+        let ta = map.inverse(tb);
         events.push(Event {
-            ta: map.inverse(tb),
+            ta,
             tb,
             a: None,
             b: Some(b[j]),
@@ -510,7 +514,7 @@ pub(crate) fn match_loops(
             from_b: Some(j),
             gap_a: f64::INFINITY,
             gap_b: gaps(&arc_b, j),
-            moved_a: map.blended_inverse(tb),
+            moved_a: cyclic_distance(ta, map.unblended_inverse(tb)),
             moved_b: 0.0,
         });
     }
@@ -529,7 +533,6 @@ pub(crate) fn match_loops(
         });
     }
     events.sort_by(|x, y| x.ta.total_cmp(&y.ta));
-    let cyc = cyclic_distance;
     // Merge neighbours that are the same point, closest first, a few
     // rounds: within 0.3 of the given points' spacing, and as much again
     // where the warp's blend with the diagonal moved them apart (a
@@ -548,8 +551,8 @@ pub(crate) fn match_loops(
                     || (e.from_b.is_some() && f.from_b.is_some())
                     || (e.a.is_some() && f.a.is_some() && e.from_a.is_none() && f.from_a.is_none())
                     || (e.b.is_some() && f.b.is_some() && e.from_b.is_none() && f.from_b.is_none());
-                let da = cyc(e.ta, f.ta);
-                let db = cyc(e.tb, f.tb);
+                let da = cyclic_distance(e.ta, f.ta);
+                let db = cyclic_distance(e.tb, f.tb);
                 let (near_a, near_b) = (0.3 * e.gap_a.min(f.gap_a), 0.3 * e.gap_b.min(f.gap_b));
                 let ok = !clash
                     && da < near_a + (e.moved_a + f.moved_a).min(near_a)

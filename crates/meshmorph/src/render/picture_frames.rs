@@ -41,8 +41,7 @@ pub struct PictureMorphOptions {
     /// over the whole morph.
     pub dissolve: Option<[f64; 2]>,
     /// The interpolation of the meshes. Default: its own defaults with
-    /// the area-kept stretch,
-    /// [`InterpolatorOptions::untie_outlines`] and
+    /// the area-kept stretch, [`InterpolatorOptions::untie_outlines`] and
     /// [`InterpolatorOptions::mend_folds`] on (a knotted outline or a
     /// triangle turned over would draw its piece of picture twice).
     pub interpolation: InterpolatorOptions,
