@@ -231,7 +231,7 @@ pub(crate) fn list(items: &[usize], count: usize) -> String {
 }
 
 impl Error {
-    pub(crate) fn io(path: impl Into<PathBuf>, error: std::io::Error) -> Self {
+    pub fn io(path: impl Into<PathBuf>, error: std::io::Error) -> Self {
         Error::Io {
             path: path.into(),
             error,

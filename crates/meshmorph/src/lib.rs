@@ -87,20 +87,31 @@
 #![warn(missing_docs)]
 // Numeric kernels index small fixed-size arrays by position, as the papers do.
 #![allow(clippy::needless_range_loop)]
+// The modules behind the re-exports below are public but hidden from the
+// documentation, for the unit tests (tests/unit/); their own documentation
+// links the private helpers it explains.
+#![allow(rustdoc::private_intra_doc_links)]
 
-mod error;
-mod expressions;
-mod gradient;
-mod interpolate;
+#[doc(hidden)]
+pub mod error;
+#[doc(hidden)]
+pub mod expressions;
+#[doc(hidden)]
+pub mod gradient;
+#[doc(hidden)]
+pub mod interpolate;
 pub mod io;
 pub mod limits;
-mod linalg;
-mod mesh;
+#[doc(hidden)]
+pub mod linalg;
+#[doc(hidden)]
+pub mod mesh;
 pub mod outline;
 pub mod playback;
 #[cfg(feature = "render")]
 pub mod render;
-mod transfer;
+#[doc(hidden)]
+pub mod transfer;
 
 pub use error::{Error, Result};
 pub use expressions::arkit_names::{arkit_recipes, ShapeRecipe, ARKIT_NAMES};

@@ -3,12 +3,12 @@
 //! `templates/arkit.glb`, or a studio's own), the landmark names, ARKit's
 //! shape names, and the carrying of each shape onto the user's head.
 
-pub(crate) mod arkit_names;
-pub(crate) mod carry;
-pub(crate) mod identity;
-pub(crate) mod landmark_file;
-pub(crate) mod landmarks;
-pub(crate) mod openings;
-pub(crate) mod places;
-pub(crate) mod template;
-pub(crate) mod template_file;
+pub mod arkit_names;
+pub mod carry;
+pub mod identity;
+pub mod landmark_file;
+pub mod landmarks;
+pub mod openings;
+pub mod places;
+pub mod template;
+pub mod template_file;

@@ -59,21 +59,21 @@ pub const ISLAND_SHARE: f64 = 0.01;
 /// Where a head vertex takes its motion from: a template triangle and the
 /// barycentric coordinates of a point on it.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Place {
+pub struct Place {
     pub triangle: u32,
     pub weights: [f64; 3],
 }
 
 /// What the lookups need of the fitted template.
-struct Template<'a> {
+pub struct Template<'a> {
     /// The template laid onto the head, where places are looked up.
-    mesh: &'a Mesh3,
-    index: SurfaceIndex,
+    pub mesh: &'a Mesh3,
+    pub index: SurfaceIndex,
     /// The template before it was laid onto the head, where paths between
     /// places are measured: laying it on can crumple it where the head
     /// differs (a hairline, a crease), the paths across it with it.
-    smooth: &'a [[f64; 3]],
-    star: VertexStar,
+    pub smooth: &'a [[f64; 3]],
+    pub star: VertexStar,
 }
 
 impl Template<'_> {
@@ -95,7 +95,7 @@ impl Template<'_> {
 }
 
 /// Each vertex's place, and what the search for them found.
-pub(crate) struct Places {
+pub struct Places {
     /// Each vertex's place.
     pub places: Vec<Place>,
     /// The head's edges whose ends' places are not joined, each vertex pair
@@ -107,7 +107,7 @@ pub(crate) struct Places {
 /// Each vertex of `surface`'s place on `deformed` (the template laid onto
 /// it), islands taken again from around them; `smooth` is the template in
 /// the head's place before it was laid on (the same triangles).
-pub(crate) fn find_places(deformed: &Mesh3, smooth: &[[f64; 3]], surface: &Mesh3) -> Places {
+pub fn find_places(deformed: &Mesh3, smooth: &[[f64; 3]], surface: &Mesh3) -> Places {
     let template = Template {
         mesh: deformed,
         index: SurfaceIndex::new(deformed.positions(), deformed.triangles()),
@@ -152,12 +152,7 @@ pub(crate) fn find_places(deformed: &Mesh3, smooth: &[[f64; 3]], surface: &Mesh3
 /// of a mouth, where upper and lower lip meet) the head's normal points
 /// across the fold, away from every triangle there, and the nearest facing
 /// one lies on another part of the face.
-pub(crate) fn place_of(
-    index: &SurfaceIndex,
-    p: [f64; 3],
-    n: [f64; 3],
-    diagonal: f64,
-) -> ClosestPoint {
+pub fn place_of(index: &SurfaceIndex, p: [f64; 3], n: [f64; 3], diagonal: f64) -> ClosestPoint {
     let closest = index.closest(p).expect("the template has triangles");
     facing_or_closest(closest, diagonal, |within| {
         index.closest_compatible(p, n, within, Angle::degrees(LOOKUP_ANGLE))
@@ -176,7 +171,7 @@ fn facing_or_closest(
 }
 
 /// The head's edges whose ends' places are not [`joined`].
-fn cut_edges(
+pub fn cut_edges(
     template: &Template,
     head: &VertexStar,
     positions: &[[f64; 3]],
@@ -202,7 +197,7 @@ fn cut_edges(
 
 /// The head's vertices cut off from the rest by the `cut` edges, in pieces
 /// of at most [`ISLAND_SHARE`] of them.
-fn islands(head: &VertexStar, n: usize, cut: &HashSet<(u32, u32)>) -> HashSet<u32> {
+pub fn islands(head: &VertexStar, n: usize, cut: &HashSet<(u32, u32)>) -> HashSet<u32> {
     if cut.is_empty() {
         return HashSet::new();
     }
@@ -240,7 +235,7 @@ fn islands(head: &VertexStar, n: usize, cut: &HashSet<(u32, u32)>) -> HashSet<u3
 
 /// Gives each island vertex a place joined to those of its settled
 /// neighbours, from the islands' shores inwards.
-fn retake_islands(
+pub fn retake_islands(
     template: &Template,
     head: &VertexStar,
     positions: &[[f64; 3]],
@@ -405,142 +400,5 @@ impl PartialOrd for Reached {
 impl Ord for Reached {
     fn cmp(&self, other: &Self) -> Ordering {
         other.0.total_cmp(&self.0).then(other.1.cmp(&self.1))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A closed mouth: an upper lip's underside facing down at y = 0, a
-    /// lower lip's top facing up a thousandth below it, both ending at
-    /// x = 1, and past that the cheek, facing forward, 0.05 in front.
-    fn lips() -> SurfaceIndex {
-        let lip = |y: f64| [[-1.0, y, -1.0], [1.0, y, -1.0], [1.0, y, 3.0]];
-        let [a, b, c] = lip(-0.001);
-        let cheek = [[1.05, -1.0, 0.05], [2.05, -1.0, 0.05], [1.05, 1.0, 0.05]];
-        let corners = [lip(0.0), [a, c, b], cheek];
-        let positions: Vec<[f64; 3]> = corners.iter().flatten().copied().collect();
-        SurfaceIndex::new(&positions, &[[0, 1, 2], [3, 4, 5], [6, 7, 8]])
-    }
-
-    #[test]
-    fn a_vertex_takes_the_lip_facing_its_way_but_the_closest_point_at_a_fold() {
-        let index = lips();
-        let diagonal = 4.0;
-        // Nearer the other lip by a hair: the lip facing its way.
-        let upper = place_of(&index, [0.9, -0.0006, 0.0], [0.0, -1.0, 0.0], diagonal);
-        assert_eq!(upper.triangle, 0);
-        let lower = place_of(&index, [0.9, -0.0004, 0.0], [0.0, 1.0, 0.0], diagonal);
-        assert_eq!(lower.triangle, 1);
-        // At the lips' corner the normal points across the fold (here
-        // forward): the cheek faces that way but lies 0.11 away, against
-        // 0.0004 for the upper lip.
-        let fold = place_of(&index, [0.95, -0.0004, 0.0], [0.0, 0.0, 1.0], diagonal);
-        assert_eq!(fold.triangle, 0);
-    }
-
-    /// A grid of `nx × nz` vertices, `at(i, j)` each, its triangles
-    /// turned so that their normals point along `+y` where the grid is
-    /// flat.
-    fn grid(nx: usize, nz: usize, at: impl Fn(usize, usize) -> [f64; 3]) -> Mesh3 {
-        let positions = (0..nx)
-            .flat_map(|i| (0..nz).map(move |j| (i, j)))
-            .map(|(i, j)| at(i, j))
-            .collect();
-        let v = |i: usize, j: usize| (i * nz + j) as u32;
-        let triangles = (0..nx - 1)
-            .flat_map(|i| (0..nz - 1).map(move |j| (i, j)))
-            .flat_map(|(i, j)| {
-                [
-                    [v(i, j), v(i, j + 1), v(i + 1, j)],
-                    [v(i + 1, j), v(i, j + 1), v(i + 1, j + 1)],
-                ]
-            })
-            .collect();
-        Mesh3::new(positions, triangles).unwrap()
-    }
-
-    /// Two lips 0.1 apart, joined at their corner `x = 1` by a half
-    /// circle: one sheet folded, each lip's surface facing the other.
-    fn folded_lips() -> Mesh3 {
-        let gap = 0.1;
-        let (lip, around) = (2.0, std::f64::consts::PI * gap / 2.0);
-        let length = 2.0 * lip + around;
-        let steps = 60;
-        grid(steps + 1, 11, |i, j| {
-            let s = length * i as f64 / steps as f64;
-            let z = -0.5 + 0.1 * j as f64;
-            if s <= lip {
-                [-1.0 + s, 0.0, z]
-            } else if s <= lip + around {
-                let a = (s - lip) / (gap / 2.0);
-                [1.0 + gap / 2.0 * a.sin(), gap / 2.0 * (1.0 - a.cos()), z]
-            } else {
-                [1.0 - (s - lip - around), gap, z]
-            }
-        })
-    }
-
-    #[test]
-    fn a_vertex_that_found_the_other_lip_takes_its_place_from_around_it() {
-        let lips = folded_lips();
-        let template = Template {
-            mesh: &lips,
-            index: SurfaceIndex::new(lips.positions(), lips.triangles()),
-            smooth: lips.positions(),
-            star: VertexStar::new(lips.num_vertices(), lips.triangles()),
-        };
-        // The lower lip of a head, a hair above the template's, facing up.
-        let head = grid(21, 11, |i, j| {
-            [-1.0 + 0.09 * i as f64, 0.005, -0.5 + 0.1 * j as f64]
-        });
-        let normals = vertex_normals(head.positions(), head.triangles());
-        let diagonal = head.bounding_box_diagonal();
-        let lower = |hit: &ClosestPoint| hit.point[1] < 0.05;
-        let mut hits: Vec<ClosestPoint> = head
-            .positions()
-            .iter()
-            .zip(&normals)
-            .map(|(&p, &n)| place_of(&template.index, p, n, diagonal))
-            .collect();
-        assert!(hits.iter().all(lower));
-        let star = VertexStar::new(head.num_vertices(), head.triangles());
-        assert!(cut_edges(&template, &star, head.positions(), &hits).is_empty());
-
-        // One vertex in the middle finds the upper lip, 0.095 away in
-        // space, 2 along the template around the corner.
-        let wrong = 10 * 11 + 5;
-        let above = [hits[wrong].point[0], 0.2, hits[wrong].point[2]];
-        hits[wrong] = template.index.closest(above).unwrap();
-        assert!(!lower(&hits[wrong]));
-        let cut = cut_edges(&template, &star, head.positions(), &hits);
-        assert_eq!(cut.len(), 6, "{cut:?}");
-        let found = islands(&star, head.num_vertices(), &cut);
-        assert_eq!(found, HashSet::from([wrong as u32]));
-        retake_islands(
-            &template,
-            &star,
-            head.positions(),
-            &normals,
-            diagonal,
-            &found,
-            &mut hits,
-        );
-        assert!(lower(&hits[wrong]), "{:?}", hits[wrong]);
-        let p = head.positions()[wrong];
-        assert!(norm(sub(hits[wrong].point, [p[0], 0.0, p[2]])) < 1e-9);
-    }
-
-    #[test]
-    fn a_mesh_onto_itself_has_no_cut_edges_and_each_vertex_its_own_place() {
-        let lips = folded_lips();
-        let found = find_places(&lips, lips.positions(), &lips);
-        assert!(found.cut.is_empty());
-        for (v, place) in found.places.iter().enumerate() {
-            let tri = lips.triangles()[place.triangle as usize];
-            let k = tri.iter().position(|&c| c as usize == v).unwrap();
-            assert!((place.weights[k] - 1.0).abs() < 1e-9, "{v}: {place:?}");
-        }
     }
 }

@@ -13,7 +13,7 @@ use crate::io::gltf::GltfDocument;
 use crate::mesh::Mesh3;
 
 /// Reads a template GLB; `name` names it in errors.
-pub(crate) fn read_template_glb(bytes: &[u8], name: &str) -> Result<ExpressionTemplate> {
+pub fn read_template_glb(bytes: &[u8], name: &str) -> Result<ExpressionTemplate> {
     let doc = GltfDocument::parse(bytes.to_vec(), Path::new(name))?;
     let bad = |m: &str| doc.error(m);
     let meshes = doc

@@ -22,21 +22,21 @@
 //! - [`FactoredSystem`]: the normal matrix, pins eliminated, factored once;
 //! - [`Placement`]: each connected part's area-weighted centroid and shift.
 
-mod folds;
-mod operators;
-mod pins;
-mod placement;
-mod planar;
-mod smoothness;
-pub(crate) mod solve;
-pub(crate) mod spatial;
-mod surface;
-mod system;
-mod triangle_maps;
-pub(crate) mod weights;
+pub mod folds;
+pub mod operators;
+pub mod pins;
+pub mod placement;
+pub mod planar;
+pub mod smoothness;
+pub mod solve;
+pub mod spatial;
+pub mod surface;
+pub mod system;
+pub mod triangle_maps;
+pub mod weights;
 
-pub(crate) use operators::GradientOperators;
-pub(crate) use pins::Pins;
-pub(crate) use placement::Placement;
-pub(crate) use system::{FactoredSystem, SolveWorkspace};
+pub use operators::GradientOperators;
+pub use pins::Pins;
+pub use placement::Placement;
+pub use system::{FactoredSystem, SolveWorkspace};
 pub use triangle_maps::TriangleMaps;

@@ -17,7 +17,7 @@ use crate::linalg::matrix::Mat;
 /// unknowns: the `#V` vertices, then (for `K = 4`) one fourth vertex per
 /// triangle.
 #[derive(Clone, Debug)]
-pub(crate) struct GradientOperators<const D: usize, const K: usize> {
+pub struct GradientOperators<const D: usize, const K: usize> {
     num_vertices: usize,
     triangles: Vec<[u32; 3]>,
     operators: Vec<[[f64; D]; K]>,
@@ -41,7 +41,7 @@ impl<const D: usize, const K: usize> GradientOperators<D, K> {
 
     /// Number of unknowns: vertices, and fourth vertices when `K = 4`.
     #[inline]
-    pub(crate) fn num_unknowns(&self) -> usize {
+    pub fn num_unknowns(&self) -> usize {
         self.num_vertices + (K - 3) * self.triangles.len()
     }
 

@@ -12,7 +12,7 @@ use crate::mesh::topology::Components;
 
 /// Vertices held at given positions, in the order they were pinned.
 #[derive(Clone, Debug)]
-pub(crate) struct Pins<const D: usize> {
+pub struct Pins<const D: usize> {
     vertices: Vec<usize>,
     values: Vec<[f64; D]>,
     is_pinned: Vec<bool>,

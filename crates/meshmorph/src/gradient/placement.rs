@@ -7,7 +7,7 @@ use crate::mesh::topology::Components;
 /// The parts of a mesh that are moved after each solve, with the area
 /// weight of each vertex in its part's centroid.
 #[derive(Clone, Debug)]
-pub(crate) struct Placement<const D: usize> {
+pub struct Placement<const D: usize> {
     /// Part of each vertex, `u32::MAX` if it is not moved.
     vertex_part: Vec<u32>,
     vertex_weight: Vec<f64>,

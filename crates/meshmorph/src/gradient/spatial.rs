@@ -22,7 +22,7 @@ use crate::mesh::Mesh3;
 /// normal. A degenerate triangle (`n = 0`) gets `v1`, which keeps every
 /// later quantity finite.
 #[inline]
-pub(crate) fn fourth_vertex(p: [[f64; 3]; 3]) -> [f64; 3] {
+pub fn fourth_vertex(p: [[f64; 3]; 3]) -> [f64; 3] {
     let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
     let len = norm(n);
     if len > 0.0 {
@@ -34,7 +34,7 @@ pub(crate) fn fourth_vertex(p: [[f64; 3]; 3]) -> [f64; 3] {
 
 /// The frame `V = [v2−v1, v3−v1, v4−v1]` (columns).
 #[inline]
-pub(crate) fn frame(p: [[f64; 3]; 3]) -> Mat3 {
+pub fn frame(p: [[f64; 3]; 3]) -> Mat3 {
     let v4 = fourth_vertex(p);
     let (a, b, c) = (sub(p[1], p[0]), sub(p[2], p[0]), sub(v4, p[0]));
     [[a[0], b[0], c[0]], [a[1], b[1], c[1]], [a[2], b[2], c[2]]]
@@ -44,7 +44,7 @@ pub(crate) fn frame(p: [[f64; 3]; 3]) -> Mat3 {
 /// fourth vertex last) of a rest triangle with frame inverse `V⁻¹`:
 /// `Q[i][j] = Σ_k X[i][k] G[k][j]`.
 #[inline]
-pub(crate) fn gradient_operator(V_inv: Mat3) -> [[f64; 3]; 4] {
+pub fn gradient_operator(V_inv: Mat3) -> [[f64; 3]; 4] {
     let r = V_inv;
     [
         std::array::from_fn(|j| -(r[0][j] + r[1][j] + r[2][j])),
@@ -57,7 +57,7 @@ pub(crate) fn gradient_operator(V_inv: Mat3) -> [[f64; 3]; 4] {
 /// Deformation gradient `Q = Ṽ V⁻¹` of a triangle whose rest frame has
 /// inverse `V_inv` and whose deformed corners are `p`.
 #[inline]
-pub(crate) fn deformation_gradient(V_inv: Mat3, p: [[f64; 3]; 3]) -> Mat3 {
+pub fn deformation_gradient(V_inv: Mat3, p: [[f64; 3]; 3]) -> Mat3 {
     mul(frame(p), V_inv)
 }
 
@@ -68,7 +68,7 @@ impl GradientOperators<3, 4> {
     ///
     /// # Errors
     /// As [`frame_inverses`].
-    pub(crate) fn spatial(mesh: &Mesh3, name: &str) -> Result<Self> {
+    pub fn spatial(mesh: &Mesh3, name: &str) -> Result<Self> {
         let operators = frame_inverses(mesh, name)?
             .into_iter()
             .map(gradient_operator)
@@ -100,49 +100,4 @@ pub(crate) fn frame_inverses(mesh: &Mesh3, name: &str) -> Result<Vec<Mat3>> {
             })
         })
         .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::linalg::matrix::det3;
-
-    #[test]
-    fn frames_of_a_rotated_triangle_give_the_rotation() {
-        let p = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.5, 1.0, 0.0]];
-        let (s, c) = 0.7f64.sin_cos();
-        let R: Mat3 = [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]];
-        let q = p.map(|v| {
-            add(
-                std::array::from_fn(|i| (0..3).map(|k| R[i][k] * v[k]).sum()),
-                [1.0, 2.0, 3.0],
-            )
-        });
-        let V_inv = inverse3(frame(p)).unwrap();
-        let Q = deformation_gradient(V_inv, q);
-        for i in 0..3 {
-            for j in 0..3 {
-                assert!((Q[i][j] - R[i][j]).abs() < 1e-12, "{Q:?}");
-            }
-        }
-        // The same through the operator G.
-        let v4 = fourth_vertex(q);
-        let X = [q[0], q[1], q[2], v4];
-        let G = gradient_operator(V_inv);
-        for i in 0..3 {
-            for j in 0..3 {
-                let qij: f64 = (0..4).map(|k| X[k][i] * G[k][j]).sum();
-                assert!((qij - R[i][j]).abs() < 1e-12);
-            }
-        }
-        let I = mul(frame(p), V_inv);
-        assert!((det3(I) - 1.0).abs() < 1e-12);
-    }
-
-    #[test]
-    fn degenerate_triangles_stay_finite() {
-        let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
-        assert_eq!(fourth_vertex(p), p[0]);
-        assert!(inverse3(frame(p)).is_none());
-    }
 }

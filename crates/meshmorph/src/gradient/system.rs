@@ -7,7 +7,7 @@ use crate::gradient::solve::{FactorKind, PinnedSystem, SymmetricMatrix, Workspac
 
 /// A factored system over `D` coordinate columns with pinned values.
 #[derive(Debug)]
-pub(crate) struct FactoredSystem<const D: usize> {
+pub struct FactoredSystem<const D: usize> {
     system: PinnedSystem,
     /// Column-major `#pinned × D`.
     pinned_values: Vec<f64>,
@@ -15,7 +15,7 @@ pub(crate) struct FactoredSystem<const D: usize> {
 
 /// Per-thread scratch for [`FactoredSystem::solve`].
 #[derive(Debug)]
-pub(crate) struct SolveWorkspace {
+pub struct SolveWorkspace {
     solve: Workspace,
     /// Column-major `#unknowns × D`: the right-hand side, then the solution.
     pub(crate) rhs: Vec<f64>,

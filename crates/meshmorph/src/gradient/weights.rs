@@ -4,13 +4,13 @@
 
 /// Divides every value by their mean, so that they average 1 (a weight of
 /// 1 is then "an average triangle", whatever the mesh's scale).
-pub(crate) fn normalise_by_mean(values: &mut [f64]) {
+pub fn normalise_by_mean(values: &mut [f64]) {
     let mean = values.iter().sum::<f64>() / values.len() as f64;
     values.iter_mut().for_each(|x| *x /= mean);
 }
 
 /// `values` divided by their mean.
-pub(crate) fn normalised_by_mean(values: &[f64]) -> Vec<f64> {
+pub fn normalised_by_mean(values: &[f64]) -> Vec<f64> {
     let mut v = values.to_vec();
     normalise_by_mean(&mut v);
     v
@@ -19,7 +19,7 @@ pub(crate) fn normalised_by_mean(values: &[f64]) -> Vec<f64> {
 /// The weight of each of `num_vertices` vertices: a third of the weight of
 /// every triangle around it (its share of their area when the triangle
 /// weights are areas). Vertices no triangle uses weigh 0.
-pub(crate) fn vertex_weights(
+pub fn vertex_weights(
     num_vertices: usize,
     triangles: &[[u32; 3]],
     triangle_weights: &[f64],

@@ -53,27 +53,27 @@ const TIE: f64 = 1e-9;
 
 /// The anchors of every part but the largest (rest geometry only).
 #[derive(Clone, Debug, Default)]
-pub(crate) struct PartAnchors {
+pub struct PartAnchors {
     /// Number of parts.
-    count: usize,
+    pub count: usize,
     /// `(part, anchor vertices)`, in decreasing order of the parts' areas:
     /// a part's anchors lie in parts that come before it.
-    parts: Vec<(u32, Vec<u32>)>,
+    pub parts: Vec<(u32, Vec<u32>)>,
 }
 
 /// A part's offset from its anchors in one key: in the world, and in the
 /// anchors' frame of the first key; with the size of the coordinates it
 /// was computed from (what its rounding is relative to).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct KeyOffset<const D: usize> {
-    world: [f64; D],
-    pub(crate) local: [f64; D],
-    size: f64,
+pub struct KeyOffset<const D: usize> {
+    pub world: [f64; D],
+    pub local: [f64; D],
+    pub size: f64,
 }
 
 /// Which anchored parts of a sequence or blend follow their anchors.
 #[derive(Clone, Debug, Default)]
-pub(crate) struct Attached {
+pub struct Attached {
     /// One flag per part.
     parts: Vec<bool>,
 }
@@ -85,7 +85,7 @@ impl Attached {
     }
 
     /// Whether part `p` follows its anchors.
-    pub(crate) fn holds(&self, p: usize) -> bool {
+    pub fn holds(&self, p: usize) -> bool {
         self.parts.get(p).copied().unwrap_or(false)
     }
 
@@ -200,7 +200,7 @@ impl PartAnchors {
 
     /// Which parts follow their anchors, from their offsets in every key
     /// (`keys[0]` the first key's).
-    pub(crate) fn attached<const D: usize>(&self, keys: &[Vec<KeyOffset<D>>]) -> Attached {
+    pub fn attached<const D: usize>(&self, keys: &[Vec<KeyOffset<D>>]) -> Attached {
         let mut parts = vec![false; self.count];
         for (i, (p, _)) in self.parts.iter().enumerate() {
             parts[*p as usize] = {
@@ -278,42 +278,4 @@ fn on_a_line(points: &[[f64; 3]]) -> bool {
         let d = sub(p, first);
         norm(cross(d, axis)) / length <= 1e-6 * length
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_part_centred_on_its_anchors_follows_them() {
-        // A ball centred in a pipe of size 4 that turns: its offsets from
-        // the pipe's vertices around it are rounding, 2e-12 in the world
-        // and a hair more in the anchors' frame (as read from files of 12
-        // digits). That is a tie, and the ball goes with the pipe.
-        let anchors = PartAnchors {
-            count: 2,
-            parts: vec![(1, vec![0, 1, 2])],
-        };
-        let key = |world: [f64; 3], local: [f64; 3]| {
-            vec![KeyOffset {
-                world,
-                local,
-                size: 4.0,
-            }]
-        };
-        let keys = [
-            key([0.0, 6.9e-18, -1.4e-17], [0.0, 6.9e-18, -1.4e-17]),
-            key(
-                [2.0827783941967937e-12, 6.25e-14, -1.4e-17],
-                [2.0827818646478e-12, 6.25e-14, -1.4e-17],
-            ),
-        ];
-        assert!(anchors.attached(&keys).holds(1));
-        // Offsets that differ in the anchors' frame beyond rounding do not.
-        let keys = [
-            key([0.5, 0.0, 0.0], [0.5, 0.0, 0.0]),
-            key([0.5, 0.0, 0.0], [0.0, 0.5, 0.0]),
-        ];
-        assert!(!anchors.attached(&keys).holds(1));
-    }
 }

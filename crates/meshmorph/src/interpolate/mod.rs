@@ -18,16 +18,16 @@
 //! a back-substitution. What depends on the dimension is behind
 //! [`Rotations`](crate::Rotations) and [`TriangleMaps`].
 
-mod area_blend;
-mod attached;
-mod blend;
-mod dimension;
-mod options;
-mod outline_lengths;
-mod poses;
-mod rest;
-pub(crate) mod rotation;
-mod sequence;
+pub mod area_blend;
+pub mod attached;
+pub mod blend;
+pub mod dimension;
+pub mod options;
+pub mod outline_lengths;
+pub mod poses;
+pub mod rest;
+pub mod rotation;
+pub mod sequence;
 
 use std::sync::Arc;
 
@@ -110,7 +110,7 @@ pub const FRAMES_PER_SOLVE: usize = 2;
 /// (a sine and cosine, a quaternion, a matrix, its rows); the steps of
 /// several triangles side by side keep the processor busy while each waits
 /// for the one before.
-const TRIANGLES_PER_STEP: usize = 4;
+pub const TRIANGLES_PER_STEP: usize = 4;
 
 impl<const D: usize> Interpolator<D>
 where

@@ -44,7 +44,7 @@ use crate::mesh::topology::boundary_loops;
 /// needs: the outline's loops, each key's edge lengths, and the normal
 /// matrix factored with the outline held.
 #[derive(Debug)]
-pub(crate) struct OutlineLengths {
+pub struct OutlineLengths {
     /// The boundary loops, as vertices in order; edge `i` of a loop runs
     /// from its point `i` to its point `i + 1` (wrapping).
     loops: Vec<Vec<u32>>,

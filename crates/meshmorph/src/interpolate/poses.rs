@@ -18,7 +18,7 @@ use crate::mesh::{check_overflow, Mesh};
 /// A pose's principal rotations and symmetric stretches `S`, `A = R S`
 /// for the map `A` of each triangle from the rest.
 #[derive(Debug)]
-pub(crate) struct PoseMaps<const D: usize>
+pub struct PoseMaps<const D: usize>
 where
     Space<D>: Rotations<D>,
 {
@@ -34,7 +34,7 @@ where
 /// [`Error::InvalidTriangle`] for the first triangle whose map is too
 /// large to decompose in floating point (its squares overflow): a pose
 /// far larger than the rest.
-pub(crate) fn decompose<const D: usize>(
+pub fn decompose<const D: usize>(
     rest: &Mesh<D>,
     adjacency: &TriangleAdjacency,
     pose: &Mesh<D>,
@@ -75,7 +75,7 @@ where
 /// Checks that each of `poses` has the rest's connectivity, coordinates
 /// whose products do not overflow, and no triangle turned over (unless
 /// allowed); `role` names them ("key", "blend shape"), numbered from 1.
-pub(crate) fn check_poses<const D: usize>(
+pub fn check_poses<const D: usize>(
     rest: &Mesh<D>,
     adjacency: &TriangleAdjacency,
     poses: &[Mesh<D>],

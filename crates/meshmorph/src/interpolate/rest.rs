@@ -226,7 +226,7 @@ where
     /// `map` (one row per corner): `w_t G_t mapᵀ`, with `w_t` its weight and
     /// `G_t` its gradient operator. Linear in `map`.
     #[inline]
-    pub(super) fn fit_rows(&self, t: usize, map: &Mat<D>) -> [[f64; D]; 3] {
+    pub fn fit_rows(&self, t: usize, map: &Mat<D>) -> [[f64; D]; 3] {
         self.operators.fit_rhs(t, map, self.weights[t])
     }
 
@@ -349,13 +349,13 @@ fn normal_matrix<const D: usize>(
 /// from `first` on their rows in each of the `frames` frames solved
 /// together, those of triangle `first + i` in frame `f` into
 /// `rows[i * frames + f]`, up to [`TRIANGLES_PER_STEP`] triangles at a time.
-pub(super) trait TriangleRows<const D: usize> {
+pub trait TriangleRows<const D: usize> {
     fn rows(&self, first: usize, rows: &mut [[[f64; D]; 3]]);
 }
 
 /// [`TriangleRows`] one triangle and frame at a time: `rows_of(t, f)` of
 /// triangle `t` in frame `f`, of `frames` frames.
-pub(super) struct EachTriangle<R> {
+pub struct EachTriangle<R> {
     pub frames: usize,
     pub rows_of: R,
 }

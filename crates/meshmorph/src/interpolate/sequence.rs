@@ -8,7 +8,7 @@
 //! the segment from key `j` to `j + 1`, at `u ∈ [0, 1]`:
 //!
 //! - the rotation goes from `R_j` to `R_{j+1}` along the difference of
-//!   their logarithms with branches ([`Rotations::segment`]): in the plane
+//!   their logarithms with branches ([`Rotations::segments`]): in the plane
 //!   the rotation by `θ_j + u (θ_{j+1} − θ_j)`; in space `exp(u c) exp(u e)
 //!   R_j`, where `e` is the principal rotation vector of `R_{j+1} R_jᵀ` and
 //!   `c` its whole turns (between later keys chosen over the mesh from
@@ -72,7 +72,7 @@ type RestFolds<const D: usize> = <Space<D> as TriangleMaps<D>>::RestFolds;
 type StretchPowers<const D: usize> = <Space<D> as Rotations<D>>::StretchPowers;
 
 #[derive(Debug)]
-enum SegmentStretches<const D: usize>
+pub enum SegmentStretches<const D: usize>
 where
     Space<D>: Rotations<D>,
 {
@@ -99,16 +99,16 @@ where
 }
 
 #[derive(Debug)]
-struct Segment<const D: usize>
+pub struct Segment<const D: usize>
 where
     Space<D>: Rotations<D>,
 {
-    rotations: Vec<SegmentRotation<D>>,
+    pub rotations: Vec<SegmentRotation<D>>,
     /// What the rotations share ([`Rotations::turns_at`] once a frame).
-    turns: SegmentTurns<D>,
-    stretches: SegmentStretches<D>,
+    pub turns: SegmentTurns<D>,
+    pub stretches: SegmentStretches<D>,
     /// Whether the segment starts at key 0.
-    first: bool,
+    pub first: bool,
 }
 
 impl<const D: usize> SegmentStretches<D>
@@ -203,7 +203,7 @@ fn fitted_rows<const D: usize, const L: usize>(
 /// `rows[i * F + f]`. Lane `l` holds triangle `l / F` in frame `l % F`; lanes
 /// beyond the triangles repeat the last one.
 #[inline(always)]
-fn fitted_rows_of_step<const D: usize, const F: usize, const L: usize>(
+pub fn fitted_rows_of_step<const D: usize, const F: usize, const L: usize>(
     seg: &Segment<D>,
     fits: &[[[[f64; D]; 3]; 2]],
     first: usize,
@@ -289,11 +289,11 @@ pub struct Sequence<const D: usize>
 where
     Space<D>: Rotations<D>,
 {
-    rest: Arc<RestSystem<D>>,
-    adjacency: TriangleAdjacency,
+    pub rest: Arc<RestSystem<D>>,
+    pub adjacency: TriangleAdjacency,
     /// For [`Sequence::count_turned_over`], made at its first call.
     rest_folds: OnceLock<RestFolds<D>>,
-    segments: Vec<Segment<D>>,
+    pub segments: Vec<Segment<D>>,
     /// Centroid of each part in each key.
     centroids: Vec<Vec<[f64; D]>>,
     /// The parts that follow their anchors between keys.
@@ -858,7 +858,7 @@ fn check_arguments<const D: usize>(later: usize, options: &InterpolatorOptions) 
 
 /// The segments between consecutive keys (see the module documentation),
 /// and the logarithms of the last key's rotations.
-fn segments<const D: usize>(
+pub fn segments<const D: usize>(
     rest: &Mesh<D>,
     adjacency: &TriangleAdjacency,
     later: &[Mesh<D>],
@@ -951,82 +951,4 @@ pub fn frames_per_solve(count: usize) -> usize {
     count
         .div_ceil(rayon::current_num_threads())
         .clamp(1, FRAMES_PER_SOLVE)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::mesh::shapes::{bend, curl, strip, tube, twist};
-
-    /// The folded rows of every triangle, segment and a few times are the
-    /// rows of its map `R_u S_u` (the rotation from key 0, the stretch
-    /// interpolated linearly) computed the long way.
-    fn folded_rows_are_the_maps_rows<const D: usize>(keys: &[Mesh<D>])
-    where
-        Space<D>: Dimension<D>,
-    {
-        let options = InterpolatorOptions::default();
-        let sequence = Sequence::new(keys, &options).unwrap();
-        let rest = &*sequence.rest;
-        let (unfolded, _) = segments(&keys[0], &sequence.adjacency, &keys[1..], &options).unwrap();
-        let mut turns_at = Vec::new();
-        for (folded, long) in sequence.segments.iter().zip(&unfolded) {
-            let SegmentStretches::Fitted(fits) = &folded.stretches else {
-                panic!("linear stretches are folded");
-            };
-            for u in [0.3, 0.8, 1.7] {
-                Space::<D>::turns_at(&long.turns, u, &mut turns_at);
-                for t in 0..keys[0].num_triangles() {
-                    let R = Space::<D>::segment_at(&long.rotations[t], &turns_at, u, long.first);
-                    let S = match &long.stretches {
-                        SegmentStretches::FromIdentity(v) => lerp(&identity(), &v[t], u),
-                        SegmentStretches::Linear(v) => lerp(&v[t].0, &v[t].1, u),
-                        _ => unreachable!(),
-                    };
-                    let expected = rest.fit_rows(t, &mul(R, S));
-                    // One frame, and two frames side by side, with the
-                    // triangle first and last in a step.
-                    let both = [turns_at.clone(), turns_at.clone()];
-                    let mut one = [[[0.0; D]; 3]; STEP];
-                    fitted_rows_of_step::<D, 1, STEP>(folded, fits, t, &both, &[u], &mut one[..1]);
-                    let mut two = [[[0.0; D]; 3]; 2 * STEP];
-                    let start = t.saturating_sub(STEP - 1);
-                    let (rows, at) = (&mut two[..2 * (t - start + 1)], 2 * (t - start));
-                    fitted_rows_of_step::<D, 2, { 2 * STEP }>(
-                        folded,
-                        fits,
-                        start,
-                        &both,
-                        &[u, u],
-                        rows,
-                    );
-                    let two = [rows[at], rows[at + 1]];
-                    let scale = expected
-                        .iter()
-                        .flatten()
-                        .fold(1.0f64, |m, x| m.max(x.abs()));
-                    for got in [one[0], two[0], two[1]] {
-                        for (e, g) in expected.iter().flatten().zip(got.iter().flatten()) {
-                            assert!(
-                                (e - g).abs() < 1e-12 * scale,
-                                "triangle {t} at {u}: {e} against {g}"
-                            );
-                        }
-                    }
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn folded_rows_in_space_and_in_the_plane() {
-        let t = tube(4.0, 0.3, 21, 10);
-        folded_rows_are_the_maps_rows(&[
-            t.clone(),
-            bend(&t, 4.0, 3.0 * std::f64::consts::PI),
-            twist(&bend(&t, 4.0, 1.0), 4.0, 2.0),
-        ]);
-        let s = strip(10.0, 0.5, 40, 2);
-        folded_rows_are_the_maps_rows(&[s.clone(), curl(&s, 2.0), curl(&s, 7.0)]);
-    }
 }

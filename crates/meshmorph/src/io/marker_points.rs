@@ -15,23 +15,23 @@ use crate::transfer::markers::{Markers, Origin, Side, VertexNumbering};
 
 /// One point of a file of one mesh's points.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Entry {
-    pub(crate) name: Option<String>,
-    pub(crate) side: Side,
+pub struct Entry {
+    pub name: Option<String>,
+    pub side: Side,
     /// 1-based line, or place in the list for files without lines.
-    pub(crate) place: usize,
+    pub place: usize,
     /// MeshLab's `active="0"`: a point left out.
-    pub(crate) active: bool,
+    pub active: bool,
 }
 
 /// The points of one mesh's file.
 #[derive(Clone, Debug)]
-pub(crate) struct PointList {
+pub struct PointList {
     pub(crate) path: PathBuf,
     /// "line", or "point" for files without lines.
     pub(crate) unit: &'static str,
     pub(crate) first_index: u32,
-    pub(crate) entries: Vec<Entry>,
+    pub entries: Vec<Entry>,
 }
 
 /// The formats of one mesh's points.
@@ -110,11 +110,7 @@ pub(crate) fn read_points(path: &Path, numbering: VertexNumbering) -> Result<Poi
 }
 
 /// [`read_points`] on text in memory.
-pub(crate) fn parse_points(
-    text: &str,
-    path: &Path,
-    numbering: VertexNumbering,
-) -> Result<PointList> {
+pub fn parse_points(text: &str, path: &Path, numbering: VertexNumbering) -> Result<PointList> {
     let list = match format(path, text) {
         Format::PickedPoints => crate::io::picked_points::parse(text, path)?,
         Format::Wrap => crate::io::wrap_points::parse(text, path)?,
@@ -204,7 +200,7 @@ impl PointList {
 /// The markers of two files of points: by name when both are named, else
 /// in order. A pair with a point left out (inactive) on either side is left
 /// out.
-pub(crate) fn pair(source: &PointList, target: &PointList) -> Result<Markers> {
+pub fn pair(source: &PointList, target: &PointList) -> Result<Markers> {
     let mut markers = Markers {
         origin: Origin {
             files: [Some(source.path.clone()), Some(target.path.clone())],
@@ -270,61 +266,4 @@ pub(crate) fn pair(source: &PointList, target: &PointList) -> Result<Markers> {
         }
     }
     Ok(markers)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::mesh::surface_point::SurfacePoint;
-
-    fn list(text: &str, name: &str) -> PointList {
-        parse_points(text, Path::new(name), VertexNumbering::FromZero).unwrap()
-    }
-
-    #[test]
-    fn pairs_by_name_or_in_order() {
-        let a = list("nose 3\neye 4\nchin p 1 2 3\n", "a.txt");
-        let b = list("eye v 40\nchin 9\nnose t 5 0.5 0.5 0\n", "b.txt");
-        let m = pair(&a, &b).unwrap();
-        assert_eq!(m.pairs().len(), 2);
-        assert_eq!(m.name(0), Some("nose"));
-        assert_eq!(
-            m.pairs()[1],
-            [SurfacePoint::Vertex(4), SurfacePoint::Vertex(40)]
-        );
-        assert_eq!(m.points.len(), 1);
-        assert_eq!(m.points[0].order, 2);
-        let unnamed = list("9\n8\n7\n", "c.txt");
-        let m = pair(&a, &unnamed).unwrap();
-        assert_eq!(
-            m.pairs()[0],
-            [SurfacePoint::Vertex(3), SurfacePoint::Vertex(9)]
-        );
-    }
-
-    #[test]
-    fn refuses_what_cannot_pair() {
-        let a = list("nose 3\neye 4\n", "a.txt");
-        let b = list("nose 3\nmouth 4\n", "b.txt");
-        let e = pair(&a, &b).unwrap_err().to_string();
-        assert!(
-            e.contains("`a.txt`, line 2") && e.contains("`eye`") && e.contains("`b.txt`"),
-            "{e}"
-        );
-        let e = pair(&a, &list("1\n2\n3\n", "c.txt"))
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("2 points here and 3 in `c.txt`"), "{e}");
-        let e = parse_points("a 1\n2\n", Path::new("d.txt"), VertexNumbering::FromZero)
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("line 2") && e.contains("without a name"), "{e}");
-        let e = parse_points("a 1\na 2\n", Path::new("d.txt"), VertexNumbering::FromZero)
-            .unwrap_err()
-            .to_string();
-        assert!(
-            e.contains("line 2") && e.contains("`a` is given twice"),
-            "{e}"
-        );
-    }
 }

@@ -91,7 +91,7 @@ pub(super) fn folder_of(file: &Path) -> &Path {
 }
 
 /// An absolute `path` with its `.` and `..` components resolved by name.
-fn without_dots(path: &Path) -> PathBuf {
+pub fn without_dots(path: &Path) -> PathBuf {
     let mut out = PathBuf::new();
     for c in path.components() {
         match c {
@@ -107,7 +107,7 @@ fn without_dots(path: &Path) -> PathBuf {
 
 /// The path from the folder `dir` to `target` (both absolute, without `.`
 /// or `..`); `None` when they do not share a root (another drive).
-fn relative_path(dir: &Path, target: &Path) -> Option<PathBuf> {
+pub fn relative_path(dir: &Path, target: &Path) -> Option<PathBuf> {
     let mut d = dir.components().peekable();
     let mut t = target.components().peekable();
     let mut common = 0;
@@ -125,25 +125,4 @@ fn relative_path(dir: &Path, target: &Path) -> Option<PathBuf> {
     let mut path: PathBuf = d.map(|_| Component::ParentDir).collect();
     path.extend(t);
     Some(path)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn relative_paths_between_folders() {
-        let rel = |d: &str, t: &str| relative_path(Path::new(d), Path::new(t));
-        assert_eq!(rel("/a/b/out", "/a/b/x.mtl"), Some("../x.mtl".into()));
-        assert_eq!(
-            rel("/a/out/r2", "/a/assets/x.mtl"),
-            Some("../../assets/x.mtl".into())
-        );
-        assert_eq!(rel("/a", "/a/m/x.mtl"), Some("m/x.mtl".into()));
-        assert_eq!(rel("/", "/x.mtl"), Some("x.mtl".into()));
-        assert_eq!(
-            without_dots(Path::new("/a/b/../c/./x.mtl")),
-            PathBuf::from("/a/c/x.mtl")
-        );
-    }
 }

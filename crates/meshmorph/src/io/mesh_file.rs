@@ -36,7 +36,7 @@ use crate::mesh::Mesh3;
 const STL_POSES: &str = " (STL has no vertex indices: corners at one point are one vertex, numbered in the order the points first occur, so a pose lists the reference's facets in the same order, each from the same corner; vertices that touch in one pose become one there, which STL cannot tell apart: export such poses as OBJ or PLY)";
 
 /// No index (a corner without texture coordinates or normal).
-pub(super) const NONE: u32 = u32::MAX;
+pub const NONE: u32 = u32::MAX;
 
 /// The byte offset of `part` (a sub-slice of `whole`) in `whole`.
 #[inline]

@@ -75,29 +75,49 @@
 //! back to the same `f64`, so reading such a written mesh gives back exactly
 //! the same mesh.
 
-mod appearance;
-mod atomic;
-mod correspondence_file;
-mod drawing;
+#[doc(hidden)]
+pub mod appearance;
+#[doc(hidden)]
+pub mod atomic;
+#[doc(hidden)]
+pub mod correspondence_file;
+#[doc(hidden)]
+pub mod drawing;
 pub mod gltf;
-pub(crate) mod marker_file;
-pub(crate) mod marker_points;
-mod material_paths;
-mod mesh_file;
-mod morph_storage;
+#[doc(hidden)]
+pub mod marker_file;
+#[doc(hidden)]
+pub mod marker_points;
+#[doc(hidden)]
+pub mod material_paths;
+#[doc(hidden)]
+pub mod mesh_file;
+#[doc(hidden)]
+pub mod morph_storage;
 pub mod mtl;
-mod normal_groups;
-mod obj;
-mod off;
-mod picked_points;
+#[doc(hidden)]
+pub mod normal_groups;
+#[doc(hidden)]
+pub mod obj;
+#[doc(hidden)]
+pub mod off;
+#[doc(hidden)]
+pub mod picked_points;
 pub mod picture;
-mod ply;
-pub(crate) mod read;
-mod stl;
-mod surface_issues;
-mod triangulate;
-mod vertex_attributes;
-mod wrap_points;
+#[doc(hidden)]
+pub mod ply;
+#[doc(hidden)]
+pub mod read;
+#[doc(hidden)]
+pub mod stl;
+#[doc(hidden)]
+pub mod surface_issues;
+#[doc(hidden)]
+pub mod triangulate;
+#[doc(hidden)]
+pub mod vertex_attributes;
+#[doc(hidden)]
+pub mod wrap_points;
 
 pub use appearance::Appearance;
 pub use atomic::{
@@ -434,7 +454,7 @@ fn check_has_faces(path: &Path, vertices: usize, faces: usize) -> Result<()> {
 
 /// `x y z` of a position with `D <= 3` coordinates, zero-padded.
 #[inline]
-fn xyz<const D: usize>(p: &[f64; D]) -> [f64; 3] {
+pub fn xyz<const D: usize>(p: &[f64; D]) -> [f64; 3] {
     std::array::from_fn(|k| if k < D { p[k] } else { 0.0 })
 }
 
@@ -444,7 +464,7 @@ fn xyz<const D: usize>(p: &[f64; D]) -> [f64; 3] {
 /// `zmij` is about five times faster than `{}` formatting, which matters for
 /// per-frame output.
 #[inline]
-fn push_f64(buf: &mut Vec<u8>, x: f64) {
+pub fn push_f64(buf: &mut Vec<u8>, x: f64) {
     let mut digits = zmij::Buffer::new();
     let s = digits.format_finite(x);
     buf.extend_from_slice(s.strip_suffix(".0").unwrap_or(s).as_bytes());
@@ -452,7 +472,7 @@ fn push_f64(buf: &mut Vec<u8>, x: f64) {
 
 /// Appends the decimal representation of `n`.
 #[inline]
-pub(super) fn push_uint(buf: &mut Vec<u8>, n: u64) {
+pub fn push_uint(buf: &mut Vec<u8>, n: u64) {
     /// "00", "01", ..., "99".
     const PAIRS: [u8; 200] = {
         let mut pairs = [0u8; 200];
@@ -524,13 +544,14 @@ fn write_formatted<T>(
 /// a final line without a line end counts, a `\r` before the `\n` is dropped
 /// and a UTF-8 byte order mark at the start is skipped.
 #[derive(Clone)]
-struct Lines<'a> {
+pub struct Lines<'a> {
     rest: &'a [u8],
     number: usize,
 }
 
 impl<'a> Lines<'a> {
-    fn new(bytes: &'a [u8]) -> Self {
+    /// The lines of a file's bytes.
+    pub fn new(bytes: &'a [u8]) -> Self {
         Lines {
             rest: bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes),
             number: 0,
@@ -562,7 +583,7 @@ impl<'a> Iterator for Lines<'a> {
 }
 
 /// Lines of a text file as [`Lines`] gives them, each up to a `#` comment.
-struct UncommentedLines<'a> {
+pub struct UncommentedLines<'a> {
     lines: Lines<'a>,
     /// How many bytes of the file are left from its next `#` on (`None`
     /// when no `#` is left): found once for the lines up to it.
@@ -570,7 +591,8 @@ struct UncommentedLines<'a> {
 }
 
 impl<'a> UncommentedLines<'a> {
-    fn new(bytes: &'a [u8]) -> Self {
+    /// The lines of a file's bytes, each up to a `#` comment.
+    pub fn new(bytes: &'a [u8]) -> Self {
         let lines = Lines::new(bytes);
         let rest = lines.rest;
         UncommentedLines {
@@ -684,7 +706,7 @@ impl<'a> Iterator for Tokens<'a> {
 /// A token as a number (anything `str::parse::<f64>` accepts, including
 /// `nan` and `inf`: callers check finiteness where it matters).
 #[inline]
-fn parse_f64(token: &[u8]) -> Option<f64> {
+pub fn parse_f64(token: &[u8]) -> Option<f64> {
     plain_decimal(token).or_else(|| std::str::from_utf8(token).ok()?.parse().ok())
 }
 
@@ -759,7 +781,7 @@ fn bad_count(token: &[u8]) -> &'static str {
 
 /// A token as an integer (optional sign, decimal digits only).
 #[inline]
-fn parse_i64(token: &[u8]) -> Option<i64> {
+pub fn parse_i64(token: &[u8]) -> Option<i64> {
     let (negative, digits) = match token.first()? {
         b'-' => (true, &token[1..]),
         b'+' => (false, &token[1..]),
@@ -786,171 +808,5 @@ fn show(token: &[u8]) -> String {
         s + "..."
     } else {
         s
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn lines_strip_line_ends() {
-        let got: Vec<_> = Lines::new(b"\xEF\xBB\xBFa\r\n\nb c\nd").collect();
-        assert_eq!(
-            got,
-            vec![
-                (1, &b"a"[..]),
-                (2, &b""[..]),
-                (3, &b"b c"[..]),
-                (4, &b"d"[..])
-            ]
-        );
-    }
-
-    #[test]
-    fn uncommented_lines_end_at_comments() {
-        let text = b"\xEF\xBB\xBFv 1 # a # b\r\n\nf 1#\n# all\nplain\r\nlast #";
-        let got: Vec<_> = UncommentedLines::new(text).collect();
-        assert_eq!(
-            got,
-            vec![
-                (1, &b"v 1 "[..]),
-                (2, &b""[..]),
-                (3, &b"f 1"[..]),
-                (4, &b""[..]),
-                (5, &b"plain"[..]),
-                (6, &b"last "[..])
-            ]
-        );
-        let plain: Vec<_> = UncommentedLines::new(b"a\nb").collect();
-        assert_eq!(plain, vec![(1, &b"a"[..]), (2, &b"b"[..])]);
-    }
-
-    /// The fast path of [`parse_f64`] gives the standard library's `f64`,
-    /// bit for bit, and refuses what it refuses.
-    #[test]
-    fn numbers_parse_as_the_standard_library_parses_them() {
-        let same = |s: &str| {
-            let want = s.parse::<f64>().ok().map(f64::to_bits);
-            assert_eq!(parse_f64(s.as_bytes()).map(f64::to_bits), want, "`{s}`");
-        };
-        for s in [
-            "0",
-            "-0",
-            "+0",
-            "-0.0",
-            "1.",
-            ".5",
-            "-.5",
-            "1.5",
-            "00012.3400",
-            "9007199254740992",
-            "9007199254740993",
-            "0.1",
-            "0.18771723470000001",
-            "123456789.123456789",
-            "1234567890123456789",
-            "12345678901234567890",
-            "0.0000000000000000000001",
-            "1e5",
-            "1.5E-3",
-            "inf",
-            "-infinity",
-            "NaN",
-            "1.2.3",
-            "--1",
-            "+-1",
-            "1_0",
-            "",
-            "-",
-            "+",
-            ".",
-            "0x10",
-            "1,5",
-            " 1",
-            "1 ",
-        ] {
-            same(s);
-        }
-        // Seeded decimals of 1 to 22 digits, the point anywhere or absent.
-        let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
-        let mut next = |n: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state % n
-        };
-        for _ in 0..100_000 {
-            let count = 1 + next(22) as usize;
-            let mut s = String::new();
-            match next(3) {
-                0 => s.push('-'),
-                1 if next(4) == 0 => s.push('+'),
-                _ => {}
-            }
-            let point = next(count as u64 + 2) as usize;
-            for k in 0..count {
-                if k == point {
-                    s.push('.');
-                }
-                s.push(char::from(b'0' + next(10) as u8));
-            }
-            same(&s);
-        }
-    }
-
-    #[test]
-    fn integers_and_numbers() {
-        assert_eq!(parse_i64(b"-12"), Some(-12));
-        assert_eq!(parse_i64(b"+7"), Some(7));
-        assert_eq!(parse_i64(b"-"), None);
-        assert_eq!(parse_i64(b"1x"), None);
-        assert_eq!(parse_i64(b"99999999999999999999999"), None);
-        assert_eq!(parse_f64(b"1e-3"), Some(1e-3));
-        let mut buf = Vec::new();
-        assert_eq!(parse_f64(b"\xff"), None);
-        for x in [
-            0.0,
-            -0.0,
-            1.0,
-            0.1,
-            1e-7,
-            2.5e20,
-            5e-324,
-            f64::MAX,
-            -123.456,
-        ] {
-            buf.clear();
-            push_f64(&mut buf, x);
-            let s = std::str::from_utf8(&buf).unwrap();
-            assert_eq!(s.parse::<f64>().unwrap().to_bits(), x.to_bits(), "{s}");
-            assert!(!s.ends_with(".0"), "{s}");
-        }
-        for n in [0, 7, 10, 4_294_967_295, u64::MAX] {
-            buf.clear();
-            push_uint(&mut buf, n);
-            assert_eq!(buf, n.to_string().into_bytes());
-        }
-    }
-
-    #[test]
-    fn formats() {
-        assert_eq!(
-            Format::from_path(Path::new("a/b.OBJ")).unwrap(),
-            Format::Obj
-        );
-        assert_eq!(Format::from_path(Path::new("b.ply")).unwrap(), Format::Ply);
-        assert!(matches!(
-            Format::from_path(Path::new("b.stp")),
-            Err(Error::UnknownFormat { .. })
-        ));
-        assert!(matches!(
-            Format::from_path(Path::new("off")),
-            Err(Error::UnknownFormat { .. })
-        ));
-        assert_eq!("OFF".parse::<Format>().unwrap(), Format::Off);
-        let e = "stp".parse::<Format>().unwrap_err().to_string();
-        assert!(e.contains("obj, off, ply"), "{e}");
-        assert_eq!(Format::Ply.to_string(), "ply");
     }
 }

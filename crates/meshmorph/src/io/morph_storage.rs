@@ -22,7 +22,7 @@ const STEPS: f64 = 32767.0;
 
 /// Positions as normalised `i16`: `center + scale * q / 32767`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Quantization {
+pub struct Quantization {
     pub center: [f64; 3],
     pub scale: f64,
 }
@@ -62,14 +62,13 @@ impl Quantization {
 
     /// The largest error of base plus delta, per coordinate: half a step
     /// each.
-    #[cfg(test)]
     pub fn tolerance(&self) -> f64 {
         self.scale / STEPS
     }
 }
 
 /// A target attribute's values, one per glTF vertex.
-pub(crate) enum Deltas {
+pub enum Deltas {
     F32(Vec<[f32; 3]>),
     I16(Vec<[i16; 3]>),
 }
@@ -224,7 +223,7 @@ impl NormalsChanged {
 
 /// How one target attribute is stored: its size decides.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Storage {
+pub struct Storage {
     /// glTF vertices.
     pub vertices: usize,
     /// `Some(k)`: sparsely, `k` entries (at least one: glTF's sparse
@@ -307,37 +306,5 @@ impl Storage {
             }
         }
         pad(out);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn sparse_only_where_it_is_smaller() {
-        // 12 bytes dense a vertex against 2 + 12 sparse.
-        assert_eq!(Storage::choose(1000, 100, 12).entries, Some(100));
-        assert_eq!(Storage::choose(1000, 900, 12).entries, None);
-        assert_eq!(Storage::choose(1000, 0, 12).entries, Some(1));
-        // Past 65,536 vertices the indices take 4 bytes.
-        assert_eq!(Storage::choose(70_000, 10, 12).index_bytes(), 4);
-        // Quantised: 8 bytes dense (6, padded), 2 + 6 sparse.
-        assert_eq!(Storage::choose(100, 100, 6).entries, None);
-        assert_eq!(Storage::choose(100, 50, 6).bytes(), 100 + 300);
-    }
-
-    #[test]
-    fn quantised_positions_decode_within_the_tolerance() {
-        let q = Quantization::new([1.0, -2.0, 0.5], 3.0);
-        for &p in &[[1.0, -2.0, 0.5], [3.9, -4.9, 3.4], [-1.3, 0.7, -2.2]] {
-            let d = [0.3, -0.7, 0.01];
-            let (b, dq) = (q.position(p), q.delta(d));
-            for k in 0..3 {
-                let decoded =
-                    q.center[k] + q.scale * (f64::from(b[k]) + f64::from(dq[k])) / 32767.0;
-                assert!((decoded - (p[k] + d[k])).abs() <= q.tolerance() * (1.0 + 1e-9));
-            }
-        }
     }
 }

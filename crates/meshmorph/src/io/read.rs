@@ -48,9 +48,9 @@ pub const MAX_MATERIAL_LIBRARY_BYTES: u64 = 64 << 20;
 /// How many bytes a read may take, and why (for the message refusing a
 /// larger file: "more than {why}").
 #[derive(Clone, Debug)]
-pub(crate) struct Limit {
-    pub(crate) bytes: u64,
-    pub(crate) why: String,
+pub struct Limit {
+    pub bytes: u64,
+    pub why: String,
 }
 
 impl Limit {
@@ -72,7 +72,7 @@ impl Limit {
     }
 
     /// No limit but the file's own size.
-    pub(crate) fn none() -> Self {
+    pub fn none() -> Self {
         Limit {
             bytes: u64::MAX,
             why: String::new(),
@@ -81,7 +81,7 @@ impl Limit {
 }
 
 /// A regular file opened for reading, and its size when opened.
-pub(crate) struct Input {
+pub struct Input {
     path: PathBuf,
     file: File,
     len: u64,
@@ -94,7 +94,7 @@ pub(crate) struct Input {
 /// # Errors
 /// [`Error::Io`] when it cannot be opened; [`Error::FileRefused`] naming
 /// the path and what it is when it is not a regular file.
-pub(crate) fn open(path: &Path) -> Result<Input> {
+pub fn open(path: &Path) -> Result<Input> {
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     refuse_unless_regular(path, &meta)?;
     let file = open_without_waiting(path).map_err(|e| Error::io(path, e))?;
@@ -111,7 +111,7 @@ pub(crate) fn open(path: &Path) -> Result<Input> {
 
 /// Reads the regular file `path` whole, refusing it past `limit` (see the
 /// [module documentation](self)).
-pub(crate) fn read_file(path: &Path, limit: &Limit) -> Result<Vec<u8>> {
+pub fn read_file(path: &Path, limit: &Limit) -> Result<Vec<u8>> {
     open(path)?.read_to_end(limit)
 }
 
@@ -151,7 +151,7 @@ pub fn read_text(path: &Path, max_bytes: u64, what: &str) -> Result<String> {
 /// Opens for reading without waiting for a writer, should `path` have
 /// become a FIFO since it was looked at.
 #[cfg(unix)]
-fn open_without_waiting(path: &Path) -> std::io::Result<File> {
+pub fn open_without_waiting(path: &Path) -> std::io::Result<File> {
     use std::os::unix::fs::OpenOptionsExt;
     std::fs::OpenOptions::new()
         .read(true)
@@ -166,13 +166,18 @@ fn open_without_waiting(path: &Path) -> std::io::Result<File> {
 
 impl Input {
     /// The file's size when it was opened, in bytes.
-    pub(crate) fn len(&self) -> u64 {
+    pub fn len(&self) -> u64 {
         self.len
+    }
+
+    /// Whether the file was empty when it was opened.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
     }
 
     /// The first `n` bytes of the file (fewer when it is shorter), read
     /// once: [`Input::read_to_end`] goes on from there.
-    pub(crate) fn head(&mut self, n: usize) -> Result<&[u8]> {
+    pub fn head(&mut self, n: usize) -> Result<&[u8]> {
         if self.read.len() < n {
             let wanted = (n - self.read.len()) as u64;
             (&self.file)
@@ -186,7 +191,7 @@ impl Input {
     /// The whole file, refused when it holds more than `limit` bytes:
     /// before reading when its size says so, else as soon as it is read
     /// past the limit (a file that grows).
-    pub(crate) fn read_to_end(mut self, limit: &Limit) -> Result<Vec<u8>> {
+    pub fn read_to_end(mut self, limit: &Limit) -> Result<Vec<u8>> {
         if self.len > limit.bytes {
             return Err(self.too_large(self.len, limit));
         }
@@ -307,7 +312,7 @@ fn address_space_limit() -> Option<u64> {
 
 /// "2.1 GB", "256 MB", "12 kB" or "80 bytes" (powers of 10, as
 /// `--max-gltf-mb` counts).
-pub(crate) fn human_bytes(b: u64) -> String {
+pub fn human_bytes(b: u64) -> String {
     let x = b as f64;
     if x >= 1e9 {
         format!("{:.1} GB", x / 1e9)
@@ -317,116 +322,5 @@ pub(crate) fn human_bytes(b: u64) -> String {
         format!("{:.0} kB", x / 1e3)
     } else {
         format!("{b} bytes")
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use std::io::Write;
-
-    fn limit(bytes: u64) -> Limit {
-        Limit {
-            bytes,
-            why: format!("the {bytes} bytes of the test"),
-        }
-    }
-
-    #[test]
-    fn reads_a_regular_file_within_its_limit() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("a.txt");
-        std::fs::write(&path, b"0123456789").unwrap();
-        assert_eq!(read_file(&path, &limit(10)).unwrap(), b"0123456789");
-        let mut input = open(&path).unwrap();
-        assert_eq!(input.len(), 10);
-        assert_eq!(input.head(4).unwrap(), b"0123");
-        assert_eq!(input.head(20).unwrap(), b"0123456789");
-        assert_eq!(input.read_to_end(&limit(10)).unwrap(), b"0123456789");
-    }
-
-    #[test]
-    fn a_file_over_its_limit_is_refused_before_reading() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("big.stl");
-        // Sparse: no disk is used.
-        File::create(&path).unwrap().set_len(5_000_000_000).unwrap();
-        let e = read_file(&path, &limit(1000)).unwrap_err();
-        assert!(matches!(e, Error::FileRefused { .. }), "{e:?}");
-        let m = e.to_string();
-        assert!(
-            m.contains("big.stl") && m.contains("5.0 GB") && m.contains("the 1000 bytes"),
-            "{m}"
-        );
-    }
-
-    #[test]
-    fn a_folder_is_refused() {
-        let dir = tempfile::tempdir().unwrap();
-        let m = read_file(dir.path(), &Limit::none())
-            .unwrap_err()
-            .to_string();
-        assert!(m.contains("a folder, not a regular file"), "{m}");
-    }
-
-    #[cfg(unix)]
-    #[test]
-    fn devices_are_refused_directly_and_through_links() {
-        let dir = tempfile::tempdir().unwrap();
-        let link = dir.path().join("zero.obj");
-        std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
-        for path in [Path::new("/dev/zero"), Path::new("/dev/urandom"), &link] {
-            let e = read_file(path, &Limit::none()).unwrap_err();
-            let m = e.to_string();
-            assert!(
-                m.contains(&format!("`{}`", path.display())) && m.contains("a character device"),
-                "{m}"
-            );
-        }
-    }
-
-    /// A FIFO without a writer: refused at once (a read would wait for a
-    /// writer for ever).
-    #[cfg(unix)]
-    #[test]
-    fn a_fifo_is_refused_without_waiting() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("pipe.obj");
-        let made = std::process::Command::new("mkfifo")
-            .arg(&path)
-            .status()
-            .is_ok_and(|s| s.success());
-        if !made {
-            eprintln!("skipped: mkfifo is not available");
-            return;
-        }
-        let m = read_file(&path, &Limit::none()).unwrap_err().to_string();
-        assert!(m.contains("pipe.obj") && m.contains("a FIFO"), "{m}");
-        // Opened without waiting for a writer, had the check been passed.
-        assert!(open_without_waiting(&path).is_ok());
-    }
-
-    #[test]
-    fn a_file_that_grows_past_its_limit_is_refused() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("a.txt");
-        std::fs::write(&path, b"0123").unwrap();
-        let input = open(&path).unwrap();
-        std::fs::OpenOptions::new()
-            .append(true)
-            .open(&path)
-            .unwrap()
-            .write_all(b"456789")
-            .unwrap();
-        let m = input.read_to_end(&limit(5)).unwrap_err().to_string();
-        assert!(m.contains("grew while it was read"), "{m}");
-    }
-
-    #[test]
-    fn sizes_read_as_people_do() {
-        assert_eq!(human_bytes(80), "80 bytes");
-        assert_eq!(human_bytes(12_000), "12 kB");
-        assert_eq!(human_bytes(256_000_000), "256 MB");
-        assert_eq!(human_bytes(2_147_483_648), "2.1 GB");
     }
 }

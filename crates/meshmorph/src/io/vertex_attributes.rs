@@ -13,7 +13,7 @@
 /// normals of one shape, and the file's own texture coordinates and
 /// colours, borrowed.
 #[derive(Clone, Debug, Default)]
-pub(super) struct VertexAttributes<'a> {
+pub struct VertexAttributes<'a> {
     /// One unit normal per vertex.
     pub(super) normals: Option<Vec<[f64; 3]>>,
     /// One `(u, v)` per vertex.
@@ -38,7 +38,7 @@ impl VertexAttributes<'_> {
 /// The value of each vertex from the values of the face corners
 /// (`vertex_of[c]` and `value(c)` for flat corner `c`): `None` when two
 /// corners of a vertex differ. Vertices no face uses take `unused`.
-pub(super) fn per_vertex<T: Copy + PartialEq>(
+pub fn per_vertex<T: Copy + PartialEq>(
     num_vertices: usize,
     vertex_of: &[u32],
     value: impl Fn(usize) -> T,
@@ -58,22 +58,6 @@ pub(super) fn per_vertex<T: Copy + PartialEq>(
 
 /// A colour channel from 0 to 1 as a byte.
 #[inline]
-pub(super) fn channel_byte(x: f32) -> u8 {
+pub fn channel_byte(x: f32) -> u8 {
     (x.clamp(0.0, 1.0) * 255.0).round() as u8
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn values_agree_per_vertex_or_not_at_all() {
-        let vertex_of = [0, 1, 2, 2, 1, 3];
-        let same = per_vertex(5, &vertex_of, |c| vertex_of[c] * 10, 99).unwrap();
-        assert_eq!(same, [0, 10, 20, 30, 99]);
-        let values = [0, 1, 2, 2, 7, 3];
-        assert_eq!(per_vertex(4, &vertex_of, |c| values[c], 0), None);
-        assert_eq!(channel_byte(1.0), 255);
-        assert_eq!(channel_byte(0.5), 128);
-    }
 }

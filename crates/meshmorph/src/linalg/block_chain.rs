@@ -5,12 +5,12 @@
 //! solved in time linear in the number of points.
 
 /// A 2 × 2 block, by rows.
-pub(crate) type Block = [[f64; 2]; 2];
+pub type Block = [[f64; 2]; 2];
 
 /// A factored chain: row `i` of the system is
 /// `C_{i−1}ᵀ x_{i−1} + D_i x_i + C_i x_{i+1} = b_i`.
 #[derive(Clone, Debug)]
-pub(crate) struct PlanarChain {
+pub struct PlanarChain {
     /// The inverse of each point's diagonal block once the points before it
     /// are eliminated.
     inverse: Vec<Block>,
@@ -23,7 +23,7 @@ impl PlanarChain {
     /// `next` (`next[i]` between points `i` and `i + 1`; one fewer than the
     /// points); none when the system is not positive definite (a block to
     /// invert is not, or is not finite).
-    pub(crate) fn new(diagonal: &[Block], next: Vec<Block>) -> Option<Self> {
+    pub fn new(diagonal: &[Block], next: Vec<Block>) -> Option<Self> {
         debug_assert_eq!(next.len() + 1, diagonal.len().max(1));
         let mut inverse: Vec<Block> = Vec::with_capacity(diagonal.len());
         for (i, d) in diagonal.iter().enumerate() {
@@ -49,7 +49,7 @@ impl PlanarChain {
     /// # Panics
     /// If `rhs` does not have one row per point.
     #[track_caller]
-    pub(crate) fn solve(&self, rhs: &mut [[f64; 2]]) {
+    pub fn solve(&self, rhs: &mut [[f64; 2]]) {
         assert_eq!(rhs.len(), self.len(), "one right-hand side per point");
         for i in 1..rhs.len() {
             let c = transpose(&self.next[i - 1]);
@@ -71,7 +71,7 @@ fn mul(a: &Block, b: &Block) -> Block {
     std::array::from_fn(|i| std::array::from_fn(|j| a[i][0] * b[0][j] + a[i][1] * b[1][j]))
 }
 
-fn transpose(a: &Block) -> Block {
+pub fn transpose(a: &Block) -> Block {
     [[a[0][0], a[1][0]], [a[0][1], a[1][1]]]
 }
 
@@ -79,7 +79,7 @@ fn sub(a: &Block, b: &Block) -> Block {
     std::array::from_fn(|i| std::array::from_fn(|j| a[i][j] - b[i][j]))
 }
 
-fn apply(a: &Block, x: &[f64; 2]) -> [f64; 2] {
+pub fn apply(a: &Block, x: &[f64; 2]) -> [f64; 2] {
     [
         a[0][0] * x[0] + a[0][1] * x[1],
         a[1][0] * x[0] + a[1][1] * x[1],
@@ -95,55 +95,4 @@ fn inverse_spd(a: &Block) -> Option<Block> {
             [-a[1][0] / det, a[0][0] / det],
         ]
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Random chains against the product of the system with the solution.
-    #[test]
-    fn solves_random_chains() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut random = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        for n in [1usize, 2, 3, 17, 200] {
-            // Diagonally dominant, symmetric diagonal blocks.
-            let next: Vec<Block> = (1..n)
-                .map(|_| std::array::from_fn(|_| std::array::from_fn(|_| random())))
-                .collect();
-            let diagonal: Vec<Block> = (0..n)
-                .map(|_| {
-                    let o = random();
-                    [[4.0 + random(), o], [o, 4.0 + random()]]
-                })
-                .collect();
-            let x: Vec<[f64; 2]> = (0..n).map(|_| [random(), random()]).collect();
-            let b: Vec<[f64; 2]> = (0..n)
-                .map(|i| {
-                    let mut r = apply(&diagonal[i], &x[i]);
-                    if i > 0 {
-                        let c = apply(&transpose(&next[i - 1]), &x[i - 1]);
-                        r = [r[0] + c[0], r[1] + c[1]];
-                    }
-                    if i + 1 < n {
-                        let c = apply(&next[i], &x[i + 1]);
-                        r = [r[0] + c[0], r[1] + c[1]];
-                    }
-                    r
-                })
-                .collect();
-            let chain = PlanarChain::new(&diagonal, next).unwrap();
-            let mut solved = b.clone();
-            chain.solve(&mut solved);
-            for (s, x) in solved.iter().zip(&x) {
-                assert!((s[0] - x[0]).abs() < 1e-12 && (s[1] - x[1]).abs() < 1e-12);
-            }
-        }
-        assert!(PlanarChain::new(&[[[1.0, 2.0], [2.0, 1.0]]], Vec::new()).is_none());
-    }
 }

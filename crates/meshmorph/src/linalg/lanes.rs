@@ -33,7 +33,7 @@ impl<const L: usize> Lanes<L> {
 /// line, and then run without the vector instructions of the code that
 /// calls them.
 #[inline(always)]
-pub(crate) fn array<T: Copy, const N: usize>(f: impl Fn(usize) -> T) -> [T; N] {
+pub fn array<T: Copy, const N: usize>(f: impl Fn(usize) -> T) -> [T; N] {
     const { assert!(N > 0) };
     let mut out = [f(0); N];
     for (i, x) in out.iter_mut().enumerate().skip(1) {

@@ -82,25 +82,3 @@ pub fn inverse3(m: Mat3) -> Option<Mat3> {
 pub fn lerp<const D: usize>(A: &Mat<D>, B: &Mat<D>, t: f64) -> Mat<D> {
     std::array::from_fn(|i| std::array::from_fn(|j| (1.0 - t) * A[i][j] + t * B[i][j]))
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn inverse_and_products() {
-        let m: Mat3 = [[2.0, 1.0, 0.0], [0.5, 3.0, 1.0], [0.0, -1.0, 1.5]];
-        let p = mul(m, inverse3(m).unwrap());
-        for i in 0..3 {
-            for j in 0..3 {
-                assert!((p[i][j] - identity::<3>()[i][j]).abs() < 1e-14);
-            }
-        }
-        assert_eq!(det2([[1.0, 2.0], [3.0, 4.0]]), -2.0);
-        assert!(inverse3([[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 0.0, 1.0]]).is_none());
-        assert_eq!(
-            lerp(&identity(), &[[3.0, 1.0], [1.0, 5.0]], 0.5),
-            [[2.0, 0.5], [0.5, 3.0]]
-        );
-    }
-}

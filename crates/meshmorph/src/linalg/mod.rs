@@ -3,14 +3,14 @@
 //! similarity fits. Everything above it (meshes, the gradient-domain core,
 //! interpolation, transfer) computes with these.
 
-pub(crate) mod block_chain;
-pub(crate) mod lanes;
-pub(crate) mod matrix;
-pub(crate) mod polar;
-pub(crate) mod quaternion;
-pub(crate) mod similarity;
-pub(crate) mod trig;
-pub(crate) mod vector;
+pub mod block_chain;
+pub mod lanes;
+pub mod matrix;
+pub mod polar;
+pub mod quaternion;
+pub mod similarity;
+pub mod trig;
+pub mod vector;
 
 /// `D`-dimensional space, the type that carries the dimension-dependent
 /// algebra: [`Rotations`](crate::Rotations) for interpolation and

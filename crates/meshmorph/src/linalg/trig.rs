@@ -21,7 +21,7 @@ use crate::linalg::lanes::{Lanes, Real};
 /// Angles up to this magnitude are reduced here: the multiple `k` of `π/2`
 /// then has at most 16 bits, so `k` times each of the first three 33-bit
 /// parts of `π/2` is exact.
-const REDUCED_LIMIT: f64 = 1.0e5;
+pub const REDUCED_LIMIT: f64 = 1.0e5;
 
 /// Adding it to a double below 2⁵¹ in magnitude rounds the sum to a whole
 /// number, held in the low bits of the sum's significand.
@@ -64,7 +64,7 @@ const C: [f64; 6] = [
 /// `(sin x, cos x)`, as [`f64::sin_cos`] to the accuracy of the module's
 /// documentation; NaN for NaN and infinities.
 #[inline]
-pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
+pub fn sin_cos(x: f64) -> (f64, f64) {
     let (s, c) = sin_cos_lanes(Lanes([x]));
     (s.0[0], c.0[0])
 }
@@ -73,7 +73,7 @@ pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
 /// the same steps on all of them, without a branch unless a lane is beyond
 /// [`REDUCED_LIMIT`] or NaN (the standard library answers for that lane).
 #[inline(always)]
-pub(crate) fn sin_cos_lanes<const L: usize>(x: Lanes<L>) -> (Lanes<L>, Lanes<L>) {
+pub fn sin_cos_lanes<const L: usize>(x: Lanes<L>) -> (Lanes<L>, Lanes<L>) {
     // The nearest whole multiple `k` of π/2, rounded by adding and taking
     // away 1.5 · 2⁵² (an instruction set without a rounding instruction
     // would call a library function); its last two bits are the quadrant.
@@ -129,78 +129,4 @@ fn kernel_cos<T: Real>(y: T) -> T {
     let one = T::splat(1.0);
     let w = one - hz;
     w + (((one - w) - hz) + z * r)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Distance in units in the last place of `b`.
-    fn ulps(a: f64, b: f64) -> f64 {
-        if a == b {
-            return 0.0;
-        }
-        let ulp = f64::from_bits(b.abs().to_bits() + 1) - b.abs();
-        (a - b).abs() / ulp.max(f64::MIN_POSITIVE)
-    }
-
-    #[test]
-    fn agrees_with_the_standard_library_to_an_ulp_or_so() {
-        // Angles of every size a frame meets, and the quadrant boundaries.
-        let mut x = 1e-300f64;
-        let mut worst = 0.0f64;
-        let mut check = |x: f64| {
-            for x in [x, -x] {
-                let (s, c) = sin_cos(x);
-                let (es, ec) = x.sin_cos();
-                // Absolute near zeros of the function, relative elsewhere.
-                let err = |a: f64, e: f64| {
-                    if e.abs() < 1e-3 {
-                        (a - e).abs() / f64::EPSILON
-                    } else {
-                        ulps(a, e)
-                    }
-                };
-                worst = worst.max(err(s, es)).max(err(c, ec));
-            }
-        };
-        while x < 2.0 * REDUCED_LIMIT {
-            check(x);
-            x *= 1.0009;
-        }
-        for k in 0..2000 {
-            let q = k as f64 * std::f64::consts::FRAC_PI_2;
-            check(q);
-            check(q + 1e-9);
-            check(f64::from_bits(q.to_bits() + 1));
-        }
-        assert!(worst <= 2.0, "{worst} units apart");
-        assert_eq!(sin_cos(0.0), (0.0, 1.0));
-        assert!(sin_cos(f64::NAN).0.is_nan() && sin_cos(f64::INFINITY).1.is_nan());
-    }
-
-    #[test]
-    fn every_lane_is_its_own_angle() {
-        // Every quadrant side by side, then one lane beyond the reduction.
-        let angles: Vec<f64> = (-9..9).map(|k| 0.7 * k as f64 + 0.1).collect();
-        for four in angles.chunks_exact(4) {
-            let (s, c) = sin_cos_lanes(Lanes([four[0], four[1], four[2], four[3]]));
-            for (f, &x) in four.iter().enumerate() {
-                assert_eq!((s.0[f], c.0[f]), sin_cos(x), "lane {f}, angle {x}");
-            }
-        }
-        // Beside an angle the standard library answers for (or NaN), each
-        // lane keeps its own answer (the two differ in the last place for
-        // some of these angles).
-        let far = 3.0 * REDUCED_LIMIT;
-        for other in [far, f64::NAN] {
-            for k in 0..1000 {
-                let x = 0.001 + 0.00314 * k as f64;
-                let (s, c) = sin_cos_lanes(Lanes([x, other]));
-                assert_eq!((s.0[0], c.0[0]), sin_cos(x), "beside {other}");
-                assert_eq!(s.0[1].to_bits(), other.sin_cos().0.to_bits());
-                assert_eq!(c.0[1].to_bits(), other.sin_cos().1.to_bits());
-            }
-        }
-    }
 }

@@ -52,7 +52,7 @@ impl<const D: usize, F: AsRef<[[f64; D]]> + Sync> FrameSource<D> for Vec<F> {
 }
 
 /// `f` applied to frame `k` of `frames`, returning its result.
-pub(crate) fn map_frame<const D: usize, S: FrameSource<D> + ?Sized, R>(
+pub fn map_frame<const D: usize, S: FrameSource<D> + ?Sized, R>(
     frames: &S,
     k: usize,
     f: impl FnOnce(&[[f64; D]]) -> R,

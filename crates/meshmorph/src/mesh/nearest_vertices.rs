@@ -15,7 +15,7 @@ use rstar::RTree;
 use crate::linalg::vector::{norm, sub};
 
 /// Vertices in space, by index.
-pub(crate) type VertexTree = RTree<GeomWithData<[f64; 3], u32>>;
+pub type VertexTree = RTree<GeomWithData<[f64; 3], u32>>;
 
 /// Distances within this, relative to the size of the coordinates, are
 /// equal: far above the rounding of single precision (6e-8), far below any
@@ -25,7 +25,7 @@ const TIE: f64 = 1e-6;
 /// The `count` vertices of `tree` nearest to `p` that `keep` accepts, among
 /// its `search` nearest, and every further accepted one as near as the last
 /// of them, however many (see the module documentation).
-pub(crate) fn nearest_with_ties(
+pub fn nearest_with_ties(
     tree: &VertexTree,
     p: [f64; 3],
     count: usize,
@@ -50,36 +50,4 @@ pub(crate) fn nearest_with_ties(
         out.push(item.data);
     }
     out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_ring_around_the_point_is_taken_whole() {
-        // 16 vertices on a circle about the point, one nearer, one farther;
-        // single-precision rounding on the circle's.
-        let mut items: Vec<GeomWithData<[f64; 3], u32>> = (0..16)
-            .map(|k| {
-                let a = std::f64::consts::TAU * k as f64 / 16.0;
-                let p = [3.5, 0.6 * a.cos(), 0.6 * a.sin()].map(|x| f64::from(x as f32));
-                GeomWithData::new(p, k)
-            })
-            .collect();
-        items.push(GeomWithData::new([3.5, 0.1, 0.0], 16));
-        items.push(GeomWithData::new([3.5, 0.9, 0.0], 17));
-        let tree = RTree::bulk_load(items);
-        let mut got = nearest_with_ties(&tree, [3.5, 0.0, 0.0], 4, 64, |_| true);
-        got.sort_unstable();
-        assert_eq!(got, (0..17).collect::<Vec<u32>>());
-        // Without the nearest one, the ring alone; filtered, what is kept.
-        let got = nearest_with_ties(&tree, [3.5, 0.0, 0.0], 4, 64, |v| v != 16);
-        assert_eq!(got.len(), 16);
-        let got = nearest_with_ties(&tree, [3.5, 0.0, 0.0], 2, 64, |v| v >= 16);
-        assert_eq!(got, vec![16, 17]);
-        // A tie is finished past the search: 4 asked among the 5 nearest.
-        let got = nearest_with_ties(&tree, [3.5, 0.0, 0.0], 4, 5, |v| v != 16);
-        assert_eq!(got.len(), 16);
-    }
 }

@@ -211,7 +211,7 @@ impl Mesh3 {
 /// or not a number, where `diagonal` is that of the used vertices' box.
 /// Coordinates so large that the box or an area is not a finite number
 /// are named as overflow, not as degenerate triangles.
-pub(crate) fn check_areas(areas: &[f64], diagonal: f64, name: &str) -> Result<()> {
+pub fn check_areas(areas: &[f64], diagonal: f64, name: &str) -> Result<()> {
     check_overflow(areas, diagonal, name)?;
     let tiny = 1e-14 * diagonal * diagonal;
     let bad: Vec<usize> = (0..areas.len())
@@ -230,7 +230,7 @@ pub(crate) fn check_areas(areas: &[f64], diagonal: f64, name: &str) -> Result<()
 /// Fails when the used vertices' box (its `diagonal`) or a triangle's area
 /// is not a finite number: coordinates so large that products of them
 /// overflow.
-pub(crate) fn check_overflow(areas: &[f64], diagonal: f64, name: &str) -> Result<()> {
+pub fn check_overflow(areas: &[f64], diagonal: f64, name: &str) -> Result<()> {
     if !diagonal.is_finite() {
         return Err(Error::InvalidMesh(format!(
             "the {name}'s coordinates overflow: its extent exceeds the range of floating-point numbers (about 1.8e308); scale it down"
@@ -335,7 +335,7 @@ pub fn bounding_box_diagonal<const D: usize>(points: &[[f64; D]]) -> f64 {
 
 /// The first vertex of `positions` with a coordinate that is not finite, as
 /// an error; `what` (when not empty) says whose positions they are.
-pub(crate) fn check_finite<const D: usize>(positions: &[[f64; D]], what: &str) -> Result<()> {
+pub fn check_finite<const D: usize>(positions: &[[f64; D]], what: &str) -> Result<()> {
     match positions
         .iter()
         .position(|p| p.iter().any(|x| !x.is_finite()))
@@ -370,51 +370,4 @@ fn check_indices(num_vertices: usize, triangles: &[[u32; 3]]) -> Result<()> {
         }
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn rejects_bad_meshes() {
-        let p = vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
-        assert!(Mesh2::new(p.clone(), vec![[0, 1, 2]]).is_ok());
-        let e = Mesh2::new(p.clone(), vec![]).unwrap_err().to_string();
-        assert!(e.contains("no triangles"), "{e}");
-        let e = Mesh2::new(p.clone(), vec![[0, 1, 3]])
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("triangle 0 uses vertex 3"), "{e}");
-        let e = Mesh2::new(p.clone(), vec![[0, 1, 2], [1, 1, 2]]).unwrap_err();
-        assert!(matches!(e, Error::InvalidTriangle { triangle: 1, .. }));
-        let e = e.to_string();
-        assert!(e.contains("triangle 1 repeats"), "{e}");
-        let mut q = p.clone();
-        q[2][1] = f64::NAN;
-        let e = Mesh2::new(q, vec![[0, 1, 2]]).unwrap_err();
-        assert!(matches!(e, Error::InvalidVertex { vertex: 2, .. }));
-        let e = e.to_string();
-        assert!(e.contains("vertex 2"), "{e}");
-        let m = Mesh2::new(p.clone(), vec![[0, 1, 2]]).unwrap();
-        let other = Mesh2::new(p, vec![[0, 2, 1]]).unwrap();
-        let e = m.check_same_connectivity(&other, ["a", "b"]).unwrap_err();
-        assert!(matches!(e, Error::TriangleMismatch { triangle: 0, .. }));
-    }
-
-    #[test]
-    fn planar_round_trip() {
-        let m = Mesh3::new(
-            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
-            vec![[0, 1, 2]],
-        )
-        .unwrap();
-        let m2 = m.to_2d().unwrap();
-        assert_eq!(m2.to_3d(), m);
-        assert_eq!(m2.signed_areas(), vec![0.5]);
-        let lifted = m
-            .with_positions(vec![[0.0, 0.0, 0.0], [1.0, 0.0, 1.0], [0.0, 1.0, 0.0]])
-            .unwrap();
-        assert!(lifted.to_2d().unwrap_err().to_string().contains("vertex 1"));
-    }
 }

@@ -21,7 +21,7 @@ use crate::error::{Error, Result};
 /// A point of the matched boundary: where it is on each drawing, and
 /// which given point of each it is, if any.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct MatchedPoint {
+pub struct MatchedPoint {
     /// Where it is on the first loop, as a fraction of its length from
     /// its first point, in [0, 1).
     pub(crate) ta: f64,
@@ -29,15 +29,15 @@ pub(crate) struct MatchedPoint {
     pub(crate) b: [f64; 2],
     /// The loop point of the first drawing it is, else a point on one of
     /// its edges.
-    pub(crate) from_a: Option<usize>,
+    pub from_a: Option<usize>,
     /// The loop point of the second drawing it is.
-    pub(crate) from_b: Option<usize>,
+    pub from_b: Option<usize>,
 }
 
 /// A pair of points kept matched, as arc-length fractions on each loop
 /// with their positions.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct LoopAnchor {
+pub struct LoopAnchor {
     pub(crate) ta: f64,
     pub(crate) tb: f64,
     pub(crate) a: [f64; 2],
@@ -199,7 +199,7 @@ fn warp(fa: &[[f64; 2]], fb: &[[f64; 2]], band: usize, skip: f64, path: bool) ->
 /// loops are matched), by how well they lay the other loops (the holes)
 /// over each other (an outer loop with holes), then by how little they
 /// turn the drawing (every outer loop).
-pub(crate) enum TieBreak<'a> {
+pub enum TieBreak<'a> {
     /// The second drawing's points in the first's frame.
     Frame(&'a Similarity),
     /// The first and second drawings' holes, laid over each other by the
@@ -466,7 +466,7 @@ struct Event {
 /// points on each, in matched order, with every point of each loop among
 /// them. `anchors` are kept matched exactly; with none the warp comes
 /// from the signatures' alignment at `samples` samples.
-pub(crate) fn match_loops(
+pub fn match_loops(
     a: &[[f64; 2]],
     b: &[[f64; 2]],
     anchors: &[LoopAnchor],
@@ -634,86 +634,4 @@ pub(crate) fn match_loops(
         }
     }
     Ok(out)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn blob(n: usize, turn: f64, start: usize) -> Vec<[f64; 2]> {
-        let mut pts: Vec<[f64; 2]> = (0..n)
-            .map(|k| {
-                let t = std::f64::consts::TAU * k as f64 / n as f64;
-                let r = 1.0 + 0.3 * (3.0 * t).cos() + 0.1 * (5.0 * t).sin();
-                let (x, y) = (r * t.cos(), r * t.sin());
-                let (s, c) = turn.sin_cos();
-                [2.0 * (c * x - s * y) + 5.0, 2.0 * (s * x + c * y) - 1.0]
-            })
-            .collect();
-        pts.rotate_left(start);
-        pts
-    }
-
-    /// A square into a 4:1 bar, the bar turned, moved and restarted:
-    /// corners go to corners, though the square's sides are a quarter of
-    /// its length each and the bar's long sides 0.4.
-    #[test]
-    fn a_squares_corners_go_to_a_bars_corners() {
-        let square = vec![[30.0, 30.0], [70.0, 30.0], [70.0, 70.0], [30.0, 70.0]];
-        for (turn, start) in [(0.0, 0), (2.1, 1), (-0.7, 2), (std::f64::consts::PI, 3)] {
-            let (s, c) = f64::sin_cos(turn);
-            let mut bar: Vec<[f64; 2]> = [[10.0, 40.0], [90.0, 40.0], [90.0, 60.0], [10.0, 60.0]]
-                .iter()
-                .map(|p| {
-                    [
-                        3.0 * (c * p[0] - s * p[1]) + 7.0,
-                        3.0 * (s * p[0] + c * p[1]),
-                    ]
-                })
-                .collect();
-            bar.rotate_left(start);
-            let m = match_loops(&square, &bar, &[], 256, Some(&TieBreak::Turn)).unwrap();
-            assert_eq!(m.len(), 4, "{m:?}");
-            assert!(
-                m.iter().all(|p| p.from_a.is_some() && p.from_b.is_some()),
-                "{m:?}"
-            );
-        }
-    }
-
-    #[test]
-    fn a_turned_restarted_copy_matches_point_for_point() {
-        let a = blob(61, 0.0, 0);
-        let b = blob(61, 2.0 * std::f64::consts::PI / 3.0, 17);
-        let m = match_loops(&a, &b, &[], 256, None).unwrap();
-        assert_eq!(m.len(), 61);
-        for p in &m {
-            let (i, j) = (p.from_a.unwrap(), p.from_b.unwrap());
-            assert_eq!((i + 61 - 17) % 61, j, "{i} {j}");
-        }
-    }
-
-    #[test]
-    fn different_counts_keep_every_point() {
-        let a = blob(37, 0.3, 0);
-        let b = blob(211, -1.0, 50);
-        let m = match_loops(&a, &b, &[], 256, None).unwrap();
-        let mut seen_a: Vec<usize> = m.iter().filter_map(|p| p.from_a).collect();
-        let mut seen_b: Vec<usize> = m.iter().filter_map(|p| p.from_b).collect();
-        seen_a.sort_unstable();
-        seen_b.sort_unstable();
-        assert_eq!(seen_a, (0..37).collect::<Vec<_>>());
-        assert_eq!(seen_b, (0..211).collect::<Vec<_>>());
-        // Matched order: each side goes round once, in its own order.
-        let ia: Vec<usize> = m.iter().filter_map(|p| p.from_a).collect();
-        let descents = (0..ia.len())
-            .filter(|&k| ia[(k + 1) % ia.len()] < ia[k])
-            .count();
-        assert_eq!(descents, 1);
-        let ib: Vec<usize> = m.iter().filter_map(|p| p.from_b).collect();
-        let descents = (0..ib.len())
-            .filter(|&k| ib[(k + 1) % ib.len()] < ib[k])
-            .count();
-        assert_eq!(descents, 1);
-    }
 }

@@ -26,7 +26,7 @@ const SQRT_THREE_QUARTERS: f64 = 0.866_025_403_784_438_6;
 /// shape term: 1/2 makes each triangle's term `½ (σ1 + 1/σ1)(σ2 + 1/σ2)`
 /// of its map's singular values, least (2) for a rigid motion; 0 leaves
 /// the shape term alone, `|J|² / det J`.
-pub(super) struct Energy<'a> {
+pub struct Energy<'a> {
     triangles: &'a [[u32; 3]],
     inverse: Vec<Mat2>,
     weight: Vec<f64>,

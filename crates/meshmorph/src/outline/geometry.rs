@@ -5,7 +5,7 @@
 /// Twice the signed area of the triangle `a b c`: positive when the
 /// corners turn counter-clockwise.
 #[inline]
-pub(crate) fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+pub fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
     (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
 }
 
@@ -15,12 +15,12 @@ pub(crate) fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
 }
 
 #[inline]
-pub(crate) fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
 #[inline]
-pub(crate) fn lerp(a: [f64; 2], b: [f64; 2], s: f64) -> [f64; 2] {
+pub fn lerp(a: [f64; 2], b: [f64; 2], s: f64) -> [f64; 2] {
     [a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s]
 }
 
@@ -37,18 +37,13 @@ pub(crate) fn nearest_on_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> [f64;
 }
 
 /// Distance from `p` to the segment `a b`.
-pub(crate) fn point_segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+pub fn point_segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     dist(p, nearest_on_segment(p, a, b))
 }
 
 /// The nearest points of the segments `a b` and `c d`, one on each: where
 /// they cross, their crossing twice.
-pub(crate) fn nearest_points(
-    a: [f64; 2],
-    b: [f64; 2],
-    c: [f64; 2],
-    d: [f64; 2],
-) -> ([f64; 2], [f64; 2]) {
+pub fn nearest_points(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> ([f64; 2], [f64; 2]) {
     if segments_cross(a, b, c, d) {
         // a + s (b - a) on c d: orient(c, d, ·) is affine along a b.
         let (oa, ob) = (orient(c, d, a), orient(c, d, b));
@@ -67,7 +62,7 @@ pub(crate) fn nearest_points(
 }
 
 /// Whether the segments `a b` and `c d` cross at a point inside both.
-pub(crate) fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+pub fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
     let (o1, o2) = (orient(a, b, c), orient(a, b, d));
     let (o3, o4) = (orient(c, d, a), orient(c, d, b));
     ((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0))
@@ -75,7 +70,7 @@ pub(crate) fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2])
 }
 
 /// Whether the segments `a b` and `c d` cross or come closer than `tol`.
-pub(crate) fn segments_meet(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2], tol: f64) -> bool {
+pub fn segments_meet(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2], tol: f64) -> bool {
     segments_cross(a, b, c, d)
         || point_segment_distance(a, c, d) <= tol
         || point_segment_distance(b, c, d) <= tol
@@ -85,7 +80,7 @@ pub(crate) fn segments_meet(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2], 
 
 /// Edge `i` of loop `l` (from its point `i` to the next), with its x range
 /// widened by the sweep's tolerance.
-pub(crate) struct LoopEdge {
+pub struct LoopEdge {
     pub(crate) l: usize,
     pub(crate) i: usize,
     pub(crate) a: [f64; 2],
@@ -101,7 +96,7 @@ pub(crate) struct LoopEdge {
 /// # Performance
 /// A sweep along x: `O(n log n)` for the `n` edges plus the pairs whose x
 /// ranges overlap.
-pub(crate) fn near_edge_pairs<B>(
+pub fn near_edge_pairs<B>(
     loops: &[Vec<[f64; 2]>],
     tol: f64,
     mut visit: impl FnMut(&LoopEdge, &LoopEdge) -> std::ops::ControlFlow<B>,
@@ -142,7 +137,7 @@ pub(crate) fn near_edge_pairs<B>(
 
 /// Twice the signed area of a closed loop (shoelace formula): positive
 /// when it turns counter-clockwise.
-pub(crate) fn signed_area2(points: &[[f64; 2]]) -> f64 {
+pub fn signed_area2(points: &[[f64; 2]]) -> f64 {
     let n = points.len();
     (0..n)
         .map(|i| {
@@ -153,7 +148,7 @@ pub(crate) fn signed_area2(points: &[[f64; 2]]) -> f64 {
 }
 
 /// Whether `p` lies inside the closed loop (even-odd rule).
-pub(crate) fn inside_loop(p: [f64; 2], points: &[[f64; 2]]) -> bool {
+pub fn inside_loop(p: [f64; 2], points: &[[f64; 2]]) -> bool {
     let n = points.len();
     let mut inside = false;
     for i in 0..n {
@@ -169,7 +164,7 @@ pub(crate) fn inside_loop(p: [f64; 2], points: &[[f64; 2]]) -> bool {
 }
 
 /// Length of the diagonal of the bounding box of `points`.
-pub(crate) fn diagonal<'a>(points: impl IntoIterator<Item = &'a [f64; 2]>) -> f64 {
+pub fn diagonal<'a>(points: impl IntoIterator<Item = &'a [f64; 2]>) -> f64 {
     let mut lo = [f64::INFINITY; 2];
     let mut hi = [f64::NEG_INFINITY; 2];
     for p in points {
@@ -198,7 +193,7 @@ pub(crate) fn min_angle(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
 
 /// A closed loop measured by arc length: the point at any fraction of
 /// its length.
-pub(crate) struct ArcLoop<'a> {
+pub struct ArcLoop<'a> {
     pub(crate) points: &'a [[f64; 2]],
     /// `cumulative[i]`: length from point 0 to point `i`, then the whole
     /// length as a last entry.
@@ -206,7 +201,7 @@ pub(crate) struct ArcLoop<'a> {
 }
 
 impl<'a> ArcLoop<'a> {
-    pub(crate) fn new(points: &'a [[f64; 2]]) -> Self {
+    pub fn new(points: &'a [[f64; 2]]) -> Self {
         let n = points.len();
         let mut cumulative = Vec::with_capacity(n + 1);
         let mut total = 0.0;
@@ -218,7 +213,7 @@ impl<'a> ArcLoop<'a> {
         Self { points, cumulative }
     }
 
-    pub(crate) fn length(&self) -> f64 {
+    pub fn length(&self) -> f64 {
         self.cumulative[self.points.len()]
     }
 

@@ -26,7 +26,7 @@ fn centroid(points: &[[f64; 2]]) -> [f64; 2] {
 /// onto the first's (least squares, in complex numbers `z_a = s z_b +
 /// t`): where a point of the second drawing sits in the first's frame.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Similarity {
+pub struct Similarity {
     ma: [f64; 2],
     mb: [f64; 2],
     sr: f64,
@@ -95,7 +95,7 @@ fn hole_distances(
 /// How far the holes land from each other when the second drawing is laid
 /// onto the first by `frame`: for each hole of the first, the distance to
 /// the closest hole of the second, summed.
-pub(crate) fn holes_misplaced(
+pub fn holes_misplaced(
     holes_a: &[Vec<[f64; 2]>],
     holes_b: &[Vec<[f64; 2]>],
     frame: &Similarity,

@@ -4,19 +4,19 @@
 
 /// The coordinates of `points` as unknowns: x, y of the first, then of
 /// the next, ...
-pub(super) fn unknowns(points: &[[f64; 2]]) -> Vec<f64> {
+pub fn unknowns(points: &[[f64; 2]]) -> Vec<f64> {
     points.iter().flat_map(|p| [p[0], p[1]]).collect()
 }
 
 /// `points` placed at the unknowns `x` (two for each point).
-pub(super) fn place(x: &[f64], points: &mut [[f64; 2]]) {
+pub fn place(x: &[f64], points: &mut [[f64; 2]]) {
     for (p, c) in points.iter_mut().zip(x.chunks_exact(2)) {
         *p = [c[0], c[1]];
     }
 }
 
 /// The gradient of each point, `grad`, as the unknowns' gradient `g`.
-pub(super) fn gather(grad: &[[f64; 2]], g: &mut [f64]) {
+pub fn gather(grad: &[[f64; 2]], g: &mut [f64]) {
     for (c, q) in g.chunks_exact_mut(2).zip(grad) {
         c.copy_from_slice(q);
     }
@@ -41,7 +41,7 @@ pub(super) fn lbfgs(
 ///
 /// The vector work runs with AVX2 (x86-64-v3) where the processor has it
 /// (chosen when the program runs).
-pub(super) fn lbfgs_scaled(
+pub fn lbfgs_scaled(
     x: &mut [f64],
     iterations: usize,
     scale: Option<&[f64]>,

@@ -280,7 +280,7 @@ pub(crate) fn relax(b: &mut [[f64; 2]], triangles: &[[u32; 3]], n: usize, iterat
 
 /// The second drawing's area, from its boundary loops (signed, as the
 /// triangles' boundary edges run).
-pub(super) fn area_from_boundary(b: &[[f64; 2]], triangles: &[[u32; 3]], n: usize) -> f64 {
+pub fn area_from_boundary(b: &[[f64; 2]], triangles: &[[u32; 3]], n: usize) -> f64 {
     // Boundary edges are the directed edges whose reverse is absent, both
     // ends on the boundary.
     let mut edges: HashSet<(u32, u32)> = HashSet::with_capacity(triangles.len() * 3);

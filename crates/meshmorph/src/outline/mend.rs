@@ -32,7 +32,7 @@ const WIDENING_SWEEPS: usize = 1000;
 
 /// What mending a planar sequence's frames needs from its first key.
 #[derive(Debug)]
-pub(crate) struct FrameMender {
+pub struct FrameMender {
     /// The first key's positions, mirrored (x negated) when its triangles
     /// run clockwise: each triangle's own shape, counter-clockwise.
     rest: Vec<[f64; 2]>,

@@ -40,27 +40,44 @@
 //! first drawing's own pair with it, `carry`, where mapping alone turns a
 //! triangle over).
 
-mod anchors;
-mod boundary;
-mod carry;
-mod common;
-mod cuts;
-mod disk;
-mod drawing;
-mod energy;
-pub(crate) mod geometry;
-mod holes;
-mod improve;
-mod lbfgs;
-mod mapped;
-mod mend;
-mod overlay;
-mod settle;
-#[cfg(test)]
-mod tests;
-mod untangle;
-mod untie;
-mod widest;
+#[doc(hidden)]
+pub mod anchors;
+#[doc(hidden)]
+pub mod boundary;
+#[doc(hidden)]
+pub mod carry;
+#[doc(hidden)]
+pub mod common;
+#[doc(hidden)]
+pub mod cuts;
+#[doc(hidden)]
+pub mod disk;
+#[doc(hidden)]
+pub mod drawing;
+#[doc(hidden)]
+pub mod energy;
+#[doc(hidden)]
+pub mod geometry;
+#[doc(hidden)]
+pub mod holes;
+#[doc(hidden)]
+pub mod improve;
+#[doc(hidden)]
+pub mod lbfgs;
+#[doc(hidden)]
+pub mod mapped;
+#[doc(hidden)]
+pub mod mend;
+#[doc(hidden)]
+pub mod overlay;
+#[doc(hidden)]
+pub mod settle;
+#[doc(hidden)]
+pub mod untangle;
+#[doc(hidden)]
+pub mod untie;
+#[doc(hidden)]
+pub mod widest;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, OnceLock};
@@ -69,8 +86,8 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 pub use drawing::Drawing;
-pub(crate) use mend::FrameMender;
-pub(crate) use untie::OutlineUntier;
+pub use mend::FrameMender;
+pub use untie::OutlineUntier;
 
 use self::boundary::{match_loops, MatchedPoint, TieBreak};
 use self::geometry::{dist, lerp, point_segment_distance, ArcLoop};
@@ -380,7 +397,7 @@ fn roundness(points: &[[f64; 2]], loop_start: &[usize]) -> f64 {
 pub(crate) type Positioned = (Vec<Vec<[f64; 2]>>, Vec<[u32; 3]>);
 
 /// The smallest of several angles.
-fn worst(angles: &[f64]) -> f64 {
+pub fn worst(angles: &[f64]) -> f64 {
     angles.iter().copied().fold(f64::INFINITY, f64::min)
 }
 

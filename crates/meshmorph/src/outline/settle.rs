@@ -40,10 +40,10 @@ use super::mapped::area_from_boundary;
 /// the segment from `from` to `to` (the fixed points on either side of
 /// it along its loop).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Slide {
-    pub(crate) vertex: u32,
-    pub(crate) from: [f64; 2],
-    pub(crate) to: [f64; 2],
+pub struct Slide {
+    pub vertex: u32,
+    pub from: [f64; 2],
+    pub to: [f64; 2],
 }
 
 impl Slide {
@@ -75,7 +75,7 @@ impl Slide {
 /// loops one after the other from `loop_start`) that may slide: those
 /// not `fixed`, each between the fixed points before and after it on its
 /// loop. A loop with fewer than two fixed points slides nowhere.
-pub(crate) fn slides(points: &[[f64; 2]], loop_start: &[usize], fixed: &[bool]) -> Vec<Slide> {
+pub fn slides(points: &[[f64; 2]], loop_start: &[usize], fixed: &[bool]) -> Vec<Slide> {
     let mut out = Vec::new();
     for w in loop_start.windows(2) {
         let (start, len) = (w[0], w[1] - w[0]);
@@ -111,7 +111,7 @@ pub(crate) fn slides(points: &[[f64; 2]], loop_start: &[usize], fixed: &[bool]) 
 /// triangles): the vertices from `free_from` on move freely, the
 /// `slides` along their segments, the rest stay. At most `iterations`
 /// L-BFGS steps. Nothing moves when a triangle is not positive in both.
-pub(crate) fn settle(
+pub fn settle(
     reference: &[[f64; 2]],
     triangles: &[[u32; 3]],
     moving: &mut [[f64; 2]],
@@ -180,76 +180,5 @@ pub(crate) fn settle(
     put(&x, &mut work);
     if energy.min_det(&work) > 0.0 {
         moving.copy_from_slice(&work);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn free_points_slide_between_the_fixed_points_around_them() {
-        // A square of 8 points, its corners fixed.
-        let points = [
-            [0.0, 0.0],
-            [1.0, 0.0],
-            [2.0, 0.0],
-            [2.0, 1.0],
-            [2.0, 2.0],
-            [1.0, 2.0],
-            [0.0, 2.0],
-            [0.0, 1.0],
-        ];
-        let fixed: Vec<bool> = (0..8).map(|k| k % 2 == 0).collect();
-        let s = slides(&points, &[0, 8], &fixed);
-        assert_eq!(s.len(), 4);
-        assert_eq!(s[0].vertex, 1);
-        assert_eq!((s[0].from, s[0].to), ([0.0, 0.0], [2.0, 0.0]));
-        assert_eq!(s[3].vertex, 7);
-        assert_eq!((s[3].from, s[3].to), ([0.0, 2.0], [0.0, 0.0]));
-        // Starting on a free point: the run wraps around.
-        let fixed: Vec<bool> = (0..8).map(|k| k == 3 || k == 6).collect();
-        let s = slides(&points, &[0, 8], &fixed);
-        assert_eq!(s.len(), 6);
-        assert_eq!(
-            (s[0].vertex, s[0].from, s[0].to),
-            (4, [2.0, 1.0], [0.0, 2.0])
-        );
-        assert_eq!(
-            (s[2].vertex, s[2].from, s[2].to),
-            (7, [0.0, 2.0], [2.0, 1.0])
-        );
-        // One fixed point: nothing slides.
-        let fixed: Vec<bool> = (0..8).map(|k| k == 3).collect();
-        assert!(slides(&points, &[0, 8], &fixed).is_empty());
-    }
-
-    #[test]
-    fn a_point_placed_off_its_rigid_place_slides_back() {
-        // A strip of four equilateral triangles, the same in both
-        // drawings; in the second the middle boundary points start slid
-        // to one side.
-        let h = 0.75f64.sqrt();
-        let reference = [
-            [0.0, 0.0],
-            [1.0, 0.0],
-            [2.0, 0.0],
-            [2.5, h],
-            [1.5, h],
-            [0.5, h],
-        ];
-        let triangles = [[0, 1, 5], [1, 4, 5], [1, 2, 4], [2, 3, 4]];
-        let mut moving = reference;
-        moving[1] = [1.4, 0.0];
-        moving[4] = [0.9, h];
-        let fixed = [true, false, true, true, false, true];
-        let s = slides(&moving, &[0, 6], &fixed);
-        settle(&reference, &triangles, &mut moving, 6, &s, 200);
-        for (p, q) in moving.iter().zip(&reference) {
-            assert!(
-                (p[0] - q[0]).abs() < 1e-4 && (p[1] - q[1]).abs() < 1e-9,
-                "{moving:?}"
-            );
-        }
     }
 }

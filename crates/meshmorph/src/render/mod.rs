@@ -48,24 +48,42 @@
 //! # Ok::<(), meshmorph::Error>(())
 //! ```
 
-mod canvas;
-mod font;
-mod gif;
-mod grid;
-mod legend;
-mod mesh2d;
-mod palette;
-mod picture_files;
-mod picture_frames;
-mod png;
-mod raster;
-mod resample;
-mod shade3d;
-mod style;
-mod svg;
-mod texture;
-mod textured;
-mod view;
+#[doc(hidden)]
+pub mod canvas;
+#[doc(hidden)]
+pub mod font;
+#[doc(hidden)]
+pub mod gif;
+#[doc(hidden)]
+pub mod grid;
+#[doc(hidden)]
+pub mod legend;
+#[doc(hidden)]
+pub mod mesh2d;
+#[doc(hidden)]
+pub mod palette;
+#[doc(hidden)]
+pub mod picture_files;
+#[doc(hidden)]
+pub mod picture_frames;
+#[doc(hidden)]
+pub mod png;
+#[doc(hidden)]
+pub mod raster;
+#[doc(hidden)]
+pub mod resample;
+#[doc(hidden)]
+pub mod shade3d;
+#[doc(hidden)]
+pub mod style;
+#[doc(hidden)]
+pub mod svg;
+#[doc(hidden)]
+pub mod texture;
+#[doc(hidden)]
+pub mod textured;
+#[doc(hidden)]
+pub mod view;
 
 pub use self::canvas::Canvas;
 pub use self::gif::{

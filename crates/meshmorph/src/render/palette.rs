@@ -246,11 +246,11 @@ impl Palette {
 }
 
 /// `#rrggbb`.
-pub(crate) fn hex(c: Rgb) -> String {
+pub fn hex(c: Rgb) -> String {
     format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
 }
 
-pub(crate) fn to_linear(c: u8) -> f64 {
+pub fn to_linear(c: u8) -> f64 {
     let c = f64::from(c) / 255.0;
     if c <= 0.04045 {
         c / 12.92
@@ -259,7 +259,7 @@ pub(crate) fn to_linear(c: u8) -> f64 {
     }
 }
 
-pub(crate) fn from_linear(l: f64) -> u8 {
+pub fn from_linear(l: f64) -> u8 {
     let l = l.clamp(0.0, 1.0);
     let c = if l <= 0.003_130_8 {
         12.92 * l
@@ -277,45 +277,4 @@ fn three_stop(keys: [Rgb; 3], t: f64) -> Rgb {
         (keys[1], keys[2], 2.0 * t - 1.0)
     };
     std::array::from_fn(|k| from_linear(to_linear(a[k]) * (1.0 - s) + to_linear(b[k]) * s))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn ramps_go_from_dark_to_light_and_do_not_overlap_slots() {
-        let p = Palette::standard();
-        for r in Ramp::ALL {
-            assert!(r.first as usize + r.len as usize <= 256);
-            assert!(r.first > slot::EDGE_3D);
-            let lum = |c: Rgb| c.iter().map(|&x| u32::from(x)).sum::<u32>();
-            for k in 1..r.len {
-                assert!(lum(p.get(r.first + k)) >= lum(p.get(r.first + k - 1)));
-            }
-            assert_eq!(r.index(0.0), r.first);
-            assert_eq!(r.index(1.0), r.first + r.len - 1);
-            assert_eq!(r.index(7.0), r.first + r.len - 1);
-            assert_eq!(r.index(f64::NAN), r.first);
-        }
-        // The scale's steps fill the rest of the palette, each its own hue.
-        let scale = Ramp::SCALE;
-        assert_eq!(scale[0].first, Ramp::GREY.first + Ramp::GREY.len);
-        assert_eq!(scale[7].first as usize + scale[7].len as usize, 256);
-        for pair in scale.windows(2) {
-            assert_eq!(pair[0].first + pair[0].len, pair[1].first);
-            assert_ne!(p.get(pair[0].index(0.5)), p.get(pair[1].index(0.5)));
-        }
-        assert_eq!(Ramp::on_scale(0.0), scale[0]);
-        assert_eq!(Ramp::on_scale(-3.0), scale[0]);
-        assert_eq!(Ramp::on_scale(0.13), scale[0]);
-        assert_eq!(Ramp::on_scale(0.15), scale[1]);
-        assert_eq!(Ramp::on_scale(0.99), scale[6]);
-        assert_eq!(Ramp::on_scale(1.0), scale[7]);
-        assert_eq!(Ramp::on_scale(5.0), scale[7]);
-        assert_eq!(Ramp::on_scale(f64::NAN), scale[7]);
-        assert_eq!(p.get(slot::BACKGROUND), [255, 255, 255]);
-        assert_eq!(p.to_bytes().len(), 768);
-        assert_eq!(hex([255, 0, 16]), "#ff0010");
-    }
 }

@@ -55,7 +55,7 @@ impl<'a> Nearest<'a> {
 
 /// `big` reduced by `factor` in each direction to `width × height` (pixels
 /// of `big` past `factor` times that are dropped), in `big`'s palette.
-pub(crate) fn downsample(big: &Canvas, factor: u32, width: u32, height: u32) -> Canvas {
+pub fn downsample(big: &Canvas, factor: u32, width: u32, height: u32) -> Canvas {
     let s = factor.max(1) as usize;
     let (w, h) = (width as usize, height as usize);
     let bw = big.width as usize;
@@ -112,27 +112,4 @@ fn nearest_index(colors: &[Rgb; 256], c: Rgb) -> u8 {
     (0..=255u8)
         .min_by_key(|&i| d(&colors[i as usize]))
         .unwrap_or(0)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::super::palette::{slot, Palette};
-    use super::*;
-
-    #[test]
-    fn uniform_blocks_keep_their_index_and_mixed_ones_blend() {
-        let mut big = Canvas::new(6, 3, Palette::standard());
-        // Left block: all fill; right block: one third edge.
-        for y in 0..3 {
-            for x in 0..3 {
-                big.set(x, y, slot::FILL);
-            }
-            big.set(3, y, slot::BLACK);
-        }
-        let small = downsample(&big, 3, 2, 1);
-        assert_eq!(small.pixels[0], slot::FILL);
-        let mixed = small.palette.get(small.pixels[1]);
-        let white = small.palette.get(slot::BACKGROUND);
-        assert!(mixed != white && mixed != [0, 0, 0], "{mixed:?}");
-    }
 }

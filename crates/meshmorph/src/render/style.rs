@@ -74,7 +74,7 @@ impl Default for Style2d {
 
 /// Edge sets of a triangle list, computed once per connectivity.
 #[derive(Clone, Debug, Default)]
-pub(crate) struct EdgeSets {
+pub struct EdgeSets {
     /// Every undirected edge once, smaller index first.
     pub all: Vec<[u32; 2]>,
     /// Edges of exactly one triangle.
@@ -131,7 +131,7 @@ impl EdgeSets {
 
 /// All three indices of `t` are below `n`.
 #[inline]
-pub(crate) fn valid(t: &[u32; 3], n: usize) -> bool {
+pub fn valid(t: &[u32; 3], n: usize) -> bool {
     t.iter().all(|&i| (i as usize) < n)
 }
 
@@ -146,7 +146,7 @@ pub(crate) fn signed_area(p: &[[f64; 2]], t: &[u32; 3]) -> f64 {
 
 impl Style2d {
     /// Which triangles to mark as flipped in the frame `positions`.
-    pub(crate) fn flipped_mask(&self, positions: &[[f64; 2]], triangles: &[[u32; 3]]) -> Vec<bool> {
+    pub fn flipped_mask(&self, positions: &[[f64; 2]], triangles: &[[u32; 3]]) -> Vec<bool> {
         match &self.flipped {
             Flipped::None => vec![false; triangles.len()],
             Flipped::NegativeArea => triangles
@@ -186,7 +186,7 @@ impl Style2d {
 
 /// The mean absolute area of the triangles of one frame (those whose area
 /// is a finite number; 0 without any).
-pub(crate) fn mean_area(positions: &[[f64; 2]], triangles: &[[u32; 3]]) -> f64 {
+pub fn mean_area(positions: &[[f64; 2]], triangles: &[[u32; 3]]) -> f64 {
     let (mut sum, mut n) = (0.0, 0usize);
     for t in triangles {
         let a = signed_area(positions, t).abs();
@@ -199,36 +199,5 @@ pub(crate) fn mean_area(positions: &[[f64; 2]], triangles: &[[u32; 3]]) -> f64 {
         0.0
     } else {
         sum / n as f64
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn edge_sets_find_the_boundary() {
-        // A square split in two: 5 edges, 4 on the boundary.
-        let tris = [[0, 1, 2], [0, 2, 3], [0, 1, 9]];
-        let e = EdgeSets::new(&tris, 4);
-        assert_eq!(e.all.len(), 5);
-        assert_eq!(e.boundary.len(), 4);
-        assert!(!e.boundary.contains(&[0, 2]));
-    }
-
-    #[test]
-    fn flip_rules() {
-        let p = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]];
-        let tris = [[0, 1, 2], [1, 3, 2], [1, 2, 3]];
-        let mut s = Style2d::default();
-        assert_eq!(s.flipped_mask(&p, &tris), vec![false, false, true]);
-        s.flipped = Flipped::AgainstMajority;
-        assert_eq!(s.flipped_mask(&p, &tris), vec![false, false, true]);
-        let cw = [[0, 2, 1], [1, 2, 3], [1, 3, 2]];
-        assert_eq!(s.flipped_mask(&p, &cw), vec![false, false, true]);
-        s.flipped = Flipped::Mask(vec![true]);
-        assert_eq!(s.flipped_mask(&p, &tris), vec![true, false, false]);
-        s.flipped = Flipped::None;
-        assert_eq!(s.flipped_mask(&p, &tris), vec![false; 3]);
     }
 }

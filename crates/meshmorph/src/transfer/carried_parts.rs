@@ -64,11 +64,11 @@ struct CarriedPart {
 
 /// A paired part whose place follows the main part around it.
 #[derive(Clone, Debug)]
-pub(crate) struct FollowingPart {
+pub struct FollowingPart {
     /// Its connected component.
-    pub(crate) component: u32,
+    pub component: u32,
     /// The main part's vertices nearest to its own.
-    pub(crate) anchors: Vec<u32>,
+    pub anchors: Vec<u32>,
 }
 
 /// The carried parts of a target and their anchors, and the paired parts
@@ -171,7 +171,7 @@ impl CarriedParts {
     }
 
     /// The paired parts next to the main one, whose place follows it.
-    pub(crate) fn following(&self) -> &[FollowingPart] {
+    pub fn following(&self) -> &[FollowingPart] {
         &self.following
     }
 
@@ -181,7 +181,6 @@ impl CarriedParts {
     }
 
     /// Whether no part is carried.
-    #[cfg(test)]
     pub fn is_empty(&self) -> bool {
         self.parts.is_empty()
     }
@@ -219,60 +218,4 @@ fn anchors(tree: &VertexTree, positions: &[[f64; 3]], vertices: &[u32]) -> Vec<u
     anchors.sort_unstable();
     anchors.dedup();
     anchors
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::mesh::shapes::tube;
-    use crate::mesh::topology::connected_components;
-
-    #[test]
-    fn a_paired_part_in_the_body_follows_it_and_one_standing_apart_does_not() {
-        // A body, an eye inside it, a smaller body beside it (a gap of a
-        // tenth of its size) and another farther than its own size (each
-        // triangle weighs 1: the first body, with the most triangles, is
-        // the main part).
-        let parts = [
-            (tube(4.0, 0.5, 9, 8), [0.0, 0.0, 0.0]),
-            (tube(0.3, 0.06, 3, 6), [3.5, 0.1, 0.0]),
-            (tube(4.0, 0.5, 5, 8), [0.0, 1.4, 0.0]),
-            (tube(4.0, 0.5, 5, 8), [0.0, 9.0, 0.0]),
-        ];
-        let (mut positions, mut triangles) = (Vec::new(), Vec::new());
-        for (mesh, at) in &parts {
-            let n = positions.len() as u32;
-            positions.extend(mesh.positions().iter().map(|p| add(*p, *at)));
-            triangles.extend(mesh.triangles().iter().map(|t| t.map(|v| v + n)));
-        }
-        let components = connected_components(positions.len(), &triangles);
-        let area = vec![1.0; triangles.len()];
-        let found = CarriedParts::new(
-            &positions,
-            &components,
-            &vec![true; triangles.len()],
-            &area,
-            &[],
-        );
-        assert!(found.is_empty());
-        let following: Vec<u32> = found.following().iter().map(|f| f.component).collect();
-        assert_eq!(following, vec![1, 2]);
-        // The eye's anchors are the body's vertices around its end.
-        let eye = &found.following()[0];
-        assert!(eye.anchors.iter().all(|&a| {
-            let p = positions[a as usize];
-            components.of_vertex[a as usize] == Some(0) && p[0] > 2.5
-        }));
-        // A part held by a pin is neither carried nor following.
-        let held = [false, true, false, false];
-        let found = CarriedParts::new(
-            &positions,
-            &components,
-            &vec![true; triangles.len()],
-            &area,
-            &held,
-        );
-        let following: Vec<u32> = found.following().iter().map(|f| f.component).collect();
-        assert_eq!(following, vec![2]);
-    }
 }

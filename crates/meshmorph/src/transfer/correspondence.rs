@@ -20,7 +20,7 @@ pub struct Correspondence {
 
 /// Vertex and triangle counts and a hash of the triangle list.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct MeshSignature {
+pub struct MeshSignature {
     pub(crate) vertices: usize,
     pub(crate) triangles: usize,
     pub(crate) hash: u64,

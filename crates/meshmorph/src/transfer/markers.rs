@@ -37,11 +37,11 @@ pub enum Side {
 
 /// A marker with a side given as a position, waiting for [`Markers::snap`].
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Pending {
+pub struct Pending {
     /// Its place among all the markers, in the order given.
-    pub(crate) order: usize,
-    pub(crate) sides: [Side; 2],
-    pub(crate) name: Option<String>,
+    pub order: usize,
+    pub sides: [Side; 2],
+    pub name: Option<String>,
     pub(crate) lines: [usize; 2],
 }
 
@@ -49,7 +49,7 @@ pub(crate) struct Pending {
 /// and the word for an entry's place in it (`line`, or `point` for files
 /// without lines), and the number its first vertex has.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub(crate) struct Origin {
+pub struct Origin {
     pub(crate) files: [Option<PathBuf>; 2],
     pub(crate) units: [&'static str; 2],
     /// 1 for a file read as 1-based, else 0.
@@ -72,12 +72,12 @@ pub(crate) struct Origin {
 /// along the triangle moves the result continuously.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Markers {
-    pub(crate) pairs: Vec<[SurfacePoint; 2]>,
-    pub(crate) names: Vec<Option<String>>,
+    pub pairs: Vec<[SurfacePoint; 2]>,
+    pub names: Vec<Option<String>>,
     /// 1-based line (or entry) of each pair's sides, when read from files.
     pub(crate) lines: Vec<[usize; 2]>,
     /// Pairs with a side given as a position, not yet snapped.
-    pub(crate) points: Vec<Pending>,
+    pub points: Vec<Pending>,
     pub(crate) origin: Origin,
 }
 
@@ -100,7 +100,7 @@ pub const SNAP_LIMIT: f64 = 0.02;
 
 /// The stiffness of a marker inside a triangle, over the diagonal of the
 /// correspondence's matrix at its vertices (see `matching.rs`).
-pub(crate) const HOLD_STIFFNESS: f64 = 1e4;
+pub const HOLD_STIFFNESS: f64 = 1e4;
 
 /// The two sides' names in messages.
 const SIDES: [&str; 2] = ["source", "target"];
@@ -609,7 +609,7 @@ impl Markers {
 /// A point as a key that can be hashed and sorted: vertices before
 /// triangle points, each by index (so that vertex pairs sort as their
 /// indices do).
-pub(crate) type Key = (u8, u32, [u64; 3]);
+pub type Key = (u8, u32, [u64; 3]);
 
 /// `p` as a [`Key`], as given.
 pub(crate) fn raw_key(p: &SurfacePoint) -> Key {
@@ -623,106 +623,9 @@ pub(crate) fn raw_key(p: &SurfacePoint) -> Key {
 }
 
 /// `p` as a [`Key`], a corner of a triangle as its vertex.
-pub(crate) fn key(p: &SurfacePoint, triangles: &[[u32; 3]]) -> Key {
+pub fn key(p: &SurfacePoint, triangles: &[[u32; 3]]) -> Key {
     match p.as_vertex(triangles) {
         Some(v) => raw_key(&SurfacePoint::Vertex(v)),
         None => raw_key(p),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::mesh::shapes::tube;
-    use std::path::Path;
-
-    #[test]
-    fn validation() {
-        let (small, large) = (tube(1.0, 0.2, 2, 3), tube(1.0, 0.2, 3, 4));
-        let p = Path::new("m.txt");
-        let m = Markers::parse("0 1\n9 2\n", p, VertexNumbering::FromZero).unwrap();
-        assert!(m.validate(&large, &small).is_ok());
-        let e = m.validate(&small, &small).unwrap_err();
-        assert!(
-            matches!(
-                e,
-                Error::InvalidMarker {
-                    marker: 1,
-                    line: Some(2),
-                    ..
-                }
-            ),
-            "{e:?}"
-        );
-        let e = e.to_string();
-        assert!(e.contains("line 2") && e.contains("source vertex 9"), "{e}");
-        let m = Markers::parse("0 1\n2 9\n", p, VertexNumbering::FromZero).unwrap();
-        let e = m.validate(&small, &small).unwrap_err().to_string();
-        assert!(e.contains("target vertex 9"), "{e}");
-        let e = Markers::new(vec![[0, 1], [0, 1]])
-            .validate(&large, &large)
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("repeats marker 0"), "{e}");
-        let e = Markers::new(vec![[0, 1], [0, 2]])
-            .validate(&large, &large)
-            .unwrap_err();
-        assert!(
-            matches!(
-                e,
-                Error::InvalidMarker {
-                    marker: 1,
-                    line: None,
-                    ..
-                }
-            ),
-            "{e:?}"
-        );
-        let e = e.to_string();
-        assert!(
-            e.contains("paired with target vertex 2 here and with target vertex 1"),
-            "{e}"
-        );
-        // A corner of a triangle is its vertex.
-        let corner = SurfacePoint::Triangle {
-            triangle: 0,
-            barycentric: [1.0, 0.0, 0.0],
-        };
-        let v = large.triangles()[0][0];
-        let e = Markers::on_surfaces(vec![
-            [SurfacePoint::Vertex(v), SurfacePoint::Vertex(1)],
-            [corner, SurfacePoint::Vertex(2)],
-        ])
-        .validate(&large, &large)
-        .unwrap_err()
-        .to_string();
-        assert!(e.contains("different partners"), "{e}");
-    }
-
-    #[test]
-    fn snapping_finds_the_surface_and_says_how_far() {
-        let mesh = tube(2.0, 0.5, 3, 8);
-        let corners = mesh.corners(0);
-        let normal = crate::mesh::closest::unit_normal(corners);
-        let centre = crate::linalg::vector::centroid(corners);
-        let near = crate::linalg::vector::add(centre, crate::linalg::vector::scale(normal, 0.01));
-        let on_vertex = mesh.positions()[3];
-        let (m, snap) = Markers::from_points(vec![[near, on_vertex], [on_vertex, near]])
-            .snap(&mesh, &mesh)
-            .unwrap();
-        assert_eq!(m.pairs()[0][1], SurfacePoint::Vertex(3));
-        assert!(matches!(m.pairs()[0][0], SurfacePoint::Triangle { .. }));
-        let p = m.pairs()[0][0].position(&mesh);
-        assert!((0..3).all(|i| (p[i] - centre[i]).abs() < 1e-12), "{p:?}");
-        assert!(snap.largest_source > 0.0 && snap.largest_source < SNAP_LIMIT);
-        assert_eq!(snap.points, 2);
-        let e = Markers::from_points(vec![[[0.0, 5.0, 0.0], near]])
-            .snap(&mesh, &mesh)
-            .unwrap_err()
-            .to_string();
-        assert!(
-            e.contains("the source point 0 5 0") && e.contains("surface"),
-            "{e}"
-        );
     }
 }

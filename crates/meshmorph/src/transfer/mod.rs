@@ -5,12 +5,12 @@
 //! the target by one back-substitution ([`pose_transfer`]), and how well the
 //! source deformed onto the target fits it ([`fit_report`]).
 
-pub(crate) mod carried_parts;
-pub(crate) mod correspondence;
-pub(crate) mod fit_report;
-pub(crate) mod markers;
-pub(crate) mod matching;
-pub(crate) mod mirror_plane;
-pub(crate) mod partner_parts;
-pub(crate) mod pose_transfer;
-pub(crate) mod rotation_field;
+pub mod carried_parts;
+pub mod correspondence;
+pub mod fit_report;
+pub mod markers;
+pub mod matching;
+pub mod mirror_plane;
+pub mod partner_parts;
+pub mod pose_transfer;
+pub mod rotation_field;

@@ -29,7 +29,7 @@ use crate::mesh::Mesh;
 /// `adjacency` (the rest's), by the dimension's branch choice. `previous`:
 /// for a later key of a sequence, the previous key's logarithms and the
 /// triangles' areas.
-pub(crate) fn consistent_rotations<const D: usize>(
+pub fn consistent_rotations<const D: usize>(
     rest: &Mesh<D>,
     adjacency: &TriangleAdjacency,
     rotations: &[<Space<D> as Rotations<D>>::Principal],
@@ -123,26 +123,6 @@ pub fn make_consistent<L>(
                     queue.push_back(n);
                 }
             }
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::interpolate::rotation::planar::nearest_branch;
-    use std::f64::consts::PI;
-
-    #[test]
-    fn unwraps_a_chain_of_triangles() {
-        // A chain 0-1-2-...-9 whose true angles grow by 0.4π per step.
-        let tris: Vec<[u32; 3]> = (0..10).map(|i| [i, i + 1, i + 2]).collect();
-        let adj = TriangleAdjacency::new(&tris);
-        let truth: Vec<f64> = (0..10).map(|i| 0.4 * PI * i as f64).collect();
-        let mut a: Vec<f64> = truth.iter().map(|&x| nearest_branch(x, 0.0)).collect();
-        make_consistent(&mut a, &adj, &[0], |&a, &r| nearest_branch(a, r));
-        for (x, y) in a.iter().zip(&truth) {
-            assert!((x - y).abs() < 1e-12, "{a:?}");
         }
     }
 }

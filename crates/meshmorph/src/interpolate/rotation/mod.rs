@@ -7,10 +7,10 @@
 //! ([`planar`]), in space by whole turns of the patches between jumps
 //! ([`patches`]), both behind one entry point ([`consistent_rotations`]).
 
-mod consistency;
-mod patches;
-mod planar;
-mod spatial;
+pub mod consistency;
+pub mod patches;
+pub mod planar;
+pub mod spatial;
 
 use std::fmt::Debug;
 
@@ -20,7 +20,7 @@ use crate::linalg::matrix::Mat;
 use crate::linalg::Space;
 use crate::mesh::topology::TriangleAdjacency;
 
-pub(crate) use consistency::consistent_rotations;
+pub use consistency::consistent_rotations;
 pub use consistency::make_consistent;
 pub use spatial::RotationLog3;
 

@@ -49,11 +49,7 @@ pub fn read_anchor_file(path: &Path, drawings: usize) -> Result<Vec<AnchorRow>> 
 }
 
 /// [`read_anchor_file`] on text already read from `path`.
-pub(super) fn parse_anchor_text(
-    text: &str,
-    path: &Path,
-    drawings: usize,
-) -> Result<Vec<AnchorRow>> {
+pub fn parse_anchor_text(text: &str, path: &Path, drawings: usize) -> Result<Vec<AnchorRow>> {
     let mut rows: Vec<AnchorRow> = Vec::new();
     for (i, raw) in text.lines().enumerate() {
         let line = i + 1;

@@ -3,7 +3,7 @@
 
 /// One piece of a path outline in the drawing's coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) enum Segment {
+pub enum Segment {
     /// Starts a new loop at the point.
     Move([f64; 2]),
     /// A straight line to the point.
@@ -33,7 +33,7 @@ fn chords(bound: f64, tolerance: f64) -> usize {
     }
 }
 
-fn len(v: [f64; 2]) -> f64 {
+pub fn len(v: [f64; 2]) -> f64 {
     v[0].hypot(v[1])
 }
 
@@ -52,7 +52,7 @@ fn start_at(current: &mut Vec<[f64; 2]>, last: [f64; 2]) {
 /// chords within `tolerance` (> 0) of them; each loop's points without
 /// the closing repeat of its first. An open subpath is closed, as a fill
 /// closes it. Returns the loops and how many curves were flattened.
-pub(super) fn flatten(segments: &[Segment], tolerance: f64) -> (Vec<Vec<[f64; 2]>>, usize) {
+pub fn flatten(segments: &[Segment], tolerance: f64) -> (Vec<Vec<[f64; 2]>>, usize) {
     let mut loops = Vec::new();
     let mut current: Vec<[f64; 2]> = Vec::new();
     let mut curves = 0;
@@ -122,50 +122,4 @@ pub(super) fn flatten(segments: &[Segment], tolerance: f64) -> (Vec<Vec<[f64; 2]
     }
     finish(&mut current);
     (loops, curves)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_quarter_circle_keeps_within_the_tolerance() {
-        // The usual cubic for a quarter of the unit circle.
-        let k = 0.552_284_749_830_793_4;
-        let segs = [
-            Segment::Move([1.0, 0.0]),
-            Segment::Cubic([1.0, k], [k, 1.0], [0.0, 1.0]),
-            Segment::Close,
-        ];
-        for tol in [1e-2, 1e-3, 1e-4] {
-            let (loops, curves) = flatten(&segs, tol);
-            assert_eq!((loops.len(), curves), (1, 1));
-            let pts = &loops[0];
-            for w in pts[..pts.len() - 1].windows(2) {
-                let mid = [(w[0][0] + w[1][0]) / 2.0, (w[0][1] + w[1][1]) / 2.0];
-                // The cubic is within 3e-4 of the circle.
-                assert!(1.0 - len(mid) <= tol + 3e-4, "{tol}: {mid:?}");
-            }
-        }
-        assert!(flatten(&segs, 1e-4).0[0].len() > flatten(&segs, 1e-2).0[0].len());
-    }
-
-    #[test]
-    fn lines_stay_as_given_and_open_paths_close() {
-        let segs = [
-            Segment::Move([0.0, 0.0]),
-            Segment::Line([1.0, 0.0]),
-            Segment::Line([1.0, 1.0]),
-            Segment::Move([5.0, 5.0]),
-            Segment::Line([6.0, 5.0]),
-            Segment::Line([6.0, 6.0]),
-            Segment::Line([5.0, 5.0]),
-            Segment::Close,
-        ];
-        let (loops, curves) = flatten(&segs, 0.1);
-        assert_eq!(curves, 0);
-        assert_eq!(loops[0], vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]);
-        assert_eq!(loops[1], vec![[5.0, 5.0], [6.0, 5.0], [6.0, 6.0]]);
-        assert_eq!(loops.len(), 2);
-    }
 }

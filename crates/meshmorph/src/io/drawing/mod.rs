@@ -27,17 +27,17 @@
 //! taken as y pointing up, as meshes are drawn, and flipped when written
 //! as SVG or Lottie.
 
-mod anchors;
-mod canvas;
-mod flatten;
-mod lottie;
-mod mesh_outline;
-mod regions;
-mod svg_animate;
-mod svg_read;
-mod svg_write;
-mod text_read;
-mod text_write;
+pub mod anchors;
+pub mod canvas;
+pub mod flatten;
+pub mod lottie;
+pub mod mesh_outline;
+pub mod regions;
+pub mod svg_animate;
+pub mod svg_read;
+pub mod svg_write;
+pub mod text_read;
+pub mod text_write;
 
 pub use anchors::{match_anchors, read_anchor_file, AnchorRow};
 pub use canvas::Canvas;
@@ -49,7 +49,7 @@ pub use svg_write::{svg_path_data, write_svg_frame};
 pub use text_read::parse_text_drawing;
 pub use text_write::write_text_frame;
 
-pub(crate) use regions::{inside, signed_area2};
+pub use regions::{inside, signed_area2};
 
 use std::path::Path;
 
@@ -224,6 +224,3 @@ pub(crate) fn parse_error(path: &Path, line: Option<usize>, message: String) -> 
         message,
     }
 }
-
-#[cfg(test)]
-mod tests;

@@ -6,7 +6,7 @@ use crate::outline::geometry::point_segment_distance;
 
 /// How a path decides what is inside.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Rule {
+pub enum Rule {
     /// Inside where the loops wind around a point a non-zero number of
     /// times (SVG's default).
     NonZero,
@@ -16,7 +16,7 @@ pub(super) enum Rule {
 }
 
 /// A loop of a filled path.
-pub(super) struct FilledLoop {
+pub struct FilledLoop {
     /// The path it belongs to (an index into the caller's list).
     pub element: usize,
     pub points: Vec<[f64; 2]>,
@@ -25,13 +25,13 @@ pub(super) struct FilledLoop {
 /// One filled region: an outer loop and the holes just inside it, as
 /// indices into the loops given.
 #[derive(Debug, PartialEq)]
-pub(super) struct Region {
+pub struct Region {
     pub outer: usize,
     pub holes: Vec<usize>,
 }
 
 /// Twice the signed area (positive when the loop turns from +x towards +y).
-pub(crate) fn signed_area2(points: &[[f64; 2]]) -> f64 {
+pub fn signed_area2(points: &[[f64; 2]]) -> f64 {
     let n = points.len();
     (0..n)
         .map(|i| {
@@ -61,7 +61,7 @@ fn winding(points: &[[f64; 2]], p: [f64; 2]) -> i32 {
 }
 
 /// Whether `p` is inside the loop `points`.
-pub(crate) fn inside(points: &[[f64; 2]], p: [f64; 2]) -> bool {
+pub fn inside(points: &[[f64; 2]], p: [f64; 2]) -> bool {
     winding(points, p) != 0
 }
 
@@ -101,7 +101,7 @@ fn probe(loops: &[FilledLoop], i: usize) -> [f64; 2] {
 /// `rules[element]`, counting the other loops of the same path); a loop
 /// with fill on both sides (a loop drawn within the fill) bounds nothing
 /// and is left out. Each hole goes to the smallest outer loop around it.
-pub(super) fn regions(loops: &[FilledLoop], rules: &[Rule]) -> Vec<Region> {
+pub fn regions(loops: &[FilledLoop], rules: &[Rule]) -> Vec<Region> {
     let mut outers = Vec::new();
     let mut holes = Vec::new();
     for (i, l) in loops.iter().enumerate() {
@@ -143,90 +143,4 @@ pub(super) fn regions(loops: &[FilledLoop], rules: &[Rule]) -> Vec<Region> {
         }
     }
     found
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn square(x: f64, y: f64, s: f64, ccw: bool) -> Vec<[f64; 2]> {
-        let mut v = vec![[x, y], [x + s, y], [x + s, y + s], [x, y + s]];
-        if !ccw {
-            v.reverse();
-        }
-        v
-    }
-
-    fn filled(element: usize, points: Vec<[f64; 2]>) -> FilledLoop {
-        FilledLoop { element, points }
-    }
-
-    #[test]
-    fn fill_rules_tell_holes() {
-        // Two loops the same way round: a hole under even-odd, fill on both
-        // sides of the inner one under non-zero.
-        let same = [
-            filled(0, square(0.0, 0.0, 10.0, true)),
-            filled(0, square(2.0, 2.0, 2.0, true)),
-        ];
-        let one_hole = vec![Region {
-            outer: 0,
-            holes: vec![1],
-        }];
-        assert_eq!(regions(&same, &[Rule::EvenOdd]), one_hole);
-        assert_eq!(
-            regions(&same, &[Rule::NonZero]),
-            vec![Region {
-                outer: 0,
-                holes: vec![]
-            }]
-        );
-        let opposite = [
-            filled(0, square(0.0, 0.0, 10.0, true)),
-            filled(0, square(2.0, 2.0, 2.0, false)),
-        ];
-        assert_eq!(regions(&opposite, &[Rule::NonZero]), one_hole);
-        // An island in a hole is a second region.
-        let island = [
-            filled(0, square(0.0, 0.0, 10.0, true)),
-            filled(0, square(2.0, 2.0, 6.0, true)),
-            filled(0, square(4.0, 4.0, 2.0, true)),
-        ];
-        assert_eq!(regions(&island, &[Rule::EvenOdd]).len(), 2);
-        // Separate paths never make holes in each other.
-        let apart = [
-            filled(0, square(0.0, 0.0, 10.0, true)),
-            filled(1, square(2.0, 2.0, 2.0, true)),
-        ];
-        assert_eq!(regions(&apart, &[Rule::EvenOdd, Rule::EvenOdd]).len(), 2);
-    }
-
-    #[test]
-    fn loops_touching_at_a_vertex_are_told_apart() {
-        // A figure eight drawn as one path: two diamonds the same way round
-        // that share the vertex each starts at. Two regions under either
-        // rule, neither taken for a loop within the other's fill.
-        let right = vec![
-            [100.0, 100.0],
-            [150.0, 150.0],
-            [190.0, 100.0],
-            [150.0, 50.0],
-        ];
-        let left = vec![[100.0, 100.0], [50.0, 50.0], [10.0, 100.0], [50.0, 150.0]];
-        let eight = [filled(0, right.clone()), filled(0, left)];
-        for rule in [Rule::NonZero, Rule::EvenOdd] {
-            assert_eq!(regions(&eight, &[rule]).len(), 2, "{rule:?}");
-        }
-        // A hole starting at a vertex of its outer loop is still its hole.
-        let mut hole = square(120.0, 90.0, 20.0, true);
-        hole[0] = [150.0, 50.0];
-        let found = regions(&[filled(0, right), filled(0, hole)], &[Rule::NonZero]);
-        assert_eq!(
-            found,
-            vec![Region {
-                outer: 0,
-                holes: vec![1]
-            }]
-        );
-    }
 }

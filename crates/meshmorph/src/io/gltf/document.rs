@@ -12,11 +12,11 @@ use crate::error::{Error, Result};
 use crate::io::read::{read_file, Limit};
 
 /// The four bytes that open a GLB.
-pub(crate) const GLB_MAGIC: &[u8; 4] = b"glTF";
+pub const GLB_MAGIC: &[u8; 4] = b"glTF";
 /// The type of a GLB's JSON chunk.
-pub(crate) const CHUNK_JSON: u32 = 0x4E4F_534A;
+pub const CHUNK_JSON: u32 = 0x4E4F_534A;
 /// The type of a GLB's binary chunk.
-pub(crate) const CHUNK_BIN: u32 = 0x004E_4942;
+pub const CHUNK_BIN: u32 = 0x004E_4942;
 
 /// How a glTF file holds its JSON.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

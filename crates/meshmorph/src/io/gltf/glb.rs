@@ -82,7 +82,7 @@ pub(crate) struct Appender<'a, 'p> {
 /// a batch at a time on every thread while the writer writes the ones
 /// before, so that no more than a few are held at once).
 #[derive(Default)]
-pub(crate) struct Pieces<'a> {
+pub struct Pieces<'a> {
     pieces: Vec<Piece<'a>>,
     len: usize,
 }
@@ -108,12 +108,17 @@ fn make(len: usize, fill: &LaterBytes<'_>) -> Vec<u8> {
 
 impl<'a> Pieces<'a> {
     /// Their length in all.
-    pub(crate) fn len(&self) -> usize {
+    pub fn len(&self) -> usize {
         self.len
     }
 
+    /// Whether they hold no byte.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
     /// Appends `bytes`.
-    pub(crate) fn push(&mut self, bytes: Vec<u8>) {
+    pub fn push(&mut self, bytes: Vec<u8>) {
         self.len += bytes.len();
         if !bytes.is_empty() {
             self.pieces.push(Piece::Made(bytes));
@@ -121,18 +126,14 @@ impl<'a> Pieces<'a> {
     }
 
     /// Appends `len` bytes that `fill` makes when they are written.
-    pub(crate) fn push_later(
-        &mut self,
-        len: usize,
-        fill: impl Fn(&mut Vec<u8>) + Send + Sync + 'a,
-    ) {
+    pub fn push_later(&mut self, len: usize, fill: impl Fn(&mut Vec<u8>) + Send + Sync + 'a) {
         self.len += len;
         self.pieces.push(Piece::Later(len, Box::new(fill)));
     }
 
     /// Writes the pieces in order: the later ones made a batch at a time on
     /// every thread, on a thread beside this one, which writes.
-    pub(crate) fn write_to(&self, w: &mut dyn Write) -> std::io::Result<()> {
+    pub fn write_to(&self, w: &mut dyn Write) -> std::io::Result<()> {
         let later: Vec<(usize, &LaterBytes<'a>)> = self
             .pieces
             .iter()
@@ -171,7 +172,7 @@ impl<'a> Pieces<'a> {
     }
 
     /// The pieces joined.
-    pub(crate) fn concat(&self) -> Vec<u8> {
+    pub fn concat(&self) -> Vec<u8> {
         let mut bytes = Vec::with_capacity(self.len);
         self.write_to(&mut bytes)
             .expect("writing to memory does not fail");
@@ -362,18 +363,18 @@ impl<'p> Appender<'_, 'p> {
 
 /// What one pass over a morph target's deltas finds: their bounds, how
 /// many vertices move, and whether every delta is finite.
-pub(crate) struct DeltaSummary {
+pub struct DeltaSummary {
     count: usize,
     /// Every delta is finite.
-    pub(crate) finite: bool,
+    pub finite: bool,
     min: [f32; 3],
     max: [f32; 3],
-    moved: usize,
+    pub moved: usize,
 }
 
 impl DeltaSummary {
     /// The summary of `delta(0)`, ..., `delta(count - 1)`.
-    pub(crate) fn of(count: usize, delta: impl Fn(usize) -> [f32; 3]) -> Self {
+    pub fn of(count: usize, delta: impl Fn(usize) -> [f32; 3]) -> Self {
         let mut min = [f32::INFINITY; 3];
         let mut max = [f32::NEG_INFINITY; 3];
         let mut moved = 0;
@@ -403,7 +404,7 @@ impl DeltaSummary {
 
     /// How the deltas are stored: no data when none moves, sparse when that
     /// is smaller (and `sparse`), else dense.
-    fn layout(&self, sparse: bool) -> DeltaLayout {
+    pub fn layout(&self, sparse: bool) -> DeltaLayout {
         let (index_type, index_bytes) = match self.count {
             0..=256 => (5121, 1),
             257..=65536 => (5123, 2),
@@ -442,20 +443,20 @@ impl DeltaSummary {
 /// The bytes of a morph target's deltas: dense (every delta), or sparse
 /// (the moving vertices' indices, padding to 4 bytes, their deltas).
 #[derive(Clone, Debug)]
-struct DeltaLayout {
+pub struct DeltaLayout {
     /// The sparse indices' component type; `None` for dense deltas.
-    index_type: Option<u32>,
+    pub index_type: Option<u32>,
     index_bytes: usize,
     padding: usize,
     /// Where the sparse deltas start.
-    values_at: usize,
+    pub values_at: usize,
     /// The bytes in all (0: no data).
-    len: usize,
+    pub len: usize,
 }
 
 impl DeltaLayout {
     /// Appends the bytes of `delta(0)`, ... to `bytes`.
-    fn fill(&self, delta: impl Fn(usize) -> [f32; 3], bytes: &mut Vec<u8>) {
+    pub fn fill(&self, delta: impl Fn(usize) -> [f32; 3], bytes: &mut Vec<u8>) {
         let start = bytes.len();
         match self.index_type {
             None if self.len > 0 => {
@@ -496,7 +497,7 @@ fn vector_bytes(d: [f32; 3]) -> [u8; 12] {
 }
 
 /// Little-endian bytes of `values`.
-pub(crate) fn float_bytes(values: &[f32]) -> Vec<u8> {
+pub fn float_bytes(values: &[f32]) -> Vec<u8> {
     let mut bytes = Vec::with_capacity(4 * values.len());
     for x in values {
         bytes.extend_from_slice(&x.to_le_bytes());
@@ -541,111 +542,5 @@ pub(crate) fn bounds_of(values: &[f32], components: usize) -> (Vec<f32>, Vec<f32
         (vec![0.0; components], vec![0.0; components])
     } else {
         (min, max)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Pieces made now and later: written in order, whether the later ones
-    /// come in one batch or many.
-    fn pieces(later: usize) -> (Pieces<'static>, Vec<u8>) {
-        let mut pieces = Pieces::default();
-        let mut expected = Vec::new();
-        for k in 0..later {
-            let made = vec![k as u8; k % 3];
-            expected.extend_from_slice(&made);
-            pieces.push(made);
-            let len = 1000 + k;
-            expected.extend((0..len).map(|i| (i * 7 + k) as u8));
-            pieces.push_later(len, move |bytes| {
-                bytes.extend((0..len).map(|i| (i * 7 + k) as u8));
-            });
-        }
-        (pieces, expected)
-    }
-
-    #[test]
-    fn later_pieces_are_written_in_their_place() {
-        for later in [0, 1, 5, 40] {
-            let (pieces, expected) = pieces(later);
-            assert_eq!(pieces.len(), expected.len());
-            assert_eq!(pieces.concat(), expected, "{later} later pieces");
-        }
-    }
-
-    /// A writer that fails after `room` bytes.
-    struct Full {
-        room: usize,
-    }
-
-    impl Write for Full {
-        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-            if self.room == 0 {
-                return Err(std::io::Error::other("no room left"));
-            }
-            let n = buf.len().min(self.room);
-            self.room -= n;
-            Ok(n)
-        }
-
-        fn flush(&mut self) -> std::io::Result<()> {
-            Ok(())
-        }
-    }
-
-    #[test]
-    fn a_failing_writer_stops_the_pieces_with_its_error() {
-        let (pieces, expected) = pieces(40);
-        for room in [0, 10, expected.len() / 2, expected.len() - 1] {
-            let error = pieces.write_to(&mut Full { room }).unwrap_err();
-            assert_eq!(error.to_string(), "no room left");
-        }
-        assert!(pieces
-            .write_to(&mut Full {
-                room: expected.len()
-            })
-            .is_ok());
-    }
-
-    #[test]
-    fn sparse_and_dense_deltas_lay_out_what_moves() {
-        // 300 vertices (2-byte indices), every 10th moving: sparse; with
-        // `sparse` off, or every vertex moving: dense.
-        let deltas: Vec<[f32; 3]> = (0..300)
-            .map(|v| {
-                if v % 10 == 3 {
-                    [v as f32, -1.0, 0.5]
-                } else {
-                    [0.0; 3]
-                }
-            })
-            .collect();
-        let summary = DeltaSummary::of(deltas.len(), |v| deltas[v]);
-        assert!(summary.finite);
-        assert_eq!(summary.moved, 30);
-        let sparse = summary.layout(true);
-        assert_eq!(sparse.index_type, Some(5123));
-        let mut bytes = Vec::new();
-        sparse.fill(|v| deltas[v], &mut bytes);
-        assert_eq!(bytes.len(), sparse.len);
-        let index = |i: usize| u16::from_le_bytes([bytes[2 * i], bytes[2 * i + 1]]) as usize;
-        let value = |i: usize, c: usize| {
-            let at = sparse.values_at + 12 * i + 4 * c;
-            f32::from_le_bytes(bytes[at..at + 4].try_into().unwrap())
-        };
-        for i in 0..30 {
-            assert_eq!(index(i), 10 * i + 3);
-            assert_eq!([value(i, 0), value(i, 1), value(i, 2)], deltas[10 * i + 3]);
-        }
-        let dense = summary.layout(false);
-        assert_eq!((dense.index_type, dense.len), (None, 12 * 300));
-        let mut bytes = Vec::new();
-        dense.fill(|v| deltas[v], &mut bytes);
-        assert_eq!(bytes, float_bytes(deltas.as_flattened()));
-        let still = DeltaSummary::of(10, |_| [0.0; 3]);
-        assert_eq!(still.layout(true).len, 0);
-        assert!(!DeltaSummary::of(3, |v| [0.0, f32::NAN * v as f32, 0.0]).finite);
     }
 }

@@ -178,7 +178,7 @@ impl GltfDocument {
     /// only mesh with triangles, else the one with the most vertices.
     ///
     /// # Errors
-    /// [`Error::Parse`] naming the file and the mesh: no mesh of that name,
+    /// [`Error::Parse`](crate::Error::Parse) naming the file and the mesh: no mesh of that name,
     /// no mesh with triangles, a mesh compressed with Draco or meshopt, a
     /// bad accessor.
     pub fn mesh(&self, choice: Option<&str>) -> Result<GltfMesh> {

@@ -19,14 +19,22 @@
 //! - Writing a new GLB of a mesh and its frames ([`write_glb`] and its
 //!   kin, `write.rs`).
 
-pub(crate) mod accessor;
-mod base64;
-mod document;
-mod glb;
-mod mesh;
-mod sample;
-mod shape_keys;
-mod write;
+#[doc(hidden)]
+pub mod accessor;
+#[doc(hidden)]
+pub mod base64;
+#[doc(hidden)]
+pub mod document;
+#[doc(hidden)]
+pub mod glb;
+#[doc(hidden)]
+pub mod mesh;
+#[doc(hidden)]
+pub mod sample;
+#[doc(hidden)]
+pub mod shape_keys;
+#[doc(hidden)]
+pub mod write;
 
 pub use document::{Container, GltfDocument};
 pub use mesh::{read, GltfMesh, GltfPrimitive, MorphTarget, VertexBlock};

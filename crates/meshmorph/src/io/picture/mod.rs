@@ -23,13 +23,19 @@
 //! top-left pixel, x to the right, y down; pixel `(i, j)` has its centre
 //! at `(i + ½, j + ½)`. Anchors are given so, in each picture's own pixels.
 
-mod arm;
+#[doc(hidden)]
+pub mod arm;
 #[cfg(feature = "render")]
-mod decode;
-mod meshes;
-mod outline;
-mod simplify;
-mod trace;
+#[doc(hidden)]
+pub mod decode;
+#[doc(hidden)]
+pub mod meshes;
+#[doc(hidden)]
+pub mod outline;
+#[doc(hidden)]
+pub mod simplify;
+#[doc(hidden)]
+pub mod trace;
 
 pub use arm::{arm_anchors, arm_fold_anchors, arm_sprite, ARM_SPRITE_SIZE};
 #[cfg(feature = "render")]
@@ -128,6 +134,3 @@ pub fn picture_morph_memory(pixels: u64, frame_pixels: u64, frames_held: u64) ->
     let picture = 4 * pixels + 8 * pixels / 3;
     2 * picture + 4 * pixels + pixels + frames_held * 4 * frame_pixels
 }
-
-#[cfg(test)]
-mod tests;

@@ -3,10 +3,16 @@
 //! bent and a straight bar, rings and shapes with two holes, different
 //! point counts, turned, reversed and restarted copies, noise.
 
-use super::geometry::diagonal;
-use super::geometry::orient;
-use super::*;
-use crate::{Interpolator, InterpolatorOptions};
+mod boundary;
+mod drawing;
+mod settle;
+mod untie;
+mod widest;
+
+use meshmorph::outline::geometry::orient;
+use meshmorph::outline::geometry::{diagonal, dist, lerp, point_segment_distance, ArcLoop};
+use meshmorph::outline::*;
+use meshmorph::{Interpolator, InterpolatorOptions, Mesh2};
 use std::f64::consts::{PI, TAU};
 
 /// A small seeded generator (xorshift), uniform in [0, 1).
@@ -512,7 +518,7 @@ fn check_set(drawings: &[Loops], set: &CompatibleSet) {
         }
         assert_on_drawing(mesh, loops, &set.loops);
     }
-    let sequence = crate::Sequence::new(&set.meshes, &InterpolatorOptions::default()).unwrap();
+    let sequence = meshmorph::Sequence::new(&set.meshes, &InterpolatorOptions::default()).unwrap();
     for (k, mesh) in set.meshes.iter().enumerate() {
         let frame = sequence.at(k as f64);
         let size = mesh.bounding_box_diagonal();
@@ -678,7 +684,9 @@ fn rotations_up_to_half_a_turn_fold_no_frame_and_keep_the_area() {
         ),
     ];
     let area = |positions: &[[f64; 2]], triangles: &[[u32; 3]]| -> f64 {
-        crate::mesh::signed_areas(positions, triangles).iter().sum()
+        meshmorph::mesh::signed_areas(positions, triangles)
+            .iter()
+            .sum()
     };
     for (name, a, b) in &shapes {
         for degrees in [30.0f64, 90.0, 135.0, 180.0] {
@@ -784,8 +792,11 @@ fn a_round_ring_with_its_hole_off_centre_turns_rigidly() {
         let turned = pose(&ring, degrees.to_radians(), 1.0, 17, false, 0.0, 1);
         let m = check(&ring, &turned).meshes;
         let morph = Interpolator::new(&m.a, &m.b, &InterpolatorOptions::default()).unwrap();
-        let area =
-            |p: &[[f64; 2]]| -> f64 { crate::mesh::signed_areas(p, m.a.triangles()).iter().sum() };
+        let area = |p: &[[f64; 2]]| -> f64 {
+            meshmorph::mesh::signed_areas(p, m.a.triangles())
+                .iter()
+                .sum()
+        };
         let whole = area(m.a.positions());
         for k in 0..=10 {
             let ratio = area(&morph.at(k as f64 / 10.0)) / whole;
@@ -1176,7 +1187,7 @@ fn untied_frames_outlines_never_cross() {
             let moved: Vec<f64> = x
                 .iter()
                 .zip(&y)
-                .map(|(&q, &r)| super::geometry::dist(q, r))
+                .map(|(&q, &r)| meshmorph::outline::geometry::dist(q, r))
                 .filter(|&d| d > 0.0)
                 .collect();
             assert!(
@@ -1219,7 +1230,7 @@ fn outline_area(x: &[[f64; 2]], loops: &[Vec<u32>]) -> f64 {
 /// untied.
 #[test]
 fn area_blend_keeps_unlike_frames_near_the_blended_area() {
-    use crate::StretchMode;
+    use meshmorph::StretchMode;
     let pairs = [
         (random_polygon(50, 1), thick_curl(90), true),
         (random_polygon(60, 3), spiral(120), false),
@@ -1279,7 +1290,7 @@ fn edges_off_blend(
     t: f64,
 ) -> f64 {
     let length = |p: &[[f64; 2]], l: &[u32], i: usize| {
-        super::geometry::dist(p[l[i] as usize], p[l[(i + 1) % l.len()] as usize])
+        meshmorph::outline::geometry::dist(p[l[i] as usize], p[l[(i + 1) % l.len()] as usize])
     };
     let (mut sum, mut count) = (0.0, 0);
     for l in loops {
@@ -1304,7 +1315,7 @@ fn edges_off_blend(
 /// are the fit's.
 #[test]
 fn outline_lengths_keep_the_edges_on_their_blend_and_the_fits_area() {
-    use crate::StretchMode;
+    use meshmorph::StretchMode;
     let pairs = [
         (
             "spiky polygon to thick curl",
@@ -1403,7 +1414,7 @@ fn outline_lengths_keep_the_edges_on_their_blend_and_the_fits_area() {
             .at(t)
             .iter()
             .zip(kept.at(t))
-            .map(|(p, q)| super::geometry::dist(*p, q))
+            .map(|(p, q)| meshmorph::outline::geometry::dist(*p, q))
             .fold(0.0, f64::max);
         assert!(
             moved < 1e-3 * size,

@@ -1,7 +1,14 @@
 //! Pictures made in code: traced, made compatible, drawn.
 
-use super::*;
-use crate::outline::OutlineOptions;
+use meshmorph::error::Error;
+use meshmorph::io::picture::arm::{arm_anchors, arm_sprite, ARM_SPRITE_SIZE};
+use meshmorph::io::picture::decode::decode_picture;
+use meshmorph::io::picture::meshes::{picture_meshes, PictureMeshes};
+use meshmorph::io::picture::outline::{picture_drawing, PictureDrawing, PictureShape};
+use meshmorph::io::picture::trace::trace_alpha;
+
+use meshmorph::io::picture::*;
+use meshmorph::outline::OutlineOptions;
 
 /// Alpha of a pixel whose centre is `d` pixels inside an edge (negative:
 /// outside), anti-aliased over one pixel.
@@ -59,7 +66,7 @@ fn alpha_area(p: &Picture) -> f64 {
 }
 
 fn area(l: &[[f64; 2]]) -> f64 {
-    crate::io::drawing::signed_area2(l) / 2.0
+    meshmorph::io::drawing::signed_area2(l) / 2.0
 }
 
 #[test]
@@ -228,8 +235,8 @@ fn photo_anchors_are_exact_vertices_of_both_meshes() {
 #[cfg(feature = "render")]
 mod frames {
     use super::*;
-    use crate::render::PictureMorph;
-    use crate::{Interpolator, InterpolatorOptions};
+    use meshmorph::render::PictureMorph;
+    use meshmorph::{Interpolator, InterpolatorOptions};
 
     fn visible(p: &Picture) -> Vec<[u8; 4]> {
         p.rgba
@@ -335,7 +342,7 @@ mod frames {
     fn pictures_too_large_are_refused_before_decoding() {
         let p = ring(40, [20.0, 20.0], 15.0);
         let mut bytes = Vec::new();
-        crate::render::write_picture_png(&mut bytes, &p).unwrap();
+        meshmorph::render::write_picture_png(&mut bytes, &p).unwrap();
         let path = std::path::Path::new("big.png");
         assert_eq!(decode_picture(&bytes, path, u64::MAX).unwrap(), p);
         let e = decode_picture(&bytes, path, 1000).unwrap_err();
@@ -460,7 +467,7 @@ fn on_arm(along: f64, across: f64, bend: f64) -> [f64; 2] {
 /// anchors on the axis).
 #[test]
 fn anchors_inside_the_arm_are_vertices_of_both_meshes() {
-    use crate::outline::{compatible_set, OutlineOptions};
+    use meshmorph::outline::{compatible_set, OutlineOptions};
     let families: [&[(f64, f64)]; 7] = [
         &[(110.0, 0.0)],
         &[(160.0, 0.0)],
@@ -494,7 +501,7 @@ fn anchors_inside_the_arm_are_vertices_of_both_meshes() {
             eprintln!("{inside:?} bent {:.0}°: {}", bend.to_degrees(), set.report);
             assert_eq!(set.report.inside_anchors, inside.len());
             for mesh in &set.meshes {
-                let areas = crate::mesh::signed_areas(mesh.positions(), mesh.triangles());
+                let areas = meshmorph::mesh::signed_areas(mesh.positions(), mesh.triangles());
                 assert!(
                     areas.iter().all(|&a| a > 0.0),
                     "{inside:?}: a triangle turned over"

@@ -1,9 +1,22 @@
 //! Drawings read from SVG and text, and frames written back.
 
+mod flatten;
+mod mesh_outline;
+mod regions;
+
+use meshmorph::io::drawing::anchors::match_anchors;
+use meshmorph::io::drawing::canvas::Canvas;
+use meshmorph::io::drawing::lottie::write_lottie;
+use meshmorph::io::drawing::regions::signed_area2;
+use meshmorph::io::drawing::svg_animate::write_animated_svg;
+use meshmorph::io::drawing::svg_read::parse_svg_drawing;
+use meshmorph::io::drawing::svg_write::{svg_path_data, write_svg_frame};
+use meshmorph::io::drawing::text_read::parse_text_drawing;
+use meshmorph::io::drawing::text_write::write_text_frame;
+
 use std::path::Path;
 
-use super::regions::signed_area2;
-use super::*;
+use meshmorph::io::drawing::*;
 
 fn svg(body: &str) -> String {
     format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"200\" height=\"100\" viewBox=\"0 0 200 100\">{body}</svg>")
@@ -346,7 +359,7 @@ fn anchor_files_and_marked_anchors_match() {
 /// Frames held in memory.
 struct List(Vec<Vec<[f64; 2]>>);
 
-impl crate::FrameSource<2> for List {
+impl meshmorph::FrameSource<2> for List {
     fn num_frames(&self) -> usize {
         self.0.len()
     }

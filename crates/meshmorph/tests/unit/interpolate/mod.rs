@@ -1,0 +1,4 @@
+mod area_blend;
+mod attached;
+mod rotation;
+mod sequence;

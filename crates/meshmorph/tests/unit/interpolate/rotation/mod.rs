@@ -1,0 +1,4 @@
+mod consistency;
+mod patches;
+mod planar;
+mod spatial;

@@ -1,0 +1,2 @@
+mod base64;
+mod glb;

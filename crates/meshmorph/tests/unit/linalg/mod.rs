@@ -1,0 +1,7 @@
+mod block_chain;
+mod matrix;
+pub(crate) mod polar;
+mod quaternion;
+mod similarity;
+mod trig;
+mod vector;

@@ -1,0 +1,16 @@
+mod canvas;
+mod font;
+mod gif;
+mod grid;
+mod legend;
+mod mesh2d;
+mod palette;
+mod picture_files;
+mod picture_frames;
+mod png;
+mod raster;
+mod resample;
+pub(crate) mod shade3d;
+mod style;
+mod svg;
+mod view;
