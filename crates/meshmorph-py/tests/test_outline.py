@@ -212,18 +212,22 @@ def test_mend_folds_leaves_no_triangle_turned_over_inside_and_keeps_the_outline(
 
 
 def outline_crosses(p):
-    """Whether the closed polyline p has two edges, not neighbours, that cross."""
+    """Whether the closed polyline p has two edges, not neighbours, that cross
+    (each pair's orientations at once, as arrays)."""
+    p = np.asarray(p, dtype=float)
     n = len(p)
-    orient = lambda a, b, c: (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-    for i in range(n):
-        a, b = p[i], p[(i + 1) % n]
-        for j in range(i + 2, n):
-            if (j + 1) % n == i:
-                continue
-            c, d = p[j], p[(j + 1) % n]
-            if orient(a, b, c) * orient(a, b, d) < 0 and orient(c, d, a) * orient(c, d, b) < 0:
-                return True
-    return False
+    a, b = p, np.roll(p, -1, axis=0)
+    i, j = np.triu_indices(n, 2)
+    keep = (j + 1) % n != i
+    i, j = i[keep], j[keep]
+
+    def orient(u, v, w):
+        return (v[:, 0] - u[:, 0]) * (w[:, 1] - u[:, 1]) - (v[:, 1] - u[:, 1]) * (w[:, 0] - u[:, 0])
+
+    ai, bi, aj, bj = a[i], b[i], a[j], b[j]
+    return bool(
+        ((orient(ai, bi, aj) * orient(ai, bi, bj) < 0) & (orient(aj, bj, ai) * orient(aj, bj, bi) < 0)).any()
+    )
 
 
 def spiky(n, seed):
