@@ -67,7 +67,7 @@ use std::time::Instant;
 
 use meshmorph::io::picture::{
     arm_anchors, arm_fold_anchors, arm_sprite, picture_drawing, picture_meshes, Picture,
-    PictureMeshes, ARM_SPRITE_SIZE,
+    PictureMeshes, PictureShape, ARM_SPRITE_SIZE,
 };
 use meshmorph::outline::OutlineOptions;
 use meshmorph::render::{PictureMorph, PictureMorphOptions};
@@ -148,6 +148,7 @@ fn morph<'a>(a: &'a Picture, b: &'a Picture, meshes: PictureMeshes) -> (Morph<'a
         &set.loops,
         (a.width, a.height),
         fringe,
+        PictureShape::Sprite,
     )
     .unwrap();
     let textures = start.elapsed().as_secs_f64();

@@ -100,6 +100,15 @@ pub struct InterpolatorOptions {
     /// frames show is its texture, and on the demo's turning arm its
     /// stretch grew from 1.55 to 1.63 with it).
     pub outline_lengths: bool,
+    /// Put each planar frame's outline on the straight blend of its points'
+    /// places in the two keys around it, and move the inside with it (the
+    /// fit with the outline held, as [`Self::outline_lengths`] does; it
+    /// takes that option's place when both are set). For pictures taken
+    /// whole (photos), whose outline is the frames' rectangle in every
+    /// key: the fit alone pulls the rectangle's sides and corners in where
+    /// anchors inside move, and the frame's edge shows through. Default
+    /// `false`. Photos turn it on.
+    pub outline_straight: bool,
 }
 
 impl Default for InterpolatorOptions {
@@ -113,6 +122,7 @@ impl Default for InterpolatorOptions {
             mend_folds: false,
             untie_outlines: false,
             outline_lengths: false,
+            outline_straight: false,
         }
     }
 }
@@ -151,6 +161,12 @@ impl InterpolatorOptions {
     /// Sets [`InterpolatorOptions::outline_lengths`].
     pub fn with_outline_lengths(mut self, on: bool) -> Self {
         self.outline_lengths = on;
+        self
+    }
+
+    /// Sets [`InterpolatorOptions::outline_straight`].
+    pub fn with_outline_straight(mut self, on: bool) -> Self {
+        self.outline_straight = on;
         self
     }
 

@@ -27,6 +27,11 @@
 //!    outline's moves as pinned values (`A_ff δ_f = −A_fp δ_p`): one more
 //!    back-substitution, with a factor made once.
 //!
+//! With [`InterpolatorOptions::outline_straight`](super::InterpolatorOptions::outline_straight)
+//! the outline is instead put on the straight blend of its points' places
+//! in the two keys (step 1 to 3 in one), then the inside solved the same
+//! way: a photo's rectangle stays the frames' rectangle.
+//!
 //! A rigid turn's outline already has its lengths and its area: it does
 //! not move (to rounding). The frames at the keys are the keys. Where the
 //! outline knots, the untying that follows ([`InterpolatorOptions::
@@ -56,13 +61,18 @@ pub struct OutlineLengths {
     /// Each edge's weight in its loop's fit: one over its mean length in
     /// the keys.
     weights: Vec<f64>,
+    /// With [`InterpolatorOptions::outline_straight`](super::InterpolatorOptions::outline_straight):
+    /// each key's outline points, the loops' points one loop after
+    /// another; the frame's outline is their straight blend.
+    places: Option<Vec<Vec<[f64; 2]>>>,
 }
 
 impl OutlineLengths {
     /// The lengths of the frames of the sequence from `rest`'s source
     /// through `keys` (every key, the first included, as positions of the
-    /// source's vertices); none when the source's boundary is not a set of
-    /// simple loops.
+    /// source's vertices), or with `straight` the places of their outline
+    /// points; none when the source's boundary is not a set of simple
+    /// loops.
     ///
     /// # Errors
     /// [`Error::Solver`](crate::Error::Solver) when the system with the
@@ -71,6 +81,7 @@ impl OutlineLengths {
         rest: &RestSystem<D>,
         keys: impl Iterator<Item = &'k [[f64; 2]]>,
         factor: FactorKind,
+        straight: bool,
     ) -> Result<Option<Self>>
     where
         Space<D>: Dimension<D>,
@@ -81,7 +92,9 @@ impl OutlineLengths {
         if loops.is_empty() {
             return Ok(None);
         }
+        let keys: Vec<&[[f64; 2]]> = keys.collect();
         let lengths: Vec<Vec<f64>> = keys
+            .iter()
             .map(|key| {
                 loops
                     .iter()
@@ -89,6 +102,11 @@ impl OutlineLengths {
                     .collect()
             })
             .collect();
+        let places = straight.then(|| {
+            keys.iter()
+                .map(|key| loops.iter().flatten().map(|&v| key[v as usize]).collect())
+                .collect()
+        });
         let weights = (0..lengths[0].len())
             .map(|i| {
                 let mean = lengths.iter().map(|l| l[i]).sum::<f64>() / lengths.len() as f64;
@@ -103,13 +121,15 @@ impl OutlineLengths {
             lengths,
             held,
             weights,
+            places,
         }))
     }
 
     /// Gives `frame`, at time `u` between keys `j` and `j + 1`, the blended
-    /// outline lengths, and moves its inside with the outline; `rows` is
-    /// scratch. A loop with an edge of no length (or not finite) in the
-    /// frame is left as it is.
+    /// outline lengths (or the straight blend of the outline's places),
+    /// and moves its inside with the outline; `rows` is scratch. A loop
+    /// with an edge of no length (or not finite) in the frame is left as
+    /// it is.
     pub(crate) fn apply(&self, j: usize, u: f64, frame: &mut [[f64; 2]], rows: &mut Vec<[f64; 2]>) {
         let (from, to) = (&self.lengths[j], &self.lengths[j + 1]);
         rows.clear();
@@ -121,8 +141,22 @@ impl OutlineLengths {
             let (a, b) = (&from[edges.clone()], &to[edges.clone()]);
             first += lp.len();
             let blend = |i: usize| (1.0 - u) * a[i] + u * b[i];
-            let Some(placed) = outline_loop(lp, frame, blend, &self.weights[edges]) else {
-                continue;
+            let placed = match &self.places {
+                Some(places) => {
+                    let (p, q) = (&places[j][edges.clone()], &places[j + 1][edges.clone()]);
+                    (0..lp.len())
+                        .map(|i| {
+                            [
+                                (1.0 - u) * p[i][0] + u * q[i][0],
+                                (1.0 - u) * p[i][1] + u * q[i][1],
+                            ]
+                        })
+                        .collect()
+                }
+                None => match outline_loop(lp, frame, blend, &self.weights[edges]) {
+                    Some(placed) => placed,
+                    None => continue,
+                },
             };
             for (&v, y) in lp.iter().zip(placed) {
                 let x = frame[v as usize];

@@ -794,8 +794,10 @@ fn menders<const D: usize>(
 }
 
 /// What gives the frames of `rest`'s source through `later` keys their
-/// blended outline lengths, when the options ask for it and the meshes are
-/// planar (and the source's boundary is simple loops).
+/// blended outline lengths (or, with
+/// [`InterpolatorOptions::outline_straight`], their outline on the
+/// straight blend of the keys'), when the options ask for it and the
+/// meshes are planar (and the source's boundary is simple loops).
 ///
 /// # Errors
 /// [`Error::Solver`] when the system with the outline held cannot be
@@ -808,13 +810,13 @@ fn outline_lengths<const D: usize>(
 where
     Space<D>: Dimension<D>,
 {
-    if D != 2 || !options.outline_lengths {
+    if D != 2 || !(options.outline_lengths || options.outline_straight) {
         return Ok(None);
     }
     let keys = std::iter::once(rest.source().positions())
         .chain(later.iter().map(Mesh::positions))
         .map(bytemuck::cast_slice::<[f64; D], [f64; 2]>);
-    OutlineLengths::new(rest, keys, options.factor)
+    OutlineLengths::new(rest, keys, options.factor, options.outline_straight)
 }
 
 /// [`area_blend`] of two planar stretches (`D` is 2: other dimensions are

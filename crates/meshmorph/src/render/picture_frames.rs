@@ -43,7 +43,8 @@ pub struct PictureMorphOptions {
     /// The interpolation of the meshes. Default: its own defaults with
     /// the area-kept stretch, [`InterpolatorOptions::untie_outlines`] and
     /// [`InterpolatorOptions::mend_folds`] on (a knotted outline or a
-    /// triangle turned over would draw its piece of picture twice).
+    /// triangle turned over would draw its piece of picture twice). Photos
+    /// have [`InterpolatorOptions::outline_straight`] on whatever this says.
     pub interpolation: InterpolatorOptions,
     /// How the compatible meshes are made. Default: its own defaults.
     pub outline: OutlineOptions,
@@ -222,8 +223,13 @@ impl<'a> PictureFrames<'a> {
             names,
         )?;
         let set = &meshes.set;
-        let interpolator =
-            Interpolator::new(&set.meshes[0], &set.meshes[1], &options.interpolation)?;
+        // A photo's outline is the frames' rectangle in both pictures: it
+        // stays that rectangle in every frame.
+        let interpolation = options
+            .interpolation
+            .clone()
+            .with_outline_straight(drawings[0].shape == PictureShape::Photo);
+        let interpolator = Interpolator::new(&set.meshes[0], &set.meshes[1], &interpolation)?;
         let scale = f64::from(width) / f64::from(a.width);
         let fringe = (drawings[0].tolerance.max(drawings[1].tolerance) + 1.5) * scale.max(1.0);
         let morph = PictureMorph::new(
@@ -233,6 +239,7 @@ impl<'a> PictureFrames<'a> {
             &set.loops,
             (width, height),
             fringe,
+            drawings[0].shape,
         )?;
         Ok(Self {
             drawings,

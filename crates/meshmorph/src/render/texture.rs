@@ -21,21 +21,25 @@ struct Level {
 }
 
 /// A picture and its mipmap: level k is the picture halved k times, each
-/// texel the average of the 2 × 2 texels above it (texels past the edge
-/// are transparent). Level 0 is the picture itself, premultiplied as it
-/// is sampled, so that a sample at a pixel's centre gives that pixel
-/// exactly.
+/// texel the average of the 2 × 2 texels above it. Level 0 is the picture
+/// itself, premultiplied as it is sampled, so that a sample at a pixel's
+/// centre gives that pixel exactly. Past the edge, texels are transparent
+/// (a sprite), or with `repeated` each is the nearest texel of the edge (a
+/// photo: the whole rectangle is the drawing, and its edge pixels are as
+/// opaque as the rest); a halving at an odd edge averages the texels
+/// there are.
 pub(crate) struct Texture<'a> {
     picture: &'a Picture,
     levels: Vec<Level>,
+    repeated: bool,
 }
 
 const U16: f32 = 65535.0;
 
 impl<'a> Texture<'a> {
     /// The texture of `picture`, its mipmap made down to 1 × 1 (rows in
-    /// parallel).
-    pub fn new(picture: &'a Picture) -> Self {
+    /// parallel), its edge texels `repeated` past the edge or not.
+    pub fn new(picture: &'a Picture, repeated: bool) -> Self {
         let mut levels: Vec<Level> = Vec::new();
         let (mut w, mut h) = (picture.width as usize, picture.height as usize);
         while w > 1 || h > 1 {
@@ -45,11 +49,13 @@ impl<'a> Texture<'a> {
             texels.par_chunks_mut(nw).enumerate().for_each(|(y, row)| {
                 for (x, texel) in row.iter_mut().enumerate() {
                     let mut sum = [0f32; 4];
+                    let mut inside = 0;
                     for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
                         let (sx, sy) = (2 * x + dx, 2 * y + dy);
                         if sx >= w || sy >= h {
                             continue;
                         }
+                        inside += 1;
                         let t = match above {
                             None => premultiply(picture, sx, sy),
                             Some(l) => l.texels[sy * l.width + sx].map(|v| f32::from(v) / U16),
@@ -58,7 +64,8 @@ impl<'a> Texture<'a> {
                             sum[c] += t[c];
                         }
                     }
-                    *texel = sum.map(|s| round_unsigned(s / 4.0 * U16) as u16);
+                    let count = if repeated { inside as f32 } else { 4.0 };
+                    *texel = sum.map(|s| round_unsigned(s / count * U16) as u16);
                 }
             });
             levels.push(Level {
@@ -68,7 +75,11 @@ impl<'a> Texture<'a> {
             });
             (w, h) = (nw, nh);
         }
-        Self { picture, levels }
+        Self {
+            picture,
+            levels,
+            repeated,
+        }
     }
 
     /// Bytes held besides the picture.
@@ -77,21 +88,31 @@ impl<'a> Texture<'a> {
         self.levels.iter().map(|l| 8 * l.texels.len()).sum()
     }
 
-    /// The texel at `(x, y)` of level `level` (0: the picture),
-    /// transparent outside.
+    /// The texel at `(x, y)` of level `level` (0: the picture); outside,
+    /// transparent or the nearest edge texel ([`Texture::repeated`]).
     #[inline(always)]
     fn texel(&self, level: usize, x: i64, y: i64) -> Premultiplied {
-        if level == 0 {
-            let p = self.picture;
-            if x < 0 || y < 0 || x >= i64::from(p.width) || y >= i64::from(p.height) {
-                return [0.0; 4];
-            }
-            premultiply(p, x as usize, y as usize)
+        let (w, h) = if level == 0 {
+            (
+                i64::from(self.picture.width),
+                i64::from(self.picture.height),
+            )
         } else {
             let l = &self.levels[level - 1];
-            if x < 0 || y < 0 || x >= l.width as i64 || y >= l.height as i64 {
+            (l.width as i64, l.height as i64)
+        };
+        let (x, y) = if x < 0 || y < 0 || x >= w || y >= h {
+            if !self.repeated {
                 return [0.0; 4];
             }
+            (x.clamp(0, w - 1), y.clamp(0, h - 1))
+        } else {
+            (x, y)
+        };
+        if level == 0 {
+            premultiply(self.picture, x as usize, y as usize)
+        } else {
+            let l = &self.levels[level - 1];
             l.texels[y as usize * l.width + x as usize].map(|v| f32::from(v) / U16)
         }
     }

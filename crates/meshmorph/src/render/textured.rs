@@ -26,7 +26,7 @@ use super::raster::{fill_triangle, Clip};
 use super::texture::{to_straight, Premultiplied, Texture};
 use super::Rect;
 use crate::error::{Error, Result};
-use crate::io::picture::Picture;
+use crate::io::picture::{Picture, PictureShape};
 
 /// Rows of a band drawn by one task.
 const BAND_ROWS: usize = 32;
@@ -117,7 +117,10 @@ impl<'a> PictureMorph<'a> {
     /// boundary loops (as [`CompatibleSet::loops`](crate::outline::CompatibleSet::loops)),
     /// `fringe` how far past the outline the pictures are drawn, in frame
     /// pixels (the simplification's tolerance and one and a half pixels
-    /// for the pictures' soft edges is right). Makes the mipmaps.
+    /// for the pictures' soft edges is right), `shape` whether they are
+    /// sprites (transparent past their edges) or photos (whole rectangles:
+    /// their edge pixels go on past their edges, so that a frame's edge is
+    /// as opaque as its inside). Makes the mipmaps.
     ///
     /// # Errors
     /// [`Error::InvalidArgument`] for sources of other lengths, a triangle
@@ -130,6 +133,7 @@ impl<'a> PictureMorph<'a> {
         loops: &[Vec<u32>],
         (width, height): (u32, u32),
         fringe: f64,
+        shape: PictureShape,
     ) -> Result<Self> {
         if sources.len() != 2 {
             return Err(Error::InvalidArgument(format!(
@@ -179,7 +183,8 @@ impl<'a> PictureMorph<'a> {
             }
             outline.push(edges);
         }
-        let textures = [Texture::new(a), Texture::new(b)];
+        let repeated = shape == PictureShape::Photo;
+        let textures = [Texture::new(a, repeated), Texture::new(b, repeated)];
         Ok(Self {
             textures,
             sources: [sources[0].clone(), sources[1].clone()],

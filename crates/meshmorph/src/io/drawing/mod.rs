@@ -8,7 +8,8 @@
 //!   `rect`, `circle`, `ellipse`, `polygon`, `polyline`, `line`, transforms,
 //!   nested groups, `use`, CSS); `flatten` turns its curves into chords
 //!   within a tolerance, `regions` sorts the loops into outer loops and
-//!   holes by each path's fill rule.
+//!   holes by each path's fill rule; `svg_numbers` refuses a shape whose
+//!   numbers do not read, before SVG's own handling would drop it.
 //! - `text_read`: polygons as text (`x y` lines, a blank line between
 //!   loops, `#` comments).
 //! - `mesh_outline`: a planar mesh's boundary loops as a drawing.
@@ -34,6 +35,7 @@ pub mod lottie;
 pub mod mesh_outline;
 pub mod regions;
 pub mod svg_animate;
+pub mod svg_numbers;
 pub mod svg_read;
 pub mod svg_write;
 pub mod text_read;

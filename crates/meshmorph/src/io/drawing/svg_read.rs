@@ -8,6 +8,7 @@ use usvg::roxmltree;
 use super::canvas::Canvas;
 use super::flatten::{flatten, Segment};
 use super::regions::{inside, regions, FilledLoop, Rule};
+use super::svg_numbers::check_shape_numbers;
 use super::Style;
 use super::{drawing_error, parse_error, DrawingFile, DrawingKind, DrawingOptions, NamedPoint};
 use crate::error::Result;
@@ -261,6 +262,7 @@ pub fn parse_svg_drawing(
             ),
         ));
     }
+    check_shape_numbers(&doc, path)?;
     let tree = usvg::Tree::from_xmltree(&doc, &usvg::Options::default()).map_err(|e| {
         parse_error(
             path,

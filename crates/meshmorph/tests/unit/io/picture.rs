@@ -2,8 +2,8 @@
 
 use meshmorph::error::Error;
 use meshmorph::io::picture::arm::{arm_anchors, arm_sprite, ARM_SPRITE_SIZE};
+#[cfg(feature = "render")]
 use meshmorph::io::picture::decode::decode_picture;
-use meshmorph::io::picture::meshes::{picture_meshes, PictureMeshes};
 use meshmorph::io::picture::outline::{picture_drawing, PictureDrawing, PictureShape};
 use meshmorph::io::picture::trace::trace_alpha;
 
@@ -238,6 +238,33 @@ mod frames {
     use meshmorph::render::PictureMorph;
     use meshmorph::{Interpolator, InterpolatorOptions};
 
+    /// Two photos of different sizes with anchors that move (one pair
+    /// crossing another): every in-between frame is opaque to its edge,
+    /// its outline the frames' rectangle (a photo's outline held on the
+    /// straight blend, its edge pixels repeated past the edge).
+    #[test]
+    fn photo_frames_are_opaque_to_the_edge() {
+        use meshmorph::render::{PictureFrames, PictureMorphOptions};
+        let (a, b) = (photo(80, 60, 0.0), photo(120, 90, 9.0));
+        let anchors = vec![
+            vec![[20.0, 15.0], [90.0, 70.0]],
+            vec![[60.0, 15.0], [30.0, 70.0]],
+            vec![[40.0, 45.0], [70.0, 30.0]],
+        ];
+        let names = ["a.png".to_string(), "b.png".to_string()];
+        let frames =
+            PictureFrames::new([&a, &b], &anchors, &PictureMorphOptions::default(), &names)
+                .unwrap();
+        assert_eq!(frames.shape(), PictureShape::Photo);
+        for t in [0.2, 0.5, 0.8] {
+            let f = frames.draw(t);
+            assert_eq!((f.width, f.height), (80, 60));
+            let seen: Vec<u8> = f.rgba.chunks_exact(4).map(|p| p[3]).collect();
+            let clear = seen.iter().filter(|&&alpha| alpha < 255).count();
+            assert_eq!(clear, 0, "t = {t}: {clear} pixels not opaque");
+        }
+    }
+
     fn visible(p: &Picture) -> Vec<[u8; 4]> {
         p.rgba
             .chunks_exact(4)
@@ -281,6 +308,7 @@ mod frames {
             &m.set.loops,
             (a.width, a.height),
             2.0,
+            PictureShape::Sprite,
         )
         .unwrap();
         (m, i, r)
@@ -426,6 +454,7 @@ mod frames {
             &m.set.loops,
             (32, 32),
             1.0,
+            PictureShape::Sprite,
         )
         .unwrap();
         let f = r.draw(m.set.meshes[0].positions(), 0.0);

@@ -1303,6 +1303,61 @@ fn edges_off_blend(
     sum / count as f64
 }
 
+/// [`InterpolatorOptions::outline_straight`]: a square whose inside is
+/// pulled round by a matched point inside (a photo's anchors) keeps the
+/// straight blend of its outline in every frame, where the fit alone
+/// pulls its sides in; the inside still follows the fit, no triangle
+/// turned over, the ends the keys.
+#[test]
+fn outline_straight_keeps_the_outline_on_its_straight_blend() {
+    let square = vec![vec![[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]]];
+    let drawings = [
+        Drawing::new(square.clone()).unwrap(),
+        Drawing::new(square).unwrap(),
+    ];
+    let set = compatible_set(
+        &drawings,
+        &[vec![[1.0, 1.0], [3.0, 2.6]]],
+        &OutlineOptions::default(),
+    )
+    .unwrap();
+    let (a, b) = (&set.meshes[0], &set.meshes[1]);
+    let options = InterpolatorOptions::default()
+        .with_untie_outlines(true)
+        .with_mend_folds(true);
+    let fit = Interpolator::new(a, b, &options).unwrap();
+    let straight = Interpolator::new(a, b, &options.clone().with_outline_straight(true)).unwrap();
+    let off = |x: &[[f64; 2]], t: f64| {
+        set.loops
+            .iter()
+            .flatten()
+            .map(|&v| {
+                let (p, q) = (a.positions()[v as usize], b.positions()[v as usize]);
+                let blend = [(1.0 - t) * p[0] + t * q[0], (1.0 - t) * p[1] + t * q[1]];
+                meshmorph::outline::geometry::dist(x[v as usize], blend)
+            })
+            .fold(0.0, f64::max)
+    };
+    let mut fit_off = 0.0f64;
+    for k in 1..10 {
+        let t = k as f64 / 10.0;
+        let y = straight.at(t);
+        assert!(
+            off(&y, t) < 1e-12,
+            "t = {t}: the outline {} off its blend",
+            off(&y, t)
+        );
+        assert_eq!(straight.count_flipped(&y), 0, "t = {t}: turned over");
+        fit_off = fit_off.max(off(&fit.at(t), t));
+    }
+    assert!(
+        fit_off > 1e-3,
+        "the fit keeps the square: choose a larger pull"
+    );
+    assert_eq!(straight.at(0.0), a.positions());
+    assert_eq!(straight.at(1.0), b.positions());
+}
+
 /// Two unlike pairs and a ring into a squarer ring: the fit alone shortens
 /// the unlike pairs' outline edges (by 9 and 23 % of the blend of their
 /// lengths at half-way; the rings' by 0.8 %). With

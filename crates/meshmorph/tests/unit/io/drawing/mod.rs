@@ -283,6 +283,57 @@ fn refusals_name_the_file_and_what_was_found() {
     assert!(m.contains("not `<svg>`"), "{m}");
 }
 
+/// A number that does not read (NaN, one beyond f64, a slip) in any
+/// shape or transform is refused naming the attribute, the element and
+/// its line: SVG's own handling would cut the path short there or leave
+/// the shape out, and a different drawing would be morphed. Numbers
+/// written without separators, as SVG allows, still read.
+#[test]
+fn malformed_numbers_are_refused_naming_the_element() {
+    for (body, attribute, element) in [
+        (
+            r#"<path id="p" d="M20 20 L180 20 L180 90 L100 NaN L20 90 Z"/>"#,
+            "`d`",
+            "<path id=\"p\">",
+        ),
+        (
+            r#"<path d="M1e400 20 L180 20 L100 90 Z"/>"#,
+            "`d`",
+            "<path>",
+        ),
+        (
+            r#"<polygon points="20,20 180,20 180,nan 20,90"/>"#,
+            "`points`",
+            "<polygon>",
+        ),
+        (r#"<circle cx="50" cy="50" r="NaN"/>"#, "`r`", "<circle>"),
+        (
+            r#"<rect x="0" y="0" width="1e999" height="10"/>"#,
+            "`width`",
+            "<rect>",
+        ),
+        (
+            r#"<g transform="rotate(NaN)"><rect x="0" y="0" width="10" height="10"/></g>"#,
+            "`transform`",
+            "<g>",
+        ),
+    ] {
+        let m = refusal(body);
+        assert!(
+            m.starts_with("`t.svg`, line 1")
+                && m.contains(&format!("{attribute} attribute of `{element}`"))
+                && m.contains("correct the number"),
+            "{body}: {m}"
+        );
+    }
+    let d = read(r#"<path d="M10-5L190,10 100.5.5z" transform="translate(0 20)"/>"#);
+    assert_eq!(d.drawing.num_points(), 3);
+    let d = read(
+        r#"<polygon points="10-5 190,10 100 50"/><rect rx="auto" x="0" y="60" width="0" height="0"/>"#,
+    );
+    assert_eq!(d.drawing.num_points(), 3);
+}
+
 #[test]
 fn text_polygons_with_holes_comments_and_anchors() {
     let text = "# a square with a hole\n0 0\n10 0\n10 10 # corner\n0 10\n\n\n4 4\n4 6\n6 6\n6 4\nanchor corner 10 10\n";
