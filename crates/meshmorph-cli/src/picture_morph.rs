@@ -11,10 +11,9 @@ use anyhow::{bail, Context, Result};
 use meshmorph::io::picture::{
     picture_morph_memory, read_picture, Picture, PictureFormat, PictureShape,
 };
-use meshmorph::playback::shown_order;
 use meshmorph::render::{
-    frame_times, sprite_sheet, write_apng, write_picture_gif, write_picture_png, PictureFrames,
-    PictureMorphOptions, MAX_FRAME_SIDE, MAX_TRACE_TOLERANCE,
+    frame_times, sprite_sheet, write_apng, write_picture_gif, write_picture_png, GifOptions,
+    PictureFrames, PictureMorphOptions, MAX_FRAME_SIDE, MAX_TRACE_TOLERANCE,
 };
 use meshmorph::StretchMode;
 use rayon::prelude::*;
@@ -332,16 +331,21 @@ pub fn run(args: &Args) -> Result<()> {
             staging.write_to(*out, |_, w| Ok(write_picture_png(w, &picture)?))
         })?;
     let frames_seconds = draw_begin.elapsed().as_secs_f64();
-    let delay = Duration::from_secs_f64(1.0 / args.frames.pictures.draw.fps);
-    let order = shown_order(count, !args.frames.pictures.draw.no_boomerang);
+    // Shown as the drawings' and meshes' GIFs are: each frame for one frame
+    // time, the first and the last longer.
+    let schedule = GifOptions {
+        fps: args.frames.pictures.draw.fps,
+        boomerang: !args.frames.pictures.draw.no_boomerang,
+        ..GifOptions::default()
+    }
+    .schedule(count);
     let mut written: Vec<PathBuf> = Vec::new();
     if let Some(out) = gif {
         staging.write_to(out, |_, w| {
             Ok(write_picture_gif(
                 w,
                 (width, height),
-                &order,
-                delay,
+                &schedule,
                 &mut |k| frame(k),
             )?)
         })?;
@@ -349,7 +353,7 @@ pub fn run(args: &Args) -> Result<()> {
     }
     if let Some(out) = apng {
         staging.write_to(out, |_, w| {
-            Ok(write_apng(w, (width, height), &order, delay, &mut |k| {
+            Ok(write_apng(w, (width, height), &schedule, &mut |k| {
                 frame(k)
             })?)
         })?;
@@ -362,6 +366,8 @@ pub fn run(args: &Args) -> Result<()> {
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
+        // A sheet's frames each last one frame time: the game engine plays them.
+        let delay = Duration::from_secs_f64(1.0 / args.frames.pictures.draw.fps);
         let (picture, json) = sprite_sheet(&frames, columns, delay, &image, &|k| {
             format!("frame_{k:04}.png")
         });

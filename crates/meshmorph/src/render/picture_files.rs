@@ -29,10 +29,11 @@ fn rgba_encoder(w: &mut dyn Write, width: u32, height: u32) -> ::png::Encoder<'_
 }
 
 /// Writes frames of `width × height` pixels as an animated PNG (APNG:
-/// plays in every browser; viewers without APNG show the first frame), in
-/// the `order` shown ([`shown_order`](crate::playback::shown_order)), each
-/// shown for `delay`, played over and over. `frame(k)` gives frame `k`,
-/// asked for once each time it is shown.
+/// plays in every browser; viewers without APNG show the first frame), as
+/// `schedule` shows them (frame and how long, in order: as
+/// [`GifOptions::schedule`](super::GifOptions::schedule) gives them),
+/// played over and over. `frame(k)` gives frame `k`, asked for once each
+/// time it is shown.
 ///
 /// # Errors
 /// The writer's errors; [`io::ErrorKind::InvalidInput`] for no frame or a
@@ -40,19 +41,19 @@ fn rgba_encoder(w: &mut dyn Write, width: u32, height: u32) -> ::png::Encoder<'_
 pub fn write_apng(
     w: &mut dyn Write,
     (width, height): (u32, u32),
-    order: &[usize],
-    delay: Duration,
+    schedule: &[(usize, Duration)],
     frame: &mut dyn FnMut(usize) -> Picture,
 ) -> io::Result<()> {
-    if order.is_empty() {
+    if schedule.is_empty() {
         return Err(io::Error::new(io::ErrorKind::InvalidInput, "no frame"));
     }
     let mut enc = rgba_encoder(w, width, height);
-    enc.set_animated(order.len() as u32, 0).map_err(png_error)?;
-    let ms = delay.as_millis().clamp(1, u128::from(u16::MAX)) as u16;
-    enc.set_frame_delay(ms, 1000).map_err(png_error)?;
+    enc.set_animated(schedule.len() as u32, 0)
+        .map_err(png_error)?;
     let mut writer = enc.write_header().map_err(png_error)?;
-    for &k in order {
+    for &(k, shown) in schedule {
+        let ms = shown.as_millis().clamp(1, u128::from(u16::MAX)) as u16;
+        writer.set_frame_delay(ms, 1000).map_err(png_error)?;
         let picture = frame(k);
         check_size(&picture, width, height)?;
         writer.write_image_data(&picture.rgba).map_err(png_error)?;
@@ -60,8 +61,8 @@ pub fn write_apng(
     writer.finish().map_err(png_error)
 }
 
-/// Writes frames as an animated GIF in the `order` shown, each shown for
-/// `delay`, played over and over: each frame's own 255 colours (NeuQuant), pixels
+/// Writes frames as an animated GIF as `schedule` shows them (frame and
+/// how long, in hundredths of a second, at least 2), played over and over: each frame's own 255 colours (NeuQuant), pixels
 /// under half alpha transparent, every frame drawn on a cleared page.
 /// Each frame is drawn and quantised once; one shown again later (on the
 /// way back of a boomerang) is kept compressed until its last showing.
@@ -71,8 +72,7 @@ pub fn write_apng(
 pub fn write_picture_gif(
     w: &mut dyn Write,
     (width, height): (u32, u32),
-    order: &[usize],
-    delay: Duration,
+    schedule: &[(usize, Duration)],
     frame: &mut dyn FnMut(usize) -> Picture,
 ) -> io::Result<()> {
     let (gw, gh) = (
@@ -81,15 +81,14 @@ pub fn write_picture_gif(
     );
     let mut enc = ::gif::Encoder::new(w, gw, gh, &[]).map_err(gif_error)?;
     enc.set_repeat(::gif::Repeat::Infinite).map_err(gif_error)?;
-    let centis = (delay.as_millis() / 10).clamp(2, u128::from(u16::MAX)) as u16;
-    let count = order.iter().max().map_or(0, |&k| k + 1);
+    let count = schedule.iter().map(|s| s.0).max().map_or(0, |k| k + 1);
     let mut last_shown = vec![0; count];
-    for (j, &k) in order.iter().enumerate() {
+    for (j, &(k, _)) in schedule.iter().enumerate() {
         last_shown[k] = j;
     }
     let mut kept: Vec<Option<::gif::Frame<'static>>> = vec![None; count];
-    for (j, &k) in order.iter().enumerate() {
-        let f = match kept[k].take() {
+    for (j, &(k, shown)) in schedule.iter().enumerate() {
+        let mut f = match kept[k].take() {
             Some(f) => f,
             None => {
                 let mut picture = frame(k);
@@ -98,11 +97,11 @@ pub fn write_picture_gif(
                     p[3] = if p[3] >= 128 { 255 } else { 0 };
                 }
                 let mut f = ::gif::Frame::from_rgba_speed(gw, gh, &mut picture.rgba, 10);
-                f.delay = centis;
                 f.dispose = ::gif::DisposalMethod::Background;
                 f
             }
         };
+        f.delay = (shown.as_millis() / 10).clamp(2, u128::from(u16::MAX)) as u16;
         enc.write_frame(&f).map_err(gif_error)?;
         if last_shown[k] > j {
             kept[k] = Some(f);
