@@ -29,8 +29,8 @@
 //!
 //! With [`InterpolatorOptions::outline_straight`](super::InterpolatorOptions::outline_straight)
 //! the outline is instead put on the straight blend of its points' places
-//! in the two keys (step 1 to 3 in one), then the inside solved the same
-//! way: a photo's rectangle stays the frames' rectangle.
+//! in the two keys (in place of steps 1 to 3), then the inside solved the
+//! same way: a photo's rectangle stays the frames' rectangle.
 //!
 //! A rigid turn's outline already has its lengths and its area: it does
 //! not move (to rounding). The frames at the keys are the keys. Where the
