@@ -44,27 +44,38 @@ use crate::gradient::solve::{FactorKind, PinnedSystem};
 use crate::linalg::block_chain::{Block, PlanarChain};
 use crate::linalg::Space;
 use crate::mesh::topology::boundary_loops;
+use crate::outline::geometry::lerp;
 
 /// What giving a planar sequence's frames the blended outline lengths
-/// needs: the outline's loops, each key's edge lengths, and the normal
+/// needs: the outline's loops, what the outline is put on, and the normal
 /// matrix factored with the outline held.
 #[derive(Debug)]
 pub struct OutlineLengths {
     /// The boundary loops, as vertices in order; edge `i` of a loop runs
     /// from its point `i` to its point `i + 1` (wrapping).
     loops: Vec<Vec<u32>>,
-    /// Each key's edge lengths, the loops' edges one loop after another.
-    lengths: Vec<Vec<f64>>,
+    /// What each frame's outline is put on.
+    target: Target,
     /// The fit's normal matrix with the outline's points (and the vertices
     /// no triangle uses) pinned.
     held: PinnedSystem,
-    /// Each edge's weight in its loop's fit: one over its mean length in
-    /// the keys.
-    weights: Vec<f64>,
+}
+
+/// What a frame's outline is put on, from each key's: the blend of its
+/// edges' lengths, or of its points' places.
+#[derive(Debug)]
+enum Target {
+    Lengths {
+        /// Each key's edge lengths, the loops' edges one loop after another.
+        lengths: Vec<Vec<f64>>,
+        /// Each edge's weight in its loop's fit: one over its mean length
+        /// in the keys.
+        weights: Vec<f64>,
+    },
     /// With [`InterpolatorOptions::outline_straight`](super::InterpolatorOptions::outline_straight):
     /// each key's outline points, the loops' points one loop after
-    /// another; the frame's outline is their straight blend.
-    places: Option<Vec<Vec<[f64; 2]>>>,
+    /// another.
+    Places(Vec<Vec<[f64; 2]>>),
 }
 
 impl OutlineLengths {
@@ -92,36 +103,35 @@ impl OutlineLengths {
         if loops.is_empty() {
             return Ok(None);
         }
-        let keys: Vec<&[[f64; 2]]> = keys.collect();
-        let lengths: Vec<Vec<f64>> = keys
-            .iter()
-            .map(|key| {
-                loops
-                    .iter()
-                    .flat_map(|lp| edges(lp, key).map(|e| e[0].hypot(e[1])))
-                    .collect()
-            })
-            .collect();
-        let places = straight.then(|| {
-            keys.iter()
-                .map(|key| loops.iter().flatten().map(|&v| key[v as usize]).collect())
-                .collect()
-        });
-        let weights = (0..lengths[0].len())
-            .map(|i| {
-                let mean = lengths.iter().map(|l| l[i]).sum::<f64>() / lengths.len() as f64;
-                1.0 / mean.max(f64::MIN_POSITIVE)
-            })
-            .collect();
+        let target = if straight {
+            Target::Places(
+                keys.map(|key| loops.iter().flatten().map(|&v| key[v as usize]).collect())
+                    .collect(),
+            )
+        } else {
+            let lengths: Vec<Vec<f64>> = keys
+                .map(|key| {
+                    loops
+                        .iter()
+                        .flat_map(|lp| edges(lp, key).map(|e| e[0].hypot(e[1])))
+                        .collect()
+                })
+                .collect();
+            let weights = (0..lengths[0].len())
+                .map(|i| {
+                    let mean = lengths.iter().map(|l| l[i]).sum::<f64>() / lengths.len() as f64;
+                    1.0 / mean.max(f64::MIN_POSITIVE)
+                })
+                .collect();
+            Target::Lengths { lengths, weights }
+        };
         let mut pinned: Vec<usize> = loops.iter().flatten().map(|&v| v as usize).collect();
         pinned.extend(rest.loose_vertices().iter().map(|&v| v as usize));
         let held = PinnedSystem::new(&rest.normal_matrix(), &pinned, factor)?;
         Ok(Some(Self {
             loops,
-            lengths,
+            target,
             held,
-            weights,
-            places,
         }))
     }
 
@@ -131,32 +141,27 @@ impl OutlineLengths {
     /// with an edge of no length (or not finite) in the frame is left as
     /// it is.
     pub(crate) fn apply(&self, j: usize, u: f64, frame: &mut [[f64; 2]], rows: &mut Vec<[f64; 2]>) {
-        let (from, to) = (&self.lengths[j], &self.lengths[j + 1]);
         rows.clear();
         rows.resize(frame.len(), [0.0; 2]);
         let mut first = 0;
         let mut moved = false;
         for lp in &self.loops {
             let edges = first..first + lp.len();
-            let (a, b) = (&from[edges.clone()], &to[edges.clone()]);
             first += lp.len();
-            let blend = |i: usize| (1.0 - u) * a[i] + u * b[i];
-            let placed = match &self.places {
-                Some(places) => {
-                    let (p, q) = (&places[j][edges.clone()], &places[j + 1][edges.clone()]);
-                    (0..lp.len())
-                        .map(|i| {
-                            [
-                                (1.0 - u) * p[i][0] + u * q[i][0],
-                                (1.0 - u) * p[i][1] + u * q[i][1],
-                            ]
-                        })
-                        .collect()
+            let placed = match &self.target {
+                Target::Places(places) => places[j][edges.clone()]
+                    .iter()
+                    .zip(&places[j + 1][edges])
+                    .map(|(&p, &q)| lerp(p, q, u))
+                    .collect(),
+                Target::Lengths { lengths, weights } => {
+                    let (a, b) = (&lengths[j][edges.clone()], &lengths[j + 1][edges.clone()]);
+                    let blend = |i: usize| (1.0 - u) * a[i] + u * b[i];
+                    match outline_loop(lp, frame, blend, &weights[edges]) {
+                        Some(placed) => placed,
+                        None => continue,
+                    }
                 }
-                None => match outline_loop(lp, frame, blend, &self.weights[edges]) {
-                    Some(placed) => placed,
-                    None => continue,
-                },
             };
             for (&v, y) in lp.iter().zip(placed) {
                 let x = frame[v as usize];

@@ -62,8 +62,9 @@ pub fn write_apng(
 }
 
 /// Writes frames as an animated GIF as `schedule` shows them (frame and
-/// how long, in hundredths of a second, at least 2), played over and over: each frame's own 255 colours (NeuQuant), pixels
-/// under half alpha transparent, every frame drawn on a cleared page.
+/// how long, in hundredths of a second, at least 2), played over and
+/// over: each frame's own 255 colours (NeuQuant), pixels under half alpha
+/// transparent, every frame drawn on a cleared page.
 /// Each frame is drawn and quantised once; one shown again later (on the
 /// way back of a boomerang) is kept compressed until its last showing.
 ///

@@ -65,11 +65,8 @@ pub fn check_shape_numbers(doc: &roxmltree::Document, path: &Path) -> Result<()>
                 }
             }
         }
-        for (shape, attributes) in SHAPE_LENGTHS {
-            if tag != shape {
-                continue;
-            }
-            for &attribute in attributes {
+        if let Some((_, attributes)) = SHAPE_LENGTHS.iter().find(|(shape, _)| *shape == tag) {
+            for &attribute in *attributes {
                 let Some(value) = node.attribute(attribute) else {
                     continue;
                 };
