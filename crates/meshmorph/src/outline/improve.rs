@@ -55,23 +55,28 @@ pub(crate) struct Pair<'a> {
 /// any (below `tiny` times its longest edge squared).
 #[inline]
 fn quality(meshes: &[Vec<[f64; 2]>], t: [u32; 3]) -> f64 {
-    let mut q = f64::INFINITY;
-    for p in meshes {
-        let [x, y, z] = t.map(|v| p[v as usize]);
-        let area = orient(x, y, z);
-        let l = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).powi(2) + (u[1] - v[1]).powi(2);
-        let (e0, e1, e2) = (l(x, y), l(y, z), l(z, x));
-        let longest = e0.max(e1).max(e2);
-        if area.is_nan() || area <= 1e-14 * longest {
-            return -1.0;
-        }
-        // The smallest angle faces the shortest edge: its sine is twice
-        // the area over the two longer edges.
-        let shortest = e0.min(e1).min(e2);
-        let middle = e0 + e1 + e2 - longest - shortest;
-        q = q.min(area / (longest * middle).sqrt());
+    meshes
+        .iter()
+        .map(|p| quality_in(p, t))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// [`quality`] in one mesh, at positions `p`.
+#[inline]
+fn quality_in(p: &[[f64; 2]], t: [u32; 3]) -> f64 {
+    let [x, y, z] = t.map(|v| p[v as usize]);
+    let area = orient(x, y, z);
+    let l = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).powi(2) + (u[1] - v[1]).powi(2);
+    let (e0, e1, e2) = (l(x, y), l(y, z), l(z, x));
+    let longest = e0.max(e1).max(e2);
+    if area.is_nan() || area <= 1e-14 * longest {
+        return -1.0;
     }
-    q
+    // The smallest angle faces the shortest edge: its sine is twice
+    // the area over the two longer edges.
+    let shortest = e0.min(e1).min(e2);
+    let middle = e0 + e1 + e2 - longest - shortest;
+    area / (longest * middle).sqrt()
 }
 
 /// The smallest angle of each mesh, radians.
@@ -138,7 +143,13 @@ fn flip_round(pair: &mut Pair) -> usize {
 
 /// One round of smoothing: each free vertex moved, in each mesh apart,
 /// toward the mean of its neighbours when that raises the smallest
-/// quality of its triangles. Returns how many moves were taken.
+/// quality of its triangles (over every mesh). Returns how many moves
+/// were taken.
+///
+/// A move in one mesh changes only that mesh's qualities, so it can
+/// raise the smallest of all only where the other meshes' smallest
+/// around the vertex is above this one's: elsewhere the vertex is not
+/// tried, and the moves tried are measured in their own mesh alone.
 fn smooth_round(pair: &mut Pair) -> usize {
     let n = pair.meshes[0].len();
     let mut around: Vec<Vec<u32>> = vec![Vec::new(); n];
@@ -147,44 +158,52 @@ fn smooth_round(pair: &mut Pair) -> usize {
             around[v as usize].push(t as u32);
         }
     }
+    let triangles = &*pair.triangles;
+    let smallest = |p: &[[f64; 2]], v: usize| {
+        around[v]
+            .iter()
+            .map(|&t| quality_in(p, triangles[t as usize]))
+            .fold(f64::INFINITY, f64::min)
+    };
     let mut moves = 0;
     for v in 0..n {
         if pair.fixed[v] || around[v].is_empty() {
             continue;
         }
         for side in 0..pair.meshes.len() {
+            let own = smallest(&pair.meshes[side], v);
+            let others = (0..pair.meshes.len())
+                .filter(|&k| k != side)
+                .map(|k| smallest(&pair.meshes[k], v))
+                .fold(f64::INFINITY, f64::min);
+            if others <= own {
+                continue;
+            }
+            let p = &mut pair.meshes[side];
             let mut mean = [0.0, 0.0];
             let mut count = 0.0;
             for &t in &around[v] {
-                for &w in &pair.triangles[t as usize] {
+                for &w in &triangles[t as usize] {
                     if w as usize != v {
-                        let p = pair.meshes[side][w as usize];
-                        mean[0] += p[0];
-                        mean[1] += p[1];
+                        let q = p[w as usize];
+                        mean[0] += q[0];
+                        mean[1] += q[1];
                         count += 1.0;
                     }
                 }
             }
             mean = [mean[0] / count, mean[1] / count];
-            let score = |pair: &Pair| {
-                around[v]
-                    .iter()
-                    .map(|&t| quality(pair.meshes, pair.triangles[t as usize]))
-                    .fold(f64::INFINITY, f64::min)
-            };
-            let before = score(pair);
-            let old = pair.meshes[side][v];
+            let old = p[v];
             for step in [1.0, 0.5, 0.25] {
-                let p = [
+                p[v] = [
                     old[0] + step * (mean[0] - old[0]),
                     old[1] + step * (mean[1] - old[1]),
                 ];
-                pair.meshes[side][v] = p;
-                if score(pair) > before + 1e-12 {
+                if smallest(p, v).min(others) > own + 1e-12 {
                     moves += 1;
                     break;
                 }
-                pair.meshes[side][v] = old;
+                p[v] = old;
             }
         }
     }
