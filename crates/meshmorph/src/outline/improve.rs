@@ -91,24 +91,44 @@ pub(crate) fn smallest_angles(pair: &Pair) -> Vec<f64> {
     out
 }
 
-/// One round of flips: every interior edge whose flip raises the smaller
-/// of its two triangles' qualities, no triangle flipped twice a round.
-/// Returns how many edges were flipped.
-fn flip_round(pair: &mut Pair) -> usize {
-    let tris = &mut *pair.triangles;
-    let mut edge_of: EdgeMap<(usize, usize)> =
-        EdgeMap::with_capacity_and_hasher(tris.len() * 3, Default::default());
-    for (t, tri) in tris.iter().enumerate() {
-        for i in 0..3 {
-            edge_of.insert((tri[i], tri[(i + 1) % 3]), (t, i));
+/// The triangles' edges and qualities carried from one round of flips to
+/// the next: each directed edge `(u, v)` to its triangle and the edge's
+/// place in it, and each triangle's [`quality`]. Flips change no
+/// position, so only the two triangles of a flip change; both are kept
+/// up to date as it is made.
+struct Flips {
+    edge_of: EdgeMap<(usize, usize)>,
+    cached: Vec<f64>,
+}
+
+impl Flips {
+    fn of(pair: &Pair) -> Self {
+        let tris = &*pair.triangles;
+        let mut edge_of: EdgeMap<(usize, usize)> =
+            EdgeMap::with_capacity_and_hasher(tris.len() * 3, Default::default());
+        for (t, tri) in tris.iter().enumerate() {
+            for i in 0..3 {
+                edge_of.insert((tri[i], tri[(i + 1) % 3]), (t, i));
+            }
         }
+        let cached = tris.iter().map(|&t| quality(pair.meshes, t)).collect();
+        Self { edge_of, cached }
     }
+}
+
+/// One round of flips: every interior edge whose flip raises the smaller
+/// of its two triangles' qualities, no triangle flipped twice a round,
+/// the edges taken in order. Returns how many edges were flipped.
+fn flip_round(pair: &mut Pair, flips: &mut Flips) -> usize {
+    let tris = &mut *pair.triangles;
+    let Flips { edge_of, cached } = flips;
     let mut touched = vec![false; tris.len()];
-    let mut cached: Vec<f64> = tris.iter().map(|&t| quality(pair.meshes, t)).collect();
-    let mut flips = 0;
+    let mut flipped = 0;
     let mut keys: Vec<(u32, u32)> = edge_of.keys().copied().filter(|&(u, v)| u < v).collect();
     keys.sort_unstable();
     for (u, v) in keys {
+        // (An edge of a triangle flipped this round is gone, or now in
+        // a touched triangle: skipped either way.)
         let (Some(&(t, i)), Some(&(s, j))) = (edge_of.get(&(u, v)), edge_of.get(&(v, u))) else {
             continue;
         };
@@ -131,14 +151,21 @@ fn flip_round(pair: &mut Pair) -> usize {
         if q1.min(q2) > old + 1e-9 {
             tris[t] = n1;
             tris[s] = n2;
+            edge_of.remove(&(u, v));
+            edge_of.remove(&(v, u));
+            for (k, tri) in [(t, n1), (s, n2)] {
+                for c in 0..3 {
+                    edge_of.insert((tri[c], tri[(c + 1) % 3]), (k, c));
+                }
+            }
             cached[t] = q1;
             cached[s] = q2;
             touched[t] = true;
             touched[s] = true;
-            flips += 1;
+            flipped += 1;
         }
     }
-    flips
+    flipped
 }
 
 /// One round of smoothing: each free vertex moved, in each mesh apart,
@@ -364,8 +391,9 @@ fn improve_rounds(pair: &mut Pair, rounds: usize, target: f64, extra: usize) {
         let mut changed = 0;
         let budget = limit.saturating_sub(pair.meshes[0].len());
         changed += split_round(pair, target, budget);
+        let mut flips = Flips::of(pair);
         for _ in 0..8 {
-            let f = flip_round(pair);
+            let f = flip_round(pair, &mut flips);
             changed += f;
             if f == 0 {
                 break;
