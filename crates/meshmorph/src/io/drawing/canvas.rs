@@ -43,20 +43,39 @@ pub(super) fn bounds(
 }
 
 /// Significant digits written for a drawing's coordinates, at the size of
-/// its page: one more than a 32-bit float holds (SVG readers, `usvg`
-/// among them, read coordinates as those), so a drawing read and written
-/// back loses nothing, and arithmetic's last bits are not written.
+/// its page (or of the drawing, when that is smaller): one more than a
+/// 32-bit float holds (SVG readers, `usvg` among them, read coordinates
+/// as those), so a drawing read and written back loses nothing, and
+/// arithmetic's last bits are not written.
 pub const SIGNIFICANT_DIGITS: i32 = 8;
+
+/// Digits after the point that give [`SIGNIFICANT_DIGITS`] at `extent`
+/// (17, all a number holds, for an extent that is zero or not finite).
+pub fn decimals_at(extent: f64) -> usize {
+    let extent = extent.abs();
+    if !(extent.is_finite() && extent > 0.0) {
+        return 17;
+    }
+    (SIGNIFICANT_DIGITS - extent.log10().ceil() as i32).clamp(0, 17) as usize
+}
 
 impl Canvas {
     /// Digits after the point for coordinates on this canvas:
     /// [`SIGNIFICANT_DIGITS`] at the size of its viewBox's longer side.
     pub fn decimals(&self) -> usize {
-        let extent = self.view_box[2].abs().max(self.view_box[3].abs());
-        if !(extent.is_finite() && extent > 0.0) {
-            return 17;
+        decimals_at(self.view_box[2].abs().max(self.view_box[3].abs()))
+    }
+
+    /// Digits after the point for a drawing `extent` across (its bounding
+    /// box's longer side) on this canvas: [`SIGNIFICANT_DIGITS`] at the
+    /// smaller of its size and the page's, so that a small drawing on a
+    /// large page keeps its shape.
+    pub fn decimals_for(&self, extent: f64) -> usize {
+        if extent.is_finite() && extent > 0.0 {
+            self.decimals().max(decimals_at(extent))
+        } else {
+            self.decimals()
         }
-        (SIGNIFICANT_DIGITS - extent.log10().ceil() as i32).clamp(0, 17) as usize
     }
 
     /// The point as written: y negated when the drawing's y points up.

@@ -33,10 +33,18 @@ pub(super) fn push_rounded(out: &mut Vec<u8>, x: f64, decimals: usize) {
 /// The `d` of a path through the loops: `loops[l]` lists vertex indices
 /// into `positions`; each loop is `M x y L x y ... Z`, the outer loop
 /// first, in the order given, mapped by `canvas` (y flipped for drawings
-/// with y up), to the canvas's [`decimals`](Canvas::decimals).
+/// with y up), to the canvas's [`decimals_for`](Canvas::decimals_for) the
+/// loops' size in this frame.
 pub fn svg_path_data(positions: &[[f64; 2]], loops: &[Vec<u32>], canvas: &Canvas) -> String {
     let mut out = Vec::with_capacity(loops.iter().map(Vec::len).sum::<usize>() * 20);
-    let decimals = canvas.decimals();
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for &v in loops.iter().flatten() {
+        let p = positions[v as usize];
+        lo = [lo[0].min(p[0]), lo[1].min(p[1])];
+        hi = [hi[0].max(p[0]), hi[1].max(p[1])];
+    }
+    let decimals = canvas.decimals_for((hi[0] - lo[0]).max(hi[1] - lo[1]));
     for (l, indices) in loops.iter().enumerate() {
         if l > 0 {
             out.push(b' ');
@@ -62,22 +70,25 @@ pub(super) fn hex(c: [u8; 3]) -> String {
     format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
 }
 
-/// The opening `<svg>` tag of `canvas`.
+/// The opening `<svg>` tag of `canvas`: its size and viewBox to
+/// [`SIGNIFICANT_DIGITS`](super::canvas::SIGNIFICANT_DIGITS) (a page grown
+/// to hold the frames is written `100.5`, not `100.50000000000001`).
 pub(super) fn svg_open(canvas: &Canvas) -> String {
-    let n = |x: f64| {
+    let n = |x: f64, decimals: usize| {
         let mut b = Vec::new();
-        push_number(&mut b, x);
+        push_rounded(&mut b, x, decimals);
         String::from_utf8(b).expect("ASCII")
     };
-    let v = canvas.view_box;
+    let (v, d) = (canvas.view_box, canvas.decimals());
+    let pixels = super::canvas::decimals_at(canvas.size[0].max(canvas.size[1]));
     format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" viewBox=\"{} {} {} {}\">\n",
-        n(canvas.size[0]),
-        n(canvas.size[1]),
-        n(v[0]),
-        n(v[1]),
-        n(v[2]),
-        n(v[3])
+        n(canvas.size[0], pixels),
+        n(canvas.size[1], pixels),
+        n(v[0], d),
+        n(v[1], d),
+        n(v[2], d),
+        n(v[3], d)
     )
 }
 

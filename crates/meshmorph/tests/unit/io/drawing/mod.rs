@@ -515,6 +515,58 @@ fn an_svg_frame_reads_back_with_the_same_points() {
     assert_eq!(grown.size[0], 100.0);
 }
 
+/// A small drawing on a large page keeps its own eight significant
+/// digits (not the page's, which would write it as zeros), and the page
+/// grown to hold the frames is written without float noise.
+#[test]
+fn a_small_drawing_on_a_large_page_keeps_its_shape() {
+    let (frames, loops) = frames();
+    let tiny: Vec<Vec<[f64; 2]>> = frames
+        .iter()
+        .map(|f| f.iter().map(|p| [1e-4 * p[0], 1e-4 * p[1]]).collect())
+        .collect();
+    let page = Canvas {
+        view_box: [0.0, 0.0, 1e6, 1e6],
+        size: [1000.0, 1000.0],
+        flip_y: false,
+    };
+    let d = svg_path_data(&tiny[1], &loops, &page);
+    let words: Vec<f64> = d
+        .split(|c: char| c.is_ascii_alphabetic() || c == ' ')
+        .filter(|s| !s.is_empty())
+        .map(|w| w.parse().unwrap())
+        .collect();
+    let want: Vec<f64> = loops
+        .iter()
+        .flatten()
+        .flat_map(|&v| tiny[1][v as usize])
+        .collect();
+    assert_eq!(words.len(), want.len());
+    // The drawing is about 2e-3 across: eight digits of that.
+    for (got, x) in words.iter().zip(&want) {
+        assert!((got - x).abs() <= 1e-10, "{got} {x} in {d}");
+    }
+    // A page grown by a third: its size and viewBox as short numbers.
+    let small = Canvas {
+        view_box: [0.0, 0.0, 3.0, 3.0],
+        size: [100.0, 100.0],
+        flip_y: false,
+    };
+    let grown = Canvas::for_frames(Some(&small), &List(frames.clone()), &loops, 0.0);
+    let mut out = Vec::new();
+    write_svg_frame(&mut out, &frames[1], &loops, &Style::default(), &grown).unwrap();
+    let text = String::from_utf8(out).unwrap();
+    let open = text.lines().next().unwrap();
+    for number in open
+        .split('"')
+        .filter(|s| s.starts_with(|c: char| c.is_ascii_digit() || c == '-'))
+        .flat_map(|s| s.split(' '))
+    {
+        let digits = number.chars().filter(char::is_ascii_digit).count();
+        assert!(digits <= 9, "{number} in {open}");
+    }
+}
+
 #[test]
 fn smil_has_one_value_a_frame_and_loops() {
     let (frames, loops) = frames();
