@@ -187,7 +187,15 @@ impl DrawingsReport {
             self.kinds.join(", ")
         );
         if self.curves.iter().any(|&c| c > 0) {
-            let units: Vec<String> = self.tolerance.iter().map(|t| format!("{t:.3}")).collect();
+            // Three significant digits, whatever the drawing's size.
+            let units: Vec<String> = self
+                .tolerance
+                .iter()
+                .map(|&t| {
+                    let decimals = (3.0 - t.log10().ceil()).clamp(0.0, 17.0) as usize;
+                    format!("{t:.decimals$}")
+                })
+                .collect();
             say!(
                 "flattened:      {} curves within {} of each drawing's diagonal ({} in its units)",
                 list(&self.curves),
