@@ -514,7 +514,7 @@ pub struct CompatibleSet {
 ///
 /// # Performance
 /// Two like 500-point outlines take under 20 ms on the mapped way, on one
-/// core; unlike ones (a star and a thin spiral band) about 0.6 s, most of
+/// core; unlike ones (a star and a thin spiral band) about 0.55 s, most of
 /// it in the patient untangling. The overlay grows with how differently the
 /// two shapes' triangulations run (up to quadratically in the points:
 /// seconds for two unlike 500-point outlines).
