@@ -187,13 +187,18 @@ impl DrawingsReport {
             self.kinds.join(", ")
         );
         if self.curves.iter().any(|&c| c > 0) {
-            // Three significant digits, whatever the drawing's size.
+            // Three significant digits, whatever the drawing's size (0 for
+            // a drawing with no curve).
             let units: Vec<String> = self
                 .tolerance
                 .iter()
                 .map(|&t| {
-                    let decimals = (3.0 - t.log10().ceil()).clamp(0.0, 17.0) as usize;
-                    format!("{t:.decimals$}")
+                    if t > 0.0 && t.is_finite() {
+                        let decimals = (2.0 - t.log10().floor()).clamp(0.0, 17.0) as usize;
+                        format!("{t:.decimals$}")
+                    } else {
+                        format!("{t}")
+                    }
                 })
                 .collect();
             say!(

@@ -95,7 +95,8 @@ pub(crate) fn smallest_angles(pair: &Pair) -> Vec<f64> {
 /// the next: each directed edge `(u, v)` to its triangle and the edge's
 /// place in it, and each triangle's [`quality`]. Flips change no
 /// position, so only the two triangles of a flip change; both are kept
-/// up to date as it is made.
+/// up to date as it is made. (Each directed edge is in one triangle: the
+/// meshes are valid, every triangle positive, and a flip keeps them so.)
 struct Flips {
     edge_of: EdgeMap<(usize, usize)>,
     cached: Vec<f64>,

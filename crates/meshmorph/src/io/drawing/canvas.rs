@@ -50,7 +50,8 @@ pub(super) fn bounds(
 pub const SIGNIFICANT_DIGITS: i32 = 8;
 
 /// Digits after the point that give [`SIGNIFICANT_DIGITS`] at `extent`
-/// (17, all a number holds, for an extent that is zero or not finite).
+/// (17 for an extent that is zero or not finite: written as the shortest
+/// text that reads back to the number).
 pub fn decimals_at(extent: f64) -> usize {
     let extent = extent.abs();
     if !(extent.is_finite() && extent > 0.0) {
@@ -67,15 +68,23 @@ impl Canvas {
     }
 
     /// Digits after the point for a drawing `extent` across (its bounding
-    /// box's longer side) on this canvas: [`SIGNIFICANT_DIGITS`] at the
+    /// box's longer side) whose coordinates reach `magnitude` (the largest
+    /// absolute value) on this canvas: [`SIGNIFICANT_DIGITS`] at the
     /// smaller of its size and the page's, so that a small drawing on a
-    /// large page keeps its shape.
-    pub fn decimals_for(&self, extent: f64) -> usize {
-        if extent.is_finite() && extent > 0.0 {
-            self.decimals().max(decimals_at(extent))
-        } else {
-            self.decimals()
+    /// large page keeps its shape, but no more than a double holds at
+    /// `magnitude` (15 significant digits), so that a drawing shrunk to a
+    /// point is not written with the arithmetic's last bits.
+    pub fn decimals_for(&self, extent: f64, magnitude: f64) -> usize {
+        let page = self.decimals();
+        if !(extent.is_finite() && extent > 0.0) {
+            return page;
         }
+        let held = if magnitude.is_finite() && magnitude > 0.0 {
+            (15.0 - magnitude.log10().ceil()).clamp(0.0, 17.0) as usize
+        } else {
+            17
+        };
+        page.max(decimals_at(extent).min(held))
     }
 
     /// The point as written: y negated when the drawing's y points up.

@@ -11,9 +11,14 @@ pub(super) fn push_number(out: &mut Vec<u8>, x: f64) {
 }
 
 /// Appends `x` with at most `decimals` digits after the point, trailing
-/// zeros dropped (`18`, not `18.000000741839404`; `-0` as `0`).
+/// zeros dropped (`18`, not `18.000000741839404`; `-0` as `0`); with 17
+/// or more, as [`push_number`] (no rounding asked for).
 pub(super) fn push_rounded(out: &mut Vec<u8>, x: f64, decimals: usize) {
     use std::io::Write as _;
+    if decimals >= 17 {
+        push_number(out, x);
+        return;
+    }
     let start = out.len();
     write!(out, "{x:.decimals$}").expect("writing to a Vec");
     if out[start..].contains(&b'.') {
@@ -44,7 +49,8 @@ pub fn svg_path_data(positions: &[[f64; 2]], loops: &[Vec<u32>], canvas: &Canvas
         lo = [lo[0].min(p[0]), lo[1].min(p[1])];
         hi = [hi[0].max(p[0]), hi[1].max(p[1])];
     }
-    let decimals = canvas.decimals_for((hi[0] - lo[0]).max(hi[1] - lo[1]));
+    let magnitude = lo.iter().chain(&hi).fold(0.0f64, |m, x| m.max(x.abs()));
+    let decimals = canvas.decimals_for((hi[0] - lo[0]).max(hi[1] - lo[1]), magnitude);
     for (l, indices) in loops.iter().enumerate() {
         if l > 0 {
             out.push(b' ');
@@ -79,16 +85,19 @@ pub(super) fn svg_open(canvas: &Canvas) -> String {
         push_rounded(&mut b, x, decimals);
         String::from_utf8(b).expect("ASCII")
     };
+    // A length to the page's digits or its own, whichever are more (a
+    // flat page's height is not rounded to zero).
     let (v, d) = (canvas.view_box, canvas.decimals());
+    let length = |x: f64, d: usize| n(x, d.max(super::canvas::decimals_at(x)));
     let pixels = super::canvas::decimals_at(canvas.size[0].max(canvas.size[1]));
     format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" viewBox=\"{} {} {} {}\">\n",
-        n(canvas.size[0], pixels),
-        n(canvas.size[1], pixels),
+        length(canvas.size[0], pixels),
+        length(canvas.size[1], pixels),
         n(v[0], d),
         n(v[1], d),
-        n(v[2], d),
-        n(v[3], d)
+        length(v[2], d),
+        length(v[3], d)
     )
 }
 
@@ -104,7 +113,13 @@ pub(super) fn paint_attributes(style: &Style, decimals: usize) -> String {
     }
     if let Some(s) = style.stroke.filter(|_| style.stroke_width > 0.0) {
         let mut width = Vec::new();
-        push_rounded(&mut width, style.stroke_width, decimals);
+        // (To its own digits where it is finer than the page's: a small
+        // drawing's thin stroke is not written as 0.)
+        push_rounded(
+            &mut width,
+            style.stroke_width,
+            decimals.max(super::canvas::decimals_at(style.stroke_width)),
+        );
         a += &format!(
             " stroke=\"{}\" stroke-width=\"{}\" stroke-linejoin=\"round\"",
             hex(s),

@@ -546,6 +546,26 @@ fn a_small_drawing_on_a_large_page_keeps_its_shape() {
     for (got, x) in words.iter().zip(&want) {
         assert!((got - x).abs() <= 1e-10, "{got} {x} in {d}");
     }
+    // A drawing shrunk to a point far from the origin: no float noise.
+    let point: Vec<[f64; 2]> = (0..tiny[1].len())
+        .map(|k| [123.45 + 1e-13 * k as f64, 0.1 + 0.2])
+        .collect();
+    let d = svg_path_data(&point, &loops, &page);
+    assert!(d.starts_with("M123.45 0.3L"), "{d}");
+    for word in d.split(|c: char| c.is_ascii_alphabetic() || c == ' ') {
+        let digits = word.chars().filter(char::is_ascii_digit).count();
+        assert!(digits <= 15, "{word} in {d}");
+    }
+    // A thin stroke on a large page keeps its width.
+    let style = Style {
+        stroke: Some([0, 0, 0]),
+        stroke_width: 2e-5,
+        ..Style::default()
+    };
+    let mut out = Vec::new();
+    write_svg_frame(&mut out, &tiny[1], &loops, &style, &page).unwrap();
+    let text = String::from_utf8(out).unwrap();
+    assert!(text.contains("stroke-width=\"0.00002\""), "{text}");
     // A page grown by a third: its size and viewBox as short numbers.
     let small = Canvas {
         view_box: [0.0, 0.0, 3.0, 3.0],
