@@ -53,11 +53,17 @@ pub const SIGNIFICANT_DIGITS: i32 = 8;
 /// (17 for an extent that is zero or not finite: written as the shortest
 /// text that reads back to the number).
 pub fn decimals_at(extent: f64) -> usize {
+    decimals_with(SIGNIFICANT_DIGITS, extent)
+}
+
+/// Digits after the point that give `significant` digits to numbers up
+/// to `extent` across (17 for an extent that is zero or not finite).
+fn decimals_with(significant: i32, extent: f64) -> usize {
     let extent = extent.abs();
     if !(extent.is_finite() && extent > 0.0) {
         return 17;
     }
-    (SIGNIFICANT_DIGITS - extent.log10().ceil() as i32).clamp(0, 17) as usize
+    (significant - extent.log10().ceil() as i32).clamp(0, 17) as usize
 }
 
 impl Canvas {
@@ -79,12 +85,7 @@ impl Canvas {
         if !(extent.is_finite() && extent > 0.0) {
             return page;
         }
-        let held = if magnitude.is_finite() && magnitude > 0.0 {
-            (15.0 - magnitude.log10().ceil()).clamp(0.0, 17.0) as usize
-        } else {
-            17
-        };
-        page.max(decimals_at(extent).min(held))
+        page.max(decimals_at(extent).min(decimals_with(15, magnitude)))
     }
 
     /// The point as written: y negated when the drawing's y points up.

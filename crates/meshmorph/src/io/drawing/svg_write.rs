@@ -85,15 +85,14 @@ pub(super) fn svg_open(canvas: &Canvas) -> String {
         push_rounded(&mut b, x, decimals);
         String::from_utf8(b).expect("ASCII")
     };
-    // A length to the page's digits or its own, whichever are more (a
-    // flat page's height is not rounded to zero).
+    // A length to at least its own digits (a flat page's height is not
+    // rounded to zero); the viewBox's to the page's where those are more.
     let (v, d) = (canvas.view_box, canvas.decimals());
     let length = |x: f64, d: usize| n(x, d.max(super::canvas::decimals_at(x)));
-    let pixels = super::canvas::decimals_at(canvas.size[0].max(canvas.size[1]));
     format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" viewBox=\"{} {} {} {}\">\n",
-        length(canvas.size[0], pixels),
-        length(canvas.size[1], pixels),
+        length(canvas.size[0], 0),
+        length(canvas.size[1], 0),
         n(v[0], d),
         n(v[1], d),
         length(v[2], d),

@@ -439,6 +439,22 @@ fn frames() -> (Vec<Vec<[f64; 2]>>, Vec<Vec<u32>>) {
     (vec![f0, f1], vec![vec![0, 1, 2, 3], vec![4, 5, 6, 7]])
 }
 
+/// The numbers of a path's `d`, as written.
+fn path_numbers(d: &str) -> Vec<&str> {
+    d.split(|c: char| c.is_ascii_alphabetic() || c == ' ')
+        .filter(|s| !s.is_empty())
+        .collect()
+}
+
+/// The coordinates of `loops`' points in `frame`, x then y, loop by loop.
+fn loop_coordinates(frame: &[[f64; 2]], loops: &[Vec<u32>]) -> Vec<f64> {
+    loops
+        .iter()
+        .flatten()
+        .flat_map(|&v| frame[v as usize])
+        .collect()
+}
+
 #[test]
 fn an_svg_frame_reads_back_with_the_same_points() {
     let (frames, loops) = frames();
@@ -480,15 +496,8 @@ fn an_svg_frame_reads_back_with_the_same_points() {
     // the page's size, with no digit beyond (no float noise).
     let d = svg_path_data(&frames[1], &loops, &canvas);
     let decimals = canvas.decimals();
-    let words: Vec<&str> = d
-        .split(|c: char| c.is_ascii_alphabetic() || c == ' ')
-        .filter(|s| !s.is_empty())
-        .collect();
-    let want: Vec<f64> = loops
-        .iter()
-        .flatten()
-        .flat_map(|&v| frames[1][v as usize])
-        .collect();
+    let words = path_numbers(&d);
+    let want = loop_coordinates(&frames[1], &loops);
     assert_eq!(words.len(), want.len());
     let extent = canvas.view_box[2].max(canvas.view_box[3]);
     for (word, x) in words.iter().zip(&want) {
@@ -531,16 +540,11 @@ fn a_small_drawing_on_a_large_page_keeps_its_shape() {
         flip_y: false,
     };
     let d = svg_path_data(&tiny[1], &loops, &page);
-    let words: Vec<f64> = d
-        .split(|c: char| c.is_ascii_alphabetic() || c == ' ')
-        .filter(|s| !s.is_empty())
+    let words: Vec<f64> = path_numbers(&d)
+        .iter()
         .map(|w| w.parse().unwrap())
         .collect();
-    let want: Vec<f64> = loops
-        .iter()
-        .flatten()
-        .flat_map(|&v| tiny[1][v as usize])
-        .collect();
+    let want = loop_coordinates(&tiny[1], &loops);
     assert_eq!(words.len(), want.len());
     // The drawing is about 2e-3 across: eight digits of that.
     for (got, x) in words.iter().zip(&want) {
@@ -552,7 +556,7 @@ fn a_small_drawing_on_a_large_page_keeps_its_shape() {
         .collect();
     let d = svg_path_data(&point, &loops, &page);
     assert!(d.starts_with("M123.45 0.3L"), "{d}");
-    for word in d.split(|c: char| c.is_ascii_alphabetic() || c == ' ') {
+    for word in path_numbers(&d) {
         let digits = word.chars().filter(char::is_ascii_digit).count();
         assert!(digits <= 15, "{word} in {d}");
     }
