@@ -473,6 +473,15 @@ pub struct CompatibleSet {
     pub report: OutlineReport,
 }
 
+/// Whether a pass of the mapped way takes up each source's untangling
+/// where the pass before left it, or starts it again from the placed
+/// mesh.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Start {
+    TakenUp,
+    Afresh,
+}
+
 /// Meshes with the same triangles inside two or more drawings: every
 /// triangle positively oriented in every mesh, every given outline point a
 /// vertex at exactly its position, each mesh's boundary its drawing's
@@ -610,21 +619,24 @@ pub fn compatible_set(
                 .total_cmp(&roundness(&fixed[y], &boundary.loop_start))
         });
         // The patient pass takes up each drawing's untangling where the
-        // first look left it (the same mesh, no rounds run twice). With
-        // anchors inside, a last pair of passes with rings of free points
-        // around each anchor (one ring, then two), so that no triangle
-        // holds an anchor and another fixed point.
+        // first look left it (the same mesh, no rounds run twice), both
+        // lowering the regularisation briskly; where that gives up, a
+        // patient untangling afresh at the paper's pace. With anchors
+        // inside, a last pair of passes with rings of free points around
+        // each anchor (one ring, then two), so that no triangle holds an
+        // anchor and another fixed point.
         let passes = [
-            (0, untangle::Patience::FIRST_LOOK),
-            (0, untangle::Patience::LONG),
-            (1, untangle::Patience::LONG),
-            (2, untangle::Patience::LONG),
+            (0, untangle::Patience::FIRST_LOOK.brisk(), Start::TakenUp),
+            (0, untangle::Patience::LONG.brisk(), Start::TakenUp),
+            (0, untangle::Patience::LONG, Start::Afresh),
+            (1, untangle::Patience::LONG, Start::Afresh),
+            (2, untangle::Patience::LONG, Start::Afresh),
         ];
         let source_meshes: Vec<OnceLock<Option<mapped::Refined>>> =
             sources.iter().map(|_| OnceLock::new()).collect();
         let mappings: Vec<Mutex<Option<mapped::Mapping>>> =
             sources.iter().map(|_| Mutex::new(None)).collect();
-        'passes: for (pass, &(rings, patience)) in passes.iter().enumerate() {
+        'passes: for (pass, &(rings, patience, start)) in passes.iter().enumerate() {
             if rings > 0 && inside == 0 {
                 break;
             }
@@ -663,6 +675,9 @@ pub fn compatible_set(
                             })
                             .as_ref()?;
                         let mut kept = mappings[k].lock().ok()?;
+                        if start == Start::Afresh {
+                            *kept = None;
+                        }
                         let mapping = kept
                             .get_or_insert_with(|| mapped::Mapping::start(&fixed, source, refined));
                         if !mapping.go(patience) {

@@ -900,6 +900,18 @@ fn unlike_pairs_are_mapped_with_no_sliver() {
     }
 }
 
+/// A spiky polygon into a thin spiral: the untangling that lowers its
+/// regularisation briskly gives up on it, and the one at the paper's pace,
+/// started afresh, maps it (the overlay's smallest angle on this pair is
+/// 0.04°, the mapped meshes' 0.54°).
+#[test]
+fn a_pair_the_brisk_untangling_gives_up_on_is_mapped_at_the_papers_pace() {
+    let out = check(&vec![random_polygon(60, 3)], &vec![spiral(120)]);
+    let report = &out.meshes.report;
+    assert_eq!(report.path, OutlinePath::Mapped, "{report}");
+    assert!(worst(&report.min_angle_degrees) > 0.3, "{report}");
+}
+
 /// The turn, in degrees, of the rotation that best lays the vertices of
 /// `a` onto those of `b` (centred, least squares).
 fn turn_degrees(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
