@@ -16,6 +16,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::interpolate::FrameArgs;
+use crate::kept_frames::KeptFrames;
 use crate::output;
 use crate::outputs::{Output, Plan, Staging};
 use crate::pictures;
@@ -321,12 +322,14 @@ pub trait WriteFrame: Sync {
 
 /// Writes every frame of `morph` at the run's times (and the pictures
 /// asked for) through its staging, and reports. `base` is the first key
-/// (the glTF base mesh).
+/// (the glTF base mesh). The frames are `kept` where they were computed
+/// already, else computed as they are written.
 pub fn write_frames<const D: usize>(
     morph: &Sequence<D>,
     base: &[[f64; D]],
     run: &Run<'_>,
     setup: &Setup,
+    kept: Option<&KeptFrames<D>>,
 ) -> Result<Report>
 where
     Space<D>: Dimension<D>,
@@ -401,30 +404,46 @@ where
             || morph.workspace(),
             |ws, (chunk, chunk_times)| {
                 let begin = Instant::now();
-                let solved = morph.frames_with(chunk_times, ws);
-                let compute = begin.elapsed().as_secs_f64() / chunk_times.len() as f64;
+                let first = chunk * together;
+                let computed: Vec<Vec<[f64; D]>>;
+                let (solved, compute): (Vec<&[[f64; D]]>, f64) = match kept {
+                    Some(kept) => (
+                        (first..first + chunk_times.len())
+                            .map(|k| kept.frame(k))
+                            .collect(),
+                        kept.seconds_per_frame(),
+                    ),
+                    None => {
+                        computed = morph.frames_with(chunk_times, ws);
+                        let seconds = begin.elapsed().as_secs_f64() / chunk_times.len() as f64;
+                        (computed.iter().map(Vec::as_slice).collect(), seconds)
+                    }
+                };
                 solved.iter().zip(chunk_times).enumerate().fold(
                     Frames::default(),
                     |frames, (i, (positions, &t))| {
-                        let k = chunk * together + i;
+                        let k = first + i;
                         frames.merge(Frames::one(k, write_frame(k, t, positions, compute)))
                     },
                 )
             },
         )
         .reduce(Frames::default, Frames::merge);
-    let wall_seconds = wall.elapsed().as_secs_f64();
+    // (The frames kept were computed before: their time counts too.)
+    let wall_seconds = wall.elapsed().as_secs_f64() + kept.map_or(0.0, KeptFrames::wall_seconds);
     bar.finish_and_clear();
     if let Some((_, e)) = frames.error {
         return Err(e);
     }
     let (max_flipped, max_flipped_frame) = frames.most_flipped;
     let mut files_written: Vec<PathBuf> = (0..times.len()).map(|k| outputs.mesh_path(k)).collect();
-    // Pictures and the GLB recompute the frames they draw or write.
+    // Pictures and the GLB recompute the frames they draw or write (or
+    // read them where they are kept).
     let recomputed = Recomputed {
         morph,
         times,
         y_down: false,
+        kept,
     };
     files_written.extend(write_pictures(
         args,
@@ -550,6 +569,7 @@ fn compact(t: f64) -> String {
 /// The frames of an interpolation at `times`, recomputed (one
 /// back-substitution each) whenever a writer of pictures or of the GLB
 /// asks: memory for frames stays that of the few being drawn or written.
+/// Where they are `kept`, read from there instead.
 pub struct Recomputed<'a, const D: usize>
 where
     Space<D>: Dimension<D>,
@@ -559,6 +579,7 @@ where
     /// Each frame's second coordinate negated: a drawing whose y points
     /// down, handed to the pictures, which take y as pointing up.
     pub y_down: bool,
+    pub kept: Option<&'a KeptFrames<D>>,
 }
 
 impl<const D: usize> FrameSource<D> for Recomputed<'_, D>
@@ -570,9 +591,16 @@ where
     }
 
     fn with_frame(&self, k: usize, use_frame: &mut dyn FnMut(&[[f64; D]])) {
-        let mut positions = vec![[0.0; D]; self.morph.num_vertices()];
-        self.morph
-            .at_into(self.times[k], &mut positions, &mut self.morph.workspace());
+        let mut positions = match self.kept {
+            Some(kept) if !self.y_down => return use_frame(kept.frame(k)),
+            Some(kept) => kept.frame(k).to_vec(),
+            None => {
+                let mut positions = vec![[0.0; D]; self.morph.num_vertices()];
+                self.morph
+                    .at_into(self.times[k], &mut positions, &mut self.morph.workspace());
+                positions
+            }
+        };
         if self.y_down {
             for p in &mut positions {
                 p[1] = -p[1];

@@ -18,6 +18,7 @@ use serde::Serialize;
 
 use crate::animation::{write_frames, FrameOutputs, Recomputed, Run, Setup, WriteFrame};
 use crate::interpolate::Args;
+use crate::kept_frames::KeptFrames;
 use crate::output;
 use crate::outputs::{Output, Plan, Staging};
 use crate::pictures::file_named;
@@ -558,7 +559,8 @@ fn animate(
     // turns triangles over (the outline stays as it is) when an output
     // shows the inside: outlines alone (SVG and text frames, the animated
     // SVG, Lottie) are the same either way, and mending an unlike pair's
-    // frame can take a good part of a second.
+    // frame can take a tenth of a second (so mended frames are made once,
+    // for every writer, where they fit in memory).
     let options = args
         .frames
         .options_or(StretchMode::AreaBlend)
@@ -583,10 +585,16 @@ fn animate(
         welded_vertices: 0,
         parts_following_host: morph.parts_following_host(),
     };
+    // Mended frames are computed once, for every writer.
+    let kept = options
+        .mend_folds
+        .then(|| KeptFrames::compute(morph, times))
+        .flatten();
     let recomputed = Recomputed {
         morph,
         times,
         y_down: false,
+        kept: kept.as_ref(),
     };
     let style = &files[0].style;
     let canvas = Canvas::for_frames(
@@ -620,7 +628,7 @@ fn animate(
         outline: is_drawing_frame.then_some(&outline as &dyn WriteFrame),
         y_down: files[0].kind == DrawingKind::Svg,
     };
-    let mut report = write_frames(morph, first.positions(), &run, &setup)?;
+    let mut report = write_frames(morph, first.positions(), &run, &setup, kept.as_ref())?;
     let draw = &args.frames.pictures.draw;
     let animation = Animation {
         frames: &recomputed,

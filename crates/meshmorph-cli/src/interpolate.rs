@@ -427,7 +427,7 @@ pub fn animate(
                 welded_vertices,
                 parts_following_host: morph.sequence().parts_following_host(),
             };
-            return write_frames(morph.sequence(), keys[0].positions(), &run, &setup);
+            return write_frames(morph.sequence(), keys[0].positions(), &run, &setup, None);
         }
         return animate_sequence(&keys, args, &run, begin, (unused_vertices, welded_vertices));
     }
@@ -467,5 +467,5 @@ where
         welded_vertices,
         parts_following_host: morph.parts_following_host(),
     };
-    write_frames(&morph, keys[0].positions(), run, &setup)
+    write_frames(&morph, keys[0].positions(), run, &setup, None)
 }

@@ -34,6 +34,7 @@ mod drawings;
 mod expressions;
 mod gltf;
 mod interpolate;
+mod kept_frames;
 mod manual;
 mod memory;
 mod output;

@@ -597,3 +597,102 @@ fn pictures_of_svg_drawings_keep_their_way_up() {
         drawn(mean_row)
     );
 }
+
+/// A five-armed star (150 points) and a thin band curling along a spiral
+/// (90 points a side), as text: an unlike pair whose fit turns a hundred
+/// or more triangles over in its middle frames.
+fn star_and_curl(d: &Path) {
+    let star: String = (0..150)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / 150.0;
+            let r = 1.0 + 0.45 * (5.0 * a).cos();
+            format!("{:.6} {:.6}\n", r * a.cos(), r * a.sin())
+        })
+        .collect();
+    fs::write(d.join("star.txt"), star).unwrap();
+    let centre = |s: f64| {
+        let (a, r) = (3.5 * s, 1.6 - 0.9 * s);
+        let (x, y) = (r * a.cos(), r * a.sin());
+        let (dx, dy) = (-3.5 * y - 0.9 * a.cos(), 3.5 * x - 0.9 * a.sin());
+        let l = dx.hypot(dy);
+        ([x, y], [-dy / l, dx / l])
+    };
+    let side = |sign: f64| -> Vec<[f64; 2]> {
+        (0..90)
+            .map(|i| {
+                let (p, n) = centre(i as f64 / 89.0);
+                [p[0] + sign * 0.125 * n[0], p[1] + sign * 0.125 * n[1]]
+            })
+            .collect()
+    };
+    let mut band = side(-1.0);
+    band.extend(side(1.0).into_iter().rev());
+    let curl: String = band
+        .iter()
+        .map(|p| format!("{:.6} {:.6}\n", p[0], p[1]))
+        .collect();
+    fs::write(d.join("curl.txt"), curl).unwrap();
+}
+
+/// The number after `flipped triangles: at most` in a report, 0 for none.
+fn most_flipped(report: &str) -> usize {
+    let line = report
+        .lines()
+        .find(|l| l.starts_with("flipped triangles:"))
+        .expect("the report counts flipped triangles");
+    line.split_whitespace()
+        .find_map(|w| w.parse().ok())
+        .unwrap_or(0)
+}
+
+/// Pictures show a drawing's inside: its frames are mended where the fit
+/// turns triangles over (made once, and read by the frame files, the GIF
+/// and the PNG alike), and the outlines written are those of a run with no
+/// picture.
+#[test]
+fn pictures_mend_a_drawings_frames_and_keep_its_outlines() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    star_and_curl(d);
+    let plain = succeeds(&run(
+        &[
+            "interpolate",
+            "star.txt",
+            "curl.txt",
+            "-o",
+            "plain",
+            "--frames",
+            "11",
+        ],
+        d,
+    ));
+    assert!(most_flipped(&plain) > 50, "{plain}");
+    let pictured = succeeds(&run(
+        &[
+            "interpolate",
+            "star.txt",
+            "curl.txt",
+            "-o",
+            "pictured",
+            "--frames",
+            "11",
+            "--gif",
+            "m.gif",
+            "--png",
+            "m.png",
+        ],
+        d,
+    ));
+    assert_eq!(most_flipped(&pictured), 0, "{pictured}");
+    assert!(d.join("m.gif").is_file() && d.join("m.png").is_file());
+    let frames = names(&d.join("plain"));
+    assert_eq!(frames.len(), 11);
+    assert_eq!(frames, names(&d.join("pictured")));
+    for f in &frames {
+        assert_eq!(
+            fs::read(d.join("plain").join(f)).unwrap(),
+            fs::read(d.join("pictured").join(f)).unwrap(),
+            "{f}"
+        );
+    }
+}
