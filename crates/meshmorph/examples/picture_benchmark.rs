@@ -45,6 +45,9 @@
 //! the upper arm forces none (the triangles of A whose centroid is more
 //! than three half widths from the joint): of the meshes' own map from A
 //! to B, and of the frame at t = 0.5 for meshmorph and the linear warp.
+//! And how much of the picture keeps its texture as drawn: the share of
+//! the area (the frame's) whose stretch is at most 1.1, 1.25 and 1.5, of
+//! the map from A to B and of both warps at t = 0.5.
 //!
 //! **Speed and memory** at 4096 × 4096 (the same arm, scaled 12.8 times):
 //! the two pictures' outlines traced and the compatible meshes made (the
