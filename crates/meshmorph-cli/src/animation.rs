@@ -579,6 +579,8 @@ where
     /// Each frame's second coordinate negated: a drawing whose y points
     /// down, handed to the pictures, which take y as pointing up.
     pub y_down: bool,
+    /// The frames, where they were computed once already (mended frames
+    /// of drawings): read from there instead.
     pub kept: Option<&'a KeptFrames<D>>,
 }
 

@@ -34,15 +34,16 @@ where
     /// than a quarter of what is available; `None` otherwise (the writers
     /// then recompute them).
     pub fn compute(morph: &Sequence<D>, times: &[f64]) -> Option<Self> {
+        // Each frame's positions, and its list's header and the
+        // allocator's share.
         let bytes = (times.len() as u64)
-            .saturating_mul(morph.num_vertices() as u64)
-            .saturating_mul(8 * D as u64);
+            .saturating_mul((morph.num_vertices() as u64).saturating_mul(8 * D as u64) + 64);
         let room = crate::memory::available().map_or(BUDGET_BYTES, |free| free / 4);
         if bytes > BUDGET_BYTES.min(room) {
             return None;
         }
         let wall = Instant::now();
-        let bar = crate::progress::bar(times.len() as u64, "frames");
+        let bar = crate::progress::bar(times.len() as u64, "computing frames");
         let together = meshmorph::limits::frames_per_solve(times.len());
         let solved: Vec<(Vec<Vec<[f64; D]>>, f64)> = times
             .par_chunks(together)

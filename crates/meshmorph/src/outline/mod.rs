@@ -524,9 +524,10 @@ enum Start {
 /// # Performance
 /// Two like 500-point outlines take under 20 ms on the mapped way, on one
 /// core; unlike ones (a star and a thin spiral band) about 0.4 s, a third
-/// of it in the patient untangling and a third in the improvement. The overlay grows with how differently the
-/// two shapes' triangulations run (up to quadratically in the points:
-/// seconds for two unlike 500-point outlines).
+/// of it in the patient untangling and a third in the improvement. The
+/// overlay grows with how differently the two shapes' triangulations run
+/// (up to quadratically in the points: seconds for two unlike 500-point
+/// outlines).
 pub fn compatible_set(
     drawings: &[Drawing],
     anchors: &[Vec<[f64; 2]>],
@@ -624,7 +625,8 @@ pub fn compatible_set(
         // patient untangling afresh at the paper's pace. With anchors
         // inside, a last pair of passes with rings of free points around
         // each anchor (one ring, then two), so that no triangle holds an
-        // anchor and another fixed point.
+        // anchor and another fixed point (those passes make their meshes
+        // anew, so start afresh whatever they are marked).
         let passes = [
             (0, untangle::Patience::FIRST_LOOK.brisk(), Start::TakenUp),
             (0, untangle::Patience::LONG.brisk(), Start::TakenUp),

@@ -7,7 +7,8 @@
 //!
 //! An untangling can be stopped and taken up again where it stopped
 //! ([`Untangling::go`] with more patience): the rounds it runs are the
-//! same either way.
+//! same either way, when each taking up lowers the regularisation at the
+//! same pace ([`Patience::least_fall`]).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -27,6 +28,8 @@ use super::mapped::area_from_boundary;
 pub(crate) struct Patience<'a> {
     pub(crate) rounds: usize,
     pub(crate) stall: usize,
+    /// The least fraction by which a round lowers the regularisation's
+    /// target.
     pub(crate) least_fall: f64,
     pub(crate) called_off: Option<&'a AtomicBool>,
 }
@@ -85,11 +88,11 @@ impl<'a> Patience<'a> {
 
 /// L-BFGS steps in a round of the untangling. The regularisation's
 /// schedule more than how far a round gets sets how many rounds it
-/// takes: on the 500-point star into the curl (1,301 free points), with
-/// the paper's floor of 0.1 on the fall of the regularisation
-/// ([`PAPER_FALL`]), 150
-/// steps a round untangled in 62 rounds and 1.25 s, 60 in 64 and 0.74 s,
-/// 30 in 68 and 0.40 s, and 10 gave up. Harder pairs need longer rounds:
+/// takes: on the 500-point star into the curl (1,301 free points, as the
+/// meshes were made on 2026-12-04), with the paper's floor of 0.1 on the
+/// fall of the regularisation ([`PAPER_FALL`]), 150 steps a round
+/// untangled in 62 rounds and 1.25 s, 60 in 64 and 0.74 s, 30 in 68 and
+/// 0.40 s, and 10 gave up. Harder pairs need longer rounds:
 /// of 16 random polygons into a thick curl, 150 and 60 steps mapped the
 /// same 10 (the others go to the overlay), 30 only 6 (BENCHMARKS.md).
 const STEPS_PER_ROUND: usize = 60;
@@ -101,15 +104,15 @@ const STEPS_PER_ROUND: usize = 60;
 const PAPER_FALL: f64 = 0.1;
 
 /// A floor twice the paper's: the regularisation halves in three rounds, not
-/// seven. On the 500-point star into the curl 0.1 untangled in 73
-/// rounds, 0.15 in 49, 0.2 in 37, 0.3 in 24, 0.4 in 17. On hard pairs
-/// it gives up on some that the paper's floor untangles, and the other
-/// way round: of 270 random pairs (`outline_stress`, seeds 1 to 3) the
-/// same 12 went to the overlay with 0.1 and 0.2, one more with 0.3 and
-/// two more with 0.5; a spiky polygon into a thin spiral untangled with
-/// 0.1 and not with 0.2 or 0.3. So the compatible meshes try it first and
-/// take up the paper's floor afresh where it gives up (BENCHMARKS.md,
-/// "The untangling's regularisation lowered faster").
+/// seven. On the 500-point star into the curl (its meshes of 2026-12-07)
+/// 0.1 untangled in 73 rounds, 0.15 in 49, 0.2 in 37, 0.3 in 24, 0.4 in
+/// 17. Of 270 random pairs (`outline_stress`, seeds 1 to 3) the same 12
+/// went to the overlay with 0.1 and 0.2, one more with 0.3 and two more
+/// with 0.5; but a spiky polygon into a thin spiral untangled with 0.1
+/// and not with 0.2 or 0.3. So the compatible meshes try it first and
+/// take up the paper's floor afresh where it gives up, and the mending
+/// of frames tries its widest patch again at the paper's floor
+/// (BENCHMARKS.md, "The untangling's regularisation lowered faster").
 const BRISK_FALL: f64 = 0.2;
 
 /// L-BFGS steps on the energy itself (unregularised, with a barrier)
