@@ -71,8 +71,16 @@ try {
       if (!next || asked.filter((n) => n === next.name).length > 1) break;
       asked.push(next.name);
       const point = points[next.name];
+      // Each click is waited on until the page has taken it (it asks for
+      // another landmark, or none): on a loaded machine a click can land
+      // after two frames. A click that missed is asked again, as before.
+      const taken = () =>
+        page
+          .waitForFunction((name) => window.pick.next()?.name !== name, { timeout: 20000 }, next.name)
+          .catch(() => {});
       if (!point || (next.name === skip && asked.filter((n) => n === skip).length === 1)) {
         await page.click('#skip');
+        await taken();
         continue;
       }
       const at = await project('target', point);
@@ -81,6 +89,7 @@ try {
       // The skipped landmark, asked again once every other one had been
       // asked, is placed: the round is over.
       if (next.name === skip) break;
+      await taken();
     }
     result.asked = asked;
     result.guide_text = await page.evaluate(() => document.getElementById('guide').innerText);
