@@ -169,6 +169,11 @@ pub struct Report {
     /// The first frame (index, from 0) where that happened; null when no
     /// frame has such triangles.
     pub max_flipped_frame: Option<usize>,
+    /// Whether an output shows the triangles: false for a drawing morph
+    /// written as outlines only (its SVG or text frames, animated SVG,
+    /// Lottie), whose inside is not mended, and where triangles turned over
+    /// inside are in no output.
+    pub inside_shown: bool,
     /// The GIF written, if any.
     #[serde(serialize_with = "output::lossy")]
     pub gif: Option<PathBuf>,
@@ -250,6 +255,10 @@ impl Report {
             "flipped"
         };
         match self.max_flipped_frame {
+            Some(frame) if !self.inside_shown => say!(
+                "{what} triangles: none in the outputs, which show the outline (inside, at most {} in frame {frame}, not mended)",
+                self.max_flipped_triangles
+            ),
             Some(frame) => say!(
                 "{what} triangles: at most {} (frame {frame})",
                 self.max_flipped_triangles
@@ -312,6 +321,10 @@ pub struct Run<'a> {
     /// The keys' y axis points down (SVG drawings): the pictures (`--png`,
     /// `--gif`, `--svg`) are drawn with it down, as the drawings show.
     pub y_down: bool,
+    /// Whether an output shows the triangles (see
+    /// [`Report::inside_shown`]): else triangles turned over inside are
+    /// reported as such, without a warning.
+    pub inside_shown: bool,
 }
 
 /// A frame written otherwise than as a mesh: a drawing's outline.
@@ -346,6 +359,7 @@ where
         key_names: _,
         outline,
         y_down,
+        inside_shown,
     } = *run;
     crate::memory::check_frames_in_flight(
         morph.num_vertices(),
@@ -493,7 +507,7 @@ where
     // What the output format cannot hold of the first key's file is the
     // same for every frame: said once, for the first.
     warnings.extend(output::dropped_for(&outputs.dir, &frames.dropped));
-    if max_flipped > 0 {
+    if max_flipped > 0 && inside_shown {
         let what = if D == 3 { "turned over" } else { "reversed" };
         warnings.push(format!(
             "frame {max_flipped_frame} has {} {what} relative to the first key",
@@ -518,6 +532,7 @@ where
         total_seconds: start.elapsed().as_secs_f64(),
         max_flipped_triangles: max_flipped,
         max_flipped_frame: (max_flipped > 0).then_some(max_flipped_frame),
+        inside_shown,
         gif: args.pictures.gif.clone(),
         png: args.pictures.png.clone(),
         gltf: args.gltf.gltf.clone(),

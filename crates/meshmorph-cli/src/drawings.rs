@@ -627,6 +627,7 @@ fn animate(
         key_names: &key_names,
         outline: is_drawing_frame.then_some(&outline as &dyn WriteFrame),
         y_down: files[0].kind == DrawingKind::Svg,
+        inside_shown: outputs.frames.shows_inside(),
     };
     let mut report = write_frames(morph, first.positions(), &run, &setup, kept.as_ref())?;
     let draw = &args.frames.pictures.draw;

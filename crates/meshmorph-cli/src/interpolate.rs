@@ -407,6 +407,7 @@ pub fn animate(
         key_names,
         outline: None,
         y_down: false,
+        inside_shown: true,
     };
     let begin = Instant::now();
     let unused_vertices = first.num_unused_vertices();

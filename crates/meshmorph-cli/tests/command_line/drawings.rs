@@ -645,16 +645,17 @@ fn most_flipped(report: &str) -> usize {
         .unwrap_or(0)
 }
 
-/// Pictures show a drawing's inside: its frames are mended where the fit
-/// turns triangles over (made once, and read by the frame files, the GIF
-/// and the PNG alike), and the outlines written are those of a run with no
-/// picture.
+/// Outlines alone do not show a drawing's inside, and the report says so
+/// of the triangles the fit turns over. Pictures show it: its frames are
+/// mended where the fit turns triangles over (made once, and read by the
+/// frame files, the GIF and the PNG alike), and the outlines written are
+/// those of a run with no picture.
 #[test]
 fn pictures_mend_a_drawings_frames_and_keep_its_outlines() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     star_and_curl(d);
-    let plain = succeeds(&run(
+    let out = run(
         &[
             "interpolate",
             "star.txt",
@@ -665,8 +666,14 @@ fn pictures_mend_a_drawings_frames_and_keep_its_outlines() {
             "11",
         ],
         d,
-    ));
+    );
+    let plain = succeeds(&out);
+    // Outlines alone show no triangle: those turned over inside are
+    // counted, not warned about.
     assert!(most_flipped(&plain) > 50, "{plain}");
+    mentions(&plain, &["none in the outputs, which show the outline"]);
+    let warnings = String::from_utf8_lossy(&out.stderr);
+    assert!(!warnings.contains("reversed"), "{warnings}");
     let pictured = succeeds(&run(
         &[
             "interpolate",
