@@ -407,42 +407,47 @@ where
             dropped,
         })
     };
-    // Each thread solves a few frames together (one substitution for all),
-    // then writes them; what they come to is summed as they go (a million
-    // frames keep no list of their own).
-    let together = meshmorph::limits::frames_per_solve(times.len());
-    let frames = times
-        .par_chunks(together)
-        .enumerate()
-        .map_init(
-            || morph.workspace(),
-            |ws, (chunk, chunk_times)| {
-                let begin = Instant::now();
-                let first = chunk * together;
-                let computed: Vec<Vec<[f64; D]>>;
-                let (solved, compute): (Vec<&[[f64; D]]>, f64) = match kept {
-                    Some(kept) => (
-                        (first..first + chunk_times.len())
-                            .map(|k| kept.frame(k))
-                            .collect(),
-                        kept.seconds_per_frame(),
-                    ),
-                    None => {
-                        computed = morph.frames_with(chunk_times, ws);
-                        let seconds = begin.elapsed().as_secs_f64() / chunk_times.len() as f64;
-                        (computed.iter().map(Vec::as_slice).collect(), seconds)
-                    }
-                };
-                solved.iter().zip(chunk_times).enumerate().fold(
-                    Frames::default(),
-                    |frames, (i, (positions, &t))| {
-                        let k = first + i;
-                        frames.merge(Frames::one(k, write_frame(k, t, positions, compute)))
-                    },
-                )
+    // Frames `first..` at `chunk_times`, each computed in `compute` seconds:
+    // written, and what they come to summed as they go (a million frames
+    // keep no list of their own).
+    let write_chunk = |first: usize, chunk_times: &[f64], solved: &[&[[f64; D]]], compute: f64| {
+        solved.iter().zip(chunk_times).enumerate().fold(
+            Frames::default(),
+            |frames, (i, (positions, &t))| {
+                let k = first + i;
+                frames.merge(Frames::one(k, write_frame(k, t, positions, compute)))
             },
         )
-        .reduce(Frames::default, Frames::merge);
+    };
+    let frames = match kept {
+        // Read where they are kept, in chunks as they would be solved.
+        Some(kept) => {
+            let together = meshmorph::limits::frames_per_solve(times.len());
+            times
+                .par_chunks(together)
+                .enumerate()
+                .map(|(chunk, chunk_times)| {
+                    let first = chunk * together;
+                    let solved: Vec<&[[f64; D]]> = (first..first + chunk_times.len())
+                        .map(|k| kept.frame(k))
+                        .collect();
+                    write_chunk(first, chunk_times, &solved, kept.seconds_per_frame())
+                })
+                .reduce(Frames::default, Frames::merge)
+        }
+        // Each thread solves a few frames together (one substitution for
+        // all), then writes them.
+        None => crate::frame_chunks::solve(
+            morph,
+            times,
+            Frames::default,
+            |first, chunk_times, computed, compute| {
+                let solved: Vec<&[[f64; D]]> = computed.iter().map(Vec::as_slice).collect();
+                write_chunk(first, chunk_times, &solved, compute)
+            },
+            Frames::merge,
+        ),
+    };
     // (The frames kept were computed before: their time counts too.)
     let wall_seconds = wall.elapsed().as_secs_f64() + kept.map_or(0.0, KeptFrames::wall_seconds);
     bar.finish_and_clear();

@@ -9,7 +9,6 @@
 use std::time::Instant;
 
 use meshmorph::{Dimension, Sequence, Space};
-use rayon::prelude::*;
 
 /// The most the kept frames may take: beyond it the writers recompute
 /// them, as for any other run.
@@ -44,23 +43,22 @@ where
         }
         let wall = Instant::now();
         let bar = crate::progress::bar(times.len() as u64, "computing frames");
-        let together = meshmorph::limits::frames_per_solve(times.len());
-        let solved: Vec<(Vec<Vec<[f64; D]>>, f64)> = times
-            .par_chunks(together)
-            .map_init(
-                || morph.workspace(),
-                |ws, chunk| {
-                    let begin = Instant::now();
-                    let frames = morph.frames_with(chunk, ws);
-                    bar.inc(chunk.len() as u64);
-                    (frames, begin.elapsed().as_secs_f64())
-                },
-            )
-            .collect();
+        let (frames, seconds) = crate::frame_chunks::solve(
+            morph,
+            times,
+            || (Vec::new(), 0.0),
+            |_, chunk_times, frames, seconds| {
+                bar.inc(frames.len() as u64);
+                (frames, seconds * chunk_times.len() as f64)
+            },
+            |(mut frames, seconds), (more, more_seconds)| {
+                frames.extend(more);
+                (frames, seconds + more_seconds)
+            },
+        );
         bar.finish_and_clear();
-        let seconds: f64 = solved.iter().map(|s| s.1).sum();
         Some(Self {
-            frames: solved.into_iter().flat_map(|s| s.0).collect(),
+            frames,
             seconds_per_frame: seconds / times.len().max(1) as f64,
             wall_seconds: wall.elapsed().as_secs_f64(),
         })

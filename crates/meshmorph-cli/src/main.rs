@@ -32,6 +32,7 @@ mod correspond;
 mod demo;
 mod drawings;
 mod expressions;
+mod frame_chunks;
 mod gltf;
 mod interpolate;
 mod kept_frames;
