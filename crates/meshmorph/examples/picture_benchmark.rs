@@ -47,7 +47,13 @@
 //! to B, and of the frame at t = 0.5 for meshmorph and the linear warp.
 //! And how much of the picture keeps its texture as drawn: the share of
 //! the area (the frame's) whose stretch is at most 1.1, 1.25 and 1.5, of
-//! the map from A to B and of both warps at t = 0.5.
+//! the map from A to B and of both warps at t = 0.5; and the same share
+//! of the pictures' texture (each triangle weighed by `(1 - t)` its area
+//! in A plus `t` its area in B, what it shows of them, so that a part
+//! the frame shrinks does not count as less of the picture), over the
+//! whole arm and over the forearm beyond the fold, for the meshes as
+//! pictures make them ([`OutlineOptions::for_pictures`]) and without the
+//! rigid parts.
 //!
 //! **Speed and memory** at 4096 × 4096 (the same arm, scaled 12.8 times):
 //! the two pictures' outlines traced and the compatible meshes made (the
@@ -59,6 +65,8 @@
 //! machine's other load does not inflate as it does the clock's); the peak
 //! memory
 //! of all that (the pictures included) against the two pictures' bytes.
+//! Then the compatible meshes made with and without the rigid parts, in
+//! turn, for what the rigid parts cost.
 
 #[path = "support/memory.rs"]
 mod memory;
@@ -72,6 +80,7 @@ use meshmorph::io::picture::{
     arm_anchors, arm_fold_anchors, arm_sprite, picture_drawing, picture_meshes, Picture,
     PictureMeshes, PictureShape, ARM_SPRITE_SIZE,
 };
+use meshmorph::mesh::map_stretch;
 use meshmorph::outline::OutlineOptions;
 use meshmorph::render::{PictureMorph, PictureMorphOptions};
 use meshmorph::Interpolator;
@@ -94,6 +103,18 @@ struct Morph<'a> {
     frames: PictureMorph<'a>,
 }
 
+impl Morph<'_> {
+    /// The linear warp's positions at `t`: each vertex on a straight line
+    /// from A to B.
+    fn linear_at(&self, t: f64) -> Vec<[f64; 2]> {
+        let [pa, pb] = [0, 1].map(|k| self.meshes.set.meshes[k].positions());
+        pa.iter()
+            .zip(pb)
+            .map(|(p, q)| [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])])
+            .collect()
+    }
+}
+
 /// The straight arm and the arm bent by 150°, `size` pixels, and their
 /// anchors: the five on the outlines, and with `fold` the two at the
 /// elbow's fold (the demo's seven).
@@ -109,7 +130,12 @@ fn arm_pair(size: (u32, u32), fold: bool) -> (Picture, Picture, Vec<Vec<[f64; 2]
 
 /// The compatible meshes of `a` and `b`, with the seconds their outlines
 /// took to trace and the meshes to make.
-fn meshes(a: &Picture, b: &Picture, anchors: &[Vec<[f64; 2]>]) -> (PictureMeshes, [f64; 2]) {
+fn meshes(
+    a: &Picture,
+    b: &Picture,
+    anchors: &[Vec<[f64; 2]>],
+    options: &OutlineOptions,
+) -> (PictureMeshes, [f64; 2]) {
     let start = Instant::now();
     let names = ["A".to_string(), "B".to_string()];
     let da = picture_drawing(a, false, TRACE_TOLERANCE, MIN_AREA, &names[0]).unwrap();
@@ -121,7 +147,7 @@ fn meshes(a: &Picture, b: &Picture, anchors: &[Vec<[f64; 2]>]) -> (PictureMeshes
         &[&da, &db],
         anchors,
         (a.width, a.height),
-        &OutlineOptions::default(),
+        options,
         &names,
     )
     .unwrap();
@@ -196,29 +222,18 @@ fn cross_dissolve(a: &Picture, b: &Picture, t: f64) -> Picture {
 }
 
 /// `max(σ1, 1/σ2)` of the affine map taking triangle `from` onto `to`
-/// (σ1 ≥ σ2 its singular values), and whether it turns the triangle over.
+/// ([`map_stretch`]), and whether it turns the triangle over.
 fn stretch(from: [[f64; 2]; 3], to: [[f64; 2]; 3]) -> (f64, bool) {
-    let sub = |p: [f64; 2], q: [f64; 2]| [p[0] - q[0], p[1] - q[1]];
-    let (e1, e2) = (sub(from[1], from[0]), sub(from[2], from[0]));
-    let (f1, f2) = (sub(to[1], to[0]), sub(to[2], to[0]));
-    let det = e1[0] * e2[1] - e1[1] * e2[0];
-    // J = [f1 f2] [e1 e2]^-1.
-    let inv = [[e2[1] / det, -e2[0] / det], [-e1[1] / det, e1[0] / det]];
-    let j = |r: usize, c: usize| {
-        let f = [f1[r], f2[r]];
-        f[0] * inv[0][c] + f[1] * inv[1][c]
-    };
-    let (a, b, c, d) = (j(0, 0), j(0, 1), j(1, 0), j(1, 1));
-    // The singular values of a 2 × 2 matrix: Q ± R (Blinn).
-    let q = (0.5 * (a + d)).hypot(0.5 * (c - b));
-    let r = (0.5 * (a - d)).hypot(0.5 * (c + b));
-    let (s1, s2) = (q + r, (q - r).abs());
-    (s1.max(1.0 / s2), a * d - b * c < 0.0)
+    let turned = signed_area(from) * signed_area(to) < 0.0;
+    (map_stretch(from, to), turned)
+}
+
+fn signed_area(p: [[f64; 2]; 3]) -> f64 {
+    0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]))
 }
 
 fn triangle_area(p: [[f64; 2]; 3]) -> f64 {
-    0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]))
-        .abs()
+    signed_area(p).abs()
 }
 
 /// Each triangle's texture stretch in the frame at `positions`, time `t`
@@ -287,6 +302,39 @@ fn share_within(meshes: &PictureMeshes, positions: &[[f64; 2]], t: f64, limit: f
         / total
 }
 
+/// The share of the pictures' texture shown in the frame at `positions`,
+/// time `t` (each triangle weighed by `(1 - t)` its area in A plus `t` its
+/// area in B, what it shows of them, whatever its size in the frame),
+/// over the triangles whose centroid in A is `kept`, that stretches by at
+/// most `limit`. Unlike the share of the frame's area it does not count a
+/// part that shrinks as less of the picture.
+fn texture_within(
+    meshes: &PictureMeshes,
+    positions: &[[f64; 2]],
+    t: f64,
+    limit: f64,
+    kept: &dyn Fn([f64; 2]) -> bool,
+) -> f64 {
+    let [a, b] = [0, 1].map(|k| meshes.set.meshes[k].positions());
+    let (mut within, mut total) = (0.0, 0.0);
+    for (tri, (s, _, _, centroid)) in meshes.set.meshes[0]
+        .triangles()
+        .iter()
+        .zip(triangle_stretches(meshes, positions, t))
+    {
+        if !kept(centroid) {
+            continue;
+        }
+        let at = |p: &[[f64; 2]]| tri.map(|v| p[v as usize]);
+        let w = (1.0 - t) * triangle_area(at(a)) + t * triangle_area(at(b));
+        total += w;
+        if s <= limit {
+            within += w;
+        }
+    }
+    within / total
+}
+
 /// The smallest and largest of `v`.
 fn range(v: &[f64]) -> [f64; 2] {
     v.iter()
@@ -326,11 +374,11 @@ fn quality(fold: bool) {
         }
     );
     let (a, b, anchors) = arm_pair(ARM_SPRITE_SIZE, fold);
-    let (meshes, _) = meshes(&a, &b, &anchors);
-    let (m, _) = morph(&a, &b, meshes);
+    let (made, _) = meshes(&a, &b, &anchors, &OutlineOptions::for_pictures());
+    let (m, _) = morph(&a, &b, made);
     let (area_a, area_b) = (opaque_area(&a), opaque_area(&b));
     let mut truths = Vec::new();
-    let [pa, pb] = [0, 1].map(|k| m.meshes.set.meshes[k].positions());
+    let pb = m.meshes.set.meshes[1].positions();
     let mut methods: [(&str, Quality); 3] = [
         ("meshmorph (as rigid as possible)", Quality::default()),
         ("linear warp of the same meshes", Quality::default()),
@@ -344,13 +392,7 @@ fn quality(fold: bool) {
         // arm, less than the straight blend).
         let truth = opaque_area(&arm_sprite(t * BEND_DEGREES.to_radians(), ARM_SPRITE_SIZE));
         truths.push(truth / straight);
-        let arap = m.arap.at(t);
-        let linear: Vec<[f64; 2]> = pa
-            .iter()
-            .zip(pb)
-            .map(|(p, q)| [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])])
-            .collect();
-        for (positions, (_, q)) in [arap, linear].iter().zip(&mut methods) {
+        for (positions, (_, q)) in [m.arap.at(t), m.linear_at(t)].iter().zip(&mut methods) {
             q.add(&m.frames.draw(positions, t), [straight, truth]);
             q.stretches
                 .push(frame_stretch(&m.meshes, positions, t, &|_| true));
@@ -422,12 +464,7 @@ fn quality(fold: bool) {
     let half_width = elbow[1] - shoulder[1];
     let joint = [elbow[0], shoulder[1]];
     let away = move |c: [f64; 2]| (c[0] - joint[0]).hypot(c[1] - joint[1]) > 3.0 * half_width;
-    let mid = m.arap.at(0.5);
-    let linear_mid: Vec<[f64; 2]> = pa
-        .iter()
-        .zip(pb)
-        .map(|(p, q)| [0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])])
-        .collect();
+    let (mid, linear_mid) = (m.arap.at(0.5), m.linear_at(0.5));
     let (between_away, _, _) = frame_stretch(&m.meshes, pb, 0.0, &away);
     let (arap_away, _, _) = frame_stretch(&m.meshes, &mid, 0.5, &away);
     let (linear_away, _, _) = frame_stretch(&m.meshes, &linear_mid, 0.5, &away);
@@ -448,6 +485,53 @@ fn quality(fold: bool) {
         shares(&mid, 0.5),
         shares(&linear_mid, 0.5)
     );
+    texture_shares(
+        &m,
+        joint,
+        half_width,
+        "the compatible meshes as pictures make them",
+    );
+    // The same pair meshed without the rigid parts, for comparison.
+    let (plain, _) = meshes(&a, &b, &anchors, &OutlineOptions::default());
+    let (plain, _) = morph(&a, &b, plain);
+    texture_shares(
+        &plain,
+        joint,
+        half_width,
+        "meshes made without the rigid parts (`OutlineOptions::default()`)",
+    );
+}
+
+/// The share of the pictures' texture that stretches by at most 10, 25
+/// and 50 % under `m`'s map from A to B and its frame half-way, and the
+/// linear warp's, over the whole arm and over the forearm beyond the fold
+/// (the part that turns, past a half width from the `joint`).
+fn texture_shares(m: &Morph, joint: [f64; 2], half_width: f64, which: &str) {
+    let pb = m.meshes.set.meshes[1].positions();
+    let (mid, linear_mid) = (m.arap.at(0.5), m.linear_at(0.5));
+    let forearm = move |c: [f64; 2]| c[0] > joint[0] + half_width;
+    let everywhere = |_: [f64; 2]| true;
+    let textures = |positions: &[[f64; 2]], t: f64, kept: &dyn Fn([f64; 2]) -> bool| {
+        [1.1, 1.25, 1.5]
+            .map(|l| {
+                format!(
+                    "{:.0} %",
+                    100.0 * texture_within(&m.meshes, positions, t, l, kept)
+                )
+            })
+            .join(" / ")
+    };
+    for (what, kept) in [
+        ("the whole arm", &everywhere as &dyn Fn([f64; 2]) -> bool),
+        ("the forearm beyond the fold", &forearm),
+    ] {
+        println!(
+            "\nThe share of the pictures' texture ({what}; {which}) that stretches by at most 10 / 25 / 50 %: the map from A to B {}; at t = 0.5 meshmorph {}, the linear warp {}.",
+            textures(pb, 0.0, kept),
+            textures(&mid, 0.5, kept),
+            textures(&linear_mid, 0.5, kept)
+        );
+    }
 }
 
 fn speed(runs: usize) {
@@ -455,9 +539,9 @@ fn speed(runs: usize) {
     let (a, b, anchors) = arm_pair((LARGE, LARGE), false);
     let bytes = (a.rgba.len() + b.rgba.len()) as f64;
     memory::reset_peak();
-    let (meshes, [trace, compatible]) = meshes(&a, &b, &anchors);
-    let report = meshes.set.report.clone();
-    let (m, [solve, textures]) = morph(&a, &b, meshes);
+    let (made, [trace, compatible]) = meshes(&a, &b, &anchors, &OutlineOptions::for_pictures());
+    let report = made.set.report.clone();
+    let (m, [solve, textures]) = morph(&a, &b, made);
     let mut out = vec![0u8; 4 * LARGE as usize * LARGE as usize];
     let mut frame = || {
         let positions = m.arap.at(0.5);
@@ -503,6 +587,23 @@ fn speed(runs: usize) {
         one / all,
         cpu.map_or("—".to_string(), fmt),
         peak.map_or("—".to_string(), |p| format!("{p:.2} ×"))
+    );
+    // What the rigid parts cost: the compatible meshes made both ways, in
+    // turn, `runs` times each.
+    let (mut with, mut without) = (Vec::new(), Vec::new());
+    for _ in 0..runs {
+        for (options, times) in [
+            (OutlineOptions::for_pictures(), &mut with),
+            (OutlineOptions::default(), &mut without),
+        ] {
+            let (_, [_, compatible]) = meshes(&a, &b, &anchors, &options);
+            times.push(compatible);
+        }
+    }
+    println!(
+        "\nThe compatible meshes, {runs} times each way in turn: {} with the rigid parts (as pictures make them), {} without (medians).",
+        fmt(timing::median(with)),
+        fmt(timing::median(without))
     );
 }
 

@@ -5,6 +5,7 @@
 pub mod bvh;
 pub mod closest;
 pub mod frame_source;
+pub mod map_stretch;
 pub mod nearest_vertices;
 pub mod seams;
 pub mod shapes;
@@ -12,6 +13,7 @@ pub mod surface_point;
 pub mod topology;
 pub mod triangle_mesh;
 
+pub use map_stretch::map_stretch;
 pub use surface_point::SurfacePoint;
 pub use triangle_mesh::signed_areas;
 pub use triangle_mesh::{

@@ -34,6 +34,9 @@ pub struct Energy<'a> {
     /// Weight of each triangle's distortion from an equilateral one,
     /// added in the same pass ([`Energy::with_shape`]); 0 for none.
     shape: f64,
+    /// Instead of the foldover-free term, each triangle's robust distance
+    /// from a rigid motion with this knee ([`Energy::rigid`]).
+    rigid: Option<f64>,
 }
 
 /// The regularised positive part of `d` (Garanzha et al.'s `χ`).
@@ -106,6 +109,39 @@ fn term<const L: usize>(
     )
 }
 
+/// The triangles' robust distances from a rotation at Jacobians `j`,
+/// weighed by `w` ([`Energy::rigid`]), and their derivatives. For
+/// `J = [a b; c d]` the nearest rotation turns by `atan2(c − b, a + d)`
+/// and `|J − R|² = |J|² − 2n + 2`, `n = |(a + d, c − b)|`, whose
+/// derivative is `2 (J − R)`.
+#[inline(always)]
+fn rigid_term<const L: usize>(
+    j: LaneMat<L>,
+    w: Lanes<L>,
+    knee: f64,
+    with_gradient: bool,
+) -> (Lanes<L>, LaneMat<L>) {
+    let tr = j[0][0] * j[0][0] + j[0][1] * j[0][1] + j[1][0] * j[1][0] + j[1][1] * j[1][1];
+    let (cs, sn) = (j[0][0] + j[1][1], j[1][0] - j[0][1]);
+    let n = (cs * cs + sn * sn).map(f64::sqrt);
+    let r2 = (tr - Lanes::splat(2.0) * n + Lanes::splat(2.0)).map(|x| x.max(0.0));
+    let f = (Lanes::splat(knee * knee) + r2).map(f64::sqrt);
+    let energy = w * f;
+    if !with_gradient {
+        return (energy, [[Lanes::splat(0.0); 2]; 2]);
+    }
+    let inv_n = n.map(|n| if n > 0.0 { 1.0 / n } else { 0.0 });
+    let (c, s) = (cs * inv_n, sn * inv_n);
+    let k = w * f.map(|f| 1.0 / f);
+    (
+        energy,
+        [
+            [k * (j[0][0] - c), k * (j[0][1] + s)],
+            [k * (j[1][0] - s), k * (j[1][1] - c)],
+        ],
+    )
+}
+
 impl<'a> Energy<'a> {
     /// The energy of maps of `reference`'s triangles into a drawing of
     /// signed area `target_area`: each triangle's shape in `reference`
@@ -135,6 +171,7 @@ impl<'a> Energy<'a> {
             weight,
             theta,
             shape: 0.0,
+            rigid: None,
         }
     }
 
@@ -150,14 +187,27 @@ impl<'a> Energy<'a> {
             weight: vec![1.0 / triangles.len() as f64; triangles.len()],
             theta: 0.0,
             shape: 0.0,
+            rigid: None,
         }
     }
 
-    /// This energy plus, with the same weight as a whole, the moving
-    /// mesh's own distortion from equilateral triangles
+    /// This energy plus, with `weight` times the same weight as a whole,
+    /// the moving mesh's own distortion from equilateral triangles
     /// ([`Energy::equilateral`]), both in one pass.
-    pub(super) fn with_shape(mut self) -> Self {
-        self.shape = 1.0 / self.triangles.len().max(1) as f64;
+    pub(super) fn with_shape(mut self, weight: f64) -> Self {
+        self.shape = weight / self.triangles.len().max(1) as f64;
+        self
+    }
+
+    /// This energy with each triangle's term its distance from the
+    /// nearest rotation, `√(knee² + |J − R|²)`: like the distance's square
+    /// below `knee`, like the distance itself above it, so that a map
+    /// gains by keeping most triangles rigid and putting what must give
+    /// on a few (a fold's squeeze at its corner) rather than sharing it
+    /// out. Bounded where a triangle flattens: steps that keep every
+    /// triangle positive ([`Energy::eval_positive`]) keep the map valid.
+    pub(super) fn rigid(mut self, knee: f64) -> Self {
+        self.rigid = Some(knee);
         self
     }
 
@@ -270,7 +320,10 @@ impl<'a> Energy<'a> {
         let jac = mul_lanes(&d, &r);
         let det = det_lanes(&jac);
         let w = Lanes(array(|l| self.weight[first + l]));
-        let (e, gj) = term(jac, w, self.theta, eps, with_gradient);
+        let (e, gj) = match self.rigid {
+            Some(knee) => rigid_term(jac, w, knee, with_gradient),
+            None => term(jac, w, self.theta, eps, with_gradient),
+        };
         // dE/dD = dE/dJ Rᵀ.
         let mut gd = mul_nt_lanes(&gj, &r);
         let mut energy = e;

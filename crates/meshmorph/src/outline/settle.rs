@@ -23,6 +23,22 @@
 //! Every step keeps every triangle positive (a step that would turn one
 //! over is refused), so valid meshes stay valid.
 //!
+//! **The rigid parts** ([`super::OutlineOptions::rigid_parts`], on for
+//! pictures). The settle's energy grows without bound as a triangle
+//! flattens, so where the map must squeeze (an arm bent by 150°, whose
+//! forearm hides part of the upper arm) it shares the squeeze out along
+//! the whole arm, and a picture carried by the map shows its texture
+//! stretched everywhere. A second pass, from where the settle ends,
+//! lowers instead each triangle's robust distance from a rotation
+//! (`√(knee² + |J − R|²)`, [`Energy::rigid`]): like the square below the
+//! knee, like the distance above it, so that the map gains most by
+//! keeping most triangles rigid and laying the squeeze on a few at the
+//! fold. The moving mesh's own shapes keep a tenth of their weight, so
+//! that a squeezed triangle does not go flat. On the demo's arm sprite
+//! the map from A to B then keeps 63 % of the texture within 10 % of
+//! rigid (30 % after the settle alone) with seven anchors, 38 % (1 %)
+//! with five.
+//!
 //! The mesh is graded (small triangles along a finely traced outline,
 //! large ones inside), and the shape term of a small triangle is stiffer
 //! than a large one's by the square of their sizes: plain L-BFGS crawls.
@@ -107,10 +123,26 @@ pub fn slides(points: &[[f64; 2]], loop_start: &[usize], fixed: &[bool]) -> Vec<
     out
 }
 
+/// The knee of the rigid parts' robust distance from a rotation
+/// ([`Energy::rigid`]): a triangle whose map is within about 5 % of a
+/// rotation counts as rigid, like the distance's square; beyond it, like
+/// the distance.
+const RIGID_KNEE: f64 = 0.05;
+
+/// The weight of the moving mesh's own shapes beside the rigid parts'
+/// term, against the settle's equal weight: enough to keep a squeezed
+/// triangle from going flat, not so much that it shares the squeeze out
+/// again (on the demo's arm sprite, 0.03 to 0.3 keep the same share of
+/// the texture rigid; 1 keeps less of it with five anchors).
+const RIGID_SHAPE_WEIGHT: f64 = 0.1;
+
 /// Lowers the map's distortion from `reference` to `moving` (the same
 /// triangles): the vertices from `free_from` on move freely, the
 /// `slides` along their segments, the rest stay. At most `iterations`
-/// L-BFGS steps. Nothing moves when a triangle is not positive in both.
+/// L-BFGS steps; then, with `rigid_parts`, as many again on the robust
+/// distance from rigid motions ([`Energy::rigid`]), which keeps most
+/// triangles rigid and lays what must give on a few. Nothing moves when
+/// a triangle is not positive in both.
 pub fn settle(
     reference: &[[f64; 2]],
     triangles: &[[u32; 3]],
@@ -118,15 +150,24 @@ pub fn settle(
     free_from: usize,
     slides: &[Slide],
     iterations: usize,
+    rigid_parts: bool,
 ) {
     let free = moving.len().saturating_sub(free_from);
     if triangles.is_empty() || free + slides.len() == 0 {
         return;
     }
     let area = area_from_boundary(moving, triangles, free_from);
-    let energy = Energy::against(reference, triangles, area, 0.5).with_shape();
+    let energy = Energy::against(reference, triangles, area, 0.5).with_shape(1.0);
     if energy.min_det(moving) <= 0.0 {
         return;
+    }
+    let mut passes = vec![energy];
+    if rigid_parts {
+        passes.push(
+            Energy::against(reference, triangles, area, 0.5)
+                .with_shape(RIGID_SHAPE_WEIGHT)
+                .rigid(RIGID_KNEE),
+        );
     }
     // The unknowns: each free vertex's coordinates, then each slide's
     // fraction of its segment.
@@ -144,9 +185,9 @@ pub fn settle(
             work[s.vertex as usize] = s.at(f);
         }
     };
-    // Each unknown's step scaled by the inverse of the energy's stiffness
+    // Each unknown's step scaled by the inverse of the settle's stiffness
     // along it at the start (for a slide, along its segment).
-    let stiffness = energy.diagonal(moving);
+    let stiffness = passes[0].diagonal(moving);
     let scale: Vec<f64> = (free_from..moving.len())
         .flat_map(|v| [1.0 / stiffness[v], 1.0 / stiffness[v]])
         .chain(slides.iter().map(|s| {
@@ -157,28 +198,33 @@ pub fn settle(
         // of no length, has no gradient either: any scale does.)
         .map(|m| if m.is_finite() && m > 0.0 { m } else { 1.0 })
         .collect();
-    lbfgs_scaled(&mut x, iterations, Some(&scale), |x, g| {
-        // A slide stays on its segment: past either end it would leave
-        // the outline (where the outline turns at a fixed point) without
-        // necessarily turning a triangle over. The line search treats the
-        // ends as it treats a triangle turning over: the step is halved.
-        if x[2 * free..].iter().any(|f| !(0.0..=1.0).contains(f)) {
-            return f64::INFINITY;
+    for energy in &passes {
+        lbfgs_scaled(&mut x, iterations, Some(&scale), |x, g| {
+            // A slide stays on its segment: past either end it would leave
+            // the outline (where the outline turns at a fixed point)
+            // without necessarily turning a triangle over. The line search
+            // treats the ends as it treats a triangle turning over: the
+            // step is halved.
+            if x[2 * free..].iter().any(|f| !(0.0..=1.0).contains(f)) {
+                return f64::INFINITY;
+            }
+            put(x, &mut work);
+            let e = energy.eval_positive(&work, Some(&mut grad));
+            if e.is_infinite() {
+                return e;
+            }
+            gather(&grad[free_from..], &mut g[..2 * free]);
+            for (s, gi) in slides.iter().zip(&mut g[2 * free..]) {
+                let (q, d) = (grad[s.vertex as usize], s.segment());
+                *gi = q[0] * d[0] + q[1] * d[1];
+            }
+            e
+        });
+        put(&x, &mut work);
+        if passes[0].min_det(&work) > 0.0 {
+            moving.copy_from_slice(&work);
+        } else {
+            return;
         }
-        put(x, &mut work);
-        let e = energy.eval_positive(&work, Some(&mut grad));
-        if e.is_infinite() {
-            return e;
-        }
-        gather(&grad[free_from..], &mut g[..2 * free]);
-        for (s, gi) in slides.iter().zip(&mut g[2 * free..]) {
-            let (q, d) = (grad[s.vertex as usize], s.segment());
-            *gi = q[0] * d[0] + q[1] * d[1];
-        }
-        e
-    });
-    put(&x, &mut work);
-    if energy.min_det(&work) > 0.0 {
-        moving.copy_from_slice(&work);
     }
 }

@@ -46,7 +46,8 @@ pub struct PictureMorphOptions {
     /// triangle turned over would draw its piece of picture twice). Photos
     /// have [`InterpolatorOptions::outline_straight`] on whatever this says.
     pub interpolation: InterpolatorOptions,
-    /// How the compatible meshes are made. Default: its own defaults.
+    /// How the compatible meshes are made. Default:
+    /// [`OutlineOptions::for_pictures`] (the maps kept rigid in parts).
     pub outline: OutlineOptions,
 }
 
@@ -62,7 +63,7 @@ impl Default for PictureMorphOptions {
                 .with_stretch(StretchMode::AreaBlend)
                 .with_untie_outlines(true)
                 .with_mend_folds(true),
-            outline: OutlineOptions::default(),
+            outline: OutlineOptions::for_pictures(),
         }
     }
 }
