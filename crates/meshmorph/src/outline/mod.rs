@@ -151,8 +151,8 @@ pub struct OutlineOptions {
     /// from rigid motions ([`settle::settle`]): most triangles stay rigid
     /// and what must give gives in a few, such as the squeeze at an
     /// elbow's inner corner where a bent forearm hides part of the upper
-    /// arm. For pictures, whose texture the inside's map carries
-    /// ([`OutlineOptions::for_pictures`]): on the demo's arm sprite it
+    /// arm. For sprites, whose texture the inside's map carries
+    /// ([`OutlineOptions::for_pictures`]; photos keep the smooth warp): on the demo's arm sprite it
     /// keeps 58 % of the texture within 10 % of rigid half-way instead of
     /// 48 % (seven anchors), 47 % instead of 13 % (five). Drawings show
     /// only their outlines, on which it is neither better nor worse

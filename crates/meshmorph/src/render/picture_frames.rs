@@ -48,6 +48,10 @@ pub struct PictureMorphOptions {
     pub interpolation: InterpolatorOptions,
     /// How the compatible meshes are made. Default:
     /// [`OutlineOptions::for_pictures`] (the maps kept rigid in parts).
+    /// Photos have no rigid parts whatever this says: a photo's rectangle
+    /// has no parts, and kept rigid in most places its anchors' warp
+    /// gathers in creases (an eye moved by a quarter of the picture shows
+    /// twice); shared out smoothly, it moves the neighbourhood with it.
     pub outline: OutlineOptions,
 }
 
@@ -215,12 +219,18 @@ impl<'a> PictureFrames<'a> {
             )));
         }
         let (width, height) = options.frame_size.unwrap_or((a.width, a.height));
+        // A photo's rectangle has no parts: its anchors' warp is shared out
+        // smoothly, as a photo morph's is.
+        let outline = OutlineOptions {
+            rigid_parts: options.outline.rigid_parts && drawings[0].shape == PictureShape::Sprite,
+            ..options.outline.clone()
+        };
         let meshes = picture_meshes(
             &[a, b],
             &[&drawings[0], &drawings[1]],
             anchors,
             (width, height),
-            &options.outline,
+            &outline,
             names,
         )?;
         let set = &meshes.set;
