@@ -223,8 +223,11 @@ fn side_files_are_inputs_and_never_written() {
 fn a_closed_or_full_stdout_is_an_error_after_the_outputs_are_written() {
     let dir = folder(&[("a.obj", TRIANGLE), ("b.obj", TURNED)]);
     let d = dir.path();
-    // Closed: the reader is gone before the report is printed.
-    let child = Command::new(BIN)
+    // Closed: the reader is gone before the program starts (dropped after
+    // it started, a quick run could print into the pipe's buffer first).
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let out = Command::new(BIN)
         .args([
             "interpolate",
             "a.obj",
@@ -236,13 +239,10 @@ fn a_closed_or_full_stdout_is_an_error_after_the_outputs_are_written() {
             "--json",
         ])
         .current_dir(d)
-        .stdout(Stdio::piped())
+        .stdout(Stdio::from(writer))
         .stderr(Stdio::piped())
-        .spawn()
+        .output()
         .unwrap();
-    let mut child = child;
-    drop(child.stdout.take());
-    let out = child.wait_with_output().unwrap();
     let (_, stderr) = text(&out);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("printing on stdout failed"), "{stderr}");
