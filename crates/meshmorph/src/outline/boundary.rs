@@ -13,6 +13,14 @@
 //! within 0.3 of the local spacing of a point of the other loop is merged
 //! with it (so a shape and a turned, restarted copy match point for
 //! point), and the union of the rest is the matched boundary.
+//!
+//! Anchors hold the warp: between each two in turn round the loops the
+//! two stretches' signatures are aligned alike, their ends at the
+//! anchors, so that one anchor matches the rest of the outlines by their
+//! features as no anchor does (by arc length from a single anchor, a
+//! feature that sits elsewhere along the two loops, a tooth, a raised
+//! arm, lands on a flat stretch, and the head is matched to the
+//! shoulder).
 
 use super::geometry::{diagonal, dist, ArcLoop};
 use super::holes::{holes_misplaced, Similarity};
@@ -420,12 +428,32 @@ fn warp_from(fa: &[[f64; 2]], b: &ArcLoop, start: f64, n: usize, band: usize, sk
     Warp { knots, unblended }
 }
 
-/// The warp through the anchors, by arc length between them.
-fn anchored_warp(anchors: &[LoopAnchor]) -> Result<Warp> {
+/// Turning angles of `n` samples of `arc` spread evenly over the `span`
+/// (a fraction of its length) from fraction `start` on, at scales of 1
+/// and 4 samples (the samples about either end reach past it, round the
+/// loop).
+fn span_signature(arc: &ArcLoop, start: f64, span: f64, n: usize) -> Vec<[f64; 2]> {
+    let step = span / n as f64;
+    let at = |k: f64| arc.at(start + k * step);
+    let turn = |k: usize, h: f64| {
+        let (p, q, r) = (at(k as f64 - h), at(k as f64), at(k as f64 + h));
+        let (u, v) = ([q[0] - p[0], q[1] - p[1]], [r[0] - q[0], r[1] - q[1]]);
+        (u[0] * v[1] - u[1] * v[0]).atan2(u[0] * v[0] + u[1] * v[1])
+    };
+    (0..n).map(|k| [turn(k, 1.0), 0.5 * turn(k, 4.0)]).collect()
+}
+
+/// The warp through the anchors: between each two in turn round the
+/// loops, the signatures' alignment of that stretch of each (as
+/// [`aligned_warp`] aligns whole loops, its ends held at the anchors),
+/// with as many samples as its share of the first loop's `samples`.
+fn anchored_warp(a: &ArcLoop, b: &ArcLoop, anchors: &[LoopAnchor], samples: usize) -> Result<Warp> {
     let mut sorted: Vec<LoopAnchor> = anchors.to_vec();
     sorted.sort_by(|x, y| x.ta.total_cmp(&y.ta));
     let (a0, b0) = (sorted[0].ta, sorted[0].tb);
-    let mut knots = Vec::with_capacity(sorted.len() + 1);
+    // Each anchor's fractions, the second made to increase round the loop
+    // from the first anchor's, and the first anchor again a turn on.
+    let mut ends = Vec::with_capacity(sorted.len() + 1);
     let mut last = b0;
     for (k, s) in sorted.iter().enumerate() {
         let tb = b0 + (s.tb - b0).rem_euclid(1.0);
@@ -437,13 +465,56 @@ fn anchored_warp(anchors: &[LoopAnchor]) -> Result<Warp> {
             ));
         }
         last = tb;
-        knots.push((s.ta, tb));
+        ends.push((s.ta, tb));
     }
-    knots.push((a0 + 1.0, b0 + 1.0));
-    Ok(Warp {
-        unblended: knots.clone(),
-        knots,
-    })
+    ends.push((a0 + 1.0, b0 + 1.0));
+    let skip = 0.02;
+    let mut knots = vec![ends[0]];
+    let mut unblended = vec![ends[0]];
+    for w in ends.windows(2) {
+        let ((sa, sb), (ea, eb)) = (w[0], w[1]);
+        let (span_a, span_b) = (ea - sa, eb - sb);
+        let n = ((span_a * samples as f64).round() as usize).max(8);
+        let (_, mid) = warp(
+            &span_signature(a, sa, span_a, n),
+            &span_signature(b, sb, span_b, n),
+            (n / 6).max(1),
+            skip,
+            true,
+        );
+        // The path kept strictly increasing by a fifth of a sample a step
+        // at least, where it is flatter (both ways, so that it still ends
+        // at the next anchor). Unlike a whole loop's alignment, whose start
+        // is chosen first, a stretch between anchors may lie far from its
+        // diagonal: a blend with it would pull features off each other.
+        let mut g: Vec<f64> = (0..=n)
+            .map(|i| {
+                if i == 0 {
+                    0.0
+                } else if i == n {
+                    n as f64
+                } else {
+                    mid[i]
+                }
+            })
+            .collect();
+        for i in 1..=n {
+            g[i] = g[i].max(g[i - 1] + 0.2);
+        }
+        g[n] = n as f64;
+        for i in (0..n).rev() {
+            g[i] = g[i].min(g[i + 1] - 0.2);
+        }
+        for i in 1..=n {
+            let ta = sa + span_a * i as f64 / n as f64;
+            let path = if i == n { n as f64 } else { mid[i] };
+            unblended.push((ta, sb + span_b * path / n as f64));
+            knots.push((ta, sb + span_b * g[i] / n as f64));
+        }
+    }
+    non_decreasing(&mut knots);
+    non_decreasing(&mut unblended);
+    Ok(Warp { knots, unblended })
 }
 
 struct Event {
@@ -477,7 +548,7 @@ pub fn match_loops(
     let map = if anchors.is_empty() {
         aligned_warp(&arc_a, &arc_b, samples.max(16), tie)
     } else {
-        anchored_warp(anchors)?
+        anchored_warp(&arc_a, &arc_b, anchors, samples.max(16))?
     };
     let gaps = |arc: &ArcLoop, i: usize| {
         let n = arc.points.len();

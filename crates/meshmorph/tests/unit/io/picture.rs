@@ -371,7 +371,7 @@ mod frames {
     /// are (`PictureMorphOptions`' interpolation): half-way, most of the
     /// forearm's texture (each triangle weighed by its share of the two
     /// pictures) is stretched or squeezed by at most a quarter in any
-    /// direction (measured: 75 %; 57 % without the rigid parts), where
+    /// direction (measured: 75 %; 62 % without the rigid parts), where
     /// the linear warp of the same meshes keeps none of it so (measured:
     /// 0 %, its forearm pulled across the turn's chord).
     #[test]

@@ -1584,3 +1584,57 @@ fn the_rigid_parts_keep_more_of_a_bent_bar_rigid() {
         "the rigid parts keep {mean:.3} more of the bar rigid on average: {gains:.3?}"
     );
 }
+
+/// A square of side 10 with a tooth on its top edge whose tip is at `x`,
+/// its points about 0.5 apart, counter-clockwise from the bottom-left
+/// corner; and the index of the tooth's tip.
+fn toothed_square(x: f64) -> (Vec<[f64; 2]>, usize) {
+    let corners = [
+        [0.0, 0.0],
+        [10.0, 0.0],
+        [10.0, 10.0],
+        [x + 1.0, 10.0],
+        [x, 13.0],
+        [x - 1.0, 10.0],
+        [0.0, 10.0],
+    ];
+    let mut out = Vec::new();
+    let mut tip = 0;
+    for (k, &p) in corners.iter().enumerate() {
+        if k == 4 {
+            tip = out.len();
+        }
+        let q = corners[(k + 1) % corners.len()];
+        let steps = (dist(p, q) / 0.5).ceil() as usize;
+        out.extend((0..steps).map(|i| lerp(p, q, i as f64 / steps as f64)));
+    }
+    (out, tip)
+}
+
+#[test]
+fn between_anchors_the_outlines_features_are_matched_not_their_lengths() {
+    // The tooth moves along the top edge; one anchor, at a corner, holds
+    // where the loops start. Matched by arc length from the anchor, the
+    // tooth's tip would land on the flat edge, up to 4 from the tooth.
+    for (xa, xb) in [(3.0, 7.0), (7.0, 3.0), (2.5, 5.0), (5.0, 8.0)] {
+        let ((a, tip_a), (b, tip_b)) = (toothed_square(xa), toothed_square(xb));
+        for corner in [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]] {
+            let m = compatible_meshes(
+                &Drawing::new(vec![a.clone()]).unwrap(),
+                &Drawing::new(vec![b.clone()]).unwrap(),
+                &[Anchor {
+                    a: corner,
+                    b: corner,
+                }],
+                &OutlineOptions::default(),
+            )
+            .unwrap();
+            let landed = m.b.positions()[m.given_a[0][tip_a] as usize];
+            assert!(
+                dist(landed, b[tip_b]) < 0.5,
+                "tooth at {xa} into {xb}, anchor at {corner:?}: the tip lands at {landed:?}, not at {:?}",
+                b[tip_b]
+            );
+        }
+    }
+}
