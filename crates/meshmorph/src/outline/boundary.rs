@@ -56,9 +56,10 @@ pub struct LoopAnchor {
 /// second's: knots `(ta, tb)` increasing in both, spanning one turn.
 struct Warp {
     knots: Vec<(f64, f64)>,
-    /// The same before the blend with the diagonal that keeps it strictly
-    /// increasing (`warp_from`): how far the blend moved a point is how
-    /// far from its partner it may be and still be merged with it.
+    /// The same before the blend with the diagonal (`warp_from`), or the
+    /// least step (`anchored_warp`), that keeps it strictly increasing:
+    /// how far that moved a point is how far from its partner it may be
+    /// and still be merged with it.
     unblended: Vec<(f64, f64)>,
 }
 
@@ -474,7 +475,10 @@ fn anchored_warp(a: &ArcLoop, b: &ArcLoop, anchors: &[LoopAnchor], samples: usiz
     for w in ends.windows(2) {
         let ((sa, sb), (ea, eb)) = (w[0], w[1]);
         let (span_a, span_b) = (ea - sa, eb - sb);
-        let n = ((span_a * samples as f64).round() as usize).max(8);
+        // As finely as the longer of the two stretches (each loop's share
+        // of `samples`), so that a long stretch between two anchors close
+        // on the other loop keeps its features.
+        let n = ((span_a.max(span_b) * samples as f64).round() as usize).max(8);
         let (_, mid) = warp(
             &span_signature(a, sa, span_a, n),
             &span_signature(b, sb, span_b, n),
@@ -505,12 +509,14 @@ fn anchored_warp(a: &ArcLoop, b: &ArcLoop, anchors: &[LoopAnchor], samples: usiz
         for i in (0..n).rev() {
             g[i] = g[i].min(g[i + 1] - 0.2);
         }
-        for i in 1..=n {
+        for i in 1..n {
             let ta = sa + span_a * i as f64 / n as f64;
-            let path = if i == n { n as f64 } else { mid[i] };
-            unblended.push((ta, sb + span_b * path / n as f64));
+            unblended.push((ta, sb + span_b * mid[i] / n as f64));
             knots.push((ta, sb + span_b * g[i] / n as f64));
         }
+        // The stretch ends exactly at the next anchor.
+        unblended.push((ea, eb));
+        knots.push((ea, eb));
     }
     non_decreasing(&mut knots);
     non_decreasing(&mut unblended);

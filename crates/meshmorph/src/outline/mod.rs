@@ -152,9 +152,10 @@ pub struct OutlineOptions {
     /// and what must give gives in a few, such as the squeeze at an
     /// elbow's inner corner where a bent forearm hides part of the upper
     /// arm. For sprites, whose texture the inside's map carries
-    /// ([`OutlineOptions::for_pictures`]; photos keep the smooth warp): on the demo's arm sprite it
-    /// keeps 52 % of the texture within 10 % of rigid half-way instead of
-    /// 44 % (seven anchors), 50 % instead of 20 % (five). Drawings show
+    /// ([`OutlineOptions::for_pictures`]; photos keep the smooth warp):
+    /// on the demo's arm sprite it keeps 51 % of the texture within 10 %
+    /// of rigid half-way instead of 43 % (seven anchors), 52 % instead of
+    /// 20 % (five). Drawings show
     /// only their outlines, on which it is neither better nor worse
     /// (`outline_benchmark`: the edges' deviation 0.1 to 2.7 points either
     /// way, the smallest angles lower). Default false.

@@ -35,8 +35,8 @@
 //! keeping most triangles rigid and laying the squeeze on a few at the
 //! fold. The moving mesh's own shapes keep a tenth of their weight, so
 //! that a squeezed triangle does not go flat. On the demo's arm sprite
-//! the map from A to B then keeps 59 % of the texture within 10 % of
-//! rigid (31 % after the settle alone) with seven anchors, 50 % (8 %)
+//! the map from A to B then keeps 54 % of the texture within 10 % of
+//! rigid (33 % after the settle alone) with seven anchors, 52 % (8 %)
 //! with five.
 //!
 //! The mesh is graded (small triangles along a finely traced outline,

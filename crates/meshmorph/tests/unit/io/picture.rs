@@ -196,12 +196,13 @@ fn photo_anchors_are_exact_vertices_of_both_meshes() {
         vec![[40.0, 15.0], [40.0, 20.0]],
         vec![[30.0, 30.0], [50.0, 45.0]],
     ];
+    // Photos are meshed without the rigid parts, as `PictureFrames` meshes them.
     let m = picture_meshes(
         &[&a, &b],
         &[&da, &db],
         &anchors,
         (60, 40),
-        &OutlineOptions::for_pictures(),
+        &OutlineOptions::default(),
         &["a".into(), "b".into()],
     )
     .unwrap();
@@ -222,7 +223,7 @@ fn photo_anchors_are_exact_vertices_of_both_meshes() {
         &[&da, &db],
         &outside,
         (60, 40),
-        &OutlineOptions::for_pictures(),
+        &OutlineOptions::default(),
         &["`a.jpg`".into(), "`b.jpg`".into()],
     )
     .unwrap_err();
@@ -371,7 +372,7 @@ mod frames {
     /// are (`PictureMorphOptions`' interpolation): half-way, most of the
     /// forearm's texture (each triangle weighed by its share of the two
     /// pictures) is stretched or squeezed by at most a quarter in any
-    /// direction (measured: 75 %; 62 % without the rigid parts), where
+    /// direction (measured: 76 %; 65 % without the rigid parts), where
     /// the linear warp of the same meshes keeps none of it so (measured:
     /// 0 %, its forearm pulled across the turn's chord).
     #[test]
@@ -420,7 +421,7 @@ mod frames {
         let arap = texture_within(&i.at(0.5), 0.5, 1.25);
         let linear = texture_within(&linear_warp(&m, 0.5), 0.5, 1.25);
         assert!(
-            arap > 0.6,
+            arap > 0.7,
             "{arap:.3} of the forearm's texture within 25 % half-way"
         );
         assert!(
