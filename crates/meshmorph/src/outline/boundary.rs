@@ -112,17 +112,20 @@ fn cyclic_distance(x: f64, y: f64) -> f64 {
     d.min(1.0 - d)
 }
 
+/// The angle the path from `p` through `q` to `r` turns by at `q`
+/// (positive to the left).
+fn turning(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> f64 {
+    let (u, v) = ([q[0] - p[0], q[1] - p[1]], [r[0] - q[0], r[1] - q[1]]);
+    (u[0] * v[1] - u[1] * v[0]).atan2(u[0] * v[0] + u[1] * v[1])
+}
+
 /// Turning angles of `n` samples of `arc` from fraction `start` on, at
 /// scales of 1 and 4 samples.
 fn signature(arc: &ArcLoop, start: f64, n: usize) -> Vec<[f64; 2]> {
     let pts: Vec<[f64; 2]> = (0..n)
         .map(|k| arc.at(start + k as f64 / n as f64))
         .collect();
-    let turn = |k: usize, h: usize| {
-        let (p, q, r) = (pts[(k + n - h) % n], pts[k], pts[(k + h) % n]);
-        let (u, v) = ([q[0] - p[0], q[1] - p[1]], [r[0] - q[0], r[1] - q[1]]);
-        (u[0] * v[1] - u[1] * v[0]).atan2(u[0] * v[0] + u[1] * v[1])
-    };
+    let turn = |k: usize, h: usize| turning(pts[(k + n - h) % n], pts[k], pts[(k + h) % n]);
     (0..n).map(|k| [turn(k, 1), 0.5 * turn(k, 4)]).collect()
 }
 
@@ -435,13 +438,12 @@ fn warp_from(fa: &[[f64; 2]], b: &ArcLoop, start: f64, n: usize, band: usize, sk
 /// loop).
 fn span_signature(arc: &ArcLoop, start: f64, span: f64, n: usize) -> Vec<[f64; 2]> {
     let step = span / n as f64;
-    let at = |k: f64| arc.at(start + k * step);
-    let turn = |k: usize, h: f64| {
-        let (p, q, r) = (at(k as f64 - h), at(k as f64), at(k as f64 + h));
-        let (u, v) = ([q[0] - p[0], q[1] - p[1]], [r[0] - q[0], r[1] - q[1]]);
-        (u[0] * v[1] - u[1] * v[0]).atan2(u[0] * v[0] + u[1] * v[1])
-    };
-    (0..n).map(|k| [turn(k, 1.0), 0.5 * turn(k, 4.0)]).collect()
+    // The samples and four more on either side, each found once.
+    let pts: Vec<[f64; 2]> = (0..n + 8)
+        .map(|j| arc.at(start + (j as f64 - 4.0) * step))
+        .collect();
+    let turn = |k: usize, h: usize| turning(pts[k + 4 - h], pts[k + 4], pts[k + 4 + h]);
+    (0..n).map(|k| [turn(k, 1), 0.5 * turn(k, 4)]).collect()
 }
 
 /// The warp through the anchors: between each two in turn round the
